@@ -1,0 +1,14 @@
+#pragma once
+// Each group of subcommands registers itself on the CLI11 app.
+
+#include <CLI/CLI.hpp>
+
+namespace sulcus::cli {
+
+/// `mesh info`, `mesh convert`, `mesh make`.
+void AddMeshCommands(CLI::App& app);
+
+/// Exit status of the subcommand that ran (set by its callback).
+int& ExitStatus();
+
+}  // namespace sulcus::cli

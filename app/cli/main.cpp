@@ -1,0 +1,29 @@
+// sulcus-cli: everything Sulcus does, without a window.
+
+#include <exception>
+#include <iostream>
+
+#include "app/cli/commands.h"
+
+namespace sulcus::cli {
+int& ExitStatus() {
+  static int status = 0;
+  return status;
+}
+}  // namespace sulcus::cli
+
+int main(int argc, char** argv) {
+  CLI::App app{"Sulcus: haptic dental training simulator, command-line tools"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "sulcus-cli 0.1.0");
+  sulcus::cli::AddMeshCommands(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return 1;
+  }
+  return sulcus::cli::ExitStatus();
+}

@@ -1,0 +1,103 @@
+// `sulcus-cli mesh ...`: inspect, convert and generate meshes.
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "app/cli/commands.h"
+#include "core/geometry/mesh_io.h"
+#include "core/geometry/primitives.h"
+
+namespace sulcus::cli {
+namespace {
+
+const char* Mark(bool ok) { return ok ? "ok  " : "FAIL"; }
+
+int MeshInfo(const std::string& file) {
+  MeshLoadOptions options;
+  options.require_closed_manifold = false;  // report on any readable mesh
+  const TriangleMesh mesh = LoadMesh(file, options);
+  const MeshReport r = mesh.Check();
+  const Vector3 e = r.bounds.extent();
+  std::printf("mesh %s\n", file.c_str());
+  std::printf("  vertices   %zu (%zu unreferenced)\n", r.num_vertices, r.unreferenced_vertices);
+  std::printf("  faces      %zu\n", r.num_faces);
+  std::printf("  edges      %zu\n", r.num_edges);
+  std::printf("  components %zu, Euler characteristic %d\n", r.components,
+              r.euler_characteristic);
+  std::printf("  volume     %.6g mm^3\n", r.volume);
+  std::printf("  area       %.6g mm^2\n", r.area);
+  std::printf("  bounds     [%.6g, %.6g, %.6g] .. [%.6g, %.6g, %.6g] mm\n", r.bounds.min.x(),
+              r.bounds.min.y(), r.bounds.min.z(), r.bounds.max.x(), r.bounds.max.y(),
+              r.bounds.max.z());
+  std::printf("  size       %.6g x %.6g x %.6g mm\n", e.x(), e.y(), e.z());
+  std::printf("checks\n");
+  std::printf("  [%s] closed (watertight): %zu boundary edge(s)\n", Mark(r.closed()),
+              r.boundary_edges);
+  std::printf("  [%s] manifold: %zu edge(s) with 3+ faces, %zu pinched vertex(es)\n",
+              Mark(r.manifold()), r.nonmanifold_edges, r.nonmanifold_vertices);
+  std::printf("  [%s] consistently oriented: %zu flipped edge(s)\n", Mark(r.oriented()),
+              r.misoriented_edges);
+  std::printf("  [%s] normals point outward (signed volume > 0)\n", Mark(r.outward()));
+  std::printf("  [%s] no degenerate faces: %zu\n", Mark(r.degenerate_faces == 0),
+              r.degenerate_faces);
+  std::printf("result: %s\n", r.IsSolid() ? "a valid solid: usable by the engine"
+                                          : "NOT a valid solid: fix the failed checks");
+  return r.IsSolid() ? 0 : 1;
+}
+
+}  // namespace
+
+void AddMeshCommands(CLI::App& app) {
+  CLI::App* mesh = app.add_subcommand("mesh", "Inspect, convert and generate meshes");
+  mesh->require_subcommand(1);
+
+  auto file = std::make_shared<std::string>();
+  CLI::App* info = mesh->add_subcommand(
+      "info", "Print counts, volume, area, bounding box and every check; exit 1 if a check fails");
+  info->add_option("FILE", *file, "Mesh file (.stl, .obj, .ply, .off)")->required();
+  info->callback([file] { ExitStatus() = MeshInfo(*file); });
+
+  auto in = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  auto binary = std::make_shared<bool>(false);
+  CLI::App* convert = mesh->add_subcommand("convert", "Convert a mesh between formats");
+  convert->add_option("IN", *in, "Input mesh")->required();
+  convert->add_option("OUT", *out, "Output mesh; format from the extension")->required();
+  convert->add_flag("--binary", *binary, "Binary STL or PLY");
+  convert->callback([in, out, binary] {
+    const TriangleMesh mesh = LoadMesh(*in);
+    SaveMesh(mesh, *out, {.binary = *binary});
+    std::printf("wrote %s: %zu vertices, %zu faces\n", out->c_str(), mesh.num_vertices(),
+                mesh.num_faces());
+  });
+
+  auto shape = std::make_shared<std::string>();
+  auto size = std::make_shared<double>(10.0);
+  auto detail = std::make_shared<int>(3);
+  auto make_out = std::make_shared<std::string>();
+  CLI::App* make = mesh->add_subcommand("make", "Write a calibration solid");
+  make->add_option("SHAPE", *shape, "box, sphere, torus or cylinder")
+      ->required()
+      ->check(CLI::IsMember({"box", "sphere", "torus", "cylinder"}));
+  make->add_option("--size", *size, "Characteristic size in mm (edge, radius, ring radius)")
+      ->check(CLI::PositiveNumber);
+  make->add_option("--detail", *detail, "Resolution (subdivisions or segments / 8)")
+      ->check(CLI::Range(1, 8));
+  make->add_option("-o,--output", *make_out, "Output mesh file")->required();
+  make->callback([=] {
+    TriangleMesh mesh;
+    const double s = *size;
+    const int d = *detail;
+    if (*shape == "box") mesh = MakeBox(Vector3::Constant(s), d);
+    if (*shape == "sphere") mesh = MakeIcosphere(s, d);
+    if (*shape == "torus") mesh = MakeTorus(s, s / 3, 16 * d, 8 * d);
+    if (*shape == "cylinder") mesh = MakeCylinder(s, 2 * s, 16 * d, d);
+    SaveMesh(mesh, *make_out);
+    std::printf("wrote %s: %s, %zu vertices, %zu faces\n", make_out->c_str(), shape->c_str(),
+                mesh.num_vertices(), mesh.num_faces());
+  });
+}
+
+}  // namespace sulcus::cli

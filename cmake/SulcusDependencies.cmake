@@ -1,0 +1,33 @@
+# Finds every third-party dependency once, with a message that names the Debian
+# package and the script that installs it when something is missing.
+set(SULCUS_INSTALL_HINT "run scripts/install-deps.sh (as root) to install everything Sulcus needs")
+
+macro(sulcus_find name debian_package)
+  find_package(${name} ${ARGN} QUIET)
+  if(NOT ${name}_FOUND)
+    message(FATAL_ERROR
+      "Sulcus: ${name} not found (Debian package: ${debian_package}); ${SULCUS_INSTALL_HINT}.")
+  endif()
+endmacro()
+
+sulcus_find(Eigen3 libeigen3-dev CONFIG)
+# CONFIG is required: without it CGAL's own FindOpenMesh module is used and fails.
+sulcus_find(OpenMesh libopenmesh-dev CONFIG)
+sulcus_find(CLI11 libcli11-dev CONFIG)
+sulcus_find(Threads libc6-dev)
+
+if(SULCUS_BUILD_TESTS)
+  sulcus_find(GTest "libgtest-dev libgmock-dev" CONFIG)
+endif()
+if(SULCUS_BUILD_BENCHMARKS)
+  sulcus_find(benchmark libbenchmark-dev CONFIG)
+endif()
+
+if(SULCUS_BUILD_UI)
+  # VTK 9.1 on Debian 12 references VTK::mpi; MPI's C component must exist first.
+  sulcus_find(MPI "libopenmpi-dev (pulled in by libvtk9-dev)" COMPONENTS C)
+  sulcus_find(Qt5 qtbase5-dev COMPONENTS Widgets OpenGL)
+  sulcus_find(VTK "libvtk9-dev libvtk9-qt-dev" COMPONENTS
+    CommonCore CommonDataModel RenderingCore RenderingOpenGL2 InteractionStyle
+    RenderingFreeType IOImage FiltersSources GUISupportQt)
+endif()

@@ -1,0 +1,24 @@
+#pragma once
+// Closed, outward-oriented meshes of simple solids: calibration objects for tests
+// and the building blocks of the hard-case scenes (plates, slots, wedges).
+
+#include "core/geometry/mesh.h"
+
+namespace sulcus {
+
+/// Axis-aligned box centred at the origin with the given edge lengths (mm).
+/// Each face is split into `divisions` x `divisions` quads (two triangles each).
+TriangleMesh MakeBox(const Vector3& size, int divisions = 1);
+
+/// Sphere of `radius` from an icosahedron subdivided `subdivisions` times
+/// (20 * 4^subdivisions triangles).
+TriangleMesh MakeIcosphere(double radius, int subdivisions);
+
+/// Torus about the z axis: ring radius R, tube radius r (r < R); genus 1.
+TriangleMesh MakeTorus(double ring_radius, double tube_radius, int ring_segments,
+                       int tube_segments);
+
+/// Closed cylinder along z from z = 0 to z = height.
+TriangleMesh MakeCylinder(double radius, double height, int segments, int stacks = 1);
+
+}  // namespace sulcus

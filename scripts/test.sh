@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Sets everything up and runs every test: installs the Debian packages, builds the
+# release preset with warnings as errors, and runs ctest (window tests under Xvfb).
+# Usage: scripts/test.sh [extra ctest arguments...]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+scripts/install-deps.sh
+cmake --preset release -DSULCUS_WERROR=ON >/dev/null
+cmake --build --preset release
+ctest --preset release "$@"

@@ -1,0 +1,31 @@
+#pragma once
+// Turning engine meshes into VTK data, and saving pictures of them.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+
+#include "core/geometry/mesh.h"
+
+namespace sulcus::ui {
+
+/// Copies a mesh into polydata with per-point normals for smooth shading.
+vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh);
+
+/// One mesh in a picture, with an RGB colour in [0, 1] and an opacity.
+struct ShadedMesh {
+  const TriangleMesh* mesh = nullptr;
+  double color[3] = {0.93, 0.91, 0.84};  // enamel
+  double opacity = 1.0;
+};
+
+/// Renders the meshes offscreen (needs an X display, e.g. Xvfb) from an oblique
+/// view that frames them all, and writes a PNG. Returns the share of pixels that
+/// differ from the background, so callers can check that something was drawn.
+double RenderToPng(const std::vector<ShadedMesh>& meshes, const std::filesystem::path& png,
+                   int width = 800, int height = 600, const std::string& title = "");
+
+}  // namespace sulcus::ui
