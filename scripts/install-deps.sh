@@ -17,6 +17,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
   # plots of the accuracy/cost figures
   gnuplot-nox
+  # public test meshes (CGAL's data set: elephant, fandisk, knot, ...), read by tests
+  libcgal-demo
 )
 
 sudo_cmd=()

@@ -8,6 +8,9 @@ namespace sulcus::cli {
 /// `mesh info`, `mesh convert`, `mesh make`.
 void AddMeshCommands(CLI::App& app);
 
+/// `spheretree build`, `spheretree eval`.
+void AddSphereTreeCommands(CLI::App& app);
+
 /// Exit status of the subcommand that ran (set by its callback).
 int& ExitStatus();
 

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "sulcus-cli 0.1.0");
   sulcus::cli::AddMeshCommands(app);
+  sulcus::cli::AddSphereTreeCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,74 @@
+#pragma once
+// Builds a sphere-tree from a closed mesh by a medial-axis method (DESIGN.md,
+// "Sphere-trees"): Voronoi poles of dense surface samples approximate the medial
+// axis; leaves are chosen among medial spheres by a greedy set cover of the
+// surface that bounds each leaf's protrusion; leaves are grouped into a B-ary
+// hierarchy whose parents are smallest enclosing spheres of their children.
+//
+// Guarantees, independent of any sampling density:
+// - every point of the surface lies inside some leaf (each leaf encloses whole
+//   surface triangles, and a sphere enclosing a triangle's corners encloses it);
+// - every child lies inside its parent.
+
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "core/geometry/mesh.h"
+#include "core/spheretree/sphere_tree.h"
+
+namespace sulcus {
+
+struct SphereTreeParams {
+  int levels = 4;     // counting the root: 4 levels of 8 hold 512 leaves
+  int branching = 8;  // children per node, at most
+  int leaves = 512;   // leaf budget, used when target_error_mm is 0
+  /// When > 0: the fewest leaves whose protrusion bound is at most this (mm), as
+  /// long as they fit in branching^(levels-1) leaves.
+  double target_error_mm = 0;
+  /// Surface samples for the medial axis and the cover; 0 picks
+  /// max(3000, 8 * leaves), capped at 60000.
+  int samples = 0;
+  std::uint64_t seed = 1;
+
+  /// Text that identifies these parameters (for cache keys and reports).
+  std::string ToString() const;
+};
+
+/// What a build did and measured.
+struct SphereTreeBuildStats {
+  std::size_t surface_pieces = 0;   // sub-triangles the cover is computed on
+  std::size_t medial_candidates = 0;
+  std::size_t leaves = 0;
+  double error_bound_mm = 0;        // max over leaves of (radius - depth of centre)
+  double seconds_total = 0;
+  double seconds_medial = 0;        // sampling, Delaunay, poles, depths
+  double seconds_cover = 0;         // set cover and refinement
+  double seconds_hierarchy = 0;
+};
+
+/// Progress callback: stage name and overall fraction in [0, 1]. Return false to
+/// cancel; the build then throws BuildCancelled.
+using BuildProgress = std::function<bool(std::string_view stage, double fraction)>;
+
+class BuildCancelled : public std::runtime_error {
+ public:
+  BuildCancelled() : std::runtime_error("sphere-tree build cancelled") {}
+};
+
+/// Bad input for a build: a mesh that is not a solid, or parameters out of range.
+class SphereTreeError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Builds the tree. Deterministic for a given mesh and parameters. Throws
+/// SphereTreeError for an open, non-manifold or volumeless mesh or bad
+/// parameters, BuildCancelled when the progress callback returns false.
+SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& params,
+                           const BuildProgress& progress = {},
+                           SphereTreeBuildStats* stats = nullptr);
+
+}  // namespace sulcus
