@@ -623,9 +623,22 @@ void SplitGroup(std::vector<std::int32_t> items, int parts, const std::vector<Ve
   SplitGroup({items.begin() + cut, items.end()}, parts - left_parts, centers, out);
 }
 
-// Builds the hierarchy over the leaves: top-down grouping, bottom-up bounding.
-SphereTree BuildHierarchy(const std::vector<Vector3>& centers, const std::vector<double>& radii,
-                          int levels, int branching, double extent) {
+}  // namespace
+
+SphereTree BuildTreeFromLeaves(const std::vector<Vector3>& centers, const std::vector<double>& radii,
+                               int levels, int branching) {
+  if (centers.empty() || centers.size() != radii.size()) {
+    throw SphereTreeError("a tree needs at least one leaf, with one radius per centre");
+  }
+  std::size_t capacity = 1;
+  for (int l = 1; l < levels; ++l) capacity *= branching;
+  if (centers.size() > capacity) {
+    throw SphereTreeError(std::to_string(centers.size()) + " leaves do not fit in " +
+                          std::to_string(levels) + " levels of " + std::to_string(branching));
+  }
+  Aabb bounds;
+  for (const Vector3& c : centers) bounds.Extend(c);
+  const double extent = std::max(bounds.LargestExtent(), *std::max_element(radii.begin(), radii.end()));
   SphereTree tree;
   tree.levels = levels;
   tree.branching = branching;
@@ -684,7 +697,6 @@ SphereTree BuildHierarchy(const std::vector<Vector3>& centers, const std::vector
   return tree;
 }
 
-}  // namespace
 
 std::string SphereTreeParams::ToString() const {
   std::ostringstream s;
@@ -835,7 +847,7 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   // 4. Hierarchy.
   report("hierarchy", 0.95);
   const auto t_tree = Clock::now();
-  SphereTree tree = BuildHierarchy(centers, radii, params.levels, params.branching, extent);
+  SphereTree tree = BuildTreeFromLeaves(centers, radii, params.levels, params.branching);
   tree.Validate();
   report("done", 1.0);
   if (stats != nullptr) {

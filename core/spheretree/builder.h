@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/geometry/mesh.h"
 #include "core/spheretree/sphere_tree.h"
@@ -70,5 +71,13 @@ class SphereTreeError : public std::runtime_error {
 SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& params,
                            const BuildProgress& progress = {},
                            SphereTreeBuildStats* stats = nullptr);
+
+/// Groups given leaf spheres into a hierarchy of `levels` levels (counting the
+/// root) with up to `branching` children per node: top-down bisection along the
+/// longest axis, parents the smallest spheres enclosing their children (so every
+/// child lies inside its parent). For trees made by hand (tools, test scenes).
+/// Throws SphereTreeError when the leaves do not fit.
+SphereTree BuildTreeFromLeaves(const std::vector<Vector3>& centers, const std::vector<double>& radii,
+                               int levels = 4, int branching = 8);
 
 }  // namespace sulcus

@@ -1,0 +1,309 @@
+#include "core/solver/qp.h"
+
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace sulcus {
+namespace {
+
+// Weight of the violation in the elastic problem, relative to the scaled distance
+// (the violation is squared-penalised 1e8 times harder than the motion).
+constexpr double kElasticWeight = 1e8;
+// Below this the dual residual is zero: the constraints are inconsistent.
+constexpr double kInfeasibleResidual = 1e-13;
+
+// Lawson-Hanson NNLS on R dual rows: minimise |e_R - C u| over u >= 0, where C
+// is R x m (column-major in `cols`) and e_R the last unit vector.
+template <int R>
+class Nnls {
+ public:
+  using Col = Eigen::Matrix<double, R, 1>;
+
+  Nnls(const double* cols, int m, std::uint8_t* in_set, std::uint8_t* blocked)
+      : cols_(cols), m_(m), in_set_(in_set), blocked_(blocked) {
+    e_.setZero();
+    e_[R - 1] = 1.0;
+  }
+
+  // Runs from the warm rows; returns false when the iteration cap was hit.
+  bool Run(const std::int32_t* warm, int num_warm, int max_iterations) {
+    for (int j = 0; j < m_; ++j) in_set_[j] = blocked_[j] = 0;
+    k_ = 0;
+    // Warm start: take the previous active rows that are independent, then drop
+    // those whose least-squares weight is not positive until all are.
+    for (int i = 0; i < num_warm && k_ < R; ++i) {
+      const std::int32_t j = warm[i];
+      if (j < 0 || j >= m_ || in_set_[j]) continue;
+      passive_[k_++] = j;
+      in_set_[j] = 1;
+      if (!LeastSquares(z_)) Remove(k_ - 1);
+    }
+    while (k_ > 0) {
+      if (!LeastSquares(z_)) {
+        Remove(k_ - 1);
+        continue;
+      }
+      int worst = -1;
+      for (int i = 0; i < k_; ++i) {
+        if (z_[i] <= 0 && (worst < 0 || z_[i] < z_[worst])) worst = i;
+      }
+      if (worst < 0) break;
+      Remove(worst);
+    }
+    for (int i = 0; i < k_; ++i) u_[i] = z_[i];
+    UpdateResidual();
+
+    for (iterations_ = 0; iterations_ < max_iterations; ++iterations_) {
+      // The column most correlated with the residual enters.
+      int t = -1;
+      double best = 0;
+      for (int j = 0; j < m_; ++j) {
+        if (in_set_[j] || blocked_[j]) continue;
+        const double w = Column(j).dot(r_);
+        if (w > best) {
+          best = w;
+          t = j;
+        }
+      }
+      if (t < 0 || best <= 1e-12 * (1.0 + Column(t).norm()) || k_ == R) return true;
+      passive_[k_] = t;
+      u_[k_] = 0;
+      ++k_;
+      in_set_[t] = 1;
+      // Inner loop: keep every passive weight positive.
+      bool first = true;
+      while (true) {
+        if (!LeastSquares(z_)) {  // numerically dependent: it cannot enter
+          Block(t);
+          break;
+        }
+        if (first && z_[k_ - 1] <= 0) {  // round-off: the entering weight must be > 0
+          Block(t);
+          break;
+        }
+        first = false;
+        double alpha = 1.0;
+        for (int i = 0; i < k_; ++i) {
+          if (z_[i] <= 0) alpha = std::min(alpha, u_[i] / (u_[i] - z_[i]));
+        }
+        if (alpha >= 1.0) {
+          for (int i = 0; i < k_; ++i) u_[i] = z_[i];
+          break;
+        }
+        for (int i = 0; i < k_; ++i) u_[i] += alpha * (z_[i] - u_[i]);
+        for (int i = k_ - 1; i >= 0; --i) {
+          if (u_[i] <= 1e-300) Remove(i);
+        }
+      }
+      UpdateResidual();
+    }
+    return false;
+  }
+
+  const Col& residual() const { return r_; }
+  int size() const { return k_; }
+  std::int32_t passive(int i) const { return passive_[i]; }
+  double weight(int i) const { return u_[i]; }
+  int iterations() const { return iterations_; }
+
+ private:
+  Eigen::Map<const Col> Column(int j) const { return Eigen::Map<const Col>(cols_ + static_cast<std::size_t>(j) * R); }
+
+  // z = argmin |e - C_P z| by Householder QR; false when C_P is rank deficient.
+  bool LeastSquares(double* z) const {
+    using Mat = Eigen::Matrix<double, R, Eigen::Dynamic, 0, R, R>;
+    Mat M(R, k_);
+    for (int i = 0; i < k_; ++i) M.col(i) = Column(passive_[i]);
+    const Eigen::HouseholderQR<Mat> qr(M);
+    const auto& T = qr.matrixQR();
+    for (int i = 0; i < k_; ++i) {
+      if (!(std::abs(T(i, i)) > 1e-10 * M.col(i).norm())) return false;
+    }
+    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, R, 1> sol = qr.solve(e_);
+    for (int i = 0; i < k_; ++i) z[i] = sol[i];
+    return sol.allFinite();
+  }
+
+  void UpdateResidual() {
+    r_ = e_;
+    for (int i = 0; i < k_; ++i) r_ -= u_[i] * Column(passive_[i]);
+  }
+
+  void Remove(int i) {
+    in_set_[passive_[i]] = 0;
+    for (int a = i; a + 1 < k_; ++a) {
+      passive_[a] = passive_[a + 1];
+      u_[a] = u_[a + 1];
+      z_[a] = z_[a + 1];
+    }
+    --k_;
+  }
+
+  void Block(std::int32_t t) {
+    for (int i = 0; i < k_; ++i) {
+      if (passive_[i] == t) {
+        Remove(i);
+        break;
+      }
+    }
+    blocked_[t] = 1;
+  }
+
+  const double* cols_;
+  int m_;
+  std::uint8_t* in_set_;
+  std::uint8_t* blocked_;
+  Col e_, r_;
+  std::int32_t passive_[R];
+  double u_[R], z_[R];
+  int k_ = 0;
+  int iterations_ = 0;
+};
+
+}  // namespace
+
+const char* ToString(QpStatus status) {
+  switch (status) {
+    case QpStatus::kSolved: return "solved";
+    case QpStatus::kInfeasibleRelaxed: return "infeasible (least violation)";
+    case QpStatus::kIterationLimit: return "iteration limit";
+    case QpStatus::kTooManyConstraints: return "too many constraints";
+    case QpStatus::kBadInput: return "bad input";
+  }
+  return "?";
+}
+
+QpSolver::QpSolver(int max_constraints)
+    : capacity_(std::max(1, max_constraints)),
+      columns_(static_cast<std::size_t>(capacity_ + 1) * 8),
+      scale_(capacity_),
+      in_set_(capacity_ + 1),
+      blocked_(capacity_ + 1) {}
+
+const QpSolution& QpSolver::Solve(const double* A, const double* b, int m, const Vector6& g,
+                                  const Vector6& q0, const std::int32_t* warm, int num_warm) noexcept {
+  QpSolution& s = solution_;
+  s = QpSolution{};
+  s.q = q0;
+  if (m > capacity_) {
+    s.status = QpStatus::kTooManyConstraints;
+    return s;
+  }
+  if (!(g.array() > 0).all() || !g.allFinite() || !q0.allFinite()) {
+    s.status = QpStatus::kBadInput;
+    return s;
+  }
+  const Vector6 inv_sqrt_g = g.cwiseSqrt().cwiseInverse();
+  // Dual columns of the LDP, [e_i; f_i] with e_i = a_i G^-1/2 / s_i and
+  // f_i = (b_i - a_i q0) / s_i; rows with a zero gradient are skipped (always
+  // satisfied or never satisfiable: the latter is reported as a violation).
+  for (int i = 0; i < m; ++i) {
+    const Eigen::Map<const Vector6> a(A + 6 * i);
+    const Vector6 e = a.cwiseProduct(inv_sqrt_g);
+    const double norm = e.norm();
+    double* col = columns_.data() + static_cast<std::size_t>(i) * 7;
+    if (!std::isfinite(norm) || !std::isfinite(b[i])) {
+      s.status = QpStatus::kBadInput;
+      return s;
+    }
+    scale_[i] = norm;
+    if (norm < 1e-300) {
+      for (int k = 0; k < 7; ++k) col[k] = 0;
+      continue;
+    }
+    for (int k = 0; k < 6; ++k) col[k] = e[k] / norm;
+    col[6] = (b[i] - a.dot(q0)) / norm;
+  }
+
+  const int max_iterations = 3 * m + 30;
+  Nnls<7> nnls(columns_.data(), m, in_set_.data(), blocked_.data());
+  const bool converged = nnls.Run(warm, num_warm, max_iterations);
+  s.iterations = nnls.iterations();
+  Vector6 x = Vector6::Zero();
+  const double r_last = nnls.residual()[6];
+  if (r_last > kInfeasibleResidual) {
+    x = -nnls.residual().head<6>() / r_last;
+    s.num_active = nnls.size();
+    for (int i = 0; i < nnls.size(); ++i) {
+      s.active[i] = nnls.passive(i);
+      s.lambda[i] = nnls.weight(i) / r_last;
+    }
+    s.status = converged ? QpStatus::kSolved : QpStatus::kIterationLimit;
+  } else {
+    // Inconsistent rows: minimise |x|^2 + w t^2 subject to E x + t >= f, t >= 0.
+    // Columns become [e_i; 1/sqrt(w); f_i] and [0; 1; 0] for t >= 0.
+    const double c = 1.0 / std::sqrt(kElasticWeight);
+    double* cols8 = columns_.data();
+    // Re-pack in place from the back (8 > 7 entries per column).
+    for (int i = m - 1; i >= 0; --i) {
+      double tmp[7];
+      std::copy_n(columns_.data() + static_cast<std::size_t>(i) * 7, 7, tmp);
+      double* col = cols8 + static_cast<std::size_t>(i) * 8;
+      std::copy_n(tmp, 6, col);
+      col[6] = scale_[i] < 1e-300 ? 0.0 : c;
+      col[7] = tmp[6];
+    }
+    double* last = cols8 + static_cast<std::size_t>(m) * 8;
+    std::fill_n(last, 8, 0.0);
+    last[6] = 1.0;
+    Nnls<8> elastic(cols8, m + 1, in_set_.data(), blocked_.data());
+    const bool ok = elastic.Run(nullptr, 0, max_iterations + 30);
+    s.iterations += elastic.iterations();
+    const double rl = elastic.residual()[7];
+    if (rl > kInfeasibleResidual) {
+      x = -elastic.residual().head<6>() / rl;
+      for (int i = 0; i < elastic.size(); ++i) {
+        if (elastic.passive(i) >= m) continue;
+        s.active[s.num_active] = elastic.passive(i);
+        s.lambda[s.num_active++] = elastic.weight(i) / rl;
+      }
+    }
+    s.status = ok ? QpStatus::kInfeasibleRelaxed : QpStatus::kIterationLimit;
+    // Restore the 7-row columns for the checks below.
+    for (int i = 0; i < m; ++i) {
+      double tmp[8];
+      std::copy_n(cols8 + static_cast<std::size_t>(i) * 8, 8, tmp);
+      double* col = columns_.data() + static_cast<std::size_t>(i) * 7;
+      std::copy_n(tmp, 6, col);
+      col[6] = tmp[7];
+    }
+  }
+  s.q = q0 + inv_sqrt_g.cwiseProduct(x);
+
+  // KKT check in the scaled space: x = sum lambda_i e_i, lambda >= 0, e_i x >= f_i,
+  // lambda_i (e_i x - f_i) = 0.
+  Vector6 stationarity = x;
+  double complementarity = 0;
+  for (int i = 0; i < s.num_active; ++i) {
+    const double* col = columns_.data() + static_cast<std::size_t>(s.active[i]) * 7;
+    const Eigen::Map<const Vector6> e(col);
+    stationarity -= s.lambda[i] * e;
+    complementarity = std::max(complementarity, std::abs(s.lambda[i] * (e.dot(x) - col[6])));
+  }
+  double violation = 0;
+  for (int i = 0; i < m; ++i) {
+    const double* col = columns_.data() + static_cast<std::size_t>(i) * 7;
+    const double slack = Eigen::Map<const Vector6>(col).dot(x) - col[6];
+    if (scale_[i] < 1e-300) {
+      violation = std::max(violation, std::max(0.0, (b[i] - 0.0)));  // 0 >= b_i needed
+      continue;
+    }
+    violation = std::max(violation, -slack);
+  }
+  const double size = 1.0 + x.lpNorm<Eigen::Infinity>();
+  s.max_violation = std::max(0.0, violation);
+  s.kkt_residual = std::max(stationarity.lpNorm<Eigen::Infinity>(), complementarity) / size;
+  for (int i = 0; i < s.num_active; ++i) {
+    // Report multipliers for the rows as given: lambda_orig = lambda / s_i.
+    s.lambda[i] /= scale_[s.active[i]];
+  }
+  if (!s.q.allFinite()) {
+    s.q = q0;
+    s.status = QpStatus::kBadInput;
+  }
+  return s;
+}
+
+}  // namespace sulcus
