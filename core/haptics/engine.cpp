@@ -1,0 +1,234 @@
+#include "core/haptics/engine.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sulcus {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Micros(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::micro>(b - a).count();
+}
+
+bool Finite(const RigidTransform& X) { return X.rotation().allFinite() && X.translation().allFinite(); }
+
+// Removes the drift of many products of rotations.
+RigidTransform Orthonormalised(const RigidTransform& X) {
+  return RigidTransform(Quaternion(X.rotation()).normalized().toRotationMatrix(), X.translation());
+}
+
+// Exact gap of a pair with the tool at X_WT.
+double Gap(const CollisionWorld& world, const RigidTransform& X_WT, const ContactPair& c) {
+  const SphereTree& tool = world.tool();
+  const Vector3 cT = X_WT * tool.center(c.tool_leaf);
+  return (cT - world.ObjectCenter(c.object, c.object_leaf)).norm() - tool.r[c.tool_leaf] -
+         world.ObjectRadius(c.object, c.object_leaf);
+}
+
+Vector3 Clamp(const Vector3& v, double limit, bool* clamped) {
+  const double n = v.norm();
+  if (n > limit) {
+    *clamped = true;
+    return v * (limit / n);
+  }
+  return v;
+}
+
+}  // namespace
+
+EngineModel::EngineModel(const SphereTree& tool, const std::vector<CollisionWorld::Object>& objects,
+                         const EngineParams& p)
+    : world(tool, objects), params(p) {}
+
+EngineData::EngineData(const EngineModel& model)
+    : pairs(model.params.max_pairs),
+      A(static_cast<std::size_t>(model.params.max_pairs) * 6),
+      b(model.params.max_pairs),
+      active_keys(kQpMaxActive),
+      warm_rows(kQpMaxActive),
+      scratch(model.world),
+      qp(model.params.max_pairs) {}
+
+void ResetTool(const RigidTransform& X_WG, EngineData* d) {
+  d->X_WG = X_WG;
+  d->X_WH = X_WG;
+  d->num_pairs = 0;
+  d->num_active_keys = 0;
+  d->last_move_mm = 0;
+  d->force_W.setZero();
+  d->torque_W.setZero();
+  d->initialized = true;
+}
+
+void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) noexcept {
+  const auto t0 = Clock::now();
+  const EngineParams& p = model.params;
+  const CollisionWorld& world = model.world;
+  const SphereTree& tool = world.tool();
+  ++d->frames;
+  d->timings = {};
+  if (!Finite(X_WH)) {
+    // Hold the graphic pose, send nothing: the thread ramps back in after faults.
+    ++d->faults.nonfinite_device;
+    d->force_W.setZero();
+    d->torque_W.setZero();
+    d->timings.total_us = Micros(t0, Clock::now());
+    return;
+  }
+  d->X_WH = X_WH;
+  if (!d->initialized) ResetTool(X_WH, d);
+
+  // The query margin must cover how far any tool point moves this frame, so that
+  // no pair outside it can be reached (no pop-through). Guess from the last
+  // frame's move; if the solved pose moved further, query again with a margin
+  // that covers the actual move and solve again (at most a few times).
+  const Vector6 g = (Vector6() << p.k_t, p.k_t, p.k_t, p.k_r, p.k_r, p.k_r).finished();
+  const double reach = world.tool_reach();
+  auto moved = [&](const RigidTransform& from, const RigidTransform& to) {
+    const Vector6 dq = from.DifferenceTo(to);
+    return dq.head<3>().norm() + dq.tail<3>().norm() * reach;
+  };
+  double margin = p.base_margin_mm + 2.0 * d->last_move_mm;
+  RigidTransform X = d->X_WG;
+  const QpSolution* sol = nullptr;
+  d->linearizations = 0;
+  double move = 0;
+  // The graphic tool moves at most max_step_mm a frame toward the device, which
+  // bounds the margin (and the pairs) however fast the device jumps.
+  const Vector6 to_device = d->X_WG.DifferenceTo(X_WH);
+  const double device_move = to_device.head<3>().norm() + to_device.tail<3>().norm() * reach;
+  double step_scale = device_move > p.max_step_mm ? p.max_step_mm / device_move : 1.0;
+  bool accepted = false;
+  for (int sweep = 0; sweep < 6; ++sweep) {
+    const RigidTransform X_target =
+        step_scale < 1.0 ? d->X_WG.Perturbed(step_scale * to_device.head<3>(), step_scale * to_device.tail<3>())
+                         : X_WH;
+    const auto t_collide = Clock::now();
+    const CollisionStats cs =
+        FindContacts(world, d->X_WG, margin, &d->scratch, d->pairs.data(), p.max_pairs);
+    d->num_pairs = cs.pairs;
+    d->timings.collide_us += Micros(t_collide, Clock::now());
+    d->pair_overflow = cs.overflow || cs.stack_overflow;
+    if (d->pair_overflow) {
+      // Too many pairs to trust the set: try a shorter step with a smaller margin.
+      step_scale *= 0.5;
+      margin = p.base_margin_mm + 1.25 * step_scale * device_move;
+      continue;
+    }
+
+    // Warm start: last frame's active pairs, found by key in the sorted pairs.
+    int num_warm = 0;
+    for (int i = 0; i < d->num_active_keys; ++i) {
+      const auto it = std::lower_bound(d->pairs.begin(), d->pairs.begin() + d->num_pairs, d->active_keys[i],
+                                       [](const ContactPair& c, std::uint64_t k) { return c.key() < k; });
+      if (it != d->pairs.begin() + d->num_pairs && it->key() == d->active_keys[i]) {
+        d->warm_rows[num_warm++] = static_cast<std::int32_t>(it - d->pairs.begin());
+      }
+    }
+    X = d->X_WG;
+    d->max_penetration_mm = 0;
+    const int m = d->num_pairs;
+    for (int pass = 0; pass < std::max(1, p.max_linearizations); ++pass) {
+      const auto t_build = Clock::now();
+      // Constraint i: n^T dp + ((c_T - p) x n)^T dtheta >= -(|c_T - c_O| - r_T - r_O),
+      // the distance form linearised at X (DESIGN.md step 3).
+      for (int i = 0; i < m; ++i) {
+        const ContactPair& c = d->pairs[i];
+        const Vector3 cT = X * tool.center(c.tool_leaf);
+        const Vector3 cO = world.ObjectCenter(c.object, c.object_leaf);
+        Vector3 n = cT - cO;
+        const double dist = n.norm();
+        if (dist > 1e-9) {
+          n /= dist;
+        } else {
+          // Coincident centres: no direction is defined; push along the line from
+          // the object sphere to the tool origin (or +z when that too is degenerate).
+          n = X.translation() - cO;
+          n = n.norm() > 1e-9 ? Vector3(n.normalized()) : Vector3::UnitZ();
+        }
+        const Vector3 lever = cT - X.translation();
+        double* row = d->A.data() + 6 * i;
+        Eigen::Map<Vector3> normal_part(row), moment_part(row + 3);
+        normal_part = n;
+        moment_part = lever.cross(n);
+        d->b[i] = -(dist - tool.r[c.tool_leaf] - world.ObjectRadius(c.object, c.object_leaf));
+      }
+      const Vector6 target = X.DifferenceTo(X_target);
+      const auto t_solve = Clock::now();
+      sol = &d->qp.Solve(d->A.data(), d->b.data(), m, g, target, d->warm_rows.data(), num_warm);
+      const auto t_solved = Clock::now();
+      d->timings.constraints_us += Micros(t_build, t_solve);
+      d->timings.solve_us += Micros(t_solve, t_solved);
+      ++d->linearizations;
+      if (sol->status != QpStatus::kSolved && sol->status != QpStatus::kInfeasibleRelaxed) break;
+      X = Orthonormalised(X.Perturbed(sol->q.head<3>(), sol->q.tail<3>()));
+      // Exact re-check at the new pose: no penetration, and the active constraints
+      // tight (a linearisation is conservative on curved spheres: when it stopped
+      // the tool short, solve again from the new pose, like an SQP step).
+      double worst = 0;
+      for (int i = 0; i < m; ++i) worst = std::max(worst, -Gap(world, X, d->pairs[i]));
+      double slack = 0;
+      for (int i = 0; i < sol->num_active; ++i) slack = std::max(slack, Gap(world, X, d->pairs[sol->active[i]]));
+      d->max_penetration_mm = worst;
+      if (sol->status == QpStatus::kInfeasibleRelaxed) break;
+      if (worst <= p.penetration_tolerance_mm && slack <= p.penetration_tolerance_mm) break;
+      // Re-linearise from the new pose, keeping this pass's active set as the guess.
+      num_warm = 0;
+      for (int i = 0; i < sol->num_active; ++i) d->warm_rows[num_warm++] = sol->active[i];
+    }
+    if (sol->status != QpStatus::kSolved && sol->status != QpStatus::kInfeasibleRelaxed) break;
+    move = moved(d->X_WG, X);
+    if (move <= margin - p.base_margin_mm) {
+      accepted = true;
+      break;
+    }
+    margin = p.base_margin_mm + 1.25 * move;  // cover the actual move, with headroom
+  }
+  d->margin_mm = margin;
+  if (d->pair_overflow) ++d->faults.pair_overflow;
+  if (!accepted && sol != nullptr && (sol->status == QpStatus::kSolved || sol->status == QpStatus::kInfeasibleRelaxed)) {
+    // The move was never covered by a query: holding the pose is the safe answer.
+    ++d->faults.sweep;
+    X = d->X_WG;
+    move = 0;
+  }
+
+  if (sol == nullptr) {  // every sweep overflowed: hold the pose
+    ++d->faults.sweep;
+    d->force_saturated = false;
+    d->force_W = Clamp(p.k_t * (d->X_WG.translation() - X_WH.translation()), p.max_force_n, &d->force_saturated);
+    d->torque_W = Clamp(p.k_r * LogMap(d->X_WG.rotation() * X_WH.rotation().transpose()), p.max_torque_nmm,
+                        &d->force_saturated);
+    d->timings.total_us = Micros(t0, Clock::now());
+    return;
+  }
+  d->qp_status = sol->status;
+  d->qp_iterations = sol->iterations;
+  d->kkt_residual = sol->kkt_residual;
+  if (sol->status == QpStatus::kSolved || sol->status == QpStatus::kInfeasibleRelaxed) {
+    d->X_WG = X;
+    d->last_move_mm = move;
+    d->num_active_keys = 0;
+    d->active_contacts = sol->num_active;
+    for (int i = 0; i < sol->num_active; ++i) d->active_keys[d->num_active_keys++] = d->pairs[sol->active[i]].key();
+    std::sort(d->active_keys.begin(), d->active_keys.begin() + d->num_active_keys);
+    if (d->max_penetration_mm > p.penetration_tolerance_mm && sol->status == QpStatus::kSolved) {
+      ++d->faults.penetration;
+    }
+  } else {
+    ++d->faults.solver;  // keep the last valid graphic pose
+    d->num_active_keys = 0;
+    d->last_move_mm = 0;
+  }
+
+  // Spring between the tools (paper eq. 6), expressed as force and torque.
+  d->force_saturated = false;
+  d->force_W = Clamp(p.k_t * (d->X_WG.translation() - X_WH.translation()), p.max_force_n, &d->force_saturated);
+  d->torque_W = Clamp(p.k_r * LogMap(d->X_WG.rotation() * X_WH.rotation().transpose()), p.max_torque_nmm,
+                      &d->force_saturated);
+  d->timings.total_us = Micros(t0, Clock::now());
+}
+
+}  // namespace sulcus

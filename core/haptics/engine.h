@@ -1,0 +1,104 @@
+#pragma once
+// One haptic frame (DESIGN.md, "One haptic frame"): collide the tool's
+// sphere-tree against the scene at the graphic pose, linearise every pair
+// constraint in the distance form with a local rotation increment, solve the QP
+// that keeps the graphic tool out of every object while staying as close as
+// possible to the device, re-check the exact constraints and re-linearise when
+// needed, and turn the spring between the two tools into a force and torque.
+//
+// Model/Data split (MuJoCo): EngineModel is immutable after construction;
+// EngineData holds everything that changes, sized once. Step() never allocates
+// and never throws; faults are counted in EngineData.
+
+#include <chrono>
+#include <cstdint>
+#include <vector>
+
+#include "core/collision/collision.h"
+#include "core/geometry/transform.h"
+#include "core/solver/qp.h"
+
+namespace sulcus {
+
+struct EngineParams {
+  double k_t = 1.0;               // N/mm, translational spring (paper)
+  double k_r = 1000.0;            // N*mm/rad, rotational spring (paper: 1000 mN*m/rad)
+  double max_force_n = 3.3;       // saturation (Geomagic Touch peak force)
+  double max_torque_nmm = 515.0;  // saturation (Phantom Premium 6DOF peak torque)
+  double base_margin_mm = 0.05;   // pairs closer than this are constraints even at rest
+  double penetration_tolerance_mm = 1e-4;  // re-linearise while the exact check exceeds it
+  int max_linearizations = 4;
+  double max_step_mm = 2.0;       // most a tool point moves per frame (2 m/s at 1 kHz)
+  int max_pairs = 2048;
+};
+
+/// The immutable engine model: the collision world and the parameters.
+struct EngineModel {
+  EngineModel(const SphereTree& tool, const std::vector<CollisionWorld::Object>& objects,
+              const EngineParams& params);
+  CollisionWorld world;
+  EngineParams params;
+};
+
+/// Fault counters; a fault never throws, it is counted and the frame falls back.
+struct EngineFaults {
+  std::uint64_t nonfinite_device = 0;   // a NaN or infinite device pose: pose held, zero force
+  std::uint64_t pair_overflow = 0;      // more pairs than max_pairs: a shorter step is tried
+  std::uint64_t solver = 0;             // QP status other than solved / relaxed
+  std::uint64_t penetration = 0;        // exact penetration above tolerance after the last pass
+  std::uint64_t sweep = 0;              // the frame's move could not be covered: pose held
+  std::uint64_t total() const { return nonfinite_device + pair_overflow + solver + penetration + sweep; }
+};
+
+/// Per-stage wall time of the last frame, microseconds.
+struct StepTimings {
+  double collide_us = 0, constraints_us = 0, solve_us = 0, total_us = 0;
+};
+
+struct EngineData {
+  explicit EngineData(const EngineModel& model);
+
+  // Inputs and outputs of the last frame.
+  RigidTransform X_WH;  // device ("haptic") tool
+  RigidTransform X_WG;  // rendered ("graphic") tool
+  Vector3 force_W = Vector3::Zero();   // N, on the device: k_t (p_G - p_H), saturated
+  Vector3 torque_W = Vector3::Zero();  // N*mm about the tool origin, saturated
+  bool force_saturated = false;
+
+  // Contacts: pairs within the margin at the graphic pose, sorted by key.
+  std::vector<ContactPair> pairs;
+  int num_pairs = 0;
+  int active_contacts = 0;  // pairs with a positive multiplier
+  double max_penetration_mm = 0;  // exact, over all pairs, after the frame (>= 0)
+  double margin_mm = 0;      // query margin used (covers this frame's move)
+  double last_move_mm = 0;   // how far a tool point moved last frame (margin guess)
+  bool pair_overflow = false;
+
+  // Solver report of the last pass.
+  QpStatus qp_status = QpStatus::kSolved;
+  int qp_iterations = 0;
+  int linearizations = 0;
+  double kkt_residual = 0;
+
+  StepTimings timings;
+  EngineFaults faults;
+  std::uint64_t frames = 0;
+  bool initialized = false;
+
+  // Workspace (sized once).
+  std::vector<double> A, b;
+  std::vector<std::uint64_t> active_keys;  // last frame's active pairs, sorted
+  int num_active_keys = 0;
+  std::vector<std::int32_t> warm_rows;
+  CollisionScratch scratch;
+  QpSolver qp;
+};
+
+/// Puts the graphic tool at X_WG (and the device there too), clearing contacts
+/// and the warm start; the next Step starts from it.
+void ResetTool(const RigidTransform& X_WG, EngineData* data);
+
+/// One frame with the device at X_WH. Never allocates, never throws.
+void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* data) noexcept;
+
+}  // namespace sulcus
