@@ -36,75 +36,84 @@ CollisionWorld::CollisionWorld(const SphereTree& tool, const std::vector<Object>
   }
 }
 
-CollisionScratch::CollisionScratch(const CollisionWorld& world)
-    : tool_center_W(world.tool().size()), stamp(world.tool().size(), 0) {}
-
 CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X_WT, double margin,
                             CollisionScratch* s, ContactPair* out, int capacity) noexcept {
   CollisionStats stats;
   const SphereTree& tool = world.tool();
   const Matrix3& R = X_WT.rotation();
+  const Matrix3 Rt = R.transpose();
   const Vector3& p = X_WT.translation();
-  if (++s->query == 0) {  // wrapped: clear stamps once every 4 billion queries
-    std::fill(s->stamp.begin(), s->stamp.end(), 0u);
-    s->query = 1;
-  }
-  const std::uint32_t q = s->query;
-  auto tool_center = [&](std::int32_t n) -> const Vector3& {
-    if (s->stamp[n] != q) {
-      s->stamp[n] = q;
-      s->tool_center_W[n] = R * Vector3(tool.x[n], tool.y[n], tool.z[n]) + p;
-    }
-    return s->tool_center_W[n];
-  };
+  const double* tx = tool.x.data();
+  const double* ty = tool.y.data();
+  const double* tz = tool.z.data();
+  const double* tr = tool.r.data();
   const double* ox = world.ox_.data();
   const double* oy = world.oy_.data();
   const double* oz = world.oz_.data();
   const double* orad = world.orad_.data();
+  double d2[256];  // a node has at most 255 children
+
+  // Tests `count` spheres (contiguous in x, y, z, r from `first`) against the
+  // point q with radius rq, in one loop the compiler can vectorise; then emits
+  // leaf pairs and pushes overlapping pairs that can still be split.
+  auto test_children = [&](const double* x, const double* y, const double* z, const double* r,
+                           std::int32_t first, int count, const Vector3& q, double rq, auto&& on_hit) {
+    for (int c = 0; c < count; ++c) {
+      const double dx = x[first + c] - q.x(), dy = y[first + c] - q.y(), dz = z[first + c] - q.z();
+      d2[c] = dx * dx + dy * dy + dz * dz;
+    }
+    stats.node_tests += count;
+    for (int c = count - 1; c >= 0; --c) {
+      const double reach = rq + r[first + c] + margin;
+      if (d2[c] < reach * reach) on_hit(first + c, d2[c]);
+    }
+  };
 
   for (int obj = 0; obj < world.num_objects(); ++obj) {
     const std::size_t base = world.offset_[obj];
+    const double* bx = ox + base;
+    const double* by = oy + base;
+    const double* bz = oz + base;
+    const double* br = orad + base;
     const std::int32_t* ofirst = world.ofirst_.data() + base;
     const std::uint8_t* ocount = world.ocount_.data() + base;
     int top = 0;
-    s->stack_tool[top] = 0;
-    s->stack_obj[top] = 0;
-    ++top;
-    while (top > 0) {
-      --top;
-      const std::int32_t a = s->stack_tool[top], b = s->stack_obj[top];
-      const Vector3& ca = tool_center(a);
-      const std::size_t k = base + b;
-      const double dx = ca.x() - ox[k], dy = ca.y() - oy[k], dz = ca.z() - oz[k];
-      const double reach = tool.r[a] + orad[k] + margin;
-      const double d2 = dx * dx + dy * dy + dz * dz;
-      ++stats.node_tests;
-      if (d2 >= reach * reach) continue;  // the first test is the broad phase
-      const bool a_leaf = tool.child_count[a] == 0, b_leaf = ocount[b] == 0;
-      if (a_leaf && b_leaf) {
+    // A pair that overlaps: emitted when both are leaves, else pushed to be split.
+    auto hit = [&](std::int32_t a, std::int32_t b, double dist2) {
+      if (tool.child_count[a] == 0 && ocount[b] == 0) {
         if (stats.pairs < capacity) {
-          out[stats.pairs++] = {obj, b, a, std::sqrt(d2) - tool.r[a] - orad[k]};
+          out[stats.pairs++] = {obj, b, a, std::sqrt(dist2) - tr[a] - br[b]};
         } else {
           stats.overflow = true;
         }
-        continue;
-      }
-      // Descend the larger sphere (or the only non-leaf).
-      const bool split_tool = b_leaf || (!a_leaf && tool.r[a] >= orad[k]);
-      const int children = split_tool ? tool.child_count[a] : ocount[b];
-      if (top + children > CollisionScratch::kStackCapacity) {
+      } else if (top == CollisionScratch::kStackCapacity) {
         stats.stack_overflow = true;
-        continue;
-      }
-      for (int c = children - 1; c >= 0; --c) {
-        s->stack_tool[top] = split_tool ? tool.first_child[a] + c : a;
-        s->stack_obj[top] = split_tool ? b : ofirst[b] + c;
+      } else {
+        s->stack_tool[top] = a;
+        s->stack_obj[top] = b;
         ++top;
+      }
+    };
+    // The roots: the broad phase.
+    const Vector3 root_T = Rt * (Vector3(bx[0], by[0], bz[0]) - p);
+    test_children(tx, ty, tz, tr, 0, 1, root_T, br[0], [&](std::int32_t a, double dd) { hit(a, 0, dd); });
+    while (top > 0) {
+      --top;
+      const std::int32_t a = s->stack_tool[top], b = s->stack_obj[top];
+      const bool a_leaf = tool.child_count[a] == 0, b_leaf = ocount[b] == 0;
+      if (b_leaf || (!a_leaf && tr[a] >= br[b])) {
+        // Split the tool node: the object sphere moves into the tool frame once.
+        const Vector3 b_T = Rt * (Vector3(bx[b], by[b], bz[b]) - p);
+        test_children(tx, ty, tz, tr, tool.first_child[a], tool.child_count[a], b_T, br[b],
+                      [&](std::int32_t child, double dd) { hit(child, b, dd); });
+      } else {
+        // Split the object node: the tool sphere moves into the world once.
+        const Vector3 a_W = R * Vector3(tx[a], ty[a], tz[a]) + p;
+        test_children(bx, by, bz, br, ofirst[b], ocount[b], a_W, tr[a],
+                      [&](std::int32_t child, double dd) { hit(a, child, dd); });
       }
     }
   }
-  std::sort(out, out + stats.pairs,
-            [](const ContactPair& x, const ContactPair& y) { return x.key() < y.key(); });
   return stats;
 }
 
@@ -137,7 +146,6 @@ std::vector<ContactPair> FindContactsReference(const CollisionWorld& world, cons
     };
     visit(0, 0);
   }
-  std::sort(out.begin(), out.end(), [](const ContactPair& x, const ContactPair& y) { return x.key() < y.key(); });
   return out;
 }
 

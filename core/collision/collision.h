@@ -7,7 +7,8 @@
 // Two implementations with the same output: FindContactsReference, the plain
 // recursion of Algorithm 1 kept as the obviously correct reference, and
 // FindContacts, the one the haptic thread calls (flat arrays, a fixed stack,
-// lazy transforms of tool nodes, no allocation, no virtual call).
+// children tested in one loop in the frame of the node they are tested against,
+// so no per-node transform; no allocation, no virtual call).
 
 #include <cstdint>
 #include <vector>
@@ -72,13 +73,10 @@ class CollisionWorld {
   double tool_reach_ = 0;
 };
 
-/// Per-query scratch space, sized once for a world (part of the engine's Data).
+/// Per-query scratch space (part of the engine's Data).
 struct CollisionScratch {
-  explicit CollisionScratch(const CollisionWorld& world);
-  std::vector<Vector3> tool_center_W;  // lazily transformed tool centres
-  std::vector<std::uint32_t> stamp;    // query number a centre was computed at
-  std::uint32_t query = 0;
-  static constexpr int kStackCapacity = 512;
+  explicit CollisionScratch(const CollisionWorld&) {}
+  static constexpr int kStackCapacity = 1024;
   std::int32_t stack_tool[kStackCapacity];
   std::int32_t stack_obj[kStackCapacity];
 };
@@ -92,12 +90,13 @@ struct CollisionStats {
 };
 
 /// Leaf pairs with gap < margin for the tool at X_WT, written to `out`
-/// (capacity entries at most), sorted by key. No allocation; never throws.
+/// (capacity entries at most), in traversal order (deterministic; object by
+/// object). No allocation; never throws.
 CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X_WT, double margin,
                             CollisionScratch* scratch, ContactPair* out, int capacity) noexcept;
 
 /// The reference: Algorithm 1 as a plain recursion over both trees (descending
-/// both sides), no pruning tricks. Sorted by key.
+/// both sides), no pruning tricks. In its own traversal order.
 std::vector<ContactPair> FindContactsReference(const CollisionWorld& world, const RigidTransform& X_WT,
                                                double margin);
 

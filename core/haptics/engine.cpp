@@ -101,7 +101,11 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   const double device_move = to_device.head<3>().norm() + to_device.tail<3>().norm() * reach;
   double step_scale = device_move > p.max_step_mm ? p.max_step_mm / device_move : 1.0;
   bool accepted = false;
-  for (int sweep = 0; sweep < 6; ++sweep) {
+  d->sweeps = 0;
+  for (int sweep = 0; sweep < EngineData::kMaxSweeps; ++sweep) {
+    d->sweeps = sweep + 1;
+    d->sweep_margin_mm[sweep] = margin;
+    d->sweep_move_mm[sweep] = -1;
     const RigidTransform X_target =
         step_scale < 1.0 ? d->X_WG.Perturbed(step_scale * to_device.head<3>(), step_scale * to_device.tail<3>())
                          : X_WH;
@@ -118,13 +122,15 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       continue;
     }
 
-    // Warm start: last frame's active pairs, found by key in the sorted pairs.
+    // Warm start: last frame's active pairs (at most 8 keys), found by key.
     int num_warm = 0;
-    for (int i = 0; i < d->num_active_keys; ++i) {
-      const auto it = std::lower_bound(d->pairs.begin(), d->pairs.begin() + d->num_pairs, d->active_keys[i],
-                                       [](const ContactPair& c, std::uint64_t k) { return c.key() < k; });
-      if (it != d->pairs.begin() + d->num_pairs && it->key() == d->active_keys[i]) {
-        d->warm_rows[num_warm++] = static_cast<std::int32_t>(it - d->pairs.begin());
+    for (int r = 0; r < d->num_pairs && num_warm < d->num_active_keys; ++r) {
+      const std::uint64_t key = d->pairs[r].key();
+      for (int i = 0; i < d->num_active_keys; ++i) {
+        if (d->active_keys[i] == key) {
+          d->warm_rows[num_warm++] = r;
+          break;
+        }
       }
     }
     X = d->X_WG;
@@ -180,7 +186,9 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     }
     if (sol->status != QpStatus::kSolved && sol->status != QpStatus::kInfeasibleRelaxed) break;
     move = moved(d->X_WG, X);
-    if (move <= margin - p.base_margin_mm) {
+    d->sweep_move_mm[sweep] = move;
+    // Every pair left out had gap >= margin, so a shorter move cannot reach it.
+    if (move < margin) {
       accepted = true;
       break;
     }
@@ -213,7 +221,6 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     d->num_active_keys = 0;
     d->active_contacts = sol->num_active;
     for (int i = 0; i < sol->num_active; ++i) d->active_keys[d->num_active_keys++] = d->pairs[sol->active[i]].key();
-    std::sort(d->active_keys.begin(), d->active_keys.begin() + d->num_active_keys);
     if (d->max_penetration_mm > p.penetration_tolerance_mm && sol->status == QpStatus::kSolved) {
       ++d->faults.penetration;
     }

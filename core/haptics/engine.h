@@ -65,12 +65,16 @@ struct EngineData {
   Vector3 torque_W = Vector3::Zero();  // N*mm about the tool origin, saturated
   bool force_saturated = false;
 
-  // Contacts: pairs within the margin at the graphic pose, sorted by key.
+  // Contacts: pairs within the margin at the graphic pose.
   std::vector<ContactPair> pairs;
   int num_pairs = 0;
   int active_contacts = 0;  // pairs with a positive multiplier
   double max_penetration_mm = 0;  // exact, over all pairs, after the frame (>= 0)
   double margin_mm = 0;      // query margin used (covers this frame's move)
+  static constexpr int kMaxSweeps = 6;
+  int sweeps = 0;            // queries this frame (a re-query when the move outgrew the margin)
+  double sweep_margin_mm[kMaxSweeps] = {};
+  double sweep_move_mm[kMaxSweeps] = {};
   double last_move_mm = 0;   // how far a tool point moved last frame (margin guess)
   bool pair_overflow = false;
 
@@ -87,7 +91,7 @@ struct EngineData {
 
   // Workspace (sized once).
   std::vector<double> A, b;
-  std::vector<std::uint64_t> active_keys;  // last frame's active pairs, sorted
+  std::vector<std::uint64_t> active_keys;  // last frame's active pairs
   int num_active_keys = 0;
   std::vector<std::int32_t> warm_rows;
   CollisionScratch scratch;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "core/geometry/primitives.h"
@@ -19,8 +20,13 @@ RigidTransform RandomPose(std::mt19937_64& rng, double spread) {
   return RigidTransform::FromConfiguration(q);
 }
 
-void ExpectSamePairs(const std::vector<ContactPair>& ref, const ContactPair* fast, int n) {
+void ExpectSamePairs(std::vector<ContactPair> ref, const ContactPair* fast_begin, int n) {
   ASSERT_EQ(static_cast<int>(ref.size()), n);
+  // Each returns its own traversal order: compare as sets, by key.
+  auto by_key = [](const ContactPair& x, const ContactPair& y) { return x.key() < y.key(); };
+  std::vector<ContactPair> fast(fast_begin, fast_begin + n);
+  std::sort(ref.begin(), ref.end(), by_key);
+  std::sort(fast.begin(), fast.end(), by_key);
   for (int i = 0; i < n; ++i) {
     ASSERT_EQ(ref[i].key(), fast[i].key()) << i;
     // Same formula on the same doubles up to the order of a 3-term sum.
