@@ -11,6 +11,9 @@ void AddMeshCommands(CLI::App& app);
 /// `spheretree build`, `spheretree eval`.
 void AddSphereTreeCommands(CLI::App& app);
 
+/// `qp-bench`, `qp-gen`.
+void AddQpCommands(CLI::App& app);
+
 /// Exit status of the subcommand that ran (set by its callback).
 int& ExitStatus();
 

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "sulcus-cli 0.1.0");
   sulcus::cli::AddMeshCommands(app);
   sulcus::cli::AddSphereTreeCommands(app);
+  sulcus::cli::AddQpCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
