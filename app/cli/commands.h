@@ -14,6 +14,9 @@ void AddSphereTreeCommands(CLI::App& app);
 /// `qp-bench`, `qp-gen`.
 void AddQpCommands(CLI::App& app);
 
+/// `accuracy-cost`.
+void AddAccuracyCommands(CLI::App& app);
+
 /// Exit status of the subcommand that ran (set by its callback).
 int& ExitStatus();
 

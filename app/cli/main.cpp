@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   sulcus::cli::AddMeshCommands(app);
   sulcus::cli::AddSphereTreeCommands(app);
   sulcus::cli::AddQpCommands(app);
+  sulcus::cli::AddAccuracyCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

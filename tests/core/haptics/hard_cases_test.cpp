@@ -20,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <functional>
 #include <numbers>
@@ -144,8 +145,11 @@ void ExpectStable(const Outcome& o, Contact contact, bool allow_relaxed = false)
   if (contact == Contact::kConvex) {
     EXPECT_EQ(o.force_jumps, 0) << "worst ratio " << o.worst_jump_ratio;
   }
-  ::testing::Test::RecordProperty("max_penetration_mm", std::to_string(o.max_penetration));
-  ::testing::Test::RecordProperty("worst_force_jump_ratio", std::to_string(o.worst_jump_ratio));
+  char text[64];
+  std::snprintf(text, sizeof text, "%.3g", o.max_penetration);
+  ::testing::Test::RecordProperty("max_penetration_mm", text);
+  std::snprintf(text, sizeof text, "%.3g", o.worst_jump_ratio);
+  ::testing::Test::RecordProperty("worst_force_jump_ratio", text);
   ::testing::Test::RecordProperty("max_pairs", o.max_pairs);
 }
 

@@ -1,0 +1,198 @@
+// `sulcus-cli accuracy-cost`: what accuracy costs in time. For one object it
+// builds sphere-trees at several leaf budgets and measures what each buys (how
+// far leaves stick out of the surface) and what it costs (build time, frame time,
+// contact pairs), then sweeps the solver's penetration tolerance. Writes CSV
+// files and, when gnuplot is installed, PNG plots.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "app/cli/commands.h"
+#include "core/geometry/mesh_io.h"
+#include "core/geometry/primitives.h"
+#include "core/haptics/engine.h"
+#include "core/spheretree/cache.h"
+#include "core/spheretree/metrics.h"
+
+namespace sulcus::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct FrameStats {
+  double p50_us = 0, p99_us = 0, mean_pairs = 0, mean_linearizations = 0, max_penetration_mm = 0;
+  double contact_share = 0;  // frames with an active contact
+  std::uint64_t faults = 0;
+};
+
+// Slides the probe over the object, kept perpendicular to it (its shaft along
+// the direction from the object's centre) and pressed 0.3 mm toward the centre
+// from the graphic tool, a device that follows the surface with a steady push:
+// 300 frames to settle, then 3000 measured frames.
+FrameStats RunSlide(const SphereTree& probe, const SphereTree& object, const Aabb& box, EngineParams params) {
+  const EngineModel model(probe, {{&object, RigidTransform::Identity()}}, params);
+  EngineData d(model);
+  const Vector3 c = 0.5 * (box.min + box.max);
+  auto direction = [](double t) {
+    const double a = 0.8 * std::sin(t), b = 0.6 + 0.5 * std::sin(0.7 * t);
+    return Vector3(std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b));
+  };
+  auto pose = [&](double t, double dist) {
+    const Vector3 u = direction(t);
+    return RigidTransform(Quaternion::FromTwoVectors(Vector3::UnitZ(), u).toRotationMatrix(), c + dist * u);
+  };
+  ResetTool(pose(0, box.extent().norm()), &d);
+  std::vector<double> us;
+  double pairs = 0, lin = 0, pen = 0;
+  int in_contact = 0;
+  const int warmup = 300, frames = 3000;
+  for (int i = 0; i < warmup + frames; ++i) {
+    const double t = std::max(0, i - warmup) * 0.002;
+    const RigidTransform X = pose(t, (d.X_WG.translation() - c).norm() - 0.3);
+    const auto t0 = Clock::now();
+    Step(model, X, &d);
+    const double dt = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+    if (i < warmup) continue;
+    us.push_back(dt);
+    pairs += d.num_pairs;
+    lin += d.linearizations;
+    in_contact += d.active_contacts > 0;
+    pen = std::max(pen, d.max_penetration_mm);
+  }
+  std::sort(us.begin(), us.end());
+  FrameStats s;
+  s.p50_us = us[us.size() / 2];
+  s.p99_us = us[us.size() * 99 / 100];
+  s.mean_pairs = pairs / frames;
+  s.mean_linearizations = lin / frames;
+  s.max_penetration_mm = pen;
+  s.contact_share = static_cast<double>(in_contact) / frames;
+  s.faults = d.faults.total();
+  return s;
+}
+
+void Plot(const fs::path& dir) {
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
+    std::printf("gnuplot not found: CSV written, no plots (scripts/install-deps.sh installs gnuplot-nox)\n");
+    return;
+  }
+  const fs::path gp = dir / "plots.gp";
+  std::ofstream out(gp);
+  out << "set datafile separator ','\nset terminal pngcairo size 900,560 font 'Sans,11'\nset grid\n"
+      << "set key left top\n"
+      << "set output '" << (dir / "resolution.png").string() << "'\n"
+      << "set title 'Sphere-tree resolution: what it buys (protrusion) and what it costs (time)'\n"
+      << "set logscale x 2\nset xlabel 'leaf spheres'\nset ylabel 'protrusion, % of largest extent'\n"
+      << "set y2label 'time (us per frame; build: ms)'\nset y2tics\nset logscale y\nset logscale y2\n"
+      << "plot '" << (dir / "resolution.csv").string() << "' skip 1 using 1:3 with linespoints lw 2 title 'worst protrusion',"
+      << " '' skip 1 using 1:4 with linespoints lw 2 title 'mean protrusion',"
+      << " '' skip 1 using 1:6 axes x1y2 with linespoints dt 2 lw 2 title 'frame p50 (us)',"
+      << " '' skip 1 using 1:7 axes x1y2 with linespoints dt 2 lw 2 title 'frame p99 (us)',"
+      << " '' skip 1 using 1:($5*1000) axes x1y2 with linespoints dt 3 lw 2 title 'build (ms)'\n"
+      << "unset logscale\nset logscale x 10\nset format x '10^{%L}'\nunset y2tics\nunset y2label\n"
+      << "set output '" << (dir / "tolerance.png").string() << "'\n"
+      << "set title 'Solver tolerance: penetration allowed vs frame time'\n"
+      << "set xlabel 'penetration tolerance (mm)'\nset ylabel 'us per frame / linearisations x 10'\nset logscale y\n"
+      << "plot '" << (dir / "tolerance.csv").string() << "' skip 1 using 1:2 with linespoints lw 2 title 'frame p50 (us)',"
+      << " '' skip 1 using 1:3 with linespoints lw 2 title 'frame p99 (us)',"
+      << " '' skip 1 using 1:($4*10) with linespoints lw 2 title 'mean linearisations x 10'\n";
+  out.close();
+  if (std::system(("gnuplot '" + gp.string() + "'").c_str()) == 0) {
+    std::printf("plots: %s, %s\n", (dir / "resolution.png").c_str(), (dir / "tolerance.png").c_str());
+  } else {
+    std::printf("gnuplot failed on %s\n", gp.c_str());
+  }
+}
+
+}  // namespace
+
+void AddAccuracyCommands(CLI::App& app) {
+  auto mesh_file = std::make_shared<std::string>();
+  auto out_dir = std::make_shared<std::string>("accuracy-cost");
+  CLI::App* cmd = app.add_subcommand(
+      "accuracy-cost",
+      "Measure what accuracy costs: sphere-tree resolution (protrusion vs build and frame time) and solver "
+      "tolerance (penetration vs frame time), as a table, CSV and plots");
+  cmd->add_option("--mesh", *mesh_file,
+                  "Object to probe (default: a tooth-sized ellipsoid, 8 x 7 x 20 mm)");
+  cmd->add_option("-o,--output", *out_dir, "Folder for CSV files and plots")->capture_default_str();
+  cmd->callback([=] {
+    TriangleMesh object;
+    if (mesh_file->empty()) {
+      object = MakeIcosphere(1.0, 4);
+      object.Transform(Vector3(4, 3.5, 10).asDiagonal(), Vector3::Zero());
+    } else {
+      object = LoadMesh(*mesh_file);
+    }
+    const fs::path dir(*out_dir);
+    fs::create_directories(dir);
+    const fs::path cache = DefaultCacheDir();
+    std::printf("object: %s, %zu faces; probe: cylinder r 0.4 mm, 512 leaves; trees cached in %s\n",
+                mesh_file->empty() ? "tooth-sized ellipsoid" : mesh_file->c_str(), object.num_faces(), cache.c_str());
+    const SphereTree probe = LoadOrBuildSphereTree(MakeCylinder(0.4, 16, 24, 24), SphereTreeParams{}, cache);
+    const Aabb box = object.Bounds();
+
+    std::ofstream res(dir / "resolution.csv");
+    res << "leaves_budget,leaves,protrusion_max_pct,protrusion_mean_pct,build_s,frame_p50_us,frame_p99_us,pairs,faults\n";
+    std::printf("\nresolution (levels 4 up to 512 leaves, 5 above)\n");
+    std::printf("  budget leaves  worst %%   mean %%   build s  frame p50 us  p99 us  pairs  contact  faults\n");
+    for (int budget : {8, 32, 64, 128, 256, 512, 1024, 2048}) {
+      SphereTreeParams p;
+      p.leaves = budget;
+      p.levels = budget > 512 ? 5 : 4;
+      CacheOutcome outcome;
+      const auto t0 = Clock::now();
+      const SphereTree tree = LoadOrBuildSphereTree(object, p, cache, {}, &outcome);
+      double build_s = std::chrono::duration<double>(Clock::now() - t0).count();
+      if (outcome.kind == CacheOutcome::Kind::kHit) {
+        // Cached: rebuild once, untimed by the cache, to report the build cost.
+        const auto t1 = Clock::now();
+        BuildSphereTree(object, p);
+        build_s = std::chrono::duration<double>(Clock::now() - t1).count();
+      }
+      EvalParams e;
+      e.volume_samples_per_sphere = 64;
+      const TreeMetrics m = EvaluateSphereTree(object, tree, e);
+      const FrameStats f = RunSlide(probe, tree, box, EngineParams{});
+      const double wp = 100 * m.leaves().protrusion_max_mm / m.largest_extent_mm;
+      const double mp = 100 * m.leaves().protrusion_mean_mm / m.largest_extent_mm;
+      std::printf("  %6d %6zu  %7.3f  %7.3f  %8.2f  %12.2f  %6.2f  %5.0f  %6.0f%%  %6llu\n", budget, tree.NumLeaves(), wp,
+                  mp, build_s, f.p50_us, f.p99_us, f.mean_pairs, 100 * f.contact_share,
+                  static_cast<unsigned long long>(f.faults));
+      res << budget << ',' << tree.NumLeaves() << ',' << wp << ',' << mp << ',' << build_s << ',' << f.p50_us << ','
+          << f.p99_us << ',' << f.mean_pairs << ',' << f.faults << '\n';
+      std::fflush(stdout);
+    }
+    res.close();
+
+    const SphereTree tree512 = LoadOrBuildSphereTree(object, SphereTreeParams{}, cache);
+    std::ofstream tol(dir / "tolerance.csv");
+    tol << "tolerance_mm,frame_p50_us,frame_p99_us,linearizations,max_penetration_mm,faults\n";
+    std::printf("\nsolver tolerance (512 leaves): re-linearise until penetration and slack are below it\n");
+    std::printf("  tolerance mm  frame p50 us  p99 us  linearisations  max penetration mm  contact  faults\n");
+    for (double t : {1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6}) {
+      EngineParams p;
+      p.penetration_tolerance_mm = t;
+      p.max_linearizations = 8;
+      const FrameStats f = RunSlide(probe, tree512, box, p);
+      std::printf("  %12.0e  %12.2f  %6.2f  %14.2f  %18.2e  %6.0f%%  %6llu\n", t, f.p50_us, f.p99_us,
+                  f.mean_linearizations, f.max_penetration_mm, 100 * f.contact_share,
+                  static_cast<unsigned long long>(f.faults));
+      tol << t << ',' << f.p50_us << ',' << f.p99_us << ',' << f.mean_linearizations << ',' << f.max_penetration_mm
+          << ',' << f.faults << '\n';
+    }
+    tol.close();
+    std::printf("\nCSV: %s, %s\n", (dir / "resolution.csv").c_str(), (dir / "tolerance.csv").c_str());
+    Plot(dir);
+  });
+}
+
+}  // namespace sulcus::cli

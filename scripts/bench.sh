@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Reproduces every performance and accuracy figure in the README, in one run, on
+# this machine: sphere-tree builds against the octree reference, collision against
+# the reference Algorithm 1, the whole frame, the QP on generated contact sets
+# (warm and cold side by side), and what accuracy costs (CSV + plots).
+# Numbers only: nothing here passes or fails on time. Takes about 5 minutes.
+# Usage: scripts/bench.sh [output folder, default build/release/bench-report]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-build/release/bench-report}
+mkdir -p "$out"
+scripts/install-deps.sh >/dev/null
+cmake --preset release >/dev/null
+cmake --build --preset release
+bin=build/release/bin/sulcus-cli
+bench=build/release/tests/bench
+
+echo "== sphere-tree build: medial (Sulcus) vs octree (reference)"
+"$bench/spheretree_bench" --benchmark_counters_tabular=true | tee "$out/spheretree_bench.txt"
+
+echo "== sphere-trees on public meshes (512 leaves) vs octree"
+ctest --preset release -R fixture.public_meshes >/dev/null
+build/release/tests/spheretree_public_test --gtest_filter='Cgal/*' | grep -E '^[a-z]' | tee "$out/public_meshes.txt"
+
+echo "== collision and frame"
+"$bench/engine_bench" --benchmark_counters_tabular=true | tee "$out/engine_bench.txt"
+
+echo "== QP: generated contact sets, warm (and cold) starts"
+for kind in slot wedge plane cluster random; do
+  for m in 4 64 512; do
+    "$bin" qp-gen "$kind" --m "$m" --sequences 20 --frames 200 -o "$out/qp-$kind-$m.bin" >/dev/null
+    printf '%-8s m=%-4s ' "$kind" "$m"
+    "$bin" qp-bench "$out/qp-$kind-$m.bin" --compare-cold | tail -1
+  done
+done | tee "$out/qp_bench.txt"
+
+echo "== what accuracy costs"
+"$bin" accuracy-cost -o "$out/accuracy-cost" | tee "$out/accuracy_cost.txt"
+echo "report in $out"
