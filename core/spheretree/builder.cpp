@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "core/spheretree/mesh_oracle.h"
+#include "core/spheretree/random.h"
 
 namespace sulcus {
 namespace {
@@ -38,15 +39,7 @@ class Reporter {
   BuildProgress fn_;
 };
 
-// A deterministic uniform double in [0, 1) (the same on every standard library).
-double Uniform(std::uint64_t& state) {
-  state += 0x9E3779B97F4A7C15ull;  // splitmix64
-  std::uint64_t z = state;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<double>(z >> 11) * 0x1.0p-53;
-}
+using detail::Uniform;
 
 // A flat piece of the surface; the cover works on these. A sphere that holds a
 // piece's three corners holds the whole piece.

@@ -4,18 +4,12 @@
 #include <numbers>
 
 #include "core/spheretree/mesh_oracle.h"
+#include "core/spheretree/random.h"
 
 namespace sulcus {
 namespace {
 
-double Uniform(std::uint64_t& state) {  // splitmix64, as in the builder
-  state += 0x9E3779B97F4A7C15ull;
-  std::uint64_t z = state;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<double>(z >> 11) * 0x1.0p-53;
-}
+using detail::Uniform;
 
 // Evenly spread unit vectors (Fibonacci lattice).
 std::vector<Vector3> SphereDirections(int n) {
