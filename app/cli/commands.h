@@ -17,6 +17,9 @@ void AddQpCommands(CLI::App& app);
 /// `accuracy-cost`.
 void AddAccuracyCommands(CLI::App& app);
 
+/// `anatomy tooth`.
+void AddAnatomyCommands(CLI::App& app);
+
 /// Exit status of the subcommand that ran (set by its callback).
 int& ExitStatus();
 

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   sulcus::cli::AddSphereTreeCommands(app);
   sulcus::cli::AddQpCommands(app);
   sulcus::cli::AddAccuracyCommands(app);
+  sulcus::cli::AddAnatomyCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,115 @@
+#include "core/anatomy/tooth.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <limits>
+
+namespace sulcus {
+namespace {
+
+// The mesh's extent along x or y over the crown (z > 0), or along x on the plane
+// z = 0 (where edges cross it), measured on the mesh, not from the parameters.
+double CrownWidth(const TriangleMesh& m, int axis) {
+  double lo = 1e9, hi = -1e9;
+  for (const Vector3& v : m.vertices()) {
+    if (v.z() > 0) {
+      lo = std::min(lo, v[axis]);
+      hi = std::max(hi, v[axis]);
+    }
+  }
+  return hi - lo;
+}
+
+double CervixWidth(const TriangleMesh& m) {
+  double lo = 1e9, hi = -1e9;
+  for (const auto& f : m.faces()) {
+    for (int k = 0; k < 3; ++k) {
+      const Vector3& a = m.vertices()[f[k]];
+      const Vector3& b = m.vertices()[f[(k + 1) % 3]];
+      if ((a.z() > 0) == (b.z() > 0)) continue;
+      const Vector3 p = a + (b - a) * (a.z() / (a.z() - b.z()));
+      lo = std::min(lo, p.x());
+      hi = std::max(hi, p.x());
+    }
+  }
+  return hi - lo;
+}
+
+std::vector<int> AllFdi() {
+  std::vector<int> out;
+  for (int q = 1; q <= 4; ++q) {
+    for (int t = 1; t <= 8; ++t) out.push_back(10 * q + t);
+  }
+  return out;
+}
+
+class EveryTooth : public ::testing::TestWithParam<int> {};
+
+TEST_P(EveryTooth, IsAValidSolidWithClinicalDimensions) {
+  const ToothModel m = GenerateTooth(GetParam());
+  const MeshReport r = m.mesh.Check();
+  EXPECT_TRUE(r.IsSolid()) << "closed " << r.closed() << " manifold " << r.manifold() << " oriented "
+                           << r.oriented() << " degenerate " << r.degenerate_faces;
+  EXPECT_EQ(r.num_faces, 5120u);  // about the paper's 4,000 at the default resolution
+  EXPECT_EQ(r.euler_characteristic, 2);
+  const ToothDimensions& d = m.dimensions;
+  const Aabb box = r.bounds;
+  // Within 10 % of CLINICAL.md (the criterion).
+  EXPECT_NEAR(box.max.z(), d.crown_height, 0.1 * d.crown_height);
+  double root = d.root_length;
+  if (m.tooth.upper() && m.tooth.position == 6) root = 13;  // the palatal root of an upper first molar
+  EXPECT_NEAR(-box.min.z(), root, 0.1 * root);
+  EXPECT_NEAR(CrownWidth(m.mesh, 0), d.md_crown, 0.1 * d.md_crown);
+  EXPECT_NEAR(CrownWidth(m.mesh, 1), d.bl, 0.1 * d.bl);
+  EXPECT_NEAR(CervixWidth(m.mesh), d.md_cervix, 0.1 * d.md_cervix);
+}
+
+INSTANTIATE_TEST_SUITE_P(Fdi, EveryTooth, ::testing::ValuesIn(AllFdi()));
+
+TEST(Tooth, CejLiesOnTheSurfaceAndIsScalloped) {
+  const ToothModel m = GenerateTooth(11);
+  ASSERT_EQ(m.cej.size(), 72u);
+  // On the surface: the nearest mesh vertex is within a triangle's size.
+  for (const Vector3& p : m.cej) {
+    double nearest = 1e9;
+    for (const Vector3& v : m.mesh.vertices()) nearest = std::min(nearest, (v - p).norm());
+    EXPECT_LT(nearest, 0.6);
+  }
+  // Higher at the proximal surfaces (x) than at the labial one (y).
+  EXPECT_GT(m.cej[0].z(), m.cej[18].z() + 1.0);
+}
+
+TEST(Tooth, DeterministicAndResolutionAParameter) {
+  const ToothModel a = GenerateTooth(36), b = GenerateTooth(36);
+  EXPECT_EQ(a.mesh.vertices(), b.mesh.vertices());
+  EXPECT_EQ(GenerateTooth(36, {.resolution = 3}).mesh.num_faces(), 1280u);
+  EXPECT_THROW(GenerateTooth(36, {.resolution = 9}), std::invalid_argument);
+}
+
+TEST(Tooth, RootsByType) {
+  EXPECT_EQ(GenerateTooth(16).dimensions.roots, 3);
+  EXPECT_EQ(GenerateTooth(36).dimensions.roots, 2);
+  EXPECT_EQ(GenerateTooth(14).dimensions.roots, 2);
+  EXPECT_EQ(GenerateTooth(43).dimensions.roots, 1);
+}
+
+TEST(Tooth, InvalidFdiNumbersNameTheFault) {
+  auto message = [](int fdi) {
+    try {
+      FdiTooth::Parse(fdi);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message(19), "FDI 19 does not exist: the tooth digit is 1 to 8");
+  EXPECT_EQ(message(50), "FDI 50 does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)");
+  EXPECT_EQ(message(20), "FDI 20 does not exist: the tooth digit is 1 to 8");
+  EXPECT_EQ(message(5), "FDI 5 does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)");
+  EXPECT_EQ(FdiTooth::Parse(36).type(), ToothType::kFirstMolar);
+  EXPECT_FALSE(FdiTooth::Parse(36).upper());
+}
+
+}  // namespace
+}  // namespace sulcus
