@@ -16,6 +16,7 @@ sulcus_find(OpenMesh libopenmesh-dev CONFIG)
 sulcus_find(CLI11 libcli11-dev CONFIG)
 sulcus_find(Threads libc6-dev)
 sulcus_find(CGAL libcgal-dev CONFIG)
+sulcus_find(yaml-cpp libyaml-cpp-dev CONFIG)
 
 if(SULCUS_BUILD_TESTS)
   sulcus_find(GTest "libgtest-dev libgmock-dev" CONFIG)

@@ -20,6 +20,9 @@ void AddAccuracyCommands(CLI::App& app);
 /// `anatomy tooth`.
 void AddAnatomyCommands(CLI::App& app);
 
+/// `scene validate`, `scene export`.
+void AddSceneCommands(CLI::App& app);
+
 /// Exit status of the subcommand that ran (set by its callback).
 int& ExitStatus();
 

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   sulcus::cli::AddQpCommands(app);
   sulcus::cli::AddAccuracyCommands(app);
   sulcus::cli::AddAnatomyCommands(app);
+  sulcus::cli::AddSceneCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

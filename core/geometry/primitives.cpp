@@ -128,4 +128,30 @@ TriangleMesh MakeCylinder(double radius, double height, int segments, int stacks
   return TriangleMesh(std::move(v), std::move(f));
 }
 
+TriangleMesh MakeLathe(const std::vector<std::pair<double, double>>& profile, int segments) {
+  std::vector<Vector3> v;
+  std::vector<TriangleMesh::Face> f;
+  const int rings = static_cast<int>(profile.size()) - 2;  // interior points
+  v.emplace_back(0, 0, profile.front().second);
+  for (int k = 1; k <= rings; ++k) {
+    const auto [r, z] = profile[k];
+    for (int i = 0; i < segments; ++i) {
+      const double a = 2 * std::numbers::pi * i / segments;
+      v.emplace_back(r * std::cos(a), r * std::sin(a), z);
+    }
+  }
+  const int top = static_cast<int>(v.size());
+  v.emplace_back(0, 0, profile.back().second);
+  auto id = [&](int ring, int i) { return 1 + (ring - 1) * segments + (i % segments); };
+  for (int i = 0; i < segments; ++i) f.push_back({0, id(1, i + 1), id(1, i)});
+  for (int k = 1; k < rings; ++k) {
+    for (int i = 0; i < segments; ++i) {
+      f.push_back({id(k, i), id(k, i + 1), id(k + 1, i + 1)});
+      f.push_back({id(k, i), id(k + 1, i + 1), id(k + 1, i)});
+    }
+  }
+  for (int i = 0; i < segments; ++i) f.push_back({top, id(rings, i), id(rings, i + 1)});
+  return TriangleMesh(std::move(v), std::move(f));
+}
+
 }  // namespace sulcus

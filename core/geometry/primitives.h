@@ -2,6 +2,9 @@
 // Closed, outward-oriented meshes of simple solids: calibration objects for tests
 // and the building blocks of the hard-case scenes (plates, slots, wedges).
 
+#include <utility>
+#include <vector>
+
 #include "core/geometry/mesh.h"
 
 namespace sulcus {
@@ -20,5 +23,11 @@ TriangleMesh MakeTorus(double ring_radius, double tube_radius, int ring_segments
 
 /// Closed cylinder along z from z = 0 to z = height.
 TriangleMesh MakeCylinder(double radius, double height, int segments, int stacks = 1);
+
+/// Surface of revolution about the z axis of the profile (r, z), listed from one
+/// pole to the other: the first and last points must have r = 0 (they become
+/// single vertices), the others r > 0. Closed and outward when z increases along
+/// the profile.
+TriangleMesh MakeLathe(const std::vector<std::pair<double, double>>& profile, int segments);
 
 }  // namespace sulcus

@@ -1,0 +1,66 @@
+#include <cmath>
+#include <numbers>
+
+#include "core/anatomy/tooth.h"
+#include "core/geometry/mesh_io.h"
+#include "core/geometry/primitives.h"
+#include "core/scene/scene.h"
+#include "core/spheretree/cache.h"
+
+namespace sulcus {
+
+TriangleMesh MakeProbeMesh() {
+  // Rounded tip of radius 0.25 mm at the origin, working end to 12 mm, a short
+  // taper, then the shaft (radius 0.5 mm) to 30 mm.
+  std::vector<std::pair<double, double>> profile = {{0.0, -0.25}};
+  for (int i = 1; i < 8; ++i) {
+    const double a = -std::numbers::pi / 2 + std::numbers::pi / 2 * i / 8;
+    profile.push_back({0.25 * std::cos(a), 0.25 * std::sin(a)});
+  }
+  for (double z = 0; z <= 12.0; z += 1.0) profile.push_back({0.25, z});
+  for (double z = 13.0; z <= 30.0; z += 1.0) profile.push_back({0.5, z});
+  profile.push_back({0.0, 30.0});
+  return MakeLathe(profile, 16);
+}
+
+std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::filesystem::path& cache_dir,
+                                            const BuildProgress& progress) {
+  auto scene = std::make_unique<CompiledScene>();
+  scene->spec = spec;
+  const int n = static_cast<int>(spec.objects.size());
+  auto report = [&](int i, std::string_view stage, double f) {
+    if (progress && !progress(stage, (i + f) / (n + 1))) throw BuildCancelled();
+  };
+  for (int i = 0; i < n; ++i) {
+    const ObjectSpec& o = spec.objects[i];
+    TriangleMesh mesh;
+    switch (o.kind) {
+      case ObjectSpec::Kind::kTooth: mesh = GenerateTooth(o.fdi).mesh; break;
+      case ObjectSpec::Kind::kMesh: mesh = LoadMesh(o.mesh); break;
+      case ObjectSpec::Kind::kBox:
+        mesh = MakeBox(o.size, std::max(1, static_cast<int>(std::ceil(o.size.maxCoeff() / 2))));
+        break;
+      case ObjectSpec::Kind::kSphere: mesh = MakeIcosphere(o.radius_mm, 4); break;
+      case ObjectSpec::Kind::kCylinder:
+        mesh = MakeCylinder(o.radius_mm, o.height_mm, 48, std::max(1, static_cast<int>(o.height_mm / 2)));
+        break;
+    }
+    report(i, o.name, 0.1);
+    const BuildProgress inner = [&](std::string_view stage, double f) {
+      return !progress || progress(stage, (i + 0.1 + 0.9 * f) / (n + 1));
+    };
+    scene->trees.push_back(LoadOrBuildSphereTree(mesh, spec.trees, cache_dir, inner));
+    scene->meshes.push_back(std::move(mesh));
+  }
+  scene->tool_mesh = MakeProbeMesh();
+  scene->tool_tree = LoadOrBuildSphereTree(scene->tool_mesh, SphereTreeParams{}, cache_dir,
+                                           [&](std::string_view stage, double f) {
+                                             return !progress || progress(stage, (n + f) / (n + 1));
+                                           });
+  std::vector<CollisionWorld::Object> objects;
+  for (int i = 0; i < n; ++i) objects.push_back({&scene->trees[i], spec.objects[i].X_WO});
+  scene->model = std::make_unique<EngineModel>(scene->tool_tree, objects, spec.haptics);
+  return scene;
+}
+
+}  // namespace sulcus

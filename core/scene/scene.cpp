@@ -1,0 +1,439 @@
+#include "core/scene/scene.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include "core/anatomy/tooth.h"
+
+namespace sulcus {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TissueName {
+  const char* name;
+  Tissue tissue;
+};
+constexpr TissueName kTissues[] = {{"enamel", Tissue::kEnamel}, {"root", Tissue::kRoot},     {"gingiva", Tissue::kGingiva},
+                                   {"bone", Tissue::kBone},     {"tongue", Tissue::kTongue}, {"cheek", Tissue::kCheek},
+                                   {"palate", Tissue::kPalate}, {"lip", Tissue::kLip},       {"mucosa", Tissue::kMucosa},
+                                   {"metal", Tissue::kMetal}};
+struct EffectName {
+  const char* name;
+  Effect effect;
+};
+constexpr EffectName kEffects[] = {{"contact", Effect::kContact},
+                                   {"gingiva_compliance", Effect::kGingivaCompliance},
+                                   {"friction", Effect::kFriction},
+                                   {"surface_texture", Effect::kSurfaceTexture},
+                                   {"probing_depth", Effect::kProbingDepth},
+                                   {"bleeding_on_probing", Effect::kBleedingOnProbing},
+                                   {"tissue_damage", Effect::kTissueDamage}};
+const std::vector<std::string> kProbes = {"williams", "unc15", "who"};
+
+int Levenshtein(const std::string& a, const std::string& b) {
+  std::vector<int> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = static_cast<int>(j);
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = static_cast<int>(i);
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string Join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+// "; did you mean 'x'?" for a close match, else the list of what is expected.
+std::string Suggest(const std::string& word, const std::vector<std::string>& options) {
+  std::string best;
+  int best_d = 1 << 30;
+  for (const auto& o : options) {
+    const int d = Levenshtein(word, o);
+    if (d < best_d) {
+      best_d = d;
+      best = o;
+    }
+  }
+  if (best_d <= std::max<int>(2, static_cast<int>(word.size()) / 3)) return "; did you mean '" + best + "'?";
+  return " (expected one of: " + Join(options) + ")";
+}
+
+class Reader {
+ public:
+  Reader(fs::path file) : file_(std::move(file)) {}
+
+  void Error(const YAML::Mark& m, const std::string& message) {
+    errors_.push_back({file_.string(), m.line + 1, m.column + 1, message});
+  }
+  void Error(const YAML::Node& n, const std::string& message) { Error(n.Mark(), message); }
+  std::vector<SceneError>& errors() { return errors_; }
+
+  // Every key of `map` must be in `allowed`.
+  void CheckKeys(const YAML::Node& map, const std::vector<std::string>& allowed, const std::string& where) {
+    for (auto it = map.begin(); it != map.end(); ++it) {
+      const std::string key = it->first.Scalar();
+      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+        Error(it->first, "unknown key '" + key + "' in " + where + Suggest(key, allowed));
+      }
+    }
+  }
+
+  bool IsMap(const YAML::Node& n, const std::string& what) {
+    if (n.IsMap()) return true;
+    Error(n, what + " must be a map of keys and values");
+    return false;
+  }
+
+  // A number in [lo, hi]; records an error and returns fallback otherwise.
+  double Number(const YAML::Node& n, const std::string& key, double lo, double hi, double fallback,
+                const std::string& unit = "") {
+    if (!n.IsScalar()) {
+      Error(n, "'" + key + "' must be a number" + (unit.empty() ? "" : " (" + unit + ")"));
+      return fallback;
+    }
+    double v;
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception&) {
+      Error(n, "'" + key + "' must be a number" + (unit.empty() ? "" : " (" + unit + ")") + ", found '" +
+                   n.Scalar() + "'");
+      return fallback;
+    }
+    if (!std::isfinite(v) || v < lo || v > hi) {
+      std::ostringstream s;
+      s << "'" << key << "' is " << n.Scalar() << (unit.empty() ? "" : " " + unit) << ", expected " << lo << " to "
+        << hi;
+      Error(n, s.str());
+      return fallback;
+    }
+    return v;
+  }
+
+  int Integer(const YAML::Node& n, const std::string& key, int lo, int hi, int fallback) {
+    const double v = Number(n, key, lo, hi, fallback);
+    if (v != std::floor(v)) {
+      Error(n, "'" + key + "' must be a whole number, found '" + n.Scalar() + "'");
+      return fallback;
+    }
+    return static_cast<int>(v);
+  }
+
+  std::string Text(const YAML::Node& n, const std::string& key) {
+    if (!n.IsScalar()) {
+      Error(n, "'" + key + "' must be text");
+      return "";
+    }
+    return n.Scalar();
+  }
+
+  // A list of `count` numbers in [lo, hi].
+  bool Numbers(const YAML::Node& n, const std::string& key, std::size_t count, double lo, double hi, double* out,
+               const std::string& unit, const std::string& meaning) {
+    if (!n.IsSequence() || n.size() != count) {
+      Error(n, "'" + key + "' must be a list of " + std::to_string(count) + " numbers" +
+                   (meaning.empty() ? "" : " (" + meaning + ")") +
+                   (n.IsSequence() ? ", found " + std::to_string(n.size()) : ""));
+      return false;
+    }
+    bool ok = true;
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::size_t before = errors_.size();
+      out[i] = Number(n[i], key, lo, hi, 0, unit);
+      ok &= errors_.size() == before;
+    }
+    return ok;
+  }
+
+  RigidTransform Pose(const YAML::Node& map, const char* at_key, const char* turn_key) {
+    double at[3] = {0, 0, 0}, turn[3] = {0, 0, 0};
+    if (map[at_key]) Numbers(map[at_key], at_key, 3, -1000, 1000, at, "mm", "x, y, z in mm");
+    if (map[turn_key]) {
+      Numbers(map[turn_key], turn_key, 3, -360, 360, turn, "degrees", "turns about x, y, z in degrees");
+    }
+    constexpr double kDeg = std::numbers::pi / 180;
+    Vector6 q;
+    q << at[0], at[1], at[2], turn[0] * kDeg, turn[1] * kDeg, turn[2] * kDeg;
+    return RigidTransform::FromConfiguration(q);
+  }
+
+  fs::path file_;
+
+ private:
+  std::vector<SceneError> errors_;
+};
+
+std::vector<std::string> Names(const auto& table) {
+  std::vector<std::string> v;
+  for (const auto& t : table) v.push_back(t.name);
+  return v;
+}
+
+void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int index, SceneSpec* spec,
+                std::set<std::string>* names) {
+  ObjectSpec o;
+  o.line = n.Mark().line + 1;
+  if (!r.IsMap(n, "an object")) return;
+  r.CheckKeys(n, {"name", "tooth", "mesh", "box", "sphere", "cylinder", "height_mm", "at", "turn_deg", "tissue",
+                  "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding"},
+              "an object");
+  std::vector<std::string> kinds;
+  for (const char* k : {"tooth", "mesh", "box", "sphere", "cylinder"}) {
+    if (n[k]) kinds.push_back(k);
+  }
+  if (kinds.size() != 1) {
+    r.Error(n, kinds.empty() ? "an object needs one of: tooth, mesh, box, sphere, cylinder"
+                             : "an object has exactly one of tooth, mesh, box, sphere, cylinder; found " + Join(kinds));
+    return;
+  }
+  const std::string kind = kinds[0];
+  double root_length = 0;
+  if (kind == "tooth") {
+    o.kind = ObjectSpec::Kind::kTooth;
+    o.fdi = r.Integer(n["tooth"], "tooth", -1000000, 1000000, 0);
+    try {
+      const FdiTooth t = FdiTooth::Parse(o.fdi);
+      const ToothDimensions dims = Dimensions(t);
+      // The deepest root: an upper first molar's palatal root is 1 mm longer.
+      root_length = dims.root_length + (t.upper() && t.position == 6 ? 1.0 : 0.0);
+    } catch (const std::invalid_argument& e) {
+      r.Error(n["tooth"], e.what());
+    }
+    o.name = "tooth " + std::to_string(o.fdi);
+    o.tissue = Tissue::kEnamel;
+  } else if (kind == "mesh") {
+    o.kind = ObjectSpec::Kind::kMesh;
+    const std::string rel = r.Text(n["mesh"], "mesh");
+    const fs::path full = (folder / rel).lexically_normal();
+    const std::string base = folder.lexically_normal().string();
+    if (fs::path(rel).is_absolute() || full.string().rfind(base, 0) != 0 || rel.find("..") != std::string::npos) {
+      r.Error(n["mesh"], "mesh path '" + rel + "' leaves the scene's folder; put the mesh beside the scene file");
+    } else if (!fs::exists(full)) {
+      r.Error(n["mesh"], "mesh file '" + rel + "' not found (looked for " + full.string() + ")");
+    }
+    o.mesh = full;
+    o.name = fs::path(rel).stem().string();
+  } else if (kind == "box") {
+    o.kind = ObjectSpec::Kind::kBox;
+    double s[3] = {1, 1, 1};
+    r.Numbers(n["box"], "box", 3, 1e-3, 1000, s, "mm", "sizes along x, y, z in mm");
+    o.size = Vector3(s[0], s[1], s[2]);
+    o.name = "box " + std::to_string(index + 1);
+  } else {
+    o.kind = kind == "sphere" ? ObjectSpec::Kind::kSphere : ObjectSpec::Kind::kCylinder;
+    o.radius_mm = r.Number(n[kind], kind, 1e-3, 1000, 1, "mm");
+    if (kind == "cylinder") {
+      if (n["height_mm"]) {
+        o.height_mm = r.Number(n["height_mm"], "height_mm", 1e-3, 1000, 1, "mm");
+      } else {
+        r.Error(n, "a cylinder needs 'height_mm'");
+      }
+    }
+    o.name = kind + " " + std::to_string(index + 1);
+  }
+  if (kind != "cylinder" && n["height_mm"]) r.Error(n["height_mm"], "'height_mm' is for cylinders only");
+  if (n["name"]) o.name = r.Text(n["name"], "name");
+  if (!names->insert(o.name).second) r.Error(n["name"] ? n["name"] : n, "two objects are named '" + o.name + "'");
+  o.X_WO = r.Pose(n, "at", "turn_deg");
+  if (n["tissue"]) {
+    const std::string t = r.Text(n["tissue"], "tissue");
+    bool found = false;
+    for (const auto& tn : kTissues) {
+      if (t == tn.name) {
+        o.tissue = tn.tissue;
+        found = true;
+      }
+    }
+    if (!found) r.Error(n["tissue"], "unknown tissue '" + t + "'" + Suggest(t, Names(kTissues)));
+  } else if (kind != "tooth") {
+    r.Error(n, "'" + o.name + "' needs a 'tissue' (" + Join(Names(kTissues)) + ")");
+  }
+  o.material = DefaultMaterial(o.tissue);
+  if (n["stiffness_n_per_mm"]) o.material.stiffness_n_per_mm = r.Number(n["stiffness_n_per_mm"], "stiffness_n_per_mm", 1e-3, 1e9, 1, "N/mm");
+  if (n["friction"]) o.material.friction = r.Number(n["friction"], "friction", 0, 2, 0.1);
+  if (n["damage_limit_n"]) o.material.damage_limit_n = r.Number(n["damage_limit_n"], "damage_limit_n", 0, 1e9, 1, "N");
+
+  for (const char* key : {"pockets_mm", "recession_mm", "bleeding"}) {
+    if (n[key] && kind != "tooth") r.Error(n[key], std::string("'") + key + "' is for teeth only");
+  }
+  if (kind == "tooth") {
+    if (n["pockets_mm"]) {
+      o.has_sites = true;
+      if (r.Numbers(n["pockets_mm"], "pockets_mm", 6, 0, 15, o.pocket_mm.data(), "mm",
+                    "depths at MB, B, DB, ML, L, DL in mm") && root_length > 0) {
+        for (int i = 0; i < 6; ++i) {
+          if (o.pocket_mm[i] >= root_length) {
+            std::ostringstream s;
+            s << "pocket of " << o.pocket_mm[i] << " mm at site " << kSiteCodes[i] << " is deeper than the root of tooth "
+              << o.fdi << " (" << root_length << " mm)";
+            r.Error(n["pockets_mm"][i], s.str());
+          }
+        }
+      }
+    }
+    if (n["recession_mm"]) {
+      r.Numbers(n["recession_mm"], "recession_mm", 6, -5, 10, o.recession_mm.data(), "mm",
+                "recession at MB, B, DB, ML, L, DL in mm; negative for enlarged gingiva");
+    }
+    if (n["bleeding"]) {
+      const YAML::Node& b = n["bleeding"];
+      if (!b.IsSequence()) {
+        r.Error(b, "'bleeding' must be a list of sites, e.g. [MB, DL]");
+      } else {
+        for (const YAML::Node& site : b) {
+          const std::string code = site.IsScalar() ? site.Scalar() : "";
+          const auto it = std::find(kSiteCodes.begin(), kSiteCodes.end(), code);
+          if (it == kSiteCodes.end()) {
+            r.Error(site, "unknown site '" + code + "'" +
+                              Suggest(code, std::vector<std::string>(kSiteCodes.begin(), kSiteCodes.end())));
+          } else {
+            o.bleeding[it - kSiteCodes.begin()] = true;
+          }
+        }
+      }
+    }
+  }
+  spec->objects.push_back(std::move(o));
+}
+
+}  // namespace
+
+std::string SceneError::ToString() const {
+  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message;
+}
+
+SceneLoadError::SceneLoadError(std::vector<SceneError> errors)
+    : std::runtime_error([&] {
+        std::string s;
+        for (const SceneError& e : errors) s += (s.empty() ? "" : "\n") + e.ToString();
+        return s;
+      }()),
+      errors_(std::move(errors)) {}
+
+const char* ToString(Tissue t) {
+  for (const auto& tn : kTissues) {
+    if (tn.tissue == t) return tn.name;
+  }
+  return "?";
+}
+
+const char* ToString(Effect e) {
+  for (const auto& en : kEffects) {
+    if (en.effect == e) return en.name;
+  }
+  return "?";
+}
+
+Material DefaultMaterial(Tissue t) {
+  // Stiffness: hard tissue rigid, soft tissue compliant (approx.); damage limits
+  // from CLINICAL.md (0.5 N tongue and cheek, 0.30 N gingiva).
+  switch (t) {
+    case Tissue::kGingiva: return {0.3, 0.3, 0.30};
+    case Tissue::kTongue:
+    case Tissue::kCheek:
+    case Tissue::kLip:
+    case Tissue::kMucosa: return {0.1, 0.4, 0.5};
+    case Tissue::kPalate: return {1.0, 0.3, 1.0};
+    default: return {};
+  }
+}
+
+SceneSpec LoadSceneSpec(const fs::path& file) {
+  Reader r(file);
+  SceneSpec spec;
+  spec.file = file;
+  std::ifstream in(file);
+  if (!in) {
+    r.errors().push_back({file.string(), 0, 0, fs::exists(file) ? "cannot be read" : "no such scene file"});
+    throw SceneLoadError(r.errors());
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  YAML::Node root;
+  try {
+    root = YAML::Load(text.str());
+  } catch (const YAML::ParserException& e) {
+    r.Error(e.mark, "YAML syntax: " + e.msg);
+    throw SceneLoadError(r.errors());
+  }
+  if (!root.IsMap()) {
+    r.Error(root, "a scene is a map with at least 'objects:'");
+    throw SceneLoadError(r.errors());
+  }
+  r.CheckKeys(root, {"name", "description", "tool", "haptics", "effects", "spheretree", "objects"}, "the scene");
+  if (root["name"]) spec.name = r.Text(root["name"], "name");
+  if (root["description"]) spec.description = r.Text(root["description"], "description");
+  if (const YAML::Node tool = root["tool"]; tool && r.IsMap(tool, "'tool'")) {
+    r.CheckKeys(tool, {"probe", "grip_at", "grip_turn_deg"}, "'tool'");
+    if (tool["probe"]) {
+      spec.probe = r.Text(tool["probe"], "probe");
+      if (std::find(kProbes.begin(), kProbes.end(), spec.probe) == kProbes.end()) {
+        r.Error(tool["probe"], "unknown probe '" + spec.probe + "'" + Suggest(spec.probe, kProbes));
+      }
+    }
+    spec.X_TG = r.Pose(tool, "grip_at", "grip_turn_deg");
+  }
+  if (const YAML::Node h = root["haptics"]; h && r.IsMap(h, "'haptics'")) {
+    r.CheckKeys(h, {"k_t_n_per_mm", "k_r_nmm_per_rad", "max_force_n", "max_torque_nmm", "rate_hz"}, "'haptics'");
+    EngineParams& p = spec.haptics;
+    if (h["k_t_n_per_mm"]) p.k_t = r.Number(h["k_t_n_per_mm"], "k_t_n_per_mm", 1e-3, 100, p.k_t, "N/mm");
+    if (h["k_r_nmm_per_rad"]) p.k_r = r.Number(h["k_r_nmm_per_rad"], "k_r_nmm_per_rad", 1e-3, 1e6, p.k_r, "N*mm/rad");
+    if (h["max_force_n"]) p.max_force_n = r.Number(h["max_force_n"], "max_force_n", 0, 50, p.max_force_n, "N");
+    if (h["max_torque_nmm"]) p.max_torque_nmm = r.Number(h["max_torque_nmm"], "max_torque_nmm", 0, 5000, p.max_torque_nmm, "N*mm");
+    if (h["rate_hz"]) spec.rate_hz = r.Number(h["rate_hz"], "rate_hz", 100, 10000, spec.rate_hz, "Hz");
+  }
+  if (const YAML::Node e = root["effects"]) {
+    if (!e.IsSequence()) {
+      r.Error(e, "'effects' must be a list, e.g. [contact, probing_depth]");
+    } else {
+      for (const YAML::Node& item : e) {
+        const std::string name = item.IsScalar() ? item.Scalar() : "";
+        bool found = false;
+        for (const auto& en : kEffects) {
+          if (name == en.name) {
+            found = true;
+            if (std::find(spec.effects.begin(), spec.effects.end(), en.effect) == spec.effects.end()) {
+              spec.effects.push_back(en.effect);
+            }
+          }
+        }
+        if (!found) r.Error(item, "unknown effect '" + name + "'" + Suggest(name, Names(kEffects)));
+      }
+    }
+  }
+  if (const YAML::Node t = root["spheretree"]; t && r.IsMap(t, "'spheretree'")) {
+    r.CheckKeys(t, {"levels", "branch", "leaves", "target_error_mm"}, "'spheretree'");
+    SphereTreeParams& p = spec.trees;
+    if (t["levels"]) p.levels = r.Integer(t["levels"], "levels", 1, 8, p.levels);
+    if (t["branch"]) p.branching = r.Integer(t["branch"], "branch", 2, 32, p.branching);
+    if (t["leaves"]) p.leaves = r.Integer(t["leaves"], "leaves", 1, 1 << 20, p.leaves);
+    if (t["target_error_mm"]) p.target_error_mm = r.Number(t["target_error_mm"], "target_error_mm", 1e-4, 10, 0, "mm");
+  }
+  const YAML::Node objects = root["objects"];
+  if (!objects) {
+    r.Error(root, "a scene needs 'objects:', a list of teeth, meshes or solids");
+  } else if (!objects.IsSequence()) {
+    r.Error(objects, "'objects' must be a list");
+  } else {
+    std::set<std::string> names;
+    const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
+    for (std::size_t i = 0; i < objects.size(); ++i) ReadObject(r, objects[i], folder, static_cast<int>(i), &spec, &names);
+  }
+  if (!r.errors().empty()) throw SceneLoadError(r.errors());
+  return spec;
+}
+
+}  // namespace sulcus

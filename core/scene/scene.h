@@ -1,0 +1,114 @@
+#pragma once
+// Scene files: YAML an instructor writes by hand (schema in scenes/README.md).
+// Loading parses and validates everything before anything is built, and reports
+// every problem at once as `file:line:column: message`. A valid spec compiles into
+// the engine's immutable model (meshes, sphere-trees, materials, parameters).
+
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/geometry/mesh.h"
+#include "core/geometry/transform.h"
+#include "core/haptics/engine.h"
+#include "core/spheretree/builder.h"
+
+namespace sulcus {
+
+struct SceneError {
+  std::string file;
+  int line = 0;    // 1-based
+  int column = 0;  // 1-based
+  std::string message;
+  std::string ToString() const;  // "file:line:column: message"
+};
+
+/// Thrown by LoadSceneSpec with every error found; what() lists them one a line.
+class SceneLoadError : public std::runtime_error {
+ public:
+  explicit SceneLoadError(std::vector<SceneError> errors);
+  const std::vector<SceneError>& errors() const { return errors_; }
+
+ private:
+  std::vector<SceneError> errors_;
+};
+
+enum class Tissue { kEnamel, kRoot, kGingiva, kBone, kTongue, kCheek, kPalate, kLip, kMucosa, kMetal };
+const char* ToString(Tissue t);
+
+/// What the engine uses of a tissue. Defaults per tissue in DefaultMaterial.
+struct Material {
+  double stiffness_n_per_mm = 1e9;  // effectively rigid
+  double friction = 0.1;
+  double damage_limit_n = 1e9;      // contact force above which the tissue is hurt
+};
+Material DefaultMaterial(Tissue t);
+
+/// The effects a scene may ask for (DESIGN.md, "Effects on demand").
+enum class Effect { kContact, kGingivaCompliance, kFriction, kSurfaceTexture, kProbingDepth,
+                    kBleedingOnProbing, kTissueDamage };
+const char* ToString(Effect e);
+
+/// Probing sites in charting order.
+inline constexpr std::array<const char*, 6> kSiteCodes = {"MB", "B", "DB", "ML", "L", "DL"};
+
+struct ObjectSpec {
+  enum class Kind { kTooth, kMesh, kBox, kSphere, kCylinder } kind = Kind::kTooth;
+  std::string name;
+  int fdi = 0;                       // kTooth
+  std::filesystem::path mesh;        // kMesh, resolved against the scene's folder
+  Vector3 size = Vector3::Zero();    // kBox, mm
+  double radius_mm = 0, height_mm = 0;  // kSphere, kCylinder
+  RigidTransform X_WO;
+  Tissue tissue = Tissue::kEnamel;
+  Material material;
+  // Clinical truth per site (teeth): pocket depth, recession, bleeding on probing.
+  bool has_sites = false;
+  std::array<double, 6> pocket_mm{};
+  std::array<double, 6> recession_mm{};
+  std::array<bool, 6> bleeding{};
+  int line = 0;  // where the object is declared
+};
+
+struct SceneSpec {
+  std::filesystem::path file;
+  std::string name, description;
+  std::string probe = "williams";
+  RigidTransform X_TG;  // grip frame in the tool frame
+  EngineParams haptics;
+  double rate_hz = 1000;
+  std::vector<Effect> effects = {Effect::kContact};
+  SphereTreeParams trees;
+  std::vector<ObjectSpec> objects;
+};
+
+/// Parses and validates a scene file. Throws SceneLoadError listing every error
+/// (unknown keys with a suggestion, wrong types, out-of-range values, missing mesh
+/// files, non-existent FDI numbers, paths leaving the scene's folder, unknown
+/// effects, YAML syntax errors).
+SceneSpec LoadSceneSpec(const std::filesystem::path& file);
+
+/// A compiled scene: everything the engine needs, immutable after construction.
+struct CompiledScene {
+  SceneSpec spec;
+  std::vector<TriangleMesh> meshes;       // per object, in the object frame
+  std::vector<SphereTree> trees;          // per object
+  TriangleMesh tool_mesh;
+  SphereTree tool_tree;
+  std::unique_ptr<EngineModel> model;
+};
+
+/// Builds meshes and sphere-trees (through the cache in `cache_dir`) and the
+/// engine model. Progress is reported per object.
+std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::filesystem::path& cache_dir,
+                                            const BuildProgress& progress = {});
+
+/// The probe's collision geometry in the tool frame: the tip at the origin, the
+/// working end along +z (a simplified straight probe: 0.25 mm tip radius, 12 mm
+/// working end, 1 mm shaft; markings and the shank's bend come with the probe models).
+TriangleMesh MakeProbeMesh();
+
+}  // namespace sulcus

@@ -1,0 +1,175 @@
+#include "core/scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace sulcus {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Dir() {
+  const fs::path d = fs::path(SULCUS_TEST_OUTPUT) / "scenes";
+  fs::create_directories(d);
+  return d;
+}
+
+fs::path Write(const std::string& name, const std::string& yaml) {
+  const fs::path p = Dir() / name;
+  std::ofstream(p) << yaml;
+  return p;
+}
+
+// Loads `yaml` and returns every error as "line:column: message" (file stripped).
+std::vector<std::string> Errors(const std::string& yaml) {
+  const fs::path p = Write("bad.yaml", yaml);
+  try {
+    LoadSceneSpec(p);
+  } catch (const SceneLoadError& e) {
+    std::vector<std::string> out;
+    for (const SceneError& err : e.errors()) {
+      EXPECT_EQ(err.file, p.string());
+      EXPECT_EQ(err.ToString().rfind(p.string() + ":", 0), 0u);
+      out.push_back(std::to_string(err.line) + ":" + std::to_string(err.column) + ": " + err.message);
+    }
+    return out;
+  }
+  return {"accepted"};
+}
+
+using Lines = std::vector<std::string>;
+
+TEST(SceneFile, UnknownKeysSuggestTheNearestOne) {
+  EXPECT_EQ(Errors("name: x\nobjets:\n  - tooth: 46\n"),
+            (Lines{"2:1: unknown key 'objets' in the scene; did you mean 'objects'?",
+                   "1:1: a scene needs 'objects:', a list of teeth, meshes or solids"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    pocket_mm: [1, 2, 3, 1, 2, 3]\n"),
+            (Lines{"3:5: unknown key 'pocket_mm' in an object; did you mean 'pockets_mm'?"}));
+  EXPECT_EQ(Errors("haptics:\n  wobble: 3\nobjects: []\n"),
+            (Lines{"2:3: unknown key 'wobble' in 'haptics' (expected one of: k_t_n_per_mm, k_r_nmm_per_rad, "
+                   "max_force_n, max_torque_nmm, rate_hz)"}));
+}
+
+TEST(SceneFile, WrongTypesAndRanges) {
+  EXPECT_EQ(Errors("haptics:\n  k_t_n_per_mm: stiff\nobjects: []\n"),
+            (Lines{"2:17: 'k_t_n_per_mm' must be a number (N/mm), found 'stiff'"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    pockets_mm: [3, -1, 3, 3, 3, 3]\n"),
+            (Lines{"3:21: 'pockets_mm' is -1 mm, expected 0 to 15"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    pockets_mm: [3, 3, 3]\n"),
+            (Lines{"3:17: 'pockets_mm' must be a list of 6 numbers (depths at MB, B, DB, ML, L, DL in mm), found 3"}));
+  EXPECT_EQ(Errors("objects:\n  - box: [1, 2]\n    tissue: bone\n"),
+            (Lines{"2:10: 'box' must be a list of 3 numbers (sizes along x, y, z in mm), found 2"}));
+}
+
+TEST(SceneFile, ClinicalTruthIsChecked) {
+  // Tooth 31's root is 12.5 mm long.
+  EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    pockets_mm: [3, 13, 3, 3, 3, 3]\n"),
+            (Lines{"3:21: pocket of 13 mm at site B is deeper than the root of tooth 31 (12.5 mm)"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 19\n"), (Lines{"2:12: FDI 19 does not exist: the tooth digit is 1 to 8"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    bleeding: [MB, BD]\n"),
+            (Lines{"3:20: unknown site 'BD'; did you mean 'B'?"}));
+  EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    pockets_mm: [1, 1, 1, 1, 1, 1]\n"),
+            (Lines{"4:17: 'pockets_mm' is for teeth only"}));
+}
+
+TEST(SceneFile, MeshPathsStayInTheSceneFolderAndMustExist) {
+  EXPECT_EQ(Errors("objects:\n  - mesh: ../outside.stl\n    tissue: bone\n"),
+            (Lines{"2:11: mesh path '../outside.stl' leaves the scene's folder; put the mesh beside the scene file"}));
+  const Lines missing = Errors("objects:\n  - mesh: nope.stl\n    tissue: bone\n");
+  ASSERT_EQ(missing.size(), 1u);
+  EXPECT_EQ(missing[0].rfind("2:11: mesh file 'nope.stl' not found (looked for ", 0), 0u) << missing[0];
+}
+
+TEST(SceneFile, EffectsAreValidatedEvenBeforeTheyExist) {
+  EXPECT_EQ(Errors("effects: [contact, probing_dept]\nobjects: []\n"),
+            (Lines{"1:20: unknown effect 'probing_dept'; did you mean 'probing_depth'?"}));
+}
+
+TEST(SceneFile, ManyErrorsAtOnceAndSyntaxErrors) {
+  const Lines all = Errors(
+      "objects:\n"
+      "  - tooth: 99\n"
+      "  - box: [1, 1, 1]\n"
+      "  - sphere: -2\n"
+      "    tissue: bonne\n");
+  EXPECT_EQ(all, (Lines{"2:12: FDI 99 does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)",
+                        "3:5: 'box 2' needs a 'tissue' (enamel, root, gingiva, bone, tongue, cheek, palate, lip, "
+                        "mucosa, metal)",
+                        "4:13: 'sphere' is -2 mm, expected 0.001 to 1000",
+                        "5:13: unknown tissue 'bonne'; did you mean 'bone'?"}));
+  const Lines syntax = Errors("objects:\n  - tooth: [46\n");
+  ASSERT_EQ(syntax.size(), 1u);
+  EXPECT_NE(syntax[0].find("YAML syntax:"), std::string::npos) << syntax[0];
+  try {
+    LoadSceneSpec(Dir() / "missing.yaml");
+    ADD_FAILURE();
+  } catch (const SceneLoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("no such scene file"), std::string::npos);
+  }
+}
+
+TEST(SceneFile, ValuesAreRead) {
+  const fs::path p = Write("good.yaml",
+                           "name: two\n"
+                           "haptics: {k_t_n_per_mm: 0.5, rate_hz: 2000}\n"
+                           "effects: [friction]\n"
+                           "objects:\n"
+                           "  - tooth: 36\n"
+                           "    at: [1, 2, 3]\n"
+                           "    turn_deg: [0, 0, 90]\n"
+                           "    pockets_mm: [1, 2, 3, 4, 5, 6]\n"
+                           "    bleeding: [DL]\n"
+                           "  - cylinder: 2\n"
+                           "    height_mm: 5\n"
+                           "    tissue: gingiva\n");
+  const SceneSpec s = LoadSceneSpec(p);
+  EXPECT_EQ(s.name, "two");
+  EXPECT_DOUBLE_EQ(s.haptics.k_t, 0.5);
+  EXPECT_DOUBLE_EQ(s.rate_hz, 2000);
+  EXPECT_EQ(s.effects, (std::vector<Effect>{Effect::kContact, Effect::kFriction}));  // contact always
+  ASSERT_EQ(s.objects.size(), 2u);
+  EXPECT_EQ(s.objects[0].name, "tooth 36");
+  EXPECT_NEAR(s.objects[0].X_WO.translation().y(), 2.0, 1e-15);
+  EXPECT_NEAR((s.objects[0].X_WO.rotation() * Vector3::UnitX()).y(), 1.0, 1e-12);  // 90 deg about z
+  EXPECT_DOUBLE_EQ(s.objects[0].pocket_mm[5], 6);
+  EXPECT_TRUE(s.objects[0].bleeding[5]);
+  EXPECT_FALSE(s.objects[0].bleeding[0]);
+  EXPECT_EQ(s.objects[1].tissue, Tissue::kGingiva);
+  EXPECT_DOUBLE_EQ(s.objects[1].material.damage_limit_n, 0.30);  // CLINICAL.md's gingiva limit
+}
+
+TEST(SceneFile, ShippedScenesValidate) {
+  int seen = 0;
+  for (const char* folder : {"scenes", "scenes/hard"}) {
+    for (const auto& entry : fs::directory_iterator(fs::path(SULCUS_SOURCE_DIR) / folder)) {
+      if (entry.path().extension() != ".yaml") continue;
+      ++seen;
+      EXPECT_NO_THROW(LoadSceneSpec(entry.path())) << entry.path();
+    }
+  }
+  EXPECT_GE(seen, 6);
+}
+
+TEST(SceneFile, CompilesIntoAnEngineModelThatRuns) {
+  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes/hard/narrow_slot.yaml");
+  int calls = 0;
+  const auto scene = CompileScene(spec, Dir() / "cache", [&](std::string_view, double) {
+    ++calls;
+    return true;
+  });
+  ASSERT_EQ(scene->trees.size(), 3u);
+  EXPECT_GT(calls, 3);
+  EXPECT_TRUE(scene->tool_mesh.Check().IsSolid());
+  EngineData d(*scene->model);
+  // Probe pushed down into the slot: the shaft (1 mm) cannot enter the 0.7 mm gap.
+  ResetTool(RigidTransform(Matrix3::Identity(), Vector3(0, 0, 8)), &d);
+  for (int i = 0; i < 400; ++i) Step(*scene->model, RigidTransform(Matrix3::Identity(), Vector3(0, 0, 8 - 0.03 * i)), &d);
+  EXPECT_EQ(d.faults.total(), 0u);
+  EXPECT_GT(d.force_W.z(), 0.5);                       // held up by the walls' tops
+  EXPECT_LT(d.max_penetration_mm, 1e-3);
+}
+
+}  // namespace
+}  // namespace sulcus
