@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "core/anatomy/arch.h"
 #include "core/anatomy/tooth.h"
 #include "ui/mesh_view.h"
 
@@ -46,6 +47,15 @@ TEST(AnatomyView, MolarsUpperAndLower) {
   upper.mesh.Transform(Matrix3::Identity(), Vector3(14, 0, 0));
   const double drawn = RenderToPng({{&lower.mesh, {0.93, 0.91, 0.84}, 1.0}, {&upper.mesh, {0.93, 0.91, 0.84}, 1.0}},
                                    Shot("molars_36_26.png"), 1000, 700, "Generated molars 36 (2 roots) and 26 (3 roots)");
+  EXPECT_GT(drawn, 0.1);
+}
+
+TEST(AnatomyView, LowerArch) {
+  std::vector<TriangleMesh> teeth;
+  for (const PlacedTooth& p : PlaceArch(false)) teeth.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
+  std::vector<ShadedMesh> shaded;
+  for (const TriangleMesh& t : teeth) shaded.push_back({&t, {0.93, 0.91, 0.84}, 1.0});
+  const double drawn = RenderToPng(shaded, Shot("lower_arch.png"), 1200, 800, "Generated lower arch, 37 to 47");
   EXPECT_GT(drawn, 0.1);
 }
 

@@ -113,3 +113,75 @@ TEST(Tooth, InvalidFdiNumbersNameTheFault) {
 
 }  // namespace
 }  // namespace sulcus
+
+// Arches (core/anatomy/arch.h).
+#include "core/anatomy/arch.h"
+
+namespace sulcus {
+namespace {
+
+TEST(Arch, TwentyEightTeethInArchOrderWithProperFrames) {
+  for (bool upper : {false, true}) {
+    const auto teeth = PlaceArch(upper);
+    ASSERT_EQ(teeth.size(), 14u);
+    EXPECT_EQ(teeth.front().tooth.fdi, upper ? 17 : 47);
+    EXPECT_EQ(teeth.back().tooth.fdi, upper ? 27 : 37);
+    EXPECT_EQ(PlaceArch(upper, {.third_molars = true}).size(), 16u);
+    for (const PlacedTooth& p : teeth) {
+      const Matrix3& R = p.X_WT.rotation();
+      EXPECT_NEAR(R.determinant(), 1.0, 1e-12);
+      EXPECT_NEAR((R.transpose() * R - Matrix3::Identity()).norm(), 0.0, 1e-12);
+      // Mirrored exactly on the patient's lower left and upper right.
+      EXPECT_EQ(p.mirrored, p.tooth.quadrant == 3 || p.tooth.quadrant == 1) << p.tooth.fdi;
+      // Buccal points out of the arch: away from the midline at the molars, forward at the incisors.
+      const Vector3 c = p.X_WT.translation();
+      if (p.tooth.position >= 6) {
+        EXPECT_GT(p.buccal_W.x() * c.x(), 0) << p.tooth.fdi;
+      }
+      if (p.tooth.position == 1) {
+        EXPECT_GT(p.buccal_W.y(), 0.9) << p.tooth.fdi;
+      }
+      // Mesial points toward the midline.
+      EXPECT_LT(p.mesial_W.x() * c.x(), 0) << p.tooth.fdi;
+      // The crown points up (lower) or down (upper).
+      EXPECT_GT(R.col(2).z() * (upper ? -1 : 1), 0.9) << p.tooth.fdi;
+    }
+  }
+}
+
+TEST(Arch, NeighboursTouchAtTheirContacts) {
+  const auto teeth = PlaceArch(false);
+  for (std::size_t i = 0; i + 1 < teeth.size(); ++i) {
+    // Contacts are shared points on the arch: the distal contact of the tooth
+    // nearer the midline is the mesial contact of the next one.
+    const PlacedTooth& a = teeth[i];
+    const PlacedTooth& b = teeth[i + 1];
+    const bool a_is_mesial_of_b = a.tooth.position < b.tooth.position;
+    const Vector3 shared_a = a_is_mesial_of_b ? a.contact_distal_W : a.contact_mesial_W;
+    const Vector3 shared_b = a_is_mesial_of_b ? b.contact_mesial_W : b.contact_distal_W;
+    if (a.tooth.position == 1 && b.tooth.position == 1) {
+      EXPECT_NEAR((a.contact_mesial_W - b.contact_mesial_W).norm(), 0.0, 1e-9);  // at the midline
+    } else {
+      EXPECT_NEAR((shared_a - shared_b).norm(), 0.0, 1e-9) << a.tooth.fdi << " " << b.tooth.fdi;
+    }
+  }
+  // The first molars are about 45 mm apart (CLINICAL arch size), the incisors in front.
+  Vector3 m36 = Vector3::Zero(), m46 = Vector3::Zero();
+  for (const auto& p : teeth) {
+    if (p.tooth.fdi == 36) m36 = p.X_WT.translation();
+    if (p.tooth.fdi == 46) m46 = p.X_WT.translation();
+  }
+  EXPECT_NEAR((m36 - m46).norm(), 45, 6);
+}
+
+TEST(Arch, PlacedMirroredTeethStayValidSolids) {
+  const auto teeth = PlaceArch(false);
+  for (const PlacedTooth& p : teeth) {
+    if (!p.mirrored) continue;
+    const TriangleMesh m = PlacedMesh(p, GenerateTooth(p.tooth.fdi, {.resolution = 3}).mesh);
+    EXPECT_TRUE(m.Check().IsSolid()) << p.tooth.fdi;
+  }
+}
+
+}  // namespace
+}  // namespace sulcus

@@ -1,0 +1,100 @@
+#include "core/anatomy/arch.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace sulcus {
+namespace {
+
+// Arc length along y = -k x^2 from 0 to x (x >= 0).
+double ArcLength(double k, double x) {
+  const double u = 2 * k * x;
+  return (u * std::sqrt(1 + u * u) + std::asinh(u)) / (4 * k);
+}
+
+// The x >= 0 where the arc length from the midline is s (bisection).
+double XAtArc(double k, double s) {
+  double lo = 0, hi = s;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (ArcLength(k, mid) < s ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// Labial/lingual tip of the crown by position (degrees, positive: crown buccal).
+double Inclination(int position) {
+  static const double deg[8] = {15, 12, 8, 2, 0, -4, -6, -8};
+  return deg[position - 1];
+}
+
+}  // namespace
+
+std::vector<PlacedTooth> PlaceArch(bool upper, const ArchParams& params) {
+  const double k = upper ? params.k_upper : params.k_lower;
+  const int last = params.third_molars ? 8 : 7;
+  std::vector<PlacedTooth> out;
+  for (int side = 0; side < 2; ++side) {  // 0: patient's right (x < 0), 1: left
+    const int quadrant = upper ? (side == 0 ? 1 : 2) : (side == 0 ? 4 : 3);
+    const double sx = side == 0 ? -1.0 : 1.0;
+    double s = 0;  // arc length from the midline to this tooth's mesial contact
+    std::vector<PlacedTooth> half;
+    for (int pos = 1; pos <= last; ++pos) {
+      PlacedTooth p;
+      p.tooth = FdiTooth::Parse(10 * quadrant + pos);
+      const ToothDimensions d = Dimensions(p.tooth);
+      const double s_centre = s + d.md_crown / 2;
+      auto point = [&](double arc) {
+        const double x = XAtArc(k, arc);
+        return Vector3(sx * x, -k * x * x, 0);
+      };
+      p.contact_mesial_W = point(s);
+      p.contact_distal_W = point(s + d.md_crown);
+      const double x = XAtArc(k, s_centre);
+      const Vector3 on_arch(sx * x, -k * x * x, 0);
+      // Mesial: along the arch toward the midline. Buccal: the outward normal, the
+      // gradient of y + k x^2 (the arch's inside, the tongue's side, has y < -k x^2).
+      p.mesial_W = -Vector3(sx, -2 * k * x, 0).normalized();
+      p.buccal_W = Vector3(2 * k * sx * x, 1, 0).normalized();
+      p.occlusal_W = upper ? Vector3(-Vector3::UnitZ()) : Vector3(Vector3::UnitZ());
+      // The crown tipped buccally (labially) in the occlusal-buccal plane.
+      const double tip = Inclination(pos) * std::numbers::pi / 180;
+      const Vector3 occlusal = std::cos(tip) * p.occlusal_W + std::sin(tip) * p.buccal_W;
+      const Vector3 buccal_t = std::cos(tip) * p.buccal_W - std::sin(tip) * p.occlusal_W;
+      // The tooth frame's x: mesial, or distal for mirrored teeth, so that the
+      // frame is right-handed.
+      p.mirrored = p.mesial_W.cross(buccal_t).dot(occlusal) < 0;
+      const Vector3 x_axis = p.mirrored ? Vector3(-p.mesial_W) : p.mesial_W;
+      Matrix3 R;
+      R.col(0) = x_axis;
+      R.col(1) = buccal_t;
+      R.col(2) = occlusal;
+      R = NearestRotation(R);
+      // The contact (height of contour) sits on the arch; the CEJ is below it.
+      const double contact_height = (pos <= 3 ? 0.75 : 0.6) * d.crown_height;
+      Vector3 origin = on_arch - contact_height * occlusal;
+      if (upper) origin.z() += params.upper_lift_mm;
+      p.X_WT = RigidTransform(R, origin);
+      half.push_back(p);
+      s += d.md_crown;
+    }
+    if (side == 0) {
+      out.insert(out.end(), half.rbegin(), half.rend());  // right molars first
+    } else {
+      out.insert(out.end(), half.begin(), half.end());
+    }
+  }
+  return out;
+}
+
+TriangleMesh PlacedMesh(const PlacedTooth& placed, const TriangleMesh& tooth_mesh) {
+  TriangleMesh m = tooth_mesh;
+  if (placed.mirrored) {
+    m.Transform(Vector3(-1, 1, 1).asDiagonal(), Vector3::Zero());
+    m.FlipOrientation();
+  }
+  m.Transform(placed.X_WT.rotation(), placed.X_WT.translation());
+  return m;
+}
+
+}  // namespace sulcus

@@ -1,0 +1,44 @@
+#pragma once
+// Teeth placed on the dental arches.
+//
+// World frame W: +x the patient's left, +y anterior (toward the lips), +z up; the
+// occlusal plane is z = 0 with the mouth closed. Each arch is the parabola
+// y = -k x^2 through the contact points; teeth are laid along it by their
+// mesiodistal crown widths, touching at their contacts, with modest inclinations
+// (incisors tipped labially, molars lingually).
+//
+// A tooth's own frame (tooth.h) is right-handed with +x mesial, +y buccal, +z
+// occlusal. On the patient's lower left and upper right that triple is
+// left-handed in the world, so those teeth are mirrored across their x = 0 plane
+// (left and right teeth are mirror images) before being placed by a rotation.
+
+#include <vector>
+
+#include "core/anatomy/tooth.h"
+#include "core/geometry/transform.h"
+
+namespace sulcus {
+
+struct ArchParams {
+  double k_lower = 0.052;        // parabola y = -k x^2 (1/mm): first molars about 45 mm apart
+  double k_upper = 0.045;        // the upper arch is wider and encloses the lower
+  double upper_lift_mm = 0.0;    // raise the upper arch (open the mouth)
+  bool third_molars = false;     // 28 teeth without them, 32 with
+};
+
+struct PlacedTooth {
+  FdiTooth tooth;
+  bool mirrored = false;   // mesh mirrored in x before X_WT applies
+  RigidTransform X_WT;     // tooth frame (after the mirror) in the world
+  Vector3 mesial_W, buccal_W, occlusal_W;  // unit directions for lesson sites
+  Vector3 contact_mesial_W, contact_distal_W;  // the arch points where it meets its neighbours
+};
+
+/// The teeth of one arch (upper or lower), from the right third (or second) molar
+/// to the left one, in arch order.
+std::vector<PlacedTooth> PlaceArch(bool upper, const ArchParams& params = {});
+
+/// A tooth's mesh in the world: mirrored if needed, then moved by X_WT.
+TriangleMesh PlacedMesh(const PlacedTooth& placed, const TriangleMesh& tooth_mesh);
+
+}  // namespace sulcus
