@@ -23,8 +23,12 @@ fs::path Write(const std::string& name, const std::string& yaml) {
 }
 
 // Loads `yaml` and returns every error as "line:column: message" (file stripped).
+// Each call writes its own file: ctest runs these tests in parallel.
 std::vector<std::string> Errors(const std::string& yaml) {
-  const fs::path p = Write("bad.yaml", yaml);
+  static int calls = 0;
+  const fs::path p = Write(std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+                               std::to_string(++calls) + ".yaml",
+                           yaml);
   try {
     LoadSceneSpec(p);
   } catch (const SceneLoadError& e) {
@@ -111,7 +115,7 @@ TEST(SceneFile, ManyErrorsAtOnceAndSyntaxErrors) {
 }
 
 TEST(SceneFile, ValuesAreRead) {
-  const fs::path p = Write("good.yaml",
+  const fs::path p = Write("values_read.yaml",
                            "name: two\n"
                            "haptics: {k_t_n_per_mm: 0.5, rate_hz: 2000}\n"
                            "effects: [friction]\n"
