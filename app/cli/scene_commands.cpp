@@ -6,9 +6,7 @@
 #include <string>
 
 #include "app/cli/commands.h"
-#include "core/anatomy/tooth.h"
 #include "core/geometry/mesh_io.h"
-#include "core/geometry/primitives.h"
 #include "core/scene/scene.h"
 
 namespace sulcus::cli {
@@ -42,14 +40,7 @@ void AddSceneCommands(CLI::App& app) {
     const SceneSpec s = LoadSceneSpec(*export_file);
     std::filesystem::create_directories(*dir);
     for (const ObjectSpec& o : s.objects) {
-      TriangleMesh mesh;
-      switch (o.kind) {
-        case ObjectSpec::Kind::kTooth: mesh = GenerateTooth(o.fdi).mesh; break;
-        case ObjectSpec::Kind::kMesh: mesh = LoadMesh(o.mesh); break;
-        case ObjectSpec::Kind::kBox: mesh = MakeBox(o.size); break;
-        case ObjectSpec::Kind::kSphere: mesh = MakeIcosphere(o.radius_mm, 4); break;
-        case ObjectSpec::Kind::kCylinder: mesh = MakeCylinder(o.radius_mm, o.height_mm, 48); break;
-      }
+      TriangleMesh mesh = MakeObjectMesh(o);
       mesh.Transform(o.X_WO.rotation(), o.X_WO.translation());
       std::string name = o.name;
       for (char& c : name) {

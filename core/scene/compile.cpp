@@ -23,6 +23,19 @@ TriangleMesh MakeProbeMesh() {
   return MakeLathe(profile, 16);
 }
 
+TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
+  switch (o.kind) {
+    case ObjectSpec::Kind::kTooth: return GenerateTooth(o.fdi).mesh;
+    case ObjectSpec::Kind::kMesh: return LoadMesh(o.mesh);
+    case ObjectSpec::Kind::kBox:
+      return MakeBox(o.size, std::max(1, static_cast<int>(std::ceil(o.size.maxCoeff() / 2))));
+    case ObjectSpec::Kind::kSphere: return MakeIcosphere(o.radius_mm, 4);
+    case ObjectSpec::Kind::kCylinder:
+      return MakeCylinder(o.radius_mm, o.height_mm, 48, std::max(1, static_cast<int>(o.height_mm / 2)));
+  }
+  return {};
+}
+
 std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::filesystem::path& cache_dir,
                                             const BuildProgress& progress) {
   auto scene = std::make_unique<CompiledScene>();
@@ -33,18 +46,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   };
   for (int i = 0; i < n; ++i) {
     const ObjectSpec& o = spec.objects[i];
-    TriangleMesh mesh;
-    switch (o.kind) {
-      case ObjectSpec::Kind::kTooth: mesh = GenerateTooth(o.fdi).mesh; break;
-      case ObjectSpec::Kind::kMesh: mesh = LoadMesh(o.mesh); break;
-      case ObjectSpec::Kind::kBox:
-        mesh = MakeBox(o.size, std::max(1, static_cast<int>(std::ceil(o.size.maxCoeff() / 2))));
-        break;
-      case ObjectSpec::Kind::kSphere: mesh = MakeIcosphere(o.radius_mm, 4); break;
-      case ObjectSpec::Kind::kCylinder:
-        mesh = MakeCylinder(o.radius_mm, o.height_mm, 48, std::max(1, static_cast<int>(o.height_mm / 2)));
-        break;
-    }
+    TriangleMesh mesh = MakeObjectMesh(o);
     report(i, o.name, 0.1);
     const BuildProgress inner = [&](std::string_view stage, double f) {
       return !progress || progress(stage, (i + 0.1 + 0.9 * f) / (n + 1));

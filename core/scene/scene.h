@@ -91,6 +91,10 @@ struct SceneSpec {
 /// effects, YAML syntax errors).
 SceneSpec LoadSceneSpec(const std::filesystem::path& file);
 
+/// An object's mesh in its own frame (before X_WO): a generated tooth, the mesh
+/// file, or the solid. Throws MeshError for an unreadable mesh file.
+TriangleMesh MakeObjectMesh(const ObjectSpec& object);
+
 /// A compiled scene: everything the engine needs, immutable after construction.
 struct CompiledScene {
   SceneSpec spec;
