@@ -324,7 +324,7 @@ std::vector<std::int32_t> GreedyCover(const CoverLists& lists, double eps, std::
   return chosen;
 }
 
-// The smallest protrusion bound (to 0.1 %) whose greedy cover fits the budget,
+// The smallest protrusion bound (to 1 %) whose greedy cover fits the budget,
 // with the cover lists it was computed from.
 struct MinMaxCover {
   std::vector<std::int32_t> chosen;
@@ -332,8 +332,10 @@ struct MinMaxCover {
   CoverLists lists;  // computed at a bound >= eps
 };
 
+// `feasible_eps` > 0 is a bound known to fit the budget (the previous round's:
+// splitting pieces never makes a cover worse); then no bracketing is needed.
 MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands, const std::vector<Piece>& pieces,
-                            std::size_t budget, double start_eps, double diag,
+                            std::size_t budget, double start_eps, double feasible_eps, double diag,
                             const std::function<void()>& tick) {
   const PieceBvh bvh(pieces);
   MinMaxCover out;
@@ -346,14 +348,15 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands, const std::vect
     }
     return GreedyCover(out.lists, eps, pieces.size(), budget);
   };
-  // Bracket by doubling, then bisect.
-  double lo = 0, hi = start_eps;
+  // Bracket by doubling (unless a feasible bound is known), then bisect.
+  double lo = 0, hi = feasible_eps > 0 ? feasible_eps : start_eps;
   while ((out.chosen = attempt(hi)).empty()) {
     lo = hi;
     hi *= 2;
     if (hi > 4 * diag) throw SphereTreeError("no cover found (is the mesh a solid?)");
   }
-  for (int i = 0; i < 14 && hi - lo > 1e-3 * hi; ++i) {
+  // To 1 % of the bound: finer steps change the tree, not its fit.
+  for (int i = 0; i < 14 && hi - lo > 1e-2 * hi; ++i) {
     const double mid = 0.5 * (lo + hi);
     auto c = attempt(mid);
     if (c.empty()) {
@@ -805,7 +808,7 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
     }
   } else {
     for (int round = 0;; ++round) {
-      cover = CoverWithBudget(cands, pieces, budget, 0.02 * h, diag, tick);
+      cover = CoverWithBudget(cands, pieces, budget, 0.02 * h, round > 0 ? cover.eps : 0.0, diag, tick);
       if (round == 3 || !refine_binding(cover.lists, 0.6 * cover.eps)) break;
     }
   }
