@@ -1,6 +1,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/anatomy/probe.h"
 #include "core/anatomy/tooth.h"
 #include "core/geometry/mesh_io.h"
 #include "core/geometry/primitives.h"
@@ -8,20 +9,6 @@
 #include "core/spheretree/cache.h"
 
 namespace sulcus {
-
-TriangleMesh MakeProbeMesh() {
-  // Rounded tip of radius 0.25 mm at the origin, working end to 12 mm, a short
-  // taper, then the shaft (radius 0.5 mm) to 30 mm.
-  std::vector<std::pair<double, double>> profile = {{0.0, -0.25}};
-  for (int i = 1; i < 8; ++i) {
-    const double a = -std::numbers::pi / 2 + std::numbers::pi / 2 * i / 8;
-    profile.push_back({0.25 * std::cos(a), 0.25 * std::sin(a)});
-  }
-  for (double z = 0; z <= 12.0; z += 1.0) profile.push_back({0.25, z});
-  for (double z = 13.0; z <= 30.0; z += 1.0) profile.push_back({0.5, z});
-  profile.push_back({0.0, 30.0});
-  return MakeLathe(profile, 16);
-}
 
 TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
   switch (o.kind) {
@@ -54,7 +41,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
     scene->trees.push_back(LoadOrBuildSphereTree(mesh, spec.trees, cache_dir, inner));
     scene->meshes.push_back(std::move(mesh));
   }
-  scene->tool_mesh = MakeProbeMesh();
+  scene->tool_mesh = MakeProbe(spec.probe).collision_mesh;
   scene->tool_tree = LoadOrBuildSphereTree(scene->tool_mesh, SphereTreeParams{}, cache_dir,
                                            [&](std::string_view stage, double f) {
                                              return !progress || progress(stage, (n + f) / (n + 1));

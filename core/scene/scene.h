@@ -100,7 +100,7 @@ struct CompiledScene {
   SceneSpec spec;
   std::vector<TriangleMesh> meshes;       // per object, in the object frame
   std::vector<SphereTree> trees;          // per object
-  TriangleMesh tool_mesh;
+  TriangleMesh tool_mesh;  // the probe's collision part (anatomy/probe.h), tip frame
   SphereTree tool_tree;
   std::unique_ptr<EngineModel> model;
 };
@@ -109,10 +109,5 @@ struct CompiledScene {
 /// engine model. Progress is reported per object.
 std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::filesystem::path& cache_dir,
                                             const BuildProgress& progress = {});
-
-/// The probe's collision geometry in the tool frame: the tip at the origin, the
-/// working end along +z (a simplified straight probe: 0.25 mm tip radius, 12 mm
-/// working end, 1 mm shaft; markings and the shank's bend come with the probe models).
-TriangleMesh MakeProbeMesh();
 
 }  // namespace sulcus

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "core/anatomy/arch.h"
+#include "core/anatomy/probe.h"
 #include "core/anatomy/tooth.h"
 #include "ui/mesh_view.h"
 
@@ -48,6 +49,17 @@ TEST(AnatomyView, MolarsUpperAndLower) {
   const double drawn = RenderToPng({{&lower.mesh, {0.93, 0.91, 0.84}, 1.0}, {&upper.mesh, {0.93, 0.91, 0.84}, 1.0}},
                                    Shot("molars_36_26.png"), 1000, 700, "Generated molars 36 (2 roots) and 26 (3 roots)");
   EXPECT_GT(drawn, 0.1);
+}
+
+TEST(AnatomyView, ProbeAtAMolar) {
+  ToothModel tooth = GenerateTooth(46);
+  const ProbeModel probe = MakeProbe("williams");
+  TriangleMesh p = probe.mesh;
+  // The tip at the buccal cervix, the working end along the tooth's long axis.
+  p.Transform(Matrix3::Identity(), Vector3(0, 5.6, -1.0));
+  const double drawn = RenderToPng({{&tooth.mesh, {0.93, 0.91, 0.84}, 1.0}, {&p, {0.75, 0.78, 0.82}, 1.0}},
+                                   Shot("probe_at_46.png"), 1000, 800, "Williams probe at tooth 46");
+  EXPECT_GT(drawn, 0.02);  // a 100 mm probe beside a 21 mm tooth: the frame is mostly background
 }
 
 TEST(AnatomyView, LowerArch) {

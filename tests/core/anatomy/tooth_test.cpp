@@ -185,3 +185,55 @@ TEST(Arch, PlacedMirroredTeethStayValidSolids) {
 
 }  // namespace
 }  // namespace sulcus
+
+// Probes (core/anatomy/probe.h).
+#include "core/anatomy/probe.h"
+
+namespace sulcus {
+namespace {
+
+TEST(Probe, ValidSolidsWithTheTipAtTheOrigin) {
+  for (const char* name : {"williams", "unc15", "who"}) {
+    const ProbeModel p = MakeProbe(name);
+    for (const TriangleMesh* m : {&p.mesh, &p.collision_mesh}) {
+      const MeshReport r = m->Check();
+      EXPECT_TRUE(r.IsSolid()) << name;
+      EXPECT_NEAR(r.bounds.min.z(), 0.0, 1e-9) << name;  // nothing below the tip's end
+    }
+    // The collision part is the working end and shank, far shorter than the probe.
+    EXPECT_LT(p.collision_mesh.Bounds().extent().norm(), 0.4 * p.mesh.Bounds().extent().norm()) << name;
+    // The handle rises away from the working end.
+    EXPECT_GT(p.mesh.Bounds().max.z(), p.working_length_mm + 20) << name;
+  }
+  EXPECT_THROW(MakeProbe("nabers"), std::invalid_argument);
+}
+
+TEST(Probe, MarkingsAsInClinicalMd) {
+  auto lines = [](const ProbeModel& p) {
+    std::vector<double> v;
+    for (const ProbeMarking& m : p.markings) {
+      if (!m.band) v.push_back(m.from_mm);
+    }
+    return v;
+  };
+  EXPECT_EQ(lines(MakeProbe("williams")), (std::vector<double>{1, 2, 3, 5, 7, 8, 9, 10}));  // no 4 or 6
+  const ProbeModel unc = MakeProbe("unc15");
+  EXPECT_EQ(lines(unc).size(), 15u);
+  int bands = 0;
+  for (const ProbeMarking& m : unc.markings) bands += m.band;
+  EXPECT_EQ(bands, 3);
+  const ProbeModel who = MakeProbe("who");
+  EXPECT_TRUE(who.ball_tip);
+  EXPECT_EQ(lines(who), (std::vector<double>{8.5, 11.5}));
+  EXPECT_DOUBLE_EQ(who.markings[0].from_mm, 3.5);
+  EXPECT_DOUBLE_EQ(who.markings[0].to_mm, 5.5);
+  // The WHO ball: 0.5 mm across at its widest, near the tip.
+  double widest = 0;
+  for (const Vector3& v : who.mesh.vertices()) {
+    if (v.z() < 0.5) widest = std::max(widest, std::hypot(v.x(), v.y()));
+  }
+  EXPECT_NEAR(2 * widest, 0.5, 0.02);
+}
+
+}  // namespace
+}  // namespace sulcus

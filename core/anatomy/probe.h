@@ -1,0 +1,40 @@
+#pragma once
+// Periodontal probes (CLINICAL.md, "Probes"): the working end, the bent shank and
+// the handle as one closed mesh, the markings as data, and the tip frame.
+//
+// Tool frame T = tip frame: origin at the tip's end, +z along the working end
+// toward the shank (so markings are distances along +z from the tip). The shank
+// turns 70 degrees in the x-z plane toward -x, so the handle rises away from the
+// working end at 110 degrees to it.
+
+#include <string>
+#include <vector>
+
+#include "core/geometry/mesh.h"
+
+namespace sulcus {
+
+struct ProbeMarking {
+  double from_mm, to_mm;  // along the working end from the tip; a line has from == to
+  bool band = false;      // a coloured band rather than a line
+};
+
+struct ProbeModel {
+  std::string name;                  // williams, unc15, who
+  TriangleMesh mesh;                 // the whole probe, in the tip frame (for display)
+  TriangleMesh collision_mesh;       // working end, bend and 8 mm of shank (for the engine)
+  std::vector<ProbeMarking> markings;
+  double tip_radius_mm = 0;          // ball (WHO) or rounded taper
+  bool ball_tip = false;
+  double working_length_mm = 0;      // straight part from the tip to the bend
+};
+
+/// Known names: "williams", "unc15", "who". Throws std::invalid_argument otherwise.
+ProbeModel MakeProbe(const std::string& name);
+
+/// Tube of circular section swept along a polyline `path` with a radius per path
+/// point (first and last radii close the ends with poles). Closed, manifold and
+/// outward when the path is smooth enough that rings do not cross.
+TriangleMesh MakeSweep(const std::vector<Vector3>& path, const std::vector<double>& radii, int segments);
+
+}  // namespace sulcus
