@@ -1,43 +1,12 @@
 #include "core/anatomy/probe.h"
 
+#include "core/geometry/primitives.h"
+
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 
 namespace sulcus {
-
-TriangleMesh MakeSweep(const std::vector<Vector3>& path, const std::vector<double>& radii, int segments) {
-  const int n = static_cast<int>(path.size());
-  std::vector<Vector3> v;
-  std::vector<TriangleMesh::Face> f;
-  v.push_back(path.front());  // pole at the start
-  // Frames transported along the path so rings do not twist.
-  Vector3 t0 = (path[1] - path[0]).normalized();
-  Vector3 u = t0.unitOrthogonal();
-  for (int k = 1; k + 1 < n; ++k) {
-    const Vector3 t = (path[k + 1] - path[k - 1]).normalized();
-    u = (u - u.dot(t) * t).normalized();  // parallel transport (projection)
-    const Vector3 w = t.cross(u);
-    for (int i = 0; i < segments; ++i) {
-      const double a = 2 * std::numbers::pi * i / segments;
-      v.push_back(path[k] + radii[k] * (std::cos(a) * u + std::sin(a) * w));
-    }
-  }
-  const int last = static_cast<int>(v.size());
-  v.push_back(path.back());  // pole at the end
-  const int rings = n - 2;
-  auto id = [&](int ring, int i) { return 1 + (ring - 1) * segments + (i % segments); };
-  // Orientation: rings go counter-clockwise about +t, so faces below wind outward.
-  for (int i = 0; i < segments; ++i) f.push_back({0, id(1, i + 1), id(1, i)});
-  for (int k = 1; k < rings; ++k) {
-    for (int i = 0; i < segments; ++i) {
-      f.push_back({id(k, i), id(k, i + 1), id(k + 1, i + 1)});
-      f.push_back({id(k, i), id(k + 1, i + 1), id(k + 1, i)});
-    }
-  }
-  for (int i = 0; i < segments; ++i) f.push_back({last, id(rings, i), id(rings, i + 1)});
-  return TriangleMesh(std::move(v), std::move(f));
-}
 
 ProbeModel MakeProbe(const std::string& name) {
   ProbeModel p;

@@ -32,9 +32,4 @@ struct ProbeModel {
 /// Known names: "williams", "unc15", "who". Throws std::invalid_argument otherwise.
 ProbeModel MakeProbe(const std::string& name);
 
-/// Tube of circular section swept along a polyline `path` with a radius per path
-/// point (first and last radii close the ends with poles). Closed, manifold and
-/// outward when the path is smooth enough that rings do not cross.
-TriangleMesh MakeSweep(const std::vector<Vector3>& path, const std::vector<double>& radii, int segments);
-
 }  // namespace sulcus

@@ -128,21 +128,28 @@ TriangleMesh MakeCylinder(double radius, double height, int segments, int stacks
   return TriangleMesh(std::move(v), std::move(f));
 }
 
-TriangleMesh MakeLathe(const std::vector<std::pair<double, double>>& profile, int segments) {
+TriangleMesh MakeSweep(const std::vector<Vector3>& path, const std::vector<double>& radii, int segments) {
+  const int n = static_cast<int>(path.size());
   std::vector<Vector3> v;
   std::vector<TriangleMesh::Face> f;
-  const int rings = static_cast<int>(profile.size()) - 2;  // interior points
-  v.emplace_back(0, 0, profile.front().second);
-  for (int k = 1; k <= rings; ++k) {
-    const auto [r, z] = profile[k];
+  v.push_back(path.front());  // pole at the start
+  // Frames transported along the path so rings do not twist.
+  Vector3 t0 = (path[1] - path[0]).normalized();
+  Vector3 u = t0.unitOrthogonal();
+  for (int k = 1; k + 1 < n; ++k) {
+    const Vector3 t = (path[k + 1] - path[k - 1]).normalized();
+    u = (u - u.dot(t) * t).normalized();  // parallel transport (projection)
+    const Vector3 w = t.cross(u);
     for (int i = 0; i < segments; ++i) {
       const double a = 2 * std::numbers::pi * i / segments;
-      v.emplace_back(r * std::cos(a), r * std::sin(a), z);
+      v.push_back(path[k] + radii[k] * (std::cos(a) * u + std::sin(a) * w));
     }
   }
-  const int top = static_cast<int>(v.size());
-  v.emplace_back(0, 0, profile.back().second);
+  const int last = static_cast<int>(v.size());
+  v.push_back(path.back());  // pole at the end
+  const int rings = n - 2;
   auto id = [&](int ring, int i) { return 1 + (ring - 1) * segments + (i % segments); };
+  // Orientation: rings go counter-clockwise about +t, so faces below wind outward.
   for (int i = 0; i < segments; ++i) f.push_back({0, id(1, i + 1), id(1, i)});
   for (int k = 1; k < rings; ++k) {
     for (int i = 0; i < segments; ++i) {
@@ -150,7 +157,7 @@ TriangleMesh MakeLathe(const std::vector<std::pair<double, double>>& profile, in
       f.push_back({id(k, i), id(k + 1, i + 1), id(k + 1, i)});
     }
   }
-  for (int i = 0; i < segments; ++i) f.push_back({top, id(rings, i), id(rings, i + 1)});
+  for (int i = 0; i < segments; ++i) f.push_back({last, id(rings, i), id(rings, i + 1)});
   return TriangleMesh(std::move(v), std::move(f));
 }
 

@@ -24,10 +24,9 @@ TriangleMesh MakeTorus(double ring_radius, double tube_radius, int ring_segments
 /// Closed cylinder along z from z = 0 to z = height.
 TriangleMesh MakeCylinder(double radius, double height, int segments, int stacks = 1);
 
-/// Surface of revolution about the z axis of the profile (r, z), listed from one
-/// pole to the other: the first and last points must have r = 0 (they become
-/// single vertices), the others r > 0. Closed and outward when z increases along
-/// the profile.
-TriangleMesh MakeLathe(const std::vector<std::pair<double, double>>& profile, int segments);
+/// Tube of circular section swept along a polyline `path` with a radius per path
+/// point; the first and last radii should be 0 (the ends close as poles). Closed,
+/// manifold and outward when the path bends gently enough that rings do not cross.
+TriangleMesh MakeSweep(const std::vector<Vector3>& path, const std::vector<double>& radii, int segments);
 
 }  // namespace sulcus
