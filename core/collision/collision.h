@@ -73,9 +73,8 @@ class CollisionWorld {
   double tool_reach_ = 0;
 };
 
-/// Per-query scratch space (part of the engine's Data).
+/// Per-query scratch space, fixed size (part of the engine's Data).
 struct CollisionScratch {
-  explicit CollisionScratch(const CollisionWorld&) {}
   static constexpr int kStackCapacity = 1024;
   std::int32_t stack_tool[kStackCapacity];
   std::int32_t stack_obj[kStackCapacity];

@@ -27,6 +27,10 @@ double Gap(const CollisionWorld& world, const RigidTransform& X_WT, const Contac
          world.ObjectRadius(c.object, c.object_leaf);
 }
 
+// A solve whose pose can be used: optimal, or the least violation of an
+// infeasible set.
+bool Usable(QpStatus s) { return s == QpStatus::kSolved || s == QpStatus::kInfeasibleRelaxed; }
+
 Vector3 Clamp(const Vector3& v, double limit, bool* clamped) {
   const double n = v.norm();
   if (n > limit) {
@@ -34,6 +38,17 @@ Vector3 Clamp(const Vector3& v, double limit, bool* clamped) {
     return v * (limit / n);
   }
   return v;
+}
+
+// How far a tool point moves at most for a configuration step (dp, dtheta).
+double MoveBound(const Vector6& dq, double reach) { return dq.head<3>().norm() + dq.tail<3>().norm() * reach; }
+
+// The spring between the tools (paper eq. 6) as force and torque, saturated.
+void SpringWrench(const EngineParams& p, const RigidTransform& X_WH, EngineData* d) {
+  d->force_saturated = false;
+  d->force_W = Clamp(p.k_t * (d->X_WG.translation() - X_WH.translation()), p.max_force_n, &d->force_saturated);
+  d->torque_W = Clamp(p.k_r * LogMap(d->X_WG.rotation() * X_WH.rotation().transpose()), p.max_torque_nmm,
+                      &d->force_saturated);
 }
 
 }  // namespace
@@ -48,7 +63,6 @@ EngineData::EngineData(const EngineModel& model)
       b(model.params.max_pairs),
       active_keys(kQpMaxActive),
       warm_rows(kQpMaxActive),
-      scratch(model.world),
       qp(model.params.max_pairs) {}
 
 void ResetTool(const RigidTransform& X_WG, EngineData* d) {
@@ -86,10 +100,6 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   // that covers the actual move and solve again (at most a few times).
   const Vector6 g = (Vector6() << p.k_t, p.k_t, p.k_t, p.k_r, p.k_r, p.k_r).finished();
   const double reach = world.tool_reach();
-  auto moved = [&](const RigidTransform& from, const RigidTransform& to) {
-    const Vector6 dq = from.DifferenceTo(to);
-    return dq.head<3>().norm() + dq.tail<3>().norm() * reach;
-  };
   double margin = p.base_margin_mm + 2.0 * d->last_move_mm;
   RigidTransform X = d->X_WG;
   const QpSolution* sol = nullptr;
@@ -98,7 +108,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   // The graphic tool moves at most max_step_mm a frame toward the device, which
   // bounds the margin (and the pairs) however fast the device jumps.
   const Vector6 to_device = d->X_WG.DifferenceTo(X_WH);
-  const double device_move = to_device.head<3>().norm() + to_device.tail<3>().norm() * reach;
+  const double device_move = MoveBound(to_device, reach);
   double step_scale = device_move > p.max_step_mm ? p.max_step_mm / device_move : 1.0;
   bool accepted = false;
   d->sweeps = 0;
@@ -168,7 +178,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       d->timings.constraints_us += Micros(t_build, t_solve);
       d->timings.solve_us += Micros(t_solve, t_solved);
       ++d->linearizations;
-      if (sol->status != QpStatus::kSolved && sol->status != QpStatus::kInfeasibleRelaxed) break;
+      if (!Usable(sol->status)) break;
       X = Orthonormalised(X.Perturbed(sol->q.head<3>(), sol->q.tail<3>()));
       // Exact re-check at the new pose: no penetration, and the active constraints
       // tight (a linearisation is conservative on curved spheres: when it stopped
@@ -184,8 +194,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       num_warm = 0;
       for (int i = 0; i < sol->num_active; ++i) d->warm_rows[num_warm++] = sol->active[i];
     }
-    if (sol->status != QpStatus::kSolved && sol->status != QpStatus::kInfeasibleRelaxed) break;
-    move = moved(d->X_WG, X);
+    if (!Usable(sol->status)) break;
+    move = MoveBound(d->X_WG.DifferenceTo(X), reach);
     d->sweep_move_mm[sweep] = move;
     // Every pair left out had gap >= margin, so a shorter move cannot reach it.
     if (move < margin) {
@@ -196,45 +206,29 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   }
   d->margin_mm = margin;
   if (d->pair_overflow) ++d->faults.pair_overflow;
-  if (!accepted && sol != nullptr && (sol->status == QpStatus::kSolved || sol->status == QpStatus::kInfeasibleRelaxed)) {
-    // The move was never covered by a query: holding the pose is the safe answer.
-    ++d->faults.sweep;
-    X = d->X_WG;
-    move = 0;
+  if (sol != nullptr) {
+    d->qp_status = sol->status;
+    d->qp_iterations = sol->iterations;
+    d->kkt_residual = sol->kkt_residual;
   }
-
-  if (sol == nullptr) {  // every sweep overflowed: hold the pose
-    ++d->faults.sweep;
-    d->force_saturated = false;
-    d->force_W = Clamp(p.k_t * (d->X_WG.translation() - X_WH.translation()), p.max_force_n, &d->force_saturated);
-    d->torque_W = Clamp(p.k_r * LogMap(d->X_WG.rotation() * X_WH.rotation().transpose()), p.max_torque_nmm,
-                        &d->force_saturated);
-    d->timings.total_us = Micros(t0, Clock::now());
-    return;
-  }
-  d->qp_status = sol->status;
-  d->qp_iterations = sol->iterations;
-  d->kkt_residual = sol->kkt_residual;
-  if (sol->status == QpStatus::kSolved || sol->status == QpStatus::kInfeasibleRelaxed) {
+  if (accepted) {
+    // The accepted sweep's pairs and solution belong together: commit both.
     d->X_WG = X;
     d->last_move_mm = move;
-    d->num_active_keys = 0;
     d->active_contacts = sol->num_active;
+    d->num_active_keys = 0;
     for (int i = 0; i < sol->num_active; ++i) d->active_keys[d->num_active_keys++] = d->pairs[sol->active[i]].key();
     if (d->max_penetration_mm > p.penetration_tolerance_mm && sol->status == QpStatus::kSolved) {
       ++d->faults.penetration;
     }
   } else {
-    ++d->faults.solver;  // keep the last valid graphic pose
-    d->num_active_keys = 0;
+    // A failed solve, or a move no query covered: hold the graphic pose.
+    ++(sol != nullptr && !Usable(sol->status) ? d->faults.solver : d->faults.sweep);
     d->last_move_mm = 0;
+    d->active_contacts = 0;
+    d->num_active_keys = 0;
   }
-
-  // Spring between the tools (paper eq. 6), expressed as force and torque.
-  d->force_saturated = false;
-  d->force_W = Clamp(p.k_t * (d->X_WG.translation() - X_WH.translation()), p.max_force_n, &d->force_saturated);
-  d->torque_W = Clamp(p.k_r * LogMap(d->X_WG.rotation() * X_WH.rotation().transpose()), p.max_torque_nmm,
-                      &d->force_saturated);
+  SpringWrench(p, X_WH, d);
   d->timings.total_us = Micros(t0, Clock::now());
 }
 

@@ -286,8 +286,8 @@ const QpSolution& QpSolver::Solve(const double* A, const double* b, int m, const
   for (int i = 0; i < m; ++i) {
     const double* col = columns_.data() + static_cast<std::size_t>(i) * 7;
     const double slack = Eigen::Map<const Vector6>(col).dot(x) - col[6];
-    if (scale_[i] < 1e-300) {
-      violation = std::max(violation, std::max(0.0, (b[i] - 0.0)));  // 0 >= b_i needed
+    if (scale_[i] < 1e-300) {  // a row of zeros: 0 >= b_i or never
+      violation = std::max(violation, b[i]);
       continue;
     }
     violation = std::max(violation, -slack);

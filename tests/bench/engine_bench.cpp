@@ -36,7 +36,7 @@ void CollisionBench(benchmark::State& state, bool reference) {
   const std::vector<CollisionWorld::Object> objects =
       full ? m.objects : std::vector<CollisionWorld::Object>{m.objects[5]};
   const CollisionWorld world(m.probe, objects);
-  CollisionScratch scratch(world);
+  CollisionScratch scratch;
   std::vector<ContactPair> out(100000);
   const auto poses = m.ContactPoses(256, 1, full ? -1 : 5);
   std::size_t i = 0, pairs = 0, queries = 0, tests = 0;

@@ -43,7 +43,7 @@ TEST(Collision, FastMatchesReferenceOnRandomPoses) {
   scene.Add(BuildSphereTree(MakeTorus(6, 2.5, 40, 20), p), RigidTransform::Identity());
   scene.Add(test::MakeBlock(5, 5, -1, 0, 0.5, 0.4), RigidTransform(Matrix3::Identity(), Vector3(0, 0, -4)));
   const CollisionWorld world(*scene.tool, scene.objects);
-  CollisionScratch scratch(world);
+  CollisionScratch scratch;
   std::vector<ContactPair> out(20000);
   std::mt19937_64 rng(3);
   int with_contacts = 0;
@@ -65,7 +65,7 @@ TEST(Collision, MarginReportsNearPairsWithTheirGap) {
   scene.tool = std::make_unique<SphereTree>(test::MakeProbe());
   scene.Add(test::MakeBlock(2, 2, -0.5, -0.5, 0.5, 0.5), RigidTransform::Identity());  // top at z = 0
   const CollisionWorld world(*scene.tool, scene.objects);
-  CollisionScratch scratch(world);
+  CollisionScratch scratch;
   std::vector<ContactPair> out(1000);
   // Tip (r 0.25) 0.1 mm above the block top: no contact at margin 0, one within 0.2.
   const RigidTransform X(Matrix3::Identity(), Vector3(0, 0, 0.35));
@@ -82,7 +82,7 @@ TEST(Collision, OverflowIsReportedNotWritten) {
   scene.tool = std::make_unique<SphereTree>(test::MakeFlatFace(10, 10, 0.5, 0.5));
   scene.Add(test::MakeBlock(5, 5, -0.5, -0.5, 0.5, 0.5), RigidTransform::Identity());
   const CollisionWorld world(*scene.tool, scene.objects);
-  CollisionScratch scratch(world);
+  CollisionScratch scratch;
   std::vector<ContactPair> out(50);
   const CollisionStats s = FindContacts(world, RigidTransform(Matrix3::Identity(), Vector3(0, 0, -0.1)),
                                         0.0, &scratch, out.data(), 50);
@@ -95,7 +95,7 @@ TEST(Collision, FastQueryAllocatesNothing) {
   scene.tool = std::make_unique<SphereTree>(test::MakeProbe());
   scene.Add(test::MakeBlock(5, 5, -1, 0, 0.5, 0.4), RigidTransform::Identity());
   const CollisionWorld world(*scene.tool, scene.objects);
-  CollisionScratch scratch(world);
+  CollisionScratch scratch;
   std::vector<ContactPair> out(5000);
   const RigidTransform X(Matrix3::Identity(), Vector3(0, 0, 0.2));
   test::AllocationGuard guard;

@@ -68,7 +68,7 @@ Outcome RunCase(const test::Scene& scene, const EngineParams& params, int frames
   const auto model = scene.Model(params);
   EngineData d(*model);
   ResetTool(start ? *start : device(0), &d);
-  CollisionScratch scratch(model->world);
+  CollisionScratch scratch;
   std::vector<ContactPair> check(200000);
   Outcome o;
   Vector3 last_f = Vector3::Zero(), last_t = Vector3::Zero();
