@@ -57,13 +57,6 @@ class ToothShape {
     return std::max(f, p.z() - Occlusal(p.x(), p.y()));
   }
 
-  double crown_top() const { return H_; }
-  double apex() const {
-    double lowest = -L_;
-    for (const Root& r : roots_) lowest = std::min(lowest, r.apex.z());
-    return lowest;
-  }
-
  private:
   // Half widths and superellipse exponent of the body's cross-section at height z.
   void Profile(double z, double* a, double* b, double* n) const {
@@ -156,7 +149,7 @@ class ToothShape {
     if (Molar(type_) && upper_) {
       // Mesiobuccal, distobuccal and palatal roots; the palatal one the longest.
       furcation_ = -3.5;
-      const double palatal = type_ == ToothType::kFirstMolar ? L_ + 1.0 : L_;
+      const double palatal = d_.longest_root();
       roots_ = {{{0.45 * a, 0.4 * b, furcation_ + 1.2}, {0.6 * a, 0.55 * b, -L_}, 0.22 * 2 * a, 0.3 * b},
                 {{-0.45 * a, 0.4 * b, furcation_ + 1.2}, {-0.6 * a, 0.5 * b, -L_ + 0.5}, 0.2 * 2 * a, 0.28 * b},
                 {{0, -0.45 * b, furcation_ + 1.2}, {0, -0.8 * b, -palatal}, 0.26 * 2 * a, 0.3 * b}};
@@ -233,10 +226,10 @@ std::string ToString(ToothType t) {
 }
 
 ToothDimensions Dimensions(const FdiTooth& t) {
-  // crown height, root length, MD crown, MD cervix, BL, roots (CLINICAL.md).
+  // crown height, root length, MD crown, MD cervix, BL, roots, palatal root (CLINICAL.md).
   static const ToothDimensions upper[8] = {
       {10.5, 13, 8.5, 7.0, 7.0, 1}, {9.0, 13, 6.5, 5.0, 6.0, 1},  {10.0, 17, 7.5, 5.5, 8.0, 1},
-      {8.5, 14, 7.0, 5.0, 9.0, 2},  {8.5, 14, 6.5, 5.0, 9.0, 1},  {7.5, 12, 10.0, 8.0, 11.0, 3},
+      {8.5, 14, 7.0, 5.0, 9.0, 2},  {8.5, 14, 6.5, 5.0, 9.0, 1},  {7.5, 12, 10.0, 8.0, 11.0, 3, 13},
       {7.0, 11, 9.0, 7.0, 11.0, 3}, {6.5, 10, 8.5, 6.5, 10.0, 3}};
   static const ToothDimensions lower[8] = {
       {9.0, 12.5, 5.0, 3.5, 6.0, 1}, {9.5, 14, 5.5, 4.0, 6.5, 1},   {11.0, 16, 7.0, 5.5, 7.5, 1},

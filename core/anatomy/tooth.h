@@ -14,6 +14,7 @@
 // free of self-intersections by construction, with the same vertex count for every
 // tooth (10 * 4^resolution + 2).
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -28,11 +29,14 @@ enum class ToothType { kCentralIncisor, kLateralIncisor, kCanine, kFirstPremolar
 /// molars, slightly smaller).
 struct ToothDimensions {
   double crown_height = 0;
-  double root_length = 0;
+  double root_length = 0;  // the buccal roots of multi-rooted upper teeth
   double md_crown = 0;   // mesiodistal width at the contact areas
   double md_cervix = 0;  // mesiodistal width at the CEJ
   double bl = 0;         // bucco-lingual width of the crown
   int roots = 1;
+  double palatal_root_length = 0;  // upper molars' palatal root when longer (0: as root_length)
+  /// The deepest any root reaches below the CEJ.
+  double longest_root() const { return std::max(root_length, palatal_root_length); }
 };
 
 /// What a valid FDI number names. Throws std::invalid_argument with a message

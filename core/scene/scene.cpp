@@ -206,9 +206,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     o.fdi = r.Integer(n["tooth"], "tooth", -1000000, 1000000, 0);
     try {
       const FdiTooth t = FdiTooth::Parse(o.fdi);
-      const ToothDimensions dims = Dimensions(t);
-      // The deepest root: an upper first molar's palatal root is 1 mm longer.
-      root_length = dims.root_length + (t.upper() && t.position == 6 ? 1.0 : 0.0);
+      root_length = Dimensions(t).longest_root();
     } catch (const std::invalid_argument& e) {
       r.Error(n["tooth"], e.what());
     }

@@ -51,9 +51,4 @@ double MeshOracle::Distance(const Vector3& p) const {
   return std::sqrt(impl_->tree.squared_distance(Point(p.x(), p.y(), p.z())));
 }
 
-Vector3 MeshOracle::ClosestPoint(const Vector3& p) const {
-  const Point c = impl_->tree.closest_point(Point(p.x(), p.y(), p.z()));
-  return {c.x(), c.y(), c.z()};
-}
-
 }  // namespace sulcus

@@ -21,8 +21,6 @@ class MeshOracle {
   bool Inside(const Vector3& p) const;
   /// Unsigned distance from p to the surface.
   double Distance(const Vector3& p) const;
-  /// The point of the surface closest to p.
-  Vector3 ClosestPoint(const Vector3& p) const;
 
  private:
   struct Impl;

@@ -114,6 +114,8 @@ TEST(Transform, CompositionInverseAndPoints) {
     EXPECT_TRUE(CompareMatrices(((X_AB * X_BC) * X_CD).ToMatrix4(),
                                 (X_AB * (X_BC * X_CD)).ToMatrix4(), 1e-12,
                                 test::ToleranceType::kRelative));
+    // Through a homogeneous matrix and back.
+    EXPECT_TRUE(CompareMatrices(RigidTransform::FromMatrix4(X_AB.ToMatrix4()).ToMatrix4(), X_AB.ToMatrix4(), 0.0));
     // Inverse.
     EXPECT_TRUE(CompareMatrices((X_AB * X_AB.inverse()).ToMatrix4(), Matrix4::Identity(), 1e-12,
                                 test::ToleranceType::kRelative));
