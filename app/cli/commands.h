@@ -23,6 +23,9 @@ void AddAnatomyCommands(CLI::App& app);
 /// `scene validate`, `scene export`.
 void AddSceneCommands(CLI::App& app);
 
+/// `run`, `devices`, `recording export|info`.
+void AddRunCommands(CLI::App& app);
+
 /// Exit status of the subcommand that ran (set by its callback).
 int& ExitStatus();
 

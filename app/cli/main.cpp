@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   sulcus::cli::AddAccuracyCommands(app);
   sulcus::cli::AddAnatomyCommands(app);
   sulcus::cli::AddSceneCommands(app);
+  sulcus::cli::AddRunCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -14,6 +14,7 @@
 #include "core/geometry/mesh.h"
 #include "core/geometry/transform.h"
 #include "core/haptics/engine.h"
+#include "core/haptics/scripted_device.h"
 #include "core/spheretree/builder.h"
 
 namespace sulcus {
@@ -109,5 +110,14 @@ struct CompiledScene {
 /// engine model. Progress is reported per object.
 std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::filesystem::path& cache_dir,
                                             const BuildProgress& progress = {});
+
+/// Where a named scripted trajectory works in a compiled scene: on object
+/// `object` (-1: the first tooth, else the first object). For teeth, `insert`
+/// starts at the buccal surface at the CEJ with the working end along the long
+/// axis, and the others at the top of the crown; for other objects, their top.
+ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& script, int object = -1);
+
+/// FNV-1a of a file's bytes (recordings name the scene they were made on).
+std::uint64_t HashFile(const std::filesystem::path& file);
 
 }  // namespace sulcus

@@ -1,0 +1,223 @@
+// `sulcus-cli run`, `sulcus-cli devices`, `sulcus-cli recording ...`: the real
+// haptic thread without a window, the USB devices, and recordings.
+
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "app/cli/commands.h"
+#include "core/haptics/devices/usb_discovery.h"
+#include "core/haptics/haptic_thread.h"
+#include "core/haptics/recording.h"
+#include "core/haptics/scripted_device.h"
+#include "core/scene/scene.h"
+#include "core/spheretree/cache.h"
+
+namespace sulcus::cli {
+namespace {
+
+struct RunArgs {
+  std::string scene, device = "scripted:random", record;
+  double rate_hz = 0;  // 0: the scene's
+  double seconds = 5;
+  int object = -1;
+  std::uint64_t seed = 1;
+  bool no_realtime = false;
+};
+
+std::string ObjectName(const CompiledScene& scene, int object) {
+  if (object >= 0 && object < static_cast<int>(scene.spec.objects.size())) return scene.spec.objects[object].name;
+  return "object " + std::to_string(object);
+}
+
+int Run(const RunArgs& a) {
+  const SceneSpec spec = LoadSceneSpec(a.scene);
+  std::fprintf(stderr, "compiling %s ...\n", a.scene.c_str());
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto scene = CompileScene(spec, DefaultCacheDir());
+  std::fprintf(stderr, "compiled in %.2f s\n",
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+
+  LoopOptions options;
+  options.rate_hz = a.rate_hz > 0 ? a.rate_hz : spec.rate_hz;
+  std::unique_ptr<Device> device;
+  std::unique_ptr<Recording> replayed;
+  std::string device_name = a.device;
+  const auto colon = a.device.find(':');
+  const std::string kind = a.device.substr(0, colon);
+  const std::string what = colon == std::string::npos ? "" : a.device.substr(colon + 1);
+  if (kind == "scripted") {
+    Trajectory trajectory;
+    if (what.size() > 4 && what.substr(what.size() - 4) == ".csv") {
+      trajectory = LoadTrajectoryCsv(what);
+    } else {
+      const ScriptTarget target = FindScriptTarget(*scene, what, a.object);
+      trajectory = MakeScript(what, target, a.seconds, a.seed);
+      std::fprintf(stderr, "scripted '%s' on %s at (%.2f, %.2f, %.2f) mm\n", what.c_str(),
+                   ObjectName(*scene, a.object < 0 ? 0 : a.object).c_str(), target.p_W.x(), target.p_W.y(),
+                   target.p_W.z());
+    }
+    device = std::make_unique<ScriptedDevice>(std::move(trajectory), a.device);
+  } else if (kind == "replay") {
+    replayed = std::make_unique<Recording>(ReadRecording(what));
+    if (!replayed->warning.empty()) std::fprintf(stderr, "warning: %s\n", replayed->warning.c_str());
+    if (replayed->header.scene_hash != HashFile(a.scene))
+      std::fprintf(stderr, "warning: %s was recorded on another version of %s (scene hash differs)\n", what.c_str(),
+                   a.scene.c_str());
+    if (a.rate_hz <= 0) options.rate_hz = replayed->header.rate_hz;
+    device = std::make_unique<ReplayDevice>(*replayed);
+    device_name = "replay of " + replayed->header.device_name;
+  } else {
+    throw std::invalid_argument("--device must be scripted:NAME, scripted:FILE.csv or replay:FILE, not '" + a.device +
+                                "' (hardware devices: see `sulcus-cli devices`)");
+  }
+  device->Start();
+
+  std::unique_ptr<RecordingWriter> writer;
+  if (!a.record.empty()) {
+    RecordingHeader h;
+    h.scene_hash = HashFile(a.scene);
+    h.rate_hz = options.rate_hz;
+    h.device_name = device_name;
+    h.scene_file = a.scene;
+    writer = std::make_unique<RecordingWriter>(a.record, h);
+  }
+  HapticLoop loop(*scene->model, device.get(), options);
+  ThreadOptions topt;
+  topt.realtime = !a.no_realtime;
+  topt.max_ticks = static_cast<std::uint64_t>(a.seconds * options.rate_hz);
+  topt.recorder = writer.get();
+  HapticThread thread(&loop, topt);
+  std::fprintf(stderr, "running %s at %.0f Hz for %.1f s ...\n", device_name.c_str(), options.rate_hz, a.seconds);
+  thread.Start();
+  std::map<int, int> began;
+  std::uint64_t events = 0;
+  auto drain = [&] {
+    HapticEvent e;
+    while (loop.PopEvent(&e)) {
+      ++events;
+      if (e.kind == EventKind::kContactBegan) ++began[e.object];
+    }
+  };
+  while (thread.running()) {
+    drain();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  thread.Join();
+  drain();
+  device->Stop();
+  if (writer) writer->Finish();
+  loop.snapshots().Acquire();
+  const HapticSnapshot& s = loop.snapshots().front();
+  const TimingStats& st = thread.stats();
+
+  if (const std::string notes = thread.notes(); !notes.empty()) std::printf("note: %s\n", notes.c_str());
+  const std::uint64_t ticks = st.ticks.load();
+  const double miss_pct = ticks ? 100.0 * st.misses.load() / ticks : 0;
+  std::printf("timing: %" PRIu64 " ticks at %.0f Hz; period p50 %.0f us, p99 %.0f us, p99.9 %.0f us, worst %.0f us "
+              "(tick %" PRIu64 "); %" PRIu64 " deadline misses (%.3f %%)\n",
+              ticks, options.rate_hz, st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
+              st.period_us.Percentile(0.999), st.worst_period_us.load(), st.worst_tick.load(), st.misses.load(),
+              miss_pct);
+  std::printf("step: p50 %.0f us, p99 %.0f us, max %.0f us\n", st.step_us.Percentile(0.5),
+              st.step_us.Percentile(0.99), st.step_us.max_us());
+  std::printf("contact: %" PRIu64 " ticks in contact (%.1f %%)", s.contact_ticks,
+              ticks ? 100.0 * s.contact_ticks / ticks : 0.0);
+  for (const auto& [object, n] : began) std::printf("; %s touched %d times", ObjectName(*scene, object).c_str(), n);
+  std::printf("\nforce: max %.3f N, mean in contact %.3f N, saturated %" PRIu64 " ticks\n", s.max_force_n,
+              s.contact_ticks ? s.contact_force_sum_n / s.contact_ticks : 0.0, s.saturated_ticks);
+  std::printf("faults: %" PRIu64 " (engine %" PRIu64 ", overruns %" PRIu64 ", device stalls %" PRIu64
+              ", non-finite output %" PRIu64 "); events %" PRIu64 ", dropped %" PRIu64 "\n",
+              s.faults.total(), s.faults.engine, s.faults.overruns, s.faults.device_stalls, s.faults.nonfinite_output,
+              events, s.faults.events_dropped);
+  if (writer)
+    std::printf("recorded %" PRIu64 " ticks to %s (%" PRIu64 " dropped)\n", writer->written(), a.record.c_str(),
+                writer->dropped());
+  std::printf("run rate_hz=%.0f ticks=%" PRIu64 " misses=%" PRIu64
+              " period_p50_us=%.1f period_p99_us=%.1f period_p999_us=%.1f worst_us=%.1f step_p50_us=%.1f "
+              "step_p99_us=%.1f max_force_n=%.3f faults=%" PRIu64 "\n",
+              options.rate_hz, ticks, st.misses.load(), st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
+              st.period_us.Percentile(0.999), st.worst_period_us.load(), st.step_us.Percentile(0.5),
+              st.step_us.Percentile(0.99), s.max_force_n, s.faults.total());
+  return 0;
+}
+
+}  // namespace
+
+void AddRunCommands(CLI::App& app) {
+  auto a = std::make_shared<RunArgs>();
+  CLI::App* run = app.add_subcommand("run", "Run the real haptic thread headless on a scene, then print timing, "
+                                            "contact and force statistics");
+  run->add_option("--scene", a->scene, "Scene file (.yaml)")->required();
+  run->add_option("--device", a->device,
+                  "scripted:NAME (line, poke, slide, arc, insert, random), scripted:FILE.csv or replay:FILE")
+      ->capture_default_str();
+  run->add_option("--rate", a->rate_hz, "Haptic rate in Hz (default: the scene's; a replay's own)")
+      ->check(CLI::Range(100.0, 20000.0));
+  run->add_option("--seconds", a->seconds, "How long to run")->capture_default_str()->check(CLI::Range(0.01, 3600.0));
+  run->add_option("--record", a->record, "Record the session to this file");
+  run->add_option("--object", a->object, "Index of the object a scripted trajectory works on (default: first tooth)");
+  run->add_option("--seed", a->seed, "Seed of the random trajectory")->capture_default_str();
+  run->add_flag("--no-realtime", a->no_realtime, "Do not ask for real-time priority and a pinned core");
+  run->callback([a] { ExitStatus() = Run(*a); });
+
+  auto watch = std::make_shared<double>(0);
+  CLI::App* devices = app.add_subcommand("devices", "List the haptic and 6-DoF devices plugged in (USB)");
+  devices->add_option("--watch", *watch, "Then watch for devices arriving or leaving for this many seconds");
+  devices->callback([watch] {
+    std::printf("%s", DescribeScan(ScanUsb()).c_str());
+    if (*watch > 0) {
+      UsbWatcher watcher([](bool arrived, const UsbDeviceInfo& d) {
+        std::printf("%s: %s (%s)\n", arrived ? "plugged in" : "unplugged", d.name.c_str(), d.backend.c_str());
+        std::fflush(stdout);
+      });
+      if (!watcher.supported()) {
+        std::printf("cannot watch for devices: %s\n", watcher.error().c_str());
+        return;
+      }
+      std::printf("watching for %.0f s ...\n", *watch);
+      std::fflush(stdout);
+      std::this_thread::sleep_for(std::chrono::duration<double>(*watch));
+    }
+  });
+
+  CLI::App* recording = app.add_subcommand("recording", "Inspect and export recordings");
+  recording->require_subcommand(1);
+  auto file = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>();
+  auto csv = std::make_shared<bool>(false);
+  CLI::App* exp = recording->add_subcommand("export", "Write a recording as CSV (one line per tick)");
+  exp->add_option("FILE", *file, "Recording file")->required()->check(CLI::ExistingFile);
+  exp->add_flag("--csv", *csv, "CSV (the only format so far)");
+  exp->add_option("-o,--output", *out, "Output file (default: standard output)");
+  exp->callback([=] {
+    const Recording rec = ReadRecording(*file);
+    if (!rec.warning.empty()) std::fprintf(stderr, "warning: %s\n", rec.warning.c_str());
+    if (out->empty()) {
+      ExportCsv(rec, std::cout);
+    } else {
+      std::ofstream f(*out);
+      if (!f) throw std::runtime_error(*out + ": cannot write");
+      ExportCsv(rec, f);
+      std::fprintf(stderr, "wrote %zu ticks to %s\n", rec.frames.size(), out->c_str());
+    }
+  });
+  auto info_file = std::make_shared<std::string>();
+  CLI::App* info = recording->add_subcommand("info", "Print a recording's header and length");
+  info->add_option("FILE", *info_file, "Recording file")->required()->check(CLI::ExistingFile);
+  info->callback([info_file] {
+    const Recording rec = ReadRecording(*info_file);
+    std::printf("%s: format %u, device '%s', scene '%s' (hash %016" PRIx64 "), %.0f Hz, %zu ticks (%.2f s)\n",
+                info_file->c_str(), rec.header.version, rec.header.device_name.c_str(), rec.header.scene_file.c_str(),
+                rec.header.scene_hash, rec.header.rate_hz, rec.frames.size(), rec.frames.size() / rec.header.rate_hz);
+    if (!rec.warning.empty()) std::printf("warning: %s\n", rec.warning.c_str());
+  });
+}
+
+}  // namespace sulcus::cli

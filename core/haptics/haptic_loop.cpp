@@ -1,0 +1,230 @@
+#include "core/haptics/haptic_loop.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sulcus {
+namespace {
+
+void ClampNorm(Vector3* v, double limit) {
+  const double n = v->norm();
+  if (n > limit) *v *= limit / n;
+}
+
+}  // namespace
+
+const char* ToString(EventKind kind) {
+  switch (kind) {
+    case EventKind::kContactBegan: return "contact_began";
+    case EventKind::kContactEnded: return "contact_ended";
+    case EventKind::kForceAbove: return "force_above";
+    case EventKind::kForceBelow: return "force_below";
+    case EventKind::kDeviceLost: return "device_lost";
+    case EventKind::kDeviceBack: return "device_back";
+    case EventKind::kOverrun: return "overrun";
+    case EventKind::kCommand: return "command";
+    case EventKind::kEffect: return "effect";
+  }
+  return "?";
+}
+
+const char* ToString(HapticCommand::Kind kind) {
+  switch (kind) {
+    case HapticCommand::Kind::kPause: return "pause";
+    case HapticCommand::Kind::kResume: return "resume";
+    case HapticCommand::Kind::kResetTool: return "reset_tool";
+    case HapticCommand::Kind::kSetForceScale: return "set_force_scale";
+    case HapticCommand::Kind::kSetForceLimit: return "set_force_limit";
+    case HapticCommand::Kind::kSetTorqueLimit: return "set_torque_limit";
+  }
+  return "?";
+}
+
+HapticLoop::HapticLoop(const EngineModel& model, Device* device, const LoopOptions& options,
+                       std::span<LoopEffect* const> effects)
+    : model_(model),
+      device_(device),
+      options_(options),
+      effects_(effects),
+      data_(model),
+      force_limit_n_(std::min(model.params.max_force_n, device->caps().max_force_n)),
+      torque_limit_nmm_(std::min(model.params.max_torque_nmm, device->caps().max_torque_nmm)) {
+  options_.force_scale = std::clamp(options_.force_scale, 0.0, 1.0);
+}
+
+void HapticLoop::Reset(const RigidTransform& X_WG) {
+  ResetTool(X_WG, &data_);
+  ramp_start_tick_ = tick_;
+  for (LoopEffect* e : effects_) e->Reset();
+}
+
+void HapticLoop::Emit(const HapticEvent& e) noexcept {
+  HapticEvent stamped = e;
+  stamped.tick = tick_;
+  if (!events_.Push(stamped)) ++faults_.events_dropped;
+  if (record_.num_events < TickRecord::kMaxEvents) record_.events[record_.num_events++] = stamped;
+}
+
+void HapticLoop::Apply(const HapticCommand& c) noexcept {
+  using K = HapticCommand::Kind;
+  const double v = std::isfinite(c.value) ? c.value : 0.0;
+  switch (c.kind) {
+    case K::kPause: paused_ = true; break;
+    case K::kResume:
+      if (paused_) ramp_start_tick_ = tick_;
+      paused_ = false;
+      break;
+    case K::kResetTool: Reset(sample_.X_WH); break;
+    case K::kSetForceScale: options_.force_scale = std::clamp(v, 0.0, 1.0); break;
+    case K::kSetForceLimit:
+      force_limit_n_ = std::clamp(v, 0.0, std::min(model_.params.max_force_n, device_->caps().max_force_n));
+      break;
+    case K::kSetTorqueLimit:
+      torque_limit_nmm_ =
+          std::clamp(v, 0.0, std::min(model_.params.max_torque_nmm, device_->caps().max_torque_nmm));
+      break;
+  }
+  HapticEvent e;
+  e.kind = EventKind::kCommand;
+  e.object = static_cast<std::int32_t>(c.kind);
+  e.value = v;
+  Emit(e);
+}
+
+void HapticLoop::Tick(bool overrun) noexcept {
+  const double rate = options_.rate_hz > 0 ? options_.rate_hz : 1000.0;
+  const double t = static_cast<double>(tick_) / rate;
+  record_.num_events = 0;
+  record_.tick = tick_;
+  record_.time_s = t;
+  record_.overrun = overrun;
+
+  HapticCommand command;
+  while (commands_.Pop(&command)) Apply(command);
+
+  // Device: hold the last reading when none is fresh; after the timeout, zero force.
+  DeviceSample s;
+  const bool fresh = device_->Read(t, &s);
+  record_.fresh = fresh;
+  if (fresh) {
+    sample_ = s;
+    last_fresh_tick_ = tick_;
+    if (!device_ok_) {
+      device_ok_ = true;
+      ramp_start_tick_ = tick_;
+      Emit({.kind = EventKind::kDeviceBack});
+    }
+  } else if (device_ok_ && static_cast<double>(tick_ - last_fresh_tick_) >= options_.safety.device_timeout_s * rate) {
+    device_ok_ = false;
+    ++faults_.device_stalls;
+    Emit({.kind = EventKind::kDeviceLost});
+  }
+  record_.sample = sample_;
+
+  const std::uint64_t engine_faults_before = data_.faults.total();
+  if (!paused_) Step(model_, sample_.X_WH, &data_);
+  Vector3 F = data_.force_W, T = data_.torque_W;
+  for (LoopEffect* e : effects_) e->Apply(model_, data_, &F, &T, this);
+  faults_.engine = data_.faults.total();
+  if (faults_.engine != engine_faults_before) ramp_start_tick_ = tick_;
+
+  // Safety: NaN guard, watchdog, pause, ramp, scale, clamps.
+  if (!F.allFinite() || !T.allFinite()) {
+    ++faults_.nonfinite_output;
+    ramp_start_tick_ = tick_;
+    F.setZero();
+    T.setZero();
+  }
+  if (overrun) {
+    ++faults_.overruns;
+    ramp_start_tick_ = tick_;
+    Emit({.kind = EventKind::kOverrun});
+  }
+  const double ramp_ticks = options_.safety.ramp_s * rate;
+  const double since = static_cast<double>(tick_ - ramp_start_tick_);
+  const double ramp = ramp_ticks > 0 ? std::min(1.0, since / ramp_ticks) : 1.0;
+  const double scale = (overrun || paused_ || !device_ok_) ? 0.0 : ramp * options_.force_scale;
+  F *= scale;
+  T *= scale;
+  ClampNorm(&F, force_limit_n_);
+  ClampNorm(&T, torque_limit_nmm_);
+  force_W_ = F;
+  torque_W_ = T;
+  device_->Write(F, T);
+
+  const double f = F.norm();
+  if (!force_above_ && f > options_.force_event_n) {
+    force_above_ = true;
+    Emit({.kind = EventKind::kForceAbove, .value = f});
+  } else if (force_above_ && f < 0.9 * options_.force_event_n) {
+    force_above_ = false;
+    Emit({.kind = EventKind::kForceBelow, .value = f});
+  }
+  UpdateContacts();
+  max_force_n_ = std::max(max_force_n_, f);
+  if (data_.num_active_keys > 0) {
+    ++contact_ticks_;
+    contact_force_sum_n_ += f;
+  }
+  if (data_.force_saturated) ++saturated_ticks_;
+
+  record_.X_WG = data_.X_WG;
+  record_.force_W = F;
+  record_.torque_W = T;
+  Publish();
+  snapshots_.back().output_scale = scale;
+  snapshots_.Publish();
+  ++tick_;
+}
+
+void HapticLoop::UpdateContacts() noexcept {
+  std::array<std::uint64_t, HapticSnapshot::kMaxObjects / 64> now{};
+  for (int i = 0; i < data_.num_active_keys; ++i) {
+    const auto object = static_cast<int>(data_.active_keys[i] >> 48);
+    if (object < HapticSnapshot::kMaxObjects) now[object / 64] |= std::uint64_t{1} << (object % 64);
+  }
+  for (std::size_t w = 0; w < now.size(); ++w) {
+    const std::uint64_t changed = now[w] ^ in_contact_[w];
+    for (int b = 0; b < 64; ++b) {
+      if (!((changed >> b) & 1)) continue;
+      HapticEvent e;
+      e.kind = ((now[w] >> b) & 1) ? EventKind::kContactBegan : EventKind::kContactEnded;
+      e.object = static_cast<std::int32_t>(w * 64 + b);
+      Emit(e);
+    }
+  }
+  in_contact_ = now;
+}
+
+void HapticLoop::Publish() noexcept {
+  HapticSnapshot& s = snapshots_.back();
+  s.tick = tick_;
+  s.time_s = record_.time_s;
+  s.X_WH = sample_.X_WH;
+  s.X_WG = data_.X_WG;
+  s.force_W = force_W_;
+  s.torque_W = torque_W_;
+  s.engine_force_W = data_.force_W;
+  s.saturated = data_.force_saturated;
+  s.paused = paused_;
+  s.device_ok = device_ok_;
+  s.buttons = sample_.buttons;
+  s.num_pairs = data_.num_pairs;
+  s.active_contacts = data_.active_contacts;
+  s.max_penetration_mm = data_.max_penetration_mm;
+  s.qp_iterations = data_.qp_iterations;
+  s.linearizations = data_.linearizations;
+  s.timings = data_.timings;
+  s.in_contact = in_contact_;
+  int shown = 0;
+  for (int i = 0; i < data_.num_pairs && shown < HapticSnapshot::kMaxShownPairs; ++i)
+    if (data_.pairs[i].gap < 0.05) s.shown_pairs[shown++] = data_.pairs[i];
+  s.num_shown_pairs = shown;
+  s.faults = faults_;
+  s.max_force_n = max_force_n_;
+  s.contact_ticks = contact_ticks_;
+  s.contact_force_sum_n = contact_force_sum_n_;
+  s.saturated_ticks = saturated_ticks_;
+}
+
+}  // namespace sulcus

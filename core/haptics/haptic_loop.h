@@ -1,0 +1,189 @@
+#pragma once
+// The body of the haptic thread, one tick at a time and without any clock, so
+// that the thread, a replay "as fast as possible" and the tests run exactly the
+// same code: apply the window's commands, read the device, step the engine, run
+// the scene's effects, apply the safety rules, write the device, emit events and
+// publish the snapshot. Never allocates, never throws after construction.
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "core/haptics/device.h"
+#include "core/haptics/engine.h"
+#include "core/haptics/realtime.h"
+
+namespace sulcus {
+
+struct SafetyParams {
+  double ramp_s = 0.5;              // output rises linearly over this after a start or a fault
+  double device_timeout_s = 0.010;  // no fresh reading for this long: zero force
+};
+
+enum class EventKind : std::uint8_t {
+  kContactBegan,    // object: which object; value: 0
+  kContactEnded,
+  kForceAbove,      // the force sent rose above LoopOptions::force_event_n; value: force (N)
+  kForceBelow,      // and fell back below 90 % of it
+  kDeviceLost,      // no fresh reading for device_timeout_s
+  kDeviceBack,
+  kOverrun,         // the thread was late (watchdog): zero force this tick
+  kCommand,         // a command was applied; object: its kind; value: its value
+  kEffect,          // an effect's event; object: object index; value: effect-defined
+};
+const char* ToString(EventKind kind);
+
+struct HapticEvent {
+  EventKind kind = EventKind::kContactBegan;
+  std::uint8_t detail = 0;   // kEffect: which effect event (effects.h); kCommand: unused
+  std::int32_t object = -1;
+  std::uint64_t tick = 0;
+  double value = 0;
+  double value2 = 0;
+};
+
+struct HapticCommand {
+  enum class Kind : std::uint8_t { kPause, kResume, kResetTool, kSetForceScale, kSetForceLimit, kSetTorqueLimit };
+  Kind kind = Kind::kPause;
+  double value = 0;  // scale 0..1, limit in N or N*mm
+};
+const char* ToString(HapticCommand::Kind kind);
+
+/// Faults of the loop (beyond the engine's own), counted, never thrown.
+struct LoopFaults {
+  std::uint64_t overruns = 0;        // ticks the watchdog zeroed because the thread was late
+  std::uint64_t device_stalls = 0;   // episodes without fresh device readings
+  std::uint64_t nonfinite_output = 0;
+  std::uint64_t engine = 0;          // EngineFaults::total()
+  std::uint64_t events_dropped = 0;  // the event ring was full
+  std::uint64_t total() const { return overruns + device_stalls + nonfinite_output + engine; }
+};
+
+/// What the window and the lesson read: the latest tick, copied whole.
+struct HapticSnapshot {
+  static constexpr int kMaxShownPairs = 64;
+  static constexpr int kMaxObjects = 256;
+  std::uint64_t tick = 0;
+  double time_s = 0;
+  RigidTransform X_WH, X_WG;
+  Vector3 force_W = Vector3::Zero();   // as sent to the device (ramped, clamped)
+  Vector3 torque_W = Vector3::Zero();
+  Vector3 engine_force_W = Vector3::Zero();  // the spring before the safety rules
+  double output_scale = 0;  // ramp times the force scale, 0..1
+  bool saturated = false, paused = false, device_ok = true;
+  std::uint32_t buttons = 0;
+  int num_pairs = 0, active_contacts = 0;
+  double max_penetration_mm = 0;
+  int qp_iterations = 0, linearizations = 0;
+  StepTimings timings;
+  std::array<std::uint64_t, kMaxObjects / 64> in_contact{};  // bit per object
+  int num_shown_pairs = 0;
+  std::array<ContactPair, kMaxShownPairs> shown_pairs{};
+  LoopFaults faults;
+  // Totals since the start.
+  double max_force_n = 0;              // the largest force sent
+  std::uint64_t contact_ticks = 0;     // ticks with at least one active contact
+  double contact_force_sum_n = 0;      // sum of the force sent over those ticks
+  std::uint64_t saturated_ticks = 0;
+  bool InContact(int object) const {
+    return object >= 0 && object < kMaxObjects && ((in_contact[object / 64] >> (object % 64)) & 1);
+  }
+};
+
+class HapticLoop;
+
+/// An effect a scene asked for (effects.h). Runs after the engine step, may
+/// change the output force and emit events. Only the effects a scene names are
+/// in the loop's list, so an effect not named costs nothing.
+class LoopEffect {
+ public:
+  virtual ~LoopEffect() = default;
+  virtual const char* name() const = 0;
+  /// Never allocates, never throws.
+  virtual void Apply(const EngineModel& model, const EngineData& data, Vector3* force_W, Vector3* torque_W,
+                     HapticLoop* loop) noexcept = 0;
+  virtual void Reset() noexcept {}
+};
+
+struct LoopOptions {
+  double rate_hz = 1000;
+  SafetyParams safety;
+  double force_event_n = 1.0;  // kForceAbove / kForceBelow threshold
+  double force_scale = 1.0;    // 0..1, the window can change it
+};
+
+/// One recorded tick: the loop's inputs (device reading, freshness, lateness,
+/// commands as events) and outputs (graphic pose, wrench, events).
+struct TickRecord {
+  static constexpr int kMaxEvents = 6;
+  std::uint64_t tick = 0;
+  double time_s = 0;
+  DeviceSample sample;
+  bool fresh = true, overrun = false;
+  RigidTransform X_WG;
+  Vector3 force_W = Vector3::Zero(), torque_W = Vector3::Zero();
+  int num_events = 0;
+  std::array<HapticEvent, kMaxEvents> events{};
+};
+
+class HapticLoop {
+ public:
+  static constexpr std::size_t kEventCapacity = 4096;
+  static constexpr std::size_t kCommandCapacity = 64;
+
+  /// The model and device must outlive the loop. Effects run in the given order.
+  HapticLoop(const EngineModel& model, Device* device, const LoopOptions& options,
+             std::span<LoopEffect* const> effects = {});
+
+  /// Puts both tools at X_WG and restarts the ramp.
+  void Reset(const RigidTransform& X_WG);
+
+  /// One tick at loop time tick/rate. `overrun` says the thread was too late for
+  /// this tick (the watchdog zeroes the output).
+  void Tick(bool overrun) noexcept;
+
+  // Other threads.
+  bool Send(const HapticCommand& c) noexcept { return commands_.Push(c); }
+  bool PopEvent(HapticEvent* e) noexcept { return events_.Pop(e); }
+  TripleBuffer<HapticSnapshot>& snapshots() { return snapshots_; }
+
+  // The haptic thread (or the test that drives the loop).
+  void Emit(const HapticEvent& e) noexcept;
+  const TickRecord& last_record() const { return record_; }
+  const EngineData& data() const { return data_; }
+  std::uint64_t tick() const { return tick_; }
+  const LoopOptions& options() const { return options_; }
+  const LoopFaults& faults() const { return faults_; }
+  const EngineModel& model() const { return model_; }
+  bool device_finished() const noexcept { return device_->finished(); }
+  /// Applies a command now (the thread does it at the top of a tick; a replay
+  /// re-applies recorded ones).
+  void Apply(const HapticCommand& c) noexcept;
+
+ private:
+  void UpdateContacts() noexcept;
+  void Publish() noexcept;
+
+  const EngineModel& model_;
+  Device* device_;
+  LoopOptions options_;
+  std::span<LoopEffect* const> effects_;
+  EngineData data_;
+  std::uint64_t tick_ = 0;
+  std::uint64_t ramp_start_tick_ = 0;
+  std::uint64_t last_fresh_tick_ = 0;
+  bool paused_ = false, device_ok_ = true, force_above_ = false, started_ = false;
+  double force_limit_n_, torque_limit_nmm_;
+  DeviceSample sample_;
+  Vector3 force_W_ = Vector3::Zero(), torque_W_ = Vector3::Zero();
+  std::array<std::uint64_t, HapticSnapshot::kMaxObjects / 64> in_contact_{};
+  LoopFaults faults_;
+  double max_force_n_ = 0, contact_force_sum_n_ = 0;
+  std::uint64_t contact_ticks_ = 0, saturated_ticks_ = 0;
+  TickRecord record_;
+  SpscRing<HapticEvent, kEventCapacity> events_;
+  SpscRing<HapticCommand, kCommandCapacity> commands_;
+  TripleBuffer<HapticSnapshot> snapshots_;
+};
+
+}  // namespace sulcus

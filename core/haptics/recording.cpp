@@ -1,0 +1,267 @@
+#include "core/haptics/recording.h"
+
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <ostream>
+
+namespace sulcus {
+namespace {
+
+constexpr char kMagic[8] = {'S', 'U', 'L', 'C', 'U', 'S', 'R', '\n'};
+constexpr char kFrameMarker[4] = {'F', 'R', 'M', '1'};
+
+// Appends plain bytes (the file is little-endian; so is every machine Sulcus runs on).
+class Out {
+ public:
+  template <class T>
+  void Put(const T& v) {
+    const auto* p = reinterpret_cast<const char*>(&v);
+    bytes.insert(bytes.end(), p, p + sizeof(T));
+  }
+  void PutString(const std::string& s) {
+    Put(static_cast<std::uint32_t>(s.size()));
+    bytes.insert(bytes.end(), s.begin(), s.end());
+  }
+  void PutPose(const RigidTransform& X) {
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) Put(X.rotation()(r, c));
+    for (int i = 0; i < 3; ++i) Put(X.translation()[i]);
+  }
+  void PutVector(const Vector3& v) {
+    for (int i = 0; i < 3; ++i) Put(v[i]);
+  }
+  std::vector<char> bytes;
+};
+
+class In {
+ public:
+  In(const std::vector<char>& data, const std::filesystem::path& file) : data_(data), file_(file) {}
+  template <class T>
+  bool Get(T* v) {
+    if (pos_ + sizeof(T) > data_.size()) return false;
+    std::memcpy(v, data_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return true;
+  }
+  bool GetString(std::string* s) {
+    std::uint32_t n = 0;
+    if (!Get(&n) || pos_ + n > data_.size() || n > 4096) return false;
+    s->assign(data_.data() + pos_, n);
+    pos_ += n;
+    return true;
+  }
+  bool GetPose(RigidTransform* X) {
+    Matrix3 R;
+    Vector3 p;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r)
+        if (!Get(&R(r, c))) return false;
+    if (!GetVector(&p)) return false;
+    *X = RigidTransform(R, p);
+    return true;
+  }
+  bool GetVector(Vector3* v) {
+    for (int i = 0; i < 3; ++i)
+      if (!Get(&(*v)[i])) return false;
+    return true;
+  }
+  std::size_t pos() const { return pos_; }
+  bool done() const { return pos_ == data_.size(); }
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw RecordingError(file_.string() + ": byte " + std::to_string(pos_) + ": " + what);
+  }
+
+ private:
+  const std::vector<char>& data_;
+  const std::filesystem::path& file_;
+  std::size_t pos_ = 0;
+};
+
+void PutFrame(const TickRecord& r, Out* o) {
+  for (char c : kFrameMarker) o->Put(c);
+  o->Put(r.tick);
+  o->Put(r.time_s);
+  o->Put(r.sample.time_s);
+  o->PutPose(r.sample.X_WH);
+  o->Put(r.sample.buttons);
+  o->Put(static_cast<std::uint8_t>(r.fresh));
+  o->Put(static_cast<std::uint8_t>(r.overrun));
+  o->PutPose(r.X_WG);
+  o->PutVector(r.force_W);
+  o->PutVector(r.torque_W);
+  o->Put(static_cast<std::uint8_t>(r.num_events));
+  for (int i = 0; i < r.num_events; ++i) {
+    const HapticEvent& e = r.events[i];
+    o->Put(static_cast<std::uint8_t>(e.kind));
+    o->Put(e.detail);
+    o->Put(e.object);
+    o->Put(e.tick);
+    o->Put(e.value);
+    o->Put(e.value2);
+  }
+}
+
+bool GetFrame(In* in, TickRecord* r) {
+  char marker[4];
+  for (char& c : marker)
+    if (!in->Get(&c)) return false;
+  if (std::memcmp(marker, kFrameMarker, 4) != 0) in->Fail("expected a frame marker 'FRM1' (corrupt recording)");
+  std::uint8_t fresh = 0, overrun = 0, events = 0;
+  if (!in->Get(&r->tick) || !in->Get(&r->time_s) || !in->Get(&r->sample.time_s) || !in->GetPose(&r->sample.X_WH) ||
+      !in->Get(&r->sample.buttons) || !in->Get(&fresh) || !in->Get(&overrun) || !in->GetPose(&r->X_WG) ||
+      !in->GetVector(&r->force_W) || !in->GetVector(&r->torque_W) || !in->Get(&events))
+    return false;
+  if (events > TickRecord::kMaxEvents) in->Fail("a frame lists " + std::to_string(events) + " events, at most 6 expected");
+  r->fresh = fresh != 0;
+  r->overrun = overrun != 0;
+  r->num_events = events;
+  for (int i = 0; i < events; ++i) {
+    HapticEvent& e = r->events[i];
+    std::uint8_t kind = 0;
+    if (!in->Get(&kind) || !in->Get(&e.detail) || !in->Get(&e.object) || !in->Get(&e.tick) || !in->Get(&e.value) ||
+        !in->Get(&e.value2))
+      return false;
+    if (kind > static_cast<std::uint8_t>(EventKind::kEffect)) in->Fail("unknown event kind " + std::to_string(kind));
+    e.kind = static_cast<EventKind>(kind);
+  }
+  return true;
+}
+
+}  // namespace
+
+RecordingWriter::RecordingWriter(const std::filesystem::path& file, const RecordingHeader& header) : file_(file) {
+  out_ = std::fopen(file.string().c_str(), "wb");
+  if (!out_) throw RecordingError(file.string() + ": cannot create the recording: " + std::strerror(errno));
+  Out o;
+  for (char c : kMagic) o.Put(c);
+  o.Put(kRecordingVersion);
+  o.Put(header.scene_hash);
+  o.Put(header.rate_hz);
+  o.PutString(header.device_name);
+  o.PutString(header.scene_file);
+  if (std::fwrite(o.bytes.data(), 1, o.bytes.size(), out_) != o.bytes.size()) write_failed_ = true;
+  writer_ = std::thread([this] { Drain(); });
+}
+
+RecordingWriter::~RecordingWriter() {
+  try {
+    Finish();
+  } catch (const RecordingError&) {
+    // Reported by an explicit Finish(); a destructor must not throw.
+  }
+}
+
+void RecordingWriter::Drain() {
+  Out o;
+  TickRecord r;
+  for (;;) {
+    const bool stopping = stop_.load(std::memory_order_acquire);
+    o.bytes.clear();
+    std::uint64_t n = 0;
+    while (ring_.Pop(&r)) {
+      PutFrame(r, &o);
+      ++n;
+    }
+    if (!o.bytes.empty() && std::fwrite(o.bytes.data(), 1, o.bytes.size(), out_) != o.bytes.size())
+      write_failed_ = true;
+    written_.fetch_add(n);
+    if (stopping) break;  // the ring was drained after stop was seen
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
+void RecordingWriter::Finish() {
+  if (!out_) return;
+  stop_.store(true, std::memory_order_release);
+  if (writer_.joinable()) writer_.join();
+  const bool close_failed = std::fclose(out_) != 0;
+  out_ = nullptr;
+  if (write_failed_ || close_failed)
+    throw RecordingError(file_.string() + ": writing the recording failed (disk full?)");
+}
+
+Recording ReadRecording(const std::filesystem::path& file) {
+  std::ifstream f(file, std::ios::binary);
+  if (!f) throw RecordingError(file.string() + ": cannot open the recording");
+  const std::vector<char> data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  In in(data, file);
+  Recording rec;
+  char magic[8];
+  for (char& c : magic)
+    if (!in.Get(&c)) in.Fail("too short to be a Sulcus recording");
+  if (std::memcmp(magic, kMagic, 8) != 0) throw RecordingError(file.string() + ": not a Sulcus recording (expected 'SULCUSR' at byte 0)");
+  if (!in.Get(&rec.header.version)) in.Fail("truncated header");
+  if (rec.header.version != kRecordingVersion)
+    in.Fail("recording format version " + std::to_string(rec.header.version) + ", this build reads version " +
+            std::to_string(kRecordingVersion));
+  if (!in.Get(&rec.header.scene_hash) || !in.Get(&rec.header.rate_hz) || !in.GetString(&rec.header.device_name) ||
+      !in.GetString(&rec.header.scene_file))
+    in.Fail("truncated or corrupt header");
+  if (!(rec.header.rate_hz > 0 && rec.header.rate_hz <= 100000)) in.Fail("rate " + std::to_string(rec.header.rate_hz) + " Hz is not a haptic rate");
+  while (!in.done()) {
+    const std::size_t at = in.pos();
+    TickRecord r;
+    if (!GetFrame(&in, &r)) {
+      rec.warning = file.string() + ": truncated after frame " + std::to_string(rec.frames.size()) + " (byte " +
+                    std::to_string(at) + "); the " + std::to_string(rec.frames.size()) + " frames before it are kept";
+      break;
+    }
+    rec.frames.push_back(r);
+  }
+  return rec;
+}
+
+void ExportCsv(const Recording& rec, std::ostream& out) {
+  out << "tick,t_s,device_t_s,fresh,overrun,buttons,"
+         "h_x_mm,h_y_mm,h_z_mm,h_qw,h_qx,h_qy,h_qz,"
+         "g_x_mm,g_y_mm,g_z_mm,g_qw,g_qx,g_qy,g_qz,"
+         "f_x_n,f_y_n,f_z_n,t_x_nmm,t_y_nmm,t_z_nmm,events\n";
+  out << std::setprecision(std::numeric_limits<double>::max_digits10);
+  auto pose = [&](const RigidTransform& X) {
+    const Quaternion q(X.rotation());
+    out << X.translation().x() << ',' << X.translation().y() << ',' << X.translation().z() << ',' << q.w() << ','
+        << q.x() << ',' << q.y() << ',' << q.z() << ',';
+  };
+  for (const TickRecord& r : rec.frames) {
+    out << r.tick << ',' << r.time_s << ',' << r.sample.time_s << ',' << int(r.fresh) << ',' << int(r.overrun) << ','
+        << r.sample.buttons << ',';
+    pose(r.sample.X_WH);
+    pose(r.X_WG);
+    out << r.force_W.x() << ',' << r.force_W.y() << ',' << r.force_W.z() << ',' << r.torque_W.x() << ','
+        << r.torque_W.y() << ',' << r.torque_W.z() << ',';
+    for (int i = 0; i < r.num_events; ++i) {
+      const HapticEvent& e = r.events[i];
+      out << (i ? ";" : "") << ToString(e.kind);
+      if (e.kind == EventKind::kCommand)
+        out << ':' << ToString(static_cast<HapticCommand::Kind>(e.object)) << ':' << e.value;
+      else if (e.object >= 0)
+        out << ':' << e.object;
+      if (e.kind == EventKind::kForceAbove || e.kind == EventKind::kForceBelow || e.kind == EventKind::kEffect)
+        out << ':' << e.value;
+    }
+    out << '\n';
+  }
+}
+
+ReplayDevice::ReplayDevice(const Recording& recording) : recording_(recording) {
+  caps_.name = recording.header.device_name + " (replay)";
+  caps_.input_dof = 6;
+  caps_.output_dof = 0;
+  caps_.max_force_n = 1e9;
+  caps_.max_torque_nmm = 1e9;
+}
+
+bool ReplayDevice::Read(double, DeviceSample* out) noexcept {
+  if (next_ >= recording_.frames.size()) {
+    if (!recording_.frames.empty()) *out = recording_.frames.back().sample;
+    return false;
+  }
+  const TickRecord& f = recording_.frames[next_++];
+  *out = f.sample;
+  return f.fresh;
+}
+
+}  // namespace sulcus

@@ -1,0 +1,259 @@
+// The haptic loop's safety rules, events and commands, driven tick by tick.
+#include "core/haptics/haptic_loop.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "core/haptics/scripted_device.h"
+#include "tests/common/alloc_guard.h"
+#include "tests/core/haptics/test_scenes.h"
+
+namespace sulcus {
+namespace {
+
+RigidTransform At(double x, double y, double z) { return {Matrix3::Identity(), Vector3(x, y, z)}; }
+
+// A device whose pose the test sets; it can stop answering or report NaN.
+class PuppetDevice final : public Device {
+ public:
+  PuppetDevice() {
+    caps_.name = "puppet";
+    caps_.output_dof = 6;
+    caps_.max_force_n = 2.0;
+    caps_.max_torque_nmm = 100;
+  }
+  const DeviceCaps& caps() const override { return caps_; }
+  bool Read(double t, DeviceSample* out) noexcept override {
+    out->X_WH = pose;
+    out->time_s = t;
+    return answering;
+  }
+  void Write(const Vector3& f, const Vector3& t) noexcept override {
+    force = f;
+    torque = t;
+  }
+  RigidTransform pose = At(0, 0, 3);
+  bool answering = true;
+  Vector3 force = Vector3::Zero(), torque = Vector3::Zero();
+
+ private:
+  DeviceCaps caps_;
+};
+
+// A probe over a block whose top is at z = 0 (object 0), and a second block far away (object 1).
+test::Scene Blocks() {
+  test::Scene s;
+  s.tool = std::make_unique<SphereTree>(test::MakeProbe());
+  s.Add(test::MakeBlock(3, 3, -1.5, -0.5, 0.5, 0.5), RigidTransform::Identity());
+  s.Add(test::MakeBlock(3, 3, -1.5, -0.5, 0.5, 0.5), At(20, 0, 0));
+  return s;
+}
+
+struct Rig {
+  explicit Rig(LoopOptions options = {}) : model(scene.Model()), loop(*model, &device, options) {}
+  std::vector<HapticEvent> Events() {
+    std::vector<HapticEvent> out;
+    HapticEvent e;
+    while (loop.PopEvent(&e)) out.push_back(e);
+    return out;
+  }
+  test::Scene scene = Blocks();
+  std::unique_ptr<EngineModel> model;
+  PuppetDevice device;
+  HapticLoop loop;
+};
+
+bool Has(const std::vector<HapticEvent>& events, EventKind kind, int object = -2) {
+  for (const HapticEvent& e : events)
+    if (e.kind == kind && (object == -2 || e.object == object)) return true;
+  return false;
+}
+
+TEST(HapticLoop, RampsInLinearlyFromZeroAtStart) {
+  Rig rig;  // 1 kHz, ramp 0.5 s = 500 ticks
+  rig.device.pose = At(0, 0, -0.5);  // pressing 0.75 mm below the rest pose: 0.75 N
+  for (int i = 0; i < 700; ++i) {
+    rig.loop.Tick(false);
+    const double engine = rig.loop.data().force_W.norm();
+    const double expected = engine * std::min(1.0, i / 500.0);
+    ASSERT_NEAR(rig.device.force.norm(), expected, 1e-12) << "tick " << i;
+  }
+  EXPECT_NEAR(rig.device.force.z(), 0.75, 1e-3);
+}
+
+TEST(HapticLoop, ClampsForceToTheSmallerOfSceneAndDeviceLimits) {
+  Rig rig;
+  rig.loop.Reset(At(0, 0, 2));
+  for (int i = 0; i < 1000; ++i) {
+    rig.device.pose = At(0, 0, 2 - 0.01 * i);  // down to 8 mm below the surface: 8 N of spring
+    rig.loop.Tick(false);
+    ASSERT_LE(rig.device.force.norm(), 2.0 + 1e-12);  // the puppet's 2 N, below the scene's 3.3 N
+  }
+  EXPECT_NEAR(rig.device.force.norm(), 2.0, 1e-9);
+  rig.loop.Send({HapticCommand::Kind::kSetForceLimit, 0.5});
+  rig.loop.Tick(false);
+  EXPECT_NEAR(rig.device.force.norm(), 0.5, 1e-9);
+  rig.loop.Send({HapticCommand::Kind::kSetForceLimit, 50});  // cannot exceed the device
+  rig.loop.Tick(false);
+  EXPECT_NEAR(rig.device.force.norm(), 2.0, 1e-9);
+}
+
+TEST(HapticLoop, WatchdogZeroesForceWhenTheDeviceStallsAndRampsBackIn) {
+  LoopOptions options;
+  options.safety.device_timeout_s = 0.005;  // 5 ticks
+  Rig rig(options);
+  rig.device.pose = At(0, 0, -0.5);
+  for (int i = 0; i < 600; ++i) rig.loop.Tick(false);
+  ASSERT_GT(rig.device.force.norm(), 0.7);
+  rig.Events();
+  rig.device.answering = false;
+  for (int i = 0; i < 4; ++i) rig.loop.Tick(false);
+  EXPECT_GT(rig.device.force.norm(), 0.7) << "within the timeout the last reading is held";
+  rig.loop.Tick(false);
+  EXPECT_EQ(rig.device.force.norm(), 0.0);
+  EXPECT_EQ(rig.loop.faults().device_stalls, 1u);
+  EXPECT_TRUE(Has(rig.Events(), EventKind::kDeviceLost));
+  for (int i = 0; i < 50; ++i) rig.loop.Tick(false);
+  EXPECT_EQ(rig.device.force.norm(), 0.0);
+  EXPECT_EQ(rig.loop.faults().device_stalls, 1u) << "one stall is one fault, however long";
+  rig.device.answering = true;
+  rig.loop.Tick(false);
+  EXPECT_EQ(rig.device.force.norm(), 0.0) << "the ramp restarts from zero";
+  EXPECT_TRUE(Has(rig.Events(), EventKind::kDeviceBack));
+  for (int i = 0; i < 250; ++i) rig.loop.Tick(false);
+  EXPECT_NEAR(rig.device.force.norm(), 0.75 * 250 / 500.0, 1e-3);
+}
+
+TEST(HapticLoop, AnOverrunTickSendsZeroAndRestartsTheRamp) {
+  Rig rig;
+  rig.device.pose = At(0, 0, -0.5);
+  for (int i = 0; i < 600; ++i) rig.loop.Tick(false);
+  rig.Events();
+  rig.loop.Tick(true);
+  EXPECT_EQ(rig.device.force.norm(), 0.0);
+  EXPECT_EQ(rig.loop.faults().overruns, 1u);
+  EXPECT_TRUE(Has(rig.Events(), EventKind::kOverrun));
+  rig.loop.Tick(false);
+  EXPECT_NEAR(rig.device.force.norm(), 0.75 / 500.0, 1e-4);
+}
+
+TEST(HapticLoop, NanPoseIsAFaultWithZeroForceNeverANanForce) {
+  Rig rig;
+  rig.device.pose = At(0, 0, -0.5);
+  for (int i = 0; i < 600; ++i) rig.loop.Tick(false);
+  const Vector3 held = rig.loop.data().X_WG.translation();
+  rig.device.pose = At(std::numeric_limits<double>::quiet_NaN(), 0, 0);
+  rig.loop.Tick(false);
+  EXPECT_TRUE(rig.device.force.allFinite());
+  EXPECT_EQ(rig.device.force.norm(), 0.0);
+  EXPECT_EQ(rig.loop.data().X_WG.translation(), held);
+  EXPECT_EQ(rig.loop.faults().engine, 1u);
+  rig.device.pose = At(0, 0, -0.5);
+  rig.loop.Tick(false);
+  EXPECT_LT(rig.device.force.norm(), 0.01) << "ramps back in after the fault";
+}
+
+TEST(HapticLoop, ContactEventsNameTheObject) {
+  Rig rig;
+  rig.loop.Reset(At(20, 0, 2));
+  for (int i = 0; i < 100; ++i) {
+    rig.device.pose = At(20, 0, 2 - 0.03 * i);
+    rig.loop.Tick(false);
+  }
+  auto events = rig.Events();
+  EXPECT_TRUE(Has(events, EventKind::kContactBegan, 1));
+  EXPECT_FALSE(Has(events, EventKind::kContactBegan, 0));
+  HapticSnapshot s;
+  ASSERT_TRUE(rig.loop.snapshots().Acquire());
+  EXPECT_TRUE(rig.loop.snapshots().front().InContact(1));
+  EXPECT_FALSE(rig.loop.snapshots().front().InContact(0));
+  rig.device.pose = At(20, 0, 3);
+  for (int i = 0; i < 10; ++i) rig.loop.Tick(false);
+  EXPECT_TRUE(Has(rig.Events(), EventKind::kContactEnded, 1));
+}
+
+TEST(HapticLoop, PauseSendsZeroAndResumeRampsIn) {
+  Rig rig;
+  rig.device.pose = At(0, 0, -0.5);
+  for (int i = 0; i < 600; ++i) rig.loop.Tick(false);
+  rig.loop.Send({HapticCommand::Kind::kPause});
+  rig.loop.Tick(false);
+  EXPECT_EQ(rig.device.force.norm(), 0.0);
+  ASSERT_TRUE(rig.loop.snapshots().Acquire());
+  EXPECT_TRUE(rig.loop.snapshots().front().paused);
+  rig.loop.Send({HapticCommand::Kind::kResume});
+  rig.loop.Tick(false);
+  EXPECT_EQ(rig.device.force.norm(), 0.0);
+  rig.loop.Tick(false);
+  EXPECT_NEAR(rig.device.force.norm(), 0.75 / 500.0, 1e-4);
+  const auto events = rig.Events();
+  EXPECT_TRUE(Has(events, EventKind::kCommand, static_cast<int>(HapticCommand::Kind::kPause)));
+  EXPECT_TRUE(Has(events, EventKind::kCommand, static_cast<int>(HapticCommand::Kind::kResume)));
+}
+
+TEST(HapticLoop, ForceEventsWithHysteresis) {
+  LoopOptions options;
+  options.force_event_n = 0.5;
+  options.safety.ramp_s = 0;
+  Rig rig(options);
+  rig.device.pose = At(0, 0, -0.5);  // 0.75 N
+  rig.loop.Tick(false);
+  rig.loop.Tick(false);
+  auto events = rig.Events();
+  EXPECT_TRUE(Has(events, EventKind::kForceAbove));
+  rig.device.pose = At(0, 0, 0.22);  // 0.03 N
+  for (int i = 0; i < 5; ++i) rig.loop.Tick(false);
+  EXPECT_TRUE(Has(rig.Events(), EventKind::kForceBelow));
+}
+
+TEST(HapticLoop, TickAllocatesNothing) {
+  Rig rig;
+  rig.loop.Reset(At(0, 0, 1));
+  for (int i = 0; i < 20; ++i) {
+    rig.device.pose = At(0, 0, 1 - 0.05 * i);
+    rig.loop.Tick(false);
+  }
+  test::AllocationGuard guard;
+  for (int i = 0; i < 200; ++i) {
+    rig.device.pose = At(0.01 * i, 0, -0.5);
+    rig.loop.Send({HapticCommand::Kind::kSetForceScale, 0.9});
+    rig.loop.Tick(i % 50 == 7);
+    rig.loop.snapshots().Acquire();
+  }
+  EXPECT_EQ(guard.allocations(), 0u);
+}
+
+TEST(Trajectory, InterpolatesAndHoldsTheEnds) {
+  const Trajectory t({{0, Vector3(0, 0, 0)}, {1, Vector3(10, 0, 0)}});
+  EXPECT_DOUBLE_EQ(t.Sample(0.25).X_WH.translation().x(), 2.5);
+  EXPECT_DOUBLE_EQ(t.Sample(-1).X_WH.translation().x(), 0);
+  EXPECT_DOUBLE_EQ(t.Sample(5).X_WH.translation().x(), 10);
+  EXPECT_THROW(Trajectory({{1, Vector3::Zero()}, {1, Vector3::Zero()}}), std::invalid_argument);
+}
+
+TEST(Trajectory, NamedScriptsTouchTheTarget) {
+  ScriptTarget target;
+  target.p_W = Vector3(1, 2, 3);
+  for (const std::string& name : ScriptNames()) {
+    const Trajectory t = MakeScript(name, target, 4.0);
+    double lowest = 1e9, farthest = 0;
+    for (double s = 0; s <= 4; s += 0.001) {
+      const Vector3 p = t.Sample(s).X_WH.translation() - target.p_W;
+      lowest = std::min(lowest, p.z());
+      farthest = std::max(farthest, p.norm());
+    }
+    if (name == "line") {
+      EXPECT_NEAR(lowest, 4.0, 1e-9) << name;
+    } else {
+      EXPECT_LT(lowest, -0.29) << name << " reaches below the surface";
+    }
+    EXPECT_LT(farthest, 11) << name;
+  }
+  EXPECT_THROW(MakeScript("wiggle", target, 1), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace sulcus

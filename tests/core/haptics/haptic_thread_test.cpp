@@ -1,0 +1,273 @@
+// The haptic thread and its hand-offs (run under ThreadSanitizer in CI: the
+// `tsan` preset), recordings and bit-exact replay.
+#include "core/haptics/haptic_thread.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "core/haptics/recording.h"
+#include "core/haptics/scripted_device.h"
+#include "tests/core/haptics/test_scenes.h"
+
+namespace sulcus {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Out(const std::string& name) {
+  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "haptic_thread";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+test::Scene Block() {
+  test::Scene s;
+  s.tool = std::make_unique<SphereTree>(test::MakeProbe());
+  s.Add(test::MakeBlock(4, 4, -1.5, -0.5, 0.5, 0.5), RigidTransform::Identity());
+  return s;
+}
+
+RecordingHeader MakeHeader(std::uint64_t hash, double rate, const std::string& device) {
+  RecordingHeader h;
+  h.scene_hash = hash;
+  h.rate_hz = rate;
+  h.device_name = device;
+  return h;
+}
+
+ScriptTarget BlockTop() {
+  ScriptTarget t;
+  t.p_W = Vector3(0, 0, 0);
+  t.n_W = Vector3::UnitZ();
+  return t;
+}
+
+TEST(TripleBuffer, ReaderAlwaysSeesACompleteValue) {
+  struct Pair { std::uint64_t a = 0, b = 0; };
+  TripleBuffer<Pair> buffer;
+  std::atomic<bool> done{false};
+  std::thread writer([&] {
+    for (std::uint64_t i = 1; i <= 200000; ++i) {
+      buffer.back() = {i, ~i};
+      buffer.Publish();
+    }
+    done = true;
+  });
+  std::uint64_t last = 0, reads = 0;
+  while (!done || buffer.Acquire()) {
+    if (!buffer.Acquire()) continue;
+    const Pair& p = buffer.front();
+    ASSERT_EQ(p.b, ~p.a);
+    ASSERT_GT(p.a, last) << "values arrive in order, never twice";
+    last = p.a;
+    ++reads;
+  }
+  writer.join();
+  EXPECT_EQ(last, 200000u);
+  EXPECT_GT(reads, 0u);
+}
+
+TEST(SpscRing, DeliversEverythingInOrderAndCountsDrops) {
+  SpscRing<std::uint64_t, 1024> ring;
+  std::thread producer([&] {
+    for (std::uint64_t i = 0; i < 100000; ++i)
+      while (!ring.Push(i)) std::this_thread::yield();
+  });
+  std::uint64_t next = 0, v = 0;
+  while (next < 100000)
+    if (ring.Pop(&v)) {
+      ASSERT_EQ(v, next++);
+    }
+  producer.join();
+  EXPECT_FALSE(ring.Pop(&v));
+  SpscRing<int, 4> small;
+  for (int i = 0; i < 6; ++i) small.Push(i);
+  EXPECT_EQ(small.dropped(), 2u);
+}
+
+TEST(TimeHistogram, Percentiles) {
+  TimeHistogram h;
+  for (int i = 0; i < 1000; ++i) h.Add(i < 990 ? 100.2 : 900.5);
+  h.Add(50000);
+  EXPECT_EQ(h.count(), 1001u);
+  EXPECT_DOUBLE_EQ(h.Percentile(0.5), 101);
+  EXPECT_DOUBLE_EQ(h.Percentile(0.995), 901);
+  EXPECT_DOUBLE_EQ(h.Percentile(1.0), 50000);
+  EXPECT_DOUBLE_EQ(h.max_us(), 50000);
+  EXPECT_EQ(h.CountAtLeast(900), 11u);
+}
+
+// The real thread at 1 kHz, with a reader taking snapshots and events and sending
+// commands meanwhile, as the window does.
+TEST(HapticThread, RunsAtItsRateWhileAnotherThreadReadsAndCommands) {
+  const test::Scene scene = Block();
+  const auto model = scene.Model();
+  ScriptedDevice device(MakeScript("poke", BlockTop(), 10.0));
+  HapticLoop loop(*model, &device, {});
+  ThreadOptions options;
+  options.max_ticks = 400;
+  HapticThread thread(&loop, options);
+  thread.Start();
+  std::uint64_t last_tick = 0, snapshots = 0, events = 0;
+  bool commanded = false;
+  while (thread.running()) {
+    if (loop.snapshots().Acquire()) {
+      const HapticSnapshot& s = loop.snapshots().front();
+      ASSERT_GE(s.tick, last_tick);
+      ASSERT_TRUE(s.force_W.allFinite());
+      last_tick = s.tick;
+      ++snapshots;
+      (void)thread.stats().period_us.Percentile(0.99);  // readable at any time
+    }
+    HapticEvent e;
+    while (loop.PopEvent(&e)) ++events;
+    if (!commanded && last_tick > 100) commanded = loop.Send({HapticCommand::Kind::kSetForceScale, 0.5});
+    std::this_thread::sleep_for(std::chrono::microseconds(300));
+  }
+  thread.Join();
+  EXPECT_EQ(thread.stats().ticks.load(), 400u);
+  EXPECT_EQ(thread.stats().step_us.count(), 400u);
+  EXPECT_EQ(thread.stats().period_us.count(), 399u);
+  EXPECT_GT(snapshots, 10u);
+  EXPECT_TRUE(commanded);
+  HapticEvent e;
+  while (loop.PopEvent(&e)) ++events;
+  EXPECT_GE(events, 1u) << "at least the command's event";
+  // The period is measured, whatever the machine's load; it cannot be below 0.
+  EXPECT_GT(thread.stats().period_us.Percentile(0.5), 0.0);
+}
+
+TEST(Recording, ReplayReproducesPosesAndWrenchesBitForBit) {
+  const test::Scene scene = Block();
+  const auto model = scene.Model();
+  const fs::path file = Out("random.rec");
+  LoopOptions lo;
+  lo.rate_hz = 2000;
+  {
+    ScriptedDevice device(MakeScript("random", BlockTop(), 0.6, 7));
+    HapticLoop loop(*model, &device, lo);
+    RecordingWriter writer(file, MakeHeader(42, lo.rate_hz, "scripted:random"));
+    ThreadOptions options;
+    options.recorder = &writer;
+    HapticThread thread(&loop, options);
+    thread.Start();
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    loop.Send({HapticCommand::Kind::kSetForceScale, 0.7});  // commands are replayed too
+    thread.Join();
+    writer.Finish();
+    EXPECT_EQ(writer.dropped(), 0u);
+    EXPECT_EQ(writer.written(), thread.stats().ticks.load());
+  }
+  const Recording rec = ReadRecording(file);
+  EXPECT_EQ(rec.header.device_name, "scripted:random");
+  EXPECT_EQ(rec.header.scene_hash, 42u);
+  EXPECT_TRUE(rec.warning.empty());
+  ASSERT_GE(rec.frames.size(), 1200u);
+
+  ReplayDevice replay(rec);
+  HapticLoop loop(*model, &replay, lo);
+  std::size_t differing = 0, in_contact = 0;
+  ReplayOffline(rec, &loop, [&](std::size_t i, const HapticLoop& l) {
+    const TickRecord& want = rec.frames[i];
+    const TickRecord& got = l.last_record();
+    const bool same = got.X_WG.ToMatrix4() == want.X_WG.ToMatrix4() && got.force_W == want.force_W &&
+                      got.torque_W == want.torque_W;
+    if (!same) ++differing;
+    if (want.force_W.norm() > 0) ++in_contact;
+  });
+  EXPECT_EQ(differing, 0u);
+  EXPECT_GT(in_contact, rec.frames.size() / 4) << "the run must exercise contact";
+  EXPECT_TRUE(replay.finished());
+}
+
+TEST(Recording, BadFilesGiveClearErrorsAndTruncationKeepsFrames) {
+  const fs::path file = Out("short.rec");
+  {
+    const test::Scene scene = Block();
+    const auto model = scene.Model();
+    ScriptedDevice device(MakeScript("poke", BlockTop(), 0.05));
+    HapticLoop loop(*model, &device, {});
+    RecordingWriter writer(file, MakeHeader(0, 1000, "scripted:poke"));
+    for (int i = 0; i < 50; ++i) {
+      loop.Tick(false);
+      writer.Push(loop.last_record());
+    }
+    writer.Finish();
+  }
+  const Recording whole = ReadRecording(file);
+  ASSERT_EQ(whole.frames.size(), 50u);
+
+  // Truncated in the middle of the last frame: 49 frames kept, with a warning.
+  const fs::path cut = Out("cut.rec");
+  fs::copy_file(file, cut, fs::copy_options::overwrite_existing);
+  fs::resize_file(cut, fs::file_size(file) - 20);
+  const Recording partial = ReadRecording(cut);
+  EXPECT_EQ(partial.frames.size(), 49u);
+  EXPECT_NE(partial.warning.find("truncated after frame 49"), std::string::npos) << partial.warning;
+
+  const fs::path text = Out("not.rec");
+  std::ofstream(text) << "hello, this is not a recording";
+  try {
+    ReadRecording(text);
+    FAIL();
+  } catch (const RecordingError& e) {
+    EXPECT_EQ(std::string(e.what()), text.string() + ": not a Sulcus recording (expected 'SULCUSR' at byte 0)");
+  }
+  // Another version.
+  const fs::path v2 = Out("v2.rec");
+  fs::copy_file(file, v2, fs::copy_options::overwrite_existing);
+  {
+    std::fstream f(v2, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(8);
+    const std::uint32_t version = 2;
+    f.write(reinterpret_cast<const char*>(&version), 4);
+  }
+  try {
+    ReadRecording(v2);
+    FAIL();
+  } catch (const RecordingError& e) {
+    EXPECT_EQ(std::string(e.what()), v2.string() + ": byte 12: recording format version 2, this build reads version 1");
+  }
+  EXPECT_THROW(ReadRecording(Out("missing.rec")), RecordingError);
+
+  std::ostringstream csv;
+  ExportCsv(whole, csv);
+  std::istringstream lines(csv.str());
+  std::string line;
+  int n = 0;
+  std::getline(lines, line);
+  EXPECT_EQ(line.rfind("tick,t_s,device_t_s,fresh,overrun,buttons,h_x_mm", 0), 0u);
+  while (std::getline(lines, line)) ++n;
+  EXPECT_EQ(n, 50);
+}
+
+TEST(Trajectory, CsvErrorsNameFileAndLine) {
+  const fs::path file = Out("bad.csv");
+  std::ofstream(file) << "t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg\n0,0,0,0,0,0,0\n0.1,1,0,zero,0,0,0\n";
+  try {
+    LoadTrajectoryCsv(file);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), file.string() + ":3: column 4 is 'zero', expected a finite number");
+  }
+  std::ofstream(file) << "t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg\n0,0,0,0,0,0,0\n0,1,0,0,0,0\n";
+  try {
+    LoadTrajectoryCsv(file);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              file.string() + ":3: expected 7 or 8 columns (t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg[,buttons]), got 6");
+  }
+  std::ofstream(file) << "t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg,buttons\n0,0,0,0,0,0,0,0\n1,10,0,0,0,0,90,1\n";
+  const Trajectory t = LoadTrajectoryCsv(file);
+  EXPECT_DOUBLE_EQ(t.Sample(0.5).X_WH.translation().x(), 5);
+  EXPECT_EQ(t.Sample(1).buttons, 1u);
+}
+
+}  // namespace
+}  // namespace sulcus
