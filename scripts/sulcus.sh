@@ -14,19 +14,24 @@ cli=build/release/bin/sulcus-cli
 if [[ $# -gt 0 ]]; then
   exec "$cli" "$@"
 fi
+if [[ -n "${DISPLAY:-}" && -x build/release/bin/sulcus ]]; then
+  echo "Opening the window on scenes/periodontal_probing.yaml (the first run builds its"
+  echo "sphere-trees, about 15 s; the mouse and keyboard move the probe: W/S, A/D, Q/E)."
+  exec build/release/bin/sulcus "$(pwd)/scenes/periodontal_probing.yaml"
+fi
 echo
-echo "Sulcus is built. There is no window yet (it comes with issue 7), so this runs a"
-echo "short headless demo with sulcus-cli:"
+echo "No display (\$DISPLAY is not set), so this runs the headless demo instead:"
 mkdir -p build/release/demo
 echo
-echo "1. Generate the lower left first molar (FDI 36) from clinical dimensions:"
-echo "  \$ $cli anatomy tooth 36 -o build/release/demo/36.stl"
-"$cli" anatomy tooth 36 -o build/release/demo/36.stl
+echo "1. Check the shipped probing scene and build its meshes and sphere-trees (cached):"
+echo "  \$ $cli scene build scenes/periodontal_probing.yaml"
+"$cli" scene build scenes/periodontal_probing.yaml
 echo
-echo "2. Check it the way every mesh is checked before the engine uses it:"
-echo "  \$ $cli mesh info build/release/demo/36.stl"
-"$cli" mesh info build/release/demo/36.stl
+echo "2. Run the real haptic thread on it for 3 s with a scripted probe poking tooth 44:"
+echo "  \$ $cli run --scene scenes/periodontal_probing.yaml --device scripted:poke --seconds 3"
+"$cli" run --scene scenes/periodontal_probing.yaml --device scripted:poke --seconds 3 \
+  --record build/release/demo/poke.rec
 echo
-echo "3. Validate the shipped scene of teeth 41 to 46 with their pocket depths:"
-echo "  \$ $cli scene validate scenes/teeth_row.yaml"
-exec "$cli" scene validate scenes/teeth_row.yaml
+echo "3. Haptic devices plugged in:"
+echo "  \$ $cli devices"
+exec "$cli" devices

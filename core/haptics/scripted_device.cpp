@@ -74,7 +74,8 @@ Trajectory MakeScript(const std::string& name, const ScriptTarget& target, doubl
   Vector3 u = target.along_W - target.along_W.dot(n) * n;
   u = u.squaredNorm() > 1e-12 ? u.normalized() : AnyPerpendicular(n);
   const Vector3 tilt_axis = n.cross(u).normalized();
-  const Quaternion q0 = Quaternion::FromTwoVectors(Vector3::UnitZ(), axis);
+  const Vector3 tool_axis = target.tool_axis_W.squaredNorm() > 0 ? target.tool_axis_W.normalized() : axis;
+  const Quaternion q0 = Quaternion::FromTwoVectors(Vector3::UnitZ(), tool_axis);
   const Vector3& p = target.p_W;
 
   // Random motion: a few sinusoids per direction, seeded.
@@ -112,8 +113,8 @@ Trajectory MakeScript(const std::string& name, const ScriptTarget& target, doubl
       k.p_W = p + h * n;
       k.q_W = Quaternion(Eigen::AngleAxisd(angle, tilt_axis)) * q0;
     } else if (name == "insert") {
-      const double a = 3.0 - 7.0 * Bump(t / 4);
-      k.p_W = p + 0.3 * n + a * axis;
+      const double a = 3.0 - (3.0 + target.insert_depth_mm) * Bump(t / 4);
+      k.p_W = p + target.insert_offset_mm * n + a * axis;
     } else {  // random
       const double approach = Approach(t, 0.5);
       const Vector3 v = AnyPerpendicular(n).cross(n);

@@ -41,6 +41,9 @@ struct ScriptTarget {
   Vector3 n_W = Vector3::UnitZ();
   Vector3 axis_W = Vector3::Zero();  // zero: use n_W
   Vector3 along_W = Vector3::Zero(); // a tangent for slides (zero: any)
+  Vector3 tool_axis_W = Vector3::Zero();  // the working end's direction if not axis_W (a tilt)
+  double insert_depth_mm = 4.0;      // how far below the target `insert` goes
+  double insert_offset_mm = 0.3;     // how far off the target, along n, `insert` moves
 };
 
 /// The names the CLI offers.

@@ -1,7 +1,18 @@
+#include <atomic>
 #include <cmath>
+#include <cstring>
+#include <exception>
+#include <mutex>
 #include <numbers>
+#include <optional>
+#include <sstream>
+#include <thread>
 
+#include <unistd.h>
+
+#include "core/anatomy/gingiva.h"
 #include "core/anatomy/probe.h"
+#include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
 #include "core/geometry/mesh_io.h"
 #include "core/geometry/primitives.h"
@@ -14,9 +25,105 @@
 
 namespace sulcus {
 
+namespace {
+
+TriangleMesh Mirrored(TriangleMesh m, bool mirror) {
+  if (mirror) {
+    m.Transform(Vector3(-1, 1, 1).asDiagonal(), Vector3::Zero());
+    m.FlipOrientation();
+  }
+  return m;
+}
+
+GingivaParams GingivaOf(const ObjectSpec& o) {
+  GingivaParams p;
+  p.pocket_mm = o.pocket_mm;
+  p.recession_mm = o.recession_mm;
+  return p;
+}
+
+// What generates an object's mesh, as text; empty for meshes not generated.
+std::string GeneratorKey(const ObjectSpec& o) {
+  std::ostringstream k;
+  k.precision(17);
+  k << "sulcus-generated-mesh v2|";
+  switch (o.kind) {
+    case ObjectSpec::Kind::kTooth: k << "tooth|" << o.fdi << '|' << o.mirrored; break;
+    case ObjectSpec::Kind::kGingiva:
+      k << "gingiva|" << o.fdi << '|' << o.mirrored;
+      for (int i = 0; i < 6; ++i) k << '|' << o.pocket_mm[i] << '|' << o.recession_mm[i];
+      break;
+    case ObjectSpec::Kind::kAnatomy: k << "anatomy|" << o.anatomy; break;
+    default: return {};
+  }
+  return k.str();
+}
+
+constexpr char kMeshMagic[8] = {'S', 'U', 'L', 'M', 'E', 'S', 'H', '1'};
+
+std::optional<TriangleMesh> ReadCachedMesh(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return std::nullopt;
+  char magic[8];
+  std::uint64_t nv = 0, nf = 0, checksum = 0;
+  in.read(magic, 8);
+  in.read(reinterpret_cast<char*>(&nv), 8);
+  in.read(reinterpret_cast<char*>(&nf), 8);
+  if (!in || std::memcmp(magic, kMeshMagic, 8) != 0 || nv > (1u << 26) || nf > (1u << 27)) return std::nullopt;
+  std::vector<Vector3> v(nv);
+  std::vector<TriangleMesh::Face> f(nf);
+  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(nv * sizeof(Vector3)));
+  in.read(reinterpret_cast<char*>(f.data()), static_cast<std::streamsize>(nf * sizeof(TriangleMesh::Face)));
+  in.read(reinterpret_cast<char*>(&checksum), 8);
+  if (!in) return std::nullopt;
+  const std::uint64_t sum = Fnv1a(f.data(), nf * sizeof(TriangleMesh::Face), Fnv1a(v.data(), nv * sizeof(Vector3)));
+  if (sum != checksum) return std::nullopt;
+  for (const auto& face : f)
+    for (int i : face)
+      if (i < 0 || static_cast<std::uint64_t>(i) >= nv) return std::nullopt;
+  return TriangleMesh(std::move(v), std::move(f));
+}
+
+void WriteCachedMesh(const TriangleMesh& m, const std::filesystem::path& file) {
+  std::error_code ec;
+  std::filesystem::create_directories(file.parent_path(), ec);
+  const std::filesystem::path tmp = file.string() + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) return;  // an unwritable cache only costs time
+    const std::uint64_t nv = m.num_vertices(), nf = m.num_faces();
+    out.write(kMeshMagic, 8);
+    out.write(reinterpret_cast<const char*>(&nv), 8);
+    out.write(reinterpret_cast<const char*>(&nf), 8);
+    out.write(reinterpret_cast<const char*>(m.vertices().data()), static_cast<std::streamsize>(nv * sizeof(Vector3)));
+    out.write(reinterpret_cast<const char*>(m.faces().data()),
+              static_cast<std::streamsize>(nf * sizeof(TriangleMesh::Face)));
+    const std::uint64_t sum = Fnv1a(m.faces().data(), nf * sizeof(TriangleMesh::Face),
+                                    Fnv1a(m.vertices().data(), nv * sizeof(Vector3)));
+    out.write(reinterpret_cast<const char*>(&sum), 8);
+  }
+  std::filesystem::rename(tmp, file, ec);
+}
+
+}  // namespace
+
+TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::path& cache_dir) {
+  const std::string key = GeneratorKey(o);
+  if (key.empty() || cache_dir.empty()) return MakeObjectMesh(o);
+  char name[32];
+  std::snprintf(name, sizeof name, "%016llx.mesh", static_cast<unsigned long long>(Fnv1a(key.data(), key.size())));
+  const std::filesystem::path file = cache_dir / "meshes" / name;
+  if (auto cached = ReadCachedMesh(file)) return std::move(*cached);
+  TriangleMesh m = MakeObjectMesh(o);
+  WriteCachedMesh(m, file);
+  return m;
+}
+
 TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
   switch (o.kind) {
-    case ObjectSpec::Kind::kTooth: return GenerateTooth(o.fdi).mesh;
+    case ObjectSpec::Kind::kTooth: return Mirrored(GenerateTooth(o.fdi).mesh, o.mirrored);
+    case ObjectSpec::Kind::kGingiva: return Mirrored(GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o)).mesh, o.mirrored);
+    case ObjectSpec::Kind::kAnatomy: return MakeSoftTissue(o.anatomy);
     case ObjectSpec::Kind::kMesh: return LoadMesh(o.mesh);
     case ObjectSpec::Kind::kBox:
       return MakeBox(o.size, std::max(1, static_cast<int>(std::ceil(o.size.maxCoeff() / 2))));
@@ -36,15 +143,45 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
     if (progress && !progress(stage, (i + f) / (n + 1))) throw BuildCancelled();
   };
   for (int i = 0; i < n; ++i) {
-    const ObjectSpec& o = spec.objects[i];
-    TriangleMesh mesh = MakeObjectMesh(o);
-    report(i, o.name, 0.1);
-    const BuildProgress inner = [&](std::string_view stage, double f) {
-      return !progress || progress(stage, (i + 0.1 + 0.9 * f) / (n + 1));
-    };
-    scene->trees.push_back(LoadOrBuildSphereTree(mesh, spec.trees, cache_dir, inner));
-    scene->meshes.push_back(std::move(mesh));
+    scene->meshes.push_back(MakeObjectMeshCached(spec.objects[i], cache_dir));
+    report(i, spec.objects[i].name, 0.1);
   }
+  // Trees: one worker per core, objects handed out in order; progress from the
+  // workers is serialised, and a cancel or an error stops them all.
+  scene->trees.resize(n);
+  std::vector<double> done(n, 0.0);
+  std::mutex progress_mutex;
+  std::atomic<int> next{0};
+  std::atomic<bool> stop{false};
+  std::exception_ptr failure;
+  auto worker = [&] {
+    for (int i = next++; i < n && !stop; i = next++) {
+      const BuildProgress inner = [&, i](std::string_view stage, double f) {
+        if (stop) return false;
+        std::lock_guard lock(progress_mutex);
+        done[i] = f;
+        double total = 0;
+        for (double d : done) total += d;
+        if (progress && !progress(stage, (0.1 * n + 0.9 * total) / (n + 1))) stop = true;
+        return !stop.load();
+      };
+      try {
+        scene->trees[i] = LoadOrBuildSphereTree(scene->meshes[i], spec.trees, cache_dir, inner);
+        inner(spec.objects[i].name, 1.0);
+      } catch (...) {
+        std::lock_guard lock(progress_mutex);
+        if (!failure) failure = std::current_exception();
+        stop = true;
+      }
+    }
+  };
+  const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(1, n));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+  if (stop) throw BuildCancelled();
   scene->tool_mesh = MakeProbe(spec.probe).collision_mesh;
   scene->tool_tree = LoadOrBuildSphereTree(scene->tool_mesh, SphereTreeParams{}, cache_dir,
                                            [&](std::string_view stage, double f) {
@@ -64,19 +201,37 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
   const auto& objects = scene.spec.objects;
   if (objects.empty()) throw std::invalid_argument("the scene has no objects to touch");
   if (object < 0) {
+    // The first tooth; for `insert` into a scene with gingiva, the tooth with the
+    // deepest buccal pocket.
     object = 0;
-    for (std::size_t i = 0; i < objects.size(); ++i)
-      if (objects[i].kind == ObjectSpec::Kind::kTooth) {
+    double deepest = -1;
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      if (objects[i].kind != ObjectSpec::Kind::kTooth) continue;
+      const double depth = script == "insert" && scene.spec.gingiva ? objects[i].pocket_mm[1] : 0.0;
+      if (depth > deepest) {
+        deepest = depth;
         object = static_cast<int>(i);
-        break;
       }
+    }
   }
   if (object >= static_cast<int>(objects.size())) throw std::invalid_argument("no object " + std::to_string(object));
   const ObjectSpec& o = objects[object];
   const TriangleMesh& mesh = scene.meshes[object];
   const Matrix3& R = o.X_WO.rotation();
   ScriptTarget t;
-  if (o.kind == ObjectSpec::Kind::kTooth) {
+  const Vector3 mirror = o.mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1);
+  if (o.kind == ObjectSpec::Kind::kTooth && script == "insert" && scene.spec.gingiva) {
+    // Into the sulcus at the buccal site, down to just past the pocket floor
+    // (0.22 mm: the clinical probing force with k_t = 1 N/mm).
+    const GingivaModel g = GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o));
+    t.p_W = o.X_WO * g.margin[1].cwiseProduct(mirror);
+    t.n_W = R * Vector3::UnitY();
+    t.axis_W = R * Vector3::UnitZ();
+    t.along_W = R * Vector3::UnitX();
+    t.tool_axis_W = R * Vector3(0, 0.3, 1).normalized();  // tilted buccally to clear the crown's bulge
+    t.insert_depth_mm = o.pocket_mm[1] + 0.22 / scene.spec.haptics.k_t;
+    t.insert_offset_mm = 0;
+  } else if (o.kind == ObjectSpec::Kind::kTooth) {
     // Tooth frame: +z occlusal, +y buccal, +x mesial.
     Vector3 best = Vector3::Zero();
     double best_score = -1e300;
@@ -88,7 +243,7 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
         best = v;
       }
     }
-    t.p_W = o.X_WO * best;
+    t.p_W = o.X_WO * best.cwiseProduct(mirror);
     t.n_W = R * (insert ? Vector3::UnitY() : Vector3::UnitZ());
     t.axis_W = R * Vector3::UnitZ();
     t.along_W = R * Vector3::UnitX();

@@ -10,6 +10,8 @@
 #include <set>
 #include <sstream>
 
+#include "core/anatomy/arch.h"
+#include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
 
 namespace sulcus {
@@ -80,6 +82,9 @@ class Reader {
     errors_.push_back({file_.string(), m.line + 1, m.column + 1, message});
   }
   void Error(const YAML::Node& n, const std::string& message) { Error(n.Mark(), message); }
+  void Error(int line, int column, const std::string& message) {
+    errors_.push_back({file_.string(), line, column, message});
+  }
   std::vector<SceneError>& errors() { return errors_; }
 
   // Every key of `map` must be in `allowed`.
@@ -187,16 +192,17 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   ObjectSpec o;
   o.line = n.Mark().line + 1;
   if (!r.IsMap(n, "an object")) return;
-  r.CheckKeys(n, {"name", "tooth", "mesh", "box", "sphere", "cylinder", "height_mm", "at", "turn_deg", "tissue",
-                  "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding"},
+  r.CheckKeys(n, {"name", "tooth", "mesh", "box", "sphere", "cylinder", "anatomy", "height_mm", "at", "turn_deg", "tissue",
+                  "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding",
+                  "inflamed", "caries_mm"},
               "an object");
   std::vector<std::string> kinds;
-  for (const char* k : {"tooth", "mesh", "box", "sphere", "cylinder"}) {
+  for (const char* k : {"tooth", "mesh", "box", "sphere", "cylinder", "anatomy"}) {
     if (n[k]) kinds.push_back(k);
   }
   if (kinds.size() != 1) {
-    r.Error(n, kinds.empty() ? "an object needs one of: tooth, mesh, box, sphere, cylinder"
-                             : "an object has exactly one of tooth, mesh, box, sphere, cylinder; found " + Join(kinds));
+    r.Error(n, kinds.empty() ? "an object needs one of: tooth, mesh, box, sphere, cylinder, anatomy"
+                             : "an object has exactly one of tooth, mesh, box, sphere, cylinder, anatomy; found " + Join(kinds));
     return;
   }
   const std::string kind = kinds[0];
@@ -224,6 +230,19 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     }
     o.mesh = full;
     o.name = fs::path(rel).stem().string();
+  } else if (kind == "anatomy") {
+    o.kind = ObjectSpec::Kind::kAnatomy;
+    o.anatomy = r.Text(n["anatomy"], "anatomy");
+    const auto& known = SoftTissueNames();
+    if (std::find(known.begin(), known.end(), o.anatomy) == known.end()) {
+      r.Error(n["anatomy"], "unknown anatomy '" + o.anatomy + "'" + Suggest(o.anatomy, known) + " (known: " + Join(known) + ")");
+    }
+    o.name = o.anatomy;
+    std::replace(o.name.begin(), o.name.end(), '_', ' ');
+    o.tissue = o.anatomy == "tongue"   ? Tissue::kTongue
+               : o.anatomy == "palate" ? Tissue::kPalate
+               : o.anatomy.rfind("cheek", 0) == 0 ? Tissue::kCheek
+                                                  : Tissue::kBone;
   } else if (kind == "box") {
     o.kind = ObjectSpec::Kind::kBox;
     double s[3] = {1, 1, 1};
@@ -246,6 +265,19 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (n["name"]) o.name = r.Text(n["name"], "name");
   if (!names->insert(o.name).second) r.Error(n["name"] ? n["name"] : n, "two objects are named '" + o.name + "'");
   o.X_WO = r.Pose(n, "at", "turn_deg");
+  if (kind == "tooth" && spec->arch && !n["at"] && !n["turn_deg"] && o.fdi > 0) {
+    try {
+      const FdiTooth t = FdiTooth::Parse(o.fdi);
+      for (const PlacedTooth& p : PlaceArch(t.upper(), ArchParams{.third_molars = t.position == 8})) {
+        if (p.tooth.fdi == o.fdi) {
+          o.X_WO = p.X_WT;
+          o.mirrored = p.mirrored;
+        }
+      }
+    } catch (const std::invalid_argument&) {
+      // reported above
+    }
+  }
   if (n["tissue"]) {
     const std::string t = r.Text(n["tissue"], "tissue");
     bool found = false;
@@ -256,7 +288,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
       }
     }
     if (!found) r.Error(n["tissue"], "unknown tissue '" + t + "'" + Suggest(t, Names(kTissues)));
-  } else if (kind != "tooth") {
+  } else if (kind != "tooth" && kind != "anatomy") {
     r.Error(n, "'" + o.name + "' needs a 'tissue' (" + Join(Names(kTissues)) + ")");
   }
   o.material = DefaultMaterial(o.tissue);
@@ -264,7 +296,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (n["friction"]) o.material.friction = r.Number(n["friction"], "friction", 0, 2, 0.1);
   if (n["damage_limit_n"]) o.material.damage_limit_n = r.Number(n["damage_limit_n"], "damage_limit_n", 0, 1e9, 1, "N");
 
-  for (const char* key : {"pockets_mm", "recession_mm", "bleeding"}) {
+  for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm"}) {
     if (n[key] && kind != "tooth") r.Error(n[key], std::string("'") + key + "' is for teeth only");
   }
   if (kind == "tooth") {
@@ -286,19 +318,37 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
       r.Numbers(n["recession_mm"], "recession_mm", 6, -5, 10, o.recession_mm.data(), "mm",
                 "recession at MB, B, DB, ML, L, DL in mm; negative for enlarged gingiva");
     }
-    if (n["bleeding"]) {
-      const YAML::Node& b = n["bleeding"];
+    for (const char* key : {"bleeding", "inflamed"}) {
+      const YAML::Node& b = n[key];
+      if (!b) continue;
+      std::array<bool, 6>& flags = std::string(key) == "bleeding" ? o.bleeding : o.inflamed;
       if (!b.IsSequence()) {
-        r.Error(b, "'bleeding' must be a list of sites, e.g. [MB, DL]");
+        r.Error(b, std::string("'") + key + "' must be a list of sites, e.g. [MB, DL]");
+        continue;
+      }
+      for (const YAML::Node& site : b) {
+        const std::string code = site.IsScalar() ? site.Scalar() : "";
+        const auto it = std::find(kSiteCodes.begin(), kSiteCodes.end(), code);
+        if (it == kSiteCodes.end()) {
+          r.Error(site, "unknown site '" + code + "'" +
+                            Suggest(code, std::vector<std::string>(kSiteCodes.begin(), kSiteCodes.end())));
+        } else {
+          flags[it - kSiteCodes.begin()] = true;
+        }
+      }
+    }
+    if (const YAML::Node& c = n["caries_mm"]) {
+      if (!c.IsMap()) {
+        r.Error(c, "'caries_mm' must map surfaces to lesion sizes, e.g. {occlusal: 2.0}");
       } else {
-        for (const YAML::Node& site : b) {
-          const std::string code = site.IsScalar() ? site.Scalar() : "";
-          const auto it = std::find(kSiteCodes.begin(), kSiteCodes.end(), code);
-          if (it == kSiteCodes.end()) {
-            r.Error(site, "unknown site '" + code + "'" +
-                              Suggest(code, std::vector<std::string>(kSiteCodes.begin(), kSiteCodes.end())));
+        const std::vector<std::string> surfaces(kSurfaces.begin(), kSurfaces.end());
+        for (auto it = c.begin(); it != c.end(); ++it) {
+          const std::string surface = it->first.Scalar();
+          const auto at = std::find(surfaces.begin(), surfaces.end(), surface);
+          if (at == surfaces.end()) {
+            r.Error(it->first, "unknown surface '" + surface + "'" + Suggest(surface, surfaces) + " (" + Join(surfaces) + ")");
           } else {
-            o.bleeding[it - kSiteCodes.begin()] = true;
+            o.caries_mm[at - surfaces.begin()] = r.Number(it->second, "caries_mm", 0.1, 8, 1, "mm");
           }
         }
       }
@@ -371,7 +421,17 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     r.Error(root, "a scene is a map with at least 'objects:'");
     throw SceneLoadError(r.errors());
   }
-  r.CheckKeys(root, {"name", "description", "tool", "haptics", "effects", "spheretree", "objects"}, "the scene");
+  r.CheckKeys(root, {"name", "description", "tool", "haptics", "effects", "spheretree", "arch", "gingiva", "objects"},
+              "the scene");
+  for (const char* key : {"arch", "gingiva"}) {
+    if (const YAML::Node b = root[key]) {
+      bool v = false;
+      if (!b.IsScalar() || !YAML::convert<bool>::decode(b, v)) {
+        r.Error(b, std::string("'") + key + "' must be true or false");
+      }
+      (std::string(key) == "arch" ? spec.arch : spec.gingiva) = v;
+    }
+  }
   if (root["name"]) spec.name = r.Text(root["name"], "name");
   if (root["description"]) spec.description = r.Text(root["description"], "description");
   if (const YAML::Node tool = root["tool"]; tool && r.IsMap(tool, "'tool'")) {
@@ -429,6 +489,32 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     std::set<std::string> names;
     const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
     for (std::size_t i = 0; i < objects.size(); ++i) ReadObject(r, objects[i], folder, static_cast<int>(i), &spec, &names);
+  }
+  if (spec.gingiva) {
+    // A collar around every tooth, carrying the tooth's site truth.
+    const std::size_t teeth = spec.objects.size();
+    for (std::size_t i = 0; i < teeth; ++i) {
+      const ObjectSpec& t = spec.objects[i];
+      if (t.kind != ObjectSpec::Kind::kTooth) continue;
+      ObjectSpec g = t;
+      g.kind = ObjectSpec::Kind::kGingiva;
+      g.name = "gingiva " + std::to_string(t.fdi);
+      g.tissue = Tissue::kGingiva;
+      g.material = DefaultMaterial(Tissue::kGingiva);
+      if (!t.has_sites) g.pocket_mm.fill(2.0);
+      try {
+        const double root = Dimensions(FdiTooth::Parse(t.fdi)).longest_root();
+        for (int s = 0; s < 6; ++s) {
+          if (g.pocket_mm[s] < root && g.pocket_mm[s] + g.recession_mm[s] > root - 1.0) {
+            r.Error(t.line, 1, "tooth " + std::to_string(t.fdi) + ": pocket plus recession at site " + kSiteCodes[s] +
+                                   " leaves less than 1 mm of attached root for the gingiva");
+          }
+        }
+      } catch (const std::invalid_argument&) {
+        // reported with the tooth
+      }
+      spec.objects.push_back(std::move(g));
+    }
   }
   if (!r.errors().empty()) throw SceneLoadError(r.errors());
   return spec;

@@ -55,11 +55,15 @@ const char* ToString(Effect e);
 
 /// Probing sites in charting order.
 inline constexpr std::array<const char*, 6> kSiteCodes = {"MB", "B", "DB", "ML", "L", "DL"};
+/// Tooth surfaces for caries.
+inline constexpr std::array<const char*, 5> kSurfaces = {"mesial", "distal", "buccal", "lingual", "occlusal"};
 
 struct ObjectSpec {
-  enum class Kind { kTooth, kMesh, kBox, kSphere, kCylinder } kind = Kind::kTooth;
+  enum class Kind { kTooth, kMesh, kBox, kSphere, kCylinder, kGingiva, kAnatomy } kind = Kind::kTooth;
   std::string name;
-  int fdi = 0;                       // kTooth
+  int fdi = 0;                       // kTooth, kGingiva (the tooth it surrounds)
+  bool mirrored = false;             // kTooth, kGingiva placed on the arch (arch.h)
+  std::string anatomy;               // kAnatomy: tongue, palate, cheek_left, ... (soft_tissue.h)
   std::filesystem::path mesh;        // kMesh, resolved against the scene's folder
   Vector3 size = Vector3::Zero();    // kBox, mm
   double radius_mm = 0, height_mm = 0;  // kSphere, kCylinder
@@ -71,6 +75,9 @@ struct ObjectSpec {
   std::array<double, 6> pocket_mm{};
   std::array<double, 6> recession_mm{};
   std::array<bool, 6> bleeding{};
+  std::array<bool, 6> inflamed{};    // gingiva inflamed at the site
+  // Caries by surface (mesial, distal, buccal, lingual, occlusal): lesion size in mm, 0 for none.
+  std::array<double, 5> caries_mm{};
   int line = 0;  // where the object is declared
 };
 
@@ -83,6 +90,8 @@ struct SceneSpec {
   double rate_hz = 1000;
   std::vector<Effect> effects = {Effect::kContact};
   SphereTreeParams trees;
+  bool arch = false;     // teeth without `at` stand on the dental arches
+  bool gingiva = false;  // a gingival collar around every tooth, with its sites' truth
   std::vector<ObjectSpec> objects;
 };
 
@@ -92,9 +101,14 @@ struct SceneSpec {
 /// effects, YAML syntax errors).
 SceneSpec LoadSceneSpec(const std::filesystem::path& file);
 
-/// An object's mesh in its own frame (before X_WO): a generated tooth, the mesh
-/// file, or the solid. Throws MeshError for an unreadable mesh file.
+/// An object's mesh in its own frame (before X_WO): a generated tooth, gingiva
+/// or soft tissue, the mesh file, or the solid. Throws MeshError for an
+/// unreadable mesh file.
 TriangleMesh MakeObjectMesh(const ObjectSpec& object);
+
+/// The same, with generated meshes cached in `cache_dir`/meshes keyed by a hash
+/// of what generates them (a corrupt file is regenerated, never trusted).
+TriangleMesh MakeObjectMeshCached(const ObjectSpec& object, const std::filesystem::path& cache_dir);
 
 /// A compiled scene: everything the engine needs, immutable after construction.
 struct CompiledScene {

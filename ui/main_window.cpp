@@ -1,0 +1,481 @@
+#include "ui/main_window.h"
+
+#include <QAction>
+#include <QApplication>
+#include <QCheckBox>
+#include <QCloseEvent>
+#include <QComboBox>
+#include <QDockWidget>
+#include <QEventLoop>
+#include <QFileDialog>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QKeyEvent>
+#include <QLabel>
+#include <QListWidget>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QProgressDialog>
+#include <QPushButton>
+#include <QSettings>
+#include <QSpinBox>
+#include <QStatusBar>
+#include <QTimer>
+#include <QVBoxLayout>
+#include <QVTKOpenGLNativeWidget.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkRenderer.h>
+
+#include <chrono>
+
+#include "core/haptics/scripted_device.h"
+#include "core/spheretree/cache.h"
+#include "ui/force_gauge.h"
+#include "ui/mouse_device.h"
+#include "ui/scene_view.h"
+
+namespace sulcus::ui {
+namespace {
+
+QString Q(const std::string& s) { return QString::fromStdString(s); }
+
+}  // namespace
+
+MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
+  BuildUi();
+  QSettings settings;
+  restoreGeometry(settings.value("window/geometry").toByteArray());
+  restoreState(settings.value("window/state").toByteArray());
+  timer_ = new QTimer(this);
+  connect(timer_, &QTimer::timeout, this, [this] { Tick(); });
+  timer_->start(16);
+}
+
+MainWindow::~MainWindow() { StopSession(); }
+
+void MainWindow::BuildUi() {
+  setWindowTitle("Sulcus");
+  resize(1280, 800);
+  vtk_widget_ = new QVTKOpenGLNativeWidget(this);
+  auto window = vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New();
+  vtk_widget_->setRenderWindow(window);
+  auto renderer = vtkSmartPointer<vtkRenderer>::New();
+  window->AddRenderer(renderer);
+  renderer_ = renderer;
+  view_ = std::make_unique<SceneView>(renderer_);
+  setCentralWidget(vtk_widget_);
+  vtk_widget_->installEventFilter(this);  // the tool keys reach the mouse device, not VTK
+
+  // The side panel: gauge, status, controls, events.
+  auto* panel = new QWidget;
+  auto* layout = new QVBoxLayout(panel);
+  gauge_ = new ForceGauge;
+  layout->addWidget(gauge_);
+  status_ = new QLabel("No scene loaded.");
+  status_->setTextFormat(Qt::PlainText);
+  status_->setWordWrap(true);
+  status_->setMinimumHeight(150);
+  status_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+  layout->addWidget(status_);
+  auto* form = new QFormLayout;
+  device_box_ = new QComboBox;
+  device_box_->addItem("mouse");
+  for (const std::string& n : ScriptNames()) device_box_->addItem(Q("scripted:" + n));
+  form->addRow("Device", device_box_);
+  connect(device_box_, &QComboBox::textActivated, this, [this](const QString& d) { SetDevice(d.toStdString()); });
+  sphere_level_ = new QSpinBox;
+  sphere_level_->setRange(-1, 7);
+  sphere_level_->setSpecialValueText("off");
+  sphere_level_->setValue(-1);
+  form->addRow("Sphere-tree level", sphere_level_);
+  connect(sphere_level_, qOverload<int>(&QSpinBox::valueChanged), this, [this](int l) { ShowSpheres(l); });
+  translucent_ = new QCheckBox("translucent gingiva");
+  form->addRow("", translucent_);
+  connect(translucent_, &QCheckBox::toggled, this, [this](bool on) {
+    view_->SetGingivaTranslucent(on);
+    vtk_widget_->renderWindow()->Render();
+  });
+  auto* look = new QSpinBox;
+  look->setRange(11, 48);
+  look->setValue(46);
+  auto* look_button = new QPushButton("Look at tooth");
+  connect(look_button, &QPushButton::clicked, this, [this, look] { LookAtTooth(look->value()); });
+  auto* look_row = new QHBoxLayout;
+  look_row->addWidget(look);
+  look_row->addWidget(look_button);
+  form->addRow("Camera", look_row);
+  auto* views = new QHBoxLayout;
+  for (auto [label, side] : {std::pair{"Buccal", SceneView::Side::kBuccal}, std::pair{"Lingual", SceneView::Side::kLingual},
+                             std::pair{"Occlusal", SceneView::Side::kOcclusal}}) {
+    auto* b = new QPushButton(label);
+    connect(b, &QPushButton::clicked, this, [this, side = side] {
+      view_->View(side);
+      vtk_widget_->renderWindow()->Render();
+    });
+    views->addWidget(b);
+  }
+  form->addRow("View", views);
+  auto* reset = new QPushButton("Reset tool");
+  connect(reset, &QPushButton::clicked, this, [this] {
+    if (loop_) loop_->Send({HapticCommand::Kind::kResetTool});
+  });
+  auto* pause = new QPushButton("Pause");
+  pause->setCheckable(true);
+  connect(pause, &QPushButton::toggled, this, [this](bool on) {
+    if (loop_) loop_->Send({on ? HapticCommand::Kind::kPause : HapticCommand::Kind::kResume});
+  });
+  auto* buttons = new QHBoxLayout;
+  buttons->addWidget(reset);
+  buttons->addWidget(pause);
+  form->addRow("Tool", buttons);
+  layout->addLayout(form);
+  layout->addWidget(new QLabel("Events"));
+  events_ = new QListWidget;
+  layout->addWidget(events_, 1);
+  layout->addWidget(new QLabel("Mouse device: W/S, A/D, Q/E move the tool; with Shift they turn it."));
+  auto* dock = new QDockWidget("Instrument", this);
+  dock->setObjectName("instrument");
+  dock->setWidget(panel);
+  dock->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable);
+  addDockWidget(Qt::RightDockWidgetArea, dock);
+
+  // Menus.
+  QMenu* file = menuBar()->addMenu("&File");
+  file->addAction("&Open scene...", this, [this] {
+    const QString f = QFileDialog::getOpenFileName(this, "Open scene", Q(scene_file_.parent_path().string()),
+                                                   "Scenes (*.yaml *.yml)");
+    if (!f.isEmpty()) OpenScene(f.toStdString());
+  }, QKeySequence::Open);
+  QAction* record = file->addAction("&Record session");
+  record->setCheckable(true);
+  connect(record, &QAction::toggled, this, [this, record](bool on) {
+    if (!on) {
+      StopRecording();
+      return;
+    }
+    const QString f = QFileDialog::getSaveFileName(this, "Record to", "session.rec", "Recordings (*.rec)");
+    if (f.isEmpty() || !StartRecording(f.toStdString())) record->setChecked(false);
+  });
+  file->addAction("Replay a recording...", this, [this] {
+    const QString f = QFileDialog::getOpenFileName(this, "Replay", "", "Recordings (*.rec)");
+    if (!f.isEmpty()) SetDevice("replay:" + f.toStdString());
+  });
+  file->addAction("Save &screenshot...", this, [this] {
+    const QString f = QFileDialog::getSaveFileName(this, "Screenshot", "sulcus.png", "PNG (*.png)");
+    if (!f.isEmpty()) SaveScreenshot(f.toStdString());
+  });
+  file->addSeparator();
+  file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
+  statusBar()->showMessage("Open a scene (File > Open scene).");
+}
+
+void MainWindow::ShowErrors(const QString& title, const QString& text, const QString& details) {
+  if (!error_dialog_) {
+    error_dialog_ = new QMessageBox(this);
+    error_dialog_->setIcon(QMessageBox::Critical);
+    error_dialog_->setStandardButtons(QMessageBox::Ok);
+  }
+  error_dialog_->setWindowTitle(title);
+  error_dialog_->setText(text);
+  error_dialog_->setInformativeText(details);
+  error_dialog_->show();
+}
+
+bool MainWindow::OpenScene(const std::filesystem::path& file, bool wait) {
+  SceneSpec spec;
+  try {
+    spec = LoadSceneSpec(file);
+  } catch (const SceneLoadError& e) {
+    QString details;
+    for (const SceneError& err : e.errors()) details += Q(err.ToString()) + "\n";
+    ShowErrors("Scene has errors",
+               QString("%1 has %2 error(s); the current scene stays loaded.").arg(Q(file.string())).arg(e.errors().size()),
+               details);
+    return false;
+  }
+  // Compile off the UI thread; the dialog shows progress and can cancel.
+  struct Job {
+    std::mutex mutex;
+    std::string stage;
+    double fraction = 0;
+    std::atomic<bool> cancel{false}, done{false};
+    std::unique_ptr<CompiledScene> result;
+    std::string error;
+  };
+  auto job = std::make_shared<Job>();
+  std::thread worker([job, spec] {
+    try {
+      job->result = CompileScene(spec, DefaultCacheDir(), [job](std::string_view stage, double f) {
+        std::lock_guard lock(job->mutex);
+        job->stage = stage;
+        job->fraction = f;
+        return !job->cancel.load();
+      });
+    } catch (const BuildCancelled&) {
+      job->error = "cancelled";
+    } catch (const std::exception& e) {
+      job->error = e.what();
+    }
+    job->done = true;
+  });
+  worker.detach();  // it only touches `job`, which it shares
+  auto* progress = new QProgressDialog(QString("Building %1 ...").arg(Q(spec.name)), "Cancel", 0, 1000, this);
+  progress->setWindowModality(Qt::WindowModal);
+  progress->setMinimumDuration(300);
+  auto* poll = new QTimer(progress);
+  QEventLoop* waiter = wait ? new QEventLoop(this) : nullptr;
+  connect(progress, &QProgressDialog::canceled, this, [job] { job->cancel = true; });
+  connect(poll, &QTimer::timeout, this, [this, job, progress, file, waiter] {
+    {
+      std::lock_guard lock(job->mutex);
+      progress->setValue(static_cast<int>(job->fraction * 1000));
+      progress->setLabelText(QString("Building sphere-trees: %1").arg(Q(job->stage)));
+    }
+    if (!job->done) return;
+    progress->deleteLater();
+    if (job->result) {
+      StopSession();
+      scene_ = std::move(job->result);
+      scene_file_ = file;
+      view_->Load(*scene_);
+      sphere_level_->setValue(-1);
+      QSettings().setValue("scene/last", Q(file.string()));
+      StartSession();
+      setWindowTitle(QString("Sulcus - %1").arg(Q(scene_->spec.name)));
+    } else if (job->error != "cancelled") {
+      ShowErrors("Scene could not be built", QString("%1 could not be built; the current scene stays loaded.").arg(Q(file.string())),
+                 Q(job->error));
+    }
+    if (waiter) waiter->quit();
+  });
+  poll->start(50);
+  if (waiter) {
+    waiter->exec();
+    waiter->deleteLater();
+    return scene_ && scene_file_ == file;
+  }
+  return true;
+}
+
+bool MainWindow::SetDevice(const std::string& device) {
+  device_name_ = device;
+  QSettings().setValue("device/last", Q(device));
+  if (!scene_) return true;
+  StartSession();
+  return device_error_.empty();
+}
+
+void MainWindow::StopSession() {
+  if (thread_) thread_->Stop();
+  thread_.reset();
+  if (device_) device_->Stop();
+  if (recorder_) {
+    try {
+      recorder_->Finish();
+    } catch (const std::exception& e) {
+      statusBar()->showMessage(Q(e.what()));
+    }
+  }
+  recorder_.reset();
+  loop_.reset();
+  device_.reset();
+  mouse_ = nullptr;
+}
+
+void MainWindow::StartSession() {
+  StopSession();
+  device_error_.clear();
+  if (!scene_) return;
+  // The tool starts above the first tooth's crown, working end along its axis.
+  ScriptTarget top = FindScriptTarget(*scene_, "poke");
+  const RigidTransform start(Quaternion::FromTwoVectors(Vector3::UnitZ(), top.n_W), top.p_W + 4.0 * top.n_W);
+  try {
+    const auto colon = device_name_.find(':');
+    const std::string kind = device_name_.substr(0, colon);
+    const std::string what = colon == std::string::npos ? "" : device_name_.substr(colon + 1);
+    if (kind == "scripted") {
+      device_ = std::make_unique<ScriptedDevice>(
+          MakeScript(what, FindScriptTarget(*scene_, what), 600.0), device_name_);
+    } else if (kind == "replay") {
+      replay_ = std::make_unique<Recording>(ReadRecording(what));
+      device_ = std::make_unique<ReplayDevice>(*replay_);
+    } else {
+      auto mouse = std::make_unique<MouseKeyboardDevice>(start);
+      mouse_ = mouse.get();
+      device_ = std::move(mouse);
+    }
+    device_->Start();
+  } catch (const std::exception& e) {
+    device_error_ = e.what();
+    ShowErrors("Device", QString("The device %1 cannot be used.").arg(Q(device_name_)), Q(device_error_));
+    auto mouse = std::make_unique<MouseKeyboardDevice>(start);
+    mouse_ = mouse.get();
+    device_ = std::move(mouse);
+  }
+  LoopOptions options;
+  options.rate_hz = scene_->spec.rate_hz;
+  loop_ = std::make_unique<HapticLoop>(*scene_->model, device_.get(), options);
+  ThreadOptions topt;
+  topt.stop_when_device_finished = false;
+  topt.recorder = recorder_.get();
+  thread_ = std::make_unique<HapticThread>(loop_.get(), topt);
+  thread_->Start();
+  statusBar()->showMessage(QString("%1 on %2").arg(Q(device_->caps().name), Q(scene_file_.string())));
+}
+
+bool MainWindow::StartRecording(const std::filesystem::path& file) {
+  if (!scene_) return false;
+  StopSession();
+  try {
+    RecordingHeader h;
+    h.scene_hash = HashFile(scene_file_);
+    h.rate_hz = scene_->spec.rate_hz;
+    h.device_name = device_name_;
+    h.scene_file = scene_file_.string();
+    recorder_ = std::make_unique<RecordingWriter>(file, h);
+  } catch (const std::exception& e) {
+    ShowErrors("Recording", "The recording cannot be written.", Q(e.what()));
+    StartSession();
+    return false;
+  }
+  auto writer = std::move(recorder_);
+  StartSession();  // a new session; its thread hands every tick to the recorder
+  recorder_ = std::move(writer);
+  thread_->Stop();
+  ThreadOptions topt;
+  topt.stop_when_device_finished = false;
+  topt.recorder = recorder_.get();
+  thread_ = std::make_unique<HapticThread>(loop_.get(), topt);
+  thread_->Start();
+  statusBar()->showMessage(QString("Recording to %1").arg(Q(file.string())));
+  return true;
+}
+
+void MainWindow::StopRecording() {
+  if (!recorder_) return;
+  if (thread_) thread_->Stop();
+  try {
+    recorder_->Finish();
+    statusBar()->showMessage(QString("Recorded %1 ticks").arg(recorder_->written()));
+  } catch (const std::exception& e) {
+    ShowErrors("Recording", "The recording failed.", Q(e.what()));
+  }
+  recorder_.reset();
+  StartSession();
+}
+
+void MainWindow::Tick() {
+  if (!loop_) return;
+  if (loop_->snapshots().Acquire()) snapshot_ = loop_->snapshots().front();
+  view_->Update(snapshot_);
+  gauge_->Push(snapshot_.time_s, snapshot_.force_W.norm(), snapshot_.torque_W.norm());
+  HapticEvent e;
+  while (loop_->PopEvent(&e)) {
+    QString what = ToString(e.kind);
+    if (e.object >= 0 && e.kind != EventKind::kCommand && scene_ &&
+        e.object < static_cast<int>(scene_->spec.objects.size()))
+      what += ": " + Q(scene_->spec.objects[e.object].name);
+    if (e.kind == EventKind::kForceAbove || e.kind == EventKind::kForceBelow) what += QString(" %1 N").arg(e.value, 0, 'f', 2);
+    events_->insertItem(0, QString("%1 s  %2").arg(e.tick / scene_->spec.rate_hz, 0, 'f', 2).arg(what));
+    while (events_->count() > 200) delete events_->takeItem(events_->count() - 1);
+  }
+  status_->setText(status_text());
+  vtk_widget_->renderWindow()->Render();
+}
+
+QString MainWindow::status_text() const {
+  if (!thread_) return "No scene loaded.";
+  const TimingStats& st = thread_->stats();
+  const HapticSnapshot& s = snapshot_;
+  QString text;
+  text += QString("Device: %1%2\n").arg(Q(device_ ? device_->caps().name : std::string("none")),
+                                         s.device_ok ? "" : " (NOT ANSWERING)");
+  text += QString("Haptic rate %1 Hz, %2 ticks%3\n")
+              .arg(thread_->rate_hz(), 0, 'f', 0)
+              .arg(st.ticks.load())
+              .arg(s.paused ? ", paused" : "");
+  text += QString("Step p50 %1 us, p99 %2 us; deadline misses %3\n")
+              .arg(st.step_us.Percentile(0.5), 0, 'f', 0)
+              .arg(st.step_us.Percentile(0.99), 0, 'f', 0)
+              .arg(st.misses.load());
+  text += QString("Contacts: %1 pairs, %2 active; solver %3 iterations\n")
+              .arg(s.num_pairs)
+              .arg(s.active_contacts)
+              .arg(s.qp_iterations);
+  text += QString("Penetration %1 mm\n").arg(s.max_penetration_mm, 0, 'g', 2);
+  text += QString("Faults %1 (engine %2, overruns %3, device stalls %4)")
+              .arg(s.faults.total())
+              .arg(s.faults.engine)
+              .arg(s.faults.overruns)
+              .arg(s.faults.device_stalls);
+  if (const std::string notes = thread_->notes(); !notes.empty()) text += "\n" + Q(notes);
+  return text;
+}
+
+double MainWindow::gauge_force() const { return gauge_->force(); }
+
+void MainWindow::ShowSpheres(int level) {
+  if (sphere_level_->value() != level) sphere_level_->setValue(level);  // re-enters through the signal
+  if (view_->spheres_shown() != level) {
+    view_->ShowSpheres(level);
+    vtk_widget_->renderWindow()->Render();
+  }
+}
+
+bool MainWindow::LookAtTooth(int fdi) {
+  const bool ok = view_->LookAtTooth(fdi);
+  if (!ok) statusBar()->showMessage(QString("Tooth %1 is not in this scene").arg(fdi));
+  vtk_widget_->renderWindow()->Render();
+  return ok;
+}
+
+bool MainWindow::SaveScreenshot(const std::filesystem::path& png) {
+  vtk_widget_->renderWindow()->Render();
+  return grab().save(Q(png.string()), "PNG");
+}
+
+void MainWindow::keyPressEvent(QKeyEvent* e) {
+  if (!mouse_) {
+    QMainWindow::keyPressEvent(e);
+    return;
+  }
+  const double step = 0.25, turn = 0.05;  // mm, rad per key press
+  Vector3 d = Vector3::Zero();
+  switch (e->key()) {
+    case Qt::Key_D: d.x() = 1; break;
+    case Qt::Key_A: d.x() = -1; break;
+    case Qt::Key_W: d.y() = 1; break;
+    case Qt::Key_S: d.y() = -1; break;
+    case Qt::Key_E: d.z() = 1; break;
+    case Qt::Key_Q: d.z() = -1; break;
+    default: QMainWindow::keyPressEvent(e); return;
+  }
+  if (e->modifiers() & Qt::ShiftModifier) {
+    mouse_->Nudge(Vector3::Zero(), turn * d);
+  } else {
+    mouse_->Nudge(step * d, Vector3::Zero());
+  }
+}
+
+bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
+  if (watched == vtk_widget_ && e->type() == QEvent::KeyPress && mouse_) {
+    auto* k = static_cast<QKeyEvent*>(e);
+    switch (k->key()) {
+      case Qt::Key_W: case Qt::Key_A: case Qt::Key_S: case Qt::Key_D: case Qt::Key_Q: case Qt::Key_E:
+        keyPressEvent(k);
+        return true;
+      default: break;
+    }
+  }
+  return QMainWindow::eventFilter(watched, e);
+}
+
+void MainWindow::closeEvent(QCloseEvent* e) {
+  QSettings settings;
+  settings.setValue("window/geometry", saveGeometry());
+  settings.setValue("window/state", saveState());
+  StopSession();
+  QMainWindow::closeEvent(e);
+}
+
+}  // namespace sulcus::ui

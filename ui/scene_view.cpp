@@ -1,0 +1,265 @@
+#include "ui/scene_view.h"
+
+#include <vtkCamera.h>
+#include <vtkCylinderSource.h>
+#include <vtkDoubleArray.h>
+#include <vtkGlyph3D.h>
+#include <vtkMatrix4x4.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkSphereSource.h>
+#include <vtkTransform.h>
+#include <vtkTransformPolyDataFilter.h>
+
+#include "ui/mesh_view.h"
+
+namespace sulcus::ui {
+namespace {
+
+struct Look {
+  double r, g, b, opacity, specular;
+};
+
+Look LookOf(Tissue t) {
+  switch (t) {
+    case Tissue::kEnamel: return {0.95, 0.93, 0.86, 1.0, 0.5};
+    case Tissue::kRoot: return {0.90, 0.84, 0.64, 1.0, 0.2};
+    case Tissue::kGingiva: return {0.86, 0.48, 0.52, 1.0, 0.25};
+    case Tissue::kBone: return {0.92, 0.87, 0.74, 1.0, 0.1};
+    case Tissue::kTongue: return {0.80, 0.38, 0.42, 1.0, 0.3};
+    case Tissue::kCheek: return {0.90, 0.60, 0.60, 0.35, 0.2};
+    case Tissue::kPalate: return {0.86, 0.52, 0.56, 1.0, 0.25};
+    case Tissue::kLip: return {0.80, 0.40, 0.45, 1.0, 0.3};
+    case Tissue::kMucosa: return {0.88, 0.56, 0.58, 1.0, 0.25};
+    case Tissue::kMetal: return {0.70, 0.72, 0.75, 1.0, 0.8};
+  }
+  return {0.8, 0.8, 0.8, 1.0, 0.2};
+}
+
+vtkSmartPointer<vtkMatrix4x4> ToVtk(const RigidTransform& X) {
+  auto m = vtkSmartPointer<vtkMatrix4x4>::New();
+  const Matrix4 T = X.ToMatrix4();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m->SetElement(r, c, T(r, c));
+  return m;
+}
+
+vtkSmartPointer<vtkActor> MeshActor(const TriangleMesh& mesh, const Look& look) {
+  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  mapper->SetInputData(ToPolyData(mesh));
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(look.r, look.g, look.b);
+  actor->GetProperty()->SetOpacity(look.opacity);
+  actor->GetProperty()->SetSpecular(look.specular);
+  actor->GetProperty()->SetSpecularPower(30);
+  return actor;
+}
+
+}  // namespace
+
+SceneView::SceneView(vtkRenderer* renderer) : renderer_(renderer) {
+  renderer_->SetBackground(0.16, 0.17, 0.20);
+  renderer_->SetBackground2(0.32, 0.34, 0.40);
+  renderer_->GradientBackgroundOn();
+}
+
+void SceneView::AddToolActors(const ProbeModel& probe) {
+  tool_haptic_ = MeshActor(probe.mesh, {0.30, 0.55, 1.0, 0.35, 0.2});
+  renderer_->AddActor(tool_haptic_);
+  tool_graphic_.push_back(MeshActor(probe.mesh, {0.97, 0.97, 0.97, 1.0, 0.8}));
+  // The markings: dark rings (lines) and coloured bands around the working end.
+  for (const ProbeMarking& m : probe.markings) {
+    auto ring = vtkSmartPointer<vtkCylinderSource>::New();
+    const double length = std::max(0.18, m.to_mm - m.from_mm);
+    ring->SetRadius(0.56);
+    ring->SetHeight(length);
+    ring->SetResolution(24);
+    auto place = vtkSmartPointer<vtkTransform>::New();  // cylinder along y -> along z, centred on the mark
+    place->Translate(0, 0, 0.5 * (m.from_mm + m.to_mm));
+    place->RotateX(90);
+    auto moved = vtkSmartPointer<vtkTransformPolyDataFilter>::New();
+    moved->SetInputConnection(ring->GetOutputPort());
+    moved->SetTransform(place);
+    auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+    mapper->SetInputConnection(moved->GetOutputPort());
+    auto actor = vtkSmartPointer<vtkActor>::New();
+    actor->SetMapper(mapper);
+    if (m.band) {
+      actor->GetProperty()->SetColor(0.10, 0.10, 0.12);
+    } else {
+      actor->GetProperty()->SetColor(0.15, 0.15, 0.15);
+    }
+    tool_graphic_.push_back(actor);
+  }
+  for (auto& a : tool_graphic_) renderer_->AddActor(a);
+}
+
+void SceneView::Load(const CompiledScene& scene) {
+  renderer_->RemoveAllViewProps();
+  objects_.clear();
+  gingiva_.clear();
+  tool_graphic_.clear();
+  spheres_.clear();
+  scene_ = &scene;
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+    const ObjectSpec& o = scene.spec.objects[i];
+    auto actor = MeshActor(scene.meshes[i], LookOf(o.tissue));
+    actor->SetUserMatrix(ToVtk(o.X_WO));
+    renderer_->AddActor(actor);
+    objects_.push_back(actor);
+    if (o.tissue == Tissue::kGingiva) gingiva_.push_back(actor);
+  }
+  AddToolActors(MakeProbe(scene.spec.probe));
+  contact_actor_ = vtkSmartPointer<vtkActor>::New();
+  renderer_->AddActor(contact_actor_);
+  spheres_shown_ = -1;
+  View(Side::kBuccal);
+}
+
+void SceneView::Update(const HapticSnapshot& s) {
+  X_WG_ = s.X_WG;
+  if (tool_haptic_) tool_haptic_->SetUserMatrix(ToVtk(s.X_WH));
+  const auto m = ToVtk(s.X_WG);
+  for (auto& a : tool_graphic_) a->SetUserMatrix(m);
+  // Contact spheres: the object leaves the tool touches, in red.
+  if (!scene_ || !contact_actor_) return;
+  if (!show_contacts_ || s.num_shown_pairs == 0) {
+    contact_actor_->SetVisibility(false);
+    return;
+  }
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  auto radii = vtkSmartPointer<vtkDoubleArray>::New();
+  radii->SetName("radius");
+  const CollisionWorld& world = scene_->model->world;
+  for (int i = 0; i < s.num_shown_pairs; ++i) {
+    const ContactPair& c = s.shown_pairs[i];
+    const Vector3 p = world.ObjectCenter(c.object, c.object_leaf);
+    points->InsertNextPoint(p.x(), p.y(), p.z());
+    radii->InsertNextValue(world.ObjectRadius(c.object, c.object_leaf));
+  }
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->GetPointData()->SetScalars(radii);
+  auto sphere = vtkSmartPointer<vtkSphereSource>::New();
+  sphere->SetRadius(1.0);
+  sphere->SetThetaResolution(12);
+  sphere->SetPhiResolution(8);
+  auto glyph = vtkSmartPointer<vtkGlyph3D>::New();
+  glyph->SetInputData(poly);
+  glyph->SetSourceConnection(sphere->GetOutputPort());
+  glyph->SetScaleModeToScaleByScalar();
+  glyph->SetScaleFactor(1.0);
+  glyph->SetColorModeToColorByScale();
+  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  mapper->SetInputConnection(glyph->GetOutputPort());
+  mapper->ScalarVisibilityOff();
+  contact_actor_->SetMapper(mapper);
+  contact_actor_->GetProperty()->SetColor(1.0, 0.25, 0.2);
+  contact_actor_->GetProperty()->SetOpacity(0.6);
+  contact_actor_->SetVisibility(true);
+}
+
+void SceneView::ShowSpheres(int level) {
+  for (auto& a : spheres_) renderer_->RemoveActor(a);
+  spheres_.clear();
+  spheres_shown_ = level;
+  if (!scene_ || level < 0) return;
+  for (std::size_t i = 0; i < scene_->trees.size(); ++i) {
+    const SphereTree& t = scene_->trees[i];
+    auto points = vtkSmartPointer<vtkPoints>::New();
+    auto radii = vtkSmartPointer<vtkDoubleArray>::New();
+    radii->SetName("radius");
+    for (std::int32_t n : t.CutAtLevel(std::min(level, t.levels - 1))) {
+      points->InsertNextPoint(t.x[n], t.y[n], t.z[n]);
+      radii->InsertNextValue(t.r[n]);
+    }
+    auto poly = vtkSmartPointer<vtkPolyData>::New();
+    poly->SetPoints(points);
+    poly->GetPointData()->SetScalars(radii);
+    auto sphere = vtkSmartPointer<vtkSphereSource>::New();
+    sphere->SetRadius(1.0);
+    sphere->SetThetaResolution(14);
+    sphere->SetPhiResolution(10);
+    auto glyph = vtkSmartPointer<vtkGlyph3D>::New();
+    glyph->SetInputData(poly);
+    glyph->SetSourceConnection(sphere->GetOutputPort());
+    glyph->SetScaleModeToScaleByScalar();
+    glyph->SetScaleFactor(1.0);
+    auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+    mapper->SetInputConnection(glyph->GetOutputPort());
+    mapper->ScalarVisibilityOff();
+    auto actor = vtkSmartPointer<vtkActor>::New();
+    actor->SetMapper(mapper);
+    actor->SetUserMatrix(ToVtk(scene_->spec.objects[i].X_WO));
+    const double hue = (i % 6) / 6.0;
+    actor->GetProperty()->SetColor(0.55 + 0.4 * hue, 0.85 - 0.3 * hue, 0.35 + 0.5 * (1 - hue));
+    actor->GetProperty()->SetOpacity(0.45);
+    renderer_->AddActor(actor);
+    spheres_.push_back(actor);
+  }
+}
+
+void SceneView::SetGingivaTranslucent(bool on) {
+  for (auto& a : gingiva_) a->GetProperty()->SetOpacity(on ? 0.45 : 1.0);
+}
+
+void SceneView::Frame(const Vector3& focus, const Vector3& from_dir, double distance, const Vector3& up) {
+  vtkCamera* cam = renderer_->GetActiveCamera();
+  const Vector3 eye = focus + distance * from_dir.normalized();
+  cam->SetFocalPoint(focus.x(), focus.y(), focus.z());
+  cam->SetPosition(eye.x(), eye.y(), eye.z());
+  cam->SetViewUp(up.x(), up.y(), up.z());
+  cam->SetViewAngle(30);
+  renderer_->ResetCameraClippingRange();
+}
+
+void SceneView::View(Side side) {
+  if (!scene_) return;
+  // The teeth's centre and mean buccal and occlusal directions frame the view.
+  Vector3 centre = Vector3::Zero(), buccal = Vector3::Zero(), occlusal = Vector3::Zero();
+  int teeth = 0;
+  Vector3 lo = Vector3::Constant(1e9), hi = Vector3::Constant(-1e9);
+  for (std::size_t i = 0; i < scene_->spec.objects.size(); ++i) {
+    const ObjectSpec& o = scene_->spec.objects[i];
+    if (o.kind != ObjectSpec::Kind::kTooth) continue;
+    const Vector3 c = o.X_WO * Vector3(0, 0, 3);
+    centre += c;
+    lo = lo.cwiseMin(c);
+    hi = hi.cwiseMax(c);
+    buccal += o.X_WO.rotation().col(1) * (o.mirrored ? 1.0 : 1.0);
+    occlusal += o.X_WO.rotation().col(2);
+    ++teeth;
+  }
+  if (teeth == 0) {
+    renderer_->ResetCamera();
+    return;
+  }
+  centre /= teeth;
+  if (buccal.norm() < 1e-6) buccal = Vector3::UnitY();
+  if (occlusal.norm() < 1e-6) occlusal = Vector3::UnitZ();
+  buccal.normalize();
+  occlusal.normalize();
+  const double extent = std::max(25.0, (hi - lo).norm() * 1.6);
+  switch (side) {
+    case Side::kBuccal: Frame(centre, buccal + 0.35 * occlusal, 1.6 * extent, occlusal); break;
+    case Side::kLingual: Frame(centre, -buccal + 0.35 * occlusal, 1.6 * extent, occlusal); break;
+    case Side::kOcclusal: Frame(centre, occlusal, 1.8 * extent, buccal); break;
+  }
+}
+
+bool SceneView::LookAtTooth(int fdi) {
+  if (!scene_) return false;
+  for (const ObjectSpec& o : scene_->spec.objects) {
+    if (o.kind != ObjectSpec::Kind::kTooth || o.fdi != fdi) continue;
+    const Vector3 occlusal = o.X_WO.rotation().col(2);
+    Frame(o.X_WO * Vector3(0, 0, 2), o.X_WO.rotation().col(1) + 0.4 * occlusal, 38, occlusal);
+    return true;
+  }
+  return false;
+}
+
+}  // namespace sulcus::ui

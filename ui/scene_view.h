@@ -1,0 +1,54 @@
+#pragma once
+// The 3D view of a compiled scene: every object with a material that reads as
+// its tissue, the device ("haptic") tool in translucent blue and the rendered
+// ("graphic") tool in white with the probe's markings, contact spheres, and the
+// sphere-trees at any level. Reads snapshots only (DESIGN.md).
+
+#include <vector>
+
+#include <vtkActor.h>
+#include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
+
+#include "core/anatomy/probe.h"
+#include "core/haptics/haptic_loop.h"
+#include "core/scene/scene.h"
+
+namespace sulcus::ui {
+
+class SceneView {
+ public:
+  explicit SceneView(vtkRenderer* renderer);
+
+  /// Replaces what is shown by the scene (which must outlive the view's use of it).
+  void Load(const CompiledScene& scene);
+  /// Moves the tools and highlights contacts from the latest snapshot.
+  void Update(const HapticSnapshot& s);
+
+  /// Shows the spheres of every object's tree cut at `level` (0 root); -1 hides them.
+  void ShowSpheres(int level);
+  int spheres_shown() const { return spheres_shown_; }
+  void ShowContacts(bool on) { show_contacts_ = on; }
+  void SetGingivaTranslucent(bool on);
+
+  enum class Side { kBuccal, kLingual, kOcclusal };
+  void View(Side side);
+  /// Frames one tooth from its buccal side; false if the scene has no such tooth.
+  bool LookAtTooth(int fdi);
+
+  const RigidTransform& graphic_pose() const { return X_WG_; }
+
+ private:
+  void AddToolActors(const ProbeModel& probe);
+  void Frame(const Vector3& focus, const Vector3& from_dir, double distance, const Vector3& up);
+
+  vtkRenderer* renderer_;
+  const CompiledScene* scene_ = nullptr;
+  std::vector<vtkSmartPointer<vtkActor>> objects_, gingiva_, tool_graphic_, spheres_, contacts_;
+  vtkSmartPointer<vtkActor> tool_haptic_, contact_actor_;
+  RigidTransform X_WG_;
+  int spheres_shown_ = -1;
+  bool show_contacts_ = true;
+};
+
+}  // namespace sulcus::ui
