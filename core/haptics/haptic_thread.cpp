@@ -4,6 +4,7 @@
 #include <sched.h>
 #include <time.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -108,8 +109,11 @@ void HapticThread::Run() noexcept {
     deadline += period;
     if (end > deadline) {
       stats_.misses.fetch_add(1, std::memory_order_relaxed);
-      // Far behind (a stall): start again from now rather than racing to catch up.
+      // Far behind (a stall, or steps longer than the period): start again from
+      // now rather than racing to catch up, and sleep a little anyway: a
+      // real-time thread that never sleeps would starve everything on its core.
       if (end - deadline > period) deadline = end;
+      SleepUntil(NowNs() + std::max<std::int64_t>(period / 10, 20'000));
       continue;
     }
     SleepUntil(deadline);
