@@ -14,6 +14,11 @@ class ForceGauge : public QWidget {
   /// The force (N) and torque (N*mm) now, at time t (s).
   void Push(double t_s, double force_n, double torque_nmm);
   double force() const { return force_; }
+  void Clear() {
+    history_.clear();
+    force_ = torque_ = 0;
+    update();
+  }
   bool InBand() const { return force_ >= kBandLow && force_ <= kBandHigh; }
   static constexpr double kBandLow = 0.20, kBandHigh = 0.25, kScaleN = 0.6, kHistoryS = 5.0;
 

@@ -225,13 +225,15 @@ bool MainWindow::OpenScene(const std::filesystem::path& file, bool wait) {
   auto* poll = new QTimer(progress);
   QEventLoop* waiter = wait ? new QEventLoop(this) : nullptr;
   connect(progress, &QProgressDialog::canceled, this, [job] { job->cancel = true; });
-  connect(poll, &QTimer::timeout, this, [this, job, progress, file, waiter] {
+  connect(poll, &QTimer::timeout, this, [this, job, progress, poll, file, waiter] {
     {
       std::lock_guard lock(job->mutex);
       progress->setValue(static_cast<int>(job->fraction * 1000));
       progress->setLabelText(QString("Building sphere-trees: %1").arg(Q(job->stage)));
     }
     if (!job->done) return;
+    poll->stop();  // once: deleteLater may wait for an event loop that never comes back
+    progress->hide();
     progress->deleteLater();
     if (job->result) {
       StopSession();
@@ -278,6 +280,8 @@ void MainWindow::StopSession() {
   }
   recorder_.reset();
   loop_.reset();
+  effects_.clear();
+  effect_list_.clear();
   device_.reset();
   mouse_ = nullptr;
 }
@@ -314,7 +318,13 @@ void MainWindow::StartSession() {
   }
   LoopOptions options;
   options.rate_hz = scene_->spec.rate_hz;
-  loop_ = std::make_unique<HapticLoop>(*scene_->model, device_.get(), options);
+  snapshot_ = HapticSnapshot{};  // nothing from the previous session is shown as this one's
+  gauge_->Clear();
+  events_->clear();
+  last_reading_.clear();
+  effects_ = MakeEffects(scene_->effects);
+  effect_list_ = EffectPointers(effects_);
+  loop_ = std::make_unique<HapticLoop>(*scene_->model, device_.get(), options, effect_list_);
   ThreadOptions topt;
   topt.stop_when_device_finished = false;
   topt.recorder = recorder_.get();
@@ -376,6 +386,21 @@ void MainWindow::Tick() {
         e.object < static_cast<int>(scene_->spec.objects.size()))
       what += ": " + Q(scene_->spec.objects[e.object].name);
     if (e.kind == EventKind::kForceAbove || e.kind == EventKind::kForceBelow) what += QString(" %1 N").arg(e.value, 0, 'f', 2);
+    if (e.kind == EventKind::kEffect) {
+      const QString tooth = e.object >= 0 && e.object < static_cast<int>(scene_->spec.objects.size())
+                                ? Q(scene_->spec.objects[e.object].name)
+                                : QString("?");
+      const QString site = kSiteCodes[std::clamp(static_cast<int>(e.value2), 0, 5)];
+      switch (static_cast<EffectEvent>(e.detail)) {
+        case EffectEvent::kProbeReading:
+          what = QString("reading %1 mm at %2 %3").arg(e.value, 0, 'f', 1).arg(tooth, site);
+          last_reading_ = what;
+          break;
+        case EffectEvent::kBleeding: what = QString("bleeding at %1 %2").arg(tooth, site); break;
+        case EffectEvent::kTissueDamage: what = QString("%1 N on %2: above its damage limit").arg(e.value, 0, 'f', 2).arg(tooth); break;
+        case EffectEvent::kSoftContact: what = QString("soft contact: %1").arg(tooth); break;
+      }
+    }
     events_->insertItem(0, QString("%1 s  %2").arg(e.tick / scene_->spec.rate_hz, 0, 'f', 2).arg(what));
     while (events_->count() > 200) delete events_->takeItem(events_->count() - 1);
   }
@@ -403,6 +428,7 @@ QString MainWindow::status_text() const {
               .arg(s.active_contacts)
               .arg(s.qp_iterations);
   text += QString("Penetration %1 mm\n").arg(s.max_penetration_mm, 0, 'g', 2);
+  if (!last_reading_.isEmpty()) text += "Last " + last_reading_ + "\n";
   text += QString("Faults %1 (engine %2, overruns %3, device stalls %4)")
               .arg(s.faults.total())
               .arg(s.faults.engine)
@@ -421,6 +447,8 @@ void MainWindow::ShowSpheres(int level) {
     vtk_widget_->renderWindow()->Render();
   }
 }
+
+void MainWindow::SetGingivaTranslucent(bool on) { translucent_->setChecked(on); }
 
 bool MainWindow::LookAtTooth(int fdi) {
   const bool ok = view_->LookAtTooth(fdi);

@@ -14,7 +14,9 @@
 #include <thread>
 
 #include <QMainWindow>
+#include <QString>
 
+#include "core/haptics/effects.h"
 #include "core/haptics/haptic_thread.h"
 #include "core/haptics/recording.h"
 #include "core/scene/scene.h"
@@ -55,10 +57,12 @@ class MainWindow : public QMainWindow {
   bool running() const { return thread_ && thread_->running(); }
   QMessageBox* error_dialog() const { return error_dialog_; }
   QString status_text() const;
+  const QString& last_reading() const { return last_reading_; }
   SceneView* view() const { return view_.get(); }
   MouseKeyboardDevice* mouse() const { return mouse_; }
   void ShowSpheres(int level);
   bool LookAtTooth(int fdi);
+  void SetGingivaTranslucent(bool on);
   /// Saves the window (3D view included) as a PNG.
   bool SaveScreenshot(const std::filesystem::path& png);
   bool StartRecording(const std::filesystem::path& file);
@@ -94,11 +98,14 @@ class MainWindow : public QMainWindow {
   std::unique_ptr<Device> device_;
   MouseKeyboardDevice* mouse_ = nullptr;  // device_ when it is the mouse
   std::unique_ptr<Recording> replay_;
+  std::vector<std::unique_ptr<LoopEffect>> effects_;
+  std::vector<LoopEffect*> effect_list_;
   std::unique_ptr<HapticLoop> loop_;
   std::unique_ptr<HapticThread> thread_;
   std::unique_ptr<RecordingWriter> recorder_;
   HapticSnapshot snapshot_;
   std::string device_error_;
+  QString last_reading_;
 };
 
 }  // namespace sulcus::ui

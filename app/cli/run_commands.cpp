@@ -13,6 +13,7 @@
 
 #include "app/cli/commands.h"
 #include "core/haptics/devices/usb_discovery.h"
+#include "core/haptics/effects.h"
 #include "core/haptics/haptic_thread.h"
 #include "core/haptics/recording.h"
 #include "core/haptics/scripted_device.h"
@@ -29,6 +30,7 @@ struct RunArgs {
   int object = -1;
   std::uint64_t seed = 1;
   bool no_realtime = false;
+  bool offline = false;
 };
 
 std::string ObjectName(const CompiledScene& scene, int object) {
@@ -60,7 +62,7 @@ int Run(const RunArgs& a) {
       const ScriptTarget target = FindScriptTarget(*scene, what, a.object);
       trajectory = MakeScript(what, target, a.seconds, a.seed);
       std::fprintf(stderr, "scripted '%s' on %s at (%.2f, %.2f, %.2f) mm\n", what.c_str(),
-                   ObjectName(*scene, a.object < 0 ? 0 : a.object).c_str(), target.p_W.x(), target.p_W.y(),
+                   ObjectName(*scene, target.object).c_str(), target.p_W.x(), target.p_W.y(),
                    target.p_W.z());
     }
     device = std::make_unique<ScriptedDevice>(std::move(trajectory), a.device);
@@ -88,28 +90,61 @@ int Run(const RunArgs& a) {
     h.scene_file = a.scene;
     writer = std::make_unique<RecordingWriter>(a.record, h);
   }
-  HapticLoop loop(*scene->model, device.get(), options);
+  const auto effects = MakeEffects(scene->effects);
+  const auto effect_list = EffectPointers(effects);
+  HapticLoop loop(*scene->model, device.get(), options, effect_list);
   ThreadOptions topt;
   topt.realtime = !a.no_realtime;
   topt.max_ticks = static_cast<std::uint64_t>(a.seconds * options.rate_hz);
   topt.recorder = writer.get();
   HapticThread thread(&loop, topt);
   std::fprintf(stderr, "running %s at %.0f Hz for %.1f s ...\n", device_name.c_str(), options.rate_hz, a.seconds);
-  thread.Start();
   std::map<int, int> began;
   std::uint64_t events = 0;
+  std::vector<std::string> effect_lines;
   auto drain = [&] {
     HapticEvent e;
     while (loop.PopEvent(&e)) {
       ++events;
       if (e.kind == EventKind::kContactBegan) ++began[e.object];
+      if (e.kind != EventKind::kEffect) continue;
+      char line[200];
+      const double t = e.tick / options.rate_hz;
+      switch (static_cast<EffectEvent>(e.detail)) {
+        case EffectEvent::kProbeReading:
+          std::snprintf(line, sizeof line, "%.3f s: probing reading %.1f mm at %s %s", t, e.value,
+                        ObjectName(*scene, e.object).c_str(), kSiteCodes[static_cast<int>(e.value2)]);
+          break;
+        case EffectEvent::kBleeding:
+          std::snprintf(line, sizeof line, "%.3f s: bleeding at %s %s", t, ObjectName(*scene, e.object).c_str(),
+                        kSiteCodes[static_cast<int>(e.value2)]);
+          break;
+        case EffectEvent::kTissueDamage:
+          std::snprintf(line, sizeof line, "%.3f s: %.2f N on %s, above its damage limit", t, e.value,
+                        ObjectName(*scene, e.object).c_str());
+          break;
+        case EffectEvent::kSoftContact:
+          std::snprintf(line, sizeof line, "%.3f s: soft contact with %s", t, ObjectName(*scene, e.object).c_str());
+          break;
+      }
+      if (effect_lines.size() < 40) effect_lines.emplace_back(line);
     }
   };
-  while (thread.running()) {
-    drain();
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  if (a.offline) {
+    // As fast as possible, on this thread: the same ticks, no clock.
+    for (std::uint64_t i = 0; i < topt.max_ticks && !device->finished(); ++i) {
+      loop.Tick(false);
+      if (writer) writer->Push(loop.last_record());
+      if (i % 1024 == 0) drain();
+    }
+  } else {
+    thread.Start();
+    while (thread.running()) {
+      drain();
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    thread.Join();
   }
-  thread.Join();
   drain();
   device->Stop();
   if (writer) writer->Finish();
@@ -118,6 +153,10 @@ int Run(const RunArgs& a) {
   const TimingStats& st = thread.stats();
 
   if (const std::string notes = thread.notes(); !notes.empty()) std::printf("note: %s\n", notes.c_str());
+  std::string on;
+  for (const auto& e : effects) on += std::string(on.empty() ? "" : ", ") + e->name();
+  std::printf("effects: %s\n", on.empty() ? "contact only" : on.c_str());
+  for (const std::string& l : effect_lines) std::printf("  %s\n", l.c_str());
   const std::uint64_t ticks = st.ticks.load();
   const double miss_pct = ticks ? 100.0 * st.misses.load() / ticks : 0;
   std::printf("timing: %" PRIu64 " ticks at %.0f Hz; period p50 %.0f us, p99 %.0f us, p99.9 %.0f us, worst %.0f us "
@@ -165,6 +204,7 @@ void AddRunCommands(CLI::App& app) {
   run->add_option("--object", a->object, "Index of the object a scripted trajectory works on (default: first tooth)");
   run->add_option("--seed", a->seed, "Seed of the random trajectory")->capture_default_str();
   run->add_flag("--no-realtime", a->no_realtime, "Do not ask for real-time priority and a pinned core");
+  run->add_flag("--offline", a->offline, "No thread and no clock: tick as fast as possible (timing figures are then empty)");
   run->callback([a] { ExitStatus() = Run(*a); });
 
   auto watch = std::make_shared<double>(0);

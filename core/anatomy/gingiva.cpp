@@ -51,6 +51,14 @@ double AroundTooth(const std::array<double, 6>& site, double th) {
 
 }  // namespace
 
+double GingivaModel::FloorAt(double th) const {
+  const int n = static_cast<int>(floor_z.size());
+  if (n == 0) return 0;
+  double a = std::fmod(th, 2 * kPi);
+  if (a < 0) a += 2 * kPi;
+  return floor_z[static_cast<int>(std::lround(a / (2 * kPi) * n)) % n];
+}
+
 const std::array<double, 6>& SiteAngles() {
   static const std::array<double, 6> a = {kPi / 4, kPi / 2, 3 * kPi / 4, 7 * kPi / 4, 3 * kPi / 2, 5 * kPi / 4};
   return a;
@@ -120,6 +128,9 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
     }
   }
   out.mesh = TriangleMesh(std::move(vertices), std::move(faces));
+  out.margin_z = z_m_at;
+  out.floor_z = z_f_at;
+  out.wall_r = r_in_at;
   if (out.mesh.Volume() < 0) out.mesh.FlipOrientation();
   for (int s = 0; s < 6; ++s) {
     const int k = static_cast<int>(std::lround(out.site_angle[s] / (2 * kPi) * n)) % n;

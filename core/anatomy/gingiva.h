@@ -32,6 +32,11 @@ struct GingivaModel {
   std::array<double, 6> site_angle{};   // radians from +x (mesial) toward +y (buccal)
   std::array<Vector3, 6> margin{};      // each site on the margin, in the sulcus' middle
   std::array<Vector3, 6> floor{};       // the pocket floor below it
+  // Per segment around the tooth (angle 2 pi k / segments): margin and floor
+  // heights and the sulcus wall's distance from the axis.
+  std::vector<double> margin_z, floor_z, wall_r;
+  /// The floor height at angle th (radians from +x), nearest segment.
+  double FloorAt(double th) const;
 };
 
 /// Site angles in the tooth frame, in charting order (MB, B, DB, ML, L, DL).

@@ -113,7 +113,11 @@ Trajectory MakeScript(const std::string& name, const ScriptTarget& target, doubl
       k.p_W = p + h * n;
       k.q_W = Quaternion(Eigen::AngleAxisd(angle, tilt_axis)) * q0;
     } else if (name == "insert") {
-      const double a = 3.0 - (3.0 + target.insert_depth_mm) * Bump(t / 4);
+      // Down in 1.5 s, a second at the bottom, up in 1.5 s; every 4 s.
+      const double phase = std::fmod(t, 4.0), span = 3.0 + target.insert_depth_mm;
+      const double a = phase < 1.5   ? 3.0 - span * Approach(phase, 1.5)
+                       : phase < 2.5 ? -target.insert_depth_mm
+                                     : -target.insert_depth_mm + span * Approach(phase - 2.5, 1.5);
       k.p_W = p + target.insert_offset_mm * n + a * axis;
     } else {  // random
       const double approach = Approach(t, 0.5);

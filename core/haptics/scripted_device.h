@@ -44,6 +44,7 @@ struct ScriptTarget {
   Vector3 tool_axis_W = Vector3::Zero();  // the working end's direction if not axis_W (a tilt)
   double insert_depth_mm = 4.0;      // how far below the target `insert` goes
   double insert_offset_mm = 0.3;     // how far off the target, along n, `insert` moves
+  int object = -1;                   // the scene object the target is on, when known
 };
 
 /// The names the CLI offers.
@@ -54,8 +55,9 @@ const std::vector<std::string>& ScriptNames();
 ///  poke   presses along -n, 1.5 mm into the surface and back, once a second;
 ///  slide  presses 0.5 mm in and slides +-5 mm along the surface;
 ///  arc    presses 0.5 mm in and tilts the tool +-30 degrees about the tip;
-///  insert moves the tip down along `axis_W` from 3 mm above the target to 4 mm
-///         below it, 0.3 mm off the surface (into a sulcus), and back;
+///  insert moves the tip down along `axis_W` from 3 mm above the target to
+///         insert_depth_mm below it in 1.5 s, stays there a second and comes back
+///         up in 1.5 s (every 4 s), insert_offset_mm off the target along n;
 ///  random smooth seeded motion within 3 mm of the target that keeps touching.
 /// Throws std::invalid_argument for an unknown name (listing the known ones).
 Trajectory MakeScript(const std::string& name, const ScriptTarget& target, double duration_s,

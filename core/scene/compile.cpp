@@ -105,6 +105,54 @@ void WriteCachedMesh(const TriangleMesh& m, const std::filesystem::path& file) {
   std::filesystem::rename(tmp, file, ec);
 }
 
+Vector3 Unmirror(const ObjectSpec& o, const Vector3& p) { return o.mirrored ? Vector3(-p.x(), p.y(), p.z()) : p; }
+
+// What the scene's effects need: damage limits, probing sites, soft objects.
+void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<CollisionWorld::Object>& soft_objects) {
+  EffectsModel& m = scene->effects;
+  const auto& objs = scene->spec.objects;
+  for (Effect e : scene->spec.effects) m.names.push_back(ToString(e));
+  auto on = [&](Effect e) {
+    return std::find(scene->spec.effects.begin(), scene->spec.effects.end(), e) != scene->spec.effects.end();
+  };
+  for (const ObjectSpec& o : objs) m.damage_limit_n.push_back(o.material.damage_limit_n);
+  m.soft_first = soft_first;
+  const bool sites = scene->spec.gingiva && (on(Effect::kProbingDepth) || on(Effect::kBleedingOnProbing));
+  for (int i = 0; i < static_cast<int>(objs.size()); ++i) {
+    const ObjectSpec& o = objs[i];
+    if (o.kind != ObjectSpec::Kind::kGingiva) continue;
+    const bool soft = i >= soft_first;
+    if (!sites && !soft) continue;
+    const GingivaModel g = GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o));
+    int tooth = -1;
+    for (int t = 0; t < static_cast<int>(objs.size()); ++t)
+      if (objs[t].kind == ObjectSpec::Kind::kTooth && objs[t].fdi == o.fdi) tooth = t;
+    if (sites) {
+      for (int s = 0; s < 6; ++s) {
+        ProbingSite site;
+        site.tooth = tooth;
+        site.site = s;
+        site.margin_W = o.X_WO * Unmirror(o, g.margin[s]);
+        site.floor_W = o.X_WO * Unmirror(o, g.floor[s]);
+        site.pocket_mm = o.pocket_mm[s];
+        site.bleeding = o.bleeding[s];
+        m.sites.push_back(site);
+      }
+    }
+    if (soft) {
+      // Leaves near or below the pocket floor are firm (the attachment), the rest soft.
+      const SphereTree& t = scene->trees[i];
+      std::vector<float> k(t.size(), static_cast<float>(kGingivaWallStiffness));
+      for (std::size_t n = 0; n < t.size(); ++n) {
+        const Vector3 c = Unmirror(o, t.center(n));
+        if (c.z() + 0.5 * t.r[n] <= g.FloorAt(std::atan2(c.y(), c.x())) + 0.25) k[n] = static_cast<float>(kPocketFloorStiffness);
+      }
+      m.soft_leaf_stiffness.push_back(std::move(k));
+    }
+  }
+  if (!soft_objects.empty()) m.soft_world = std::make_unique<CollisionWorld>(scene->tool_tree, soft_objects);
+}
+
 }  // namespace
 
 TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::path& cache_dir) {
@@ -138,13 +186,20 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
                                             const BuildProgress& progress) {
   auto scene = std::make_unique<CompiledScene>();
   scene->spec = spec;
+  const bool compliance = std::find(spec.effects.begin(), spec.effects.end(), Effect::kGingivaCompliance) !=
+                          spec.effects.end();
+  // Soft objects (gingiva, under gingiva_compliance) go last: the engine's hard
+  // world is the objects before them, with the same indices as the scene's.
+  auto soft = [&](const ObjectSpec& o) { return compliance && o.tissue == Tissue::kGingiva; };
+  std::stable_partition(scene->spec.objects.begin(), scene->spec.objects.end(),
+                        [&](const ObjectSpec& o) { return !soft(o); });
   const int n = static_cast<int>(spec.objects.size());
   auto report = [&](int i, std::string_view stage, double f) {
     if (progress && !progress(stage, (i + f) / (n + 1))) throw BuildCancelled();
   };
   for (int i = 0; i < n; ++i) {
-    scene->meshes.push_back(MakeObjectMeshCached(spec.objects[i], cache_dir));
-    report(i, spec.objects[i].name, 0.1);
+    scene->meshes.push_back(MakeObjectMeshCached(scene->spec.objects[i], cache_dir));
+    report(i, scene->spec.objects[i].name, 0.1);
   }
   // Trees: one worker per core, objects handed out in order; progress from the
   // workers is serialised, and a cancel or an error stops them all.
@@ -167,7 +222,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
       };
       try {
         scene->trees[i] = LoadOrBuildSphereTree(scene->meshes[i], spec.trees, cache_dir, inner);
-        inner(spec.objects[i].name, 1.0);
+        inner(scene->spec.objects[i].name, 1.0);
       } catch (...) {
         std::lock_guard lock(progress_mutex);
         if (!failure) failure = std::current_exception();
@@ -187,9 +242,13 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
                                            [&](std::string_view stage, double f) {
                                              return !progress || progress(stage, (n + f) / (n + 1));
                                            });
-  std::vector<CollisionWorld::Object> objects;
-  for (int i = 0; i < n; ++i) objects.push_back({&scene->trees[i], spec.objects[i].X_WO});
-  scene->model = std::make_unique<EngineModel>(scene->tool_tree, objects, spec.haptics);
+  const auto& objs = scene->spec.objects;
+  int soft_first = n;
+  while (soft_first > 0 && soft(objs[soft_first - 1])) --soft_first;
+  std::vector<CollisionWorld::Object> hard, soft_objects;
+  for (int i = 0; i < n; ++i) (i < soft_first ? hard : soft_objects).push_back({&scene->trees[i], objs[i].X_WO});
+  scene->model = std::make_unique<EngineModel>(scene->tool_tree, hard, spec.haptics);
+  BuildEffectsModel(scene.get(), soft_first, soft_objects);
   return scene;
 }
 
@@ -220,17 +279,42 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
   const Matrix3& R = o.X_WO.rotation();
   ScriptTarget t;
   const Vector3 mirror = o.mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1);
+  t.object = object;
   if (o.kind == ObjectSpec::Kind::kTooth && script == "insert" && scene.spec.gingiva) {
-    // Into the sulcus at the buccal site, down to just past the pocket floor
-    // (0.22 mm: the clinical probing force with k_t = 1 N/mm).
+    // Into the sulcus at the buccal site, down to just past the pocket floor, to
+    // press it with the clinical probing force (0.20 to 0.25 N).
     const GingivaModel g = GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o));
     t.p_W = o.X_WO * g.margin[1].cwiseProduct(mirror);
     t.n_W = R * Vector3::UnitY();
     t.axis_W = R * Vector3::UnitZ();
     t.along_W = R * Vector3::UnitX();
-    t.tool_axis_W = R * Vector3(0, 0.3, 1).normalized();  // tilted buccally to clear the crown's bulge
-    t.insert_depth_mm = o.pocket_mm[1] + 0.22 / scene.spec.haptics.k_t;
+    t.tool_axis_W = R * Vector3(0, 0.15, 1).normalized();  // tilted buccally, as a clinician does
     t.insert_offset_mm = 0;
+    // How deep to go: press the probe down this path, tick by tick through the
+    // engine and the scene's effects, until it feels the clinical probing force
+    // (0.22 N): the depth where the sphere-trees' floor pushes back that hard.
+    t.insert_depth_mm = o.pocket_mm[1] + 0.22 / scene.spec.haptics.k_t;
+    {
+      const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), t.tool_axis_W.normalized());
+      std::vector<Keyframe> keys;
+      const double step = 0.005, from = -2.0, to = o.pocket_mm[1] + 2.0;
+      for (int i = 0; from + i * step <= to; ++i)
+        keys.push_back({i * 0.001, t.p_W - (from + i * step) * t.axis_W, q, 0});
+      ScriptedDevice press(Trajectory(std::move(keys)), "press");
+      const auto effects = MakeEffects(scene.effects);
+      const auto list = EffectPointers(effects);
+      LoopOptions lo;
+      lo.safety.ramp_s = 0;
+      HapticLoop loop(*scene.model, &press, lo, list);
+      for (int i = 0; from + i * step <= to; ++i) {
+        loop.Tick(false);
+        const double depth = from + i * step;  // a touch above the floor's last millimetre is not the floor
+        if (depth >= o.pocket_mm[1] - 1.0 && loop.last_record().force_W.norm() >= 0.22) {
+          t.insert_depth_mm = depth;
+          break;
+        }
+      }
+    }
   } else if (o.kind == ObjectSpec::Kind::kTooth) {
     // Tooth frame: +z occlusal, +y buccal, +x mesial.
     Vector3 best = Vector3::Zero();

@@ -13,6 +13,7 @@
 
 #include "core/geometry/mesh.h"
 #include "core/geometry/transform.h"
+#include "core/haptics/effects.h"
 #include "core/haptics/engine.h"
 #include "core/haptics/scripted_device.h"
 #include "core/spheretree/builder.h"
@@ -117,8 +118,12 @@ struct CompiledScene {
   std::vector<SphereTree> trees;          // per object
   TriangleMesh tool_mesh;  // the probe's collision part (anatomy/probe.h), tip frame
   SphereTree tool_tree;
-  std::unique_ptr<EngineModel> model;
+  std::unique_ptr<EngineModel> model;  // the hard objects: spec.objects[0 .. effects.soft_first)
+  EffectsModel effects;                // what the scene's effects need (soft objects last)
 };
+
+/// Stiffness of soft gingiva and of the pocket floor under gingiva_compliance (N/mm).
+inline constexpr double kGingivaWallStiffness = 0.05, kPocketFloorStiffness = 2.0;
 
 /// Builds meshes and sphere-trees (through the cache in `cache_dir`) and the
 /// engine model. Progress is reported per object.

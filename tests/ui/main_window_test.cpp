@@ -11,6 +11,7 @@
 #include <QSurfaceFormat>
 #include <QVTKOpenGLNativeWidget.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -42,18 +43,49 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
   ASSERT_NE(w.scene(), nullptr);
   RunFor(300);
   ASSERT_TRUE(w.SaveScreenshot(Out("start_view.png")));
-  const RigidTransform start = w.last_snapshot().X_WG;
-  // The poke presses on the crown about one second in.
-  RunFor(1200);
+  const Vector3 start = w.last_snapshot().X_WH.translation();
+  // The poke presses on the crown once a second: the tool travels 4.5 mm.
+  double travel = 0;
+  QElapsedTimer t;
+  t.start();
+  while (t.elapsed() < 1200) {
+    QApplication::processEvents(QEventLoop::AllEvents, 5);
+    travel = std::max(travel, (w.last_snapshot().X_WH.translation() - start).norm());
+  }
   const HapticSnapshot& s = w.last_snapshot();
   EXPECT_TRUE(w.running());
-  EXPECT_GT((s.X_WH.translation() - start.translation()).norm(), 0.5) << "the device tool moved";
+  EXPECT_GT(travel, 2.0) << "the device tool moved";
   EXPECT_GT(s.tick, 1000u);
   EXPECT_DOUBLE_EQ(w.gauge_force(), s.force_W.norm()) << "the gauge shows the engine's force";
   EXPECT_TRUE(w.status_text().contains("Haptic rate 1000 Hz")) << w.status_text().toStdString();
   EXPECT_TRUE(w.LookAtTooth(44));
   EXPECT_FALSE(w.LookAtTooth(11));
   ASSERT_TRUE(w.SaveScreenshot(Out("probe_on_tooth.png")));
+
+  // The probe in the buccal sulcus of 46: the scripted insert rests at the pocket
+  // floor from 1.5 s to 2.5 s of loop time, with the clinical probing force.
+  w.SetDevice("scripted:insert");
+  EXPECT_TRUE(w.LookAtTooth(46));
+  w.SetGingivaTranslucent(true);  // to see the probe in the sulcus
+  // Wait for the dwell at the floor (1.5 to 2.5 s of every 4 s) with the output
+  // fully ramped in (a late tick on a loaded machine restarts the 0.5 s ramp).
+  auto at_floor = [&] {
+    const HapticSnapshot& s = w.last_snapshot();
+    const double phase = std::fmod(s.time_s, 4.0);
+    return phase > 2.0 && phase < 2.4 && s.output_scale == 1.0;
+  };
+  QElapsedTimer waited;
+  waited.start();
+  while (!at_floor() && waited.elapsed() < 30000) QApplication::processEvents(QEventLoop::AllEvents, 5);
+  ASSERT_TRUE(at_floor()) << "t = " << w.last_snapshot().time_s;
+  EXPECT_GE(w.gauge_force(), 0.20) << "inside the clinical probing band";
+  EXPECT_LE(w.gauge_force(), 0.25) << "inside the clinical probing band";
+  EXPECT_NEAR(w.gauge_force(), w.last_snapshot().force_W.norm(), 1e-12);
+  ASSERT_TRUE(w.SaveScreenshot(Out("probe_in_sulcus.png")));
+  RunFor(1500);  // out again: the reading
+  ASSERT_TRUE(w.last_reading().startsWith("reading ")) << w.last_reading().toStdString();
+  EXPECT_NEAR(w.last_reading().section(' ', 1, 1).toDouble(), 4.0, 0.3) << "the scene's 4 mm pocket at 46 B";
+  EXPECT_TRUE(w.last_reading().endsWith("tooth 46 B")) << w.last_reading().toStdString();
 
   w.ShowSpheres(3);
   EXPECT_EQ(w.view()->spheres_shown(), 3);

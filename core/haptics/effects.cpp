@@ -1,0 +1,173 @@
+#include "core/haptics/effects.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace sulcus {
+namespace {
+
+HapticEvent EffectEventOf(EffectEvent kind, int object, double value, double value2 = 0) {
+  HapticEvent e;
+  e.kind = EventKind::kEffect;
+  e.detail = static_cast<std::uint8_t>(kind);
+  e.object = object;
+  e.value = value;
+  e.value2 = value2;
+  return e;
+}
+
+// Soft tissue as springs: the graphic tool's leaf spheres pressing into soft
+// leaves push back along the pair's normal with the leaf's stiffness; the
+// deepest pair sets the magnitude, the penetration-weighted normals the direction.
+class GingivaCompliance final : public LoopEffect {
+ public:
+  explicit GingivaCompliance(const EffectsModel& m)
+      : m_(m), pairs_(kCapacity), scratch_(std::make_unique<CollisionScratch>()) {}
+  const char* name() const override { return "gingiva_compliance"; }
+  void Apply(const EngineModel& model, const EngineData& data, Vector3* force_W, Vector3* torque_W,
+             HapticLoop* loop) noexcept override {
+    (void)model;
+    (void)torque_W;
+    const CollisionWorld& w = *m_.soft_world;
+    const CollisionStats cs = FindContacts(w, data.X_WG, 0.0, scratch_.get(), pairs_.data(), kCapacity);
+    Vector3 dir = Vector3::Zero();
+    double force = 0;
+    int object = -1;
+    const SphereTree& tool = w.tool();
+    for (int i = 0; i < cs.pairs; ++i) {
+      const ContactPair& c = pairs_[i];
+      const double depth = -c.gap;
+      if (depth <= 0) continue;
+      const Vector3 cT = data.X_WG * tool.center(c.tool_leaf);
+      const Vector3 n = (cT - w.ObjectCenter(c.object, c.object_leaf)).normalized();
+      const double k = m_.soft_leaf_stiffness[c.object][c.object_leaf];
+      dir += depth * k * n;
+      if (k * depth > force) {
+        force = k * depth;
+        object = m_.soft_first + c.object;
+      }
+    }
+    if (force > 0 && dir.squaredNorm() > 0) *force_W += force * dir.normalized();
+    if ((object >= 0) != touching_) {
+      touching_ = object >= 0;
+      if (touching_) loop->Emit(EffectEventOf(EffectEvent::kSoftContact, object, force));
+    }
+  }
+  void Reset() noexcept override { touching_ = false; }
+
+ private:
+  static constexpr int kCapacity = 1024;
+  const EffectsModel& m_;
+  std::vector<ContactPair> pairs_;
+  std::unique_ptr<CollisionScratch> scratch_;
+  bool touching_ = false;
+};
+
+// The nearest site whose sulcus holds the tip; a reading per insertion.
+class ProbingDepth final : public LoopEffect {
+ public:
+  explicit ProbingDepth(const EffectsModel& m, bool readings, bool bleeding)
+      : m_(m), readings_(readings), bleeding_(bleeding) {}
+  const char* name() const override {
+    return readings_ && bleeding_ ? "probing_depth, bleeding_on_probing" : readings_ ? "probing_depth" : "bleeding_on_probing";
+  }
+  void Apply(const EngineModel&, const EngineData& data, Vector3*, Vector3*, HapticLoop* loop) noexcept override {
+    const Vector3 tip = data.X_WG.translation();
+    int found = -1;
+    double depth = 0;
+    for (std::size_t i = 0; i < m_.sites.size(); ++i) {
+      const ProbingSite& s = m_.sites[i];
+      const Vector3 down = s.floor_W - s.margin_W;
+      const double len = down.norm();
+      if (len <= 0) continue;
+      const Vector3 u = down / len;
+      const double along = (tip - s.margin_W).dot(u);
+      if (along < -0.5 || along > len + 0.5) continue;
+      if ((tip - s.margin_W - along * u).norm() > kRadius) continue;
+      found = static_cast<int>(i);
+      depth = along;
+      break;
+    }
+    if (found != site_) {
+      Finish(loop);
+      site_ = found;
+      deepest_ = depth;
+      bled_ = false;
+    }
+    if (site_ < 0) return;
+    deepest_ = std::max(deepest_, depth);
+    const ProbingSite& s = m_.sites[site_];
+    if (bleeding_ && s.bleeding && !bled_ && depth >= s.pocket_mm - 0.5) {
+      bled_ = true;
+      loop->Emit(EffectEventOf(EffectEvent::kBleeding, s.tooth, depth, s.site));
+    }
+  }
+  void Reset() noexcept override { site_ = -1; }
+
+ private:
+  void Finish(HapticLoop* loop) noexcept {
+    if (!readings_ || site_ < 0 || deepest_ < 0.5) return;  // a reading needs the tip in the sulcus
+    const ProbingSite& s = m_.sites[site_];
+    loop->Emit(EffectEventOf(EffectEvent::kProbeReading, s.tooth, deepest_, s.site));
+  }
+  static constexpr double kRadius = 1.2;  // mm from the site's line
+  const EffectsModel& m_;
+  bool readings_, bleeding_;
+  int site_ = -1;
+  double deepest_ = 0;
+  bool bled_ = false;
+};
+
+// The force on each object in contact above its damage limit (once per episode).
+class TissueDamage final : public LoopEffect {
+ public:
+  explicit TissueDamage(const EffectsModel& m) : m_(m), over_(m.damage_limit_n.size(), 0) {}
+  const char* name() const override { return "tissue_damage"; }
+  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
+    const double f = force_W->norm();
+    for (int i = 0; i < data.num_active_keys; ++i) {
+      const auto object = static_cast<std::size_t>(data.active_keys[i] >> 48);
+      if (object >= over_.size()) continue;
+      const bool over = f > m_.damage_limit_n[object];
+      if (over && !over_[object]) loop->Emit(EffectEventOf(EffectEvent::kTissueDamage, static_cast<int>(object), f));
+      over_[object] = over;
+    }
+  }
+  void Reset() noexcept override { std::fill(over_.begin(), over_.end(), 0); }
+
+ private:
+  const EffectsModel& m_;
+  std::vector<std::uint8_t> over_;
+};
+
+}  // namespace
+
+const std::vector<std::string>& ImplementedEffects() {
+  static const std::vector<std::string> names = {"contact", "gingiva_compliance", "probing_depth",
+                                                 "bleeding_on_probing", "tissue_damage"};
+  return names;
+}
+
+std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& m) {
+  auto on = [&](const char* n) { return std::find(m.names.begin(), m.names.end(), n) != m.names.end(); };
+  for (const std::string& n : m.names) {
+    const auto& known = ImplementedEffects();
+    if (std::find(known.begin(), known.end(), n) == known.end() && n != "friction" && n != "surface_texture")
+      throw std::invalid_argument("unknown effect '" + n + "'");
+  }
+  std::vector<std::unique_ptr<LoopEffect>> out;
+  if (on("gingiva_compliance") && m.soft_world) out.push_back(std::make_unique<GingivaCompliance>(m));
+  const bool depth = on("probing_depth"), bleeding = on("bleeding_on_probing");
+  if ((depth || bleeding) && !m.sites.empty()) out.push_back(std::make_unique<ProbingDepth>(m, depth, bleeding));
+  if (on("tissue_damage")) out.push_back(std::make_unique<TissueDamage>(m));
+  return out;
+}
+
+std::vector<LoopEffect*> EffectPointers(const std::vector<std::unique_ptr<LoopEffect>>& effects) {
+  std::vector<LoopEffect*> p;
+  for (const auto& e : effects) p.push_back(e.get());
+  return p;
+}
+
+}  // namespace sulcus

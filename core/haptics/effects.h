@@ -1,0 +1,63 @@
+#pragma once
+// Effects on demand (DESIGN.md): a scene lists the effects it needs, and the
+// loop's list holds exactly those, so an effect the scene does not name is not
+// in the loop at all (no call, no branch). Each effect reads the engine's data
+// after the step, may add to the output force, and emits events
+// (EventKind::kEffect, with `detail` an EffectEvent).
+//
+//   gingiva_compliance  soft tissue the probe displaces: its objects are not
+//                       constraints of the engine but springs (soft walls, a firm
+//                       pocket floor), so the probe can enter the sulcus.
+//   probing_depth       the tip's depth below the margin at the nearest site; a
+//                       reading (the deepest point of one insertion) when it leaves.
+//   bleeding_on_probing a bleeding site bleeds when probed to its floor.
+//   tissue_damage       the force on an object above its tissue's damage limit.
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/haptics/haptic_loop.h"
+
+namespace sulcus {
+
+enum class EffectEvent : std::uint8_t {
+  kProbeReading = 1,  // object: tooth; value: deepest depth (mm); value2: site (0..5, MB..DL)
+  kBleeding = 2,      // object: tooth; value2: site
+  kTissueDamage = 3,  // object: the object; value: the force (N)
+  kSoftContact = 4,   // object: the soft object first pressed; value: its force (N)
+};
+
+/// A probing site in the world: the sulcus' middle at the margin and at the floor.
+struct ProbingSite {
+  int tooth = -1;  // object index of the tooth
+  int site = 0;    // 0..5: MB, B, DB, ML, L, DL
+  Vector3 margin_W = Vector3::Zero(), floor_W = Vector3::Zero();
+  double pocket_mm = 0;
+  bool bleeding = false;
+};
+
+/// What the effects need from the scene, immutable after compile.
+struct EffectsModel {
+  std::vector<std::string> names;           // the effects on, as in the scene
+  std::vector<double> damage_limit_n;       // per object
+  std::vector<ProbingSite> sites;
+  // gingiva_compliance: the soft objects, their own collision world (object i of
+  // it is scene object soft_first + i), and per leaf node a stiffness (N/mm).
+  std::unique_ptr<CollisionWorld> soft_world;
+  int soft_first = 0;
+  std::vector<std::vector<float>> soft_leaf_stiffness;
+};
+
+/// The effects of `model.names`, in a fixed order, ready for HapticLoop. Throws
+/// std::invalid_argument for an unknown name.
+std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& model);
+
+/// Raw pointers for HapticLoop's span.
+std::vector<LoopEffect*> EffectPointers(const std::vector<std::unique_ptr<LoopEffect>>& effects);
+
+/// The names MakeEffects knows (a scene may also name ones still to come).
+const std::vector<std::string>& ImplementedEffects();
+
+}  // namespace sulcus
