@@ -17,7 +17,11 @@
 #include "app/cli/commands.h"
 #include "core/geometry/mesh_io.h"
 #include "core/geometry/primitives.h"
+#include "core/haptics/effects.h"
 #include "core/haptics/engine.h"
+#include "core/haptics/haptic_loop.h"
+#include "core/haptics/scripted_device.h"
+#include "core/scene/scene.h"
 #include "core/spheretree/cache.h"
 #include "core/spheretree/metrics.h"
 
@@ -112,6 +116,85 @@ void Plot(const fs::path& dir) {
   }
 }
 
+// Effects: the scene's scripted insert (two insertions, 8,000 ticks, offline)
+// with no effect, each effect alone and all together: what each costs per tick
+// and what it buys (readings, soft contacts, bleeding and damage events).
+void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
+  const SceneSpec base = LoadSceneSpec(scene_file);
+  struct Config {
+    std::string label;
+    std::vector<Effect> effects;
+  };
+  std::vector<Config> configs = {{"contact only", {Effect::kContact}}};
+  for (Effect e : base.effects)
+    if (e != Effect::kContact) configs.push_back({ToString(e), {Effect::kContact, e}});
+  configs.push_back({"all of the scene's", base.effects});
+  std::ofstream csv(dir / "effects.csv");
+  csv << "config,tick_mean_us,tick_p50_us,tick_p99_us,readings,reading_mm,max_force_n,soft_contacts,bleeding,damage\n";
+  std::printf("effects on %s: the scripted insert, 8000 ticks offline (median of 3 runs per tick)\n",
+              scene_file.c_str());
+  std::printf("  %-36s %8s %8s %8s  %8s %8s %9s %5s %5s %5s\n", "effects", "mean us", "p50 us", "p99 us", "readings",
+              "reading", "max F (N)", "soft", "bleed", "harm");
+  for (const Config& c : configs) {
+    SceneSpec spec = base;
+    spec.effects = c.effects;
+    const auto scene = CompileScene(spec, DefaultCacheDir());
+    const ScriptTarget target = FindScriptTarget(*scene, "insert");
+    std::vector<double> tick_us;
+    int readings = 0, soft = 0, bleeding = 0, damage = 0;
+    double reading = 0, max_force = 0;
+    for (int run = 0; run < 3; ++run) {
+      ScriptedDevice device(MakeScript("insert", target, 8.0));
+      const auto effects = MakeEffects(scene->effects);
+      const auto list = EffectPointers(effects);
+      HapticLoop loop(*scene->model, &device, {}, list);
+      std::vector<double> us;
+      us.reserve(8000);
+      for (int i = 0; i < 8000; ++i) {
+        const auto t0 = Clock::now();
+        loop.Tick(false);
+        us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+        if (run == 0) max_force = std::max(max_force, loop.last_record().force_W.norm());
+        HapticEvent e;
+        while (loop.PopEvent(&e)) {
+          if (run != 0 || e.kind != EventKind::kEffect) continue;
+          switch (static_cast<EffectEvent>(e.detail)) {
+            case EffectEvent::kProbeReading: ++readings; reading = e.value; break;
+            case EffectEvent::kSoftContact: ++soft; break;
+            case EffectEvent::kBleeding: ++bleeding; break;
+            case EffectEvent::kTissueDamage: ++damage; break;
+          }
+        }
+      }
+      if (tick_us.empty()) tick_us.assign(us.size(), 0);
+      for (std::size_t i = 0; i < us.size(); ++i) tick_us[i] += us[i] / 3;  // mean over runs, tick by tick
+    }
+    std::vector<double> sorted = tick_us;
+    std::sort(sorted.begin(), sorted.end());
+    double mean = 0;
+    for (double v : sorted) mean += v / sorted.size();
+    const double p50 = sorted[sorted.size() / 2], p99 = sorted[sorted.size() * 99 / 100];
+    std::printf("  %-36s %8.2f %8.2f %8.2f  %8d %8.2f %9.3f %5d %5d %5d\n", c.label.c_str(), mean, p50, p99, readings,
+                reading, max_force, soft, bleeding, damage);
+    csv << '"' << c.label << '"' << ',' << mean << ',' << p50 << ',' << p99 << ',' << readings << ',' << reading << ','
+        << max_force << ',' << soft << ',' << bleeding << ',' << damage << '\n';
+  }
+  csv.close();
+  const fs::path gp = dir / "effects.gp";
+  std::ofstream out(gp);
+  out << "set datafile separator ','\nset terminal pngcairo size 900,480 font 'Sans,11'\nset grid ytics\n"
+      << "set output '" << (dir / "effects.png").string() << "'\n"
+      << "set title 'Effects: what each costs per haptic tick (probing scene, scripted insert)'\n"
+      << "set style data histograms\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
+      << "set ylabel 'microseconds per tick'\nset xtics rotate by -20\nset key left top\n"
+      << "plot '" << (dir / "effects.csv").string() << "' skip 1 using 2:xtic(1) title 'mean',"
+      << " '' skip 1 using 3 title 'p50', '' skip 1 using 4 title 'p99'\n";
+  out.close();
+  std::printf("CSV: %s\n", (dir / "effects.csv").c_str());
+  if (std::system(("gnuplot '" + gp.string() + "'").c_str()) == 0)
+    std::printf("plot: %s\n", (dir / "effects.png").c_str());
+}
+
 }  // namespace
 
 void AddAccuracyCommands(CLI::App& app) {
@@ -124,7 +207,15 @@ void AddAccuracyCommands(CLI::App& app) {
   cmd->add_option("--mesh", *mesh_file,
                   "Object to probe (default: a tooth-sized ellipsoid, 8 x 7 x 20 mm)");
   cmd->add_option("-o,--output", *out_dir, "Folder for CSV files and plots")->capture_default_str();
+  auto effects_scene = std::make_shared<std::string>();
+  cmd->add_option("--effects", *effects_scene,
+                  "Instead: measure each effect of this scene (cost per tick, what it buys)");
   cmd->callback([=] {
+    if (!effects_scene->empty()) {
+      fs::create_directories(*out_dir);
+      RunEffectsStudy(*effects_scene, *out_dir);
+      return;
+    }
     TriangleMesh object;
     if (mesh_file->empty()) {
       object = MakeIcosphere(1.0, 4);

@@ -191,6 +191,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
                 std::set<std::string>* names) {
   ObjectSpec o;
   o.line = n.Mark().line + 1;
+  o.column = n.Mark().column + 1;
   if (!r.IsMap(n, "an object")) return;
   r.CheckKeys(n, {"name", "tooth", "mesh", "box", "sphere", "cylinder", "anatomy", "height_mm", "at", "turn_deg", "tissue",
                   "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding",
@@ -506,7 +507,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
         const double root = Dimensions(FdiTooth::Parse(t.fdi)).longest_root();
         for (int s = 0; s < 6; ++s) {
           if (g.pocket_mm[s] < root && g.pocket_mm[s] + g.recession_mm[s] > root - 1.0) {
-            r.Error(t.line, 1, "tooth " + std::to_string(t.fdi) + ": pocket plus recession at site " + kSiteCodes[s] +
+            r.Error(t.line, t.column, "tooth " + std::to_string(t.fdi) + ": pocket plus recession at site " + kSiteCodes[s] +
                                    " leaves less than 1 mm of attached root for the gingiva");
           }
         }

@@ -79,7 +79,7 @@ struct ObjectSpec {
   std::array<bool, 6> inflamed{};    // gingiva inflamed at the site
   // Caries by surface (mesial, distal, buccal, lingual, occlusal): lesion size in mm, 0 for none.
   std::array<double, 5> caries_mm{};
-  int line = 0;  // where the object is declared
+  int line = 0, column = 0;  // where the object is declared
 };
 
 struct SceneSpec {

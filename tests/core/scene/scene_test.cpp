@@ -178,3 +178,45 @@ TEST(SceneFile, CompilesIntoAnEngineModelThatRuns) {
 
 }  // namespace
 }  // namespace sulcus
+
+namespace sulcus {
+namespace {
+
+TEST(SceneFile, ArchGingivaAnatomyCariesAndInflammation) {
+  EXPECT_EQ(Errors("arch: maybe\nobjects:\n  - tooth: 46\n"), (Lines{"1:7: 'arch' must be true or false"}));
+  EXPECT_EQ(Errors("objects:\n  - anatomy: tounge\n"),
+            (Lines{"2:14: unknown anatomy 'tounge'; did you mean 'tongue'? (known: tongue, palate, cheek_left, "
+                   "cheek_right, jaw_lower, jaw_upper)"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 36\n    caries_mm: {ocllusal: 2}\n"),
+            (Lines{"3:17: unknown surface 'ocllusal'; did you mean 'occlusal'? (mesial, distal, buccal, lingual, "
+                   "occlusal)"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 36\n    inflamed: [MB, XL]\n"),
+            (Lines{"3:20: unknown site 'XL'; did you mean 'ML'?"}));
+  EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    caries_mm: {occlusal: 1}\n"),
+            (Lines{"4:16: 'caries_mm' is for teeth only"}));
+  EXPECT_EQ(Errors("gingiva: true\nobjects:\n  - tooth: 31\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
+                   "    recession_mm: [0, 10, 0, 0, 0, 0]\n"),
+            (Lines{"3:5: tooth 31: pocket plus recession at site B leaves less than 1 mm of attached root for the "
+                   "gingiva"}));
+
+  // Valid: teeth on the arch (lower left and upper right are mirrored), a collar per tooth
+  // carrying the tooth's truth, soft tissue with its own tissue type.
+  const fs::path p = Write("arch_ok.yaml",
+                           "arch: true\ngingiva: true\nobjects:\n  - tooth: 46\n    pockets_mm: [5, 4, 7, 5, 4, 6]\n"
+                           "    inflamed: [MB]\n    caries_mm: {occlusal: 2.5}\n  - tooth: 36\n  - anatomy: tongue\n");
+  const SceneSpec s = LoadSceneSpec(p);
+  ASSERT_EQ(s.objects.size(), 5u);
+  EXPECT_FALSE(s.objects[0].mirrored);
+  EXPECT_TRUE(s.objects[1].mirrored);
+  EXPECT_LT(s.objects[0].X_WO.translation().x(), -15) << "46 is on the patient's right (-x)";
+  EXPECT_EQ(s.objects[2].tissue, Tissue::kTongue);
+  EXPECT_EQ(s.objects[3].kind, ObjectSpec::Kind::kGingiva);
+  EXPECT_EQ(s.objects[3].name, "gingiva 46");
+  EXPECT_EQ(s.objects[3].pocket_mm[2], 7.0);
+  EXPECT_EQ(s.objects[4].pocket_mm[0], 2.0) << "a tooth without truth gets healthy 2 mm sulci";
+  EXPECT_TRUE(s.objects[0].inflamed[0]);
+  EXPECT_EQ(s.objects[0].caries_mm[4], 2.5);
+}
+
+}  // namespace
+}  // namespace sulcus
