@@ -36,4 +36,9 @@ done | tee "$out/qp_bench.txt"
 
 echo "== what accuracy costs"
 "$bin" accuracy-cost -o "$out/accuracy-cost" | tee "$out/accuracy_cost.txt"
+"$bin" accuracy-cost --effects scenes/periodontal_probing.yaml -o "$out/accuracy-cost" | tee -a "$out/accuracy_cost.txt"
+
+echo "== the haptic thread on the full mouth (1 kHz for 60 s, 10 kHz for 10 s)"
+"$bin" run --scene scenes/oral_inspection.yaml --device scripted:random --seconds 60 | tee "$out/oral_run.txt"
+"$bin" run --scene scenes/oral_inspection.yaml --device scripted:random --seconds 10 --rate 10000 | tee -a "$out/oral_run.txt"
 echo "report in $out"

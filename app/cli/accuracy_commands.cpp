@@ -131,7 +131,7 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
   configs.push_back({"all of the scene's", base.effects});
   std::ofstream csv(dir / "effects.csv");
   csv << "config,tick_mean_us,tick_p50_us,tick_p99_us,readings,reading_mm,max_force_n,soft_contacts,bleeding,damage\n";
-  std::printf("effects on %s: the scripted insert, 8000 ticks offline (median of 3 runs per tick)\n",
+  std::printf("effects on %s: the scripted insert, 8000 ticks offline (each tick timed 3 times, averaged)\n",
               scene_file.c_str());
   std::printf("  %-36s %8s %8s %8s  %8s %8s %9s %5s %5s %5s\n", "effects", "mean us", "p50 us", "p99 us", "readings",
               "reading", "max F (N)", "soft", "bleed", "harm");
@@ -187,6 +187,7 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
       << "set title 'Effects: what each costs per haptic tick (probing scene, scripted insert)'\n"
       << "set style data histograms\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
       << "set ylabel 'microseconds per tick'\nset xtics rotate by -20\nset key left top\n"
+      << "set termoption noenhanced\nset yrange [0:*]\n"
       << "plot '" << (dir / "effects.csv").string() << "' skip 1 using 2:xtic(1) title 'mean',"
       << " '' skip 1 using 3 title 'p50', '' skip 1 using 4 title 'p99'\n";
   out.close();

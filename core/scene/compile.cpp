@@ -53,7 +53,7 @@ std::string GeneratorKey(const ObjectSpec& o) {
       k << "gingiva|" << o.fdi << '|' << o.mirrored;
       for (int i = 0; i < 6; ++i) k << '|' << o.pocket_mm[i] << '|' << o.recession_mm[i];
       break;
-    case ObjectSpec::Kind::kAnatomy: k << "anatomy|" << o.anatomy; break;
+    case ObjectSpec::Kind::kAnatomy: k << "anatomy|" << o.anatomy << '|' << o.mouth_open_mm; break;
     default: return {};
   }
   return k.str();
@@ -171,7 +171,7 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
   switch (o.kind) {
     case ObjectSpec::Kind::kTooth: return Mirrored(GenerateTooth(o.fdi).mesh, o.mirrored);
     case ObjectSpec::Kind::kGingiva: return Mirrored(GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o)).mesh, o.mirrored);
-    case ObjectSpec::Kind::kAnatomy: return MakeSoftTissue(o.anatomy);
+    case ObjectSpec::Kind::kAnatomy: return MakeSoftTissue(o.anatomy, ArchParams{.upper_lift_mm = o.mouth_open_mm});
     case ObjectSpec::Kind::kMesh: return LoadMesh(o.mesh);
     case ObjectSpec::Kind::kBox:
       return MakeBox(o.size, std::max(1, static_cast<int>(std::ceil(o.size.maxCoeff() / 2))));
@@ -266,7 +266,9 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
     double deepest = -1;
     for (std::size_t i = 0; i < objects.size(); ++i) {
       if (objects[i].kind != ObjectSpec::Kind::kTooth) continue;
-      const double depth = script == "insert" && scene.spec.gingiva ? objects[i].pocket_mm[1] : 0.0;
+      // Lower teeth first (their crowns face up, the instrument comes from above).
+      const bool lower = objects[i].fdi / 10 >= 3;
+      const double depth = (script == "insert" && scene.spec.gingiva ? objects[i].pocket_mm[1] : 0.0) + (lower ? 100 : 0);
       if (depth > deepest) {
         deepest = depth;
         object = static_cast<int>(i);

@@ -192,6 +192,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   ObjectSpec o;
   o.line = n.Mark().line + 1;
   o.column = n.Mark().column + 1;
+  o.mouth_open_mm = spec->mouth_open_mm;
   if (!r.IsMap(n, "an object")) return;
   r.CheckKeys(n, {"name", "tooth", "mesh", "box", "sphere", "cylinder", "anatomy", "height_mm", "at", "turn_deg", "tissue",
                   "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding",
@@ -269,7 +270,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (kind == "tooth" && spec->arch && !n["at"] && !n["turn_deg"] && o.fdi > 0) {
     try {
       const FdiTooth t = FdiTooth::Parse(o.fdi);
-      for (const PlacedTooth& p : PlaceArch(t.upper(), ArchParams{.third_molars = t.position == 8})) {
+      for (const PlacedTooth& p : PlaceArch(t.upper(), ArchParams{.upper_lift_mm = spec->mouth_open_mm, .third_molars = t.position == 8})) {
         if (p.tooth.fdi == o.fdi) {
           o.X_WO = p.X_WT;
           o.mirrored = p.mirrored;
@@ -422,8 +423,10 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     r.Error(root, "a scene is a map with at least 'objects:'");
     throw SceneLoadError(r.errors());
   }
-  r.CheckKeys(root, {"name", "description", "tool", "haptics", "effects", "spheretree", "arch", "gingiva", "objects"},
+  r.CheckKeys(root, {"name", "description", "tool", "haptics", "effects", "spheretree", "arch", "gingiva", "mouth_open_mm",
+                     "objects"},
               "the scene");
+  if (root["mouth_open_mm"]) spec.mouth_open_mm = r.Number(root["mouth_open_mm"], "mouth_open_mm", 0, 50, 0, "mm");
   for (const char* key : {"arch", "gingiva"}) {
     if (const YAML::Node b = root[key]) {
       bool v = false;

@@ -65,6 +65,7 @@ struct ObjectSpec {
   int fdi = 0;                       // kTooth, kGingiva (the tooth it surrounds)
   bool mirrored = false;             // kTooth, kGingiva placed on the arch (arch.h)
   std::string anatomy;               // kAnatomy: tongue, palate, cheek_left, ... (soft_tissue.h)
+  double mouth_open_mm = 0;          // the scene's: upper teeth and tissues raised by this
   std::filesystem::path mesh;        // kMesh, resolved against the scene's folder
   Vector3 size = Vector3::Zero();    // kBox, mm
   double radius_mm = 0, height_mm = 0;  // kSphere, kCylinder
@@ -93,6 +94,7 @@ struct SceneSpec {
   SphereTreeParams trees;
   bool arch = false;     // teeth without `at` stand on the dental arches
   bool gingiva = false;  // a gingival collar around every tooth, with its sites' truth
+  double mouth_open_mm = 0;  // raises the upper arch (and palate) so instruments fit between the arches
   std::vector<ObjectSpec> objects;
 };
 
