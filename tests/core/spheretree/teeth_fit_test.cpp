@@ -7,7 +7,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <string>
 
+#include "core/anatomy/gingiva.h"
+#include "core/anatomy/probe.h"
+#include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
 #include "core/spheretree/builder.h"
 #include "core/spheretree/metrics.h"
@@ -37,6 +41,41 @@ TEST_P(ToothTree, CoversTheToothAndNests) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Fdi, ToothTree, ::testing::Values(11, 12, 13, 14, 15, 16, 17, 31, 33, 34, 36, 37));
+
+// The other shipped anatomy: the probes' collision parts, a gingival collar and
+// the soft tissues. Same guarantees, figures reported.
+class AnatomyTree : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(AnatomyTree, CoversAndNests) {
+  const std::string name = GetParam();
+  TriangleMesh mesh;
+  if (name.rfind("probe_", 0) == 0) {
+    mesh = MakeProbe(name.substr(6)).collision_mesh;
+  } else if (name == "gingiva_46") {
+    GingivaParams p;
+    p.pocket_mm = {5, 4, 7, 5, 4, 6};
+    mesh = GenerateGingiva(GenerateTooth(46), p).mesh;
+  } else {
+    mesh = MakeSoftTissue(name);
+  }
+  SphereTreeBuildStats stats;
+  const SphereTree tree = BuildSphereTree(mesh, SphereTreeParams{}, {}, &stats);
+  const TreeMetrics m = EvaluateSphereTree(mesh, tree);
+  const LevelMetrics& l = m.leaves();
+  const double worst = 100 * l.protrusion_max_mm / m.largest_extent_mm;
+  const double mean = 100 * l.protrusion_mean_mm / m.largest_extent_mm;
+  std::printf("%s: %zu faces, %zu leaves, build %.2f s, protrusion worst %.3f %% (%.3f mm) mean %.3f %%, coverage %.4f %%\n",
+              name.c_str(), mesh.num_faces(), l.spheres, stats.seconds_total, worst, l.protrusion_max_mm, mean,
+              100 * l.coverage);
+  RecordProperty("worst_protrusion_pct", std::to_string(worst));
+  RecordProperty("mean_protrusion_pct", std::to_string(mean));
+  EXPECT_EQ(l.uncovered_samples, 0u);
+  for (const LevelMetrics& level : m.levels) EXPECT_EQ(level.children_inside, 1.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shipped, AnatomyTree,
+                         ::testing::Values("probe_williams", "probe_unc15", "probe_who", "gingiva_46", "tongue",
+                                           "palate", "cheek_left", "jaw_lower"));
 
 }  // namespace
 }  // namespace sulcus
