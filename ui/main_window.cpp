@@ -22,12 +22,18 @@
 #include <QStatusBar>
 #include <QTimer>
 #include <QVBoxLayout>
+#include <QMouseEvent>
+#include <QStandardItemModel>
 #include <QVTKOpenGLNativeWidget.h>
+#include <QWheelEvent>
+#include <vtkCamera.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkRenderer.h>
 
 #include <chrono>
+#include <cmath>
 
+#include "core/haptics/devices/usb_discovery.h"
 #include "core/haptics/scripted_device.h"
 #include "core/spheretree/cache.h"
 #include "ui/force_gauge.h"
@@ -81,6 +87,12 @@ void MainWindow::BuildUi() {
   device_box_ = new QComboBox;
   device_box_->addItem("mouse");
   for (const std::string& n : ScriptNames()) device_box_->addItem(Q("scripted:" + n));
+  // Hardware that is plugged in, with what it needs (no hardware backend is built here).
+  for (const UsbDeviceInfo& d : ScanUsb().known) {
+    device_box_->addItem(Q(d.name + " (needs: " + d.backend + ")"));
+    if (auto* model = qobject_cast<QStandardItemModel*>(device_box_->model()))
+      model->item(device_box_->count() - 1)->setEnabled(false);
+  }
   form->addRow("Device", device_box_);
   connect(device_box_, &QComboBox::textActivated, this, [this](const QString& d) { SetDevice(d.toStdString()); });
   sphere_level_ = new QSpinBox;
@@ -132,7 +144,10 @@ void MainWindow::BuildUi() {
   layout->addWidget(new QLabel("Events"));
   events_ = new QListWidget;
   layout->addWidget(events_, 1);
-  layout->addWidget(new QLabel("Mouse device: W/S, A/D, Q/E move the tool; with Shift they turn it."));
+  auto* help = new QLabel("Mouse device: Ctrl+drag moves the tool, Ctrl+Shift+drag turns it, Ctrl+wheel pushes it; "
+                          "keys W/S, A/D, Q/E move it (with Shift: turn). Drag without Ctrl moves the camera.");
+  help->setWordWrap(true);
+  layout->addWidget(help);
   auto* dock = new QDockWidget("Instrument", this);
   dock->setObjectName("instrument");
   dock->setWidget(panel);
@@ -448,6 +463,8 @@ void MainWindow::ShowSpheres(int level) {
   }
 }
 
+QWidget* MainWindow::view_widget() const { return vtk_widget_; }
+
 void MainWindow::SetGingivaTranslucent(bool on) { translucent_->setChecked(on); }
 
 bool MainWindow::LookAtTooth(int fdi) {
@@ -486,6 +503,50 @@ void MainWindow::keyPressEvent(QKeyEvent* e) {
 }
 
 bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
+  // Ctrl + drag moves the tool in the view plane, Ctrl + Shift + drag turns it,
+  // Ctrl + wheel moves it along the view; without Ctrl the camera moves.
+  if (watched == vtk_widget_ && mouse_ &&
+      (e->type() == QEvent::MouseButtonPress || e->type() == QEvent::MouseMove ||
+       e->type() == QEvent::MouseButtonRelease || e->type() == QEvent::Wheel)) {
+    vtkCamera* cam = renderer_->GetActiveCamera();
+    double pos[3], focal[3], up[3];
+    cam->GetPosition(pos);
+    cam->GetFocalPoint(focal);
+    cam->GetViewUp(up);
+    const Vector3 eye(pos[0], pos[1], pos[2]), at(focal[0], focal[1], focal[2]);
+    const Vector3 view = (at - eye).normalized();
+    const Vector3 v_up = (Vector3(up[0], up[1], up[2]) - Vector3(up[0], up[1], up[2]).dot(view) * view).normalized();
+    const Vector3 right = view.cross(v_up);
+    // Millimetres per pixel at the tool's distance from the camera.
+    const double depth = std::max(1.0, (mouse_->pose().translation() - eye).dot(view));
+    const double mm_per_px = 2 * depth * std::tan(cam->GetViewAngle() * 0.5 * M_PI / 180) / std::max(1, vtk_widget_->height());
+    if (e->type() == QEvent::Wheel) {
+      auto* w = static_cast<QWheelEvent*>(e);
+      if (!(w->modifiers() & Qt::ControlModifier)) return QMainWindow::eventFilter(watched, e);
+      mouse_->Nudge(-0.5 * (w->angleDelta().y() / 120.0) * view, Vector3::Zero());
+      return true;
+    }
+    auto* m = static_cast<QMouseEvent*>(e);
+    if (e->type() == QEvent::MouseButtonPress && (m->modifiers() & Qt::ControlModifier)) {
+      dragging_ = true;
+      drag_from_ = m->pos();
+      return true;
+    }
+    if (e->type() == QEvent::MouseButtonRelease && dragging_) {
+      dragging_ = false;
+      return true;
+    }
+    if (e->type() == QEvent::MouseMove && dragging_) {
+      const QPoint d = m->pos() - drag_from_;
+      drag_from_ = m->pos();
+      if (m->modifiers() & Qt::ShiftModifier) {
+        mouse_->Nudge(Vector3::Zero(), 0.01 * (d.x() * v_up + d.y() * right));
+      } else {
+        mouse_->Nudge(mm_per_px * (d.x() * right - d.y() * v_up), Vector3::Zero());
+      }
+      return true;
+    }
+  }
   if (watched == vtk_widget_ && e->type() == QEvent::KeyPress && mouse_) {
     auto* k = static_cast<QKeyEvent*>(e);
     switch (k->key()) {

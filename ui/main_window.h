@@ -14,6 +14,7 @@
 #include <thread>
 
 #include <QMainWindow>
+#include <QPoint>
 #include <QString>
 
 #include "core/haptics/effects.h"
@@ -60,6 +61,7 @@ class MainWindow : public QMainWindow {
   const QString& last_reading() const { return last_reading_; }
   SceneView* view() const { return view_.get(); }
   MouseKeyboardDevice* mouse() const { return mouse_; }
+  QWidget* view_widget() const;
   void ShowSpheres(int level);
   bool LookAtTooth(int fdi);
   void SetGingivaTranslucent(bool on);
@@ -106,6 +108,8 @@ class MainWindow : public QMainWindow {
   HapticSnapshot snapshot_;
   std::string device_error_;
   QString last_reading_;
+  bool dragging_ = false;
+  QPoint drag_from_;
 };
 
 }  // namespace sulcus::ui

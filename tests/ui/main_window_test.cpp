@@ -7,7 +7,9 @@
 
 #include <QApplication>
 #include <QElapsedTimer>
+#include <QKeyEvent>
 #include <QMessageBox>
+#include <QMouseEvent>
 #include <QSurfaceFormat>
 #include <QVTKOpenGLNativeWidget.h>
 
@@ -15,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "ui/mouse_device.h"
 #include "ui/scene_view.h"
 
 namespace sulcus::ui {
@@ -86,6 +89,27 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
   ASSERT_TRUE(w.last_reading().startsWith("reading ")) << w.last_reading().toStdString();
   EXPECT_NEAR(w.last_reading().section(' ', 1, 1).toDouble(), 4.0, 0.3) << "the scene's 4 mm pocket at 46 B";
   EXPECT_TRUE(w.last_reading().endsWith("tooth 46 B")) << w.last_reading().toStdString();
+
+  // The mouse and keyboard device: Ctrl + drag moves the tool, W moves it +y.
+  w.SetDevice("mouse");
+  ASSERT_NE(w.mouse(), nullptr);
+  const Vector3 tool_before = w.mouse()->pose().translation();
+  QWidget* view = w.view_widget();
+  const QPoint c = view->rect().center();
+  QMouseEvent press(QEvent::MouseButtonPress, c, Qt::LeftButton, Qt::LeftButton, Qt::ControlModifier);
+  QMouseEvent move(QEvent::MouseMove, c + QPoint(60, 0), Qt::NoButton, Qt::LeftButton, Qt::ControlModifier);
+  QMouseEvent release(QEvent::MouseButtonRelease, c + QPoint(60, 0), Qt::LeftButton, Qt::NoButton, Qt::ControlModifier);
+  QApplication::sendEvent(view, &press);
+  QApplication::sendEvent(view, &move);
+  QApplication::sendEvent(view, &release);
+  const Vector3 dragged = w.mouse()->pose().translation();
+  EXPECT_GT((dragged - tool_before).norm(), 1.0) << "60 pixels of Ctrl + drag move the tool millimetres";
+  QKeyEvent key(QEvent::KeyPress, Qt::Key_W, Qt::NoModifier);
+  QApplication::sendEvent(view, &key);
+  EXPECT_NEAR(w.mouse()->pose().translation().y() - dragged.y(), 0.25, 1e-9);
+  RunFor(100);
+  EXPECT_LT((w.last_snapshot().X_WH.translation() - w.mouse()->pose().translation()).norm(), 1e-9)
+      << "the haptic thread reads what the window set";
 
   w.ShowSpheres(3);
   EXPECT_EQ(w.view()->spheres_shown(), 3);
