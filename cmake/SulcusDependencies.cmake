@@ -36,5 +36,6 @@ if(SULCUS_BUILD_UI)
   sulcus_find(Qt5 qtbase5-dev COMPONENTS Widgets OpenGL)
   sulcus_find(VTK "libvtk9-dev libvtk9-qt-dev" COMPONENTS
     CommonCore CommonDataModel RenderingCore RenderingOpenGL2 InteractionStyle
-    RenderingFreeType IOImage FiltersSources GUISupportQt)
+    RenderingFreeType IOImage FiltersSources GUISupportQt ChartsCore ViewsContext2D
+    RenderingContextOpenGL2)
 endif()

@@ -1,22 +1,21 @@
 #include "ui/force_gauge.h"
 
 #include <QPainter>
-#include <QPainterPath>
 
 #include <algorithm>
+
 
 namespace sulcus::ui {
 
 ForceGauge::ForceGauge(QWidget* parent) : QWidget(parent) {
-  setMinimumSize(260, 170);
+  setMinimumSize(260, 75);
   setToolTip("Probing force; the green band is the clinical probing force, 0.20 to 0.25 N");
 }
 
 void ForceGauge::Push(double t, double f, double tq) {
   force_ = f;
   torque_ = tq;
-  history_.push_back({t, f, tq});
-  while (!history_.empty() && history_.front().t < t - kHistoryS) history_.pop_front();
+  (void)t;
   update();
 }
 
@@ -43,31 +42,6 @@ void ForceGauge::paintEvent(QPaintEvent*) {
   p.drawText(QPointF(all.left(), all.top() + 14),
              QString("Force %1 N%2").arg(force_, 0, 'f', 3).arg(force_ > kScaleN ? "  (off scale)" : ""));
   p.setFont(QFont());
-  // The plot of the last seconds: force (blue/green) and torque/100 (grey).
-  const QRectF plot(all.left(), bar.bottom() + 24, all.width(), all.bottom() - bar.bottom() - 24);
-  p.fillRect(plot, QColor(28, 30, 34));
-  if (history_.size() < 2 || plot.height() < 10) return;
-  const double t1 = history_.back().t, t0 = t1 - kHistoryS;
-  const double top = std::max(kScaleN, std::max_element(history_.begin(), history_.end(), [](auto& a, auto& b) {
-                                         return a.f < b.f;
-                                       })->f);
-  auto pt = [&](double t, double v) {
-    return QPointF(plot.left() + plot.width() * (t - t0) / kHistoryS, plot.bottom() - plot.height() * std::min(v / top, 1.0));
-  };
-  p.fillRect(QRectF(pt(t0, kBandHigh), pt(t1, kBandLow)), QColor(40, 90, 55));
-  QPainterPath force, torque;
-  force.moveTo(pt(history_.front().t, history_.front().f));
-  torque.moveTo(pt(history_.front().t, history_.front().tq / 100));
-  for (const Sample& s : history_) {
-    force.lineTo(pt(s.t, s.f));
-    torque.lineTo(pt(s.t, s.tq / 100));
-  }
-  p.setPen(QPen(QColor(150, 150, 155), 1));
-  p.drawPath(torque);
-  p.setPen(QPen(QColor(120, 200, 255), 2));
-  p.drawPath(force);
-  p.setPen(QColor(170, 170, 175));
-  p.drawText(plot.adjusted(4, 2, 0, 0), Qt::AlignLeft | Qt::AlignTop, "last 5 s: force (blue), torque/100 N*mm (grey)");
 }
 
 }  // namespace sulcus::ui

@@ -1,8 +1,6 @@
 #pragma once
-// The live force: a bar with the clinical probing band (0.20 to 0.25 N) marked,
-// and below it the force and torque of the last seconds as a plot.
-
-#include <deque>
+// The live force: a bar with the clinical probing band (0.20 to 0.25 N) marked.
+// (The last seconds are plotted by ForcePlot, a VTK chart.)
 
 #include <QWidget>
 
@@ -15,22 +13,17 @@ class ForceGauge : public QWidget {
   void Push(double t_s, double force_n, double torque_nmm);
   double force() const { return force_; }
   void Clear() {
-    history_.clear();
     force_ = torque_ = 0;
     update();
   }
   bool InBand() const { return force_ >= kBandLow && force_ <= kBandHigh; }
-  static constexpr double kBandLow = 0.20, kBandHigh = 0.25, kScaleN = 0.6, kHistoryS = 5.0;
+  static constexpr double kBandLow = 0.20, kBandHigh = 0.25, kScaleN = 0.6;
 
  protected:
   void paintEvent(QPaintEvent*) override;
 
  private:
   double force_ = 0, torque_ = 0;
-  struct Sample {
-    double t, f, tq;
-  };
-  std::deque<Sample> history_;
 };
 
 }  // namespace sulcus::ui

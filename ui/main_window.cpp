@@ -37,6 +37,7 @@
 #include "core/haptics/scripted_device.h"
 #include "core/spheretree/cache.h"
 #include "ui/force_gauge.h"
+#include "ui/force_plot.h"
 #include "ui/mouse_device.h"
 #include "ui/scene_view.h"
 
@@ -77,6 +78,8 @@ void MainWindow::BuildUi() {
   auto* layout = new QVBoxLayout(panel);
   gauge_ = new ForceGauge;
   layout->addWidget(gauge_);
+  plot_ = new ForcePlot;
+  layout->addWidget(plot_);
   status_ = new QLabel("No scene loaded.");
   status_->setTextFormat(Qt::PlainText);
   status_->setWordWrap(true);
@@ -335,6 +338,7 @@ void MainWindow::StartSession() {
   options.rate_hz = scene_->spec.rate_hz;
   snapshot_ = HapticSnapshot{};  // nothing from the previous session is shown as this one's
   gauge_->Clear();
+  plot_->Clear();
   events_->clear();
   last_reading_.clear();
   effects_ = MakeEffects(scene_->effects);
@@ -394,6 +398,7 @@ void MainWindow::Tick() {
   if (loop_->snapshots().Acquire()) snapshot_ = loop_->snapshots().front();
   view_->Update(snapshot_);
   gauge_->Push(snapshot_.time_s, snapshot_.force_W.norm(), snapshot_.torque_W.norm());
+  plot_->Push(snapshot_.time_s, snapshot_.force_W.norm(), snapshot_.torque_W.norm());
   HapticEvent e;
   while (loop_->PopEvent(&e)) {
     QString what = ToString(e.kind);
@@ -454,6 +459,8 @@ QString MainWindow::status_text() const {
 }
 
 double MainWindow::gauge_force() const { return gauge_->force(); }
+
+int MainWindow::plot_rows() const { return plot_->rows(); }
 
 void MainWindow::ShowSpheres(int level) {
   if (sphere_level_->value() != level) sphere_level_->setValue(level);  // re-enters through the signal

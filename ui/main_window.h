@@ -36,6 +36,7 @@ class vtkRenderer;
 namespace sulcus::ui {
 
 class ForceGauge;
+class ForcePlot;
 class MouseKeyboardDevice;
 class SceneView;
 
@@ -55,6 +56,7 @@ class MainWindow : public QMainWindow {
   const CompiledScene* scene() const { return scene_.get(); }
   const HapticSnapshot& last_snapshot() const { return snapshot_; }
   double gauge_force() const;
+  int plot_rows() const;
   bool running() const { return thread_ && thread_->running(); }
   QMessageBox* error_dialog() const { return error_dialog_; }
   QString status_text() const;
@@ -86,6 +88,7 @@ class MainWindow : public QMainWindow {
   vtkRenderer* renderer_ = nullptr;
   std::unique_ptr<SceneView> view_;
   ForceGauge* gauge_ = nullptr;
+  ForcePlot* plot_ = nullptr;
   QLabel* status_ = nullptr;
   QListWidget* events_ = nullptr;
   QComboBox* device_box_ = nullptr;

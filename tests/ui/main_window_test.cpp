@@ -84,6 +84,7 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
   EXPECT_GE(w.gauge_force(), 0.20) << "inside the clinical probing band";
   EXPECT_LE(w.gauge_force(), 0.25) << "inside the clinical probing band";
   EXPECT_NEAR(w.gauge_force(), w.last_snapshot().force_W.norm(), 1e-12);
+  EXPECT_GE(w.plot_rows(), 5) << "the VTK chart holds the last seconds";
   ASSERT_TRUE(w.SaveScreenshot(Out("probe_in_sulcus.png")));
   RunFor(1500);  // out again: the reading
   ASSERT_TRUE(w.last_reading().startsWith("reading ")) << w.last_reading().toStdString();

@@ -1,0 +1,42 @@
+#pragma once
+// The force and torque of the last seconds as a VTK chart (vtkChartXY in a
+// QVTKOpenGLNativeWidget), with the clinical probing band drawn as two lines.
+
+#include <deque>
+#include <vector>
+
+#include <QWidget>
+#include <vtkSmartPointer.h>
+
+class QVTKOpenGLNativeWidget;
+class vtkChartXY;
+class vtkContextView;
+class vtkTable;
+class vtkPlot;
+
+namespace sulcus::ui {
+
+class ForcePlot : public QWidget {
+ public:
+  explicit ForcePlot(QWidget* parent = nullptr);
+  ~ForcePlot() override;
+  /// One sample; the chart redraws at most 10 times a second.
+  void Push(double t_s, double force_n, double torque_nmm);
+  void Clear();
+  int rows() const;  // samples in the chart now
+
+ private:
+  void Redraw();
+  struct Sample {
+    double t, f, tq;
+  };
+  std::deque<Sample> history_;
+  double last_draw_ = -1;
+  QVTKOpenGLNativeWidget* widget_;
+  vtkSmartPointer<vtkContextView> view_;
+  vtkSmartPointer<vtkChartXY> chart_;
+  vtkSmartPointer<vtkTable> table_;
+  std::vector<vtkPlot*> plots_;  // owned by the chart
+};
+
+}  // namespace sulcus::ui
