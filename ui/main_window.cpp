@@ -279,6 +279,7 @@ bool MainWindow::OpenScene(const std::filesystem::path& file, bool wait) {
 
 bool MainWindow::SetDevice(const std::string& device) {
   device_name_ = device;
+  if (const int i = device_box_->findText(Q(device)); i >= 0) device_box_->setCurrentIndex(i);
   QSettings().setValue("device/last", Q(device));
   if (!scene_) return true;
   StartSession();
