@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include "core/anatomy/soft_tissue.h"
 
@@ -30,7 +31,11 @@ std::optional<double> TopHit(const TriangleMesh& mesh, double x, double y) {
 }
 
 TEST(Gingiva, PocketFloorLiesAtTheDepthBelowTheMarginMeasuredOnTheMesh) {
-  for (int fdi : {11, 13, 36, 45, 46, 17}) {
+  // Every permanent tooth (third molars included), with pockets of 2 to 7 mm and recession.
+  std::vector<int> teeth;
+  for (int q = 1; q <= 4; ++q)
+    for (int p = 1; p <= 8; ++p) teeth.push_back(10 * q + p);
+  for (int fdi : teeth) {
     const ToothModel tooth = GenerateTooth(fdi);
     GingivaParams p;
     p.pocket_mm = {3, 2, 7, 4, 5, 6};
