@@ -143,9 +143,9 @@ void HapticLoop::Tick(bool overrun) noexcept {
   const double ramp_ticks = options_.safety.ramp_s * rate;
   const double since = static_cast<double>(tick_ - ramp_start_tick_);
   const double ramp = ramp_ticks > 0 ? std::min(1.0, since / ramp_ticks) : 1.0;
-  const double scale = (overrun || paused_ || !device_ok_) ? 0.0 : ramp * options_.force_scale;
-  F *= scale;
-  T *= scale;
+  output_scale_ = (overrun || paused_ || !device_ok_) ? 0.0 : ramp * options_.force_scale;
+  F *= output_scale_;
+  T *= output_scale_;
   ClampNorm(&F, force_limit_n_);
   ClampNorm(&T, torque_limit_nmm_);
   force_W_ = F;
@@ -171,8 +171,7 @@ void HapticLoop::Tick(bool overrun) noexcept {
   record_.X_WG = data_.X_WG;
   record_.force_W = F;
   record_.torque_W = T;
-  Publish();
-  snapshots_.back().output_scale = scale;
+  FillSnapshot();
   snapshots_.Publish();
   ++tick_;
 }
@@ -196,7 +195,7 @@ void HapticLoop::UpdateContacts() noexcept {
   in_contact_ = now;
 }
 
-void HapticLoop::Publish() noexcept {
+void HapticLoop::FillSnapshot() noexcept {
   HapticSnapshot& s = snapshots_.back();
   s.tick = tick_;
   s.time_s = record_.time_s;
@@ -205,6 +204,7 @@ void HapticLoop::Publish() noexcept {
   s.force_W = force_W_;
   s.torque_W = torque_W_;
   s.engine_force_W = data_.force_W;
+  s.output_scale = output_scale_;
   s.saturated = data_.force_saturated;
   s.paused = paused_;
   s.device_ok = device_ok_;

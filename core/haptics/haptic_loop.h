@@ -162,7 +162,7 @@ class HapticLoop {
 
  private:
   void UpdateContacts() noexcept;
-  void Publish() noexcept;
+  void FillSnapshot() noexcept;
 
   const EngineModel& model_;
   Device* device_;
@@ -172,7 +172,8 @@ class HapticLoop {
   std::uint64_t tick_ = 0;
   std::uint64_t ramp_start_tick_ = 0;
   std::uint64_t last_fresh_tick_ = 0;
-  bool paused_ = false, device_ok_ = true, force_above_ = false, started_ = false;
+  bool paused_ = false, device_ok_ = true, force_above_ = false;
+  double output_scale_ = 0;
   double force_limit_n_, torque_limit_nmm_;
   DeviceSample sample_;
   Vector3 force_W_ = Vector3::Zero(), torque_W_ = Vector3::Zero();
