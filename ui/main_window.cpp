@@ -402,26 +402,9 @@ void MainWindow::Tick() {
   plot_->Push(snapshot_.time_s, snapshot_.force_W.norm(), snapshot_.torque_W.norm());
   HapticEvent e;
   while (loop_->PopEvent(&e)) {
-    QString what = ToString(e.kind);
-    if (e.object >= 0 && e.kind != EventKind::kCommand && scene_ &&
-        e.object < static_cast<int>(scene_->spec.objects.size()))
-      what += ": " + Q(scene_->spec.objects[e.object].name);
-    if (e.kind == EventKind::kForceAbove || e.kind == EventKind::kForceBelow) what += QString(" %1 N").arg(e.value, 0, 'f', 2);
-    if (e.kind == EventKind::kEffect) {
-      const QString tooth = e.object >= 0 && e.object < static_cast<int>(scene_->spec.objects.size())
-                                ? Q(scene_->spec.objects[e.object].name)
-                                : QString("?");
-      const QString site = kSiteCodes[std::clamp(static_cast<int>(e.value2), 0, 5)];
-      switch (static_cast<EffectEvent>(e.detail)) {
-        case EffectEvent::kProbeReading:
-          what = QString("reading %1 mm at %2 %3").arg(e.value, 0, 'f', 1).arg(tooth, site);
-          last_reading_ = what;
-          break;
-        case EffectEvent::kBleeding: what = QString("bleeding at %1 %2").arg(tooth, site); break;
-        case EffectEvent::kTissueDamage: what = QString("%1 N on %2: above its damage limit").arg(e.value, 0, 'f', 2).arg(tooth); break;
-        case EffectEvent::kSoftContact: what = QString("soft contact: %1").arg(tooth); break;
-      }
-    }
+    const QString what = Q(DescribeEvent(scene_->spec, e));
+    if (e.kind == EventKind::kEffect && e.detail == static_cast<std::uint8_t>(EffectEvent::kProbeReading))
+      last_reading_ = what;
     events_->insertItem(0, QString("%1 s  %2").arg(e.tick / scene_->spec.rate_hz, 0, 'f', 2).arg(what));
     while (events_->count() > 200) delete events_->takeItem(events_->count() - 1);
   }

@@ -33,11 +33,6 @@ struct RunArgs {
   bool offline = false;
 };
 
-std::string ObjectName(const CompiledScene& scene, int object) {
-  if (object >= 0 && object < static_cast<int>(scene.spec.objects.size())) return scene.spec.objects[object].name;
-  return "object " + std::to_string(object);
-}
-
 int Run(const RunArgs& a) {
   const SceneSpec spec = LoadSceneSpec(a.scene);
   std::fprintf(stderr, "compiling %s ...\n", a.scene.c_str());
@@ -62,7 +57,7 @@ int Run(const RunArgs& a) {
       const ScriptTarget target = FindScriptTarget(*scene, what, a.object);
       trajectory = MakeScript(what, target, a.seconds, a.seed);
       std::fprintf(stderr, "scripted '%s' on %s at (%.2f, %.2f, %.2f) mm\n", what.c_str(),
-                   ObjectName(*scene, target.object).c_str(), target.p_W.x(), target.p_W.y(),
+                   ObjectName(scene->spec, target.object).c_str(), target.p_W.x(), target.p_W.y(),
                    target.p_W.z());
     }
     device = std::make_unique<ScriptedDevice>(std::move(trajectory), a.device);
@@ -107,27 +102,10 @@ int Run(const RunArgs& a) {
     while (loop.PopEvent(&e)) {
       ++events;
       if (e.kind == EventKind::kContactBegan) ++began[e.object];
-      if (e.kind != EventKind::kEffect) continue;
-      char line[200];
-      const double t = e.tick / options.rate_hz;
-      switch (static_cast<EffectEvent>(e.detail)) {
-        case EffectEvent::kProbeReading:
-          std::snprintf(line, sizeof line, "%.3f s: probing reading %.1f mm at %s %s", t, e.value,
-                        ObjectName(*scene, e.object).c_str(), kSiteCodes[static_cast<int>(e.value2)]);
-          break;
-        case EffectEvent::kBleeding:
-          std::snprintf(line, sizeof line, "%.3f s: bleeding at %s %s", t, ObjectName(*scene, e.object).c_str(),
-                        kSiteCodes[static_cast<int>(e.value2)]);
-          break;
-        case EffectEvent::kTissueDamage:
-          std::snprintf(line, sizeof line, "%.3f s: %.2f N on %s, above its damage limit", t, e.value,
-                        ObjectName(*scene, e.object).c_str());
-          break;
-        case EffectEvent::kSoftContact:
-          std::snprintf(line, sizeof line, "%.3f s: soft contact with %s", t, ObjectName(*scene, e.object).c_str());
-          break;
-      }
-      if (effect_lines.size() < 40) effect_lines.emplace_back(line);
+      if (e.kind != EventKind::kEffect || effect_lines.size() >= 40) continue;
+      char t[32];
+      std::snprintf(t, sizeof t, "%.3f s: ", e.tick / options.rate_hz);
+      effect_lines.push_back(t + DescribeEvent(scene->spec, e));
     }
   };
   TimeHistogram offline_step;
@@ -172,7 +150,7 @@ int Run(const RunArgs& a) {
               step_hist.Percentile(0.99), step_hist.max_us(), a.offline ? " (offline)" : "");
   std::printf("contact: %" PRIu64 " ticks in contact (%.1f %%)", s.contact_ticks,
               ticks ? 100.0 * s.contact_ticks / ticks : 0.0);
-  for (const auto& [object, n] : began) std::printf("; %s touched %d times", ObjectName(*scene, object).c_str(), n);
+  for (const auto& [object, n] : began) std::printf("; %s touched %d times", ObjectName(scene->spec, object).c_str(), n);
   std::printf("\nforce: max %.3f N, mean in contact %.3f N, saturated %" PRIu64 " ticks\n", s.max_force_n,
               s.contact_ticks ? s.contact_force_sum_n / s.contact_ticks : 0.0, s.saturated_ticks);
   std::printf("faults: %" PRIu64 " (engine %" PRIu64 ", overruns %" PRIu64 ", device stalls %" PRIu64

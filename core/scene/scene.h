@@ -138,6 +138,13 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
 /// axis, and the others at the top of the crown; for other objects, their top.
 ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& script, int object = -1);
 
+/// An object's name, or "object N" for an index the scene does not have.
+std::string ObjectName(const SceneSpec& spec, int object);
+
+/// One line for a haptic event, with the scene's names: "contact_began: tooth 46",
+/// "force_above 1.01 N", "reading 3.8 mm at tooth 46 B", "bleeding at tooth 46 MB".
+std::string DescribeEvent(const SceneSpec& spec, const HapticEvent& e);
+
 /// FNV-1a of a file's bytes (recordings name the scene they were made on).
 std::uint64_t HashFile(const std::filesystem::path& file);
 

@@ -220,3 +220,32 @@ TEST(SceneFile, ArchGingivaAnatomyCariesAndInflammation) {
 
 }  // namespace
 }  // namespace sulcus
+
+namespace sulcus {
+namespace {
+
+TEST(SceneEvents, DescribedWithTheScenesNames) {
+  SceneSpec spec;
+  spec.objects.resize(1);
+  spec.objects[0].name = "tooth 46";
+  HapticEvent e;
+  e.kind = EventKind::kEffect;
+  e.detail = static_cast<std::uint8_t>(EffectEvent::kProbeReading);
+  e.object = 0;
+  e.value = 3.85;
+  e.value2 = 1;
+  EXPECT_EQ(DescribeEvent(spec, e), "reading 3.9 mm at tooth 46 B");
+  e.kind = EventKind::kContactBegan;
+  EXPECT_EQ(DescribeEvent(spec, e), "contact_began: tooth 46");
+  e.object = 7;
+  EXPECT_EQ(DescribeEvent(spec, e), "contact_began: object 7");
+  e.kind = EventKind::kForceAbove;
+  e.value = 1.014;
+  EXPECT_EQ(DescribeEvent(spec, e), "force_above 1.01 N");
+  e.kind = EventKind::kCommand;
+  e.object = static_cast<int>(HapticCommand::Kind::kPause);
+  EXPECT_EQ(DescribeEvent(spec, e), "command: pause");
+}
+
+}  // namespace
+}  // namespace sulcus
