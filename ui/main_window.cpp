@@ -290,14 +290,15 @@ void MainWindow::StopSession() {
   if (thread_) thread_->Stop();
   thread_.reset();
   if (device_) device_->Stop();
-  if (recorder_) {
+  if (recorder_) {  // a session's end ends its recording: everything recorded is written
     try {
       recorder_->Finish();
+      statusBar()->showMessage(QString("Recorded %1 ticks").arg(recorder_->written()));
     } catch (const std::exception& e) {
-      statusBar()->showMessage(Q(e.what()));
+      ShowErrors("Recording", "The recording failed.", Q(e.what()));
     }
+    recorder_.reset();
   }
-  recorder_.reset();
   loop_.reset();
   effects_.clear();
   effect_list_.clear();
@@ -307,11 +308,20 @@ void MainWindow::StopSession() {
 
 void MainWindow::StartSession() {
   StopSession();
+  BeginSession();
+}
+
+void MainWindow::BeginSession() {
   device_error_.clear();
   if (!scene_) return;
-  // The tool starts above the first tooth's crown, working end along its axis.
-  ScriptTarget top = FindScriptTarget(*scene_, "poke");
-  const RigidTransform start(Quaternion::FromTwoVectors(Vector3::UnitZ(), top.n_W), top.p_W + 4.0 * top.n_W);
+  auto use_mouse = [this] {
+    // The tool starts above the first tooth's crown, working end along its axis.
+    const ScriptTarget top = FindScriptTarget(*scene_, "poke");
+    auto mouse = std::make_unique<MouseKeyboardDevice>(
+        RigidTransform(Quaternion::FromTwoVectors(Vector3::UnitZ(), top.n_W), top.p_W + 4.0 * top.n_W));
+    mouse_ = mouse.get();
+    device_ = std::move(mouse);
+  };
   try {
     const auto colon = device_name_.find(':');
     const std::string kind = device_name_.substr(0, colon);
@@ -323,17 +333,13 @@ void MainWindow::StartSession() {
       replay_ = std::make_unique<Recording>(ReadRecording(what));
       device_ = std::make_unique<ReplayDevice>(*replay_);
     } else {
-      auto mouse = std::make_unique<MouseKeyboardDevice>(start);
-      mouse_ = mouse.get();
-      device_ = std::move(mouse);
+      use_mouse();
     }
     device_->Start();
   } catch (const std::exception& e) {
     device_error_ = e.what();
     ShowErrors("Device", QString("The device %1 cannot be used.").arg(Q(device_name_)), Q(device_error_));
-    auto mouse = std::make_unique<MouseKeyboardDevice>(start);
-    mouse_ = mouse.get();
-    device_ = std::move(mouse);
+    use_mouse();
   }
   LoopOptions options;
   options.rate_hz = scene_->spec.rate_hz;
@@ -347,10 +353,12 @@ void MainWindow::StartSession() {
   loop_ = std::make_unique<HapticLoop>(*scene_->model, device_.get(), options, effect_list_);
   ThreadOptions topt;
   topt.stop_when_device_finished = false;
-  topt.recorder = recorder_.get();
+  topt.recorder = recorder_.get();  // a recording in progress gets every tick
   thread_ = std::make_unique<HapticThread>(loop_.get(), topt);
   thread_->Start();
-  statusBar()->showMessage(QString("%1 on %2").arg(Q(device_->caps().name), Q(scene_file_.string())));
+  statusBar()->showMessage(QString("%1 on %2%3")
+                               .arg(Q(device_->caps().name), Q(scene_file_.string()),
+                                    recorder_ ? QString(", recording") : QString()));
 }
 
 bool MainWindow::StartRecording(const std::filesystem::path& file) {
@@ -365,33 +373,13 @@ bool MainWindow::StartRecording(const std::filesystem::path& file) {
     recorder_ = std::make_unique<RecordingWriter>(file, h);
   } catch (const std::exception& e) {
     ShowErrors("Recording", "The recording cannot be written.", Q(e.what()));
-    StartSession();
-    return false;
   }
-  auto writer = std::move(recorder_);
-  StartSession();  // a new session; its thread hands every tick to the recorder
-  recorder_ = std::move(writer);
-  thread_->Stop();
-  ThreadOptions topt;
-  topt.stop_when_device_finished = false;
-  topt.recorder = recorder_.get();
-  thread_ = std::make_unique<HapticThread>(loop_.get(), topt);
-  thread_->Start();
-  statusBar()->showMessage(QString("Recording to %1").arg(Q(file.string())));
-  return true;
+  BeginSession();
+  return recorder_ != nullptr;
 }
 
 void MainWindow::StopRecording() {
-  if (!recorder_) return;
-  if (thread_) thread_->Stop();
-  try {
-    recorder_->Finish();
-    statusBar()->showMessage(QString("Recorded %1 ticks").arg(recorder_->written()));
-  } catch (const std::exception& e) {
-    ShowErrors("Recording", "The recording failed.", Q(e.what()));
-  }
-  recorder_.reset();
-  StartSession();
+  if (recorder_) StartSession();  // ending the session writes the recording out
 }
 
 void MainWindow::Tick() {

@@ -79,8 +79,9 @@ class MainWindow : public QMainWindow {
 
  private:
   void BuildUi();
-  void StartSession();
-  void StopSession();
+  void StartSession();  // StopSession, then BeginSession
+  void BeginSession();  // a loop and thread on the scene with the chosen device
+  void StopSession();   // also ends a recording in progress
   void Tick();  // the display timer: snapshot -> view, gauge, status, events
   void ShowErrors(const QString& title, const QString& text, const QString& details);
 

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/haptics/recording.h"
 #include "ui/mouse_device.h"
 #include "ui/scene_view.h"
 
@@ -111,6 +112,16 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
   RunFor(100);
   EXPECT_LT((w.last_snapshot().X_WH.translation() - w.mouse()->pose().translation()).norm(), 1e-9)
       << "the haptic thread reads what the window set";
+
+  // Recording on and off: the file holds the session's ticks.
+  const fs::path rec = Out("window_session.rec");
+  ASSERT_TRUE(w.StartRecording(rec));
+  RunFor(400);
+  w.StopRecording();
+  EXPECT_TRUE(w.running()) << "the session goes on after the recording";
+  const Recording recorded = ReadRecording(rec);
+  EXPECT_GT(recorded.frames.size(), 100u);
+  EXPECT_EQ(recorded.header.device_name, "mouse");
 
   w.ShowSpheres(3);
   EXPECT_EQ(w.view()->spheres_shown(), 3);
