@@ -87,12 +87,18 @@ std::vector<PlacedTooth> PlaceArch(bool upper, const ArchParams& params) {
   return out;
 }
 
-TriangleMesh PlacedMesh(const PlacedTooth& placed, const TriangleMesh& tooth_mesh) {
-  TriangleMesh m = tooth_mesh;
-  if (placed.mirrored) {
-    m.Transform(Vector3(-1, 1, 1).asDiagonal(), Vector3::Zero());
-    m.FlipOrientation();
+Vector3 ArchMirror(bool mirrored, const Vector3& p) { return mirrored ? Vector3(-p.x(), p.y(), p.z()) : p; }
+
+TriangleMesh ArchMirror(bool mirrored, TriangleMesh mesh) {
+  if (mirrored) {
+    mesh.Transform(Vector3(-1, 1, 1).asDiagonal(), Vector3::Zero());
+    mesh.FlipOrientation();
   }
+  return mesh;
+}
+
+TriangleMesh PlacedMesh(const PlacedTooth& placed, const TriangleMesh& tooth_mesh) {
+  TriangleMesh m = ArchMirror(placed.mirrored, tooth_mesh);
   m.Transform(placed.X_WT.rotation(), placed.X_WT.translation());
   return m;
 }

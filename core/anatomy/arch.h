@@ -38,6 +38,11 @@ struct PlacedTooth {
 /// to the left one, in arch order.
 std::vector<PlacedTooth> PlaceArch(bool upper, const ArchParams& params = {});
 
+/// The arch's mirror (x -> -x in the tooth frame), applied when `mirrored`; it is
+/// its own inverse. The mesh version also flips the faces so they stay outward.
+Vector3 ArchMirror(bool mirrored, const Vector3& p);
+TriangleMesh ArchMirror(bool mirrored, TriangleMesh mesh);
+
 /// A tooth's mesh in the world: mirrored if needed, then moved by X_WT.
 TriangleMesh PlacedMesh(const PlacedTooth& placed, const TriangleMesh& tooth_mesh);
 

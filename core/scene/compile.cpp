@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include "core/anatomy/arch.h"
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/probe.h"
 #include "core/anatomy/soft_tissue.h"
@@ -26,14 +27,6 @@
 namespace sulcus {
 
 namespace {
-
-TriangleMesh Mirrored(TriangleMesh m, bool mirror) {
-  if (mirror) {
-    m.Transform(Vector3(-1, 1, 1).asDiagonal(), Vector3::Zero());
-    m.FlipOrientation();
-  }
-  return m;
-}
 
 GingivaParams GingivaOf(const ObjectSpec& o) {
   GingivaParams p;
@@ -105,8 +98,6 @@ void WriteCachedMesh(const TriangleMesh& m, const std::filesystem::path& file) {
   std::filesystem::rename(tmp, file, ec);
 }
 
-Vector3 Unmirror(const ObjectSpec& o, const Vector3& p) { return o.mirrored ? Vector3(-p.x(), p.y(), p.z()) : p; }
-
 // What the scene's effects need: damage limits, probing sites, soft objects.
 void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<CollisionWorld::Object>& soft_objects) {
   EffectsModel& m = scene->effects;
@@ -132,8 +123,8 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
         ProbingSite site;
         site.tooth = tooth;
         site.site = s;
-        site.margin_W = o.X_WO * Unmirror(o, g.margin[s]);
-        site.floor_W = o.X_WO * Unmirror(o, g.floor[s]);
+        site.margin_W = o.X_WO * ArchMirror(o.mirrored, g.margin[s]);
+        site.floor_W = o.X_WO * ArchMirror(o.mirrored, g.floor[s]);
         site.pocket_mm = o.pocket_mm[s];
         site.bleeding = o.bleeding[s];
         m.sites.push_back(site);
@@ -144,7 +135,7 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
       const SphereTree& t = scene->trees[i];
       std::vector<float> k(t.size(), static_cast<float>(kGingivaWallStiffness));
       for (std::size_t n = 0; n < t.size(); ++n) {
-        const Vector3 c = Unmirror(o, t.center(n));
+        const Vector3 c = ArchMirror(o.mirrored, t.center(n));
         if (c.z() + 0.5 * t.r[n] <= g.FloorAt(std::atan2(c.y(), c.x())) + 0.25) k[n] = static_cast<float>(kPocketFloorStiffness);
       }
       m.soft_leaf_stiffness.push_back(std::move(k));
@@ -169,8 +160,8 @@ TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::pa
 
 TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
   switch (o.kind) {
-    case ObjectSpec::Kind::kTooth: return Mirrored(GenerateTooth(o.fdi).mesh, o.mirrored);
-    case ObjectSpec::Kind::kGingiva: return Mirrored(GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o)).mesh, o.mirrored);
+    case ObjectSpec::Kind::kTooth: return ArchMirror(o.mirrored, GenerateTooth(o.fdi).mesh);
+    case ObjectSpec::Kind::kGingiva: return ArchMirror(o.mirrored, GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o)).mesh);
     case ObjectSpec::Kind::kAnatomy: return MakeSoftTissue(o.anatomy, ArchParams{.upper_lift_mm = o.mouth_open_mm});
     case ObjectSpec::Kind::kMesh: return LoadMesh(o.mesh);
     case ObjectSpec::Kind::kBox:
@@ -280,13 +271,12 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
   const TriangleMesh& mesh = scene.meshes[object];
   const Matrix3& R = o.X_WO.rotation();
   ScriptTarget t;
-  const Vector3 mirror = o.mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1);
   t.object = object;
   if (o.kind == ObjectSpec::Kind::kTooth && script == "insert" && scene.spec.gingiva) {
     // Into the sulcus at the buccal site, down to just past the pocket floor, to
     // press it with the clinical probing force (0.20 to 0.25 N).
     const GingivaModel g = GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o));
-    t.p_W = o.X_WO * g.margin[1].cwiseProduct(mirror);
+    t.p_W = o.X_WO * ArchMirror(o.mirrored, g.margin[1]);
     t.n_W = R * Vector3::UnitY();
     t.axis_W = R * Vector3::UnitZ();
     t.along_W = R * Vector3::UnitX();
@@ -329,7 +319,7 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
         best = v;
       }
     }
-    t.p_W = o.X_WO * best.cwiseProduct(mirror);
+    t.p_W = o.X_WO * ArchMirror(o.mirrored, best);
     t.n_W = R * (insert ? Vector3::UnitY() : Vector3::UnitZ());
     t.axis_W = R * Vector3::UnitZ();
     t.along_W = R * Vector3::UnitX();
