@@ -12,10 +12,8 @@ ForceGauge::ForceGauge(QWidget* parent) : QWidget(parent) {
   setToolTip("Probing force; the green band is the clinical probing force, 0.20 to 0.25 N");
 }
 
-void ForceGauge::Push(double t, double f, double tq) {
+void ForceGauge::SetForce(double f) {
   force_ = f;
-  torque_ = tq;
-  (void)t;
   update();
 }
 

@@ -9,13 +9,10 @@ namespace sulcus::ui {
 class ForceGauge : public QWidget {
  public:
   explicit ForceGauge(QWidget* parent = nullptr);
-  /// The force (N) and torque (N*mm) now, at time t (s).
-  void Push(double t_s, double force_n, double torque_nmm);
+  /// The force now (N).
+  void SetForce(double force_n);
   double force() const { return force_; }
-  void Clear() {
-    force_ = torque_ = 0;
-    update();
-  }
+  void Clear() { SetForce(0); }
   bool InBand() const { return force_ >= kBandLow && force_ <= kBandHigh; }
   static constexpr double kBandLow = 0.20, kBandHigh = 0.25, kScaleN = 0.6;
 
@@ -23,7 +20,7 @@ class ForceGauge : public QWidget {
   void paintEvent(QPaintEvent*) override;
 
  private:
-  double force_ = 0, torque_ = 0;
+  double force_ = 0;
 };
 
 }  // namespace sulcus::ui

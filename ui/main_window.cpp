@@ -386,7 +386,7 @@ void MainWindow::Tick() {
   if (!loop_) return;
   if (loop_->snapshots().Acquire()) snapshot_ = loop_->snapshots().front();
   view_->Update(snapshot_);
-  gauge_->Push(snapshot_.time_s, snapshot_.force_W.norm(), snapshot_.torque_W.norm());
+  gauge_->SetForce(snapshot_.force_W.norm());
   plot_->Push(snapshot_.time_s, snapshot_.force_W.norm(), snapshot_.torque_W.norm());
   HapticEvent e;
   while (loop_->PopEvent(&e)) {

@@ -59,6 +59,25 @@ vtkSmartPointer<vtkActor> MeshActor(const TriangleMesh& mesh, const Look& look) 
   return actor;
 }
 
+// A sphere at every point of `poly`, of the radius in its point scalars.
+vtkSmartPointer<vtkActor> SphereGlyphs(vtkPolyData* poly, int theta, int phi) {
+  auto sphere = vtkSmartPointer<vtkSphereSource>::New();
+  sphere->SetRadius(1.0);
+  sphere->SetThetaResolution(theta);
+  sphere->SetPhiResolution(phi);
+  auto glyph = vtkSmartPointer<vtkGlyph3D>::New();
+  glyph->SetInputData(poly);
+  glyph->SetSourceConnection(sphere->GetOutputPort());
+  glyph->SetScaleModeToScaleByScalar();
+  glyph->SetScaleFactor(1.0);
+  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  mapper->SetInputConnection(glyph->GetOutputPort());
+  mapper->ScalarVisibilityOff();
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  return actor;
+}
+
 }  // namespace
 
 SceneView::SceneView(vtkRenderer* renderer) : renderer_(renderer) {
@@ -114,7 +133,16 @@ void SceneView::Load(const CompiledScene& scene) {
     if (o.tissue == Tissue::kGingiva) gingiva_.push_back(actor);
   }
   AddToolActors(MakeProbe(scene.spec.probe));
-  contact_actor_ = vtkSmartPointer<vtkActor>::New();
+  contact_points_ = vtkSmartPointer<vtkPoints>::New();
+  contact_radii_ = vtkSmartPointer<vtkDoubleArray>::New();
+  contact_radii_->SetName("radius");
+  contact_poly_ = vtkSmartPointer<vtkPolyData>::New();
+  contact_poly_->SetPoints(contact_points_);
+  contact_poly_->GetPointData()->SetScalars(contact_radii_);
+  contact_actor_ = SphereGlyphs(contact_poly_, 12, 8);
+  contact_actor_->GetProperty()->SetColor(1.0, 0.25, 0.2);
+  contact_actor_->GetProperty()->SetOpacity(0.6);
+  contact_actor_->SetVisibility(false);
   renderer_->AddActor(contact_actor_);
   spheres_shown_ = -1;
   View(Side::kBuccal);
@@ -131,35 +159,19 @@ void SceneView::Update(const HapticSnapshot& s) {
     contact_actor_->SetVisibility(false);
     return;
   }
-  auto points = vtkSmartPointer<vtkPoints>::New();
-  auto radii = vtkSmartPointer<vtkDoubleArray>::New();
-  radii->SetName("radius");
+  // The glyph pipeline is built once (Load); each frame only refills its points.
+  contact_points_->Reset();
+  contact_radii_->Reset();
   const CollisionWorld& world = scene_->model->world;
   for (int i = 0; i < s.num_shown_pairs; ++i) {
     const ContactPair& c = s.shown_pairs[i];
     const Vector3 p = world.ObjectCenter(c.object, c.object_leaf);
-    points->InsertNextPoint(p.x(), p.y(), p.z());
-    radii->InsertNextValue(world.ObjectRadius(c.object, c.object_leaf));
+    contact_points_->InsertNextPoint(p.x(), p.y(), p.z());
+    contact_radii_->InsertNextValue(world.ObjectRadius(c.object, c.object_leaf));
   }
-  auto poly = vtkSmartPointer<vtkPolyData>::New();
-  poly->SetPoints(points);
-  poly->GetPointData()->SetScalars(radii);
-  auto sphere = vtkSmartPointer<vtkSphereSource>::New();
-  sphere->SetRadius(1.0);
-  sphere->SetThetaResolution(12);
-  sphere->SetPhiResolution(8);
-  auto glyph = vtkSmartPointer<vtkGlyph3D>::New();
-  glyph->SetInputData(poly);
-  glyph->SetSourceConnection(sphere->GetOutputPort());
-  glyph->SetScaleModeToScaleByScalar();
-  glyph->SetScaleFactor(1.0);
-  glyph->SetColorModeToColorByScale();
-  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-  mapper->SetInputConnection(glyph->GetOutputPort());
-  mapper->ScalarVisibilityOff();
-  contact_actor_->SetMapper(mapper);
-  contact_actor_->GetProperty()->SetColor(1.0, 0.25, 0.2);
-  contact_actor_->GetProperty()->SetOpacity(0.6);
+  contact_points_->Modified();
+  contact_radii_->Modified();
+  contact_poly_->Modified();
   contact_actor_->SetVisibility(true);
 }
 
@@ -180,20 +192,7 @@ void SceneView::ShowSpheres(int level) {
     auto poly = vtkSmartPointer<vtkPolyData>::New();
     poly->SetPoints(points);
     poly->GetPointData()->SetScalars(radii);
-    auto sphere = vtkSmartPointer<vtkSphereSource>::New();
-    sphere->SetRadius(1.0);
-    sphere->SetThetaResolution(14);
-    sphere->SetPhiResolution(10);
-    auto glyph = vtkSmartPointer<vtkGlyph3D>::New();
-    glyph->SetInputData(poly);
-    glyph->SetSourceConnection(sphere->GetOutputPort());
-    glyph->SetScaleModeToScaleByScalar();
-    glyph->SetScaleFactor(1.0);
-    auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-    mapper->SetInputConnection(glyph->GetOutputPort());
-    mapper->ScalarVisibilityOff();
-    auto actor = vtkSmartPointer<vtkActor>::New();
-    actor->SetMapper(mapper);
+    auto actor = SphereGlyphs(poly, 14, 10);
     actor->SetUserMatrix(ToVtk(scene_->spec.objects[i].X_WO));
     const double hue = (i % 6) / 6.0;
     actor->GetProperty()->SetColor(0.55 + 0.4 * hue, 0.85 - 0.3 * hue, 0.35 + 0.5 * (1 - hue));

@@ -7,6 +7,9 @@
 #include <vector>
 
 #include <vtkActor.h>
+#include <vtkDoubleArray.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
 
@@ -46,6 +49,9 @@ class SceneView {
   const CompiledScene* scene_ = nullptr;
   std::vector<vtkSmartPointer<vtkActor>> objects_, gingiva_, tool_graphic_, spheres_, contacts_;
   vtkSmartPointer<vtkActor> tool_haptic_, contact_actor_;
+  vtkSmartPointer<vtkPoints> contact_points_;
+  vtkSmartPointer<vtkDoubleArray> contact_radii_;
+  vtkSmartPointer<vtkPolyData> contact_poly_;
   RigidTransform X_WG_;
   int spheres_shown_ = -1;
   bool show_contacts_ = true;
