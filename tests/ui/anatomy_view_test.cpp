@@ -9,17 +9,14 @@
 #include "core/anatomy/probe.h"
 #include "core/anatomy/tooth.h"
 #include "ui/mesh_view.h"
+#include "tests/common/output.h"
 
 namespace sulcus::ui {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Shot(const std::string& name) {
-  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "screenshots";
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path Shot(const std::string& name) { return test::OutputPath("screenshots", name); }
 
 TEST(AnatomyView, LowerRightQuadrantRow) {
   std::vector<TriangleMesh> teeth;

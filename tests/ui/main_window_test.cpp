@@ -20,17 +20,14 @@
 #include "core/haptics/recording.h"
 #include "ui/mouse_device.h"
 #include "ui/scene_view.h"
+#include "tests/common/output.h"
 
 namespace sulcus::ui {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Out(const std::string& name) {
-  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "ui";
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path Out(const std::string& name) { return test::OutputPath("ui", name); }
 
 void RunFor(int ms) {
   QElapsedTimer t;

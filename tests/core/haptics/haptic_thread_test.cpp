@@ -13,17 +13,14 @@
 #include "core/haptics/recording.h"
 #include "core/haptics/scripted_device.h"
 #include "tests/core/haptics/test_scenes.h"
+#include "tests/common/output.h"
 
 namespace sulcus {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Out(const std::string& name) {
-  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "haptic_thread";
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path Out(const std::string& name) { return test::OutputPath("haptic_thread", name); }
 
 test::Scene Block() {
   test::Scene s;
@@ -59,8 +56,14 @@ TEST(TripleBuffer, ReaderAlwaysSeesACompleteValue) {
     done = true;
   });
   std::uint64_t last = 0, reads = 0;
-  while (!done || buffer.Acquire()) {
-    if (!buffer.Acquire()) continue;
+  for (;;) {
+    // Read `done` before acquiring: if it was set and nothing is fresh, the
+    // writer's last value has been seen.
+    const bool finished = done.load();
+    if (!buffer.Acquire()) {
+      if (finished) break;
+      continue;
+    }
     const Pair& p = buffer.front();
     ASSERT_EQ(p.b, ~p.a);
     ASSERT_GT(p.a, last) << "values arrive in order, never twice";

@@ -8,17 +8,14 @@
 
 #include "core/geometry/primitives.h"
 #include "core/spheretree/builder.h"
+#include "tests/common/output.h"
 
 namespace sulcus {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Out(const std::string& name) {
-  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "tree_files";
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path Out(const std::string& name) { return test::OutputPath("tree_files", name); }
 
 void Write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 

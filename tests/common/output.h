@@ -1,0 +1,16 @@
+#pragma once
+// Where a test writes its files: SULCUS_TEST_OUTPUT/<folder>/<name> in the build
+// tree (the folder is created). SULCUS_TEST_OUTPUT is defined per test target.
+
+#include <filesystem>
+#include <string>
+
+namespace sulcus::test {
+
+inline std::filesystem::path OutputPath(const std::string& folder, const std::string& name = "") {
+  const std::filesystem::path dir = std::filesystem::path(SULCUS_TEST_OUTPUT) / folder;
+  std::filesystem::create_directories(dir);
+  return name.empty() ? dir : dir / name;
+}
+
+}  // namespace sulcus::test
