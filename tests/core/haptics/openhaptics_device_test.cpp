@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <numbers>
 
 #include "tests/common/compare.h"
@@ -23,8 +24,24 @@ OpenHapticsOptions SixDof() {
   return o;
 }
 
-TEST(OpenHaptics, StartsStopsAndReadsThePoseInTheWorldFrame) {
-  hd::Reset();
+// Every test starts from a fresh double; `Ready` is a started device that has
+// delivered its first reading.
+class OpenHaptics : public ::testing::Test {
+ protected:
+  void SetUp() override { hd::Reset(); }
+  std::unique_ptr<OpenHapticsDevice> Ready() {
+    auto device = std::make_unique<OpenHapticsDevice>(SixDof());
+    device->Start();
+    hd::RunServo(1);
+    DeviceSample s;
+    EXPECT_TRUE(device->Read(0, &s));
+    return device;
+  }
+  static Vector3 Force() { return {hd::Get().force[0], hd::Get().force[1], hd::Get().force[2]}; }
+  static Vector3 Torque() { return {hd::Get().torque[0], hd::Get().torque[1], hd::Get().torque[2]}; }
+};
+
+TEST_F(OpenHaptics, StartsStopsAndReadsThePoseInTheWorldFrame) {
   OpenHapticsDevice device(SixDof());
   device.Start();
   EXPECT_TRUE(hd::Get().scheduler_running);
@@ -57,45 +74,32 @@ TEST(OpenHaptics, StartsStopsAndReadsThePoseInTheWorldFrame) {
   EXPECT_EQ(hd::Get().frames_unbalanced, 0);
 }
 
-TEST(OpenHaptics, ForceAndTorqueGoOutInTheDeviceFrameAboutTheGimbal) {
-  hd::Reset();
-  OpenHapticsDevice device(SixDof());
-  device.Start();
-  hd::RunServo(1);
-  DeviceSample s;
-  ASSERT_TRUE(device.Read(0, &s));
+TEST_F(OpenHaptics, ForceAndTorqueGoOutInTheDeviceFrameAboutTheGimbal) {
+  auto ready = Ready();
+  OpenHapticsDevice& device = *ready;
   // 1 N along world +x at the tip, no torque about the tip.
   device.Write(Vector3(1, 0, 0), Vector3::Zero());
   hd::RunServo(1);
   // In D (turned +90 about z): world +x is device -y.
-  EXPECT_NEAR(hd::Get().force[0], 0, 1e-12);
-  EXPECT_NEAR(hd::Get().force[1], -1, 1e-12);
-  EXPECT_NEAR(hd::Get().force[2], 0, 1e-12);
+  EXPECT_TRUE(CompareMatrices(Force(), Vector3(0, -1, 0), 1e-12));
   // Lever arm from gimbal to tip: (0, 0, -40) mm; torque = r x F = (0, -40, 0) N*mm in W,
   // which is (-40, 0, 0) in D; N*mm is mN*m, the unit HDAPI takes.
-  EXPECT_NEAR(hd::Get().torque[0], -40, 1e-12);
-  EXPECT_NEAR(hd::Get().torque[1], 0, 1e-12);
-  EXPECT_NEAR(hd::Get().torque[2], 0, 1e-12);
+  EXPECT_TRUE(CompareMatrices(Torque(), Vector3(-40, 0, 0), 1e-12));
 }
 
-TEST(OpenHaptics, ClampsAtTheBoundaryAndZeroesNan) {
-  hd::Reset();
-  OpenHapticsDevice device(SixDof());
-  device.Start();
-  hd::RunServo(1);
-  DeviceSample s;
-  device.Read(0, &s);
+TEST_F(OpenHaptics, ClampsAtTheBoundaryAndZeroesNan) {
+  auto ready = Ready();
+  OpenHapticsDevice& device = *ready;
   device.Write(Vector3(0, 0, 50), Vector3(0, 0, 5000));
   hd::RunServo(1);
-  EXPECT_NEAR(Vector3(hd::Get().force[0], hd::Get().force[1], hd::Get().force[2]).norm(), 3.3, 1e-12);
-  EXPECT_NEAR(Vector3(hd::Get().torque[0], hd::Get().torque[1], hd::Get().torque[2]).norm(), 515, 1e-9);
+  EXPECT_NEAR(Force().norm(), 3.3, 1e-12);
+  EXPECT_NEAR(Torque().norm(), 515, 1e-9);
   device.Write(Vector3(0, 0, std::numeric_limits<double>::quiet_NaN()), Vector3::Zero());
   hd::RunServo(1);
   EXPECT_EQ(hd::Get().force[2], 0.0);
 }
 
-TEST(OpenHaptics, NonFatalErrorsAreCountedAndTheLoopGoesOn) {
-  hd::Reset();
+TEST_F(OpenHaptics, NonFatalErrorsAreCountedAndTheLoopGoesOn) {
   OpenHapticsDevice device(SixDof());
   device.Start();
   hd::Get().servo_errors = {HD_EXCEEDED_MAX_FORCE, HD_WARM_MOTORS};
@@ -106,13 +110,10 @@ TEST(OpenHaptics, NonFatalErrorsAreCountedAndTheLoopGoesOn) {
   EXPECT_TRUE(device.Read(0, &s));
 }
 
-TEST(OpenHaptics, AFatalErrorStopsReadingsAndForces) {
-  hd::Reset();
-  OpenHapticsDevice device(SixDof());
-  device.Start();
-  hd::RunServo(1);
+TEST_F(OpenHaptics, AFatalErrorStopsReadingsAndForces) {
+  auto ready = Ready();
+  OpenHapticsDevice& device = *ready;
   DeviceSample s;
-  ASSERT_TRUE(device.Read(0, &s));
   device.Write(Vector3(0, 0, 1), Vector3::Zero());
   hd::Get().servo_errors = {HD_DEVICE_FAULT};
   hd::RunServo(1);
@@ -123,8 +124,7 @@ TEST(OpenHaptics, AFatalErrorStopsReadingsAndForces) {
   EXPECT_EQ(hd::Get().force[2], 0.0) << "no force once faulted";
 }
 
-TEST(OpenHaptics, OpenFailureSaysWhatToCheck) {
-  hd::Reset();
+TEST_F(OpenHaptics, OpenFailureSaysWhatToCheck) {
   hd::Get().init_error = HD_COMM_CONFIG_ERROR;
   OpenHapticsDevice device(SixDof());
   try {
@@ -139,8 +139,7 @@ TEST(OpenHaptics, OpenFailureSaysWhatToCheck) {
   EXPECT_FALSE(hd::Get().scheduler_running);
 }
 
-TEST(OpenHaptics, SchedulerFailureCleansUp) {
-  hd::Reset();
+TEST_F(OpenHaptics, SchedulerFailureCleansUp) {
   hd::Get().start_error = HD_TIMER_ERROR;
   OpenHapticsDevice device(SixDof());
   EXPECT_THROW(device.Start(), DeviceError);
@@ -148,8 +147,7 @@ TEST(OpenHaptics, SchedulerFailureCleansUp) {
   EXPECT_EQ(hd::Get().callback, nullptr);
 }
 
-TEST(OpenHaptics, ThreeDofDeviceGetsNoTorque) {
-  hd::Reset();
+TEST_F(OpenHaptics, ThreeDofDeviceGetsNoTorque) {
   hd::Get().output_dof = 3;
   OpenHapticsDevice device(SixDof());
   device.Start();
