@@ -68,9 +68,8 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
   if (p.segments < 8 || p.segments % 8 != 0)
     throw std::invalid_argument("gingiva segments must be a multiple of 8, at least 8");
   if (!(p.gap_mm >= 0.55)) throw std::invalid_argument("the sulcus must be at least 0.55 mm wide for a 0.5 mm probe tip");
-  const double root = tooth.dimensions.longest_root();
   for (int i = 0; i < 6; ++i) {
-    if (p.pocket_mm[i] < 0 || p.pocket_mm[i] + p.recession_mm[i] > root - 1.0)
+    if (p.pocket_mm[i] < 0 || p.pocket_mm[i] + p.recession_mm[i] > MaxAttachmentLoss(tooth.dimensions))
       throw std::invalid_argument("pocket of " + std::to_string(p.pocket_mm[i]) + " mm at site " +
                                   std::to_string(i) + " does not fit the root of tooth " +
                                   std::to_string(tooth.tooth.fdi));

@@ -39,6 +39,10 @@ struct GingivaModel {
   double FloorAt(double th) const;
 };
 
+/// The most attachment a site can lose (pocket plus recession, mm) and keep at
+/// least 1 mm of root in the gingiva.
+inline double MaxAttachmentLoss(const ToothDimensions& d) { return d.longest_root() - 1.0; }
+
 /// Site angles in the tooth frame, in charting order (MB, B, DB, ML, L, DL).
 const std::array<double, 6>& SiteAngles();
 

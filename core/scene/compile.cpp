@@ -251,21 +251,25 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
   const auto& objects = scene.spec.objects;
   if (objects.empty()) throw std::invalid_argument("the scene has no objects to touch");
   if (object < 0) {
-    // The first tooth; for `insert` into a scene with gingiva, the tooth with the
-    // deepest buccal pocket.
+    // The first lower tooth (its crown faces up, the instrument comes from
+    // above), else the first tooth, else the first object; for `insert` into a
+    // scene with gingiva, the tooth with the deepest buccal pocket among those.
     object = 0;
-    double deepest = -1;
+    auto rank = [&](const ObjectSpec& o) {
+      const bool lower = FdiTooth::Parse(o.fdi).quadrant >= 3;
+      const double depth = script == "insert" && scene.spec.gingiva ? o.pocket_mm[1] : 0.0;
+      return std::pair(lower, depth);
+    };
+    std::optional<std::pair<bool, double>> best;
     for (std::size_t i = 0; i < objects.size(); ++i) {
       if (objects[i].kind != ObjectSpec::Kind::kTooth) continue;
-      // Lower teeth first (their crowns face up, the instrument comes from above).
-      const bool lower = objects[i].fdi / 10 >= 3;
-      const double depth = (script == "insert" && scene.spec.gingiva ? objects[i].pocket_mm[1] : 0.0) + (lower ? 100 : 0);
-      if (depth > deepest) {
-        deepest = depth;
+      if (const auto r = rank(objects[i]); !best || r > *best) {
+        best = r;
         object = static_cast<int>(i);
       }
     }
   }
+
   if (object >= static_cast<int>(objects.size())) throw std::invalid_argument("no object " + std::to_string(object));
   const ObjectSpec& o = objects[object];
   const TriangleMesh& mesh = scene.meshes[object];

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/anatomy/arch.h"
+#include "core/anatomy/gingiva.h"
 #include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
 
@@ -507,9 +508,10 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
       g.material = DefaultMaterial(Tissue::kGingiva);
       if (!t.has_sites) g.pocket_mm.fill(2.0);
       try {
-        const double root = Dimensions(FdiTooth::Parse(t.fdi)).longest_root();
+        const ToothDimensions d = Dimensions(FdiTooth::Parse(t.fdi));
         for (int s = 0; s < 6; ++s) {
-          if (g.pocket_mm[s] < root && g.pocket_mm[s] + g.recession_mm[s] > root - 1.0) {
+          // (a pocket deeper than the root is reported with the tooth already)
+          if (g.pocket_mm[s] < d.longest_root() && g.pocket_mm[s] + g.recession_mm[s] > MaxAttachmentLoss(d)) {
             r.Error(t.line, t.column, "tooth " + std::to_string(t.fdi) + ": pocket plus recession at site " + kSiteCodes[s] +
                                    " leaves less than 1 mm of attached root for the gingiva");
           }
