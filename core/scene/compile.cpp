@@ -192,28 +192,37 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
     scene->meshes.push_back(MakeObjectMeshCached(scene->spec.objects[i], cache_dir));
     report(i, scene->spec.objects[i].name, 0.1);
   }
-  // Trees: one worker per core, objects handed out in order; progress from the
+  // Trees: one worker per core, jobs handed out in order; progress from the
   // workers is serialised, and a cancel or an error stops them all.
   scene->trees.resize(n);
-  std::vector<double> done(n, 0.0);
+  scene->tool_mesh = MakeProbe(spec.probe).collision_mesh;
+  // Job 0 is the tool's tree, then the objects in order (the soft, quick ones
+  // last), so that no core is left alone with a long job at the end. done[j]
+  // is job j's fraction; the meshes above were the first 0.1 of each object.
+  std::vector<double> done(n + 1, 0.0);
   std::mutex progress_mutex;
   std::atomic<int> next{0};
   std::atomic<bool> stop{false};
   std::exception_ptr failure;
   auto worker = [&] {
-    for (int i = next++; i < n && !stop; i = next++) {
-      const BuildProgress inner = [&, i](std::string_view stage, double f) {
+    for (int job = next++; job <= n && !stop; job = next++) {
+      const BuildProgress inner = [&, job](std::string_view stage, double f) {
         if (stop) return false;
         std::lock_guard lock(progress_mutex);
-        done[i] = f;
-        double total = 0;
-        for (double d : done) total += d;
-        if (progress && !progress(stage, (0.1 * n + 0.9 * total) / (n + 1))) stop = true;
+        done[job] = f;
+        double total = done[0];
+        for (int j = 1; j <= n; ++j) total += 0.1 + 0.9 * done[j];
+        if (progress && !progress(stage, total / (n + 1))) stop = true;
         return !stop.load();
       };
       try {
-        scene->trees[i] = LoadOrBuildSphereTree(scene->meshes[i], spec.trees, cache_dir, inner);
-        inner(scene->spec.objects[i].name, 1.0);
+        if (job == 0) {
+          scene->tool_tree = LoadOrBuildSphereTree(scene->tool_mesh, SphereTreeParams{}, cache_dir, inner);
+          inner("tool", 1.0);
+        } else {
+          scene->trees[job - 1] = LoadOrBuildSphereTree(scene->meshes[job - 1], spec.trees, cache_dir, inner);
+          inner(scene->spec.objects[job - 1].name, 1.0);
+        }
       } catch (...) {
         std::lock_guard lock(progress_mutex);
         if (!failure) failure = std::current_exception();
@@ -221,18 +230,13 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
       }
     }
   };
-  const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(1, n));
+  const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, n + 1);
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
   worker();
   for (std::thread& t : pool) t.join();
   if (failure) std::rethrow_exception(failure);
   if (stop) throw BuildCancelled();
-  scene->tool_mesh = MakeProbe(spec.probe).collision_mesh;
-  scene->tool_tree = LoadOrBuildSphereTree(scene->tool_mesh, SphereTreeParams{}, cache_dir,
-                                           [&](std::string_view stage, double f) {
-                                             return !progress || progress(stage, (n + f) / (n + 1));
-                                           });
   const auto& objs = scene->spec.objects;
   int soft_first = n;
   while (soft_first > 0 && soft(objs[soft_first - 1])) --soft_first;

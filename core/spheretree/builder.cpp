@@ -12,6 +12,7 @@
 #include <numeric>
 #include <queue>
 #include <sstream>
+#include <unordered_map>
 #include <utility>
 
 #include "core/spheretree/mesh_oracle.h"
@@ -250,6 +251,34 @@ std::vector<Candidate> MedialCandidates(const std::vector<Vector3>& samples,
   return out;
 }
 
+// Keeps the deepest candidate in each cell of a grid `cell` wide: neighbours
+// that close enclose nearly the same pieces, and fewer candidates make the cover
+// lists shorter.
+std::vector<Candidate> ThinCandidates(std::vector<Candidate> cands, double cell) {
+  std::unordered_map<std::uint64_t, std::size_t> best;
+  best.reserve(cands.size());
+  auto key = [&](const Vector3& p) {
+    std::uint64_t k = 0;
+    for (int a = 0; a < 3; ++a) {
+      const auto i = static_cast<std::int64_t>(std::floor(p[a] / cell));
+      k = k * 2097152u + static_cast<std::uint64_t>(i & 0x1FFFFF);  // 21 bits per axis
+    }
+    return k;
+  };
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    auto [it, fresh] = best.emplace(key(cands[i].c), i);
+    if (!fresh && cands[i].depth > cands[it->second].depth) it->second = i;
+  }
+  std::vector<char> keep(cands.size(), 0);
+  for (const auto& entry : best) keep[entry.second] = 1;
+  std::vector<Candidate> out;
+  out.reserve(best.size());
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    if (keep[i]) out.push_back(cands[i]);
+  }
+  return out;
+}
+
 // For each candidate, the pieces it can enclose with a protrusion bound of at most
 // `eps_max`, sorted by the bound each needs (CSR form). A cover at any eps <=
 // eps_max then uses a prefix of every list, so the bisection over eps reuses them.
@@ -284,23 +313,36 @@ CoverLists ComputeCovers(const std::vector<Candidate>& cands, const std::vector<
 }
 
 // Lazy greedy set cover using, for each candidate, the pieces it encloses within
-// eps. Returns the chosen candidates, or nothing when the pieces cannot be
-// covered or need more than `budget` spheres.
+// eps, or within limit[piece] where that is larger (pieces whose best possible
+// bound is above eps). Returns the chosen candidates, or nothing when the pieces
+// cannot be covered or need more than `budget` spheres.
 std::vector<std::int32_t> GreedyCover(const CoverLists& lists, double eps, std::size_t num_pieces,
-                                      std::size_t budget) {
+                                      std::size_t budget, const std::vector<float>* limit = nullptr) {
   const auto n = static_cast<std::int32_t>(lists.start.size() - 1);
-  std::vector<std::int64_t> end(n);
+  // The usable part of each list, in CSR form.
+  std::vector<std::int64_t> start(n + 1, 0);
+  std::vector<std::int32_t> items;
+  items.reserve(lists.items.size() / 2);
+  const auto feps = static_cast<float>(eps);
   for (std::int32_t i = 0; i < n; ++i) {
-    end[i] = std::upper_bound(lists.need.begin() + lists.start[i], lists.need.begin() + lists.start[i + 1],
-                              static_cast<float>(eps)) -
-             lists.need.begin();
+    for (std::int64_t k = lists.start[i]; k < lists.start[i + 1]; ++k) {
+      const float need = lists.need[k];
+      if (need <= feps) {
+        items.push_back(lists.items[k]);
+      } else if (limit == nullptr) {
+        break;  // sorted: nothing further fits
+      } else if (need <= (*limit)[lists.items[k]]) {
+        items.push_back(lists.items[k]);
+      }
+    }
+    start[i + 1] = static_cast<std::int64_t>(items.size());
   }
   std::vector<char> covered(num_pieces, 0);
   std::size_t uncovered = num_pieces;
   using Entry = std::pair<std::int64_t, std::int32_t>;  // (count, -index): ties -> lower index
   std::priority_queue<Entry> heap;
   for (std::int32_t i = 0; i < n; ++i) {
-    if (end[i] > lists.start[i]) heap.push({end[i] - lists.start[i], -i});
+    if (start[i + 1] > start[i]) heap.push({start[i + 1] - start[i], -i});
   }
   std::vector<std::int32_t> chosen;
   while (uncovered > 0) {
@@ -309,54 +351,65 @@ std::vector<std::int32_t> GreedyCover(const CoverLists& lists, double eps, std::
     heap.pop();
     const std::int32_t i = -neg;
     std::int64_t fresh = 0;
-    for (std::int64_t k = lists.start[i]; k < end[i]; ++k) fresh += !covered[lists.items[k]];
+    for (std::int64_t k = start[i]; k < start[i + 1]; ++k) fresh += !covered[items[k]];
     if (fresh == 0) continue;
     if (!heap.empty() && fresh < heap.top().first) {
       heap.push({fresh, neg});
       continue;
     }
     chosen.push_back(i);
-    for (std::int64_t k = lists.start[i]; k < end[i]; ++k) {
-      uncovered -= !covered[lists.items[k]];
-      covered[lists.items[k]] = 1;
+    for (std::int64_t k = start[i]; k < start[i + 1]; ++k) {
+      uncovered -= !covered[items[k]];
+      covered[items[k]] = 1;
     }
   }
   return chosen;
 }
 
-// The smallest protrusion bound (to 1 %) whose greedy cover fits the budget,
-// with the cover lists it was computed from.
+std::vector<float> PieceFloors(const CoverLists& lists, std::size_t num_pieces);
+
+// The greedy cover at the smallest protrusion bound (to 2 %) that fits the
+// budget, with the cover lists it was computed from. Pieces whose best bound
+// (over all candidates) is above the bound may use kFloorSlack times their best
+// instead, so that a few hard pieces do not set the bound for the whole surface.
 struct MinMaxCover {
   std::vector<std::int32_t> chosen;
   double eps = 0;
-  CoverLists lists;  // computed at a bound >= eps
+  CoverLists lists;      // computed at lists_eps >= eps
+  double lists_eps = 0;  // every piece has an entry: the lists can be reused below it
 };
 
-// `feasible_eps` > 0 is a bound known to fit the budget (the previous round's:
-// splitting pieces never makes a cover worse); then no bracketing is needed.
+constexpr float kFloorSlack = 1.3f;
+
+// `reach_eps` > 0 is a bound at which every piece was reachable before (the
+// previous round's lists): the bracket starts there.
 MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands, const std::vector<Piece>& pieces,
-                            std::size_t budget, double start_eps, double feasible_eps, double diag,
+                            std::size_t budget, double start_eps, double reach_eps, double diag,
                             const std::function<void()>& tick) {
   const PieceBvh bvh(pieces);
   MinMaxCover out;
-  double lists_eps = -1;
+  std::vector<float> limits;
   auto attempt = [&](double eps) {
     tick();
-    if (eps > lists_eps) {
+    if (eps > out.lists_eps) {
       out.lists = ComputeCovers(cands, pieces, bvh, eps);
-      lists_eps = eps;
+      out.lists_eps = eps;
+      limits = PieceFloors(out.lists, pieces.size());
+      for (float& f : limits) f = std::nextafter(kFloorSlack * f, std::numeric_limits<float>::infinity());
     }
-    return GreedyCover(out.lists, eps, pieces.size(), budget);
+    return GreedyCover(out.lists, eps, pieces.size(), budget, &limits);
   };
-  // Bracket by doubling (unless a feasible bound is known), then bisect.
-  double lo = 0, hi = feasible_eps > 0 ? feasible_eps : start_eps;
+  // Bracket: grow until every piece is reachable and the cover fits.
+  double hi = reach_eps > 0 ? reach_eps : start_eps;
+  const double grow = reach_eps > 0 ? 1.25 : 2.0;
   while ((out.chosen = attempt(hi)).empty()) {
-    lo = hi;
-    hi *= 2;
+    hi *= grow;
     if (hi > 4 * diag) throw SphereTreeError("no cover found (is the mesh a solid?)");
   }
-  // To 1 % of the bound: finer steps change the tree, not its fit.
-  for (int i = 0; i < 14 && hi - lo > 1e-2 * hi; ++i) {
+  // Bisect below it with the same lists. A failure in the bracket may have been
+  // an unreachable piece, which the lists now reach, so the search starts at 0.
+  double lo = 0;
+  for (int i = 0; i < 14 && hi - lo > 2e-2 * hi; ++i) {
     const double mid = 0.5 * (lo + hi);
     auto c = attempt(mid);
     if (c.empty()) {
@@ -408,6 +461,24 @@ double CoverError(const Vector3& c, double depth, const std::vector<Piece>& piec
   return std::sqrt(r2) - depth;
 }
 
+// Farthest corner of a piece from c (squared).
+double FarCorner2(const Piece& p, const Vector3& c) {
+  return std::max({(p.v[0] - c).squaredNorm(), (p.v[1] - c).squaredNorm(), (p.v[2] - c).squaredNorm()});
+}
+
+// CoverError when it is below `limit`; otherwise some value >= limit, found as
+// soon as one piece shows it.
+double CoverErrorBelow(const Vector3& c, double depth, const std::vector<Piece>& pieces,
+                       const std::vector<std::int32_t>& members, double limit) {
+  const double stop2 = (limit + depth) * (limit + depth);
+  double r2 = 0;
+  for (std::int32_t p : members) {
+    r2 = std::max(r2, FarCorner2(pieces[p], c));
+    if (r2 >= stop2) return limit;
+  }
+  return std::sqrt(r2) - depth;
+}
+
 struct Leaf {
   Vector3 c;
   double depth;
@@ -438,24 +509,92 @@ void AssignPieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces) {
   std::erase_if(*leaves, [](const Leaf& l) { return l.pieces.empty(); });
 }
 
+// Medial candidates bucketed in a uniform grid, for "candidates near this
+// point" queries.
+class CandidateIndex {
+ public:
+  CandidateIndex(const std::vector<Candidate>& cands, double cell_hint) : cands_(cands) {
+    for (const Candidate& c : cands) box_.Extend(c.c);
+    const Vector3 extent = box_.extent();
+    // At most about 64^3 cells, at least cell_hint wide.
+    cell_ = std::max({cell_hint, extent.maxCoeff() / 64.0, 1e-9});
+    for (int k = 0; k < 3; ++k) dims_[k] = static_cast<int>(extent[k] / cell_) + 1;
+    const std::size_t cells = static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2];
+    start_.assign(cells + 1, 0);
+    std::vector<std::int64_t> cell_of(cands.size());
+    for (std::size_t i = 0; i < cands.size(); ++i) {
+      cell_of[i] = CellOf(cands[i].c);
+      ++start_[cell_of[i] + 1];
+    }
+    std::partial_sum(start_.begin(), start_.end(), start_.begin());
+    items_.resize(cands.size());
+    std::vector<std::int64_t> fill(start_.begin(), start_.end() - 1);
+    for (std::size_t i = 0; i < cands.size(); ++i) items_[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
+  }
+
+  const std::vector<Candidate>& cands() const { return cands_; }
+
+  // Calls fn(candidate) for the candidates within `radius` of p (and a few more).
+  template <typename Fn>
+  void ForEachNear(const Vector3& p, double radius, Fn&& fn) const {
+    int lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::clamp(static_cast<int>(std::floor((p[k] - radius - box_.min[k]) / cell_)), 0, dims_[k] - 1);
+      hi[k] = std::clamp(static_cast<int>(std::floor((p[k] + radius - box_.min[k]) / cell_)), 0, dims_[k] - 1);
+    }
+    for (int x = lo[0]; x <= hi[0]; ++x) {
+      for (int y = lo[1]; y <= hi[1]; ++y) {
+        for (int z = lo[2]; z <= hi[2]; ++z) {
+          const std::int64_t cell = (static_cast<std::int64_t>(z) * dims_[1] + y) * dims_[0] + x;
+          for (std::int64_t i = start_[cell]; i < start_[cell + 1]; ++i) fn(cands_[items_[i]]);
+        }
+      }
+    }
+  }
+
+ private:
+  std::int64_t CellOf(const Vector3& p) const {
+    int idx[3];
+    for (int k = 0; k < 3; ++k) {
+      idx[k] = std::clamp(static_cast<int>((p[k] - box_.min[k]) / cell_), 0, dims_[k] - 1);
+    }
+    return (static_cast<std::int64_t>(idx[2]) * dims_[1] + idx[1]) * dims_[0] + idx[0];
+  }
+
+  const std::vector<Candidate>& cands_;
+  Aabb box_;
+  double cell_ = 1;
+  int dims_[3] = {1, 1, 1};
+  std::vector<std::int64_t> start_;
+  std::vector<std::int32_t> items_;
+};
+
 // Moves each leaf's centre to the candidate (or a point toward the smallest ball
 // around its pieces) that encloses the same pieces with the least protrusion.
 void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
-                  const std::vector<Candidate>& cands, const MeshOracle& oracle) {
+                  const CandidateIndex& index, const MeshOracle& oracle) {
   using MTraits = CGAL::Min_sphere_of_spheres_d_traits_3<K, double, CGAL::Tag_true>;
   using MinSphere = CGAL::Min_sphere_of_spheres_d<MTraits>;
   for (Leaf& l : *leaves) {
+    // Farthest pieces first: a centre that cannot beat the current one usually
+    // fails on them, after a few corners.
+    std::sort(l.pieces.begin(), l.pieces.end(), [&](std::int32_t a, std::int32_t b) {
+      const double da = FarCorner2(pieces[a], l.c), db = FarCorner2(pieces[b], l.c);
+      return da != db ? da > db : a < b;
+    });
     double best = CoverError(l.c, l.depth, pieces, l.pieces);
     const Vector3 any = pieces[l.pieces.front()].v[0];
-    for (const Candidate& c : cands) {
-      if ((any - c.c).norm() - c.depth >= best) continue;  // cannot beat the current error
-      const double e = CoverError(c.c, c.depth, pieces, l.pieces);
+    // Centres farther than the current radius from the current one are not tried.
+    const Vector3 from = l.c;
+    index.ForEachNear(from, best + l.depth, [&](const Candidate& c) {
+      if ((any - c.c).norm() - c.depth >= best) return;  // cannot beat the current error
+      const double e = CoverErrorBelow(c.c, c.depth, pieces, l.pieces, best);
       if (e < best) {
         best = e;
         l.c = c.c;
         l.depth = c.depth;
       }
-    }
+    });
     // Toward the smallest enclosing ball of the pieces' corners.
     std::vector<MTraits::Sphere> corners;
     for (std::int32_t p : l.pieces) {
@@ -482,33 +621,90 @@ void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
   }
 }
 
-// Spends the leaf budget left after the min-max cover on the worst leaves: each
-// is replaced by the two candidates that enclose its pieces with the least
-// bound, when that is clearly lower. Lowers the mean protrusion, and the worst
-// where the worst leaf can be split.
-void SplitWorstLeaves(std::vector<Leaf>* leaves, std::size_t budget, const std::vector<Piece>& pieces,
-                      const std::vector<Candidate>& cands, const CoverLists& lists) {
-  // Reverse index: piece -> (candidate, need) entries.
-  std::vector<std::int64_t> start(pieces.size() + 1, 0);
-  for (std::int32_t p : lists.items) ++start[p + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<std::pair<std::int32_t, float>> by_piece(lists.items.size());
-  {
-    std::vector<std::int64_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t c = 0; c + 1 < lists.start.size(); ++c) {
-      for (std::int64_t k = lists.start[c]; k < lists.start[c + 1]; ++k) {
-        by_piece[fill[lists.items[k]]++] = {static_cast<std::int32_t>(c), lists.need[k]};
+// Tightens a cover without adding leaves or losing coverage (a leaf left with no
+// pieces is dropped, for SplitLeavesInTwo to spend again). Each
+// round: splits the pieces that set a leaf's radius (so its region's border can
+// move at a finer grain), hands every piece to the leaf that already encloses it
+// with the widest margin (so no leaf grows and the ones whose far pieces are
+// taken shrink), then re-centres the leaves on their pieces. Every step keeps
+// each piece inside its leaf, so coverage stays complete.
+void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces, const CandidateIndex& index,
+                  const MeshOracle& oracle, std::size_t max_pieces, int rounds) {
+  std::vector<double> radius2;
+  auto radii = [&] {
+    radius2.assign(leaves->size(), 0.0);
+    for (std::size_t i = 0; i < leaves->size(); ++i) {
+      for (std::int32_t p : (*leaves)[i].pieces) radius2[i] = std::max(radius2[i], FarCorner2((*pieces)[p], (*leaves)[i].c));
+    }
+  };
+  for (int round = 0; round < rounds; ++round) {
+    radii();
+    // 1. Split the pieces near each leaf's radius.
+    std::vector<std::int32_t> owner(pieces->size(), -1);
+    std::vector<char> split(pieces->size(), 0);
+    std::size_t n_split = 0;
+    for (std::size_t i = 0; i < leaves->size(); ++i) {
+      const Leaf& l = (*leaves)[i];
+      const double r = std::sqrt(radius2[i]);
+      for (std::int32_t p : l.pieces) {
+        owner[p] = static_cast<std::int32_t>(i);
+        const Piece& piece = (*pieces)[p];
+        const double edge = std::max({(piece.v[1] - piece.v[0]).norm(), (piece.v[2] - piece.v[1]).norm(),
+                                      (piece.v[0] - piece.v[2]).norm()});
+        if (std::sqrt(FarCorner2(piece, l.c)) >= r - 0.5 * edge) {
+          split[p] = 1;
+          ++n_split;
+        }
       }
     }
+    if (n_split > 0 && pieces->size() + 3 * n_split <= max_pieces) {
+      std::vector<std::int32_t> new_owner;
+      new_owner.reserve(pieces->size() + 3 * n_split);
+      for (std::size_t p = 0; p < pieces->size(); ++p) {
+        for (int k = 0; k < (split[p] ? 4 : 1); ++k) new_owner.push_back(owner[p]);
+      }
+      *pieces = SplitPieces(*pieces, split);
+      owner = std::move(new_owner);
+    }
+    // 2. Each piece to the enclosing leaf with the widest margin.
+    std::vector<double> radius(leaves->size());
+    for (std::size_t i = 0; i < leaves->size(); ++i) radius[i] = std::sqrt(radius2[i]) * (1 + 1e-12);
+    std::vector<double> best_margin(pieces->size());
+    for (std::size_t p = 0; p < pieces->size(); ++p) {
+      best_margin[p] = radius[owner[p]] - std::sqrt(FarCorner2((*pieces)[p], (*leaves)[owner[p]].c));
+    }
+    const PieceBvh bvh(*pieces);
+    for (std::size_t i = 0; i < leaves->size(); ++i) {
+      const Vector3 c = (*leaves)[i].c;
+      bvh.ForEachEnclosed(c, radius[i], [&](std::int32_t p) {
+        const double margin = radius[i] - std::sqrt(FarCorner2((*pieces)[p], c));
+        if (margin > best_margin[p]) {
+          best_margin[p] = margin;
+          owner[p] = static_cast<std::int32_t>(i);
+        }
+      });
+    }
+    for (Leaf& l : *leaves) l.pieces.clear();
+    for (std::size_t p = 0; p < pieces->size(); ++p) (*leaves)[owner[p]].pieces.push_back(static_cast<std::int32_t>(p));
+    std::erase_if(*leaves, [](const Leaf& l) { return l.pieces.empty(); });
+    // 3. Re-centre.
+    RefineLeaves(leaves, *pieces, index, oracle);
   }
-  auto error_of = [&](const Leaf& l) { return CoverError(l.c, l.depth, pieces, l.pieces); };
+}
+
+// Spends the leaf budget on the leaves with the largest protrusion bound: each
+// is cut in two across the longest side of its pieces' box, then (three times)
+// both halves are re-centred and each piece goes to the half that encloses it
+// with the smaller bound. A cut that does not lower the bound by 5 % is not
+// made; a round patch rarely gains from two spheres, so this mostly splits
+// long ones.
+void SplitLeavesInTwo(std::vector<Leaf>* leaves, std::size_t budget, const std::vector<Piece>& pieces,
+                      const CandidateIndex& index, const MeshOracle& oracle) {
   std::vector<double> error(leaves->size());
   std::vector<char> final_leaf(leaves->size(), 0);
-  for (std::size_t i = 0; i < leaves->size(); ++i) error[i] = error_of((*leaves)[i]);
-  std::vector<std::int32_t> member_stamp(pieces.size(), -1);
-  std::vector<std::int32_t> cand_stamp(cands.size(), -1);
-  std::vector<std::int32_t> near;
-  int stamp = 0;
+  for (std::size_t i = 0; i < leaves->size(); ++i) {
+    error[i] = CoverError((*leaves)[i].c, (*leaves)[i].depth, pieces, (*leaves)[i].pieces);
+  }
   while (leaves->size() < budget) {
     std::size_t worst = leaves->size();
     for (std::size_t i = 0; i < leaves->size(); ++i) {
@@ -516,84 +712,47 @@ void SplitWorstLeaves(std::vector<Leaf>* leaves, std::size_t budget, const std::
     }
     if (worst == leaves->size()) break;
     const Leaf& leaf = (*leaves)[worst];
-    ++stamp;
-    near.clear();
-    for (std::int32_t p : leaf.pieces) {
-      member_stamp[p] = stamp;
-      for (std::int64_t k = start[p]; k < start[p + 1]; ++k) {
-        const std::int32_t c = by_piece[k].first;
-        if (cand_stamp[c] != stamp) {
-          cand_stamp[c] = stamp;
-          near.push_back(c);
-        }
-      }
-    }
-    // Best pair by greedy at a bisected bound below the leaf's error.
-    std::vector<char> covered(pieces.size(), 0);
-    auto pair_at = [&](double eps, std::int32_t* a, std::int32_t* b) {
-      std::int32_t pick[2] = {-1, -1};
-      std::size_t left = leaf.pieces.size();
-      for (int round = 0; round < 2 && left > 0; ++round) {
-        std::size_t best_count = 0;
-        for (std::int32_t c : near) {
-          std::size_t count = 0;
-          for (std::int64_t k = lists.start[c]; k < lists.start[c + 1] && lists.need[k] <= eps; ++k) {
-            const std::int32_t p = lists.items[k];
-            count += member_stamp[p] == stamp && !covered[p];
-          }
-          if (count > best_count) {
-            best_count = count;
-            pick[round] = c;
-          }
-        }
-        if (pick[round] < 0) break;
-        for (std::int64_t k = lists.start[pick[round]];
-             k < lists.start[pick[round] + 1] && lists.need[k] <= eps; ++k) {
-          const std::int32_t p = lists.items[k];
-          if (member_stamp[p] == stamp && !covered[p]) {
-            covered[p] = 1;
-            --left;
-          }
-        }
-      }
-      for (std::int32_t p : leaf.pieces) covered[p] = 0;
-      *a = pick[0];
-      *b = pick[1];
-      return left == 0;
-    };
-    double lo = 0, hi = error[worst];
-    std::int32_t best_a = -1, best_b = -1;
-    for (int i = 0; i < 10; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      std::int32_t a, b;
-      if (pair_at(mid, &a, &b)) {
-        hi = mid;
-        best_a = a;
-        best_b = b;
-      } else {
-        lo = mid;
-      }
-    }
-    if (best_a < 0 || hi > 0.9 * error[worst]) {
+    if (leaf.pieces.size() < 2) {
       final_leaf[worst] = 1;
       continue;
     }
-    // Replace the leaf by the pair; each takes the pieces it encloses best.
-    Leaf la{cands[best_a].c, cands[best_a].depth, {}};
-    Leaf lb = best_b >= 0 ? Leaf{cands[best_b].c, cands[best_b].depth, {}} : Leaf{};
-    for (std::int32_t p : leaf.pieces) {
-      const double ea = CoverError(la.c, la.depth, pieces, {p});
-      const double eb = best_b >= 0 ? CoverError(lb.c, lb.depth, pieces, {p})
-                                    : std::numeric_limits<double>::infinity();
-      (ea <= eb ? la : lb).pieces.push_back(p);
+    Aabb box;
+    for (std::int32_t p : leaf.pieces) box.Extend(pieces[p].centroid);
+    int axis;
+    box.extent().maxCoeff(&axis);
+    std::vector<std::int32_t> order = leaf.pieces;
+    const auto mid = order.begin() + static_cast<std::ptrdiff_t>(order.size() / 2);
+    std::nth_element(order.begin(), mid, order.end(), [&](std::int32_t a, std::int32_t b) {
+      return pieces[a].centroid[axis] != pieces[b].centroid[axis] ? pieces[a].centroid[axis] < pieces[b].centroid[axis]
+                                                                  : a < b;
+    });
+    std::vector<Leaf> halves(2);
+    halves[0] = {leaf.c, leaf.depth, {order.begin(), mid}};
+    halves[1] = {leaf.c, leaf.depth, {mid, order.end()}};
+    RefineLeaves(&halves, pieces, index, oracle);
+    for (int it = 0; it < 3; ++it) {
+      std::vector<std::int32_t> mine[2];
+      for (std::int32_t p : leaf.pieces) {
+        const double e0 = std::sqrt(FarCorner2(pieces[p], halves[0].c)) - halves[0].depth;
+        const double e1 = std::sqrt(FarCorner2(pieces[p], halves[1].c)) - halves[1].depth;
+        mine[e1 < e0 ? 1 : 0].push_back(p);
+      }
+      if (mine[0].empty() || mine[1].empty()) break;
+      halves[0].pieces = std::move(mine[0]);
+      halves[1].pieces = std::move(mine[1]);
+      RefineLeaves(&halves, pieces, index, oracle);
     }
-    (*leaves)[worst] = std::move(la);
-    error[worst] = error_of((*leaves)[worst]);
-    if (best_b >= 0 && !lb.pieces.empty()) {
-      leaves->push_back(std::move(lb));
-      error.push_back(error_of(leaves->back()));
-      final_leaf.push_back(0);
+    double e[2];
+    for (int k = 0; k < 2; ++k) e[k] = CoverError(halves[k].c, halves[k].depth, pieces, halves[k].pieces);
+    if (std::max(e[0], e[1]) > 0.95 * error[worst]) {
+      final_leaf[worst] = 1;
+      continue;
     }
+    (*leaves)[worst] = std::move(halves[0]);
+    error[worst] = e[0];
+    leaves->push_back(std::move(halves[1]));
+    error.push_back(e[1]);
+    final_leaf.push_back(0);
   }
 }
 
@@ -767,18 +926,21 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   const Reporter medial_report([&](std::string_view stage, double f) {
     return !progress || progress(stage, 0.02 + 0.38 * f);
   });
-  const std::vector<Candidate> cands = MedialCandidates(samples, normals, diag, oracle, medial_report);
+  const std::vector<Candidate> cands =
+      ThinCandidates(MedialCandidates(samples, normals, diag, oracle, medial_report), 0.25 * h);
   if (cands.empty()) throw SphereTreeError("no point of the medial axis was found inside the mesh");
   const double seconds_medial = Seconds(t0);
 
-  // 3. Cover: the smallest protrusion bound whose greedy cover fits the budget,
-  // refining the surface pieces that bind it (where the fit is worst).
+  // 3. Cover. With a budget: the smallest bound whose greedy cover fits it,
+  // pieces no candidate encloses that well held at (nearly) their own best, so
+  // that one hard spot does not hold the whole surface to its bound; one round
+  // splits those pieces and covers again.
   const auto t_cover = Clock::now();
   int runs = 0;
-  auto tick = [&] { report("cover", 0.4 + 0.4 * std::min(1.0, runs++ / 60.0)); };
+  auto tick = [&] { report("cover", 0.4 + 0.3 * std::min(1.0, runs++ / 40.0)); };
   MinMaxCover cover;
   const std::size_t max_pieces = 6 * static_cast<std::size_t>(wanted);
-  // Pieces whose best possible bound is above `limit` are split, a few rounds.
+  // Pieces whose best possible bound is above `limit` are split.
   auto refine_binding = [&](const CoverLists& lists, double limit) {
     const std::vector<float> floor = PieceFloors(lists, pieces.size());
     std::vector<char> split(pieces.size(), 0);
@@ -807,23 +969,26 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
                             std::to_string(capacity) + "); allow more levels or a larger error");
     }
   } else {
-    for (int round = 0;; ++round) {
-      cover = CoverWithBudget(cands, pieces, budget, 0.02 * h, round > 0 ? cover.eps : 0.0, diag, tick);
-      if (round == 3 || !refine_binding(cover.lists, 0.6 * cover.eps)) break;
+    cover = CoverWithBudget(cands, pieces, budget, 0.02 * h, 0.0, diag, tick);
+    if (refine_binding(cover.lists, 0.6 * cover.eps)) {
+      cover = CoverWithBudget(cands, pieces, budget, 0.02 * h, cover.lists_eps, diag, tick);
     }
   }
 
+  // 4. Leaves: each piece to the leaf that encloses it best, leaves re-centred,
+  // then tightened (and, with a budget, the leaves that frees spent).
+  const CandidateIndex index(cands, 0.5 * h);
   std::vector<Leaf> leaves;
   leaves.reserve(budget);
   for (std::int32_t i : cover.chosen) leaves.push_back({cands[i].c, cands[i].depth, {}});
   AssignPieces(&leaves, pieces);
-  report("refine", 0.82);
-  RefineLeaves(&leaves, pieces, cands, oracle);
+  report("refine", 0.72);
+  RefineLeaves(&leaves, pieces, index, oracle);
   AssignPieces(&leaves, pieces);
-  if (params.target_error_mm == 0) {
-    SplitWorstLeaves(&leaves, budget, pieces, cands, cover.lists);
-    RefineLeaves(&leaves, pieces, cands, oracle);
-    AssignPieces(&leaves, pieces);
+  for (int pass = 0; pass < 4; ++pass) {
+    report("tighten", 0.75 + 0.05 * pass);
+    ShrinkLeaves(&leaves, &pieces, index, oracle, 4 * max_pieces, 2);
+    if (params.target_error_mm == 0) SplitLeavesInTwo(&leaves, budget, pieces, index, oracle);
   }
   std::vector<Vector3> centers;
   std::vector<double> radii;

@@ -2,8 +2,10 @@
 // Builds a sphere-tree from a closed mesh by a medial-axis method (DESIGN.md,
 // "Sphere-trees"): Voronoi poles of dense surface samples approximate the medial
 // axis; leaves are chosen among medial spheres by a greedy set cover of the
-// surface that bounds each leaf's protrusion; leaves are grouped into a B-ary
-// hierarchy whose parents are smallest enclosing spheres of their children.
+// surface that bounds each leaf's protrusion, then tightened (the surface
+// pieces at each leaf's rim are split and handed to the neighbour that already
+// holds them, and leaves re-centred); leaves are grouped into a B-ary hierarchy
+// whose parents are smallest enclosing spheres of their children.
 //
 // Guarantees, independent of any sampling density:
 // - every point of the surface lies inside some leaf (each leaf encloses whole
