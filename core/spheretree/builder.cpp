@@ -377,6 +377,7 @@ struct MinMaxCover {
   double eps = 0;
   CoverLists lists;      // computed at lists_eps >= eps
   double lists_eps = 0;  // every piece has an entry: the lists can be reused below it
+  std::vector<float> limits;  // per piece: kFloorSlack times its best bound
 };
 
 constexpr float kFloorSlack = 1.3f;
@@ -388,16 +389,15 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands, const std::vect
                             const std::function<void()>& tick) {
   const PieceBvh bvh(pieces);
   MinMaxCover out;
-  std::vector<float> limits;
   auto attempt = [&](double eps) {
     tick();
     if (eps > out.lists_eps) {
       out.lists = ComputeCovers(cands, pieces, bvh, eps);
       out.lists_eps = eps;
-      limits = PieceFloors(out.lists, pieces.size());
-      for (float& f : limits) f = std::nextafter(kFloorSlack * f, std::numeric_limits<float>::infinity());
+      out.limits = PieceFloors(out.lists, pieces.size());
+      for (float& f : out.limits) f = std::nextafter(kFloorSlack * f, std::numeric_limits<float>::infinity());
     }
-    return GreedyCover(out.lists, eps, pieces.size(), budget, &limits);
+    return GreedyCover(out.lists, eps, pieces.size(), budget, &out.limits);
   };
   // Bracket: grow until every piece is reachable and the cover fits.
   double hi = reach_eps > 0 ? reach_eps : start_eps;
@@ -978,17 +978,34 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   // 4. Leaves: each piece to the leaf that encloses it best, leaves re-centred,
   // then tightened (and, with a budget, the leaves that frees spent).
   const CandidateIndex index(cands, 0.5 * h);
-  std::vector<Leaf> leaves;
-  leaves.reserve(budget);
-  for (std::int32_t i : cover.chosen) leaves.push_back({cands[i].c, cands[i].depth, {}});
-  AssignPieces(&leaves, pieces);
-  report("refine", 0.72);
-  RefineLeaves(&leaves, pieces, index, oracle);
-  AssignPieces(&leaves, pieces);
-  for (int pass = 0; pass < 4; ++pass) {
-    report("tighten", 0.75 + 0.05 * pass);
-    ShrinkLeaves(&leaves, &pieces, index, oracle, 4 * max_pieces, 2);
-    if (params.target_error_mm == 0) SplitLeavesInTwo(&leaves, budget, pieces, index, oracle);
+  auto make_leaves = [&](const std::vector<std::int32_t>& chosen, std::vector<Piece>* work) {
+    std::vector<Leaf> out;
+    out.reserve(budget);
+    for (std::int32_t i : chosen) out.push_back({cands[i].c, cands[i].depth, {}});
+    AssignPieces(&out, *work);
+    RefineLeaves(&out, *work, index, oracle);
+    AssignPieces(&out, *work);
+    for (int pass = 0; pass < 4; ++pass) {
+      ShrinkLeaves(&out, work, index, oracle, 4 * max_pieces, 2);
+      if (params.target_error_mm == 0) SplitLeavesInTwo(&out, budget, *work, index, oracle);
+    }
+    return out;
+  };
+  report("tighten", 0.72);
+  const std::vector<Piece> cover_pieces = pieces;
+  std::vector<Leaf> leaves = make_leaves(cover.chosen, &pieces);
+  // When every piece is covered at (nearly) its own best bound with leaves to
+  // spare, the pieces are what limits the fit (smooth, coarsely meshed solids):
+  // cover again on pieces a quarter the size, if that gives more leaves.
+  if (params.target_error_mm == 0 && leaves.size() < budget * 9 / 10 && cover_pieces.size() <= max_pieces) {
+    report("tighten", 0.85);
+    std::vector<Piece> work = SplitPieces(cover_pieces, std::vector<char>(cover_pieces.size(), 1));
+    const MinMaxCover finer = CoverWithBudget(cands, work, budget, 0.02 * h, cover.lists_eps, diag, tick);
+    std::vector<Leaf> trial = make_leaves(finer.chosen, &work);
+    if (trial.size() > leaves.size()) {
+      leaves = std::move(trial);
+      pieces = std::move(work);
+    }
   }
   std::vector<Vector3> centers;
   std::vector<double> radii;
