@@ -172,6 +172,33 @@ struct Candidate {
   double depth;
 };
 
+// Keeps the deepest candidate in each cell of a grid `cell` wide, in the input's
+// order.
+std::vector<Candidate> ThinCandidates(std::vector<Candidate> cands, double cell) {
+  std::unordered_map<std::uint64_t, std::size_t> best;
+  best.reserve(cands.size());
+  auto key = [&](const Vector3& p) {
+    std::uint64_t k = 0;
+    for (int a = 0; a < 3; ++a) {
+      const auto i = static_cast<std::int64_t>(std::floor(p[a] / cell));
+      k = k * 2097152u + static_cast<std::uint64_t>(i & 0x1FFFFF);  // 21 bits per axis
+    }
+    return k;
+  };
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    auto [it, fresh] = best.emplace(key(cands[i].c), i);
+    if (!fresh && cands[i].depth > cands[it->second].depth) it->second = i;
+  }
+  std::vector<char> keep(cands.size(), 0);
+  for (const auto& entry : best) keep[entry.second] = 1;
+  std::vector<Candidate> out;
+  out.reserve(best.size());
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    if (keep[i]) out.push_back(cands[i]);
+  }
+  return out;
+}
+
 // Centre of the sphere through four points; false for a (nearly) flat tetrahedron,
 // whose circumcentre is at or near infinity.
 bool Circumcenter(const Vector3 (&p)[4], Vector3* center) {
@@ -188,7 +215,7 @@ bool Circumcenter(const Vector3 (&p)[4], Vector3* center) {
 // the way from each sample to its pole, so that thin and sharp regions have
 // shallow spheres too. Only centres inside the solid are kept.
 std::vector<Candidate> MedialCandidates(const std::vector<Vector3>& samples,
-                                        const std::vector<Vector3>& normals, double diag,
+                                        const std::vector<Vector3>& normals, double diag, double thin_cell,
                                         const MeshOracle& oracle, const Reporter& report) {
   using Vb = CGAL::Triangulation_vertex_base_with_info_3<std::int32_t, K>;
   using Tds = CGAL::Triangulation_data_structure_3<Vb>;
@@ -224,57 +251,31 @@ std::vector<Candidate> MedialCandidates(const std::vector<Vector3>& samples,
     }
   }
 
-  std::vector<Vector3> points_to_try;
-  points_to_try.reserve(samples.size() * 4);
+  // Each with its distance to the sample it came from, an upper bound of its
+  // depth, until the mesh is asked.
+  std::vector<Candidate> points_to_try;
+  points_to_try.reserve(samples.size() * 3);
   for (std::size_t s = 0; s < samples.size(); ++s) {
     if (best[s] > 0) {
-      points_to_try.push_back(pole[s]);
-      for (double f : {0.15, 0.45}) points_to_try.push_back(samples[s] + f * (pole[s] - samples[s]));
+      const double reach = std::sqrt(best[s]);
+      points_to_try.push_back({pole[s], reach});
+      for (double f : {0.15, 0.45}) points_to_try.push_back({samples[s] + f * (pole[s] - samples[s]), f * reach});
     }
   }
-  // Poles shared by several samples appear once.
-  std::sort(points_to_try.begin(), points_to_try.end(), [](const Vector3& a, const Vector3& b) {
-    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
-  });
-  points_to_try.erase(std::unique(points_to_try.begin(), points_to_try.end()), points_to_try.end());
+  // The deepest-looking point in each cell of the grid: neighbours that close
+  // enclose nearly the same pieces, and fewer candidates make the cover lists
+  // shorter and the mesh queries fewer.
+  points_to_try = ThinCandidates(std::move(points_to_try), thin_cell);
 
   std::vector<Candidate> out;
   out.reserve(points_to_try.size());
   const double min_depth = 1e-7 * diag;
   for (std::size_t i = 0; i < points_to_try.size(); ++i) {
     if (i % 2048 == 0) report("medial axis: depths", 0.25 + 0.75 * i / points_to_try.size());
-    const Vector3& p = points_to_try[i];
+    const Vector3& p = points_to_try[i].c;
     if (!oracle.Inside(p)) continue;
     const double depth = oracle.Distance(p);
     if (depth > min_depth) out.push_back({p, depth});
-  }
-  return out;
-}
-
-// Keeps the deepest candidate in each cell of a grid `cell` wide: neighbours
-// that close enclose nearly the same pieces, and fewer candidates make the cover
-// lists shorter.
-std::vector<Candidate> ThinCandidates(std::vector<Candidate> cands, double cell) {
-  std::unordered_map<std::uint64_t, std::size_t> best;
-  best.reserve(cands.size());
-  auto key = [&](const Vector3& p) {
-    std::uint64_t k = 0;
-    for (int a = 0; a < 3; ++a) {
-      const auto i = static_cast<std::int64_t>(std::floor(p[a] / cell));
-      k = k * 2097152u + static_cast<std::uint64_t>(i & 0x1FFFFF);  // 21 bits per axis
-    }
-    return k;
-  };
-  for (std::size_t i = 0; i < cands.size(); ++i) {
-    auto [it, fresh] = best.emplace(key(cands[i].c), i);
-    if (!fresh && cands[i].depth > cands[it->second].depth) it->second = i;
-  }
-  std::vector<char> keep(cands.size(), 0);
-  for (const auto& entry : best) keep[entry.second] = 1;
-  std::vector<Candidate> out;
-  out.reserve(best.size());
-  for (std::size_t i = 0; i < cands.size(); ++i) {
-    if (keep[i]) out.push_back(cands[i]);
   }
   return out;
 }
@@ -926,8 +927,7 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   const Reporter medial_report([&](std::string_view stage, double f) {
     return !progress || progress(stage, 0.02 + 0.38 * f);
   });
-  const std::vector<Candidate> cands =
-      ThinCandidates(MedialCandidates(samples, normals, diag, oracle, medial_report), 0.25 * h);
+  const std::vector<Candidate> cands = MedialCandidates(samples, normals, diag, 0.25 * h, oracle, medial_report);
   if (cands.empty()) throw SphereTreeError("no point of the medial axis was found inside the mesh");
   const double seconds_medial = Seconds(t0);
 
@@ -985,7 +985,7 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
     AssignPieces(&out, *work);
     RefineLeaves(&out, *work, index, oracle);
     AssignPieces(&out, *work);
-    for (int pass = 0; pass < 4; ++pass) {
+    for (int pass = 0; pass < 3; ++pass) {
       ShrinkLeaves(&out, work, index, oracle, 4 * max_pieces, 2);
       if (params.target_error_mm == 0) SplitLeavesInTwo(&out, budget, *work, index, oracle);
     }
