@@ -35,7 +35,24 @@ struct FrameStats {
   double p50_us = 0, p99_us = 0, mean_pairs = 0, mean_linearizations = 0, max_penetration_mm = 0;
   double contact_share = 0;  // frames with an active contact
   std::uint64_t faults = 0;
+  EngineFaults kinds;
 };
+
+// "pair overflow 12, solver 3": the kinds of fault a run had.
+std::string FaultKinds(const EngineFaults& f) {
+  std::string out;
+  auto add = [&](const char* name, std::uint64_t n) {
+    if (n == 0) return;
+    if (!out.empty()) out += ", ";
+    out += name + std::string(" ") + std::to_string(n);
+  };
+  add("non-finite device", f.nonfinite_device);
+  add("pair overflow", f.pair_overflow);
+  add("solver", f.solver);
+  add("penetration", f.penetration);
+  add("sweep", f.sweep);
+  return out;
+}
 
 // Slides the probe over the object, kept perpendicular to it (its shaft along
 // the direction from the object's centre) and pressed 0.3 mm toward the centre
@@ -80,6 +97,7 @@ FrameStats RunSlide(const SphereTree& probe, const SphereTree& object, const Aab
   s.max_penetration_mm = pen;
   s.contact_share = static_cast<double>(in_contact) / frames;
   s.faults = d.faults.total();
+  s.kinds = d.faults;
   return s;
 }
 
@@ -259,6 +277,7 @@ void AddAccuracyCommands(CLI::App& app) {
       std::printf("  %6d %6zu  %7.3f  %7.3f  %8.2f  %12.2f  %6.2f  %5.0f  %6.0f%%  %6llu\n", budget, tree.NumLeaves(), wp,
                   mp, build_s, f.p50_us, f.p99_us, f.mean_pairs, 100 * f.contact_share,
                   static_cast<unsigned long long>(f.faults));
+      if (f.faults > 0) std::printf("          faults at %d leaves: %s\n", budget, FaultKinds(f.kinds).c_str());
       res << budget << ',' << tree.NumLeaves() << ',' << wp << ',' << mp << ',' << build_s << ',' << f.p50_us << ','
           << f.p99_us << ',' << f.mean_pairs << ',' << f.faults << '\n';
       std::fflush(stdout);

@@ -1,8 +1,9 @@
 // Sphere-trees of the generated teeth (issue 4 measured on issue 3's anatomy):
 // asserts the guarantees (every surface sample covered, every child inside its
-// parent) and records protrusion and build time per tooth in the test XML and on
-// stdout. The issue's protrusion targets (worst <= 1.5 %, mean <= 0.3 % of the
-// largest extent) are reported, not asserted: molars do not meet the mean yet.
+// parent) and the issue's worst-protrusion target (1.5 % of the largest extent)
+// on every tooth and probe, and its mean target (0.3 %) on the probes; records
+// protrusion and build time in the test XML and on stdout. The teeth's mean is
+// reported, not asserted: the molars are at 0.40 to 0.58 % (README).
 
 #include <gtest/gtest.h>
 
@@ -38,6 +39,7 @@ TEST_P(ToothTree, CoversTheToothAndNests) {
   EXPECT_EQ(l.uncovered_samples, 0u);
   for (const LevelMetrics& level : m.levels) EXPECT_EQ(level.children_inside, 1.0);
   EXPECT_LE(l.spheres, 512u);
+  EXPECT_LE(worst, 1.5);
 }
 
 INSTANTIATE_TEST_SUITE_P(Fdi, ToothTree, ::testing::Values(11, 12, 13, 14, 15, 16, 17, 31, 33, 34, 36, 37));
@@ -71,6 +73,10 @@ TEST_P(AnatomyTree, CoversAndNests) {
   RecordProperty("mean_protrusion_pct", std::to_string(mean));
   EXPECT_EQ(l.uncovered_samples, 0u);
   for (const LevelMetrics& level : m.levels) EXPECT_EQ(level.children_inside, 1.0);
+  if (name.rfind("probe_", 0) == 0) {
+    EXPECT_LE(worst, 1.5);
+    EXPECT_LE(mean, 0.3);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, AnatomyTree,

@@ -1,0 +1,25 @@
+set datafile separator ','
+set terminal pngcairo size 900,560 font 'Sans,11'
+set grid
+set key left top
+set output 'docs/accuracy-cost/resolution.png'
+set title 'Sphere-tree resolution: what it buys (protrusion) and what it costs (time)'
+set logscale x 2
+set xlabel 'leaf spheres'
+set ylabel 'protrusion, % of largest extent'
+set y2label 'time (us per frame; build: ms)'
+set y2tics
+set logscale y
+set logscale y2
+plot 'docs/accuracy-cost/resolution.csv' skip 1 using 1:3 with linespoints lw 2 title 'worst protrusion', '' skip 1 using 1:4 with linespoints lw 2 title 'mean protrusion', '' skip 1 using 1:6 axes x1y2 with linespoints dt 2 lw 2 title 'frame p50 (us)', '' skip 1 using 1:7 axes x1y2 with linespoints dt 2 lw 2 title 'frame p99 (us)', '' skip 1 using 1:($5*1000) axes x1y2 with linespoints dt 3 lw 2 title 'build (ms)'
+unset logscale
+set logscale x 10
+set format x '10^{%L}'
+unset y2tics
+unset y2label
+set output 'docs/accuracy-cost/tolerance.png'
+set title 'Solver tolerance: penetration allowed vs frame time'
+set xlabel 'penetration tolerance (mm)'
+set ylabel 'us per frame / linearisations x 10'
+set logscale y
+plot 'docs/accuracy-cost/tolerance.csv' skip 1 using 1:2 with linespoints lw 2 title 'frame p50 (us)', '' skip 1 using 1:3 with linespoints lw 2 title 'frame p99 (us)', '' skip 1 using 1:($4*10) with linespoints lw 2 title 'mean linearisations x 10'
