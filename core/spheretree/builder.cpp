@@ -367,7 +367,14 @@ std::vector<std::int32_t> GreedyCover(const CoverLists& lists, double eps, std::
   return chosen;
 }
 
-std::vector<float> PieceFloors(const CoverLists& lists, std::size_t num_pieces);
+// The least protrusion bound with which any candidate encloses each piece.
+std::vector<float> PieceFloors(const CoverLists& lists, std::size_t num_pieces) {
+  std::vector<float> floor(num_pieces, std::numeric_limits<float>::infinity());
+  for (std::size_t k = 0; k < lists.items.size(); ++k) {
+    floor[lists.items[k]] = std::min(floor[lists.items[k]], lists.need[k]);
+  }
+  return floor;
+}
 
 // The greedy cover at the smallest protrusion bound (to 2 %) that fits the
 // budget, with the cover lists it was computed from. Pieces whose best bound
@@ -424,14 +431,6 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands, const std::vect
   return out;
 }
 
-// The least protrusion bound with which any candidate encloses each piece.
-std::vector<float> PieceFloors(const CoverLists& lists, std::size_t num_pieces) {
-  std::vector<float> floor(num_pieces, std::numeric_limits<float>::infinity());
-  for (std::size_t k = 0; k < lists.items.size(); ++k) {
-    floor[lists.items[k]] = std::min(floor[lists.items[k]], lists.need[k]);
-  }
-  return floor;
-}
 
 // Splits the marked pieces into four at their edge midpoints.
 std::vector<Piece> SplitPieces(const std::vector<Piece>& pieces, const std::vector<char>& split) {
