@@ -58,6 +58,11 @@ Piece MakePiece(const Vector3& a, const Vector3& b, const Vector3& c) {
   return p;
 }
 
+// Farthest corner of a piece from c (squared).
+double FarCorner2(const Piece& p, const Vector3& c) {
+  return std::max({(p.v[0] - c).squaredNorm(), (p.v[1] - c).squaredNorm(), (p.v[2] - c).squaredNorm()});
+}
+
 // Splits every face into n^2 similar pieces, n chosen so that edges are <= h.
 std::vector<Piece> Subdivide(const TriangleMesh& mesh, double h, std::vector<Vector3>* normals,
                              double orientation) {
@@ -118,10 +123,7 @@ class PieceBvh {
       if (n.left < 0) {
         for (std::int32_t i = n.begin; i < n.end; ++i) {
           const Piece& p = pieces_[order_[i]];
-          if ((p.v[0] - c).squaredNorm() <= r2 && (p.v[1] - c).squaredNorm() <= r2 &&
-              (p.v[2] - c).squaredNorm() <= r2) {
-            fn(order_[i]);
-          }
+          if (FarCorner2(p, c) <= r2) fn(order_[i]);
         }
         continue;
       }
@@ -298,8 +300,7 @@ CoverLists ComputeCovers(const std::vector<Candidate>& cands, const std::vector<
   for (const Candidate& c : cands) {
     found.clear();
     bvh.ForEachEnclosed(c.c, c.depth + eps_max, [&](std::int32_t p) {
-      double r2 = 0;
-      for (const Vector3& v : pieces[p].v) r2 = std::max(r2, (v - c.c).squaredNorm());
+      const double r2 = FarCorner2(pieces[p], c.c);
       // Rounded up so that a prefix never claims a piece it does not enclose.
       found.push_back({std::nextafter(static_cast<float>(std::sqrt(r2) - c.depth), 1e30f), p});
     });
@@ -455,15 +456,8 @@ std::vector<Piece> SplitPieces(const std::vector<Piece>& pieces, const std::vect
 double CoverError(const Vector3& c, double depth, const std::vector<Piece>& pieces,
                   const std::vector<std::int32_t>& members) {
   double r2 = 0;
-  for (std::int32_t p : members) {
-    for (const Vector3& v : pieces[p].v) r2 = std::max(r2, (v - c).squaredNorm());
-  }
+  for (std::int32_t p : members) r2 = std::max(r2, FarCorner2(pieces[p], c));
   return std::sqrt(r2) - depth;
-}
-
-// Farthest corner of a piece from c (squared).
-double FarCorner2(const Piece& p, const Vector3& c) {
-  return std::max({(p.v[0] - c).squaredNorm(), (p.v[1] - c).squaredNorm(), (p.v[2] - c).squaredNorm()});
 }
 
 // CoverError when it is below `limit`; otherwise some value >= limit, found as
@@ -496,9 +490,7 @@ void AssignPieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces) {
       const Leaf& l = (*leaves)[i];
       // Lower bound from the centroid first; most leaves are far away.
       if ((piece.centroid - l.c).norm() - l.depth >= best) continue;
-      double r2 = 0;
-      for (const Vector3& v : piece.v) r2 = std::max(r2, (v - l.c).squaredNorm());
-      const double e = std::sqrt(r2) - l.depth;
+      const double e = std::sqrt(FarCorner2(piece, l.c)) - l.depth;
       if (e < best) {
         best = e;
         best_leaf = i;
@@ -630,28 +622,24 @@ void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
 // each piece inside its leaf, so coverage stays complete.
 void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces, const CandidateIndex& index,
                   const MeshOracle& oracle, std::size_t max_pieces, int rounds) {
-  std::vector<double> radius2;
-  auto radii = [&] {
-    radius2.assign(leaves->size(), 0.0);
-    for (std::size_t i = 0; i < leaves->size(); ++i) {
-      for (std::int32_t p : (*leaves)[i].pieces) radius2[i] = std::max(radius2[i], FarCorner2((*pieces)[p], (*leaves)[i].c));
-    }
-  };
   for (int round = 0; round < rounds; ++round) {
-    radii();
+    // Each leaf's radius (its bound at depth 0), with a hair for round-off.
+    std::vector<double> radius(leaves->size());
+    for (std::size_t i = 0; i < leaves->size(); ++i) {
+      radius[i] = CoverError((*leaves)[i].c, 0.0, *pieces, (*leaves)[i].pieces) * (1 + 1e-12);
+    }
     // 1. Split the pieces near each leaf's radius.
     std::vector<std::int32_t> owner(pieces->size(), -1);
     std::vector<char> split(pieces->size(), 0);
     std::size_t n_split = 0;
     for (std::size_t i = 0; i < leaves->size(); ++i) {
       const Leaf& l = (*leaves)[i];
-      const double r = std::sqrt(radius2[i]);
       for (std::int32_t p : l.pieces) {
         owner[p] = static_cast<std::int32_t>(i);
         const Piece& piece = (*pieces)[p];
         const double edge = std::max({(piece.v[1] - piece.v[0]).norm(), (piece.v[2] - piece.v[1]).norm(),
                                       (piece.v[0] - piece.v[2]).norm()});
-        if (std::sqrt(FarCorner2(piece, l.c)) >= r - 0.5 * edge) {
+        if (std::sqrt(FarCorner2(piece, l.c)) >= radius[i] - 0.5 * edge) {
           split[p] = 1;
           ++n_split;
         }
@@ -667,8 +655,6 @@ void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces, const C
       owner = std::move(new_owner);
     }
     // 2. Each piece to the enclosing leaf with the widest margin.
-    std::vector<double> radius(leaves->size());
-    for (std::size_t i = 0; i < leaves->size(); ++i) radius[i] = std::sqrt(radius2[i]) * (1 + 1e-12);
     std::vector<double> best_margin(pieces->size());
     for (std::size_t p = 0; p < pieces->size(); ++p) {
       best_margin[p] = radius[owner[p]] - std::sqrt(FarCorner2((*pieces)[p], (*leaves)[owner[p]].c));
@@ -1010,11 +996,7 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   std::vector<double> radii;
   double bound = 0;
   for (const Leaf& l : leaves) {
-    double r2 = 0;
-    for (std::int32_t p : l.pieces) {
-      for (const Vector3& v : pieces[p].v) r2 = std::max(r2, (v - l.c).squaredNorm());
-    }
-    const double r = std::sqrt(r2) * (1 + 1e-12) + 1e-12 * extent;
+    const double r = CoverError(l.c, 0.0, pieces, l.pieces) * (1 + 1e-12) + 1e-12 * extent;  // at depth 0: the radius
     centers.push_back(l.c);
     radii.push_back(r);
     bound = std::max(bound, r - l.depth);
