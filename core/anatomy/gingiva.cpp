@@ -127,9 +127,7 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
     }
   }
   out.mesh = TriangleMesh(std::move(vertices), std::move(faces));
-  out.margin_z = z_m_at;
   out.floor_z = z_f_at;
-  out.wall_r = r_in_at;
   if (out.mesh.Volume() < 0) out.mesh.FlipOrientation();
   for (int s = 0; s < 6; ++s) {
     const int k = static_cast<int>(std::lround(out.site_angle[s] / (2 * kPi) * n)) % n;

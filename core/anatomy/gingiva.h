@@ -32,9 +32,8 @@ struct GingivaModel {
   std::array<double, 6> site_angle{};   // radians from +x (mesial) toward +y (buccal)
   std::array<Vector3, 6> margin{};      // each site on the margin, in the sulcus' middle
   std::array<Vector3, 6> floor{};       // the pocket floor below it
-  // Per segment around the tooth (angle 2 pi k / segments): margin and floor
-  // heights and the sulcus wall's distance from the axis.
-  std::vector<double> margin_z, floor_z, wall_r;
+  // Per segment around the tooth (angle 2 pi k / segments): the floor height.
+  std::vector<double> floor_z;
   /// The floor height at angle th (radians from +x), nearest segment.
   double FloorAt(double th) const;
 };

@@ -31,6 +31,8 @@ struct ContactPair {
     return (static_cast<std::uint64_t>(object) << 48) |
            (static_cast<std::uint64_t>(object_leaf) << 24) | static_cast<std::uint64_t>(tool_leaf);
   }
+  /// The object of a pair from its key.
+  static int ObjectOfKey(std::uint64_t key) { return static_cast<int>(key >> 48); }
 };
 
 struct CollisionScratch;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 namespace sulcus {
 namespace {
@@ -127,7 +126,7 @@ class TissueDamage final : public LoopEffect {
   void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
     const double f = force_W->norm();
     for (int i = 0; i < data.num_active_keys; ++i) {
-      const auto object = static_cast<std::size_t>(data.active_keys[i] >> 48);
+      const auto object = static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
       if (object >= over_.size()) continue;
       const bool over = f > m_.damage_limit_n[object];
       if (over && !over_[object]) loop->Emit(EffectEventOf(EffectEvent::kTissueDamage, static_cast<int>(object), f));
@@ -143,24 +142,12 @@ class TissueDamage final : public LoopEffect {
 
 }  // namespace
 
-const std::vector<std::string>& ImplementedEffects() {
-  static const std::vector<std::string> names = {"contact", "gingiva_compliance", "probing_depth",
-                                                 "bleeding_on_probing", "tissue_damage"};
-  return names;
-}
-
 std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& m) {
-  auto on = [&](const char* n) { return std::find(m.names.begin(), m.names.end(), n) != m.names.end(); };
-  for (const std::string& n : m.names) {
-    const auto& known = ImplementedEffects();
-    if (std::find(known.begin(), known.end(), n) == known.end() && n != "friction" && n != "surface_texture")
-      throw std::invalid_argument("unknown effect '" + n + "'");
-  }
   std::vector<std::unique_ptr<LoopEffect>> out;
-  if (on("gingiva_compliance") && m.soft_world) out.push_back(std::make_unique<GingivaCompliance>(m));
-  const bool depth = on("probing_depth"), bleeding = on("bleeding_on_probing");
+  if (m.on.gingiva_compliance && m.soft_world) out.push_back(std::make_unique<GingivaCompliance>(m));
+  const bool depth = m.on.probing_depth, bleeding = m.on.bleeding_on_probing;
   if ((depth || bleeding) && !m.sites.empty()) out.push_back(std::make_unique<ProbingDepth>(m, depth, bleeding));
-  if (on("tissue_damage")) out.push_back(std::make_unique<TissueDamage>(m));
+  if (m.on.tissue_damage) out.push_back(std::make_unique<TissueDamage>(m));
   return out;
 }
 

@@ -15,7 +15,6 @@
 
 #include <array>
 #include <memory>
-#include <string>
 #include <vector>
 
 #include "core/haptics/haptic_loop.h"
@@ -38,9 +37,16 @@ struct ProbingSite {
   bool bleeding = false;
 };
 
+/// Which of the effects this layer implements the scene named (the scene file
+/// checks the names; friction and surface_texture are accepted there and have
+/// nothing here yet).
+struct EffectsOn {
+  bool gingiva_compliance = false, probing_depth = false, bleeding_on_probing = false, tissue_damage = false;
+};
+
 /// What the effects need from the scene, immutable after compile.
 struct EffectsModel {
-  std::vector<std::string> names;           // the effects on, as in the scene
+  EffectsOn on;
   std::vector<double> damage_limit_n;       // per object
   std::vector<ProbingSite> sites;
   // gingiva_compliance: the soft objects, their own collision world (object i of
@@ -50,14 +56,12 @@ struct EffectsModel {
   std::vector<std::vector<float>> soft_leaf_stiffness;
 };
 
-/// The effects of `model.names`, in a fixed order, ready for HapticLoop. Throws
-/// std::invalid_argument for an unknown name.
+/// The effects that are on, in a fixed order, ready for HapticLoop. An effect
+/// with nothing to act on (compliance without soft objects, depth without
+/// sites) is left out.
 std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& model);
 
 /// Raw pointers for HapticLoop's span.
 std::vector<LoopEffect*> EffectPointers(const std::vector<std::unique_ptr<LoopEffect>>& effects);
-
-/// The names MakeEffects knows (a scene may also name ones still to come).
-const std::vector<std::string>& ImplementedEffects();
 
 }  // namespace sulcus

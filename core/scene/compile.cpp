@@ -102,13 +102,14 @@ void WriteCachedMesh(const TriangleMesh& m, const std::filesystem::path& file) {
 void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<CollisionWorld::Object>& soft_objects) {
   EffectsModel& m = scene->effects;
   const auto& objs = scene->spec.objects;
-  for (Effect e : scene->spec.effects) m.names.push_back(ToString(e));
-  auto on = [&](Effect e) {
-    return std::find(scene->spec.effects.begin(), scene->spec.effects.end(), e) != scene->spec.effects.end();
-  };
+  const SceneSpec& spec = scene->spec;
+  m.on.gingiva_compliance = spec.HasEffect(Effect::kGingivaCompliance);
+  m.on.probing_depth = spec.HasEffect(Effect::kProbingDepth);
+  m.on.bleeding_on_probing = spec.HasEffect(Effect::kBleedingOnProbing);
+  m.on.tissue_damage = spec.HasEffect(Effect::kTissueDamage);
   for (const ObjectSpec& o : objs) m.damage_limit_n.push_back(o.material.damage_limit_n);
   m.soft_first = soft_first;
-  const bool sites = scene->spec.gingiva && (on(Effect::kProbingDepth) || on(Effect::kBleedingOnProbing));
+  const bool sites = spec.gingiva && (m.on.probing_depth || m.on.bleeding_on_probing);
   for (int i = 0; i < static_cast<int>(objs.size()); ++i) {
     const ObjectSpec& o = objs[i];
     if (o.kind != ObjectSpec::Kind::kGingiva) continue;
@@ -177,8 +178,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
                                             const BuildProgress& progress) {
   auto scene = std::make_unique<CompiledScene>();
   scene->spec = spec;
-  const bool compliance = std::find(spec.effects.begin(), spec.effects.end(), Effect::kGingivaCompliance) !=
-                          spec.effects.end();
+  const bool compliance = spec.HasEffect(Effect::kGingivaCompliance);
   // Soft objects (gingiva, under gingiva_compliance) go last: the engine's hard
   // world is the objects before them, with the same indices as the scene's.
   auto soft = [&](const ObjectSpec& o) { return compliance && o.tissue == Tissue::kGingiva; };

@@ -468,7 +468,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
         for (const auto& en : kEffects) {
           if (name == en.name) {
             found = true;
-            if (std::find(spec.effects.begin(), spec.effects.end(), en.effect) == spec.effects.end()) {
+            if (!spec.HasEffect(en.effect)) {
               spec.effects.push_back(en.effect);
             }
           }

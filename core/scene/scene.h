@@ -4,6 +4,7 @@
 // every problem at once as `file:line:column: message`. A valid spec compiles into
 // the engine's immutable model (meshes, sphere-trees, materials, parameters).
 
+#include <algorithm>
 #include <array>
 #include <filesystem>
 #include <memory>
@@ -91,6 +92,7 @@ struct SceneSpec {
   EngineParams haptics;
   double rate_hz = 1000;
   std::vector<Effect> effects = {Effect::kContact};
+  bool HasEffect(Effect e) const { return std::find(effects.begin(), effects.end(), e) != effects.end(); }
   SphereTreeParams trees;
   bool arch = false;     // teeth without `at` stand on the dental arches
   bool gingiva = false;  // a gingival collar around every tooth, with its sites' truth

@@ -55,15 +55,15 @@ TEST(Probing, InsertReadsThePocketDepthAtTooth46Buccal) {
 }
 
 TEST(Probing, AnEffectNotNamedIsNotInTheLoop) {
-  EffectsModel m;
-  m.names = {"contact"};
+  EffectsModel m;  // contact only
   EXPECT_TRUE(MakeEffects(m).empty());
-  m.names = {"contact", "tissue_damage"};
+  m.on.tissue_damage = true;
   m.damage_limit_n = {1.0};
   const auto one = MakeEffects(m);
   ASSERT_EQ(one.size(), 1u);
   EXPECT_STREQ(one[0]->name(), "tissue_damage");
-  m.names = {"contact", "probing_depth"};  // no sites (no gingiva): nothing to measure, nothing runs
+  m.on = {};
+  m.on.probing_depth = true;  // no sites (no gingiva): nothing to measure, nothing runs
   EXPECT_TRUE(MakeEffects(m).empty());
 }
 
