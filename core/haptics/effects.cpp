@@ -38,8 +38,10 @@ class GingivaCompliance final : public LoopEffect {
       const ContactPair& c = pairs_[i];
       const double depth = -c.gap;
       if (depth <= 0) continue;
-      const Vector3 cT = data.X_WG * tool.center(c.tool_leaf);
-      const Vector3 n = (cT - w.ObjectCenter(c.object, c.object_leaf)).normalized();
+      const Vector3 d = data.X_WG * tool.center(c.tool_leaf) - w.ObjectCenter(c.object, c.object_leaf);
+      const double len = d.norm();
+      if (!(len > 0)) continue;  // coincident centres: no direction to push
+      const Vector3 n = d / len;
       const double k = m_.soft_leaf_stiffness[c.object][c.object_leaf];
       dir += depth * k * n;
       if (k * depth > force) {
@@ -67,7 +69,14 @@ class GingivaCompliance final : public LoopEffect {
 class ProbingDepth final : public LoopEffect {
  public:
   explicit ProbingDepth(const EffectsModel& m, bool readings, bool bleeding)
-      : m_(m), readings_(readings), bleeding_(bleeding) {}
+      : m_(m), readings_(readings), bleeding_(bleeding) {
+    // Each site's line, once: unit direction down the sulcus and its length.
+    for (const ProbingSite& s : m.sites) {
+      const Vector3 down = s.floor_W - s.margin_W;
+      const double len = down.norm();
+      lines_.push_back({len > 0 ? Vector3(down / len) : Vector3::Zero(), len});
+    }
+  }
   const char* name() const override {
     return readings_ && bleeding_ ? "probing_depth, bleeding_on_probing" : readings_ ? "probing_depth" : "bleeding_on_probing";
   }
@@ -77,10 +86,8 @@ class ProbingDepth final : public LoopEffect {
     double depth = 0;
     for (std::size_t i = 0; i < m_.sites.size(); ++i) {
       const ProbingSite& s = m_.sites[i];
-      const Vector3 down = s.floor_W - s.margin_W;
-      const double len = down.norm();
+      const auto& [u, len] = lines_[i];
       if (len <= 0) continue;
-      const Vector3 u = down / len;
       const double along = (tip - s.margin_W).dot(u);
       if (along < -0.5 || along > len + 0.5) continue;
       if ((tip - s.margin_W - along * u).norm() > kRadius) continue;
@@ -111,7 +118,12 @@ class ProbingDepth final : public LoopEffect {
     loop->Emit(EffectEventOf(EffectEvent::kProbeReading, s.tooth, deepest_, s.site));
   }
   static constexpr double kRadius = 1.2;  // mm from the site's line
+  struct Line {
+    Vector3 u;
+    double len;
+  };
   const EffectsModel& m_;
+  std::vector<Line> lines_;  // per site
   bool readings_, bleeding_;
   int site_ = -1;
   double deepest_ = 0;
