@@ -148,11 +148,13 @@ class ToothShape {
     const double a = a_cx_, b = b_cx_;
     if (Molar(type_) && upper_) {
       // Mesiobuccal, distobuccal and palatal roots; the palatal one the longest.
+      // The mesiobuccal root is broad bucco-palatally and flattened mesiodistally,
+      // the distobuccal one about round, the palatal one broader mesiodistally.
       furcation_ = -3.5;
       const double palatal = d_.longest_root();
-      roots_ = {{{0.45 * a, 0.4 * b, furcation_ + 1.2}, {0.6 * a, 0.55 * b, -L_}, 0.22 * 2 * a, 0.3 * b},
-                {{-0.45 * a, 0.4 * b, furcation_ + 1.2}, {-0.6 * a, 0.5 * b, -L_ + 0.5}, 0.2 * 2 * a, 0.28 * b},
-                {{0, -0.45 * b, furcation_ + 1.2}, {0, -0.8 * b, -palatal}, 0.26 * 2 * a, 0.3 * b}};
+      roots_ = {{{0.45 * a, 0.4 * b, furcation_ + 1.2}, {0.6 * a, 0.55 * b, -L_}, 0.16 * 2 * a, 0.45 * b},
+                {{-0.45 * a, 0.4 * b, furcation_ + 1.2}, {-0.6 * a, 0.5 * b, -L_ + 0.5}, 0.17 * 2 * a, 0.3 * b},
+                {{0, -0.45 * b, furcation_ + 1.2}, {0, -0.8 * b, -palatal}, 0.26 * 2 * a, 0.34 * b}};
     } else if (Molar(type_)) {
       // Mesial and distal roots, broad bucco-lingually.
       furcation_ = -3.0;
