@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -40,11 +41,11 @@ void PrintMetrics(const TreeMetrics& m) {
   const double e = m.largest_extent_mm;
   std::printf("fit (largest extent %.4g mm, volume %.4g mm^3, %zu surface samples, %d points per sphere)\n",
               e, m.volume_mm3, m.surface_samples, EvalParams{}.points_per_sphere);
-  std::printf("  level spheres  protrusion max        mean                 coverage    excess vol  children in parent\n");
+  std::printf("  level spheres  protrusion max        mean                 coverage    overlap  excess vol  children in parent\n");
   for (const LevelMetrics& l : m.levels) {
-    std::printf("  %5d %7zu  %8.4f mm %6.3f%%  %8.4f mm %6.3f%%  %9.5f%%  %9.3f%%  %8.2f%%\n", l.level,
+    std::printf("  %5d %7zu  %8.4f mm %6.3f%%  %8.4f mm %6.3f%%  %9.5f%%  %7.2f  %9.3f%%  %8.2f%%\n", l.level,
                 l.spheres, l.protrusion_max_mm, 100 * l.protrusion_max_mm / e, l.protrusion_mean_mm,
-                100 * l.protrusion_mean_mm / e, 100 * l.coverage, 100 * l.excess_volume,
+                100 * l.protrusion_mean_mm / e, 100 * l.coverage, l.overlap, 100 * l.excess_volume,
                 100 * l.children_inside);
   }
 }
@@ -70,6 +71,11 @@ void AddSphereTreeCommands(CLI::App& app) {
   build->add_option("--leaves", b->params.leaves, "Leaf budget")->capture_default_str();
   build->add_option("--target-error", b->params.target_error_mm,
                     "Instead of a budget: the fewest leaves protruding at most this many mm");
+  build->add_option("--spend", b->params.spend,
+                    "mean: trade leaves to lower the mean protrusion, none past the worst (default); worst: the "
+                    "min-max cover only (what tools use)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, SphereTreeParams::Spend>{
+          {"mean", SphereTreeParams::Spend::kMean}, {"worst", SphereTreeParams::Spend::kWorst}}));
   build->add_option("--samples", b->params.samples, "Surface samples (0: automatic)");
   build->add_option("--seed", b->params.seed, "Random seed")->capture_default_str();
   build->add_flag("--eval", b->eval, "Also print the fit metrics");

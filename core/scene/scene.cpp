@@ -188,17 +188,40 @@ std::vector<std::string> Names(const auto& table) {
   return v;
 }
 
+// A `spheretree` map over the values in *p (the scene's, for an object's own).
+// `gingiva` (the collars' sub-map) is read by the caller where it is allowed.
+void ReadTreeParams(Reader& r, const YAML::Node& t, const std::string& where, bool gingiva_allowed,
+                    SphereTreeParams* p) {
+  if (!r.IsMap(t, where)) return;
+  std::vector<std::string> keys = {"levels", "branch", "leaves", "target_error_mm"};
+  if (gingiva_allowed) keys.push_back("gingiva");
+  r.CheckKeys(t, keys, where);
+  if (t["levels"]) p->levels = r.Integer(t["levels"], "levels", 1, 8, p->levels);
+  if (t["branch"]) p->branching = r.Integer(t["branch"], "branch", 2, 32, p->branching);
+  if (t["leaves"]) p->leaves = r.Integer(t["leaves"], "leaves", 1, 1 << 20, p->leaves);
+  if (t["target_error_mm"]) p->target_error_mm = r.Number(t["target_error_mm"], "target_error_mm", 1e-4, 10, 0, "mm");
+  std::int64_t capacity = 1;
+  for (int l = 1; l < p->levels; ++l) capacity *= p->branching;
+  if (p->target_error_mm == 0 && p->leaves > capacity) {
+    r.Error(t, "in " + where + ": " + std::to_string(p->leaves) + " leaves do not fit in " +
+                   std::to_string(p->levels) + " levels of " + std::to_string(p->branching) + " (at most " +
+                   std::to_string(capacity) + "); raise 'levels'");
+  }
+}
+
 void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int index, SceneSpec* spec,
                 std::set<std::string>* names) {
   ObjectSpec o;
   o.line = n.Mark().line + 1;
   o.column = n.Mark().column + 1;
   o.mouth_open_mm = spec->mouth_open_mm;
+  o.trees = spec->trees;
   if (!r.IsMap(n, "an object")) return;
   r.CheckKeys(n, {"name", "tooth", "mesh", "box", "sphere", "cylinder", "anatomy", "height_mm", "at", "turn_deg", "tissue",
                   "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding",
-                  "inflamed", "caries_mm"},
+                  "inflamed", "caries_mm", "spheretree"},
               "an object");
+  if (n["spheretree"]) ReadTreeParams(r, n["spheretree"], "an object's 'spheretree'", false, &o.trees);
   std::vector<std::string> kinds;
   for (const char* k : {"tooth", "mesh", "box", "sphere", "cylinder", "anatomy"}) {
     if (n[k]) kinds.push_back(k);
@@ -477,13 +500,10 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
       }
     }
   }
-  if (const YAML::Node t = root["spheretree"]; t && r.IsMap(t, "'spheretree'")) {
-    r.CheckKeys(t, {"levels", "branch", "leaves", "target_error_mm"}, "'spheretree'");
-    SphereTreeParams& p = spec.trees;
-    if (t["levels"]) p.levels = r.Integer(t["levels"], "levels", 1, 8, p.levels);
-    if (t["branch"]) p.branching = r.Integer(t["branch"], "branch", 2, 32, p.branching);
-    if (t["leaves"]) p.leaves = r.Integer(t["leaves"], "leaves", 1, 1 << 20, p.leaves);
-    if (t["target_error_mm"]) p.target_error_mm = r.Number(t["target_error_mm"], "target_error_mm", 1e-4, 10, 0, "mm");
+  if (const YAML::Node t = root["spheretree"]) {
+    ReadTreeParams(r, t, "'spheretree'", true, &spec.trees);
+    spec.gingiva_trees = spec.trees;
+    if (t.IsMap() && t["gingiva"]) ReadTreeParams(r, t["gingiva"], "'spheretree: gingiva'", false, &spec.gingiva_trees);
   }
   const YAML::Node objects = root["objects"];
   if (!objects) {
@@ -506,6 +526,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
       g.name = "gingiva " + std::to_string(t.fdi);
       g.tissue = Tissue::kGingiva;
       g.material = DefaultMaterial(Tissue::kGingiva);
+      g.trees = spec.gingiva_trees;
       if (!t.has_sites) g.pocket_mm.fill(2.0);
       try {
         const ToothDimensions d = Dimensions(FdiTooth::Parse(t.fdi));

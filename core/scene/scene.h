@@ -71,6 +71,7 @@ struct ObjectSpec {
   Vector3 size = Vector3::Zero();    // kBox, mm
   double radius_mm = 0, height_mm = 0;  // kSphere, kCylinder
   RigidTransform X_WO;
+  SphereTreeParams trees;            // the scene's, or the object's own `spheretree`
   Tissue tissue = Tissue::kEnamel;
   Material material;
   // Clinical truth per site (teeth): pocket depth, recession, bleeding on probing.
@@ -93,7 +94,8 @@ struct SceneSpec {
   double rate_hz = 1000;
   std::vector<Effect> effects = {Effect::kContact};
   bool HasEffect(Effect e) const { return std::find(effects.begin(), effects.end(), e) != effects.end(); }
-  SphereTreeParams trees;
+  SphereTreeParams trees;          // every object's unless it names its own
+  SphereTreeParams gingiva_trees;  // the gingival collars' (`spheretree: gingiva:`), else `trees`
   bool arch = false;     // teeth without `at` stand on the dental arches
   bool gingiva = false;  // a gingival collar around every tooth, with its sites' truth
   double mouth_open_mm = 0;  // raises the upper arch (and palate) so instruments fit between the arches

@@ -564,7 +564,7 @@ class CandidateIndex {
 // Moves each leaf's centre to the candidate (or a point toward the smallest ball
 // around its pieces) that encloses the same pieces with the least protrusion.
 void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
-                  const CandidateIndex& index, const MeshOracle& oracle) {
+                  const CandidateIndex& index, const MeshOracle& oracle, bool toward_ball = true) {
   using MTraits = CGAL::Min_sphere_of_spheres_d_traits_3<K, double, CGAL::Tag_true>;
   using MinSphere = CGAL::Min_sphere_of_spheres_d<MTraits>;
   for (Leaf& l : *leaves) {
@@ -587,6 +587,7 @@ void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
         l.depth = c.depth;
       }
     });
+    if (!toward_ball) continue;
     // Toward the smallest enclosing ball of the pieces' corners.
     std::vector<MTraits::Sphere> corners;
     for (std::int32_t p : l.pieces) {
@@ -678,12 +679,213 @@ void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces, const C
   }
 }
 
-// Spends the leaf budget on the leaves with the largest protrusion bound: each
-// is cut in two across the longest side of its pieces' box, then (three times)
-// both halves are re-centred and each piece goes to the half that encloses it
-// with the smaller bound. A cut that does not lower the bound by 5 % is not
-// made; a round patch rarely gains from two spheres, so this mostly splits
-// long ones.
+// Cuts a leaf in two across the longest side of its pieces' box, then (three
+// times) re-centres both halves and gives each piece to the half that encloses it
+// with the smaller bound. `e` gets the halves' bounds.
+void SplitInTwo(const Leaf& leaf, const std::vector<Piece>& pieces, const CandidateIndex& index,
+                const MeshOracle& oracle, std::vector<Leaf>* out, double e[2], bool toward_ball = true) {
+  std::vector<Leaf>& halves = *out;
+  Aabb box;
+  for (std::int32_t p : leaf.pieces) box.Extend(pieces[p].centroid);
+  int axis;
+  box.extent().maxCoeff(&axis);
+  std::vector<std::int32_t> order = leaf.pieces;
+  const auto mid = order.begin() + static_cast<std::ptrdiff_t>(order.size() / 2);
+  std::nth_element(order.begin(), mid, order.end(), [&](std::int32_t a, std::int32_t b) {
+    return pieces[a].centroid[axis] != pieces[b].centroid[axis] ? pieces[a].centroid[axis] < pieces[b].centroid[axis]
+                                                                : a < b;
+  });
+  halves.clear();
+  halves.push_back({leaf.c, leaf.depth, {order.begin(), mid}});
+  halves.push_back({leaf.c, leaf.depth, {mid, order.end()}});
+  RefineLeaves(&halves, pieces, index, oracle, toward_ball);
+  for (int it = 0; it < 3; ++it) {
+    std::vector<std::int32_t> mine[2];
+    for (std::int32_t p : leaf.pieces) {
+      const double e0 = std::sqrt(FarCorner2(pieces[p], halves[0].c)) - halves[0].depth;
+      const double e1 = std::sqrt(FarCorner2(pieces[p], halves[1].c)) - halves[1].depth;
+      mine[e1 < e0 ? 1 : 0].push_back(p);
+    }
+    if (mine[0].empty() || mine[1].empty()) break;
+    halves[0].pieces = std::move(mine[0]);
+    halves[1].pieces = std::move(mine[1]);
+    RefineLeaves(&halves, pieces, index, oracle, toward_ball);
+  }
+  for (int k = 0; k < 2; ++k) e[k] = CoverError(halves[k].c, halves[k].depth, pieces, halves[k].pieces);
+}
+
+// Local search on the sum of the leaves' protrusion bounds (the mean the fit
+// is judged by) at a fixed leaf count. Removing a leaf costs the growth of the
+// neighbours that take its pieces, less its own bound; cutting a leaf in two
+// gains its bound less its halves'. Each round pairs the cheapest removals with
+// the best cuts, every leaf in at most one swap, and makes a swap only when the
+// cut gains more than the removal costs; free slots in the budget go to cuts
+// that gain. No leaf grows past `cap`, and a removed leaf's pieces all go to
+// neighbours grown to hold them, so coverage stays complete. Plans and gains
+// are kept from round to round for the leaves whose neighbourhood did not change.
+void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, const CandidateIndex& index,
+                const MeshOracle& oracle, double cap, std::size_t budget, int rounds) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  struct Removal {
+    double cost = kInf;
+    std::vector<std::int32_t> target;     // per piece of the leaf, the neighbour taking it
+    std::vector<std::int32_t> receivers;  // the distinct targets, sorted
+  };
+  std::vector<Removal> plan;
+  std::vector<double> gain;  // of cutting each leaf in two
+  std::vector<char> stale;   // plan and gain must be recomputed
+  std::vector<std::vector<std::int32_t>> near;
+  for (int round = 0; round < rounds; ++round) {
+    const std::size_t n = leaves->size();
+    plan.resize(n);
+    gain.resize(n, std::numeric_limits<double>::quiet_NaN());
+    stale.resize(n, 1);
+    std::vector<double> radius(n), bound(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      radius[i] = CoverError((*leaves)[i].c, 0.0, pieces, (*leaves)[i].pieces) * (1 + 1e-12);
+      bound[i] = radius[i] - (*leaves)[i].depth;
+    }
+    // Neighbours: leaves that could take a piece within the cap.
+    std::vector<std::vector<std::int32_t>> old_near = std::move(near);
+    near.assign(n, {});
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t j = i + 1; j < n; ++j) {
+        if (((*leaves)[i].c - (*leaves)[j].c).norm() < radius[i] + radius[j] + cap) {
+          near[i].push_back(static_cast<std::int32_t>(j));
+          near[j].push_back(static_cast<std::int32_t>(i));
+        }
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!stale[i]) continue;
+      Removal& r = plan[i];
+      r = Removal{};
+      std::vector<double> new_r(near[i].size());
+      for (std::size_t a = 0; a < near[i].size(); ++a) new_r[a] = radius[near[i][a]];
+      bool ok = !near[i].empty();
+      for (std::int32_t q : (*leaves)[i].pieces) {
+        double best = kInf, best_d = 0;
+        std::size_t at = 0;
+        for (std::size_t a = 0; a < near[i].size(); ++a) {
+          const Leaf& l = (*leaves)[near[i][a]];
+          // The centroid's distance is a lower bound on the far corner's.
+          const double lower = (pieces[q].centroid - l.c).norm();
+          if (lower - l.depth > cap || lower - new_r[a] >= best) continue;
+          const double d = std::sqrt(FarCorner2(pieces[q], l.c));
+          if (d - l.depth > cap) continue;
+          const double growth = std::max(0.0, d - new_r[a]);
+          if (growth < best) {
+            best = growth;
+            best_d = d;
+            at = a;
+          }
+        }
+        if (!(best < kInf)) {
+          ok = false;
+          break;
+        }
+        new_r[at] = std::max(new_r[at], best_d);
+        r.target.push_back(near[i][at]);
+      }
+      if (!ok) {
+        r.target.clear();
+      } else {
+        r.receivers = r.target;
+        std::sort(r.receivers.begin(), r.receivers.end());
+        r.receivers.erase(std::unique(r.receivers.begin(), r.receivers.end()), r.receivers.end());
+        r.cost = -bound[i];
+        for (std::size_t a = 0; a < near[i].size(); ++a) r.cost += new_r[a] - radius[near[i][a]];
+      }
+      stale[i] = 0;
+      if (!std::isnan(gain[i])) continue;
+      if ((*leaves)[i].pieces.size() < 2) {
+        gain[i] = -kInf;
+      } else {
+        std::vector<Leaf> halves;
+        double e[2];
+        SplitInTwo((*leaves)[i], pieces, index, oracle, &halves, e, false);
+        gain[i] = bound[i] - e[0] - e[1];
+      }
+    }
+    std::vector<std::int32_t> by_cost(n), by_gain(n);
+    std::iota(by_cost.begin(), by_cost.end(), 0);
+    std::iota(by_gain.begin(), by_gain.end(), 0);
+    std::sort(by_cost.begin(), by_cost.end(), [&](std::int32_t a, std::int32_t b) {
+      return plan[a].cost != plan[b].cost ? plan[a].cost < plan[b].cost : a < b;
+    });
+    std::sort(by_gain.begin(), by_gain.end(), [&](std::int32_t a, std::int32_t b) {
+      return gain[a] != gain[b] ? gain[a] > gain[b] : a < b;
+    });
+    std::vector<char> touched(n, 0);
+    std::size_t swaps = 0;
+    auto cut = [&](std::int32_t k, std::int32_t slot) {  // slot < 0: a new leaf
+      touched[k] = 1;
+      std::vector<Leaf> halves;
+      double e[2];
+      SplitInTwo((*leaves)[k], pieces, index, oracle, &halves, e, false);
+      (*leaves)[k] = std::move(halves[0]);
+      if (slot < 0) {
+        leaves->push_back(std::move(halves[1]));
+      } else {
+        (*leaves)[slot] = std::move(halves[1]);
+      }
+      ++swaps;
+    };
+    for (std::int32_t k : by_gain) {
+      if (n + swaps >= budget || !(gain[k] > 0)) break;
+      cut(k, -1);
+    }
+    std::size_t next_gain = 0;
+    for (std::int32_t i : by_cost) {
+      const Removal& r = plan[i];
+      if (!(r.cost < kInf)) break;
+      if (touched[i]) continue;
+      bool conflict = false;
+      for (std::int32_t j : r.receivers) conflict |= touched[j] != 0;
+      if (conflict) continue;
+      while (next_gain < n && touched[by_gain[next_gain]]) ++next_gain;
+      // The best cut that is neither this leaf nor one of its receivers.
+      std::int32_t k = -1;
+      for (std::size_t g = next_gain; g < n && k < 0; ++g) {
+        const std::int32_t c = by_gain[g];
+        if (!touched[c] && c != i && !std::binary_search(r.receivers.begin(), r.receivers.end(), c)) k = c;
+      }
+      if (k < 0 || gain[k] <= r.cost + 1e-9 * radius[i]) break;
+      touched[i] = 1;
+      for (std::int32_t j : r.receivers) touched[j] = 1;
+      for (std::size_t a = 0; a < r.target.size(); ++a) {
+        (*leaves)[r.target[a]].pieces.push_back((*leaves)[i].pieces[a]);
+      }
+      cut(k, i);  // the new half takes the removed leaf's slot
+    }
+    if (swaps == 0) break;
+    // The receivers re-centre on what they now hold; every leaf near a changed
+    // one gets a new plan next round.
+    std::vector<Leaf> changed;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (touched[i]) changed.push_back(std::move((*leaves)[i]));
+    }
+    RefineLeaves(&changed, pieces, index, oracle, false);
+    std::size_t m = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (touched[i]) (*leaves)[i] = std::move(changed[m++]);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (touched[i]) gain[i] = std::numeric_limits<double>::quiet_NaN();
+      bool s = touched[i] != 0;
+      for (std::int32_t j : near[i]) s |= touched[j] != 0;
+      if (i < old_near.size()) {
+        for (std::int32_t j : old_near[i]) s |= touched[j] != 0;
+      }
+      stale[i] = s;
+    }
+    stale.resize(leaves->size(), 1);
+  }
+}
+
+// Spends the leaf budget on the leaves with the largest protrusion bound, each
+// cut by SplitInTwo. A cut that does not lower the bound by 5 % is not made; a
+// round patch rarely gains from two spheres, so this mostly splits long ones.
 void SplitLeavesInTwo(std::vector<Leaf>* leaves, std::size_t budget, const std::vector<Piece>& pieces,
                       const CandidateIndex& index, const MeshOracle& oracle) {
   std::vector<double> error(leaves->size());
@@ -702,34 +904,9 @@ void SplitLeavesInTwo(std::vector<Leaf>* leaves, std::size_t budget, const std::
       final_leaf[worst] = 1;
       continue;
     }
-    Aabb box;
-    for (std::int32_t p : leaf.pieces) box.Extend(pieces[p].centroid);
-    int axis;
-    box.extent().maxCoeff(&axis);
-    std::vector<std::int32_t> order = leaf.pieces;
-    const auto mid = order.begin() + static_cast<std::ptrdiff_t>(order.size() / 2);
-    std::nth_element(order.begin(), mid, order.end(), [&](std::int32_t a, std::int32_t b) {
-      return pieces[a].centroid[axis] != pieces[b].centroid[axis] ? pieces[a].centroid[axis] < pieces[b].centroid[axis]
-                                                                  : a < b;
-    });
-    std::vector<Leaf> halves(2);
-    halves[0] = {leaf.c, leaf.depth, {order.begin(), mid}};
-    halves[1] = {leaf.c, leaf.depth, {mid, order.end()}};
-    RefineLeaves(&halves, pieces, index, oracle);
-    for (int it = 0; it < 3; ++it) {
-      std::vector<std::int32_t> mine[2];
-      for (std::int32_t p : leaf.pieces) {
-        const double e0 = std::sqrt(FarCorner2(pieces[p], halves[0].c)) - halves[0].depth;
-        const double e1 = std::sqrt(FarCorner2(pieces[p], halves[1].c)) - halves[1].depth;
-        mine[e1 < e0 ? 1 : 0].push_back(p);
-      }
-      if (mine[0].empty() || mine[1].empty()) break;
-      halves[0].pieces = std::move(mine[0]);
-      halves[1].pieces = std::move(mine[1]);
-      RefineLeaves(&halves, pieces, index, oracle);
-    }
+    std::vector<Leaf> halves;
     double e[2];
-    for (int k = 0; k < 2; ++k) e[k] = CoverError(halves[k].c, halves[k].depth, pieces, halves[k].pieces);
+    SplitInTwo(leaf, pieces, index, oracle, &halves, e);
     if (std::max(e[0], e[1]) > 0.95 * error[worst]) {
       final_leaf[worst] = 1;
       continue;
@@ -843,7 +1020,8 @@ std::string SphereTreeParams::ToString() const {
   std::ostringstream s;
   s.precision(17);
   s << "levels=" << levels << " branch=" << branching << " leaves=" << leaves
-    << " target_error_mm=" << target_error_mm << " samples=" << samples << " seed=" << seed;
+    << " target_error_mm=" << target_error_mm << " samples=" << samples << " seed=" << seed
+    << " spend=" << (spend == Spend::kMean ? "mean" : "worst");
   return s.str();
 }
 
@@ -970,10 +1148,21 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
     AssignPieces(&out, *work);
     RefineLeaves(&out, *work, index, oracle);
     AssignPieces(&out, *work);
-    for (int pass = 0; pass < 3; ++pass) {
-      ShrinkLeaves(&out, work, index, oracle, 4 * max_pieces, 2);
-      if (params.target_error_mm == 0) SplitLeavesInTwo(&out, budget, *work, index, oracle);
+    if (params.target_error_mm > 0 || params.spend == SphereTreeParams::Spend::kWorst) {
+      for (int pass = 0; pass < 3; ++pass) {
+        ShrinkLeaves(&out, work, index, oracle, 4 * max_pieces, 2);
+        if (params.target_error_mm == 0) SplitLeavesInTwo(&out, budget, *work, index, oracle);
+      }
+      return out;
     }
+    ShrinkLeaves(&out, work, index, oracle, 4 * max_pieces, 2);
+    SplitLeavesInTwo(&out, budget, *work, index, oracle);
+    // Then trade leaves where they lower the sum of bounds most, no leaf beyond
+    // the worst one now.
+    double worst = 0;
+    for (const Leaf& l : out) worst = std::max(worst, CoverError(l.c, l.depth, *work, l.pieces));
+    SwapLeaves(&out, *work, index, oracle, worst, budget, 40);
+    RefineLeaves(&out, *work, index, oracle);
     return out;
   };
   report("tighten", 0.72);
@@ -1002,7 +1191,6 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
     bound = std::max(bound, r - l.depth);
   }
   const double seconds_cover = Seconds(t_cover);
-
   // 4. Hierarchy.
   report("hierarchy", 0.95);
   const auto t_tree = Clock::now();

@@ -35,6 +35,13 @@ struct SphereTreeParams {
   /// max(3000, 8 * leaves), capped at 60000.
   int samples = 0;
   std::uint64_t seed = 1;
+  /// What a budget is spent on. kMean (default): after the min-max cover, leaves
+  /// are traded to where they lower the sum of protrusion bounds most (the mean
+  /// the fit is judged by), no leaf past the worst one; more leaves end up near
+  /// that worst bound, and thin parts get more leaves. kWorst: the min-max cover
+  /// only, tightened. Tools use kWorst: their tip is in every contact, and
+  /// leaves crowded there multiply the engine's contact pairs.
+  enum class Spend { kMean, kWorst } spend = Spend::kMean;
 
   /// Text that identifies these parameters (for cache keys and reports).
   std::string ToString() const;

@@ -8,7 +8,7 @@
 namespace sulcus {
 namespace {
 // Bump when the builder's output changes for the same input.
-constexpr char kBuilderVersion[] = "sulcus-spheretree-builder-4";
+constexpr char kBuilderVersion[] = "sulcus-spheretree-builder-5";
 }  // namespace
 
 std::uint64_t MeshContentHash(const TriangleMesh& mesh) {

@@ -107,7 +107,13 @@ TreeMetrics EvaluateSphereTree(const TriangleMesh& mesh, const SphereTree& tree,
       }
       return count;
     };
-    for (const Vector3& p : surface) m.uncovered_samples += inside_cut(p, false) == 0;
+    std::size_t holders = 0;
+    for (const Vector3& p : surface) {
+      const int count = inside_cut(p, true);
+      m.uncovered_samples += count == 0;
+      holders += count;
+    }
+    m.overlap = static_cast<double>(holders) / static_cast<double>(surface.size());
     m.coverage = 1.0 - static_cast<double>(m.uncovered_samples) / static_cast<double>(surface.size());
 
     // Union volume outside the solid: sample each ball uniformly and weight a point

@@ -27,6 +27,7 @@ struct LevelMetrics {
   double protrusion_mean_mm = 0;       // mean over spheres of each sphere's largest distance
   double coverage = 0;                 // share of surface samples inside some sphere
   std::size_t uncovered_samples = 0;
+  double overlap = 0;                  // mean number of spheres holding a surface sample
   double excess_volume = 0;            // union volume outside the solid / solid volume
   double children_inside = 1;          // share of this level's nodes inside their parent
 };

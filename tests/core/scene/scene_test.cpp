@@ -144,6 +144,39 @@ TEST(SceneFile, ValuesAreRead) {
   EXPECT_DOUBLE_EQ(s.objects[1].material.damage_limit_n, 0.30);  // CLINICAL.md's gingiva limit
 }
 
+// Trees: the scene's `spheretree` for every object, an object's own over it,
+// and `spheretree: gingiva:` for the generated collars (over the scene's).
+TEST(SceneFile, SphereTreeSettingsPerObjectAndForTheCollars) {
+  const fs::path p = Write("trees.yaml",
+                           "spheretree:\n"
+                           "  leaves: 256\n"
+                           "  gingiva: {levels: 5, leaves: 1024}\n"
+                           "arch: true\n"
+                           "gingiva: true\n"
+                           "objects:\n"
+                           "  - tooth: 46\n"
+                           "  - tooth: 47\n"
+                           "    spheretree: {leaves: 64, levels: 3}\n");
+  const SceneSpec s = LoadSceneSpec(p);
+  ASSERT_EQ(s.objects.size(), 4u);  // two teeth, two collars
+  EXPECT_EQ(s.objects[0].trees.leaves, 256);
+  EXPECT_EQ(s.objects[0].trees.levels, 4);
+  EXPECT_EQ(s.objects[1].trees.leaves, 64);
+  EXPECT_EQ(s.objects[1].trees.levels, 3);
+  for (int i : {2, 3}) {
+    EXPECT_EQ(s.objects[i].kind, ObjectSpec::Kind::kGingiva);
+    EXPECT_EQ(s.objects[i].trees.leaves, 1024);
+    EXPECT_EQ(s.objects[i].trees.levels, 5);
+  }
+  EXPECT_EQ(Errors("spheretree: {leaves: 1024}\nobjects:\n  - tooth: 46\n"),
+            (Lines{"1:13: in 'spheretree': 1024 leaves do not fit in 4 levels of 8 (at most 512); raise 'levels'"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    spheretree: {leafs: 64}\n"),
+            (Lines{"3:18: unknown key 'leafs' in an object's 'spheretree'; did you mean 'leaves'?"}));
+  EXPECT_EQ(Errors("spheretree: {gingiva: {gingiva: {}}}\nobjects:\n  - tooth: 46\n"),
+            (Lines{"1:24: unknown key 'gingiva' in 'spheretree: gingiva' (expected one of: levels, branch, leaves, "
+                   "target_error_mm)"}));
+}
+
 TEST(SceneFile, ShippedScenesValidate) {
   int seen = 0;
   for (const char* folder : {"scenes", "scenes/hard"}) {

@@ -1,9 +1,10 @@
 // Sphere-trees of the generated teeth (issue 4 measured on issue 3's anatomy):
 // asserts the guarantees (every surface sample covered, every child inside its
 // parent) and the issue's worst-protrusion target (1.5 % of the largest extent)
-// on every tooth and probe, and its mean target (0.3 %) on the probes; records
-// protrusion and build time in the test XML and on stdout. The teeth's mean is
-// reported, not asserted: the molars are at 0.40 to 0.58 % (README).
+// on every tooth and probe, and its mean target (0.3 %) on the probes, incisors,
+// canines and premolars; records protrusion and build time in the test XML and
+// on stdout. The molars' mean is reported, not asserted: they are at 0.35 to
+// 0.49 % (README, "Sphere-trees").
 
 #include <gtest/gtest.h>
 
@@ -40,6 +41,9 @@ TEST_P(ToothTree, CoversTheToothAndNests) {
   for (const LevelMetrics& level : m.levels) EXPECT_EQ(level.children_inside, 1.0);
   EXPECT_LE(l.spheres, 512u);
   EXPECT_LE(worst, 1.5);
+  if (tooth.tooth.type() < ToothType::kFirstMolar) {
+    EXPECT_LE(mean, 0.3);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Fdi, ToothTree, ::testing::Values(11, 12, 13, 14, 15, 16, 17, 31, 33, 34, 36, 37));
@@ -61,7 +65,9 @@ TEST_P(AnatomyTree, CoversAndNests) {
     mesh = MakeSoftTissue(name);
   }
   SphereTreeBuildStats stats;
-  const SphereTree tree = BuildSphereTree(mesh, SphereTreeParams{}, {}, &stats);
+  SphereTreeParams params;
+  if (name.rfind("probe_", 0) == 0) params.spend = SphereTreeParams::Spend::kWorst;  // as scenes build tools
+  const SphereTree tree = BuildSphereTree(mesh, params, {}, &stats);
   const TreeMetrics m = EvaluateSphereTree(mesh, tree);
   const LevelMetrics& l = m.leaves();
   const double worst = 100 * l.protrusion_max_mm / m.largest_extent_mm;
