@@ -883,6 +883,102 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
   }
 }
 
+// Moves leaf borders where that lowers the sum of radii: each leaf in turn
+// gives its farthest pieces to the neighbours that take them for the least
+// growth, as many as pay (its shrink, to the next farthest piece, above the
+// neighbours' total growth). No neighbour grows past `cap` (a bound); every
+// piece stays inside the leaf that holds it, so coverage stays complete.
+void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, const CandidateIndex& index,
+                 const MeshOracle& oracle, double cap, int rounds) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const std::size_t n = leaves->size();
+  for (int round = 0; round < rounds; ++round) {
+    std::vector<double> radius(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      radius[i] = CoverError((*leaves)[i].c, 0.0, pieces, (*leaves)[i].pieces) * (1 + 1e-12);
+    }
+    std::vector<std::vector<std::int32_t>> near(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t j = i + 1; j < n; ++j) {
+        if (((*leaves)[i].c - (*leaves)[j].c).norm() < radius[i] + radius[j] + cap) {
+          near[i].push_back(static_cast<std::int32_t>(j));
+          near[j].push_back(static_cast<std::int32_t>(i));
+        }
+      }
+    }
+    std::vector<char> changed(n, 0);
+    double total_gain = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      Leaf& leaf = (*leaves)[i];
+      if (leaf.pieces.size() < 2 || near[i].empty()) continue;
+      std::vector<std::pair<double, std::int32_t>> by_far;
+      by_far.reserve(leaf.pieces.size());
+      for (std::int32_t q : leaf.pieces) by_far.push_back({std::sqrt(FarCorner2(pieces[q], leaf.c)), q});
+      std::sort(by_far.begin(), by_far.end(), std::greater<>());
+      std::vector<double> new_r(near[i].size());
+      for (std::size_t a = 0; a < near[i].size(); ++a) new_r[a] = radius[near[i][a]];
+      double growth = 0, best_net = 0;
+      std::size_t best_k = 0;
+      std::vector<std::size_t> to;
+      const std::size_t k_max = by_far.size() / 3;
+      for (std::size_t k = 0; k < k_max; ++k) {
+        const std::int32_t q = by_far[k].second;
+        double least = kInf, least_d = 0;
+        std::size_t at = 0;
+        for (std::size_t a = 0; a < near[i].size(); ++a) {
+          const Leaf& l = (*leaves)[near[i][a]];
+          const double lower = (pieces[q].centroid - l.c).norm();
+          if (lower - l.depth > cap || lower - new_r[a] >= least) continue;
+          const double d = std::sqrt(FarCorner2(pieces[q], l.c));
+          if (d - l.depth > cap) continue;
+          const double g = std::max(0.0, d - new_r[a]);
+          if (g < least) {
+            least = g;
+            least_d = d;
+            at = a;
+          }
+        }
+        if (!(least < kInf)) break;
+        growth += least;
+        new_r[at] = std::max(new_r[at], least_d);
+        to.push_back(at);
+        const double net = (by_far[0].first - by_far[k + 1].first) - growth;
+        if (net > best_net) {
+          best_net = net;
+          best_k = k + 1;
+        }
+      }
+      if (best_k == 0) continue;
+      // Commit the first best_k moves.
+      std::vector<double> grown(near[i].size());
+      for (std::size_t a = 0; a < near[i].size(); ++a) grown[a] = radius[near[i][a]];
+      for (std::size_t k = 0; k < best_k; ++k) {
+        const std::int32_t j = near[i][to[k]];
+        const std::int32_t q = by_far[k].second;
+        (*leaves)[j].pieces.push_back(q);
+        grown[to[k]] = std::max(grown[to[k]], std::sqrt(FarCorner2(pieces[q], (*leaves)[j].c)));
+        changed[j] = 1;
+      }
+      for (std::size_t a = 0; a < near[i].size(); ++a) radius[near[i][a]] = grown[a];
+      leaf.pieces.clear();
+      for (std::size_t k = best_k; k < by_far.size(); ++k) leaf.pieces.push_back(by_far[k].second);
+      radius[i] = by_far[best_k].first;
+      changed[i] = 1;
+      total_gain += best_net;
+    }
+    if (total_gain == 0) break;
+    std::vector<Leaf> moved;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (changed[i]) moved.push_back(std::move((*leaves)[i]));
+    }
+    RefineLeaves(&moved, pieces, index, oracle, false);
+    std::size_t m = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (changed[i]) (*leaves)[i] = std::move(moved[m++]);
+    }
+  }
+}
+
 // Spends the leaf budget on the leaves with the largest protrusion bound, each
 // cut by SplitInTwo. A cut that does not lower the bound by 5 % is not made; a
 // round patch rarely gains from two spheres, so this mostly splits long ones.
@@ -1157,10 +1253,12 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
     }
     ShrinkLeaves(&out, work, index, oracle, 4 * max_pieces, 2);
     SplitLeavesInTwo(&out, budget, *work, index, oracle);
-    // Then trade leaves where they lower the sum of bounds most, no leaf beyond
-    // the worst one now.
+    // Then trade leaves, and the pieces at their borders, where that lowers the
+    // sum of bounds most, no leaf beyond the worst one now.
     double worst = 0;
     for (const Leaf& l : out) worst = std::max(worst, CoverError(l.c, l.depth, *work, l.pieces));
+    SwapLeaves(&out, *work, index, oracle, worst, budget, 40);
+    TradePieces(&out, *work, index, oracle, worst, 10);
     SwapLeaves(&out, *work, index, oracle, worst, budget, 40);
     RefineLeaves(&out, *work, index, oracle);
     return out;

@@ -4,8 +4,10 @@
 // axis; leaves are chosen among medial spheres by a greedy set cover of the
 // surface that bounds each leaf's protrusion, then tightened (the surface
 // pieces at each leaf's rim are split and handed to the neighbour that already
-// holds them, and leaves re-centred); leaves are grouped into a B-ary hierarchy
-// whose parents are smallest enclosing spheres of their children.
+// holds them, and leaves re-centred) and traded where they lower the sum of
+// protrusions most (a leaf whose pieces its neighbours take cheaply is removed,
+// one that gains most from a cut is cut); leaves are grouped into a B-ary
+// hierarchy whose parents are smallest enclosing spheres of their children.
 //
 // Guarantees, independent of any sampling density:
 // - every point of the surface lies inside some leaf (each leaf encloses whole
