@@ -728,6 +728,7 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
   constexpr double kInf = std::numeric_limits<double>::infinity();
   struct Removal {
     double cost = kInf;
+    double gave_up_at = kInf;             // planning stopped once the cost passed this
     std::vector<std::int32_t> target;     // per piece of the leaf, the neighbour taking it
     std::vector<std::int32_t> receivers;  // the distinct targets, sorted
   };
@@ -756,10 +757,27 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
         }
       }
     }
+    // Gains first: no removal costing more than the best gain is worth planning.
+    double best_gain = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      if (!stale[i]) continue;
+      if (std::isnan(gain[i])) {
+        if ((*leaves)[i].pieces.size() < 2) {
+          gain[i] = -kInf;
+        } else {
+          std::vector<Leaf> halves;
+          double e[2];
+          SplitInTwo((*leaves)[i], pieces, index, oracle, &halves, e, false);
+          gain[i] = bound[i] - e[0] - e[1];
+        }
+      }
+      best_gain = std::max(best_gain, gain[i]);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!stale[i] && !(plan[i].gave_up_at < best_gain)) continue;
+      stale[i] = 0;
       Removal& r = plan[i];
       r = Removal{};
+      double running = -bound[i];  // the cost so far: it only grows
       std::vector<double> new_r(near[i].size());
       for (std::size_t a = 0; a < near[i].size(); ++a) new_r[a] = radius[near[i][a]];
       bool ok = !near[i].empty();
@@ -784,8 +802,14 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
           ok = false;
           break;
         }
+        running += std::max(0.0, best_d - new_r[at]);
         new_r[at] = std::max(new_r[at], best_d);
         r.target.push_back(near[i][at]);
+        if (running >= best_gain) {
+          r.gave_up_at = best_gain;
+          ok = false;
+          break;
+        }
       }
       if (!ok) {
         r.target.clear();
@@ -795,16 +819,6 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
         r.receivers.erase(std::unique(r.receivers.begin(), r.receivers.end()), r.receivers.end());
         r.cost = -bound[i];
         for (std::size_t a = 0; a < near[i].size(); ++a) r.cost += new_r[a] - radius[near[i][a]];
-      }
-      stale[i] = 0;
-      if (!std::isnan(gain[i])) continue;
-      if ((*leaves)[i].pieces.size() < 2) {
-        gain[i] = -kInf;
-      } else {
-        std::vector<Leaf> halves;
-        double e[2];
-        SplitInTwo((*leaves)[i], pieces, index, oracle, &halves, e, false);
-        gain[i] = bound[i] - e[0] - e[1];
       }
     }
     std::vector<std::int32_t> by_cost(n), by_gain(n);
