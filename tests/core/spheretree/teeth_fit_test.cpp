@@ -48,6 +48,30 @@ TEST_P(ToothTree, CoversTheToothAndNests) {
 
 INSTANTIATE_TEST_SUITE_P(Fdi, ToothTree, ::testing::Values(11, 12, 13, 14, 15, 16, 17, 31, 33, 34, 36, 37));
 
+// Trading (Spend::kMean, the default) against the min-max cover alone
+// (Spend::kWorst) on a molar, where it matters most: the same leaf count and
+// guarantees, a lower mean, the worst leaf about where it was.
+TEST(ToothTreeSpend, TradingLowersTheMolarsMean) {
+  const ToothModel tooth = GenerateTooth(36);
+  SphereTreeParams p;
+  p.spend = SphereTreeParams::Spend::kWorst;
+  const TreeMetrics even = EvaluateSphereTree(tooth.mesh, BuildSphereTree(tooth.mesh, p));
+  p.spend = SphereTreeParams::Spend::kMean;
+  const TreeMetrics traded = EvaluateSphereTree(tooth.mesh, BuildSphereTree(tooth.mesh, p));
+  const LevelMetrics& a = even.leaves();
+  const LevelMetrics& b = traded.leaves();
+  std::printf("tooth 36, 512 leaves: worst %.3f -> %.3f %%, mean %.3f -> %.3f %%, overlap %.2f -> %.2f\n",
+              100 * a.protrusion_max_mm / even.largest_extent_mm, 100 * b.protrusion_max_mm / even.largest_extent_mm,
+              100 * a.protrusion_mean_mm / even.largest_extent_mm, 100 * b.protrusion_mean_mm / even.largest_extent_mm,
+              a.overlap, b.overlap);
+  EXPECT_EQ(b.spheres, a.spheres);
+  EXPECT_EQ(b.uncovered_samples, 0u);
+  for (const LevelMetrics& level : traded.levels) EXPECT_EQ(level.children_inside, 1.0);
+  EXPECT_LT(b.protrusion_mean_mm, 0.9 * a.protrusion_mean_mm);
+  EXPECT_LT(b.overlap, a.overlap);
+  EXPECT_LT(b.protrusion_max_mm, 1.1 * a.protrusion_max_mm);
+}
+
 // The other shipped anatomy: the probes' collision parts, a gingival collar and
 // the soft tissues. Same guarantees, figures reported.
 class AnatomyTree : public ::testing::TestWithParam<std::string> {};
