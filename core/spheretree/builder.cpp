@@ -561,8 +561,9 @@ class CandidateIndex {
   std::vector<std::int32_t> items_;
 };
 
-// Moves each leaf's centre to the candidate (or a point toward the smallest ball
-// around its pieces) that encloses the same pieces with the least protrusion.
+// Moves each leaf's centre to the candidate (or, with toward_ball, a point toward
+// the smallest ball around its pieces, which costs mesh queries) that encloses
+// the same pieces with the least protrusion.
 void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
                   const CandidateIndex& index, const MeshOracle& oracle, bool toward_ball = true) {
   using MTraits = CGAL::Min_sphere_of_spheres_d_traits_3<K, double, CGAL::Tag_true>;
@@ -714,6 +715,22 @@ void SplitInTwo(const Leaf& leaf, const std::vector<Piece>& pieces, const Candid
   for (int k = 0; k < 2; ++k) e[k] = CoverError(halves[k].c, halves[k].depth, pieces, halves[k].pieces);
 }
 
+// For each leaf, the other leaves that could take one of its pieces with a bound
+// of at most `cap`: those whose spheres, grown by cap, meet its own.
+std::vector<std::vector<std::int32_t>> NeighbourLists(const std::vector<Leaf>& leaves,
+                                                      const std::vector<double>& radius, double cap) {
+  std::vector<std::vector<std::int32_t>> near(leaves.size());
+  for (std::size_t i = 0; i < leaves.size(); ++i) {
+    for (std::size_t j = i + 1; j < leaves.size(); ++j) {
+      if ((leaves[i].c - leaves[j].c).norm() < radius[i] + radius[j] + cap) {
+        near[i].push_back(static_cast<std::int32_t>(j));
+        near[j].push_back(static_cast<std::int32_t>(i));
+      }
+    }
+  }
+  return near;
+}
+
 // Local search on the sum of the leaves' protrusion bounds (the mean the fit
 // is judged by) at a fixed leaf count. Removing a leaf costs the growth of the
 // neighbours that take its pieces, less its own bound; cutting a leaf in two
@@ -748,15 +765,7 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
     }
     // Neighbours: leaves that could take a piece within the cap.
     std::vector<std::vector<std::int32_t>> old_near = std::move(near);
-    near.assign(n, {});
-    for (std::size_t i = 0; i < n; ++i) {
-      for (std::size_t j = i + 1; j < n; ++j) {
-        if (((*leaves)[i].c - (*leaves)[j].c).norm() < radius[i] + radius[j] + cap) {
-          near[i].push_back(static_cast<std::int32_t>(j));
-          near[j].push_back(static_cast<std::int32_t>(i));
-        }
-      }
-    }
+    near = NeighbourLists(*leaves, radius, cap);
     // Gains first: no removal costing more than the best gain is worth planning.
     double best_gain = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -911,15 +920,7 @@ void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, co
     for (std::size_t i = 0; i < n; ++i) {
       radius[i] = CoverError((*leaves)[i].c, 0.0, pieces, (*leaves)[i].pieces) * (1 + 1e-12);
     }
-    std::vector<std::vector<std::int32_t>> near(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      for (std::size_t j = i + 1; j < n; ++j) {
-        if (((*leaves)[i].c - (*leaves)[j].c).norm() < radius[i] + radius[j] + cap) {
-          near[i].push_back(static_cast<std::int32_t>(j));
-          near[j].push_back(static_cast<std::int32_t>(i));
-        }
-      }
-    }
+    const std::vector<std::vector<std::int32_t>> near = NeighbourLists(*leaves, radius, cap);
     std::vector<char> changed(n, 0);
     double total_gain = 0;
     for (std::size_t i = 0; i < n; ++i) {
