@@ -561,58 +561,71 @@ class CandidateIndex {
   std::vector<std::int32_t> items_;
 };
 
-// Moves each leaf's centre to the candidate (or, with toward_ball, a point toward
+// Moves a leaf's centre to the candidate (or, with toward_ball, a point toward
 // the smallest ball around its pieces, which costs mesh queries) that encloses
-// the same pieces with the least protrusion.
-void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
-                  const CandidateIndex& index, const MeshOracle& oracle, bool toward_ball = true) {
+// the same pieces with the least protrusion. Sorts its pieces, farthest first.
+void RefineLeaf(Leaf* leaf, const std::vector<Piece>& pieces, const CandidateIndex& index, const MeshOracle& oracle,
+                bool toward_ball) {
   using MTraits = CGAL::Min_sphere_of_spheres_d_traits_3<K, double, CGAL::Tag_true>;
   using MinSphere = CGAL::Min_sphere_of_spheres_d<MTraits>;
-  for (Leaf& l : *leaves) {
-    // Farthest pieces first: a centre that cannot beat the current one usually
-    // fails on them, after a few corners.
-    std::sort(l.pieces.begin(), l.pieces.end(), [&](std::int32_t a, std::int32_t b) {
-      const double da = FarCorner2(pieces[a], l.c), db = FarCorner2(pieces[b], l.c);
-      return da != db ? da > db : a < b;
-    });
-    double best = CoverError(l.c, l.depth, pieces, l.pieces);
-    const Vector3 any = pieces[l.pieces.front()].v[0];
-    // Centres farther than the current radius from the current one are not tried.
-    const Vector3 from = l.c;
-    index.ForEachNear(from, best + l.depth, [&](const Candidate& c) {
-      if ((any - c.c).norm() - c.depth >= best) return;  // cannot beat the current error
-      const double e = CoverErrorBelow(c.c, c.depth, pieces, l.pieces, best);
-      if (e < best) {
-        best = e;
-        l.c = c.c;
-        l.depth = c.depth;
-      }
-    });
-    if (!toward_ball) continue;
-    // Toward the smallest enclosing ball of the pieces' corners.
-    std::vector<MTraits::Sphere> corners;
-    for (std::int32_t p : l.pieces) {
-      for (const Vector3& v : pieces[p].v) corners.emplace_back(K::Point_3(v.x(), v.y(), v.z()), 0.0);
+  Leaf& l = *leaf;
+  // Farthest pieces first: a centre that cannot beat the current one usually
+  // fails on them, after a few corners.
+  std::sort(l.pieces.begin(), l.pieces.end(), [&](std::int32_t a, std::int32_t b) {
+    const double da = FarCorner2(pieces[a], l.c), db = FarCorner2(pieces[b], l.c);
+    return da != db ? da > db : a < b;
+  });
+  double best = CoverError(l.c, l.depth, pieces, l.pieces);
+  const Vector3 any = pieces[l.pieces.front()].v[0];
+  // Centres farther than the current radius from the current one are not tried.
+  const Vector3 from = l.c;
+  index.ForEachNear(from, best + l.depth, [&](const Candidate& c) {
+    if ((any - c.c).norm() - c.depth >= best) return;  // cannot beat the current error
+    const double e = CoverErrorBelow(c.c, c.depth, pieces, l.pieces, best);
+    if (e < best) {
+      best = e;
+      l.c = c.c;
+      l.depth = c.depth;
     }
-    MinSphere ms(corners.begin(), corners.end());
-    auto it = ms.center_cartesian_begin();
-    Vector3 mb;
-    mb.x() = *it++;
-    mb.y() = *it++;
-    mb.z() = *it;
-    const Vector3 start = l.c;
-    for (double t : {0.2, 0.4, 0.6, 0.8, 1.0}) {
-      const Vector3 p = start + t * (mb - start);
-      if (!oracle.Inside(p)) continue;
-      const double depth = oracle.Distance(p);
-      const double e = CoverError(p, depth, pieces, l.pieces);
-      if (e < best) {
-        best = e;
-        l.c = p;
-        l.depth = depth;
-      }
+  });
+  if (!toward_ball) return;
+  // Toward the smallest enclosing ball of the pieces' corners.
+  std::vector<MTraits::Sphere> corners;
+  for (std::int32_t p : l.pieces) {
+    for (const Vector3& v : pieces[p].v) corners.emplace_back(K::Point_3(v.x(), v.y(), v.z()), 0.0);
+  }
+  MinSphere ms(corners.begin(), corners.end());
+  auto it = ms.center_cartesian_begin();
+  Vector3 mb;
+  mb.x() = *it++;
+  mb.y() = *it++;
+  mb.z() = *it;
+  const Vector3 start = l.c;
+  for (double t : {0.2, 0.4, 0.6, 0.8, 1.0}) {
+    const Vector3 p = start + t * (mb - start);
+    if (!oracle.Inside(p)) continue;
+    const double depth = oracle.Distance(p);
+    const double e = CoverError(p, depth, pieces, l.pieces);
+    if (e < best) {
+      best = e;
+      l.c = p;
+      l.depth = depth;
     }
   }
+}
+
+void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, const CandidateIndex& index,
+                  const MeshOracle& oracle, bool toward_ball = true) {
+  for (Leaf& l : *leaves) RefineLeaf(&l, pieces, index, oracle, toward_ball);
+}
+
+// Each leaf's radius (its bound at depth 0), with a hair for round-off.
+std::vector<double> LeafRadii(const std::vector<Leaf>& leaves, const std::vector<Piece>& pieces) {
+  std::vector<double> radius(leaves.size());
+  for (std::size_t i = 0; i < leaves.size(); ++i) {
+    radius[i] = CoverError(leaves[i].c, 0.0, pieces, leaves[i].pieces) * (1 + 1e-12);
+  }
+  return radius;
 }
 
 // Tightens a cover without adding leaves or losing coverage (a leaf left with no
@@ -625,11 +638,7 @@ void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
 void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces, const CandidateIndex& index,
                   const MeshOracle& oracle, std::size_t max_pieces, int rounds) {
   for (int round = 0; round < rounds; ++round) {
-    // Each leaf's radius (its bound at depth 0), with a hair for round-off.
-    std::vector<double> radius(leaves->size());
-    for (std::size_t i = 0; i < leaves->size(); ++i) {
-      radius[i] = CoverError((*leaves)[i].c, 0.0, *pieces, (*leaves)[i].pieces) * (1 + 1e-12);
-    }
+    const std::vector<double> radius = LeafRadii(*leaves, *pieces);
     // 1. Split the pieces near each leaf's radius.
     std::vector<std::int32_t> owner(pieces->size(), -1);
     std::vector<char> split(pieces->size(), 0);
@@ -731,6 +740,29 @@ std::vector<std::vector<std::int32_t>> NeighbourLists(const std::vector<Leaf>& l
   return near;
 }
 
+// The neighbour (an index into `near`) that takes piece q for the least growth
+// of its radius (new_r, per neighbour), none past a bound of `cap`; false when
+// none can. Also gives the piece's far-corner distance from that neighbour.
+bool CheapestTaker(const Piece& q, const std::vector<Leaf>& leaves, const std::vector<std::int32_t>& near,
+                   const std::vector<double>& new_r, double cap, std::size_t* at, double* growth, double* dist) {
+  *growth = std::numeric_limits<double>::infinity();
+  for (std::size_t a = 0; a < near.size(); ++a) {
+    const Leaf& l = leaves[near[a]];
+    // The centroid's distance is a lower bound on the far corner's.
+    const double lower = (q.centroid - l.c).norm();
+    if (lower - l.depth > cap || lower - new_r[a] >= *growth) continue;
+    const double d = std::sqrt(FarCorner2(q, l.c));
+    if (d - l.depth > cap) continue;
+    const double g = std::max(0.0, d - new_r[a]);
+    if (g < *growth) {
+      *growth = g;
+      *dist = d;
+      *at = a;
+    }
+  }
+  return *growth < std::numeric_limits<double>::infinity();
+}
+
 // Local search on the sum of the leaves' protrusion bounds (the mean the fit
 // is judged by) at a fixed leaf count. Removing a leaf costs the growth of the
 // neighbours that take its pieces, less its own bound; cutting a leaf in two
@@ -738,7 +770,7 @@ std::vector<std::vector<std::int32_t>> NeighbourLists(const std::vector<Leaf>& l
 // the best cuts, every leaf in at most one swap, and makes a swap only when the
 // cut gains more than the removal costs; free slots in the budget go to cuts
 // that gain. No leaf grows past `cap`, and a removed leaf's pieces all go to
-// neighbours grown to hold them, so coverage stays complete. Plans and gains
+// neighbours grown to hold them, so coverage stays complete. Plans and cuts
 // are kept from round to round for the leaves whose neighbourhood did not change.
 void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, const CandidateIndex& index,
                 const MeshOracle& oracle, double cap, std::size_t budget, int rounds) {
@@ -749,86 +781,73 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
     std::vector<std::int32_t> target;     // per piece of the leaf, the neighbour taking it
     std::vector<std::int32_t> receivers;  // the distinct targets, sorted
   };
+  struct Cut {
+    bool known = false;  // false: the leaf changed since
+    double gain = -kInf;
+    std::vector<Leaf> halves;
+  };
   std::vector<Removal> plan;
-  std::vector<double> gain;  // of cutting each leaf in two
-  std::vector<char> stale;   // plan and gain must be recomputed
+  std::vector<Cut> cuts;
+  std::vector<char> stale;  // the plan must be recomputed
   std::vector<std::vector<std::int32_t>> near;
   for (int round = 0; round < rounds; ++round) {
     const std::size_t n = leaves->size();
     plan.resize(n);
-    gain.resize(n, std::numeric_limits<double>::quiet_NaN());
+    cuts.resize(n);
     stale.resize(n, 1);
-    std::vector<double> radius(n), bound(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      radius[i] = CoverError((*leaves)[i].c, 0.0, pieces, (*leaves)[i].pieces) * (1 + 1e-12);
-      bound[i] = radius[i] - (*leaves)[i].depth;
-    }
-    // Neighbours: leaves that could take a piece within the cap.
-    std::vector<std::vector<std::int32_t>> old_near = std::move(near);
+    const std::vector<double> radius = LeafRadii(*leaves, pieces);
+    std::vector<double> bound(n);
+    for (std::size_t i = 0; i < n; ++i) bound[i] = radius[i] - (*leaves)[i].depth;
+    const std::vector<std::vector<std::int32_t>> old_near = std::move(near);
     near = NeighbourLists(*leaves, radius, cap);
-    // Gains first: no removal costing more than the best gain is worth planning.
+    // Cuts first: no removal costing more than the best gain is worth planning.
     double best_gain = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      if (std::isnan(gain[i])) {
-        if ((*leaves)[i].pieces.size() < 2) {
-          gain[i] = -kInf;
-        } else {
-          std::vector<Leaf> halves;
+      Cut& c = cuts[i];
+      if (!c.known) {
+        c = Cut{true, -kInf, {}};
+        if ((*leaves)[i].pieces.size() >= 2) {
           double e[2];
-          SplitInTwo((*leaves)[i], pieces, index, oracle, &halves, e, false);
-          gain[i] = bound[i] - e[0] - e[1];
+          SplitInTwo((*leaves)[i], pieces, index, oracle, &c.halves, e, false);
+          c.gain = bound[i] - e[0] - e[1];
         }
       }
-      best_gain = std::max(best_gain, gain[i]);
+      best_gain = std::max(best_gain, c.gain);
     }
     for (std::size_t i = 0; i < n; ++i) {
       if (!stale[i] && !(plan[i].gave_up_at < best_gain)) continue;
       stale[i] = 0;
       Removal& r = plan[i];
       r = Removal{};
-      double running = -bound[i];  // the cost so far: it only grows
+      if (near[i].empty()) continue;
       std::vector<double> new_r(near[i].size());
       for (std::size_t a = 0; a < near[i].size(); ++a) new_r[a] = radius[near[i][a]];
-      bool ok = !near[i].empty();
+      double cost = -bound[i];  // it only grows as pieces are placed
+      bool placed = true;
       for (std::int32_t q : (*leaves)[i].pieces) {
-        double best = kInf, best_d = 0;
         std::size_t at = 0;
-        for (std::size_t a = 0; a < near[i].size(); ++a) {
-          const Leaf& l = (*leaves)[near[i][a]];
-          // The centroid's distance is a lower bound on the far corner's.
-          const double lower = (pieces[q].centroid - l.c).norm();
-          if (lower - l.depth > cap || lower - new_r[a] >= best) continue;
-          const double d = std::sqrt(FarCorner2(pieces[q], l.c));
-          if (d - l.depth > cap) continue;
-          const double growth = std::max(0.0, d - new_r[a]);
-          if (growth < best) {
-            best = growth;
-            best_d = d;
-            at = a;
-          }
-        }
-        if (!(best < kInf)) {
-          ok = false;
+        double growth = 0, dist = 0;
+        if (!CheapestTaker(pieces[q], *leaves, near[i], new_r, cap, &at, &growth, &dist)) {
+          placed = false;
           break;
         }
-        running += std::max(0.0, best_d - new_r[at]);
-        new_r[at] = std::max(new_r[at], best_d);
+        cost += growth;
+        new_r[at] = std::max(new_r[at], dist);
         r.target.push_back(near[i][at]);
-        if (running >= best_gain) {
+        if (cost >= best_gain) {
           r.gave_up_at = best_gain;
-          ok = false;
+          placed = false;
           break;
         }
       }
-      if (!ok) {
+      if (!placed) {
         r.target.clear();
-      } else {
-        r.receivers = r.target;
-        std::sort(r.receivers.begin(), r.receivers.end());
-        r.receivers.erase(std::unique(r.receivers.begin(), r.receivers.end()), r.receivers.end());
-        r.cost = -bound[i];
-        for (std::size_t a = 0; a < near[i].size(); ++a) r.cost += new_r[a] - radius[near[i][a]];
+        continue;
       }
+      r.cost = cost;
+      r.receivers = r.target;
+      std::sort(r.receivers.begin(), r.receivers.end());
+      r.receivers.erase(std::unique(r.receivers.begin(), r.receivers.end()), r.receivers.end());
     }
     std::vector<std::int32_t> by_cost(n), by_gain(n);
     std::iota(by_cost.begin(), by_cost.end(), 0);
@@ -837,15 +856,13 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
       return plan[a].cost != plan[b].cost ? plan[a].cost < plan[b].cost : a < b;
     });
     std::sort(by_gain.begin(), by_gain.end(), [&](std::int32_t a, std::int32_t b) {
-      return gain[a] != gain[b] ? gain[a] > gain[b] : a < b;
+      return cuts[a].gain != cuts[b].gain ? cuts[a].gain > cuts[b].gain : a < b;
     });
     std::vector<char> touched(n, 0);
     std::size_t swaps = 0;
     auto cut = [&](std::int32_t k, std::int32_t slot) {  // slot < 0: a new leaf
       touched[k] = 1;
-      std::vector<Leaf> halves;
-      double e[2];
-      SplitInTwo((*leaves)[k], pieces, index, oracle, &halves, e, false);
+      std::vector<Leaf>& halves = cuts[k].halves;
       (*leaves)[k] = std::move(halves[0]);
       if (slot < 0) {
         leaves->push_back(std::move(halves[1]));
@@ -855,7 +872,7 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
       ++swaps;
     };
     for (std::int32_t k : by_gain) {
-      if (n + swaps >= budget || !(gain[k] > 0)) break;
+      if (n + swaps >= budget || !(cuts[k].gain > 0)) break;
       cut(k, -1);
     }
     std::size_t next_gain = 0;
@@ -873,7 +890,7 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
         const std::int32_t c = by_gain[g];
         if (!touched[c] && c != i && !std::binary_search(r.receivers.begin(), r.receivers.end(), c)) k = c;
       }
-      if (k < 0 || gain[k] <= r.cost + 1e-9 * radius[i]) break;
+      if (k < 0 || cuts[k].gain <= r.cost + 1e-9 * radius[i]) break;
       touched[i] = 1;
       for (std::int32_t j : r.receivers) touched[j] = 1;
       for (std::size_t a = 0; a < r.target.size(); ++a) {
@@ -882,19 +899,14 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
       cut(k, i);  // the new half takes the removed leaf's slot
     }
     if (swaps == 0) break;
-    // The receivers re-centre on what they now hold; every leaf near a changed
-    // one gets a new plan next round.
-    std::vector<Leaf> changed;
+    // The changed leaves re-centre on what they now hold; every leaf near a
+    // changed one gets a new plan next round.
     for (std::size_t i = 0; i < n; ++i) {
-      if (touched[i]) changed.push_back(std::move((*leaves)[i]));
-    }
-    RefineLeaves(&changed, pieces, index, oracle, false);
-    std::size_t m = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (touched[i]) (*leaves)[i] = std::move(changed[m++]);
+      if (!touched[i]) continue;
+      RefineLeaf(&(*leaves)[i], pieces, index, oracle, false);
+      cuts[i].known = false;
     }
     for (std::size_t i = 0; i < n; ++i) {
-      if (touched[i]) gain[i] = std::numeric_limits<double>::quiet_NaN();
       bool s = touched[i] != 0;
       for (std::int32_t j : near[i]) s |= touched[j] != 0;
       if (i < old_near.size()) {
@@ -902,7 +914,6 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
       }
       stale[i] = s;
     }
-    stale.resize(leaves->size(), 1);
   }
 }
 
@@ -913,13 +924,9 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
 // piece stays inside the leaf that holds it, so coverage stays complete.
 void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, const CandidateIndex& index,
                  const MeshOracle& oracle, double cap, int rounds) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   const std::size_t n = leaves->size();
   for (int round = 0; round < rounds; ++round) {
-    std::vector<double> radius(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      radius[i] = CoverError((*leaves)[i].c, 0.0, pieces, (*leaves)[i].pieces) * (1 + 1e-12);
-    }
+    std::vector<double> radius = LeafRadii(*leaves, pieces);
     const std::vector<std::vector<std::int32_t>> near = NeighbourLists(*leaves, radius, cap);
     std::vector<char> changed(n, 0);
     double total_gain = 0;
@@ -930,33 +937,24 @@ void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, co
       by_far.reserve(leaf.pieces.size());
       for (std::int32_t q : leaf.pieces) by_far.push_back({std::sqrt(FarCorner2(pieces[q], leaf.c)), q});
       std::sort(by_far.begin(), by_far.end(), std::greater<>());
+      // Give the farthest pieces away one by one, each to its cheapest taker;
+      // remember the best prefix.
       std::vector<double> new_r(near[i].size());
       for (std::size_t a = 0; a < near[i].size(); ++a) new_r[a] = radius[near[i][a]];
+      struct Move {
+        std::size_t at;
+        double dist;
+      };
+      std::vector<Move> moves;
       double growth = 0, best_net = 0;
       std::size_t best_k = 0;
-      std::vector<std::size_t> to;
-      const std::size_t k_max = by_far.size() / 3;
-      for (std::size_t k = 0; k < k_max; ++k) {
-        const std::int32_t q = by_far[k].second;
-        double least = kInf, least_d = 0;
-        std::size_t at = 0;
-        for (std::size_t a = 0; a < near[i].size(); ++a) {
-          const Leaf& l = (*leaves)[near[i][a]];
-          const double lower = (pieces[q].centroid - l.c).norm();
-          if (lower - l.depth > cap || lower - new_r[a] >= least) continue;
-          const double d = std::sqrt(FarCorner2(pieces[q], l.c));
-          if (d - l.depth > cap) continue;
-          const double g = std::max(0.0, d - new_r[a]);
-          if (g < least) {
-            least = g;
-            least_d = d;
-            at = a;
-          }
-        }
-        if (!(least < kInf)) break;
-        growth += least;
-        new_r[at] = std::max(new_r[at], least_d);
-        to.push_back(at);
+      for (std::size_t k = 0; k < by_far.size() / 3; ++k) {
+        Move m{};
+        double g = 0;
+        if (!CheapestTaker(pieces[by_far[k].second], *leaves, near[i], new_r, cap, &m.at, &g, &m.dist)) break;
+        growth += g;
+        new_r[m.at] = std::max(new_r[m.at], m.dist);
+        moves.push_back(m);
         const double net = (by_far[0].first - by_far[k + 1].first) - growth;
         if (net > best_net) {
           best_net = net;
@@ -964,17 +962,12 @@ void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, co
         }
       }
       if (best_k == 0) continue;
-      // Commit the first best_k moves.
-      std::vector<double> grown(near[i].size());
-      for (std::size_t a = 0; a < near[i].size(); ++a) grown[a] = radius[near[i][a]];
       for (std::size_t k = 0; k < best_k; ++k) {
-        const std::int32_t j = near[i][to[k]];
-        const std::int32_t q = by_far[k].second;
-        (*leaves)[j].pieces.push_back(q);
-        grown[to[k]] = std::max(grown[to[k]], std::sqrt(FarCorner2(pieces[q], (*leaves)[j].c)));
+        const std::int32_t j = near[i][moves[k].at];
+        (*leaves)[j].pieces.push_back(by_far[k].second);
+        radius[j] = std::max(radius[j], moves[k].dist);
         changed[j] = 1;
       }
-      for (std::size_t a = 0; a < near[i].size(); ++a) radius[near[i][a]] = grown[a];
       leaf.pieces.clear();
       for (std::size_t k = best_k; k < by_far.size(); ++k) leaf.pieces.push_back(by_far[k].second);
       radius[i] = by_far[best_k].first;
@@ -982,14 +975,8 @@ void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, co
       total_gain += best_net;
     }
     if (total_gain == 0) break;
-    std::vector<Leaf> moved;
     for (std::size_t i = 0; i < n; ++i) {
-      if (changed[i]) moved.push_back(std::move((*leaves)[i]));
-    }
-    RefineLeaves(&moved, pieces, index, oracle, false);
-    std::size_t m = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (changed[i]) (*leaves)[i] = std::move(moved[m++]);
+      if (changed[i]) RefineLeaf(&(*leaves)[i], pieces, index, oracle, false);
     }
   }
 }
@@ -1059,8 +1046,7 @@ SphereTree BuildTreeFromLeaves(const std::vector<Vector3>& centers, const std::v
   if (centers.empty() || centers.size() != radii.size()) {
     throw SphereTreeError("a tree needs at least one leaf, with one radius per centre");
   }
-  std::size_t capacity = 1;
-  for (int l = 1; l < levels; ++l) capacity *= branching;
+  const std::size_t capacity = LeafCapacity(levels, branching);
   if (centers.size() > capacity) {
     throw SphereTreeError(std::to_string(centers.size()) + " leaves do not fit in " +
                           std::to_string(levels) + " levels of " + std::to_string(branching));
@@ -1127,6 +1113,12 @@ SphereTree BuildTreeFromLeaves(const std::vector<Vector3>& centers, const std::v
 }
 
 
+std::size_t LeafCapacity(int levels, int branching) {
+  std::size_t capacity = 1;
+  for (int l = 1; l < levels; ++l) capacity *= static_cast<std::size_t>(branching);
+  return capacity;
+}
+
 std::string SphereTreeParams::ToString() const {
   std::ostringstream s;
   s.precision(17);
@@ -1146,8 +1138,7 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   if (params.branching < 2 || params.branching > 32) {
     throw SphereTreeError("branching " + std::to_string(params.branching) + " is out of range (expected 2 to 32)");
   }
-  std::size_t capacity = 1;
-  for (int l = 1; l < params.levels; ++l) capacity *= params.branching;
+  const std::size_t capacity = LeafCapacity(params.levels, params.branching);
   if (params.target_error_mm < 0 || !std::isfinite(params.target_error_mm)) {
     throw SphereTreeError("target error must be a positive number of mm");
   }
@@ -1259,15 +1250,14 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
     AssignPieces(&out, *work);
     RefineLeaves(&out, *work, index, oracle);
     AssignPieces(&out, *work);
-    if (params.target_error_mm > 0 || params.spend == SphereTreeParams::Spend::kWorst) {
-      for (int pass = 0; pass < 3; ++pass) {
-        ShrinkLeaves(&out, work, index, oracle, 4 * max_pieces, 2);
-        if (params.target_error_mm == 0) SplitLeavesInTwo(&out, budget, *work, index, oracle);
-      }
-      return out;
+    const bool budgeted = params.target_error_mm == 0;
+    const bool trade = budgeted && params.spend == SphereTreeParams::Spend::kMean;
+    // Three tightening passes, or one before trading.
+    for (int pass = 0; pass < (trade ? 1 : 3); ++pass) {
+      ShrinkLeaves(&out, work, index, oracle, 4 * max_pieces, 2);
+      if (budgeted) SplitLeavesInTwo(&out, budget, *work, index, oracle);
     }
-    ShrinkLeaves(&out, work, index, oracle, 4 * max_pieces, 2);
-    SplitLeavesInTwo(&out, budget, *work, index, oracle);
+    if (!trade) return out;
     // Then trade leaves, and the pieces at their borders, where that lowers the
     // sum of bounds most, no leaf beyond the worst one now.
     double worst = 0;

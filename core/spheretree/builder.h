@@ -41,13 +41,26 @@ struct SphereTreeParams {
   /// are traded to where they lower the sum of protrusion bounds most (the mean
   /// the fit is judged by), no leaf past the worst one; more leaves end up near
   /// that worst bound, and thin parts get more leaves. kWorst: the min-max cover
-  /// only, tightened. Tools use kWorst: their tip is in every contact, and
-  /// leaves crowded there multiply the engine's contact pairs.
+  /// only, tightened; what tools use (ToolTreeParams). With a target error
+  /// there is no budget to trade, and this is ignored.
   enum class Spend { kMean, kWorst } spend = Spend::kMean;
 
   /// Text that identifies these parameters (for cache keys and reports).
   std::string ToString() const;
 };
+
+/// The parameters a tool's tree is built with: the default budget, spent evenly
+/// (Spend::kWorst). A tool's tip is in every contact; trading would crowd
+/// leaves there and multiply the engine's contact pairs.
+inline SphereTreeParams ToolTreeParams() {
+  SphereTreeParams p;
+  p.spend = SphereTreeParams::Spend::kWorst;
+  return p;
+}
+
+/// How many leaves `levels` levels (counting the root) of `branching` hold:
+/// branching^(levels - 1).
+std::size_t LeafCapacity(int levels, int branching);
 
 /// What a build did and measured.
 struct SphereTreeBuildStats {
