@@ -247,9 +247,7 @@ void AddAccuracyCommands(CLI::App& app) {
     const fs::path cache = DefaultCacheDir();
     std::printf("object: %s, %zu faces; probe: cylinder r 0.4 mm, 512 leaves; trees cached in %s\n",
                 mesh_file->empty() ? "tooth-sized ellipsoid" : mesh_file->c_str(), object.num_faces(), cache.c_str());
-    // Built as scenes build tools: leaves spent evenly (SphereTreeParams::spend).
-    const SphereTree probe = LoadOrBuildSphereTree(MakeCylinder(0.4, 16, 24, 24),
-                                                   {.spend = SphereTreeParams::Spend::kWorst}, cache);
+    const SphereTree probe = LoadOrBuildSphereTree(MakeCylinder(0.4, 16, 24, 24), ToolTreeParams(), cache);
     const Aabb box = object.Bounds();
 
     std::ofstream res(dir / "resolution.csv");

@@ -217,11 +217,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
       };
       try {
         if (job == 0) {
-          // The tool's leaves are spent evenly: its tip is in every contact, and
-          // leaves crowded there (where the sum of protrusions drops fastest)
-          // multiply the contact pairs past the engine's budget.
-          scene->tool_tree = LoadOrBuildSphereTree(scene->tool_mesh, {.spend = SphereTreeParams::Spend::kWorst},
-                                                   cache_dir, inner);
+          scene->tool_tree = LoadOrBuildSphereTree(scene->tool_mesh, ToolTreeParams(), cache_dir, inner);
           inner("tool", 1.0);
         } else {
           scene->trees[job - 1] = LoadOrBuildSphereTree(scene->meshes[job - 1], spec.objects[job - 1].trees, cache_dir,

@@ -200,9 +200,8 @@ void ReadTreeParams(Reader& r, const YAML::Node& t, const std::string& where, bo
   if (t["branch"]) p->branching = r.Integer(t["branch"], "branch", 2, 32, p->branching);
   if (t["leaves"]) p->leaves = r.Integer(t["leaves"], "leaves", 1, 1 << 20, p->leaves);
   if (t["target_error_mm"]) p->target_error_mm = r.Number(t["target_error_mm"], "target_error_mm", 1e-4, 10, 0, "mm");
-  std::int64_t capacity = 1;
-  for (int l = 1; l < p->levels; ++l) capacity *= p->branching;
-  if (p->target_error_mm == 0 && p->leaves > capacity) {
+  const std::size_t capacity = LeafCapacity(p->levels, p->branching);
+  if (p->target_error_mm == 0 && static_cast<std::size_t>(p->leaves) > capacity) {
     r.Error(t, "in " + where + ": " + std::to_string(p->leaves) + " leaves do not fit in " +
                    std::to_string(p->levels) + " levels of " + std::to_string(p->branching) + " (at most " +
                    std::to_string(capacity) + "); raise 'levels'");
@@ -500,10 +499,12 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
       }
     }
   }
-  if (const YAML::Node t = root["spheretree"]) {
-    ReadTreeParams(r, t, "'spheretree'", true, &spec.trees);
-    spec.gingiva_trees = spec.trees;
-    if (t.IsMap() && t["gingiva"]) ReadTreeParams(r, t["gingiva"], "'spheretree: gingiva'", false, &spec.gingiva_trees);
+  const YAML::Node trees = root["spheretree"];
+  if (trees) ReadTreeParams(r, trees, "'spheretree'", true, &spec.trees);
+  // The collars': `spheretree: gingiva:` over the scene's.
+  SphereTreeParams gingiva_trees = spec.trees;
+  if (trees && trees.IsMap() && trees["gingiva"]) {
+    ReadTreeParams(r, trees["gingiva"], "'spheretree: gingiva'", false, &gingiva_trees);
   }
   const YAML::Node objects = root["objects"];
   if (!objects) {
@@ -526,7 +527,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
       g.name = "gingiva " + std::to_string(t.fdi);
       g.tissue = Tissue::kGingiva;
       g.material = DefaultMaterial(Tissue::kGingiva);
-      g.trees = spec.gingiva_trees;
+      g.trees = gingiva_trees;
       if (!t.has_sites) g.pocket_mm.fill(2.0);
       try {
         const ToothDimensions d = Dimensions(FdiTooth::Parse(t.fdi));

@@ -94,8 +94,7 @@ struct SceneSpec {
   double rate_hz = 1000;
   std::vector<Effect> effects = {Effect::kContact};
   bool HasEffect(Effect e) const { return std::find(effects.begin(), effects.end(), e) != effects.end(); }
-  SphereTreeParams trees;          // every object's unless it names its own
-  SphereTreeParams gingiva_trees;  // the gingival collars' (`spheretree: gingiva:`), else `trees`
+  SphereTreeParams trees;  // the scene's `spheretree`: every object's unless it names its own
   bool arch = false;     // teeth without `at` stand on the dental arches
   bool gingiva = false;  // a gingival collar around every tooth, with its sites' truth
   double mouth_open_mm = 0;  // raises the upper arch (and palate) so instruments fit between the arches

@@ -78,8 +78,9 @@ class AnatomyTree : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(AnatomyTree, CoversAndNests) {
   const std::string name = GetParam();
+  const bool tool = name.rfind("probe_", 0) == 0;
   TriangleMesh mesh;
-  if (name.rfind("probe_", 0) == 0) {
+  if (tool) {
     mesh = MakeProbe(name.substr(6)).collision_mesh;
   } else if (name == "gingiva_46") {
     GingivaParams p;
@@ -89,9 +90,7 @@ TEST_P(AnatomyTree, CoversAndNests) {
     mesh = MakeSoftTissue(name);
   }
   SphereTreeBuildStats stats;
-  SphereTreeParams params;
-  if (name.rfind("probe_", 0) == 0) params.spend = SphereTreeParams::Spend::kWorst;  // as scenes build tools
-  const SphereTree tree = BuildSphereTree(mesh, params, {}, &stats);
+  const SphereTree tree = BuildSphereTree(mesh, tool ? ToolTreeParams() : SphereTreeParams{}, {}, &stats);
   const TreeMetrics m = EvaluateSphereTree(mesh, tree);
   const LevelMetrics& l = m.leaves();
   const double worst = 100 * l.protrusion_max_mm / m.largest_extent_mm;
@@ -103,7 +102,7 @@ TEST_P(AnatomyTree, CoversAndNests) {
   RecordProperty("mean_protrusion_pct", std::to_string(mean));
   EXPECT_EQ(l.uncovered_samples, 0u);
   for (const LevelMetrics& level : m.levels) EXPECT_EQ(level.children_inside, 1.0);
-  if (name.rfind("probe_", 0) == 0) {
+  if (tool) {
     EXPECT_LE(worst, 1.5);
     EXPECT_LE(mean, 0.3);
   }
