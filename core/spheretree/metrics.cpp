@@ -97,19 +97,15 @@ TreeMetrics EvaluateSphereTree(const TriangleMesh& mesh, const SphereTree& tree,
     }
     m.protrusion_mean_mm /= static_cast<double>(cut.size());
 
-    auto inside_cut = [&](const Vector3& p, bool count_all) {
+    // How many spheres of the cut hold p.
+    auto holding = [&](const Vector3& p) {
       int count = 0;
-      for (std::int32_t i : cut) {
-        if ((p - tree.center(i)).norm() <= tree.r[i] + tolerance) {
-          ++count;
-          if (!count_all) break;
-        }
-      }
+      for (std::int32_t i : cut) count += (p - tree.center(i)).norm() <= tree.r[i] + tolerance;
       return count;
     };
     std::size_t holders = 0;
     for (const Vector3& p : surface) {
-      const int count = inside_cut(p, true);
+      const int count = holding(p);
       m.uncovered_samples += count == 0;
       holders += count;
     }
@@ -130,7 +126,7 @@ TreeMetrics EvaluateSphereTree(const TriangleMesh& mesh, const SphereTree& tree,
         const Vector3 p = tree.center(i) + tree.r[i] * d;
         if (depth[i] > 0 && (p - tree.center(i)).norm() <= depth[i]) continue;  // inner ball
         if (oracle.Inside(p)) continue;
-        sum += 1.0 / std::max(1, inside_cut(p, true));
+        sum += 1.0 / std::max(1, holding(p));
       }
       excess += 4.0 / 3.0 * std::numbers::pi * std::pow(tree.r[i], 3) * sum /
                 params.volume_samples_per_sphere;
