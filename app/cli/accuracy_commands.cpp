@@ -249,6 +249,8 @@ void AddAccuracyCommands(CLI::App& app) {
                 mesh_file->empty() ? "tooth-sized ellipsoid" : mesh_file->c_str(), object.num_faces(), cache.c_str());
     const SphereTree probe = LoadOrBuildSphereTree(MakeCylinder(0.4, 16, 24, 24), ToolTreeParams(), cache);
     const Aabb box = object.Bounds();
+    EvalParams fit_eval;  // the excess volume is not reported here: fewer volume samples
+    fit_eval.volume_samples_per_sphere = 64;
 
     std::ofstream res(dir / "resolution.csv");
     res << "leaves_budget,leaves,protrusion_max_pct,protrusion_mean_pct,build_s,frame_p50_us,frame_p99_us,pairs,faults\n";
@@ -268,9 +270,7 @@ void AddAccuracyCommands(CLI::App& app) {
         BuildSphereTree(object, p);
         build_s = std::chrono::duration<double>(Clock::now() - t1).count();
       }
-      EvalParams e;
-      e.volume_samples_per_sphere = 64;
-      const TreeMetrics m = EvaluateSphereTree(object, tree, e);
+      const TreeMetrics m = EvaluateSphereTree(object, tree, fit_eval);
       const FrameStats f = RunSlide(probe, tree, box, EngineParams{});
       const double wp = 100 * m.leaves().protrusion_max_mm / m.largest_extent_mm;
       const double mp = 100 * m.leaves().protrusion_mean_mm / m.largest_extent_mm;
@@ -293,9 +293,7 @@ void AddAccuracyCommands(CLI::App& app) {
       const auto t0 = Clock::now();
       const SphereTree tree = BuildSphereTree(object, p);
       const double build_s = std::chrono::duration<double>(Clock::now() - t0).count();
-      EvalParams e;
-      e.volume_samples_per_sphere = 64;
-      const TreeMetrics m = EvaluateSphereTree(object, tree, e);
+      const TreeMetrics m = EvaluateSphereTree(object, tree, fit_eval);
       const FrameStats f = RunSlide(probe, tree, box, EngineParams{});
       std::printf("  %5s  %7.3f  %7.3f  %7.2f  %7.2f  %12.2f  %6.2f  %5.0f  %6llu\n",
                   spend == SphereTreeParams::Spend::kMean ? "mean" : "worst",
