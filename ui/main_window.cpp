@@ -132,12 +132,12 @@ void MainWindow::BuildUi() {
   form->addRow("View", views);
   auto* reset = new QPushButton("Reset tool");
   connect(reset, &QPushButton::clicked, this, [this] {
-    if (loop_) loop_->Send({HapticCommand::Kind::kResetTool});
+    if (session_) session_->loop().Send({HapticCommand::Kind::kResetTool});
   });
   auto* pause = new QPushButton("Pause");
   pause->setCheckable(true);
   connect(pause, &QPushButton::toggled, this, [this](bool on) {
-    if (loop_) loop_->Send({on ? HapticCommand::Kind::kPause : HapticCommand::Kind::kResume});
+    if (session_) session_->loop().Send({on ? HapticCommand::Kind::kPause : HapticCommand::Kind::kResume});
   });
   auto* buttons = new QHBoxLayout;
   buttons->addWidget(reset);
@@ -287,22 +287,17 @@ bool MainWindow::SetDevice(const std::string& device) {
 }
 
 void MainWindow::StopSession() {
-  if (thread_) thread_->Stop();
-  thread_.reset();
-  if (device_) device_->Stop();
-  if (recorder_) {  // a session's end ends its recording: everything recorded is written
+  if (session_) {
+    const bool recorded = session_->recorder() != nullptr;
     try {
-      recorder_->Finish();
-      statusBar()->showMessage(QString("Recorded %1 ticks").arg(recorder_->written()));
+      session_->Stop();  // a session's end ends its recording: everything recorded is written
+      if (recorded) statusBar()->showMessage(QString("Recorded %1 ticks").arg(session_->recorder()->written()));
     } catch (const std::exception& e) {
       ShowErrors("Recording", "The recording failed.", Q(e.what()));
     }
-    recorder_.reset();
   }
-  loop_.reset();
-  effects_.clear();
-  effect_list_.clear();
-  device_.reset();
+  session_.reset();
+  tap_.events.clear();
   mouse_ = nullptr;
 }
 
@@ -320,95 +315,99 @@ void MainWindow::BeginSession() {
     auto mouse = std::make_unique<MouseKeyboardDevice>(
         RigidTransform(Quaternion::FromTwoVectors(Vector3::UnitZ(), top.n_W), top.p_W + 4.0 * top.n_W));
     mouse_ = mouse.get();
-    device_ = std::move(mouse);
+    DeviceSpec d;
+    d.device = std::move(mouse);
+    d.name = "mouse";
+    return d;
   };
-  try {
-    const auto colon = device_name_.find(':');
-    const std::string kind = device_name_.substr(0, colon);
-    const std::string what = colon == std::string::npos ? "" : device_name_.substr(colon + 1);
-    if (kind == "scripted") {
-      device_ = std::make_unique<ScriptedDevice>(
-          MakeScript(what, FindScriptTarget(*scene_, what), 600.0), device_name_);
-    } else if (kind == "replay") {
-      replay_ = std::make_unique<Recording>(ReadRecording(what));
-      device_ = std::make_unique<ReplayDevice>(*replay_);
-    } else {
-      use_mouse();
+  DeviceSpec device;
+  if (device_name_.rfind("scripted:", 0) == 0 || device_name_.rfind("replay:", 0) == 0) {
+    try {
+      device = MakeDevice(device_name_, *scene_, 600.0);
+    } catch (const std::exception& e) {
+      device_error_ = e.what();
+      ShowErrors("Device", QString("The device %1 cannot be used.").arg(Q(device_name_)), Q(device_error_));
     }
-    device_->Start();
-  } catch (const std::exception& e) {
-    device_error_ = e.what();
-    ShowErrors("Device", QString("The device %1 cannot be used.").arg(Q(device_name_)), Q(device_error_));
-    use_mouse();
   }
-  LoopOptions options;
-  options.rate_hz = scene_->spec.rate_hz;
+  if (!device.device) device = use_mouse();
+  session_device_ = device.device->caps().name;
   snapshot_ = HapticSnapshot{};  // nothing from the previous session is shown as this one's
   gauge_->Clear();
   plot_->Clear();
   events_->clear();
   last_reading_.clear();
-  effects_ = MakeEffects(scene_->effects);
-  effect_list_ = EffectPointers(effects_);
-  loop_ = std::make_unique<HapticLoop>(*scene_->model, device_.get(), options, effect_list_);
-  ThreadOptions topt;
-  topt.stop_when_device_finished = false;
-  topt.recorder = recorder_.get();  // a recording in progress gets every tick
-  thread_ = std::make_unique<HapticThread>(loop_.get(), topt);
-  thread_->Start();
+  SessionOptions so;
+  so.record = recording_file_;
+  so.device_name = device_name_;
+  so.stop_when_device_finished = false;
+  try {
+    session_ = std::make_unique<Session>(*scene_, std::move(device), so);
+  } catch (const std::exception& e) {
+    // The recording cannot be written: say so and go on without it.
+    ShowErrors("Recording", "The recording cannot be written.", Q(e.what()));
+    recording_file_.clear();
+    so.record.clear();
+    session_ = std::make_unique<Session>(*scene_, use_mouse(), so);
+  }
+  session_->AddConsumer(&tap_);
+  try {
+    session_->Start();
+  } catch (const std::exception& e) {
+    device_error_ = e.what();
+    ShowErrors("Device", QString("The device %1 cannot be started.").arg(Q(device_name_)), Q(device_error_));
+    session_.reset();
+    session_ = std::make_unique<Session>(*scene_, use_mouse(), so);
+    session_->AddConsumer(&tap_);
+    session_->Start();
+  }
   statusBar()->showMessage(QString("%1 on %2%3")
-                               .arg(Q(device_->caps().name), Q(scene_file_.string()),
-                                    recorder_ ? QString(", recording") : QString()));
+                               .arg(Q(session_device_), Q(scene_file_.string()),
+                                    session_->recorder() ? QString(", recording") : QString()));
 }
 
 bool MainWindow::StartRecording(const std::filesystem::path& file) {
   if (!scene_) return false;
   StopSession();
-  try {
-    RecordingHeader h;
-    h.scene_hash = HashFile(scene_file_);
-    h.rate_hz = scene_->spec.rate_hz;
-    h.device_name = device_name_;
-    h.scene_file = scene_file_.string();
-    recorder_ = std::make_unique<RecordingWriter>(file, h);
-  } catch (const std::exception& e) {
-    ShowErrors("Recording", "The recording cannot be written.", Q(e.what()));
-  }
+  recording_file_ = file;
   BeginSession();
-  return recorder_ != nullptr;
+  return session_ && session_->recorder() != nullptr;
 }
 
 void MainWindow::StopRecording() {
-  if (recorder_) StartSession();  // ending the session writes the recording out
+  if (recording_file_.empty()) return;
+  recording_file_.clear();
+  StartSession();  // ending the session writes the recording out
 }
 
 void MainWindow::Tick() {
-  if (!loop_) return;
-  if (loop_->snapshots().Acquire()) snapshot_ = loop_->snapshots().front();
+  if (!session_) return;
+  HapticLoop& loop = session_->loop();
+  if (loop.snapshots().Acquire()) snapshot_ = loop.snapshots().front();
   view_->Update(snapshot_);
   gauge_->SetForce(snapshot_.force_W.norm());
   plot_->Push(snapshot_.time_s, snapshot_.force_W.norm(), snapshot_.torque_W.norm());
-  HapticEvent e;
-  while (loop_->PopEvent(&e)) {
+  session_->Pump();
+  for (const HapticEvent& e : tap_.events) {
     const QString what = Q(DescribeEvent(scene_->spec, e));
-    if (e.kind == EventKind::kEffect && e.detail == static_cast<std::uint8_t>(EffectEvent::kProbeReading))
-      last_reading_ = what;
+    if (e.kind == EventKind::kProbeReading) last_reading_ = what;
     events_->insertItem(0, QString("%1 s  %2").arg(e.tick / scene_->spec.rate_hz, 0, 'f', 2).arg(what));
     while (events_->count() > 200) delete events_->takeItem(events_->count() - 1);
   }
+  tap_.events.clear();
   status_->setText(status_text());
   vtk_widget_->renderWindow()->Render();
 }
 
 QString MainWindow::status_text() const {
-  if (!thread_) return "No scene loaded.";
-  const TimingStats& st = thread_->stats();
+  if (!session_ || !session_->thread()) return "No scene loaded.";
+  const HapticThread& thread = *session_->thread();
+  const TimingStats& st = thread.stats();
   const HapticSnapshot& s = snapshot_;
   QString text;
-  text += QString("Device: %1%2\n").arg(Q(device_ ? device_->caps().name : std::string("none")),
+  text += QString("Device: %1%2\n").arg(Q(session_device_),
                                          s.device_ok ? "" : " (NOT ANSWERING)");
   text += QString("Haptic rate %1 Hz, %2 ticks%3\n")
-              .arg(thread_->rate_hz(), 0, 'f', 0)
+              .arg(thread.rate_hz(), 0, 'f', 0)
               .arg(st.ticks.load())
               .arg(s.paused ? ", paused" : "");
   text += QString("Step p50 %1 us, p99 %2 us; deadline misses %3\n")
@@ -426,7 +425,7 @@ QString MainWindow::status_text() const {
               .arg(s.faults.engine)
               .arg(s.faults.overruns)
               .arg(s.faults.device_stalls);
-  if (const std::string notes = thread_->notes(); !notes.empty()) text += "\n" + Q(notes);
+  if (const std::string notes = thread.notes(); !notes.empty()) text += "\n" + Q(notes);
   return text;
 }
 

@@ -21,6 +21,7 @@
 #include "core/haptics/haptic_thread.h"
 #include "core/haptics/recording.h"
 #include "core/scene/scene.h"
+#include "core/session/session.h"
 
 class QCheckBox;
 class QComboBox;
@@ -57,7 +58,7 @@ class MainWindow : public QMainWindow {
   const HapticSnapshot& last_snapshot() const { return snapshot_; }
   double gauge_force() const;
   int plot_rows() const;
-  bool running() const { return thread_ && thread_->running(); }
+  bool running() const { return session_ && session_->running(); }
   QMessageBox* error_dialog() const { return error_dialog_; }
   QString status_text() const;
   const QString& last_reading() const { return last_reading_; }
@@ -101,14 +102,15 @@ class MainWindow : public QMainWindow {
   std::unique_ptr<CompiledScene> scene_;
   std::filesystem::path scene_file_;
   std::string device_name_ = "mouse";
-  std::unique_ptr<Device> device_;
-  MouseKeyboardDevice* mouse_ = nullptr;  // device_ when it is the mouse
-  std::unique_ptr<Recording> replay_;
-  std::vector<std::unique_ptr<LoopEffect>> effects_;
-  std::vector<LoopEffect*> effect_list_;
-  std::unique_ptr<HapticLoop> loop_;
-  std::unique_ptr<HapticThread> thread_;
-  std::unique_ptr<RecordingWriter> recorder_;
+  MouseKeyboardDevice* mouse_ = nullptr;  // the session's device when it is the mouse
+  std::string session_device_;            // what the session's device calls itself
+  std::filesystem::path recording_file_;  // a recording in progress
+  std::unique_ptr<Session> session_;
+  // The window's consumer of the tick stream: the events of the ticks pumped.
+  struct EventTap final : TickConsumer {
+    void OnTick(const TickRecord& r) override { events.insert(events.end(), r.events.begin(), r.events.begin() + r.num_events); }
+    std::vector<HapticEvent> events;
+  } tap_;
   HapticSnapshot snapshot_;
   std::string device_error_;
   QString last_reading_;

@@ -22,6 +22,7 @@
 #include "core/haptics/haptic_loop.h"
 #include "core/haptics/scripted_device.h"
 #include "core/scene/scene.h"
+#include "core/session/session.h"
 #include "core/spheretree/cache.h"
 #include "core/spheretree/metrics.h"
 
@@ -162,27 +163,37 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
     int readings = 0, soft = 0, bleeding = 0, damage = 0;
     double reading = 0, max_force = 0;
     for (int run = 0; run < 3; ++run) {
-      ScriptedDevice device(MakeScript("insert", target, 8.0));
-      const auto effects = MakeEffects(scene->effects);
-      const auto list = EffectPointers(effects);
-      HapticLoop loop(*scene->model, &device, {}, list);
-      std::vector<double> us;
-      us.reserve(8000);
-      for (int i = 0; i < 8000; ++i) {
-        const auto t0 = Clock::now();
-        loop.Tick(false);
-        us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
-        if (run == 0) max_force = std::max(max_force, loop.last_record().force_W.norm());
-        HapticEvent e;
-        while (loop.PopEvent(&e)) {
-          if (run != 0 || e.kind != EventKind::kEffect) continue;
-          switch (static_cast<EffectEvent>(e.detail)) {
-            case EffectEvent::kProbeReading: ++readings; reading = e.value; break;
-            case EffectEvent::kSoftContact: ++soft; break;
-            case EffectEvent::kBleeding: ++bleeding; break;
-            case EffectEvent::kTissueDamage: ++damage; break;
+      // Counts the effects' events of the first run.
+      struct Counter final : TickConsumer {
+        void OnTick(const TickRecord& r) override {
+          max_force = std::max(max_force, r.force_W.norm());
+          for (int i = 0; i < r.num_events; ++i) {
+            const HapticEvent& e = r.events[i];
+            switch (e.kind) {
+              case EventKind::kProbeReading: ++readings; reading = e.payload.reading.depth_mm; break;
+              case EventKind::kSoftContact: ++soft; break;
+              case EventKind::kBleeding: ++bleeding; break;
+              case EventKind::kTissueDamage: ++damage; break;
+              default: break;
+            }
           }
         }
+        int readings = 0, soft = 0, bleeding = 0, damage = 0;
+        double reading = 0, max_force = 0;
+      } counter;
+      DeviceSpec d;
+      d.device = std::make_unique<ScriptedDevice>(MakeScript("insert", target, 8.0));
+      d.name = "scripted:insert";
+      SessionOptions so;
+      so.max_ticks = 8000;
+      Session session(*scene, std::move(d), so);
+      session.AddConsumer(&counter);
+      std::vector<double> us;
+      us.reserve(8000);
+      session.RunOffline([&](const HapticLoop&) { us.push_back(session.last_step_us()); });
+      if (run == 0) {
+        readings = counter.readings, soft = counter.soft, bleeding = counter.bleeding, damage = counter.damage;
+        reading = counter.reading, max_force = counter.max_force;
       }
       if (tick_us.empty()) tick_us.assign(us.size(), 0);
       for (std::size_t i = 0; i < us.size(); ++i) tick_us[i] += us[i] / 3;  // mean over runs, tick by tick

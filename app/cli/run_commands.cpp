@@ -18,6 +18,7 @@
 #include "core/haptics/recording.h"
 #include "core/haptics/scripted_device.h"
 #include "core/scene/scene.h"
+#include "core/session/session.h"
 #include "core/spheretree/cache.h"
 
 namespace sulcus::cli {
@@ -33,6 +34,32 @@ struct RunArgs {
   bool offline = false;
 };
 
+// Counts what the run did, from the tick stream.
+class RunSummary final : public TickConsumer {
+ public:
+  RunSummary(const SceneSpec& spec, double rate_hz) : spec_(spec), rate_hz_(rate_hz) {}
+  void OnTick(const TickRecord& r) override {
+    events += static_cast<std::uint64_t>(r.num_events);
+    for (int i = 0; i < r.num_events; ++i) {
+      const HapticEvent& e = r.events[i];
+      if (e.kind == EventKind::kContactBegan) ++began[e.object];
+      const bool effect = e.kind == EventKind::kProbeReading || e.kind == EventKind::kBleeding ||
+                          e.kind == EventKind::kTissueDamage || e.kind == EventKind::kSoftContact;
+      if (!effect || lines.size() >= 40) continue;
+      char t[32];
+      std::snprintf(t, sizeof t, "%.3f s: ", static_cast<double>(e.tick) / rate_hz_);
+      lines.push_back(t + DescribeEvent(spec_, e));
+    }
+  }
+  std::map<int, int> began;
+  std::uint64_t events = 0;
+  std::vector<std::string> lines;
+
+ private:
+  const SceneSpec& spec_;
+  double rate_hz_;
+};
+
 int Run(const RunArgs& a) {
   const SceneSpec spec = LoadSceneSpec(a.scene);
   std::fprintf(stderr, "compiling %s ...\n", a.scene.c_str());
@@ -41,129 +68,68 @@ int Run(const RunArgs& a) {
   std::fprintf(stderr, "compiled in %.2f s\n",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 
-  LoopOptions options;
-  options.rate_hz = a.rate_hz > 0 ? a.rate_hz : spec.rate_hz;
-  std::unique_ptr<Device> device;
-  std::unique_ptr<Recording> replayed;
-  std::string device_name = a.device;
-  const auto colon = a.device.find(':');
-  const std::string kind = a.device.substr(0, colon);
-  const std::string what = colon == std::string::npos ? "" : a.device.substr(colon + 1);
-  if (kind == "scripted") {
-    Trajectory trajectory;
-    if (what.size() > 4 && what.substr(what.size() - 4) == ".csv") {
-      trajectory = LoadTrajectoryCsv(what);
-    } else {
-      const ScriptTarget target = FindScriptTarget(*scene, what, a.object);
-      trajectory = MakeScript(what, target, a.seconds, a.seed);
-      std::fprintf(stderr, "scripted '%s' on %s at (%.2f, %.2f, %.2f) mm\n", what.c_str(),
-                   ObjectName(scene->spec, target.object).c_str(), target.p_W.x(), target.p_W.y(),
-                   target.p_W.z());
-    }
-    device = std::make_unique<ScriptedDevice>(std::move(trajectory), a.device);
-  } else if (kind == "replay") {
-    replayed = std::make_unique<Recording>(ReadRecording(what));
-    if (!replayed->warning.empty()) std::fprintf(stderr, "warning: %s\n", replayed->warning.c_str());
-    if (replayed->header.scene_hash != HashFile(a.scene))
-      std::fprintf(stderr, "warning: %s was recorded on another version of %s (scene hash differs)\n", what.c_str(),
-                   a.scene.c_str());
-    if (a.rate_hz <= 0) options.rate_hz = replayed->header.rate_hz;
-    device = std::make_unique<ReplayDevice>(*replayed);
-    device_name = "replay of " + replayed->header.device_name;
-  } else {
-    throw std::invalid_argument("--device must be scripted:NAME, scripted:FILE.csv or replay:FILE, not '" + a.device +
-                                "' (hardware devices: see `sulcus-cli devices`)");
-  }
-  device->Start();
-
-  std::unique_ptr<RecordingWriter> writer;
-  if (!a.record.empty()) {
-    RecordingHeader h;
-    h.scene_hash = HashFile(a.scene);
-    h.rate_hz = options.rate_hz;
-    h.device_name = device_name;
-    h.scene_file = a.scene;
-    writer = std::make_unique<RecordingWriter>(a.record, h);
-  }
-  const auto effects = MakeEffects(scene->effects);
-  const auto effect_list = EffectPointers(effects);
-  HapticLoop loop(*scene->model, device.get(), options, effect_list);
-  ThreadOptions topt;
-  topt.realtime = !a.no_realtime;
-  topt.max_ticks = static_cast<std::uint64_t>(a.seconds * options.rate_hz);
-  topt.recorder = writer.get();
-  HapticThread thread(&loop, topt);
-  std::fprintf(stderr, "running %s at %.0f Hz for %.1f s ...\n", device_name.c_str(), options.rate_hz, a.seconds);
-  std::map<int, int> began;
-  std::uint64_t events = 0;
-  std::vector<std::string> effect_lines;
-  auto drain = [&] {
-    HapticEvent e;
-    while (loop.PopEvent(&e)) {
-      ++events;
-      if (e.kind == EventKind::kContactBegan) ++began[e.object];
-      if (e.kind != EventKind::kEffect || effect_lines.size() >= 40) continue;
-      char t[32];
-      std::snprintf(t, sizeof t, "%.3f s: ", e.tick / options.rate_hz);
-      effect_lines.push_back(t + DescribeEvent(scene->spec, e));
-    }
-  };
-  TimeHistogram offline_step;
+  DeviceSpec device = MakeDevice(a.device, *scene, a.seconds, a.seed, a.object);
+  for (const std::string& n : device.notes) std::fprintf(stderr, "%s\n", n.c_str());
+  const double recorded_rate = device.replayed ? device.replayed->header.rate_hz : 0;
+  SessionOptions so;
+  so.rate_hz = a.rate_hz > 0 ? a.rate_hz : recorded_rate > 0 ? recorded_rate : spec.rate_hz;
+  so.max_ticks = static_cast<std::uint64_t>(a.seconds * so.rate_hz);
+  so.realtime = !a.no_realtime;
+  so.record = a.record;
+  Session session(*scene, std::move(device), so);
+  RunSummary summary(scene->spec, so.rate_hz);
+  session.AddConsumer(&summary);
+  std::fprintf(stderr, "running %s at %.0f Hz for %.1f s ...\n", session.device_name().c_str(), so.rate_hz, a.seconds);
   if (a.offline) {
-    // As fast as possible, on this thread: the same ticks, no clock.
-    for (std::uint64_t i = 0; i < topt.max_ticks && !device->finished(); ++i) {
-      const auto t0 = std::chrono::steady_clock::now();
-      loop.Tick(false);
-      offline_step.Add(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
-      if (writer) writer->Push(loop.last_record());
-      if (i % 1024 == 0) drain();
-    }
+    session.RunOffline();  // as fast as possible, on this thread: the same ticks, no clock
   } else {
-    thread.Start();
-    while (thread.running()) {
-      drain();
+    session.Start();
+    while (session.running()) {
+      session.Pump();
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    thread.Join();
+    session.Stop();
   }
-  drain();
-  device->Stop();
-  if (writer) writer->Finish();
+  HapticLoop& loop = session.loop();
   loop.snapshots().Acquire();
   const HapticSnapshot& s = loop.snapshots().front();
-  const TimingStats& st = thread.stats();
-  const TimeHistogram& step_hist = a.offline ? offline_step : st.step_us;
+  static const TimingStats kNoThread;
+  const TimingStats& st = session.thread() ? session.thread()->stats() : kNoThread;
+  const TimeHistogram& step_hist = a.offline ? session.offline_step_us() : st.step_us;
 
-  if (const std::string notes = thread.notes(); !notes.empty()) std::printf("note: %s\n", notes.c_str());
+  if (session.thread())
+    if (const std::string notes = session.thread()->notes(); !notes.empty()) std::printf("note: %s\n", notes.c_str());
   std::string on;
-  for (const auto& e : effects) on += std::string(on.empty() ? "" : ", ") + e->name();
+  for (const auto& e : session.effects()) on += std::string(on.empty() ? "" : ", ") + e->name();
   std::printf("effects: %s\n", on.empty() ? "contact only" : on.c_str());
-  for (const std::string& l : effect_lines) std::printf("  %s\n", l.c_str());
+  for (const std::string& l : summary.lines) std::printf("  %s\n", l.c_str());
   const std::uint64_t ticks = a.offline ? loop.tick() : st.ticks.load();
   const double miss_pct = ticks ? 100.0 * st.misses.load() / ticks : 0;
   std::printf("timing: %" PRIu64 " ticks at %.0f Hz; period p50 %.0f us, p99 %.0f us, p99.9 %.0f us, worst %.0f us "
               "(tick %" PRIu64 "); %" PRIu64 " deadline misses (%.3f %%)\n",
-              ticks, options.rate_hz, st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
+              ticks, so.rate_hz, st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
               st.period_us.Percentile(0.999), st.worst_period_us.load(), st.worst_tick.load(), st.misses.load(),
               miss_pct);
   std::printf("step: p50 %.0f us, p99 %.0f us, max %.0f us%s\n", step_hist.Percentile(0.5),
               step_hist.Percentile(0.99), step_hist.max_us(), a.offline ? " (offline)" : "");
   std::printf("contact: %" PRIu64 " ticks in contact (%.1f %%)", s.contact_ticks,
               ticks ? 100.0 * s.contact_ticks / ticks : 0.0);
-  for (const auto& [object, n] : began) std::printf("; %s touched %d times", ObjectName(scene->spec, object).c_str(), n);
+  for (const auto& [object, n] : summary.began)
+    std::printf("; %s touched %d times", ObjectName(scene->spec, object).c_str(), n);
   std::printf("\nforce: max %.3f N, mean in contact %.3f N, saturated %" PRIu64 " ticks\n", s.max_force_n,
               s.contact_ticks ? s.contact_force_sum_n / s.contact_ticks : 0.0, s.saturated_ticks);
   std::printf("faults: %" PRIu64 " (engine %" PRIu64 ", overruns %" PRIu64 ", device stalls %" PRIu64
-              ", non-finite output %" PRIu64 "); events %" PRIu64 ", dropped %" PRIu64 "\n",
+              ", non-finite output %" PRIu64 "); events %" PRIu64 ", dropped %" PRIu64 "; ticks not delivered %" PRIu64
+              "\n",
               s.faults.total(), s.faults.engine, s.faults.overruns, s.faults.device_stalls, s.faults.nonfinite_output,
-              events, s.faults.events_dropped);
-  if (writer)
-    std::printf("recorded %" PRIu64 " ticks to %s (%" PRIu64 " dropped)\n", writer->written(), a.record.c_str(),
-                writer->dropped());
+              summary.events, s.faults.events_dropped, session.dropped_ticks());
+  if (const RecordingWriter* w = session.recorder())
+    std::printf("recorded %" PRIu64 " ticks to %s (%" PRIu64 " dropped)\n", w->written(), a.record.c_str(),
+                w->dropped());
   std::printf("run rate_hz=%.0f ticks=%" PRIu64 " misses=%" PRIu64
               " period_p50_us=%.1f period_p99_us=%.1f period_p999_us=%.1f worst_us=%.1f step_p50_us=%.1f "
               "step_p99_us=%.1f max_force_n=%.3f faults=%" PRIu64 "\n",
-              options.rate_hz, ticks, st.misses.load(), st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
+              so.rate_hz, ticks, st.misses.load(), st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
               st.period_us.Percentile(0.999), st.worst_period_us.load(), step_hist.Percentile(0.5),
               step_hist.Percentile(0.99), s.max_force_n, s.faults.total());
   return 0;

@@ -128,6 +128,9 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
   }
   out.mesh = TriangleMesh(std::move(vertices), std::move(faces));
   out.floor_z = z_f_at;
+  out.margin_z = z_m_at;
+  out.sulcus_r.resize(n);
+  for (int k = 0; k < n; ++k) out.sulcus_r[k] = r_in_at[k] - 0.5 * p.gap_mm;
   if (out.mesh.Volume() < 0) out.mesh.FlipOrientation();
   for (int s = 0; s < 6; ++s) {
     const int k = static_cast<int>(std::lround(out.site_angle[s] / (2 * kPi) * n)) % n;

@@ -32,8 +32,10 @@ struct GingivaModel {
   std::array<double, 6> site_angle{};   // radians from +x (mesial) toward +y (buccal)
   std::array<Vector3, 6> margin{};      // each site on the margin, in the sulcus' middle
   std::array<Vector3, 6> floor{};       // the pocket floor below it
-  // Per segment around the tooth (angle 2 pi k / segments): the floor height.
-  std::vector<double> floor_z;
+  // Per segment around the tooth (angle 2 pi k / segments): the floor height,
+  // the margin height and the radius of the sulcus' middle (where a probe tip
+  // walks; lessons measure coverage of the walking stroke with them).
+  std::vector<double> floor_z, margin_z, sulcus_r;
   /// The floor height at angle th (radians from +x), nearest segment.
   double FloorAt(double th) const;
 };

@@ -6,16 +6,6 @@
 namespace sulcus {
 namespace {
 
-HapticEvent EffectEventOf(EffectEvent kind, int object, double value, double value2 = 0) {
-  HapticEvent e;
-  e.kind = EventKind::kEffect;
-  e.detail = static_cast<std::uint8_t>(kind);
-  e.object = object;
-  e.value = value;
-  e.value2 = value2;
-  return e;
-}
-
 // Soft tissue as springs: the graphic tool's leaf spheres pressing into soft
 // leaves push back along the pair's normal with the leaf's stiffness; the
 // deepest pair sets the magnitude, the penetration-weighted normals the direction.
@@ -52,7 +42,11 @@ class GingivaCompliance final : public LoopEffect {
     if (force > 0 && dir.squaredNorm() > 0) *force_W += force * dir.normalized();
     if ((object >= 0) != touching_) {
       touching_ = object >= 0;
-      if (touching_) loop->Emit(EffectEventOf(EffectEvent::kSoftContact, object, force));
+      if (touching_) {
+        HapticEvent e = HapticEvent::Of(EventKind::kSoftContact, object);
+        e.payload.force.force_n = force;
+        loop->Emit(e);
+      }
     }
   }
   void Reset() noexcept override { touching_ = false; }
@@ -80,7 +74,7 @@ class ProbingDepth final : public LoopEffect {
   const char* name() const override {
     return readings_ && bleeding_ ? "probing_depth, bleeding_on_probing" : readings_ ? "probing_depth" : "bleeding_on_probing";
   }
-  void Apply(const EngineModel&, const EngineData& data, Vector3*, Vector3*, HapticLoop* loop) noexcept override {
+  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
     const Vector3 tip = data.X_WG.translation();
     int found = -1;
     double depth = 0;
@@ -98,15 +92,30 @@ class ProbingDepth final : public LoopEffect {
     if (found != site_) {
       Finish(loop);
       site_ = found;
-      deepest_ = depth;
+      deepest_ = -1e9;
+      peak_force_ = 0;
       bled_ = false;
+      entered_tick_ = loop->tick();
     }
     if (site_ < 0) return;
-    deepest_ = std::max(deepest_, depth);
     const ProbingSite& s = m_.sites[site_];
+    const double f = force_W->norm();
+    // The dwell at the deepest point: a new deepest more than kDwellMm below
+    // the last starts the dwell again; within it, the peak force counts.
+    if (depth > deepest_) {
+      if (depth > deepest_ + kDwellMm) peak_force_ = 0;
+      deepest_ = depth;
+      deepest_tick_ = loop->tick();
+      const Vector3 tool_axis = data.X_WG.rotation().col(2);
+      const double c = std::clamp(std::abs(tool_axis.dot(s.axis_W)), 0.0, 1.0);
+      angle_deg_ = std::acos(c) * 180.0 / 3.14159265358979323846;
+    }
+    if (depth >= deepest_ - kDwellMm) peak_force_ = std::max(peak_force_, f);
     if (bleeding_ && s.bleeding && !bled_ && depth >= s.pocket_mm - 0.5) {
       bled_ = true;
-      loop->Emit(EffectEventOf(EffectEvent::kBleeding, s.tooth, depth, s.site));
+      HapticEvent e = HapticEvent::Of(EventKind::kBleeding, s.tooth);
+      e.payload.bleeding = {s.fdi, s.site, depth, f};
+      loop->Emit(e);
     }
   }
   void Reset() noexcept override { site_ = -1; }
@@ -115,9 +124,12 @@ class ProbingDepth final : public LoopEffect {
   void Finish(HapticLoop* loop) noexcept {
     if (!readings_ || site_ < 0 || deepest_ < 0.5) return;  // a reading needs the tip in the sulcus
     const ProbingSite& s = m_.sites[site_];
-    loop->Emit(EffectEventOf(EffectEvent::kProbeReading, s.tooth, deepest_, s.site));
+    HapticEvent e = HapticEvent::Of(EventKind::kProbeReading, s.tooth);
+    e.payload.reading = {s.fdi, s.site, deepest_, peak_force_, angle_deg_, deepest_tick_, entered_tick_};
+    loop->Emit(e);
   }
   static constexpr double kRadius = 1.2;  // mm from the site's line
+  static constexpr double kDwellMm = 0.2;
   struct Line {
     Vector3 u;
     double len;
@@ -126,7 +138,8 @@ class ProbingDepth final : public LoopEffect {
   std::vector<Line> lines_;  // per site
   bool readings_, bleeding_;
   int site_ = -1;
-  double deepest_ = 0;
+  double deepest_ = 0, peak_force_ = 0, angle_deg_ = 0;
+  std::uint64_t deepest_tick_ = 0, entered_tick_ = 0;
   bool bled_ = false;
 };
 
@@ -141,7 +154,11 @@ class TissueDamage final : public LoopEffect {
       const auto object = static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
       if (object >= over_.size()) continue;
       const bool over = f > m_.damage_limit_n[object];
-      if (over && !over_[object]) loop->Emit(EffectEventOf(EffectEvent::kTissueDamage, static_cast<int>(object), f));
+      if (over && !over_[object]) {
+        HapticEvent e = HapticEvent::Of(EventKind::kTissueDamage, static_cast<int>(object));
+        e.payload.damage = {f, m_.damage_limit_n[object]};
+        loop->Emit(e);
+      }
       over_[object] = over;
     }
   }

@@ -2,8 +2,8 @@
 // Effects on demand (DESIGN.md): a scene lists the effects it needs, and the
 // loop's list holds exactly those, so an effect the scene does not name is not
 // in the loop at all (no call, no branch). Each effect reads the engine's data
-// after the step, may add to the output force, and emits events
-// (EventKind::kEffect, with `detail` an EffectEvent).
+// after the step, may add to the output force, and emits typed events
+// (kProbeReading, kBleeding, kTissueDamage, kSoftContact; haptic_loop.h).
 //
 //   gingiva_compliance  soft tissue the probe displaces: its objects are not
 //                       constraints of the engine but springs (soft walls, a firm
@@ -21,18 +21,13 @@
 
 namespace sulcus {
 
-enum class EffectEvent : std::uint8_t {
-  kProbeReading = 1,  // object: tooth; value: deepest depth (mm); value2: site (0..5, MB..DL)
-  kBleeding = 2,      // object: tooth; value2: site
-  kTissueDamage = 3,  // object: the object; value: the force (N)
-  kSoftContact = 4,   // object: the soft object first pressed; value: its force (N)
-};
-
 /// A probing site in the world: the sulcus' middle at the margin and at the floor.
 struct ProbingSite {
   int tooth = -1;  // object index of the tooth
+  int fdi = 0;     // its FDI number
   int site = 0;    // 0..5: MB, B, DB, ML, L, DL
   Vector3 margin_W = Vector3::Zero(), floor_W = Vector3::Zero();
+  Vector3 axis_W = Vector3::UnitZ();  // the tooth's long axis (unit, toward the crown)
   double pocket_mm = 0;
   bool bleeding = false;
 };

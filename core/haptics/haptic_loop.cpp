@@ -23,7 +23,10 @@ const char* ToString(EventKind kind) {
     case EventKind::kDeviceBack: return "device_back";
     case EventKind::kOverrun: return "overrun";
     case EventKind::kCommand: return "command";
-    case EventKind::kEffect: return "effect";
+    case EventKind::kProbeReading: return "probe_reading";
+    case EventKind::kBleeding: return "bleeding";
+    case EventKind::kTissueDamage: return "tissue_damage";
+    case EventKind::kSoftContact: return "soft_contact";
   }
   return "?";
 }
@@ -61,8 +64,12 @@ void HapticLoop::Reset(const RigidTransform& X_WG) {
 void HapticLoop::Emit(const HapticEvent& e) noexcept {
   HapticEvent stamped = e;
   stamped.tick = tick_;
-  if (!events_.Push(stamped)) ++faults_.events_dropped;
-  if (record_.num_events < TickRecord::kMaxEvents) record_.events[record_.num_events++] = stamped;
+  if (record_.num_events < TickRecord::kMaxEvents) {
+    record_.events[record_.num_events++] = stamped;
+  } else {
+    ++record_.events_dropped;
+    ++faults_.events_dropped;
+  }
 }
 
 void HapticLoop::Apply(const HapticCommand& c) noexcept {
@@ -84,10 +91,8 @@ void HapticLoop::Apply(const HapticCommand& c) noexcept {
           std::clamp(v, 0.0, std::min(model_.params.max_torque_nmm, device_->caps().max_torque_nmm));
       break;
   }
-  HapticEvent e;
-  e.kind = EventKind::kCommand;
-  e.object = static_cast<std::int32_t>(c.kind);
-  e.value = v;
+  HapticEvent e = HapticEvent::Of(EventKind::kCommand);
+  e.payload.command = {static_cast<std::uint8_t>(c.kind), v};
   Emit(e);
 }
 
@@ -95,6 +100,7 @@ void HapticLoop::Tick(bool overrun) noexcept {
   const double rate = options_.rate_hz > 0 ? options_.rate_hz : 1000.0;
   const double t = static_cast<double>(tick_) / rate;
   record_.num_events = 0;
+  record_.events_dropped = 0;
   record_.tick = tick_;
   record_.time_s = t;
   record_.overrun = overrun;
@@ -112,12 +118,12 @@ void HapticLoop::Tick(bool overrun) noexcept {
     if (!device_ok_) {
       device_ok_ = true;
       ramp_start_tick_ = tick_;
-      Emit({.kind = EventKind::kDeviceBack});
+      Emit(HapticEvent::Of(EventKind::kDeviceBack));
     }
   } else if (device_ok_ && static_cast<double>(tick_ - last_fresh_tick_) >= options_.safety.device_timeout_s * rate) {
     device_ok_ = false;
     ++faults_.device_stalls;
-    Emit({.kind = EventKind::kDeviceLost});
+    Emit(HapticEvent::Of(EventKind::kDeviceLost));
   }
   record_.sample = sample_;
 
@@ -138,7 +144,7 @@ void HapticLoop::Tick(bool overrun) noexcept {
   if (overrun) {
     ++faults_.overruns;
     ramp_start_tick_ = tick_;
-    Emit({.kind = EventKind::kOverrun});
+    Emit(HapticEvent::Of(EventKind::kOverrun));
   }
   const double ramp_ticks = options_.safety.ramp_s * rate;
   const double since = static_cast<double>(tick_ - ramp_start_tick_);
@@ -155,10 +161,14 @@ void HapticLoop::Tick(bool overrun) noexcept {
   const double f = F.norm();
   if (!force_above_ && f > options_.force_event_n) {
     force_above_ = true;
-    Emit({.kind = EventKind::kForceAbove, .value = f});
+    HapticEvent e = HapticEvent::Of(EventKind::kForceAbove);
+    e.payload.force.force_n = f;
+    Emit(e);
   } else if (force_above_ && f < 0.9 * options_.force_event_n) {
     force_above_ = false;
-    Emit({.kind = EventKind::kForceBelow, .value = f});
+    HapticEvent e = HapticEvent::Of(EventKind::kForceBelow);
+    e.payload.force.force_n = f;
+    Emit(e);
   }
   UpdateContacts();
   max_force_n_ = std::max(max_force_n_, f);
@@ -186,10 +196,8 @@ void HapticLoop::UpdateContacts() noexcept {
     const std::uint64_t changed = now[w] ^ in_contact_[w];
     for (int b = 0; b < 64; ++b) {
       if (!((changed >> b) & 1)) continue;
-      HapticEvent e;
-      e.kind = ((now[w] >> b) & 1) ? EventKind::kContactBegan : EventKind::kContactEnded;
-      e.object = static_cast<std::int32_t>(w * 64 + b);
-      Emit(e);
+      Emit(HapticEvent::Of(((now[w] >> b) & 1) ? EventKind::kContactBegan : EventKind::kContactEnded,
+                           static_cast<int>(w * 64 + b)));
     }
   }
   in_contact_ = now;

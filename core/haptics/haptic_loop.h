@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 
 #include "core/haptics/device.h"
 #include "core/haptics/engine.h"
@@ -21,26 +22,70 @@ struct SafetyParams {
 };
 
 enum class EventKind : std::uint8_t {
-  kContactBegan,    // object: which object; value: 0
+  kContactBegan,    // object: which object (engine index)
   kContactEnded,
-  kForceAbove,      // the force sent rose above LoopOptions::force_event_n; value: force (N)
+  kForceAbove,      // the force sent rose above LoopOptions::force_event_n; force
   kForceBelow,      // and fell back below 90 % of it
   kDeviceLost,      // no fresh reading for device_timeout_s
   kDeviceBack,
   kOverrun,         // the thread was late (watchdog): zero force this tick
-  kCommand,         // a command was applied; object: its kind; value: its value
-  kEffect,          // an effect's event; object: object index; value: effect-defined
+  kCommand,         // a command was applied; command
+  kProbeReading,    // probing_depth: one insertion at a site ended; reading
+  kBleeding,        // bleeding_on_probing: a bleeding site was probed to its floor; bleeding
+  kTissueDamage,    // tissue_damage: the force on an object rose above its limit; damage
+  kSoftContact,     // gingiva_compliance: the probe began pressing soft tissue; soft
 };
+inline constexpr int kNumEventKinds = 12;
 const char* ToString(EventKind kind);
 
+/// A probing reading: the deepest point of one insertion into a site's sulcus.
+struct ReadingPayload {
+  std::int32_t fdi = 0;           // the tooth
+  std::int32_t site = 0;          // 0..5: MB, B, DB, ML, L, DL
+  double depth_mm = 0;            // deepest tip depth below the margin
+  double peak_force_n = 0;        // the largest force while the tip dwelt at its deepest (within 0.2 mm)
+  double axis_angle_deg = 0;      // the tool axis against the tooth's long axis at the deepest moment
+  std::uint64_t deepest_tick = 0; // when the tip was deepest
+  std::uint64_t entered_tick = 0; // when the tip entered the site
+};
+struct BleedingPayload {
+  std::int32_t fdi = 0, site = 0;
+  double depth_mm = 0, force_n = 0;  // at the moment the site bled
+};
+struct DamagePayload {
+  double force_n = 0, limit_n = 0;
+};
+struct ForcePayload {
+  double force_n = 0;
+};
+struct CommandPayload {
+  std::uint8_t command = 0;  // HapticCommand::Kind
+  double value = 0;
+};
+
+/// One event of a tick. `object` is the engine's index of the object it is about
+/// (teeth and soft tissue alike: CompiledScene::spec.objects), -1 when none; the
+/// payload that goes with the kind is the only one set.
 struct HapticEvent {
   EventKind kind = EventKind::kContactBegan;
-  std::uint8_t detail = 0;   // kEffect: which effect event (effects.h); kCommand: unused
   std::int32_t object = -1;
   std::uint64_t tick = 0;
-  double value = 0;
-  double value2 = 0;
+  union Payload {
+    ReadingPayload reading;
+    BleedingPayload bleeding;
+    DamagePayload damage;
+    ForcePayload force;
+    CommandPayload command;
+    Payload() : reading() {}
+  } payload;
+  static HapticEvent Of(EventKind kind, int object = -1) {
+    HapticEvent e;
+    e.kind = kind;
+    e.object = object;
+    return e;
+  }
 };
+static_assert(std::is_trivially_copyable_v<HapticEvent>);
 
 struct HapticCommand {
   enum class Kind : std::uint8_t { kPause, kResume, kResetTool, kSetForceScale, kSetForceLimit, kSetTorqueLimit };
@@ -55,7 +100,7 @@ struct LoopFaults {
   std::uint64_t device_stalls = 0;   // episodes without fresh device readings
   std::uint64_t nonfinite_output = 0;
   std::uint64_t engine = 0;          // EngineFaults::total()
-  std::uint64_t events_dropped = 0;  // the event ring was full
+  std::uint64_t events_dropped = 0;  // a tick had more events than TickRecord holds (counted, never silent)
   std::uint64_t total() const { return overruns + device_stalls + nonfinite_output + engine; }
 };
 
@@ -115,7 +160,7 @@ struct LoopOptions {
 /// One recorded tick: the loop's inputs (device reading, freshness, lateness,
 /// commands as events) and outputs (graphic pose, wrench, events).
 struct TickRecord {
-  static constexpr int kMaxEvents = 6;
+  static constexpr int kMaxEvents = 16;  // more in one tick are counted in events_dropped
   std::uint64_t tick = 0;
   double time_s = 0;
   DeviceSample sample;
@@ -123,12 +168,20 @@ struct TickRecord {
   RigidTransform X_WG;
   Vector3 force_W = Vector3::Zero(), torque_W = Vector3::Zero();
   int num_events = 0;
+  std::uint32_t events_dropped = 0;  // this tick's events beyond kMaxEvents
   std::array<HapticEvent, kMaxEvents> events{};
+};
+
+/// Where the haptic thread hands each tick's record: a fixed ring another thread
+/// drains (RecordingWriter, Session). Push never blocks, allocates or throws.
+class TickSink {
+ public:
+  virtual ~TickSink() = default;
+  virtual void Push(const TickRecord& r) noexcept = 0;
 };
 
 class HapticLoop {
  public:
-  static constexpr std::size_t kEventCapacity = 4096;
   static constexpr std::size_t kCommandCapacity = 64;
 
   /// The model and device must outlive the loop. Effects run in the given order.
@@ -144,7 +197,6 @@ class HapticLoop {
 
   // Other threads.
   bool Send(const HapticCommand& c) noexcept { return commands_.Push(c); }
-  bool PopEvent(HapticEvent* e) noexcept { return events_.Pop(e); }
   TripleBuffer<HapticSnapshot>& snapshots() { return snapshots_; }
 
   // The haptic thread (or the test that drives the loop).
@@ -182,7 +234,6 @@ class HapticLoop {
   double max_force_n_ = 0, contact_force_sum_n_ = 0;
   std::uint64_t contact_ticks_ = 0, saturated_ticks_ = 0;
   TickRecord record_;
-  SpscRing<HapticEvent, kEventCapacity> events_;
   SpscRing<HapticCommand, kCommandCapacity> commands_;
   TripleBuffer<HapticSnapshot> snapshots_;
 };

@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <cstring>
 
-#include "core/haptics/recording.h"
 
 namespace sulcus {
 namespace {
@@ -87,7 +86,7 @@ void HapticThread::Run() noexcept {
     const bool overrun = !options_.free_run && n > 0 &&
                          static_cast<double>(start - deadline) > options_.stall_periods * static_cast<double>(period);
     loop_->Tick(overrun);
-    if (options_.recorder) options_.recorder->Push(loop_->last_record());
+    if (options_.sink) options_.sink->Push(loop_->last_record());
     const std::int64_t end = NowNs();
 
     if (n > 0) {

@@ -2,8 +2,8 @@
 // The haptic thread: runs HapticLoop::Tick at a fixed rate with absolute
 // deadlines (clock_nanosleep, TIMER_ABSTIME), asks for real-time priority and a
 // pinned core and carries on without them (saying so once), keeps timing
-// statistics without allocating, and hands every tick to a recorder when one is
-// attached. Everything another thread reads is atomic or lock-free.
+// statistics without allocating, and hands every tick's record to a sink when
+// one is attached. Everything another thread reads is atomic or lock-free.
 
 #include <atomic>
 #include <cstdint>
@@ -15,8 +15,6 @@
 
 namespace sulcus {
 
-class RecordingWriter;
-
 struct ThreadOptions {
   bool realtime = true;      // ask for SCHED_FIFO and a pinned core
   int cpu = -1;              // the core to pin to; -1: the last one
@@ -24,7 +22,7 @@ struct ThreadOptions {
   double stall_periods = 3;  // a tick this many periods late trips the watchdog
   std::uint64_t max_ticks = 0;    // stop after this many ticks (0: until Stop())
   bool stop_when_device_finished = true;
-  RecordingWriter* recorder = nullptr;  // not owned
+  TickSink* sink = nullptr;  // gets every tick's record (a Session, a RecordingWriter); not owned
 };
 
 /// Timing statistics, written by the haptic thread, readable any time.

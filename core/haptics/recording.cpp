@@ -93,14 +93,13 @@ void PutFrame(const TickRecord& r, Out* o) {
   o->PutVector(r.force_W);
   o->PutVector(r.torque_W);
   o->Put(static_cast<std::uint8_t>(r.num_events));
+  o->Put(r.events_dropped);
   for (int i = 0; i < r.num_events; ++i) {
     const HapticEvent& e = r.events[i];
     o->Put(static_cast<std::uint8_t>(e.kind));
-    o->Put(e.detail);
     o->Put(e.object);
     o->Put(e.tick);
-    o->Put(e.value);
-    o->Put(e.value2);
+    o->Put(e.payload);  // fixed size: the payload of the kind, the rest zero
   }
 }
 
@@ -112,19 +111,19 @@ bool GetFrame(In* in, TickRecord* r) {
   std::uint8_t fresh = 0, overrun = 0, events = 0;
   if (!in->Get(&r->tick) || !in->Get(&r->time_s) || !in->Get(&r->sample.time_s) || !in->GetPose(&r->sample.X_WH) ||
       !in->Get(&r->sample.buttons) || !in->Get(&fresh) || !in->Get(&overrun) || !in->GetPose(&r->X_WG) ||
-      !in->GetVector(&r->force_W) || !in->GetVector(&r->torque_W) || !in->Get(&events))
+      !in->GetVector(&r->force_W) || !in->GetVector(&r->torque_W) || !in->Get(&events) || !in->Get(&r->events_dropped))
     return false;
-  if (events > TickRecord::kMaxEvents) in->Fail("a frame lists " + std::to_string(events) + " events, at most 6 expected");
+  if (events > TickRecord::kMaxEvents)
+    in->Fail("a frame lists " + std::to_string(events) + " events, at most " + std::to_string(TickRecord::kMaxEvents) +
+             " expected");
   r->fresh = fresh != 0;
   r->overrun = overrun != 0;
   r->num_events = events;
   for (int i = 0; i < events; ++i) {
     HapticEvent& e = r->events[i];
     std::uint8_t kind = 0;
-    if (!in->Get(&kind) || !in->Get(&e.detail) || !in->Get(&e.object) || !in->Get(&e.tick) || !in->Get(&e.value) ||
-        !in->Get(&e.value2))
-      return false;
-    if (kind > static_cast<std::uint8_t>(EventKind::kEffect)) in->Fail("unknown event kind " + std::to_string(kind));
+    if (!in->Get(&kind) || !in->Get(&e.object) || !in->Get(&e.tick) || !in->Get(&e.payload)) return false;
+    if (kind >= kNumEventKinds) in->Fail("unknown event kind " + std::to_string(kind));
     e.kind = static_cast<EventKind>(kind);
   }
   return true;
@@ -173,6 +172,11 @@ void RecordingWriter::Drain() {
   }
 }
 
+void RecordingWriter::PushWaiting(const TickRecord& r) {
+  while (ring_.size() >= ring_.capacity()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ring_.Push(r);
+}
+
 void RecordingWriter::Finish() {
   if (!out_) return;
   stop_.store(true, std::memory_order_release);
@@ -196,7 +200,8 @@ Recording ReadRecording(const std::filesystem::path& file) {
   if (!in.Get(&rec.header.version)) in.Fail("truncated header");
   if (rec.header.version != kRecordingVersion)
     in.Fail("recording format version " + std::to_string(rec.header.version) + ", this build reads version " +
-            std::to_string(kRecordingVersion));
+            std::to_string(kRecordingVersion) +
+            (rec.header.version < kRecordingVersion ? " (the file is from an older Sulcus; record it again)" : ""));
   if (!in.Get(&rec.header.scene_hash) || !in.Get(&rec.header.rate_hz) || !in.GetString(&rec.header.device_name) ||
       !in.GetString(&rec.header.scene_file))
     in.Fail("truncated or corrupt header");
@@ -235,12 +240,23 @@ void ExportCsv(const Recording& rec, std::ostream& out) {
     for (int i = 0; i < r.num_events; ++i) {
       const HapticEvent& e = r.events[i];
       out << (i ? ";" : "") << ToString(e.kind);
-      if (e.kind == EventKind::kCommand)
-        out << ':' << ToString(static_cast<HapticCommand::Kind>(e.object)) << ':' << e.value;
-      else if (e.object >= 0)
-        out << ':' << e.object;
-      if (e.kind == EventKind::kForceAbove || e.kind == EventKind::kForceBelow || e.kind == EventKind::kEffect)
-        out << ':' << e.value;
+      switch (e.kind) {
+        case EventKind::kCommand:
+          out << ':' << ToString(static_cast<HapticCommand::Kind>(e.payload.command.command)) << ':'
+              << e.payload.command.value;
+          break;
+        case EventKind::kForceAbove:
+        case EventKind::kForceBelow: out << ':' << e.payload.force.force_n; break;
+        case EventKind::kProbeReading: {
+          const ReadingPayload& p = e.payload.reading;
+          out << ':' << p.fdi << ':' << p.site << ':' << p.depth_mm << ':' << p.peak_force_n << ':' << p.axis_angle_deg;
+          break;
+        }
+        case EventKind::kBleeding: out << ':' << e.payload.bleeding.fdi << ':' << e.payload.bleeding.site; break;
+        case EventKind::kTissueDamage: out << ':' << e.object << ':' << e.payload.damage.force_n; break;
+        default:
+          if (e.object >= 0) out << ':' << e.object;
+      }
     }
     out << '\n';
   }

@@ -22,7 +22,7 @@
 
 namespace sulcus {
 
-inline constexpr std::uint32_t kRecordingVersion = 1;
+inline constexpr std::uint32_t kRecordingVersion = 2;  // 2: typed event payloads, 16 events a tick
 
 struct RecordingHeader {
   std::uint32_t version = kRecordingVersion;
@@ -40,12 +40,15 @@ class RecordingError : public std::runtime_error {
 
 /// Writes ticks from the haptic thread: Push copies into a fixed ring (never
 /// blocks; a full ring drops the tick and counts it); a writer thread drains it.
-class RecordingWriter {
+class RecordingWriter final : public TickSink {
  public:
   /// Opens (creates or truncates) the file; throws RecordingError.
   RecordingWriter(const std::filesystem::path& file, const RecordingHeader& header);
   ~RecordingWriter();
-  void Push(const TickRecord& r) noexcept { ring_.Push(r); }
+  void Push(const TickRecord& r) noexcept override { ring_.Push(r); }
+  /// Off the haptic thread (offline runs, a session's pump): waits for room
+  /// instead of dropping the tick.
+  void PushWaiting(const TickRecord& r);
   /// Drains what is left, closes the file; throws RecordingError on a write error.
   void Finish();
   std::uint64_t written() const { return written_.load(); }
@@ -99,7 +102,8 @@ void ReplayOffline(const Recording& recording, HapticLoop* loop, Each each) {
     const TickRecord& f = recording.frames[i];
     for (int e = 0; e < f.num_events; ++e)
       if (f.events[e].kind == EventKind::kCommand)
-        loop->Send({static_cast<HapticCommand::Kind>(f.events[e].object), f.events[e].value});
+        loop->Send({static_cast<HapticCommand::Kind>(f.events[e].payload.command.command),
+                    f.events[e].payload.command.value});
     loop->Tick(f.overrun);
     each(i, *loop);
   }

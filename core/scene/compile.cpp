@@ -123,7 +123,9 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
       for (int s = 0; s < 6; ++s) {
         ProbingSite site;
         site.tooth = tooth;
+        site.fdi = o.fdi;
         site.site = s;
+        site.axis_W = (tooth >= 0 ? objs[tooth].X_WO : o.X_WO).rotation().col(2);
         site.margin_W = o.X_WO * ArchMirror(o.mirrored, g.margin[s]);
         site.floor_W = o.X_WO * ArchMirror(o.mirrored, g.floor[s]);
         site.pocket_mm = o.pocket_mm[s];
@@ -220,8 +222,9 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
           scene->tool_tree = LoadOrBuildSphereTree(scene->tool_mesh, ToolTreeParams(), cache_dir, inner);
           inner("tool", 1.0);
         } else {
-          scene->trees[job - 1] = LoadOrBuildSphereTree(scene->meshes[job - 1], spec.objects[job - 1].trees, cache_dir,
-                                                         inner);
+          // The partitioned list's own settings: spec.objects is in the file's order.
+          scene->trees[job - 1] = LoadOrBuildSphereTree(scene->meshes[job - 1], scene->spec.objects[job - 1].trees,
+                                                         cache_dir, inner);
           inner(scene->spec.objects[job - 1].name, 1.0);
         }
       } catch (...) {

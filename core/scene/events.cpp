@@ -11,9 +11,9 @@ std::string ObjectName(const SceneSpec& spec, int object) {
 }
 
 std::string DescribeEvent(const SceneSpec& spec, const HapticEvent& e) {
-  char text[160];
+  char text[200];
   const std::string name = ObjectName(spec, e.object);
-  const char* site = kSiteCodes[std::clamp(static_cast<int>(e.value2), 0, 5)];
+  auto site = [](int s) { return kSiteCodes[std::clamp(s, 0, 5)]; };
   switch (e.kind) {
     case EventKind::kContactBegan:
     case EventKind::kContactEnded:
@@ -21,24 +21,26 @@ std::string DescribeEvent(const SceneSpec& spec, const HapticEvent& e) {
       break;
     case EventKind::kForceAbove:
     case EventKind::kForceBelow:
-      std::snprintf(text, sizeof text, "%s %.2f N", ToString(e.kind), e.value);
+      std::snprintf(text, sizeof text, "%s %.2f N", ToString(e.kind), e.payload.force.force_n);
       break;
     case EventKind::kCommand:
-      std::snprintf(text, sizeof text, "command: %s", ToString(static_cast<HapticCommand::Kind>(e.object)));
+      std::snprintf(text, sizeof text, "command: %s",
+                    ToString(static_cast<HapticCommand::Kind>(e.payload.command.command)));
       break;
-    case EventKind::kEffect:
-      switch (static_cast<EffectEvent>(e.detail)) {
-        case EffectEvent::kProbeReading:
-          std::snprintf(text, sizeof text, "reading %.1f mm at %s %s", e.value, name.c_str(), site);
-          break;
-        case EffectEvent::kBleeding: std::snprintf(text, sizeof text, "bleeding at %s %s", name.c_str(), site); break;
-        case EffectEvent::kTissueDamage:
-          std::snprintf(text, sizeof text, "%.2f N on %s: above its damage limit", e.value, name.c_str());
-          break;
-        case EffectEvent::kSoftContact: std::snprintf(text, sizeof text, "soft contact: %s", name.c_str()); break;
-        default: std::snprintf(text, sizeof text, "effect %d", e.detail); break;
-      }
+    case EventKind::kProbeReading: {
+      const ReadingPayload& r = e.payload.reading;
+      std::snprintf(text, sizeof text, "reading %.1f mm at %d %s (%.2f N, %.0f deg)", r.depth_mm, r.fdi, site(r.site),
+                    r.peak_force_n, r.axis_angle_deg);
       break;
+    }
+    case EventKind::kBleeding:
+      std::snprintf(text, sizeof text, "bleeding at %d %s", e.payload.bleeding.fdi, site(e.payload.bleeding.site));
+      break;
+    case EventKind::kTissueDamage:
+      std::snprintf(text, sizeof text, "%.2f N on %s: above its damage limit (%.2f N)", e.payload.damage.force_n,
+                    name.c_str(), e.payload.damage.limit_n);
+      break;
+    case EventKind::kSoftContact: std::snprintf(text, sizeof text, "soft contact: %s", name.c_str()); break;
     default: std::snprintf(text, sizeof text, "%s", ToString(e.kind)); break;
   }
   return text;

@@ -14,6 +14,7 @@
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
+#include "core/scene/yaml_reader.h"
 
 namespace sulcus {
 namespace {
@@ -41,146 +42,7 @@ constexpr EffectName kEffects[] = {{"contact", Effect::kContact},
                                    {"tissue_damage", Effect::kTissueDamage}};
 const std::vector<std::string> kProbes = {"williams", "unc15", "who"};
 
-int Levenshtein(const std::string& a, const std::string& b) {
-  std::vector<int> prev(b.size() + 1), cur(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = static_cast<int>(j);
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = static_cast<int>(i);
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-    }
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-
-std::string Join(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
-
-// "; did you mean 'x'?" for a close match, else the list of what is expected.
-std::string Suggest(const std::string& word, const std::vector<std::string>& options) {
-  std::string best;
-  int best_d = 1 << 30;
-  for (const auto& o : options) {
-    const int d = Levenshtein(word, o);
-    if (d < best_d) {
-      best_d = d;
-      best = o;
-    }
-  }
-  if (best_d <= std::max<int>(2, static_cast<int>(word.size()) / 3)) return "; did you mean '" + best + "'?";
-  return " (expected one of: " + Join(options) + ")";
-}
-
-class Reader {
- public:
-  Reader(fs::path file) : file_(std::move(file)) {}
-
-  void Error(const YAML::Mark& m, const std::string& message) {
-    errors_.push_back({file_.string(), m.line + 1, m.column + 1, message});
-  }
-  void Error(const YAML::Node& n, const std::string& message) { Error(n.Mark(), message); }
-  void Error(int line, int column, const std::string& message) {
-    errors_.push_back({file_.string(), line, column, message});
-  }
-  std::vector<SceneError>& errors() { return errors_; }
-
-  // Every key of `map` must be in `allowed`.
-  void CheckKeys(const YAML::Node& map, const std::vector<std::string>& allowed, const std::string& where) {
-    for (auto it = map.begin(); it != map.end(); ++it) {
-      const std::string key = it->first.Scalar();
-      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
-        Error(it->first, "unknown key '" + key + "' in " + where + Suggest(key, allowed));
-      }
-    }
-  }
-
-  bool IsMap(const YAML::Node& n, const std::string& what) {
-    if (n.IsMap()) return true;
-    Error(n, what + " must be a map of keys and values");
-    return false;
-  }
-
-  // A number in [lo, hi]; records an error and returns fallback otherwise.
-  double Number(const YAML::Node& n, const std::string& key, double lo, double hi, double fallback,
-                const std::string& unit = "") {
-    if (!n.IsScalar()) {
-      Error(n, "'" + key + "' must be a number" + (unit.empty() ? "" : " (" + unit + ")"));
-      return fallback;
-    }
-    double v;
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception&) {
-      Error(n, "'" + key + "' must be a number" + (unit.empty() ? "" : " (" + unit + ")") + ", found '" +
-                   n.Scalar() + "'");
-      return fallback;
-    }
-    if (!std::isfinite(v) || v < lo || v > hi) {
-      std::ostringstream s;
-      s << "'" << key << "' is " << n.Scalar() << (unit.empty() ? "" : " " + unit) << ", expected " << lo << " to "
-        << hi;
-      Error(n, s.str());
-      return fallback;
-    }
-    return v;
-  }
-
-  int Integer(const YAML::Node& n, const std::string& key, int lo, int hi, int fallback) {
-    const double v = Number(n, key, lo, hi, fallback);
-    if (v != std::floor(v)) {
-      Error(n, "'" + key + "' must be a whole number, found '" + n.Scalar() + "'");
-      return fallback;
-    }
-    return static_cast<int>(v);
-  }
-
-  std::string Text(const YAML::Node& n, const std::string& key) {
-    if (!n.IsScalar()) {
-      Error(n, "'" + key + "' must be text");
-      return "";
-    }
-    return n.Scalar();
-  }
-
-  // A list of `count` numbers in [lo, hi].
-  bool Numbers(const YAML::Node& n, const std::string& key, std::size_t count, double lo, double hi, double* out,
-               const std::string& unit, const std::string& meaning) {
-    if (!n.IsSequence() || n.size() != count) {
-      Error(n, "'" + key + "' must be a list of " + std::to_string(count) + " numbers" +
-                   (meaning.empty() ? "" : " (" + meaning + ")") +
-                   (n.IsSequence() ? ", found " + std::to_string(n.size()) : ""));
-      return false;
-    }
-    bool ok = true;
-    for (std::size_t i = 0; i < count; ++i) {
-      const std::size_t before = errors_.size();
-      out[i] = Number(n[i], key, lo, hi, 0, unit);
-      ok &= errors_.size() == before;
-    }
-    return ok;
-  }
-
-  RigidTransform Pose(const YAML::Node& map, const char* at_key, const char* turn_key) {
-    double at[3] = {0, 0, 0}, turn[3] = {0, 0, 0};
-    if (map[at_key]) Numbers(map[at_key], at_key, 3, -1000, 1000, at, "mm", "x, y, z in mm");
-    if (map[turn_key]) {
-      Numbers(map[turn_key], turn_key, 3, -360, 360, turn, "degrees", "turns about x, y, z in degrees");
-    }
-    constexpr double kDeg = std::numbers::pi / 180;
-    Vector6 q;
-    q << at[0], at[1], at[2], turn[0] * kDeg, turn[1] * kDeg, turn[2] * kDeg;
-    return RigidTransform::FromConfiguration(q);
-  }
-
-  fs::path file_;
-
- private:
-  std::vector<SceneError> errors_;
-};
+using Reader = YamlReader;
 
 std::vector<std::string> Names(const auto& table) {
   std::vector<std::string> v;
@@ -211,6 +73,7 @@ void ReadTreeParams(Reader& r, const YAML::Node& t, const std::string& where, bo
 void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int index, SceneSpec* spec,
                 std::set<std::string>* names) {
   ObjectSpec o;
+  o.file_index = index;
   o.line = n.Mark().line + 1;
   o.column = n.Mark().column + 1;
   o.mouth_open_mm = spec->mouth_open_mm;
@@ -317,8 +180,12 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     r.Error(n, "'" + o.name + "' needs a 'tissue' (" + Join(Names(kTissues)) + ")");
   }
   o.material = DefaultMaterial(o.tissue);
-  if (n["stiffness_n_per_mm"]) o.material.stiffness_n_per_mm = r.Number(n["stiffness_n_per_mm"], "stiffness_n_per_mm", 1e-3, 1e9, 1, "N/mm");
-  if (n["friction"]) o.material.friction = r.Number(n["friction"], "friction", 0, 2, 0.1);
+  // Keys of the design that this version does not use: refused, never ignored.
+  if (n["stiffness_n_per_mm"])
+    r.Error(n["stiffness_n_per_mm"], "'stiffness_n_per_mm' is not used by this version of Sulcus (hard objects are "
+                                     "rigid; gingiva_compliance sets the gingiva's own); remove it");
+  if (n["friction"])
+    r.Error(n["friction"], "'friction' is not used by this version of Sulcus (no friction effect yet); remove it");
   if (n["damage_limit_n"]) o.material.damage_limit_n = r.Number(n["damage_limit_n"], "damage_limit_n", 0, 1e9, 1, "N");
 
   for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm"}) {
@@ -490,6 +357,12 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
         for (const auto& en : kEffects) {
           if (name == en.name) {
             found = true;
+            if (en.effect == Effect::kFriction || en.effect == Effect::kSurfaceTexture) {
+              // Named in the design, not built yet: refused rather than silently ignored.
+              r.Error(item, "effect '" + name + "' is not available in this version of Sulcus; remove it "
+                            "(available: contact, gingiva_compliance, probing_depth, bleeding_on_probing, tissue_damage)");
+              continue;
+            }
             if (!spec.HasEffect(en.effect)) {
               spec.effects.push_back(en.effect);
             }
@@ -524,6 +397,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
       if (t.kind != ObjectSpec::Kind::kTooth) continue;
       ObjectSpec g = t;
       g.kind = ObjectSpec::Kind::kGingiva;
+      g.file_index = -1;
       g.name = "gingiva " + std::to_string(t.fdi);
       g.tissue = Tissue::kGingiva;
       g.material = DefaultMaterial(Tissue::kGingiva);

@@ -83,6 +83,10 @@ struct ObjectSpec {
   // Caries by surface (mesial, distal, buccal, lingual, occlusal): lesion size in mm, 0 for none.
   std::array<double, 5> caries_mm{};
   int line = 0, column = 0;  // where the object is declared
+  // Its place in the file's `objects` list (0-based); -1 for what the scene adds
+  // (the gingival collars, which carry their tooth's `fdi`). The compiled scene
+  // reorders objects; events and reports name them by name, FDI or this.
+  int file_index = -1;
 };
 
 struct SceneSpec {
@@ -145,7 +149,7 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
 std::string ObjectName(const SceneSpec& spec, int object);
 
 /// One line for a haptic event, with the scene's names: "contact_began: tooth 46",
-/// "force_above 1.01 N", "reading 3.8 mm at tooth 46 B", "bleeding at tooth 46 MB".
+/// "force_above 1.01 N", "reading 3.8 mm at 46 B (0.22 N, 4 deg)", "bleeding at 46 MB".
 std::string DescribeEvent(const SceneSpec& spec, const HapticEvent& e);
 
 /// FNV-1a of a file's bytes (recordings name the scene they were made on).

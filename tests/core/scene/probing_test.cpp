@@ -9,6 +9,7 @@
 #include "core/haptics/effects.h"
 #include "core/haptics/scripted_device.h"
 #include "core/scene/scene.h"
+#include "core/session/session.h"
 #include "tests/common/alloc_guard.h"
 
 namespace sulcus {
@@ -24,24 +25,37 @@ TEST(Probing, InsertReadsThePocketDepthAtTooth46Buccal) {
   const ScriptTarget target = FindScriptTarget(*scene, "insert");
   ASSERT_GE(target.object, 0);
   EXPECT_EQ(scene->spec.objects[target.object].fdi, 46) << "the deepest buccal pocket";
-  ScriptedDevice device(MakeScript("insert", target, 4.0));
-  const auto effects = MakeEffects(scene->effects);
-  const auto list = EffectPointers(effects);
-  ASSERT_EQ(list.size(), 3u);  // compliance, depth + bleeding, damage
-  HapticLoop loop(*scene->model, &device, {}, list);
+  DeviceSpec d;
+  d.device = std::make_unique<ScriptedDevice>(MakeScript("insert", target, 4.0));
+  SessionOptions so;
+  so.max_ticks = 4000;
+  Session session(*scene, std::move(d), so);
+  ASSERT_EQ(session.effects().size(), 3u);  // compliance, depth + bleeding, damage
+  // The test is one more consumer of the tick stream.
+  struct Readings final : TickConsumer {
+    void OnTick(const TickRecord& r) override {
+      max_force = std::max(max_force, r.force_W.norm());
+      for (int i = 0; i < r.num_events; ++i)
+        if (r.events[i].kind == EventKind::kProbeReading) events.push_back(r.events[i]);
+    }
+    std::vector<HapticEvent> events;
+    double max_force = 0;
+  } consumer;
+  session.AddConsumer(&consumer);
+  session.RunOffline();
   std::vector<double> readings;
-  double max_force = 0;
-  for (int i = 0; i < 4000; ++i) {
-    loop.Tick(false);
-    max_force = std::max(max_force, loop.last_record().force_W.norm());
-    HapticEvent e;
-    while (loop.PopEvent(&e))
-      if (e.kind == EventKind::kEffect && e.detail == static_cast<std::uint8_t>(EffectEvent::kProbeReading)) {
-        EXPECT_EQ(e.object, target.object);
-        EXPECT_EQ(e.value2, 1.0) << "site B";
-        readings.push_back(e.value);
-      }
+  for (const HapticEvent& e : consumer.events) {
+    EXPECT_EQ(e.object, target.object);
+    EXPECT_EQ(e.payload.reading.fdi, 46);
+    EXPECT_EQ(e.payload.reading.site, 1) << "site B";
+    EXPECT_GT(e.payload.reading.peak_force_n, 0.1) << "pressed at the floor";
+    EXPECT_LT(e.payload.reading.axis_angle_deg, 15.0) << "the insert tilts 8.5 degrees buccally";
+    EXPECT_LE(e.payload.reading.entered_tick, e.payload.reading.deepest_tick);
+    EXPECT_LE(e.payload.reading.deepest_tick, e.tick);
+    readings.push_back(e.payload.reading.depth_mm);
   }
+  const double max_force = consumer.max_force;
+  HapticLoop& loop = session.loop();
   ASSERT_EQ(readings.size(), 1u) << "one insertion, one reading";
   const double truth = scene->spec.objects[target.object].pocket_mm[1];
   EXPECT_NEAR(readings[0], truth, 0.3) << "the tip reaches the pocket floor";

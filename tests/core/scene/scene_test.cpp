@@ -118,7 +118,7 @@ TEST(SceneFile, ValuesAreRead) {
   const fs::path p = Write("values_read.yaml",
                            "name: two\n"
                            "haptics: {k_t_n_per_mm: 0.5, rate_hz: 2000}\n"
-                           "effects: [friction]\n"
+                           "effects: [tissue_damage]\n"
                            "objects:\n"
                            "  - tooth: 36\n"
                            "    at: [1, 2, 3]\n"
@@ -132,7 +132,7 @@ TEST(SceneFile, ValuesAreRead) {
   EXPECT_EQ(s.name, "two");
   EXPECT_DOUBLE_EQ(s.haptics.k_t, 0.5);
   EXPECT_DOUBLE_EQ(s.rate_hz, 2000);
-  EXPECT_EQ(s.effects, (std::vector<Effect>{Effect::kContact, Effect::kFriction}));  // contact always
+  EXPECT_EQ(s.effects, (std::vector<Effect>{Effect::kContact, Effect::kTissueDamage}));  // contact always
   ASSERT_EQ(s.objects.size(), 2u);
   EXPECT_EQ(s.objects[0].name, "tooth 36");
   EXPECT_NEAR(s.objects[0].X_WO.translation().y(), 2.0, 1e-15);
@@ -261,22 +261,18 @@ TEST(SceneEvents, DescribedWithTheScenesNames) {
   SceneSpec spec;
   spec.objects.resize(1);
   spec.objects[0].name = "tooth 46";
-  HapticEvent e;
-  e.kind = EventKind::kEffect;
-  e.detail = static_cast<std::uint8_t>(EffectEvent::kProbeReading);
-  e.object = 0;
-  e.value = 3.85;
-  e.value2 = 1;
-  EXPECT_EQ(DescribeEvent(spec, e), "reading 3.9 mm at tooth 46 B");
+  HapticEvent e = HapticEvent::Of(EventKind::kProbeReading, 0);
+  e.payload.reading = {.fdi = 46, .site = 1, .depth_mm = 3.85, .peak_force_n = 0.223, .axis_angle_deg = 4.2};
+  EXPECT_EQ(DescribeEvent(spec, e), "reading 3.9 mm at 46 B (0.22 N, 4 deg)");
   e.kind = EventKind::kContactBegan;
   EXPECT_EQ(DescribeEvent(spec, e), "contact_began: tooth 46");
   e.object = 7;
   EXPECT_EQ(DescribeEvent(spec, e), "contact_began: object 7");
   e.kind = EventKind::kForceAbove;
-  e.value = 1.014;
+  e.payload.force.force_n = 1.014;
   EXPECT_EQ(DescribeEvent(spec, e), "force_above 1.01 N");
   e.kind = EventKind::kCommand;
-  e.object = static_cast<int>(HapticCommand::Kind::kPause);
+  e.payload.command.command = static_cast<std::uint8_t>(HapticCommand::Kind::kPause);
   EXPECT_EQ(DescribeEvent(spec, e), "command: pause");
 }
 

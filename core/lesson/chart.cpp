@@ -1,0 +1,202 @@
+#include "core/lesson/chart.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace sulcus {
+namespace {
+
+constexpr const char* kCodes[kSitesPerTooth] = {"MB", "B", "DB", "ML", "L", "DL"};
+
+// Among `teeth`, are there two that are not neighbours?
+bool TwoNonAdjacent(const std::vector<int>& teeth) {
+  for (std::size_t i = 0; i < teeth.size(); ++i)
+    for (std::size_t j = i + 1; j < teeth.size(); ++j)
+      if (!AdjacentTeeth(teeth[i], teeth[j])) return true;
+  return false;
+}
+
+std::string List(const std::vector<int>& teeth) {
+  std::string s;
+  for (int t : teeth) s += (s.empty() ? "" : ", ") + std::to_string(t);
+  return s.empty() ? "none" : s;
+}
+
+}  // namespace
+
+const char* SiteCode(int site) { return site >= 0 && site < kSitesPerTooth ? kCodes[site] : "?"; }
+
+int SiteFromCode(const std::string& code) {
+  for (int i = 0; i < kSitesPerTooth; ++i)
+    if (code == kCodes[i]) return i;
+  return -1;
+}
+
+std::optional<int> SiteValues::cal_mm() const {
+  if (!pd_mm) return std::nullopt;
+  // Whole mm, a half rounding down: 4.5 -> 4, -0.5 -> -1.
+  return static_cast<int>(std::ceil(*pd_mm + recession_mm - 0.5 - 1e-9));
+}
+
+ToothChart* PerioChart::Find(int fdi) {
+  for (ToothChart& t : teeth)
+    if (t.fdi == fdi) return &t;
+  return nullptr;
+}
+const ToothChart* PerioChart::Find(int fdi) const { return const_cast<PerioChart*>(this)->Find(fdi); }
+
+bool AdjacentTeeth(int a, int b) {
+  const int qa = a / 10, qb = b / 10, pa = a % 10, pb = b % 10;
+  if (qa == qb) return std::abs(pa - pb) == 1;
+  // The central incisors of one jaw touch across the midline (11-21, 31-41).
+  const bool same_jaw = (qa <= 2) == (qb <= 2);
+  return same_jaw && pa == 1 && pb == 1;
+}
+
+const char* ToString(Stage s) {
+  switch (s) {
+    case Stage::kI: return "I";
+    case Stage::kII: return "II";
+    case Stage::kIII: return "III";
+    case Stage::kIV: return "IV";
+    default: return "none";
+  }
+}
+const char* ToString(Extent e) {
+  switch (e) {
+    case Extent::kLocalized: return "localized";
+    case Extent::kGeneralized: return "generalized";
+    default: return "none";
+  }
+}
+std::optional<Stage> StageFromString(const std::string& s) {
+  for (Stage v : {Stage::kNone, Stage::kI, Stage::kII, Stage::kIII, Stage::kIV})
+    if (s == ToString(v)) return v;
+  return std::nullopt;
+}
+std::optional<Extent> ExtentFromString(const std::string& s) {
+  for (Extent v : {Extent::kNone, Extent::kLocalized, Extent::kGeneralized})
+    if (s == ToString(v)) return v;
+  return std::nullopt;
+}
+
+const char* ToString(Diagnosis::Kind k) {
+  switch (k) {
+    case Diagnosis::Kind::kNotAssessable: return "not assessable";
+    case Diagnosis::Kind::kHealth: return "periodontal health";
+    case Diagnosis::Kind::kGingivitisLocalized: return "localized gingivitis";
+    case Diagnosis::Kind::kGingivitisGeneralized: return "generalized gingivitis";
+    case Diagnosis::Kind::kPeriodontitis: return "periodontitis";
+  }
+  return "?";
+}
+
+std::string Diagnosis::Summary() const {
+  if (kind != Kind::kPeriodontitis) return ToString(kind);
+  return std::string("periodontitis stage ") + ToString(stage) + ", " + ToString(extent);
+}
+
+Diagnosis Classify2017(const PerioChart& chart) {
+  Diagnosis d;
+  char line[256];
+  std::vector<int> measured, interdental_loss, oral_loss, deep_pd;
+  int present = 0, bleeding = 0;
+  bool pseudo_pocket = false;
+  int worst_interdental = 0, worst_any = 0;
+  for (const ToothChart& t : chart.teeth) {
+    if (!t.present) continue;
+    ++present;
+    bool any = false, inter = false, oral = false, deep = false;
+    for (int s = 0; s < kSitesPerTooth; ++s) {
+      const SiteValues& v = t.sites[s];
+      if (v.bleeding) ++bleeding;
+      if (!v.measured()) continue;
+      any = true;
+      const int cal = *v.cal_mm(), pd = *v.pd_mm;
+      worst_any = std::max(worst_any, cal);
+      if (IsInterdental(s)) {
+        worst_interdental = std::max(worst_interdental, cal);
+        inter |= cal >= 1;
+      } else {
+        oral |= cal >= 3 && pd > 3;
+      }
+      if (pd >= 4 && cal < 1) pseudo_pocket = true;
+      // Complexity: PD >= 6 mm, third molars and the distal of second molars not counted.
+      const bool excluded = t.fdi % 10 == 8 || (t.fdi % 10 == 7 && (s == 2 || s == 5));
+      deep |= pd >= 6 && !excluded;
+    }
+    if (any) measured.push_back(t.fdi);
+    if (inter) interdental_loss.push_back(t.fdi);
+    if (oral) oral_loss.push_back(t.fdi);
+    if (deep) deep_pd.push_back(t.fdi);
+  }
+  d.bop_pct = present > 0 ? 100.0 * bleeding / (6.0 * present) : 0;
+  d.worst_interdental_cal_mm = worst_interdental;
+  if (!TwoNonAdjacent(measured)) {
+    d.path.push_back("fewer than 2 non-adjacent teeth measured (" + List(measured) + "): not assessable");
+    return d;
+  }
+  const bool by_interdental = TwoNonAdjacent(interdental_loss);
+  const bool by_oral = oral_loss.size() >= 2;
+  std::snprintf(line, sizeof line, "interdental CAL >= 1 mm at teeth %s: %s", List(interdental_loss).c_str(),
+                by_interdental ? "at 2 or more non-adjacent teeth" : "not at 2 non-adjacent teeth");
+  d.path.push_back(line);
+  if (!by_interdental) {
+    std::snprintf(line, sizeof line, "buccal/oral CAL >= 3 mm with PD > 3 mm at teeth %s: %s", List(oral_loss).c_str(),
+                  by_oral ? "2 or more" : "fewer than 2");
+    d.path.push_back(line);
+  }
+  if (!by_interdental && !by_oral) {
+    if (pseudo_pocket) d.path.push_back("PD >= 4 mm without attachment loss: pseudo-pocket, not periodontitis");
+    std::snprintf(line, sizeof line, "not a periodontitis case; bleeding on probing %.1f %% of sites", d.bop_pct);
+    d.path.push_back(line);
+    d.kind = d.bop_pct < 10 ? Diagnosis::Kind::kHealth
+             : d.bop_pct <= 30 ? Diagnosis::Kind::kGingivitisLocalized
+                               : Diagnosis::Kind::kGingivitisGeneralized;
+    d.path.push_back(std::string("BOP < 10 %: health; 10-30 %: localized gingivitis; > 30 %: generalized: ") +
+                     ToString(d.kind));
+    return d;
+  }
+  d.kind = Diagnosis::Kind::kPeriodontitis;
+  const int worst = worst_interdental >= 1 ? worst_interdental : worst_any;
+  d.stage = worst >= 5 ? Stage::kIII : worst >= 3 ? Stage::kII : Stage::kI;
+  std::snprintf(line, sizeof line, "worst interdental CAL %d mm: stage %s (1-2 mm I, 3-4 mm II, >= 5 mm III)", worst,
+                ToString(d.stage));
+  d.path.push_back(line);
+  int band_lo = d.stage == Stage::kIII ? 5 : d.stage == Stage::kII ? 3 : 1;
+  int band_hi = d.stage == Stage::kIII ? 1000 : d.stage == Stage::kII ? 4 : 2;
+  if (d.stage == Stage::kII) {
+    int furcation = 0;
+    for (const ToothChart& t : chart.teeth) furcation = std::max(furcation, t.present ? t.furcation : 0);
+    if (TwoNonAdjacent(deep_pd) || furcation >= 2) {
+      d.stage = Stage::kIII;
+      d.path.push_back(TwoNonAdjacent(deep_pd)
+                           ? "complexity: PD >= 6 mm at 2 or more non-adjacent teeth (" + List(deep_pd) + "): stage III"
+                           : "complexity: furcation class II or III: stage III");
+    } else {
+      d.path.push_back("complexity: PD >= 6 mm at " + List(deep_pd) + " (not at 2 non-adjacent teeth), no furcation "
+                       "class II or III: stays stage II");
+    }
+  }
+  if (worst >= 5)
+    d.path.push_back("stage IV not assessed: it needs the teeth lost to periodontitis, mobility and the bite, "
+                     "which the chart does not hold");
+  int in_band = 0;
+  for (const ToothChart& t : chart.teeth) {
+    if (!t.present) continue;
+    int tooth_worst = -100;
+    for (int s = 0; s < kSitesPerTooth; ++s)
+      if (IsInterdental(s) && t.sites[s].measured()) tooth_worst = std::max(tooth_worst, *t.sites[s].cal_mm());
+    if (tooth_worst >= band_lo && tooth_worst <= band_hi) ++in_band;
+  }
+  d.extent_pct = present > 0 ? 100.0 * in_band / present : 0;
+  d.extent = d.extent_pct < 30 ? Extent::kLocalized : Extent::kGeneralized;
+  std::snprintf(line, sizeof line, "extent: %d of %d teeth (%.1f %%) have their worst interdental CAL in the %d%s mm "
+                "band: %s (< 30 %% localized)", in_band, present, d.extent_pct, band_lo,
+                band_hi >= 1000 ? "+" : ("-" + std::to_string(band_hi)).c_str(), ToString(d.extent));
+  d.path.push_back(line);
+  return d;
+}
+
+}  // namespace sulcus

@@ -1,0 +1,629 @@
+#include "core/lesson/lesson.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "core/anatomy/arch.h"
+#include "core/anatomy/gingiva.h"
+#include "core/anatomy/tooth.h"
+
+namespace sulcus {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = 180.0 / kPi;
+// The walking stroke's arc per surface, in the tooth frame (0 = mesial, 90 = buccal):
+// from 15 degrees off one contact to 15 degrees off the other.
+constexpr double kArcFromDeg = 15, kArcToDeg = 165;
+constexpr double kStrokeHysteresisMm = 0.3;
+
+std::string Format(const char* fmt, auto... args) {
+  char buf[320];
+  std::snprintf(buf, sizeof buf, fmt, args...);
+  return buf;
+}
+
+double AngleDistance(double a, double b) {
+  double d = std::fmod(std::abs(a - b), 2 * kPi);
+  return d > kPi ? 2 * kPi - d : d;
+}
+
+// Segment k's angle in degrees, 0..360.
+double SegmentDeg(int k, int n) { return 360.0 * k / n; }
+
+bool InArc(double deg, bool buccal) {
+  const double d = buccal ? deg : 360.0 - deg;  // the lingual arc mirrors the buccal one
+  return d >= kArcFromDeg && d <= kArcToDeg;
+}
+
+RubricLine Line(const char* category, const SiteRef* site, int fdi, RubricLine::Status status, double credit,
+                std::string message, std::uint64_t tick) {
+  RubricLine l;
+  l.category = category;
+  if (site) l.site = *site;
+  l.fdi = site ? site->fdi : fdi;
+  l.status = status;
+  l.credit = credit;
+  l.message = std::move(message);
+  l.tick = tick;
+  return l;
+}
+
+using S = RubricLine::Status;
+
+}  // namespace
+
+const char* ToString(RubricLine::Status s) {
+  switch (s) {
+    case S::kPass: return "pass";
+    case S::kPartial: return "partial";
+    case S::kFail: return "fail";
+    case S::kInfo: return "info";
+  }
+  return "?";
+}
+
+std::string DeclaredDiagnosis::Summary() const {
+  if (!periodontitis) return "no periodontitis";
+  return std::string("periodontitis stage ") + ToString(stage) + ", " + ToString(extent);
+}
+
+const LessonGeometry::Tooth* LessonGeometry::Find(int fdi) const {
+  for (const Tooth& t : teeth)
+    if (t.fdi == fdi) return &t;
+  return nullptr;
+}
+
+LessonGeometry MakeLessonGeometry(const CompiledScene& scene, const std::vector<int>& teeth) {
+  LessonGeometry g;
+  const auto& objs = scene.spec.objects;
+  auto has_tooth = [&](int fdi) {
+    return std::any_of(objs.begin(), objs.end(),
+                       [&](const ObjectSpec& o) { return o.kind == ObjectSpec::Kind::kTooth && o.fdi == fdi; });
+  };
+  for (int fdi : teeth) {
+    LessonGeometry::Tooth t;
+    t.fdi = fdi;
+    const ObjectSpec* gum = nullptr;
+    for (int i = 0; i < static_cast<int>(objs.size()); ++i) {
+      if (objs[i].kind == ObjectSpec::Kind::kTooth && objs[i].fdi == fdi) {
+        t.object = i;
+        t.X_WT = objs[i].X_WO;
+        t.mirrored = objs[i].mirrored;
+      }
+      if (objs[i].kind == ObjectSpec::Kind::kGingiva && objs[i].fdi == fdi) gum = &objs[i];
+    }
+    if (t.object < 0 || !gum) continue;
+    GingivaParams p;
+    p.pocket_mm = gum->pocket_mm;
+    p.recession_mm = gum->recession_mm;
+    const GingivaModel m = GenerateGingiva(GenerateTooth(fdi), p);
+    t.margin_z = m.margin_z;
+    t.floor_z = m.floor_z;
+    t.sulcus_r = m.sulcus_r;
+    t.site_angle = m.site_angle;
+    const int q = fdi / 10, pos = fdi % 10;
+    t.mesial_contact = pos == 1 ? has_tooth((q % 2 == 1 ? q + 1 : q - 1) * 10 + 1) : has_tooth(q * 10 + pos - 1);
+    t.distal_contact = has_tooth(q * 10 + pos + 1);
+    g.teeth.push_back(std::move(t));
+  }
+  return g;
+}
+
+LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene, std::string student, std::uint64_t case_seed)
+    : spec_(spec),
+      scene_(scene),
+      geometry_(MakeLessonGeometry(scene, spec.teeth)),
+      student_(std::move(student)),
+      case_seed_(case_seed),
+      rate_hz_(scene.spec.rate_hz > 0 ? scene.spec.rate_hz : 1000) {
+  const PerioChart truth = TrueChart(scene.spec, spec.teeth);
+  for (const SiteRef& s : spec.path) {
+    SiteResult r;
+    r.site = s;
+    if (const ToothChart* t = truth.Find(s.fdi)) {
+      r.truth_mm = t->sites[s.site].pd_mm.value_or(0);
+      r.recession_mm = t->sites[s.site].recession_mm;
+      r.truth_bleeding = t->sites[s.site].bleeding;
+    }
+    const LessonGeometry::Tooth* g = geometry_.Find(s.fdi);
+    r.interproximal_contact =
+        g && IsInterdental(s.site) && (IsMesial(s.site) ? g->mesial_contact : g->distal_contact);
+    sites_.push_back(r);
+  }
+  for (const StepSpec& st : spec.steps) step_results_.push_back({st.id, st.instruction});
+  in_contact_.assign(scene.spec.objects.size(), 0);
+  surfaces_.resize(geometry_.teeth.size());
+  for (auto& pair : surfaces_)
+    for (SurfaceTrack& s : pair) s.bins.assign(geometry_.teeth.empty() ? 0 : 72, false);
+  for (std::size_t i = 0; i < geometry_.teeth.size(); ++i)
+    for (SurfaceTrack& s : surfaces_[i]) s.bins.assign(geometry_.teeth[i].margin_z.size(), false);
+}
+
+int LessonRun::SiteIndex(const SiteRef& s) const {
+  for (std::size_t i = 0; i < sites_.size(); ++i)
+    if (sites_[i].site == s) return static_cast<int>(i);
+  return -1;
+}
+
+bool LessonRun::SiteInStep(const StepSpec& st, const SiteRef& s) const {
+  if (!st.teeth.empty() && std::find(st.teeth.begin(), st.teeth.end(), s.fdi) == st.teeth.end()) return false;
+  const bool buccal = s.site < 3;
+  if (st.surface == StepSpec::Surface::kBuccal && !buccal) return false;
+  if (st.surface == StepSpec::Surface::kLingual && buccal) return false;
+  return true;
+}
+
+bool LessonRun::StepComplete(const StepSpec& st) const {
+  if (st.complete == StepSpec::Complete::kDiagnosis) return declared_.has_value();
+  for (const SiteResult& r : sites_) {
+    if (!SiteInStep(st, r.site)) continue;
+    if (st.complete == StepSpec::Complete::kRead && !r.reached_mm) return false;
+    if (st.complete == StepSpec::Complete::kCharted && !(r.entry && r.entry->pd_mm)) return false;
+  }
+  return true;
+}
+
+void LessonRun::Advance(std::uint64_t tick) {
+  if (spec_.time_limit_s > 0 && static_cast<double>(tick - first_tick_) > spec_.time_limit_s * rate_hz_) {
+    if (!timed_out_) feedback_.push_back(Format("%.0f s: the lesson's time is up", spec_.time_limit_s));
+    timed_out_ = true;
+  }
+  while (!timed_out_ && step_ < static_cast<int>(spec_.steps.size())) {
+    const StepSpec& st = spec_.steps[step_];
+    StepResult& res = step_results_[step_];
+    if (StepComplete(st)) {
+      res.completed = true;
+      res.ended_tick = tick;
+      ++step_;
+      if (step_ < static_cast<int>(spec_.steps.size())) step_results_[step_].started_tick = tick;
+      continue;
+    }
+    if (st.time_limit_s > 0 && static_cast<double>(tick - res.started_tick) > st.time_limit_s * rate_hz_) {
+      res.timed_out = true;
+      res.ended_tick = tick;
+      feedback_.push_back("step '" + st.id + "': time is up, on to the next");
+      ++step_;
+      if (step_ < static_cast<int>(spec_.steps.size())) step_results_[step_].started_tick = tick;
+      continue;
+    }
+    break;
+  }
+}
+
+std::optional<SiteRef> LessonRun::next_site() const {
+  if (done()) return std::nullopt;
+  const StepSpec& st = spec_.steps[step_];
+  for (const SiteResult& r : sites_) {
+    if (!SiteInStep(st, r.site)) continue;
+    if (st.complete == StepSpec::Complete::kRead && !r.reached_mm) return r.site;
+    if (st.complete == StepSpec::Complete::kCharted && !(r.entry && r.entry->pd_mm)) return r.site;
+  }
+  return std::nullopt;
+}
+
+void LessonRun::Track(const TickRecord& r) {
+  const Vector3 p_W = r.X_WG.translation();
+  tip_site_.reset();
+  for (std::size_t i = 0; i < geometry_.teeth.size(); ++i) {
+    const LessonGeometry::Tooth& t = geometry_.teeth[i];
+    const Vector3 p = ArchMirror(t.mirrored, t.X_WT.inverse() * p_W);
+    const int n = static_cast<int>(t.margin_z.size());
+    if (n == 0) continue;
+    double phi = std::atan2(p.y(), p.x());
+    if (phi < 0) phi += 2 * kPi;
+    const int k = static_cast<int>(std::lround(phi / (2 * kPi) * n)) % n;
+    const double depth = t.margin_z[k] - p.z();
+    const double pocket = t.margin_z[k] - t.floor_z[k];
+    const double radial = std::abs(std::hypot(p.x(), p.y()) - t.sulcus_r[k]);
+    if (radial > 0.9 || depth < 0.3 || depth > pocket + 0.6) continue;
+    // In this tooth's sulcus: the nearest site names where the tip is.
+    int nearest = 0;
+    for (int s = 1; s < 6; ++s)
+      if (AngleDistance(phi, t.site_angle[s]) < AngleDistance(phi, t.site_angle[nearest])) nearest = s;
+    tip_site_ = SiteRef{t.fdi, nearest};
+    const bool buccal = p.y() >= 0;
+    SurfaceTrack& st = surfaces_[i][buccal ? 0 : 1];
+    if (!st.any) {
+      st.any = true;
+      st.first = r.tick;
+      st.ext_depth = st.turn_depth = depth;
+    }
+    st.last = r.tick;
+    ++st.in_ticks;
+    if (t.object >= 0 && in_contact_[static_cast<std::size_t>(t.object)]) ++st.touch_ticks;
+    if (depth >= 0.5) st.bins[static_cast<std::size_t>(k)] = true;
+    // Up-and-down strokes: turns of the depth with a little hysteresis.
+    const double h = kStrokeHysteresisMm;
+    if (st.direction == 0) {
+      if (depth > st.ext_depth + h) st.direction = 1;
+      else if (depth < st.ext_depth - h) st.direction = -1;
+      if (st.direction != 0) st.ext_depth = depth;
+    } else if ((st.direction > 0 && depth > st.ext_depth) || (st.direction < 0 && depth < st.ext_depth)) {
+      st.ext_depth = depth;
+    } else if (std::abs(depth - st.ext_depth) > h) {
+      st.swing_sum += std::abs(st.ext_depth - st.turn_depth);
+      ++st.strokes;
+      st.turn_depth = st.ext_depth;
+      st.ext_depth = depth;
+      st.direction = -st.direction;
+    }
+    // Interproximal sites: did the tip reach the col under the contact?
+    if (depth >= 1.0) {
+      for (int s : {0, 2, 3, 5}) {
+        const bool site_buccal = s < 3;
+        const double contact = IsMesial(s) ? 0.0 : kPi;
+        const double d = AngleDistance(phi, contact);
+        if (d * kDeg > spec_.rubric.col_reach_deg) continue;
+        if (site_buccal != buccal && d * kDeg > 3.0) continue;
+        const int idx = SiteIndex({t.fdi, s});
+        if (idx >= 0) sites_[static_cast<std::size_t>(idx)].col_reached = true;
+      }
+    }
+    break;
+  }
+}
+
+void LessonRun::OnTick(const TickRecord& r) {
+  if (ticks_ == 0) {
+    first_tick_ = r.tick;
+    if (!step_results_.empty()) step_results_[0].started_tick = r.tick;
+  }
+  ++ticks_;
+  last_tick_ = r.tick;
+  if (r.tick % LessonResult::kTraceEvery == 0)
+    force_trace_.push_back({r.tick, static_cast<float>(r.force_W.norm())});
+  for (int i = 0; i < r.num_events; ++i) {
+    const HapticEvent& e = r.events[i];
+    switch (e.kind) {
+      case EventKind::kContactBegan:
+      case EventKind::kContactEnded:
+        if (e.object >= 0 && static_cast<std::size_t>(e.object) < in_contact_.size())
+          in_contact_[static_cast<std::size_t>(e.object)] = e.kind == EventKind::kContactBegan;
+        break;
+      case EventKind::kProbeReading: {
+        const ReadingPayload& p = e.payload.reading;
+        const int idx = SiteIndex({p.fdi, p.site});
+        if (idx < 0) break;
+        SiteResult& s = sites_[static_cast<std::size_t>(idx)];
+        ++s.insertions;
+        if (!s.reached_mm || p.depth_mm > *s.reached_mm) {
+          s.reached_mm = p.depth_mm;
+          s.peak_force_n = p.peak_force_n;
+          s.angle_deg = p.axis_angle_deg;
+          s.reading_tick = p.deepest_tick;
+          s.entered_tick = p.entered_tick;
+          s.left_tick = e.tick;
+          if (spec_.practice())
+            feedback_.push_back(Format("%s: the tip reached %.1f mm; the true depth is %d mm", s.site.ToString().c_str(),
+                                       p.depth_mm, s.truth_mm));
+          else
+            feedback_.push_back(s.site.ToString() + ": read");
+        } else {
+          s.left_tick = e.tick;
+        }
+        break;
+      }
+      case EventKind::kBleeding: {
+        const int idx = SiteIndex({e.payload.bleeding.fdi, e.payload.bleeding.site});
+        if (idx < 0) break;
+        SiteResult& s = sites_[static_cast<std::size_t>(idx)];
+        if (!s.bled) {
+          s.bled = true;
+          s.bleed_force_n = e.payload.bleeding.force_n;
+          s.bleed_tick = e.tick;
+        }
+        break;
+      }
+      case EventKind::kTissueDamage:
+        damage_.push_back({Line("damage", nullptr, 0, S::kFail, 0,
+                                Format("%.2f N on %s, above its limit of %.2f N",
+                                       e.payload.damage.force_n, ObjectName(scene_.spec, e.object).c_str(),
+                                       e.payload.damage.limit_n),
+                                e.tick),
+                           -1});
+        break;
+      default: break;
+    }
+  }
+  Track(r);
+  Advance(r.tick);
+}
+
+void LessonRun::Enter(const ChartEntry& e) {
+  entries_.push_back(e);
+  const int idx = SiteIndex(e.site);
+  if (idx >= 0) {
+    SiteResult& s = sites_[static_cast<std::size_t>(idx)];
+    ChartEntry merged = e;
+    if (!merged.pd_mm && s.entry) merged.pd_mm = s.entry->pd_mm;  // bleeding alone keeps the depth
+    s.entry = merged;
+  }
+  Advance(e.tick == kAfterReading ? last_tick_ : e.tick);
+}
+
+void LessonRun::Declare(const DeclaredDiagnosis& d) {
+  declared_ = d;
+  Advance(d.tick == kAfterReading ? last_tick_ : d.tick);
+}
+
+LessonResult LessonRun::Finish() const {
+  const RubricSpec& rb = spec_.rubric;
+  LessonResult out;
+  out.lesson_name = spec_.name;
+  out.lesson_file = spec_.file.string();
+  out.scene_file = scene_.spec.file.string();
+  out.mode = ToString(spec_.mode);
+  out.student = student_;
+  out.case_seed = case_seed_;
+  out.generated_case = spec_.case_spec.generated;
+  out.rate_hz = rate_hz_;
+  out.sites = sites_;
+  out.steps = step_results_;
+  out.first_tick = first_tick_;
+  out.last_tick = last_tick_;
+  out.duration_s = ticks_ > 0 ? static_cast<double>(last_tick_ - first_tick_ + 1) / rate_hz_ : 0;
+  out.force_trace = force_trace_;
+  out.feedback = feedback_;
+  out.sites_total = static_cast<int>(sites_.size());
+  auto& L = out.lines;
+
+  // Entries entered "after the reading" take the tick after the site's last reading.
+  for (SiteResult& s : out.sites)
+    if (s.entry && s.entry->tick == kAfterReading) s.entry->tick = s.reached_mm ? s.left_tick + 1 : last_tick_;
+
+  int charted = 0, within1 = 0, exact = 0, proximal = 0, in_band = 0, read = 0;
+  double bias = 0, bias_prox = 0;
+  for (const SiteResult& s : out.sites) {
+    const SiteRef& site = s.site;
+    const std::string name = site.ToString();
+    if (!s.reached_mm) {
+      L.push_back(Line("technique", &site, 0, S::kFail, 0, name + ": not probed", last_tick_));
+    } else {
+      ++read;
+      const double reached = *s.reached_mm, err = reached - s.truth_mm;
+      const double a = std::abs(err);
+      const S st = a <= rb.technique_full_mm ? S::kPass : a <= rb.technique_partial_mm ? S::kPartial : S::kFail;
+      L.push_back(Line("technique", &site, 0, st, st == S::kPass ? 1 : st == S::kPartial ? 0.5 : 0,
+                       Format("%s: the tip reached %.1f mm, the true depth is %d mm (%+.1f mm)%s", name.c_str(), reached,
+                              s.truth_mm, err, err < -rb.technique_full_mm ? ": stopped short of the floor" : ""),
+                       s.reading_tick));
+      // Force at the floor.
+      const double f = s.peak_force_n;
+      if (f >= rb.force_low_n && f <= rb.force_high_n) {
+        ++in_band;
+        L.push_back(Line("force", &site, 0, S::kPass, 1,
+                         Format("%s: %.2f N at the floor, in the band %.2f-%.2f N", name.c_str(), f, rb.force_low_n,
+                                rb.force_high_n),
+                         s.reading_tick));
+      } else if (f < rb.force_low_n) {
+        L.push_back(Line("force", &site, 0, S::kPartial, 0.5,
+                         Format("%s: %.2f N at the floor, lighter than %.2f N: the floor may not have been felt",
+                                name.c_str(), f, rb.force_low_n),
+                         s.reading_tick));
+      } else if (f <= rb.force_damage_n) {
+        L.push_back(Line("force", &site, 0, S::kPartial, 0.5,
+                         Format("%s: %.2f N at the floor, heavier than %.2f N: healthy gingiva may bleed falsely",
+                                name.c_str(), f, rb.force_high_n),
+                         s.reading_tick));
+      } else {
+        L.push_back(Line("force", &site, 0, S::kFail, 0,
+                         Format("%s: %.2f N at the floor, above %.2f N", name.c_str(), f, rb.force_damage_n),
+                         s.reading_tick));
+      }
+      const bool damaged = f > rb.force_damage_n;
+      L.push_back(Line("damage", &site, 0, damaged ? S::kFail : S::kPass, damaged ? 0 : 1,
+                       damaged ? Format("%s: %.2f N drove the tip into the attachment: tissue damage", name.c_str(), f)
+                               : name + ": no tissue damage",
+                       s.reading_tick));
+      // Angulation, or the col under the contact.
+      if (s.interproximal_contact) {
+        L.push_back(Line("angulation", &site, 0, s.col_reached ? S::kPass : S::kFail, s.col_reached ? 1 : 0,
+                         s.col_reached ? name + ": the tip reached the col under the contact"
+                                       : name + ": the tip did not reach the col under the contact (tilt it under "
+                                                "the contact point)",
+                         s.reading_tick));
+      } else {
+        const double ang = s.angle_deg;
+        const S st2 = ang <= rb.angle_full_deg ? S::kPass : ang <= rb.angle_pass_deg ? S::kPartial : S::kFail;
+        L.push_back(Line("angulation", &site, 0, st2, st2 == S::kPass ? 1 : st2 == S::kPartial ? 0.5 : 0,
+                         Format("%s: the probe %.1f degrees off the long axis (full credit within %.0f, pass within "
+                                "%.0f)",
+                                name.c_str(), ang, rb.angle_full_deg, rb.angle_pass_deg),
+                         s.reading_tick));
+      }
+      // Bleeding.
+      const bool marked = s.entry && s.entry->bleeding;
+      if (s.bled && marked) {
+        L.push_back(Line("bleeding", &site, 0, S::kPass, 1, name + ": bleeding seen and charted", s.bleed_tick));
+      } else if (s.bled) {
+        L.push_back(Line("bleeding", &site, 0, S::kFail, 0, name + ": bled on probing, not charted", s.bleed_tick));
+      } else if (marked) {
+        L.push_back(Line("bleeding", &site, 0, S::kFail, 0, name + ": bleeding charted where none was seen",
+                         s.entry->tick));
+      } else {
+        L.push_back(Line("bleeding", &site, 0, S::kPass, 1, name + ": no bleeding, none charted", s.reading_tick));
+      }
+      if (s.bled && std::max(s.bleed_force_n, s.peak_force_n) > rb.force_high_n)
+        L.push_back(Line("bleeding", &site, 0, S::kInfo, 0,
+                         Format("%s: bleeding possibly caused by probing force (%.2f N, above %.2f N)", name.c_str(),
+                                std::max(s.bleed_force_n, s.peak_force_n), rb.force_high_n),
+                         s.bleed_tick));
+    }
+    // The entry: against what was reached (reading) and against the truth (charting).
+    if (s.entry && s.entry->pd_mm) {
+      ++charted;
+      const int entered = *s.entry->pd_mm;
+      if (s.reached_mm) {
+        const double err = entered - *s.reached_mm, a = std::abs(err);
+        const S st = a <= 0.5 ? S::kPass : a <= 1.5 ? S::kPartial : S::kFail;
+        L.push_back(Line("reading", &site, 0, st, st == S::kPass ? 1 : st == S::kPartial ? 0.5 : 0,
+                         Format("%s: entered %d mm where the probe reached %.1f mm (%+.1f mm)", name.c_str(), entered,
+                                *s.reached_mm, err),
+                         s.entry->tick));
+      } else {
+        L.push_back(Line("reading", &site, 0, S::kFail, 0,
+                         Format("%s: entered %d mm without probing the site", name.c_str(), entered), s.entry->tick));
+      }
+      const int diff = entered - s.truth_mm;
+      const S st = diff == 0 ? S::kPass : std::abs(diff) == 1 ? S::kPartial : S::kFail;
+      L.push_back(Line("charting", &site, 0, st, st == S::kPass ? 1 : st == S::kPartial ? 0.5 : 0,
+                       Format("%s: charted %d mm, the true depth is %d mm (%+d mm)", name.c_str(), entered, s.truth_mm,
+                              diff),
+                       s.entry->tick));
+      within1 += std::abs(diff) <= 1;
+      exact += diff == 0;
+      bias += diff;
+      if (IsInterdental(site.site)) {
+        ++proximal;
+        bias_prox += diff;
+      }
+    }
+  }
+  for (const auto& [line, idx] : damage_) L.push_back(line);
+
+  // Walking-stroke coverage per surface that the path asks for.
+  for (std::size_t i = 0; i < geometry_.teeth.size(); ++i) {
+    const LessonGeometry::Tooth& t = geometry_.teeth[i];
+    for (int side = 0; side < 2; ++side) {
+      const bool buccal = side == 0;
+      const bool asked = std::any_of(sites_.begin(), sites_.end(),
+                                     [&](const SiteResult& s) { return s.site.fdi == t.fdi && (s.site.site < 3) == buccal; });
+      if (!asked) continue;
+      const SurfaceTrack& st = surfaces_[i][static_cast<std::size_t>(side)];
+      SurfaceCoverage c;
+      c.fdi = t.fdi;
+      c.buccal = buccal;
+      const int n = static_cast<int>(st.bins.size());
+      int total = 0, swept = 0;
+      for (int k = 0; k < n; ++k) {
+        if (!InArc(SegmentDeg(k, n), buccal)) continue;
+        ++total;
+        swept += st.bins[static_cast<std::size_t>(k)];
+        c.bins.push_back(st.bins[static_cast<std::size_t>(k)]);
+      }
+      c.swept = total > 0 ? static_cast<double>(swept) / total : 0;
+      c.touch_share = st.in_ticks > 0 ? static_cast<double>(st.touch_ticks) / st.in_ticks : 0;
+      c.strokes = st.strokes;
+      c.stroke_mm = st.strokes > 0 ? st.swing_sum / st.strokes : 0;
+      c.first_tick = st.first;
+      c.last_tick = st.last;
+      const char* surface = buccal ? "buccal" : "lingual";
+      const bool ok = c.swept >= rb.coverage_min;
+      L.push_back(Line("coverage", nullptr, t.fdi, ok ? S::kPass : S::kFail, ok ? 1 : c.swept / rb.coverage_min,
+                       Format("%d %s: %.0f %% of the sulcus swept (at least %.0f %%), %d strokes of %.1f mm, the tip "
+                              "on the tooth %.0f %% of the time%s",
+                              t.fdi, surface, 100 * c.swept, 100 * rb.coverage_min, c.strokes, c.stroke_mm,
+                              100 * c.touch_share, ok ? "" : ": spot-probing misses pockets; walk the probe around"),
+                       st.any ? st.last : last_tick_));
+      out.coverage.push_back(std::move(c));
+    }
+  }
+
+  // Completeness.
+  std::string unread, uncharted;
+  for (const SiteResult& s : out.sites) {
+    if (!s.reached_mm) unread += (unread.empty() ? "" : ", ") + s.site.ToString();
+    if (!(s.entry && s.entry->pd_mm)) uncharted += (uncharted.empty() ? "" : ", ") + s.site.ToString();
+  }
+  const double total = std::max(1, out.sites_total);
+  L.push_back(Line("completeness", nullptr, 0, read == out.sites_total ? S::kPass : S::kFail, read / total,
+                   Format("%d of %d sites probed%s%s", read, out.sites_total, unread.empty() ? "" : "; not probed: ",
+                          unread.c_str()),
+                   last_tick_));
+  L.push_back(Line("completeness", nullptr, 0, charted == out.sites_total ? S::kPass : S::kFail, charted / total,
+                   Format("%d of %d sites charted%s%s", charted, out.sites_total,
+                          uncharted.empty() ? "" : "; not charted: ", uncharted.c_str()),
+                   last_tick_));
+
+  // The charts and the diagnosis.
+  out.true_chart = TrueChart(scene_.spec, spec_.teeth);
+  out.student_chart = out.true_chart;
+  for (ToothChart& t : out.student_chart.teeth)
+    for (SiteValues& v : t.sites) {
+      v.pd_mm.reset();
+      v.bleeding = false;
+    }
+  for (const SiteResult& s : out.sites) {
+    ToothChart* t = out.student_chart.Find(s.site.fdi);
+    if (!t || !s.entry) continue;
+    t->sites[s.site.site].pd_mm = s.entry->pd_mm;
+    t->sites[s.site.site].bleeding = s.entry->bleeding;
+  }
+  out.true_dx = Classify2017(out.true_chart);
+  out.chart_dx = Classify2017(out.student_chart);
+  out.declared = declared_;
+  const bool chart_agrees = out.chart_dx.Summary() == out.true_dx.Summary();
+  L.push_back(Line("diagnosis", nullptr, 0, S::kInfo, 0,
+                   "your chart gives " + out.chart_dx.Summary() + "; the true chart " + out.true_dx.Summary() +
+                       (chart_agrees ? "" : " (the difference comes from the measurements)"),
+                   last_tick_));
+  if (declared_) {
+    const std::uint64_t tick = declared_->tick == kAfterReading ? last_tick_ : declared_->tick;
+    double credit = 0;
+    const bool truth_perio = out.true_dx.kind == Diagnosis::Kind::kPeriodontitis;
+    if (truth_perio && declared_->periodontitis) {
+      credit = 0.5 * (declared_->stage == out.true_dx.stage) + 0.5 * (declared_->extent == out.true_dx.extent);
+    } else {
+      credit = truth_perio == declared_->periodontitis ? 1 : 0;
+    }
+    const bool matches_chart =
+        out.chart_dx.kind == Diagnosis::Kind::kPeriodontitis && declared_->periodontitis &&
+        declared_->stage == out.chart_dx.stage && declared_->extent == out.chart_dx.extent;
+    L.push_back(Line("diagnosis", nullptr, 0, credit >= 1 ? S::kPass : credit > 0 ? S::kPartial : S::kFail, credit,
+                     "declared " + declared_->Summary() + "; the true chart gives " + out.true_dx.Summary() +
+                         (credit < 1 && matches_chart ? " (your declaration follows your chart: check the readings)"
+                          : credit < 1 ? " (your chart gives " + out.chart_dx.Summary() + ": check the staging rules)"
+                                       : ""),
+                     tick));
+  } else {
+    L.push_back(Line("diagnosis", nullptr, 0, S::kFail, 0, "no diagnosis declared", last_tick_));
+  }
+
+  // Time and steps.
+  L.push_back(Line("time", nullptr, 0, S::kInfo, 0, Format("%.1f s in all", out.duration_s), last_tick_));
+  for (const StepResult& st : out.steps)
+    L.push_back(Line("time", nullptr, 0, S::kInfo, 0,
+                     Format("step '%s': %s in %.1f s", st.id.c_str(),
+                            st.completed ? "done" : st.timed_out ? "timed out" : "not finished",
+                            static_cast<double>((st.ended_tick ? st.ended_tick : last_tick_) - st.started_tick) /
+                                rate_hz_),
+                     st.ended_tick ? st.ended_tick : last_tick_));
+
+  // Scores.
+  const std::map<std::string, double> weights = {
+      {"technique", rb.technique}, {"reading", rb.reading},     {"charting", rb.charting},
+      {"force", rb.force},         {"angulation", rb.angulation}, {"coverage", rb.coverage},
+      {"bleeding", rb.bleeding},   {"completeness", rb.completeness}, {"diagnosis", rb.diagnosis},
+      {"damage", rb.force}};  // damage weighs as much as force
+  std::map<std::string, std::pair<double, int>> sums;
+  for (const RubricLine& l : L) {
+    if (l.status == S::kInfo) continue;
+    auto& [sum, n] = sums[l.category];
+    sum += l.credit;
+    ++n;
+  }
+  double wsum = 0, score = 0;
+  for (const auto& [cat, w] : weights) {
+    const auto it = sums.find(cat);
+    if (it == sums.end() || w <= 0) continue;
+    const double credit = it->second.first / it->second.second;
+    out.category_credit[cat] = credit;
+    out.category_weight[cat] = w;
+    wsum += w;
+    score += w * credit;
+  }
+  out.total = wsum > 0 ? 100 * score / wsum : 0;
+  out.sites_read = read;
+  out.sites_charted = charted;
+  out.within_1mm_pct = charted ? 100.0 * within1 / charted : 0;
+  out.exact_pct = charted ? 100.0 * exact / charted : 0;
+  out.bias_mm = charted ? bias / charted : 0;
+  out.bias_proximal_mm = proximal ? bias_prox / proximal : 0;
+  out.force_in_band_pct = read ? 100.0 * in_band / read : 0;
+  return out;
+}
+
+}  // namespace sulcus

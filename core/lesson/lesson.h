@@ -1,0 +1,202 @@
+#pragma once
+// The lesson as a deterministic state machine over the tick stream (a
+// TickConsumer) and the student's own inputs (chart entries, the declared
+// diagnosis), each stamped with its tick. No clock: time is the tick's, so the
+// same code runs live, offline and over a recording, and feeding the same
+// stream and inputs gives the same result, bit for bit.
+//
+// While it runs it follows the steps, says which site is next and where the
+// tip is ("in the sulcus of 46 DB"), and in practice mode gives the truth after
+// each site. Finish() scores the attempt: per site the depth the probe reached
+// against the truth (technique), the entry against what was reached (reading),
+// the entry against the truth (charting), force at the floor against the band,
+// angulation (mid-sites) or the col reached (interproximal sites), bleeding
+// recorded or missed; per surface the share of the sulcus swept by the walking
+// stroke; per lesson completeness, agreement within 1 mm, signed bias, time,
+// tissue damage and the diagnosis (2017 rules) of the true chart, the student's
+// chart and the student's declaration. Every line names the tick that caused it.
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/lesson/chart.h"
+#include "core/lesson/lesson_spec.h"
+#include "core/session/session.h"
+
+namespace sulcus {
+
+/// "Entered after the last reading at that site" (resolved by Finish()).
+inline constexpr std::uint64_t kAfterReading = ~std::uint64_t{0};
+
+/// What the student entered for one site, as a clinician calls it out.
+struct ChartEntry {
+  std::uint64_t tick = kAfterReading;
+  SiteRef site;
+  std::optional<int> pd_mm;  // empty: bleeding only
+  bool bleeding = false;
+};
+
+struct DeclaredDiagnosis {
+  std::uint64_t tick = kAfterReading;  // kAfterReading: at the end
+  bool periodontitis = true;
+  Stage stage = Stage::kNone;
+  Extent extent = Extent::kNone;
+  std::string Summary() const;
+};
+
+struct RubricLine {
+  enum class Status { kPass, kPartial, kFail, kInfo };
+  std::string category;  // technique, reading, charting, force, angulation, coverage, bleeding, completeness, damage, diagnosis, time
+  std::optional<SiteRef> site;
+  int fdi = 0;           // the tooth of a site or surface line (0: the lesson)
+  Status status = Status::kInfo;
+  double credit = 0;     // 0..1 (info lines do not count)
+  std::string message;
+  std::uint64_t tick = 0;  // the moment that caused the line
+};
+const char* ToString(RubricLine::Status s);
+
+struct SiteResult {
+  SiteRef site;
+  int truth_mm = 0;
+  double recession_mm = 0;      // clinical (margin to CEJ, + apical)
+  bool truth_bleeding = false;  // the scene's
+  int insertions = 0;
+  std::optional<double> reached_mm;  // the deepest reading
+  double peak_force_n = 0, angle_deg = 0;
+  bool col_reached = false, interproximal_contact = false;
+  std::uint64_t reading_tick = 0, entered_tick = 0, left_tick = 0;
+  std::optional<ChartEntry> entry;
+  bool bled = false;
+  double bleed_force_n = 0;
+  std::uint64_t bleed_tick = 0;
+};
+
+struct SurfaceCoverage {
+  int fdi = 0;
+  bool buccal = true;
+  double swept = 0;        // share of the surface's sulcus arc the tip swept (0..1)
+  double touch_share = 0;  // share of the in-sulcus ticks the tooth was touched
+  double stroke_mm = 0;    // mean up-and-down excursion of the walking stroke
+  int strokes = 0;
+  std::uint64_t first_tick = 0, last_tick = 0;
+  std::vector<bool> bins;  // the arc in 5-degree bins, swept or not (the report draws it)
+};
+
+struct StepResult {
+  std::string id, instruction;
+  bool completed = false, timed_out = false;
+  std::uint64_t started_tick = 0, ended_tick = 0;
+};
+
+struct LessonResult {
+  std::string lesson_name, lesson_file, scene_file, mode, student;
+  std::uint64_t case_seed = 0;
+  bool generated_case = false;
+  double rate_hz = 1000;
+  std::vector<SiteResult> sites;  // in path order
+  std::vector<SurfaceCoverage> coverage;
+  std::vector<StepResult> steps;
+  std::vector<RubricLine> lines;
+  std::map<std::string, double> category_credit;  // 0..1, categories that have lines
+  std::map<std::string, double> category_weight;
+  double total = 0;  // 0..100
+  int sites_total = 0, sites_read = 0, sites_charted = 0;
+  double within_1mm_pct = 0, exact_pct = 0, bias_mm = 0, bias_proximal_mm = 0;
+  double force_in_band_pct = 0;
+  std::uint64_t first_tick = 0, last_tick = 0;
+  double duration_s = 0;
+  PerioChart true_chart, student_chart;
+  Diagnosis true_dx, chart_dx;
+  std::optional<DeclaredDiagnosis> declared;
+  std::vector<std::pair<std::uint64_t, float>> force_trace;  // (tick, |F| N) every kTraceEvery ticks
+  std::vector<std::string> feedback;                         // what the student was told (practice)
+  static constexpr int kTraceEvery = 5;
+};
+
+/// What a lesson needs of the compiled scene, computed once: each tooth's
+/// frame and sulcus ring, and its engine index (for contacts).
+struct LessonGeometry {
+  struct Tooth {
+    int fdi = 0, object = -1;
+    RigidTransform X_WT;
+    bool mirrored = false;
+    std::vector<double> margin_z, floor_z, sulcus_r;  // per segment
+    std::array<double, 6> site_angle{};
+    bool mesial_contact = false, distal_contact = false;  // a neighbour in the scene
+  };
+  std::vector<Tooth> teeth;
+  const Tooth* Find(int fdi) const;
+};
+LessonGeometry MakeLessonGeometry(const CompiledScene& scene, const std::vector<int>& teeth);
+
+class LessonRun final : public TickConsumer {
+ public:
+  /// `scene` is the compiled scene the lesson runs on (with its case applied).
+  LessonRun(const LessonSpec& spec, const CompiledScene& scene, std::string student = "", std::uint64_t case_seed = 0);
+
+  // The stream.
+  void OnTick(const TickRecord& r) override;
+  void OnEnd() override { ended_ = true; }
+  // The student's inputs (kAfterReading ticks are resolved in Finish()).
+  void Enter(const ChartEntry& e);
+  void Declare(const DeclaredDiagnosis& d);
+
+  // Live state.
+  int current_step() const { return step_; }  // == steps().size() when all are done
+  const std::vector<StepResult>& steps() const { return step_results_; }
+  bool done() const { return step_ >= static_cast<int>(spec_.steps.size()) || timed_out_; }
+  /// The next site of the path that the current step asks for and is not yet read.
+  std::optional<SiteRef> next_site() const;
+  /// Where the tip is now: the site whose sulcus holds it, if any.
+  std::optional<SiteRef> tip_site() const { return tip_site_; }
+  const std::vector<std::string>& feedback() const { return feedback_; }
+  std::uint64_t last_tick() const { return last_tick_; }
+  const LessonSpec& spec() const { return spec_; }
+  const std::vector<ChartEntry>& entries() const { return entries_; }
+  const std::optional<DeclaredDiagnosis>& declared() const { return declared_; }
+
+  /// Scores the attempt (any time; usually after OnEnd).
+  LessonResult Finish() const;
+
+ private:
+  struct ToothTrack;
+  void Track(const TickRecord& r);
+  void Advance(std::uint64_t tick);
+  bool StepComplete(const StepSpec& s) const;
+  bool SiteInStep(const StepSpec& s, const SiteRef& site) const;
+  int SiteIndex(const SiteRef& s) const;
+
+  LessonSpec spec_;
+  const CompiledScene& scene_;
+  LessonGeometry geometry_;
+  std::string student_;
+  std::uint64_t case_seed_;
+  double rate_hz_;
+  std::vector<SiteResult> sites_;  // path order
+  std::vector<ChartEntry> entries_;
+  std::optional<DeclaredDiagnosis> declared_;
+  std::vector<StepResult> step_results_;
+  int step_ = 0;
+  bool timed_out_ = false, ended_ = false;
+  std::uint64_t first_tick_ = 0, last_tick_ = 0, ticks_ = 0;
+  std::optional<SiteRef> tip_site_;
+  std::vector<std::string> feedback_;
+  std::vector<std::pair<std::uint64_t, float>> force_trace_;
+  std::vector<std::uint8_t> in_contact_;  // per engine object
+  struct SurfaceTrack {
+    std::vector<bool> bins;
+    std::uint64_t in_ticks = 0, touch_ticks = 0, first = 0, last = 0;
+    double ext_depth = 0, turn_depth = 0, swing_sum = 0;
+    int strokes = 0, direction = 0;
+    bool any = false;
+  };
+  std::vector<std::array<SurfaceTrack, 2>> surfaces_;  // per geometry tooth: buccal, lingual
+  std::vector<std::pair<RubricLine, int>> damage_;     // tissue_damage events (line, site index or -1)
+};
+
+}  // namespace sulcus

@@ -1,0 +1,376 @@
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <random>
+#include <set>
+#include <sstream>
+
+#include "core/anatomy/gingiva.h"
+#include "core/anatomy/tooth.h"
+#include "core/lesson/lesson_spec.h"
+#include "core/scene/yaml_reader.h"
+
+namespace sulcus {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kHealthyMarginAboveCejMm = GingivaParams{}.margin_above_cej_mm;
+
+// "46 DB" -> {46, 2}; false when it is not a tooth and a site.
+bool ParseSite(const std::string& text, SiteRef* out) {
+  std::istringstream in(text);
+  int fdi = 0;
+  std::string code, rest;
+  if (!(in >> fdi >> code) || (in >> rest)) return false;
+  const int s = SiteFromCode(code);
+  if (s < 0) return false;
+  *out = {fdi, s};
+  return true;
+}
+
+std::vector<int> ReadTeeth(YamlReader& r, const YAML::Node& n, const std::string& key) {
+  std::vector<int> teeth;
+  if (!n.IsSequence()) {
+    r.Error(n, "'" + key + "' must be a list of FDI tooth numbers, e.g. [47, 46]");
+    return teeth;
+  }
+  for (const YAML::Node& t : n) teeth.push_back(r.Integer(t, key, 11, 48, 0));
+  return teeth;
+}
+
+void ReadRubric(YamlReader& r, const YAML::Node& n, RubricSpec* p) {
+  if (!r.IsMap(n, "'rubric'")) return;
+  r.CheckKeys(n, {"weights", "technique_full_mm", "technique_partial_mm", "force_band_n", "force_damage_n",
+                  "angle_full_deg", "angle_pass_deg", "col_reach_deg", "coverage_min"},
+              "'rubric'");
+  if (const YAML::Node w = n["weights"]; w && r.IsMap(w, "'weights'")) {
+    const std::vector<std::pair<std::string, double*>> weights = {
+        {"technique", &p->technique}, {"reading", &p->reading},       {"charting", &p->charting},
+        {"force", &p->force},         {"angulation", &p->angulation}, {"coverage", &p->coverage},
+        {"bleeding", &p->bleeding},   {"completeness", &p->completeness}, {"diagnosis", &p->diagnosis}};
+    std::vector<std::string> names;
+    for (const auto& [k, v] : weights) names.push_back(k);
+    r.CheckKeys(w, names, "'weights'");
+    for (const auto& [k, v] : weights)
+      if (w[k]) *v = r.Number(w[k], k, 0, 1000, *v, "points");
+  }
+  if (n["technique_full_mm"]) p->technique_full_mm = r.Number(n["technique_full_mm"], "technique_full_mm", 0, 5, 0.5, "mm");
+  if (n["technique_partial_mm"])
+    p->technique_partial_mm = r.Number(n["technique_partial_mm"], "technique_partial_mm", 0, 5, 1, "mm");
+  if (p->technique_partial_mm < p->technique_full_mm)
+    r.Error(n, "'technique_partial_mm' must be at least 'technique_full_mm'");
+  if (const YAML::Node b = n["force_band_n"]) {
+    double band[2] = {p->force_low_n, p->force_high_n};
+    if (r.Numbers(b, "force_band_n", 2, 0, 5, band, "N", "the lowest and highest force of full credit, N")) {
+      if (band[0] >= band[1]) r.Error(b, "'force_band_n' must be [low, high] with low < high");
+      p->force_low_n = band[0];
+      p->force_high_n = band[1];
+    }
+  }
+  if (n["force_damage_n"]) p->force_damage_n = r.Number(n["force_damage_n"], "force_damage_n", 0, 10, 0.5, "N");
+  if (p->force_damage_n < p->force_high_n) r.Error(n, "'force_damage_n' must be at least the band's high end");
+  if (n["angle_full_deg"]) p->angle_full_deg = r.Number(n["angle_full_deg"], "angle_full_deg", 0, 90, 5, "degrees");
+  if (n["angle_pass_deg"]) p->angle_pass_deg = r.Number(n["angle_pass_deg"], "angle_pass_deg", 0, 90, 10, "degrees");
+  if (n["col_reach_deg"]) p->col_reach_deg = r.Number(n["col_reach_deg"], "col_reach_deg", 1, 90, 20, "degrees");
+  if (n["coverage_min"]) p->coverage_min = r.Number(n["coverage_min"], "coverage_min", 0, 1, 0.8, "share");
+}
+
+void ReadStep(YamlReader& r, const YAML::Node& n, std::size_t index, LessonSpec* spec) {
+  StepSpec s;
+  s.line = n.Mark().line + 1;
+  if (!r.IsMap(n, "a step")) return;
+  r.CheckKeys(n, {"id", "instruction", "complete", "teeth", "surface", "time_limit_s"}, "a step");
+  s.id = n["id"] ? r.Text(n["id"], "id") : "step " + std::to_string(index + 1);
+  if (n["instruction"]) {
+    s.instruction = r.Text(n["instruction"], "instruction");
+  } else {
+    r.Error(n, "a step needs an 'instruction' (what the student is asked to do, one or two sentences)");
+  }
+  const std::vector<std::string> kinds = {"read", "charted", "diagnosis"};
+  if (n["complete"]) {
+    const std::string c = r.Text(n["complete"], "complete");
+    if (c == "read") s.complete = StepSpec::Complete::kRead;
+    else if (c == "charted") s.complete = StepSpec::Complete::kCharted;
+    else if (c == "diagnosis") s.complete = StepSpec::Complete::kDiagnosis;
+    else r.Error(n["complete"], "unknown completion '" + c + "'" + Suggest(c, kinds));
+  } else {
+    r.Error(n, "a step needs 'complete': read (its sites probed), charted (entered) or diagnosis (declared)");
+  }
+  if (n["teeth"]) s.teeth = ReadTeeth(r, n["teeth"], "teeth");
+  if (n["surface"]) {
+    const std::string v = r.Text(n["surface"], "surface");
+    const std::vector<std::string> surfaces = {"all", "buccal", "lingual"};
+    if (v == "all") s.surface = StepSpec::Surface::kAll;
+    else if (v == "buccal") s.surface = StepSpec::Surface::kBuccal;
+    else if (v == "lingual" || v == "palatal") s.surface = StepSpec::Surface::kLingual;
+    else r.Error(n["surface"], "unknown surface '" + v + "'" + Suggest(v, surfaces));
+  }
+  if (n["time_limit_s"]) s.time_limit_s = r.Number(n["time_limit_s"], "time_limit_s", 1, 36000, 0, "s");
+  spec->steps.push_back(std::move(s));
+}
+
+int PathRank(int fdi) {
+  // Position along the usual charting path (the buccal pass; the lingual pass reverses it).
+  const int q = fdi / 10, p = fdi % 10;
+  switch (q) {
+    case 1: return 100 - p;  // 18 .. 11
+    case 2: return 100 + p;  // 21 .. 28
+    case 4: return 300 - p;  // 48 .. 41
+    case 3: return 300 + p;  // 31 .. 38
+  }
+  return 1000;
+}
+
+}  // namespace
+
+std::string SiteRef::ToString() const { return std::to_string(fdi) + " " + SiteCode(site); }
+
+const char* ToString(StepSpec::Complete c) {
+  switch (c) {
+    case StepSpec::Complete::kRead: return "read";
+    case StepSpec::Complete::kCharted: return "charted";
+    case StepSpec::Complete::kDiagnosis: return "diagnosis";
+  }
+  return "?";
+}
+
+const char* ToString(LessonSpec::Mode m) { return m == LessonSpec::Mode::kPractice ? "practice" : "assessment"; }
+
+std::vector<SiteRef> StandardPath(std::vector<int> teeth) {
+  std::sort(teeth.begin(), teeth.end(), [](int a, int b) { return PathRank(a) < PathRank(b); });
+  std::vector<SiteRef> path;
+  for (int jaw = 0; jaw < 2; ++jaw) {
+    std::vector<int> arch;
+    for (int t : teeth)
+      if ((t / 10 <= 2) == (jaw == 0)) arch.push_back(t);
+    // Buccal pass from the patient's right to left: on each tooth, the site met
+    // first is the one toward the right (distal in quadrants 1 and 4).
+    for (int t : arch) {
+      const bool right = t / 10 == 1 || t / 10 == 4;
+      for (int s : right ? std::array{2, 1, 0} : std::array{0, 1, 2}) path.push_back({t, s});
+    }
+    for (auto it = arch.rbegin(); it != arch.rend(); ++it) {
+      const bool right = *it / 10 == 1 || *it / 10 == 4;
+      for (int s : right ? std::array{3, 4, 5} : std::array{5, 4, 3}) path.push_back({*it, s});
+    }
+  }
+  return path;
+}
+
+PerioChart TrueChart(const SceneSpec& scene, const std::vector<int>& teeth) {
+  PerioChart chart;
+  for (int fdi : teeth) {
+    for (const ObjectSpec& o : scene.objects) {
+      if (o.kind != ObjectSpec::Kind::kTooth || o.fdi != fdi) continue;
+      ToothChart t;
+      t.fdi = fdi;
+      for (int s = 0; s < kSitesPerTooth; ++s) {
+        // Truth is whole mm as a chart holds it (scenes give pockets in mm).
+        t.sites[s].pd_mm = static_cast<int>(std::lround(o.pocket_mm[s]));
+        t.sites[s].recession_mm = o.recession_mm[s] - kHealthyMarginAboveCejMm;
+        t.sites[s].bleeding = o.bleeding[s];
+      }
+      chart.teeth.push_back(t);
+    }
+  }
+  return chart;
+}
+
+SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth, const CaseSpec& c, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  auto uniform = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  // The deepest attachment loss the stage asks for (whole mm of CAL at the worst site).
+  const int cal_lo = c.stage == Stage::kI ? 1 : c.stage == Stage::kII ? 3 : 5;
+  const int cal_hi = c.stage == Stage::kI ? 2 : c.stage == Stage::kII ? 4 : 7;
+  for (int attempt = 0; attempt < 5000; ++attempt) {
+    SceneSpec s = scene;
+    // Which teeth are diseased: one or two for localized, most for generalized.
+    std::vector<int> order = teeth;
+    std::shuffle(order.begin(), order.end(), rng);
+    const int n = static_cast<int>(teeth.size());
+    const int diseased = c.extent == Extent::kLocalized ? 1 : std::max(1, uniform((n + 1) / 2, n));
+    for (ObjectSpec& o : s.objects) {
+      if (o.kind != ObjectSpec::Kind::kTooth && o.kind != ObjectSpec::Kind::kGingiva) continue;
+      if (std::find(teeth.begin(), teeth.end(), o.fdi) == teeth.end()) continue;
+      if (o.kind == ObjectSpec::Kind::kGingiva) continue;  // refreshed from the tooth below
+      const bool sick = std::find(order.begin(), order.begin() + diseased, o.fdi) != order.begin() + diseased;
+      o.has_sites = true;
+      const double max_loss = MaxAttachmentLoss(Dimensions(FdiTooth::Parse(o.fdi)));
+      for (int site = 0; site < 6; ++site) {
+        double pd, rec;
+        if (sick) {
+          const int cal = IsInterdental(site) ? uniform(cal_lo, cal_hi) : uniform(1, std::min(cal_lo, 3));
+          rec = uniform(0, 2);  // the scene's recession: 0 keeps the margin 1.5 mm above the CEJ
+          // Charted CAL = pd + rec - 1.5 with the half rounding down = pd + rec - 2.
+          pd = std::max(1, cal - static_cast<int>(rec) + 2);
+        } else {
+          pd = uniform(1, 3);
+          rec = 0;
+        }
+        pd = std::min(pd, std::floor(max_loss - rec));
+        o.pocket_mm[site] = pd;
+        o.recession_mm[site] = rec;
+        o.bleeding[site] = sick ? uniform(0, 2) > 0 : uniform(0, 9) == 0;
+      }
+    }
+    for (ObjectSpec& g : s.objects) {
+      if (g.kind != ObjectSpec::Kind::kGingiva) continue;
+      for (const ObjectSpec& t : s.objects)
+        if (t.kind == ObjectSpec::Kind::kTooth && t.fdi == g.fdi) {
+          g.pocket_mm = t.pocket_mm;
+          g.recession_mm = t.recession_mm;
+          g.bleeding = t.bleeding;
+          g.has_sites = true;
+        }
+    }
+    const Diagnosis d = Classify2017(TrueChart(s, teeth));
+    if (d.kind == Diagnosis::Kind::kPeriodontitis && d.stage == c.stage && d.extent == c.extent) return s;
+  }
+  throw std::runtime_error(std::string("no case of stage ") + ToString(c.stage) + ", " + ToString(c.extent) +
+                           " can be drawn on these teeth (try another extent or more teeth)");
+}
+
+LessonSpec LoadLessonSpec(const fs::path& file) {
+  YamlReader r(file);
+  LessonSpec spec;
+  spec.file = file;
+  std::ifstream in(file);
+  if (!in) {
+    r.errors().push_back({file.string(), 0, 0, fs::exists(file) ? "cannot be read" : "no such lesson file"});
+    throw SceneLoadError(r.errors());
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  YAML::Node root;
+  try {
+    root = YAML::Load(text.str());
+  } catch (const YAML::ParserException& e) {
+    r.Error(e.mark, "YAML syntax: " + e.msg);
+    throw SceneLoadError(r.errors());
+  }
+  if (!root.IsMap()) {
+    r.Error(root, "a lesson is a map with at least 'scene:' and 'steps:'");
+    throw SceneLoadError(r.errors());
+  }
+  r.CheckKeys(root, {"name", "description", "scene", "mode", "probe", "teeth", "path", "steps", "rubric",
+                     "time_limit_s", "case"},
+              "the lesson");
+  if (root["name"]) spec.name = r.Text(root["name"], "name");
+  if (root["description"]) spec.description = r.Text(root["description"], "description");
+  if (root["mode"]) {
+    const std::string m = r.Text(root["mode"], "mode");
+    if (m == "practice") spec.mode = LessonSpec::Mode::kPractice;
+    else if (m == "assessment") spec.mode = LessonSpec::Mode::kAssessment;
+    else r.Error(root["mode"], "unknown mode '" + m + "'" + Suggest(m, {"practice", "assessment"}));
+  }
+  if (root["time_limit_s"]) spec.time_limit_s = r.Number(root["time_limit_s"], "time_limit_s", 1, 36000, 0, "s");
+  if (root["rubric"]) ReadRubric(r, root["rubric"], &spec.rubric);
+  if (const YAML::Node c = root["case"]; c && r.IsMap(c, "'case'")) {
+    r.CheckKeys(c, {"stage", "extent", "seed"}, "'case'");
+    spec.case_spec.generated = true;
+    if (c["stage"]) {
+      const std::string st = r.Text(c["stage"], "stage");
+      const auto stage = StageFromString(st);
+      if (!stage || *stage == Stage::kNone || *stage == Stage::kIV)
+        r.Error(c["stage"], "'stage' must be I, II or III (stage IV needs patient facts a scene does not give yet)");
+      else spec.case_spec.stage = *stage;
+    }
+    if (c["extent"]) {
+      const std::string ex = r.Text(c["extent"], "extent");
+      const auto extent = ExtentFromString(ex);
+      if (!extent || *extent == Extent::kNone)
+        r.Error(c["extent"], "'extent' must be localized or generalized" + Suggest(ex, {"localized", "generalized"}));
+      else spec.case_spec.extent = *extent;
+    }
+    if (const YAML::Node seed = c["seed"]) {
+      if (seed.IsScalar() && seed.Scalar() == "random") {
+        spec.case_spec.random_seed = true;
+      } else {
+        spec.case_spec.seed = static_cast<std::uint64_t>(r.Number(seed, "seed", 0, 9.0e15, 1));
+      }
+    } else {
+      spec.case_spec.random_seed = true;
+    }
+  }
+  const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  SceneSpec scene;
+  bool scene_ok = false;
+  if (!root["scene"]) {
+    r.Error(root, "a lesson needs 'scene:', the scene file it runs on (relative to the lesson's folder)");
+  } else {
+    spec.scene = (folder / r.Text(root["scene"], "scene")).lexically_normal();
+    try {
+      scene = LoadSceneSpec(spec.scene);
+      scene_ok = true;
+    } catch (const SceneLoadError& e) {
+      r.Error(root["scene"], "the scene " + spec.scene.string() + " does not load:");
+      for (const SceneError& se : e.errors()) r.errors().push_back(se);
+    }
+  }
+  std::vector<int> scene_teeth;
+  if (scene_ok) {
+    for (const ObjectSpec& o : scene.objects)
+      if (o.kind == ObjectSpec::Kind::kTooth) scene_teeth.push_back(o.fdi);
+    if (!scene.gingiva || !scene.HasEffect(Effect::kProbingDepth))
+      r.Error(root["scene"], "a probing lesson needs a scene with 'gingiva: true' and the probing_depth effect");
+  }
+  auto in_scene = [&](int fdi) { return std::find(scene_teeth.begin(), scene_teeth.end(), fdi) != scene_teeth.end(); };
+  if (root["probe"]) {
+    spec.probe = r.Text(root["probe"], "probe");
+    if (scene_ok && spec.probe != scene.probe)
+      r.Error(root["probe"], "the lesson expects the probe '" + spec.probe + "' but its scene holds '" + scene.probe + "'");
+  } else if (scene_ok) {
+    spec.probe = scene.probe;
+  }
+  if (root["teeth"]) {
+    spec.teeth = ReadTeeth(r, root["teeth"], "teeth");
+    for (std::size_t i = 0; i < spec.teeth.size(); ++i)
+      if (scene_ok && !in_scene(spec.teeth[i]))
+        r.Error(root["teeth"][i], "tooth " + std::to_string(spec.teeth[i]) + " is not in the scene " +
+                                      spec.scene.filename().string());
+  } else {
+    spec.teeth = scene_teeth;
+  }
+  if (const YAML::Node p = root["path"]) {
+    if (p.IsScalar() && p.Scalar() == "standard") {
+      spec.path = StandardPath(spec.teeth);
+    } else if (!p.IsSequence()) {
+      r.Error(p, "'path' must be 'standard' or a list of sites such as \"46 DB\"");
+    } else {
+      std::set<std::pair<int, int>> seen;
+      for (const YAML::Node& item : p) {
+        SiteRef s;
+        if (!item.IsScalar() || !ParseSite(item.Scalar(), &s)) {
+          r.Error(item, "a path entry is a tooth and a site, such as \"46 DB\" (sites MB, B, DB, ML, L, DL)");
+        } else if (std::find(spec.teeth.begin(), spec.teeth.end(), s.fdi) == spec.teeth.end()) {
+          r.Error(item, "tooth " + std::to_string(s.fdi) + " of the path is not one of the lesson's teeth");
+        } else if (!seen.insert({s.fdi, s.site}).second) {
+          r.Error(item, "site " + s.ToString() + " is twice in the path");
+        } else {
+          spec.path.push_back(s);
+        }
+      }
+    }
+  } else {
+    spec.path = StandardPath(spec.teeth);
+  }
+  if (const YAML::Node steps = root["steps"]) {
+    if (!steps.IsSequence() || steps.size() == 0) {
+      r.Error(steps, "'steps' must be a list of at least one step");
+    } else {
+      for (std::size_t i = 0; i < steps.size(); ++i) ReadStep(r, steps[i], i, &spec);
+      for (std::size_t i = 0; i < spec.steps.size(); ++i)
+        for (int t : spec.steps[i].teeth)
+          if (std::find(spec.teeth.begin(), spec.teeth.end(), t) == spec.teeth.end())
+            r.Error(spec.steps[i].line, 1, "step '" + spec.steps[i].id + "': tooth " + std::to_string(t) +
+                                                " is not one of the lesson's teeth");
+    }
+  } else {
+    r.Error(root, "a lesson needs 'steps:', a list of what the student does in order");
+  }
+  if (!r.errors().empty()) throw SceneLoadError(r.errors());
+  return spec;
+}
+
+}  // namespace sulcus

@@ -1,0 +1,93 @@
+#pragma once
+// Lesson files (lessons/*.yaml, every key in lessons/README.md): what the
+// student is asked to do on which scene, in which order, and how it is scored.
+// Loaded like a scene: every error at once as `file:line:column: message`.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/lesson/chart.h"
+#include "core/scene/scene.h"
+
+namespace sulcus {
+
+struct SiteRef {
+  int fdi = 0;
+  int site = 0;  // 0..5: MB, B, DB, ML, L, DL
+  bool operator==(const SiteRef&) const = default;
+  std::string ToString() const;  // "46 DB"
+};
+
+/// The rubric: weights (points out of their sum) and the clinical tolerances,
+/// defaults from the probing literature (lessons/README.md has the sources).
+struct RubricSpec {
+  // Weights of the categories.
+  double technique = 20, reading = 15, charting = 15, force = 15, angulation = 10, coverage = 10, bleeding = 5,
+         completeness = 10, diagnosis = 10;
+  // Tolerances.
+  double technique_full_mm = 0.5, technique_partial_mm = 1.0;  // |reached - truth|
+  double force_low_n = 0.15, force_high_n = 0.30, force_damage_n = 0.50;
+  double angle_full_deg = 5, angle_pass_deg = 10;  // facial and oral mid-sites
+  double col_reach_deg = 20;                       // interproximal: the tip within this of the contact's direction
+  double coverage_min = 0.80;                      // share of a surface's sulcus arc swept
+};
+
+struct StepSpec {
+  enum class Complete { kRead, kCharted, kDiagnosis };
+  std::string id;
+  std::string instruction;
+  Complete complete = Complete::kRead;
+  std::vector<int> teeth;  // empty: all the lesson's teeth
+  enum class Surface { kAll, kBuccal, kLingual } surface = Surface::kAll;
+  double time_limit_s = 0;  // 0: none
+  int line = 0;
+};
+const char* ToString(StepSpec::Complete c);
+
+/// A generated case: the scene's pockets, recession and bleeding drawn so that
+/// the true chart has this diagnosis under the 2017 rules.
+struct CaseSpec {
+  bool generated = false;
+  Stage stage = Stage::kIII;
+  Extent extent = Extent::kLocalized;
+  bool random_seed = false;  // `seed: random`: drawn at the start of each attempt, then stored with it
+  std::uint64_t seed = 1;
+};
+
+struct LessonSpec {
+  std::filesystem::path file;
+  std::string name, description;
+  std::filesystem::path scene;  // resolved against the lesson's folder
+  enum class Mode { kPractice, kAssessment } mode = Mode::kPractice;
+  std::string probe;            // the probe the lesson expects (the scene's, checked)
+  std::vector<int> teeth;       // in the scene; default: every tooth with sites
+  std::vector<SiteRef> path;    // default: the standard charting path over `teeth`
+  std::vector<StepSpec> steps;
+  RubricSpec rubric;
+  double time_limit_s = 0;      // 0: none
+  CaseSpec case_spec;
+  bool practice() const { return mode == Mode::kPractice; }
+};
+const char* ToString(LessonSpec::Mode m);
+
+/// Reads and checks a lesson file and the scene it names (the teeth must be in
+/// it with sites, the probe must be the scene's). Throws SceneLoadError with every
+/// error found, each `file:line:column: message`.
+LessonSpec LoadLessonSpec(const std::filesystem::path& file);
+
+/// The usual charting path (Open Dental's): upper buccal 18 -> 28, upper palatal
+/// 28 -> 18, lower buccal 48 -> 38, lower lingual 38 -> 48, over the given teeth.
+std::vector<SiteRef> StandardPath(std::vector<int> teeth);
+
+/// The scene with a generated case applied: pockets, recession and bleeding of
+/// the lesson's teeth drawn from `seed` until the true chart classifies as asked
+/// (at most a few thousand draws; throws std::runtime_error when none fits).
+SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth, const CaseSpec& c, std::uint64_t seed);
+
+/// The scene's true chart over `teeth` (clinical recession: the scene's
+/// recession minus the healthy margin's 1.5 mm above the CEJ).
+PerioChart TrueChart(const SceneSpec& scene, const std::vector<int>& teeth);
+
+}  // namespace sulcus
