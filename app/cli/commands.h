@@ -26,6 +26,9 @@ void AddSceneCommands(CLI::App& app);
 /// `run`, `devices`, `recording export|info`.
 void AddRunCommands(CLI::App& app);
 
+/// `lesson validate|run|report`, `results list|show|export`.
+void AddLessonCommands(CLI::App& app);
+
 /// Exit status of the subcommand that ran (set by its callback).
 int& ExitStatus();
 

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   sulcus::cli::AddAnatomyCommands(app);
   sulcus::cli::AddSceneCommands(app);
   sulcus::cli::AddRunCommands(app);
+  sulcus::cli::AddLessonCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -99,7 +99,9 @@ class ProbingDepth final : public LoopEffect {
     }
     if (site_ < 0) return;
     const ProbingSite& s = m_.sites[site_];
-    const double f = force_W->norm();
+    // The probing force: the push back along the probe's axis (the floor's
+    // answer), not the gingiva's sideways push on the shank.
+    const double f = std::max(0.0, force_W->dot(data.X_WG.rotation().col(2)));
     // The dwell at the deepest point: a new deepest more than kDwellMm below
     // the last starts the dwell again; within it, the peak force counts.
     if (depth > deepest_) {

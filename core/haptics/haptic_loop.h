@@ -43,7 +43,7 @@ struct ReadingPayload {
   std::int32_t fdi = 0;           // the tooth
   std::int32_t site = 0;          // 0..5: MB, B, DB, ML, L, DL
   double depth_mm = 0;            // deepest tip depth below the margin
-  double peak_force_n = 0;        // the largest force while the tip dwelt at its deepest (within 0.2 mm)
+  double peak_force_n = 0;        // the largest force along the probe's axis while the tip dwelt at its deepest (within 0.2 mm)
   double axis_angle_deg = 0;      // the tool axis against the tooth's long axis at the deepest moment
   std::uint64_t deepest_tick = 0; // when the tip was deepest
   std::uint64_t entered_tick = 0; // when the tip entered the site

@@ -176,7 +176,7 @@ void LessonRun::Advance(std::uint64_t tick) {
     StepResult& res = step_results_[step_];
     if (StepComplete(st)) {
       res.completed = true;
-      res.ended_tick = tick;
+      res.ended_tick = std::max(tick, res.started_tick);  // entries may carry earlier ticks
       ++step_;
       if (step_ < static_cast<int>(spec_.steps.size())) step_results_[step_].started_tick = tick;
       continue;
@@ -207,6 +207,12 @@ std::optional<SiteRef> LessonRun::next_site() const {
 void LessonRun::Track(const TickRecord& r) {
   const Vector3 p_W = r.X_WG.translation();
   tip_site_.reset();
+  // Under a contact the two neighbours' sulci meet (the col): the tip may be in
+  // both. Each tooth whose sulcus holds it has the arc and the col marked; the
+  // stroke and the "you are in" site go to the tooth it is closest to.
+  double best_radial = 1e9;
+  int best = -1;
+  double best_depth = 0, best_phi = 0;
   for (std::size_t i = 0; i < geometry_.teeth.size(); ++i) {
     const LessonGeometry::Tooth& t = geometry_.teeth[i];
     const Vector3 p = ArchMirror(t.mirrored, t.X_WT.inverse() * p_W);
@@ -219,50 +225,59 @@ void LessonRun::Track(const TickRecord& r) {
     const double pocket = t.margin_z[k] - t.floor_z[k];
     const double radial = std::abs(std::hypot(p.x(), p.y()) - t.sulcus_r[k]);
     if (radial > 0.9 || depth < 0.3 || depth > pocket + 0.6) continue;
-    // In this tooth's sulcus: the nearest site names where the tip is.
-    int nearest = 0;
-    for (int s = 1; s < 6; ++s)
-      if (AngleDistance(phi, t.site_angle[s]) < AngleDistance(phi, t.site_angle[nearest])) nearest = s;
-    tip_site_ = SiteRef{t.fdi, nearest};
     const bool buccal = p.y() >= 0;
-    SurfaceTrack& st = surfaces_[i][buccal ? 0 : 1];
-    if (!st.any) {
-      st.any = true;
-      st.first = r.tick;
-      st.ext_depth = st.turn_depth = depth;
-    }
-    st.last = r.tick;
-    ++st.in_ticks;
-    if (t.object >= 0 && in_contact_[static_cast<std::size_t>(t.object)]) ++st.touch_ticks;
-    if (depth >= 0.5) st.bins[static_cast<std::size_t>(k)] = true;
-    // Up-and-down strokes: turns of the depth with a little hysteresis.
-    const double h = kStrokeHysteresisMm;
-    if (st.direction == 0) {
-      if (depth > st.ext_depth + h) st.direction = 1;
-      else if (depth < st.ext_depth - h) st.direction = -1;
-      if (st.direction != 0) st.ext_depth = depth;
-    } else if ((st.direction > 0 && depth > st.ext_depth) || (st.direction < 0 && depth < st.ext_depth)) {
-      st.ext_depth = depth;
-    } else if (std::abs(depth - st.ext_depth) > h) {
-      st.swing_sum += std::abs(st.ext_depth - st.turn_depth);
-      ++st.strokes;
-      st.turn_depth = st.ext_depth;
-      st.ext_depth = depth;
-      st.direction = -st.direction;
-    }
+    if (depth >= 0.5) surfaces_[i][buccal ? 0 : 1].bins[static_cast<std::size_t>(k)] = true;
     // Interproximal sites: did the tip reach the col under the contact?
     if (depth >= 1.0) {
       for (int s : {0, 2, 3, 5}) {
         const bool site_buccal = s < 3;
         const double contact = IsMesial(s) ? 0.0 : kPi;
-        const double d = AngleDistance(phi, contact);
-        if (d * kDeg > spec_.rubric.col_reach_deg) continue;
-        if (site_buccal != buccal && d * kDeg > 3.0) continue;
+        // How far from the contact's line the tip is, along the sulcus.
+        const double d = AngleDistance(phi, contact) * std::hypot(p.x(), p.y());
+        if (d > spec_.rubric.col_reach_mm) continue;
+        if (site_buccal != buccal && d > 0.3) continue;
         const int idx = SiteIndex({t.fdi, s});
         if (idx >= 0) sites_[static_cast<std::size_t>(idx)].col_reached = true;
       }
     }
-    break;
+    if (radial < best_radial) {
+      best_radial = radial;
+      best = static_cast<int>(i);
+      best_depth = depth;
+      best_phi = phi;
+    }
+  }
+  if (best < 0) return;
+  const LessonGeometry::Tooth& t = geometry_.teeth[static_cast<std::size_t>(best)];
+  int nearest = 0;
+  for (int s = 1; s < 6; ++s)
+    if (AngleDistance(best_phi, t.site_angle[s]) < AngleDistance(best_phi, t.site_angle[nearest])) nearest = s;
+  tip_site_ = SiteRef{t.fdi, nearest};
+  const bool buccal = std::sin(best_phi) >= 0;
+  SurfaceTrack& st = surfaces_[static_cast<std::size_t>(best)][buccal ? 0 : 1];
+  const double depth = best_depth;
+  if (!st.any) {
+    st.any = true;
+    st.first = r.tick;
+    st.ext_depth = st.turn_depth = depth;
+  }
+  st.last = r.tick;
+  ++st.in_ticks;
+  if (t.object >= 0 && in_contact_[static_cast<std::size_t>(t.object)]) ++st.touch_ticks;
+  // Up-and-down strokes: turns of the depth with a little hysteresis.
+  const double h = kStrokeHysteresisMm;
+  if (st.direction == 0) {
+    if (depth > st.ext_depth + h) st.direction = 1;
+    else if (depth < st.ext_depth - h) st.direction = -1;
+    if (st.direction != 0) st.ext_depth = depth;
+  } else if ((st.direction > 0 && depth > st.ext_depth) || (st.direction < 0 && depth < st.ext_depth)) {
+    st.ext_depth = depth;
+  } else if (std::abs(depth - st.ext_depth) > h) {
+    st.swing_sum += std::abs(st.ext_depth - st.turn_depth);
+    ++st.strokes;
+    st.turn_depth = st.ext_depth;
+    st.ext_depth = depth;
+    st.direction = -st.direction;
   }
 }
 

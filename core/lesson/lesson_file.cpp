@@ -42,7 +42,7 @@ std::vector<int> ReadTeeth(YamlReader& r, const YAML::Node& n, const std::string
 void ReadRubric(YamlReader& r, const YAML::Node& n, RubricSpec* p) {
   if (!r.IsMap(n, "'rubric'")) return;
   r.CheckKeys(n, {"weights", "technique_full_mm", "technique_partial_mm", "force_band_n", "force_damage_n",
-                  "angle_full_deg", "angle_pass_deg", "col_reach_deg", "coverage_min"},
+                  "angle_full_deg", "angle_pass_deg", "col_reach_mm", "coverage_min"},
               "'rubric'");
   if (const YAML::Node w = n["weights"]; w && r.IsMap(w, "'weights'")) {
     const std::vector<std::pair<std::string, double*>> weights = {
@@ -72,7 +72,7 @@ void ReadRubric(YamlReader& r, const YAML::Node& n, RubricSpec* p) {
   if (p->force_damage_n < p->force_high_n) r.Error(n, "'force_damage_n' must be at least the band's high end");
   if (n["angle_full_deg"]) p->angle_full_deg = r.Number(n["angle_full_deg"], "angle_full_deg", 0, 90, 5, "degrees");
   if (n["angle_pass_deg"]) p->angle_pass_deg = r.Number(n["angle_pass_deg"], "angle_pass_deg", 0, 90, 10, "degrees");
-  if (n["col_reach_deg"]) p->col_reach_deg = r.Number(n["col_reach_deg"], "col_reach_deg", 1, 90, 20, "degrees");
+  if (n["col_reach_mm"]) p->col_reach_mm = r.Number(n["col_reach_mm"], "col_reach_mm", 0.1, 10, 2.5, "mm");
   if (n["coverage_min"]) p->coverage_min = r.Number(n["coverage_min"], "coverage_min", 0, 1, 0.8, "share");
 }
 

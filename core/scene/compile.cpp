@@ -110,12 +110,38 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
   for (const ObjectSpec& o : objs) m.damage_limit_n.push_back(o.material.damage_limit_n);
   m.soft_first = soft_first;
   const bool sites = spec.gingiva && (m.on.probing_depth || m.on.bleeding_on_probing);
+  // Every collar's model, once: a collar's leaves that reach into a neighbour's
+  // sulcus are left out of the compliance (the collars are rings that overlap
+  // between teeth; the sulcus belongs to its own tooth, so a probe walking
+  // around a tooth meets that tooth's floor, not the neighbour's).
+  std::vector<std::optional<GingivaModel>> models(objs.size());
+  for (int i = 0; i < static_cast<int>(objs.size()); ++i)
+    if (objs[i].kind == ObjectSpec::Kind::kGingiva && (sites || i >= soft_first))
+      models[i] = GenerateGingiva(GenerateTooth(objs[i].fdi), GingivaOf(objs[i]));
+  auto in_sulcus = [&](int j, const Vector3& c_W, double r) {
+    const GingivaModel& g = *models[j];
+    const Vector3 c = ArchMirror(objs[j].mirrored, objs[j].X_WO.inverse() * c_W);
+    const int n = static_cast<int>(g.sulcus_r.size());
+    double th = std::atan2(c.y(), c.x());
+    if (th < 0) th += 2 * std::numbers::pi;
+    const int k = static_cast<int>(std::lround(th / (2 * std::numbers::pi) * n)) % n;
+    const double r_in = g.sulcus_r[k] + 0.5 * GingivaParams{}.gap_mm;
+    return std::hypot(c.x(), c.y()) - r < r_in && c.z() - r < g.margin_z[k] && c.z() + r > g.floor_z[k];
+  };
+  // In a neighbour's sulcus and not in its own (where the two sulci meet, at
+  // the col, both floors stay).
+  auto in_other_sulcus = [&](int self, const Vector3& c_W, double r) {
+    if (in_sulcus(self, c_W, r)) return false;
+    for (int j = 0; j < static_cast<int>(objs.size()); ++j)
+      if (j != self && models[j] && in_sulcus(j, c_W, r)) return true;
+    return false;
+  };
   for (int i = 0; i < static_cast<int>(objs.size()); ++i) {
     const ObjectSpec& o = objs[i];
     if (o.kind != ObjectSpec::Kind::kGingiva) continue;
     const bool soft = i >= soft_first;
     if (!sites && !soft) continue;
-    const GingivaModel g = GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o));
+    const GingivaModel& g = *models[i];
     int tooth = -1;
     for (int t = 0; t < static_cast<int>(objs.size()); ++t)
       if (objs[t].kind == ObjectSpec::Kind::kTooth && objs[t].fdi == o.fdi) tooth = t;
@@ -139,7 +165,8 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
       std::vector<float> k(t.size(), static_cast<float>(kGingivaWallStiffness));
       for (std::size_t n = 0; n < t.size(); ++n) {
         const Vector3 c = ArchMirror(o.mirrored, t.center(n));
-        if (c.z() + 0.5 * t.r[n] <= g.FloorAt(std::atan2(c.y(), c.x())) + 0.25) k[n] = static_cast<float>(kPocketFloorStiffness);
+        if (c.z() + t.r[n] <= g.FloorAt(std::atan2(c.y(), c.x())) + 0.25) k[n] = static_cast<float>(kPocketFloorStiffness);
+        if (in_other_sulcus(i, o.X_WO * t.center(n), t.r[n])) k[n] = 0;
       }
       m.soft_leaf_stiffness.push_back(std::move(k));
     }

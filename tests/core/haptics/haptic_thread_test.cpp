@@ -237,7 +237,7 @@ TEST(Recording, BadFilesGiveClearErrorsAndTruncationKeepsFrames) {
     ReadRecording(v2);
     FAIL();
   } catch (const RecordingError& e) {
-    EXPECT_EQ(std::string(e.what()), v2.string() + ": byte 12: recording format version 2, this build reads version 1");
+    EXPECT_EQ(std::string(e.what()), v2.string() + ": byte 12: recording format version 3, this build reads version 2");
   }
   EXPECT_THROW(ReadRecording(Out("missing.rec")), RecordingError);
 

@@ -1,0 +1,79 @@
+#include "core/lesson/attempt.h"
+
+#include <chrono>
+#include <random>
+
+#include "core/lesson/scripted_student.h"
+
+namespace sulcus {
+
+SceneSpec LessonScene(const LessonSpec& spec, std::uint64_t seed) {
+  SceneSpec scene = LoadSceneSpec(spec.scene);
+  if (spec.case_spec.generated) scene = ApplyCase(scene, spec.teeth, spec.case_spec, seed);
+  return scene;
+}
+
+AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const AttemptOptions& o) {
+  using Clock = std::chrono::steady_clock;
+  AttemptOutcome out;
+  out.spec = LoadLessonSpec(lesson_file);
+  const LessonSpec& spec = out.spec;
+  if (o.seed) {
+    out.seed = *o.seed;
+  } else if (spec.case_spec.generated && spec.case_spec.random_seed) {
+    out.seed = std::random_device{}() & 0xffffffffu;  // recorded with the attempt
+  } else {
+    out.seed = spec.case_spec.seed;
+  }
+  const auto t0 = Clock::now();
+  out.scene = CompileScene(LessonScene(spec, out.seed), o.cache_dir, o.progress);
+  out.compile_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  const CompiledScene& scene = *out.scene;
+
+  LessonRun lesson(spec, scene, o.student, spec.case_spec.generated ? out.seed : 0);
+  std::unique_ptr<ScriptedStudent> student;
+  DeviceSpec device;
+  if (o.device.rfind("student:", 0) == 0) {
+    student = std::make_unique<ScriptedStudent>(o.device.substr(8), spec, scene);
+    device.device = student->MakeDevice();
+    device.name = o.device;
+  } else {
+    device = MakeDevice(o.device, scene, 60.0);
+  }
+  out.notes = device.notes;
+  SessionOptions so;
+  so.record = o.record;
+  so.device_name = device.name;
+  so.max_ticks = spec.time_limit_s > 0 ? static_cast<std::uint64_t>((spec.time_limit_s + 1) * scene.spec.rate_hz) : 0;
+  Session session(scene, std::move(device), so);
+  session.AddConsumer(&lesson);
+  if (student && o.answers.empty()) {
+    student->Attach(&lesson);
+    session.AddConsumer(student.get());
+  }
+  const auto t1 = Clock::now();
+  session.RunOffline();
+  out.run_s = std::chrono::duration<double>(Clock::now() - t1).count();
+  out.ticks = session.ticks_delivered();
+  if (!o.answers.empty()) {
+    const Answers a = LoadAnswers(o.answers);
+    for (const ChartEntry& e : a.entries) lesson.Enter(e);
+    if (a.diagnosis) lesson.Declare(*a.diagnosis);
+  }
+  out.result = lesson.Finish();
+  // What was entered, with every tick resolved, so the attempt can be rebuilt.
+  for (const SiteResult& s : out.result.sites)
+    if (s.entry) out.answers.entries.push_back(*s.entry);
+  for (const ChartEntry& e : lesson.entries()) {
+    const bool known = std::any_of(out.result.sites.begin(), out.result.sites.end(),
+                                   [&](const SiteResult& s) { return s.site == e.site; });
+    if (!known) out.answers.entries.push_back(e);  // entries for sites outside the path are kept too
+  }
+  if (out.result.declared) {
+    out.answers.diagnosis = out.result.declared;
+    if (out.answers.diagnosis->tick == kAfterReading) out.answers.diagnosis->tick = out.result.last_tick;
+  }
+  return out;
+}
+
+}  // namespace sulcus

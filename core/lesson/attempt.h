@@ -1,0 +1,49 @@
+#pragma once
+// One attempt at a lesson, headless, from start to result: the lesson's scene
+// (with its generated case, when it asks for one), a device (a scripted
+// student, a scripted trajectory or a recording), the session run offline, the
+// lesson over its tick stream, the student's entries (from the scripted student
+// or an answers file) and the result. Every attempt is recorded, and its
+// entries saved beside the recording, so that it can be rebuilt exactly.
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "core/lesson/answers.h"
+#include "core/lesson/lesson.h"
+
+namespace sulcus {
+
+struct AttemptOptions {
+  std::string student = "student";
+  /// student:NAME (ScriptedStudentNames), scripted:NAME|FILE.csv, replay:FILE.
+  std::string device = "student:careful";
+  std::filesystem::path answers;         // an answers file (overrides a scripted student's entries)
+  std::optional<std::uint64_t> seed;     // a generated case's seed (default: the lesson's, or drawn)
+  std::filesystem::path record;          // where to record the attempt (empty: no recording)
+  std::filesystem::path cache_dir;       // meshes and sphere-trees
+  BuildProgress progress;                // the scene's build progress
+};
+
+struct AttemptOutcome {
+  LessonSpec spec;
+  std::unique_ptr<CompiledScene> scene;
+  LessonResult result;
+  Answers answers;      // what was entered, with ticks
+  std::uint64_t seed = 0;
+  std::uint64_t ticks = 0;
+  double run_s = 0;     // wall time of the run (not the lesson's own time)
+  double compile_s = 0;
+  std::vector<std::string> notes;
+};
+
+/// Throws SceneLoadError, std::invalid_argument, RecordingError, std::runtime_error.
+AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const AttemptOptions& options);
+
+/// The scene a lesson runs on for a seed (its case applied when it has one).
+SceneSpec LessonScene(const LessonSpec& spec, std::uint64_t seed);
+
+}  // namespace sulcus

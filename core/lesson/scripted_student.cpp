@@ -1,0 +1,305 @@
+#include "core/lesson/scripted_student.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "core/anatomy/arch.h"
+
+namespace sulcus {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+struct ToothFrame {
+  const LessonGeometry::Tooth* g;
+  Vector3 World(const Vector3& p_T) const { return g->X_WT * ArchMirror(g->mirrored, p_T); }
+  Vector3 Axis() const { return g->X_WT.rotation().col(2); }
+  int Segments() const { return static_cast<int>(g->margin_z.size()); }
+  int SegmentAt(double phi) const {
+    const int n = Segments();
+    double a = std::fmod(phi, 2 * kPi);
+    if (a < 0) a += 2 * kPi;
+    return static_cast<int>(std::lround(a / (2 * kPi) * n)) % n;
+  }
+  // The sulcus' middle at angle phi, `depth` below the margin.
+  Vector3 Sulcus(double phi, double depth, double out = 0) const {
+    const int k = SegmentAt(phi);
+    const double r = g->sulcus_r[k] + out, z = g->margin_z[k] - depth;
+    return World(Vector3(r * std::cos(phi), r * std::sin(phi), z));
+  }
+  double Pocket(double phi) const {
+    const int k = SegmentAt(phi);
+    return g->margin_z[k] - g->floor_z[k];
+  }
+  // The working end along the long axis, tilted `tilt_deg` away from the tooth
+  // (outward at phi), as the crown's bulge asks.
+  // Near a contact, the handle leans away from it so that the tip goes under
+  // the contact point into the col (up to kColTiltDeg at the contact).
+  Quaternion Tool(double phi, double tilt_deg) const {
+    auto dir = [&](const Vector3& v_T) { return Vector3(g->X_WT.rotation() * ArchMirror(g->mirrored, v_T)); };
+    const Vector3 out_W = dir(Vector3(std::cos(phi), std::sin(phi), 0));
+    const Vector3 tangent_W = dir(Vector3(-std::sin(phi), std::cos(phi), 0));
+    const double t = tilt_deg * kPi / 180;
+    Vector3 axis = std::cos(t) * Axis() + std::sin(t) * out_W;
+    for (const auto& [contact, has] : {std::pair{0.0, g->mesial_contact}, std::pair{kPi, g->distal_contact}}) {
+      if (!has) continue;
+      double d = std::remainder(phi - contact, 2 * kPi);  // signed, -pi..pi
+      const double near = 1.0 - std::abs(d) / (kColZoneDeg * kPi / 180);
+      if (near <= 0) continue;
+      const double lean = kColTiltDeg * kPi / 180 * near;
+      axis += std::tan(lean) * (d >= 0 ? 1.0 : -1.0) * tangent_W;  // away from the contact
+    }
+    return Quaternion::FromTwoVectors(Vector3::UnitZ(), axis.normalized());
+  }
+  static constexpr double kColZoneDeg = 35, kColTiltDeg = 25;
+};
+
+}  // namespace
+
+const std::vector<std::string>& ScriptedStudentNames() {
+  static const std::vector<std::string> names = {"careful", "rough", "misreading", "spot", "lazy"};
+  return names;
+}
+
+ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec, const CompiledScene& scene)
+    : name_(name), spec_(spec) {
+  const auto& names = ScriptedStudentNames();
+  if (std::find(names.begin(), names.end(), name) == names.end()) {
+    std::string known;
+    for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("unknown scripted student '" + name + "'; known: " + known);
+  }
+  const LessonGeometry geometry = MakeLessonGeometry(scene, spec.teeth);
+  // The teeth and surfaces in path order.
+  struct Pass {
+    int fdi;
+    bool buccal;
+  };
+  std::vector<Pass> passes;
+  for (const SiteRef& s : spec.path) {
+    const bool buccal = s.site < 3;
+    if (passes.empty() || passes.back().fdi != s.fdi || passes.back().buccal != buccal) passes.push_back({s.fdi, buccal});
+  }
+  std::vector<int> order;
+  for (const Pass& p : passes)
+    if (std::find(order.begin(), order.end(), p.fdi) == order.end()) order.push_back(p.fdi);
+  if (name == "lazy" && order.size() >= 2) skipped_.push_back(order[1]);
+  if (name == "misreading") {
+    for (std::size_t i = 0; i < order.size() && misread_.size() < 3; ++i)
+      for (const SiteRef& s : spec.path)
+        if (s.fdi == order[i] && IsInterdental(s.site)) {
+          misread_.push_back(s);
+          break;
+        }
+  }
+  const double target_n = name == "rough" ? 2.0 : 0.20;
+  const double past_floor_mm = name == "rough" ? 1.5 : 0.5;  // the deepest a stroke goes if it feels nothing
+  const double tilt_deg = 4.0;
+  const double lift_mm = 12.0;  // above the margin: clear of every crown
+  auto move = [&](const Vector3& p, const Quaternion& q, double s) {
+    Move m;
+    m.X_WH = RigidTransform(q, p);
+    m.duration_s = s;
+    moves_.push_back(m);
+  };
+  bool first = true;
+  for (const Pass& pass : passes) {
+    if (std::find(skipped_.begin(), skipped_.end(), pass.fdi) != skipped_.end()) continue;
+    const LessonGeometry::Tooth* g = geometry.Find(pass.fdi);
+    if (!g) continue;
+    const ToothFrame f{g};
+    // The surface in the tooth frame: buccal angles 0..pi, lingual pi..2 pi.
+    // The tip goes in at the distal line angle (DB, DL), walks distally under
+    // the contact into the col, then the whole arc to the mesial col, and back
+    // to the mesial line angle (MB, ML) to come out: it never comes down or
+    // lifts out under a contact, where the crowns meet above the sulcus.
+    const double distal = pass.buccal ? kPi * 172 / 180 : kPi * 188 / 180;
+    const double mesial = pass.buccal ? kPi * 8 / 180 : kPi * 352 / 180;
+    const double enter = g->site_angle[pass.buccal ? 2 : 5], leave = g->site_angle[pass.buccal ? 0 : 3];
+    const double r = g->sulcus_r[f.SegmentAt(kPi / 2)];
+    auto arc = [&](double a, double b, double spacing) {
+      std::vector<double> v;
+      const int n = std::max(1, static_cast<int>(std::ceil(std::abs(b - a) * r / spacing)));
+      for (int i = 1; i <= n; ++i) v.push_back(a + (b - a) * i / n);
+      return v;
+    };
+    struct Stop {
+      double phi;
+      bool stroke;
+    };
+    std::vector<Stop> stops;
+    if (name == "spot") {
+      for (int s : pass.buccal ? std::array{2, 1, 0} : std::array{5, 4, 3}) stops.push_back({g->site_angle[s], true});
+    } else {
+      stops.push_back({enter, true});
+      for (double phi : arc(enter, distal, 0.8)) stops.push_back({phi, true});
+      // Strokes 0.8 mm apart, and one at each site's own angle (where a clinician reads it).
+      std::vector<double> walk = arc(distal, mesial, 0.8);
+      for (int s : pass.buccal ? std::array{0, 1, 2} : std::array{3, 4, 5}) walk.push_back(g->site_angle[s]);
+      std::sort(walk.begin(), walk.end(), [&](double a, double b) { return std::abs(a - distal) < std::abs(b - distal); });
+      for (double phi : walk) stops.push_back({phi, true});
+      for (double phi : arc(mesial, leave, 0.8)) stops.push_back({phi, false});
+    }
+    const double phi0 = stops.front().phi;
+    const Quaternion q0 = f.Tool(phi0, tilt_deg);
+    move(f.Sulcus(phi0, -lift_mm, 2.5), q0, first ? 0.0 : 0.6);
+    if (first) move(f.Sulcus(phi0, -lift_mm, 2.5), q0, 0.6);  // the ramp-in, away from everything
+    first = false;
+    move(f.Sulcus(phi0, -1.0), q0, 0.8);
+    for (const Stop& stop : stops) {
+      const double phi = stop.phi;
+      const Quaternion q = f.Tool(phi, tilt_deg);
+      // Each stroke starts 1 mm below the margin and goes down the tool's axis;
+      // the spot-prober starts above the margin each time.
+      const double top = name == "spot" ? -1.0 : 1.0;
+      move(f.Sulcus(phi, top), q, name == "spot" ? 0.5 : 0.15);
+      if (!stop.stroke) continue;
+      Move stroke;
+      stroke.stroke = true;
+      stroke.X_WH = moves_.back().X_WH;
+      const Vector3 axis = q * Vector3::UnitZ();
+      const double cos_tilt = std::max(0.5, axis.dot(f.Axis()));
+      stroke.max_depth_mm = (f.Pocket(phi) - top + past_floor_mm) / cos_tilt;
+      stroke.target_force_n = target_n;
+      moves_.push_back(stroke);
+    }
+    const double phi1 = stops.back().phi;
+    move(f.Sulcus(phi1, -1.0), f.Tool(phi1, tilt_deg), 0.5);
+    move(f.Sulcus(phi1, -lift_mm, 2.5), f.Tool(phi1, tilt_deg), 0.6);
+  }
+  if (moves_.empty()) throw std::invalid_argument("the lesson has no teeth this student can reach");
+  move(moves_.back().X_WH.translation(), Quaternion(moves_.back().X_WH.rotation()), 0.5);
+}
+
+namespace {
+
+// Plays a student's moves by loop time, feeling the force written back.
+class StudentDevice final : public Device {
+ public:
+  explicit StudentDevice(std::vector<ScriptedStudent::Move> moves, std::string name) : moves_(std::move(moves)) {
+    caps_.name = std::move(name);
+    caps_.output_dof = 3;
+    caps_.max_force_n = 3.3;
+    caps_.max_torque_nmm = 515;
+    if (!moves_.empty()) pose_ = moves_.front().X_WH;
+  }
+  const DeviceCaps& caps() const override { return caps_; }
+  bool finished() const noexcept override { return i_ >= moves_.size(); }
+  // What the hand feels of a stroke: the force against its way down (the
+  // floor), not the gingiva's and the tooth's sideways push.
+  void Write(const Vector3& force_W, const Vector3&) noexcept override {
+    force_n_ = i_ < moves_.size() ? force_W.dot(moves_[i_].X_WH.rotation() * Vector3::UnitZ()) : 0.0;
+  }
+  bool Read(double t_s, DeviceSample* out) noexcept override {
+    const double dt = started_ ? t_s - last_t_ : 0;
+    started_ = true;
+    last_t_ = t_s;
+    while (i_ < moves_.size()) {
+      const ScriptedStudent::Move& m = moves_[i_];
+      if (!m.stroke) {
+        if (phase_t_ == 0) from_ = pose_;
+        phase_t_ += dt;
+        const double s = m.duration_s > 0 ? std::min(1.0, phase_t_ / m.duration_s) : 1.0;
+        const Quaternion q = Quaternion(from_.rotation()).slerp(s, Quaternion(m.X_WH.rotation()));
+        pose_ = RigidTransform(q, from_.translation() + s * (m.X_WH.translation() - from_.translation()));
+        if (s < 1.0) break;
+        Next();
+        break;
+      }
+      // A stroke: down at 12 mm/s until the force is felt, 0.1 s at the floor, up at 20 mm/s.
+      const Vector3 down = -(m.X_WH.rotation() * Vector3::UnitZ());
+      if (phase_ == 0) {
+        depth_ += 12.0 * dt;
+        if (force_n_ >= m.target_force_n || depth_ >= m.max_depth_mm) {
+          depth_ = std::min(depth_, m.max_depth_mm);
+          phase_ = 1;
+          phase_t_ = 0;
+        }
+      } else if (phase_ == 1) {
+        phase_t_ += dt;
+        if (phase_t_ >= 0.1) phase_ = 2;
+      } else {
+        depth_ -= 20.0 * dt;
+        if (depth_ <= 0) {
+          depth_ = 0;
+          pose_ = m.X_WH;
+          Next();
+          break;
+        }
+      }
+      pose_ = RigidTransform(m.X_WH.rotation(), m.X_WH.translation() + depth_ * down);
+      break;
+    }
+    out->X_WH = pose_;
+    out->buttons = 0;
+    out->time_s = t_s;
+    return true;
+  }
+
+ private:
+  void Next() {
+    ++i_;
+    phase_ = 0;
+    phase_t_ = 0;
+    depth_ = 0;
+  }
+  std::vector<ScriptedStudent::Move> moves_;
+  DeviceCaps caps_;
+  std::size_t i_ = 0;
+  int phase_ = 0;
+  double phase_t_ = 0, depth_ = 0, last_t_ = 0, force_n_ = 0;
+  bool started_ = false;
+  RigidTransform pose_, from_;
+};
+
+}  // namespace
+
+std::unique_ptr<Device> ScriptedStudent::MakeDevice() const {
+  return std::make_unique<StudentDevice>(moves_, "student:" + name_);
+}
+
+void ScriptedStudent::OnTick(const TickRecord& r) {
+  last_tick_ = r.tick;
+  for (int i = 0; i < r.num_events; ++i) {
+    const HapticEvent& e = r.events[i];
+    if (e.kind != EventKind::kProbeReading && e.kind != EventKind::kBleeding) continue;
+    const SiteRef s = e.kind == EventKind::kProbeReading ? SiteRef{e.payload.reading.fdi, e.payload.reading.site}
+                                                          : SiteRef{e.payload.bleeding.fdi, e.payload.bleeding.site};
+    auto it = std::find_if(seen_.begin(), seen_.end(), [&](const Seen& x) { return x.site == s; });
+    if (it == seen_.end()) it = seen_.insert(seen_.end(), {s, 0, false, 0});
+    if (e.kind == EventKind::kBleeding) {
+      it->bled = true;
+    } else if (e.payload.reading.depth_mm > it->deepest) {
+      it->deepest = e.payload.reading.depth_mm;
+    }
+    it->tick = e.tick;
+  }
+}
+
+void ScriptedStudent::OnEnd() {
+  if (!lesson_) return;
+  // The chart in path order, then the diagnosis of that chart.
+  for (const SiteRef& s : spec_.path) {
+    const auto it = std::find_if(seen_.begin(), seen_.end(), [&](const Seen& x) { return x.site == s; });
+    if (it == seen_.end() || it->deepest <= 0) continue;
+    ChartEntry e;
+    e.site = s;
+    e.tick = it->tick + 1;
+    int pd = static_cast<int>(std::lround(it->deepest));
+    if (std::find(misread_.begin(), misread_.end(), s) != misread_.end()) pd += 2;
+    e.pd_mm = pd;
+    e.bleeding = it->bled;
+    lesson_->Enter(e);
+  }
+  const LessonResult sofar = lesson_->Finish();
+  DeclaredDiagnosis d;
+  d.tick = last_tick_;
+  d.periodontitis = sofar.chart_dx.kind == Diagnosis::Kind::kPeriodontitis;
+  d.stage = sofar.chart_dx.stage;
+  d.extent = sofar.chart_dx.extent;
+  lesson_->Declare(d);
+}
+
+}  // namespace sulcus
