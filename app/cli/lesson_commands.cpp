@@ -1,7 +1,12 @@
 // `sulcus-cli lesson validate|run|report`, `sulcus-cli results list|show|export`:
 // lessons headless, their reports and the results database.
 
+#include <algorithm>
+#include <array>
+#include <cctype>
 #include <chrono>
+#include <cmath>
+#include <ctime>
 #include <cinttypes>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +17,8 @@
 
 #include "app/cli/commands.h"
 #include "core/lesson/attempt.h"
+#include "core/lesson/report.h"
+#include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
 #include "core/spheretree/cache.h"
 
@@ -36,25 +43,135 @@ void PrintResult(const LessonResult& r) {
 }
 
 struct RunArgs {
-  std::string lesson, device = "student:careful", student = "student", answers, out_dir, record;
+  std::string lesson, device = "student:careful", student = "student", answers, out_dir, results;
   std::int64_t seed = -1;
-  bool quiet = false;
+  bool quiet = false, no_store = false;
 };
 
+std::string Now(const char* fmt) {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char b[64];
+  std::strftime(b, sizeof b, fmt, &tm);
+  return b;
+}
+
+fs::path ResultsDir(const std::string& option) { return option.empty() ? DefaultResultsDir() : fs::path(option); }
+
+// Progress of a cold scene build (the first run builds the sphere-trees, which
+// takes a while): a line every 2 s once it has taken more than 1 s.
+BuildProgress Progress() {
+  struct State {
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last = start;
+  };
+  auto st = std::make_shared<State>();
+  return [st](std::string_view stage, double f) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - st->start > std::chrono::seconds(1) && now - st->last > std::chrono::seconds(2)) {
+      std::fprintf(stderr, "  building the scene's sphere-trees (first run only): %3.0f %% (%.*s)\n", 100 * f,
+                   static_cast<int>(stage.size()), stage.data());
+      st->last = now;
+    }
+    return true;
+  };
+}
+
 int RunLesson(const RunArgs& a) {
+  const fs::path results = ResultsDir(a.results);
+  const std::string started = Now("%Y-%m-%dT%H:%M:%SZ");
+  std::string safe;
+  for (char c : a.student) safe += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  fs::path dir = results / "attempts" / (Now("%Y%m%d-%H%M%S-") + safe);
+  for (int n = 2; fs::exists(dir); ++n) dir = results / "attempts" / (Now("%Y%m%d-%H%M%S-") + safe + "-" + std::to_string(n));
+  fs::create_directories(dir);
   AttemptOptions o;
   o.student = a.student;
   o.device = a.device;
   o.answers = a.answers;
   if (a.seed >= 0) o.seed = static_cast<std::uint64_t>(a.seed);
   o.cache_dir = DefaultCacheDir();
-  o.record = a.record;
-  std::fprintf(stderr, "building the lesson's scene ...\n");
-  const AttemptOutcome out = RunAttempt(a.lesson, o);
+  o.record = dir / "recording.rec";
+  o.progress = Progress();
+  std::fprintf(stderr, "lesson %s, student '%s', device %s\n", a.lesson.c_str(), a.student.c_str(), a.device.c_str());
+  // The lesson by its full path, so that the attempt can be rebuilt from anywhere.
+  const AttemptOutcome out = RunAttempt(fs::absolute(a.lesson).lexically_normal(), o);
   for (const std::string& n : out.notes) std::fprintf(stderr, "%s\n", n.c_str());
-  std::fprintf(stderr, "compiled in %.2f s; ran %" PRIu64 " ticks in %.2f s\n", out.compile_s, out.ticks, out.run_s);
+  std::fprintf(stderr, "scene ready in %.2f s; %" PRIu64 " ticks (%.1f s of lesson) ran in %.2f s\n", out.compile_s,
+               out.ticks, out.result.duration_s, out.run_s);
+  // The attempt first (recording, entries, report), then the database: nothing is lost if the database fails.
+  SaveAnswers(out.answers, dir / "answers.yaml");
+  ReportInfo info;
+  info.recording = o.record.string();
+  info.started = started;
+  const fs::path report_dir = a.out_dir.empty() ? dir : fs::path(a.out_dir);
+  WriteReport(out.result, info, report_dir);
+  if (!a.no_store) {
+    try {
+      const auto t0 = std::chrono::steady_clock::now();
+      ResultsDb db(results / "results.db");
+      info.attempt_id = db.Store(out.result, started, o.record.string(), (dir / "answers.yaml").string(),
+                                 report_dir.string());
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      WriteReport(out.result, info, report_dir);  // again, now naming its attempt
+      std::fprintf(stderr, "stored as attempt %lld in %s (%.1f ms)\n", static_cast<long long>(info.attempt_id),
+                   db.file().c_str(), ms);
+    } catch (const ResultsError& e) {
+      std::fprintf(stderr, "error: the attempt was not stored in the results database: %s\n"
+                           "(its recording, entries and report are kept in %s)\n", e.what(), dir.c_str());
+      if (!a.quiet) PrintResult(out.result);
+      return 1;
+    }
+  }
   if (!a.quiet) PrintResult(out.result);
+  else std::printf("score %.1f / 100 (%s)\n", out.result.total, out.result.student.c_str());
+  std::printf("report: %s\n", (report_dir / "report.html").c_str());
   return 0;
+}
+
+struct ReportArgs {
+  std::string what, out_dir, lesson, answers, results;
+  std::int64_t seed = -1;
+};
+
+int Report(const ReportArgs& a) {
+  AttemptOptions o;
+  o.cache_dir = DefaultCacheDir();
+  fs::path lesson = a.lesson, answers = a.answers, recording, out_dir = a.out_dir;
+  ReportInfo info;
+  std::optional<AttemptRow> row;
+  const bool id = !a.what.empty() && std::all_of(a.what.begin(), a.what.end(), [](char c) { return std::isdigit(c); });
+  if (id) {
+    ResultsDb db(ResultsDir(a.results) / "results.db");
+    row = db.Attempt(std::stoll(a.what));
+    if (!row) throw std::invalid_argument("no attempt " + a.what + " in " + db.file().string());
+    lesson = row->lesson_file;
+    recording = row->recording;
+    if (answers.empty()) answers = row->answers;
+    o.student = row->student;
+    if (row->generated_case) o.seed = row->case_seed;
+    info.attempt_id = row->id;
+    info.started = row->started;
+    if (out_dir.empty()) out_dir = row->report_dir;
+  } else {
+    recording = a.what;
+    if (lesson.empty()) throw std::invalid_argument("a recording needs --lesson FILE (the lesson it was taken in)");
+    if (answers.empty() && fs::exists(recording.parent_path() / "answers.yaml")) answers = recording.parent_path() / "answers.yaml";
+    if (out_dir.empty()) out_dir = recording.parent_path().empty() ? "." : recording.parent_path();
+  }
+  if (a.seed >= 0) o.seed = static_cast<std::uint64_t>(a.seed);
+  if (!fs::exists(recording)) throw std::invalid_argument("the recording " + recording.string() + " is missing");
+  o.device = "replay:" + recording.string();
+  o.answers = answers;
+  o.progress = Progress();
+  const AttemptOutcome out = RunAttempt(lesson, o);
+  for (const std::string& n : out.notes) std::fprintf(stderr, "%s\n", n.c_str());
+  info.recording = recording.string();
+  WriteReport(out.result, info, out_dir);
+  std::printf("score %.1f / 100", out.result.total);
+  if (row) std::printf(" (stored: %.1f%s)", row->total, std::abs(row->total - out.result.total) < 1e-9 ? ", the same" : ", DIFFERENT");
+  std::printf("\nreport: %s\n", (out_dir / "report.html").c_str());
+  return row && std::abs(row->total - out.result.total) >= 1e-9 ? 1 : 0;
 }
 
 }  // namespace
@@ -90,9 +207,78 @@ void AddLessonCommands(CLI::App& app) {
   run->add_option("--answers", a->answers, "An answers file: what the student charted and declared")
       ->check(CLI::ExistingFile);
   run->add_option("--seed", a->seed, "The generated case's seed (default: the lesson's, or drawn and stored)");
-  run->add_option("--record", a->record, "Record the attempt to this file");
-  run->add_flag("--quiet", a->quiet, "Print the summary only");
+  run->add_option("-o,--output", a->out_dir, "Write the report here (default: the attempt's folder)");
+  run->add_option("--results", a->results, "Results folder (default: $SULCUS_RESULTS_DIR or ~/.local/share/sulcus)");
+  run->add_flag("--no-store", a->no_store, "Do not store the attempt in the results database");
+  run->add_flag("--quiet", a->quiet, "Print the score only, not every line");
   run->callback([a] { ExitStatus() = RunLesson(*a); });
+
+  auto r = std::make_shared<ReportArgs>();
+  CLI::App* report = lesson->add_subcommand("report", "Rebuild an attempt's report from its recording and entries "
+                                                     "(an attempt id from `results list`, or a recording file)");
+  report->add_option("ATTEMPT_OR_RECORDING", r->what, "Attempt id, or a recording (.rec)")->required();
+  report->add_option("-o,--output", r->out_dir, "Write the report here (default: beside the recording)");
+  report->add_option("--lesson", r->lesson, "The lesson (for a recording)");
+  report->add_option("--answers", r->answers, "The entries (default: the attempt's, or answers.yaml beside the recording)");
+  report->add_option("--seed", r->seed, "A generated case's seed (for a recording)");
+  report->add_option("--results", r->results, "Results folder");
+  report->callback([r] { ExitStatus() = Report(*r); });
+
+  CLI::App* results = app.add_subcommand("results", "Students' results: list, show, export as CSV");
+  results->require_subcommand(1);
+  auto q = std::make_shared<std::array<std::string, 4>>();  // student, lesson, output, results folder
+  auto sites = std::make_shared<bool>(false);
+  auto id = std::make_shared<std::int64_t>(0);
+  CLI::App* list = results->add_subcommand("list", "Every attempt, or a student's or a lesson's");
+  CLI::App* show = results->add_subcommand("show", "One attempt: its scores and sites");
+  CLI::App* exp = results->add_subcommand("export", "A student's or a cohort's attempts (or sites) as CSV");
+  for (CLI::App* c : {list, exp}) {
+    c->add_option("--student", (*q)[0], "Only this student");
+    c->add_option("--lesson", (*q)[1], "Only this lesson file");
+  }
+  for (CLI::App* c : {list, show, exp}) c->add_option("--results", (*q)[3], "Results folder");
+  show->add_option("ATTEMPT", *id, "Attempt id")->required();
+  exp->add_option("-o,--output", (*q)[2], "CSV file (default: standard output)");
+  exp->add_flag("--sites", *sites, "One line per site instead of per attempt");
+  list->callback([q] {
+    ResultsDb db(ResultsDir((*q)[3]) / "results.db");
+    const auto rows = db.Attempts((*q)[0], (*q)[1]);
+    std::printf("%6s  %-20s  %-16s  %-36s  %6s  %8s  %s\n", "id", "started", "student", "lesson", "score", "within1", "diagnosis declared");
+    for (const AttemptRow& a : rows)
+      std::printf("%6lld  %-20s  %-16s  %-36s  %6.1f  %7.0f%%  %s\n", static_cast<long long>(a.id), a.started.c_str(),
+                  a.student.c_str(), a.lesson_name.substr(0, 36).c_str(), a.total, a.within_1mm_pct, a.declared_dx.c_str());
+    std::printf("%zu attempts in %s\n", rows.size(), db.file().c_str());
+  });
+  show->callback([q, id] {
+    ResultsDb db(ResultsDir((*q)[3]) / "results.db");
+    const auto a = db.Attempt(*id);
+    if (!a) throw std::invalid_argument("no attempt " + std::to_string(*id) + " in " + db.file().string());
+    std::printf("attempt %lld: %s, %s (%s), %s\nscore %.1f / 100; %d of %d sites probed, %d charted; within 1 mm %.0f %%, "
+                "bias %+.2f mm; force in band %.0f %%; %.1f s\ndiagnosis: truth %s; chart %s; declared %s\n"
+                "recording %s\nreport %s/report.html\n",
+                static_cast<long long>(a->id), a->student.c_str(), a->lesson_name.c_str(), a->mode.c_str(), a->started.c_str(),
+                a->total, a->sites_read, a->sites_total, a->sites_charted, a->within_1mm_pct, a->bias_mm,
+                a->force_in_band_pct, a->duration_s, a->true_dx.c_str(), a->chart_dx.c_str(), a->declared_dx.c_str(),
+                a->recording.c_str(), a->report_dir.c_str());
+    for (const SiteRow& s : db.Sites(a->student, a->lesson_file)) {
+      if (s.attempt != a->id) continue;
+      std::printf("  %d %-2s truth %d  reached %s  entered %s  %.2f N\n", s.fdi, SiteCode(s.site), s.truth_mm,
+                  s.reached_mm ? std::to_string(*s.reached_mm).substr(0, 4).c_str() : "-",
+                  s.entered_mm ? std::to_string(*s.entered_mm).c_str() : "-", s.peak_force_n);
+    }
+  });
+  exp->callback([q, sites] {
+    ResultsDb db(ResultsDir((*q)[3]) / "results.db");
+    std::ofstream file;
+    if (!(*q)[2].empty()) {
+      file.open((*q)[2]);
+      if (!file) throw std::runtime_error((*q)[2] + ": cannot write");
+    }
+    std::ostream& out = (*q)[2].empty() ? std::cout : file;
+    if (*sites) ExportSitesCsv(db.Sites((*q)[0], (*q)[1]), out);
+    else ExportAttemptsCsv(db.Attempts((*q)[0], (*q)[1]), out);
+    if (!(*q)[2].empty()) std::fprintf(stderr, "wrote %s\n", (*q)[2].c_str());
+  });
 }
 
 }  // namespace sulcus::cli

@@ -375,6 +375,7 @@ LessonResult LessonRun::Finish() const {
   out.case_seed = case_seed_;
   out.generated_case = spec_.case_spec.generated;
   out.rate_hz = rate_hz_;
+  out.rubric = rb;
   out.sites = sites_;
   out.steps = step_results_;
   out.first_tick = first_tick_;

@@ -98,6 +98,7 @@ struct LessonResult {
   std::uint64_t case_seed = 0;
   bool generated_case = false;
   double rate_hz = 1000;
+  RubricSpec rubric;              // what it was scored against
   std::vector<SiteResult> sites;  // in path order
   std::vector<SurfaceCoverage> coverage;
   std::vector<StepResult> steps;

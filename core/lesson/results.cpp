@@ -1,0 +1,400 @@
+#include "core/lesson/results.h"
+
+#include <sqlite3.h>
+
+#include <cstdlib>
+
+namespace sulcus {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Migrations, in order: migration i takes the schema from version i to i + 1.
+const char* const kMigrations[] = {
+    R"sql(
+CREATE TABLE students (
+  id INTEGER PRIMARY KEY,
+  name TEXT NOT NULL UNIQUE,
+  created TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now'))
+);
+CREATE TABLE lessons (
+  id INTEGER PRIMARY KEY,
+  file TEXT NOT NULL UNIQUE,
+  name TEXT NOT NULL
+);
+CREATE TABLE attempts (
+  id INTEGER PRIMARY KEY,
+  student_id INTEGER NOT NULL REFERENCES students(id),
+  lesson_id INTEGER NOT NULL REFERENCES lessons(id),
+  started TEXT NOT NULL,
+  mode TEXT NOT NULL,
+  scene_file TEXT NOT NULL,
+  generated_case INTEGER NOT NULL,
+  case_seed INTEGER NOT NULL,
+  total REAL NOT NULL,
+  duration_s REAL NOT NULL,
+  sites_total INTEGER NOT NULL,
+  sites_read INTEGER NOT NULL,
+  sites_charted INTEGER NOT NULL,
+  within_1mm_pct REAL NOT NULL,
+  bias_mm REAL NOT NULL,
+  force_in_band_pct REAL NOT NULL,
+  true_dx TEXT NOT NULL,
+  chart_dx TEXT NOT NULL,
+  declared_dx TEXT NOT NULL,
+  recording TEXT NOT NULL,
+  answers TEXT NOT NULL,
+  report_dir TEXT NOT NULL
+);
+CREATE TABLE attempt_sites (
+  attempt_id INTEGER NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
+  fdi INTEGER NOT NULL,
+  site INTEGER NOT NULL,
+  truth_mm INTEGER NOT NULL,
+  reached_mm REAL,
+  entered_mm INTEGER,
+  peak_force_n REAL NOT NULL,
+  angle_deg REAL NOT NULL,
+  col_reached INTEGER NOT NULL,
+  bled INTEGER NOT NULL,
+  bleeding_charted INTEGER NOT NULL,
+  reading_tick INTEGER NOT NULL,
+  PRIMARY KEY (attempt_id, fdi, site)
+);
+CREATE TABLE attempt_scores (
+  attempt_id INTEGER NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
+  category TEXT NOT NULL,
+  credit REAL NOT NULL,
+  weight REAL NOT NULL,
+  PRIMARY KEY (attempt_id, category)
+);
+CREATE TABLE attempt_lines (
+  attempt_id INTEGER NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
+  seq INTEGER NOT NULL,
+  category TEXT NOT NULL,
+  fdi INTEGER NOT NULL,
+  site INTEGER,
+  status TEXT NOT NULL,
+  credit REAL NOT NULL,
+  tick INTEGER NOT NULL,
+  message TEXT NOT NULL,
+  PRIMARY KEY (attempt_id, seq)
+);
+CREATE INDEX attempts_by_student ON attempts(student_id, started);
+)sql",
+};
+constexpr int kNumMigrations = sizeof(kMigrations) / sizeof(kMigrations[0]);
+static_assert(kNumMigrations == kResultsSchemaVersion);
+
+// A prepared statement, finalized on scope exit.
+class Stmt {
+ public:
+  Stmt(sqlite3* db, const char* sql, const fs::path& file) : db_(db) {
+    if (sqlite3_prepare_v2(db, sql, -1, &s_, nullptr) != SQLITE_OK)
+      throw ResultsError(file.string() + ": " + sqlite3_errmsg(db) + " (in: " + sql + ")");
+  }
+  ~Stmt() { sqlite3_finalize(s_); }
+  Stmt& Bind(int i, const std::string& v) {
+    sqlite3_bind_text(s_, i, v.c_str(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
+    return *this;
+  }
+  Stmt& Bind(int i, double v) {
+    sqlite3_bind_double(s_, i, v);
+    return *this;
+  }
+  Stmt& Bind(int i, std::int64_t v) {
+    sqlite3_bind_int64(s_, i, v);
+    return *this;
+  }
+  Stmt& Bind(int i, int v) { return Bind(i, static_cast<std::int64_t>(v)); }
+  Stmt& BindNull(int i) {
+    sqlite3_bind_null(s_, i);
+    return *this;
+  }
+  bool Step(const fs::path& file) {
+    const int rc = sqlite3_step(s_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    throw ResultsError(file.string() + ": " + sqlite3_errmsg(db_));
+  }
+  void Reset() {
+    sqlite3_reset(s_);
+    sqlite3_clear_bindings(s_);
+  }
+  std::string Text(int c) const {
+    const auto* t = sqlite3_column_text(s_, c);
+    return t ? reinterpret_cast<const char*>(t) : "";
+  }
+  double Real(int c) const { return sqlite3_column_double(s_, c); }
+  std::int64_t Int(int c) const { return sqlite3_column_int64(s_, c); }
+  bool IsNull(int c) const { return sqlite3_column_type(s_, c) == SQLITE_NULL; }
+
+ private:
+  sqlite3* db_;
+  sqlite3_stmt* s_ = nullptr;
+};
+
+std::string DeclaredText(const LessonResult& r) { return r.declared ? r.declared->Summary() : "nothing"; }
+
+std::string Csv(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string o = "\"";
+  for (char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return o + "\"";
+}
+
+}  // namespace
+
+fs::path DefaultResultsDir() {
+  if (const char* d = std::getenv("SULCUS_RESULTS_DIR"); d && *d) return d;
+  if (const char* x = std::getenv("XDG_DATA_HOME"); x && *x) return fs::path(x) / "sulcus";
+  if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".local/share/sulcus";
+  return fs::temp_directory_path() / "sulcus-results";
+}
+
+ResultsDb::ResultsDb(const fs::path& file) : file_(file) {
+  std::error_code ec;
+  if (file.has_parent_path()) fs::create_directories(file.parent_path(), ec);
+  if (sqlite3_open_v2(file.string().c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+                      nullptr) != SQLITE_OK) {
+    const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw ResultsError(file.string() + ": cannot open the results database: " + why);
+  }
+  sqlite3_busy_timeout(db_, 5000);
+  try {
+    Exec("PRAGMA journal_mode=WAL");
+    Exec("PRAGMA synchronous=FULL");
+    Exec("PRAGMA foreign_keys=ON");
+    const int version = schema_version();
+    if (version > kResultsSchemaVersion)
+      throw ResultsError(file.string() + ": the results database has schema version " + std::to_string(version) +
+                         "; this Sulcus knows up to " + std::to_string(kResultsSchemaVersion) +
+                         " (it was written by a newer Sulcus; it is left untouched)");
+    for (int v = version; v < kResultsSchemaVersion; ++v) {
+      Exec("BEGIN IMMEDIATE");
+      try {
+        Exec(kMigrations[v]);
+        Exec("PRAGMA user_version=" + std::to_string(v + 1));
+        Exec("COMMIT");
+      } catch (...) {
+        Exec("ROLLBACK");
+        throw;
+      }
+    }
+  } catch (const ResultsError&) {
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw;
+  }
+}
+
+ResultsDb::~ResultsDb() { sqlite3_close(db_); }
+
+void ResultsDb::Exec(const std::string& sql) const {
+  char* err = nullptr;
+  if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
+    const std::string why = err ? err : "unknown error";
+    sqlite3_free(err);
+    if (why.find("not a database") != std::string::npos)
+      throw ResultsError(file_.string() + ": not a Sulcus results database (file is not a database)");
+    throw ResultsError(file_.string() + ": " + why);
+  }
+}
+
+int ResultsDb::schema_version() const {
+  Stmt s(db_, "PRAGMA user_version", file_);
+  return s.Step(file_) ? static_cast<int>(s.Int(0)) : 0;
+}
+
+std::string ResultsDb::IntegrityCheck() const {
+  Stmt s(db_, "PRAGMA integrity_check", file_);
+  std::string out;
+  while (s.Step(file_)) out += (out.empty() ? "" : "; ") + s.Text(0);
+  return out;
+}
+
+std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started, const std::string& recording,
+                              const std::string& answers, const std::string& report_dir) {
+  Exec("BEGIN IMMEDIATE");
+  try {
+    {
+      Stmt s(db_, "INSERT OR IGNORE INTO students(name) VALUES (?)", file_);
+      s.Bind(1, r.student).Step(file_);
+    }
+    {
+      Stmt s(db_, "INSERT INTO lessons(file, name) VALUES (?, ?) ON CONFLICT(file) DO UPDATE SET name = excluded.name",
+             file_);
+      s.Bind(1, r.lesson_file).Bind(2, r.lesson_name).Step(file_);
+    }
+    Stmt a(db_,
+           "INSERT INTO attempts(student_id, lesson_id, started, mode, scene_file, generated_case, case_seed, total, "
+           "duration_s, sites_total, sites_read, sites_charted, within_1mm_pct, bias_mm, force_in_band_pct, true_dx, "
+           "chart_dx, declared_dx, recording, answers, report_dir) VALUES ((SELECT id FROM students WHERE name = ?), "
+           "(SELECT id FROM lessons WHERE file = ?), ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+           file_);
+    a.Bind(1, r.student).Bind(2, r.lesson_file).Bind(3, started).Bind(4, r.mode).Bind(5, r.scene_file);
+    a.Bind(6, r.generated_case ? 1 : 0).Bind(7, static_cast<std::int64_t>(r.case_seed)).Bind(8, r.total);
+    a.Bind(9, r.duration_s).Bind(10, r.sites_total).Bind(11, r.sites_read).Bind(12, r.sites_charted);
+    a.Bind(13, r.within_1mm_pct).Bind(14, r.bias_mm).Bind(15, r.force_in_band_pct).Bind(16, r.true_dx.Summary());
+    a.Bind(17, r.chart_dx.Summary()).Bind(18, DeclaredText(r)).Bind(19, recording).Bind(20, answers);
+    a.Bind(21, report_dir).Step(file_);
+    const std::int64_t id = sqlite3_last_insert_rowid(db_);
+    Stmt site(db_,
+              "INSERT INTO attempt_sites(attempt_id, fdi, site, truth_mm, reached_mm, entered_mm, peak_force_n, "
+              "angle_deg, col_reached, bled, bleeding_charted, reading_tick) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+              file_);
+    for (const SiteResult& s : r.sites) {
+      site.Bind(1, id).Bind(2, s.site.fdi).Bind(3, s.site.site).Bind(4, s.truth_mm);
+      if (s.reached_mm) site.Bind(5, *s.reached_mm); else site.BindNull(5);
+      if (s.entry && s.entry->pd_mm) site.Bind(6, *s.entry->pd_mm); else site.BindNull(6);
+      site.Bind(7, s.peak_force_n).Bind(8, s.angle_deg).Bind(9, s.col_reached ? 1 : 0).Bind(10, s.bled ? 1 : 0);
+      site.Bind(11, s.entry && s.entry->bleeding ? 1 : 0).Bind(12, static_cast<std::int64_t>(s.reading_tick));
+      site.Step(file_);
+      site.Reset();
+    }
+    Stmt score(db_, "INSERT INTO attempt_scores(attempt_id, category, credit, weight) VALUES (?, ?, ?, ?)", file_);
+    for (const auto& [cat, credit] : r.category_credit) {
+      score.Bind(1, id).Bind(2, cat).Bind(3, credit).Bind(4, r.category_weight.at(cat)).Step(file_);
+      score.Reset();
+    }
+    Stmt line(db_,
+              "INSERT INTO attempt_lines(attempt_id, seq, category, fdi, site, status, credit, tick, message) VALUES "
+              "(?, ?, ?, ?, ?, ?, ?, ?, ?)",
+              file_);
+    int seq = 0;
+    for (const RubricLine& l : r.lines) {
+      line.Bind(1, id).Bind(2, seq++).Bind(3, l.category).Bind(4, l.fdi);
+      if (l.site) line.Bind(5, l.site->site); else line.BindNull(5);
+      line.Bind(6, std::string(ToString(l.status))).Bind(7, l.credit).Bind(8, static_cast<std::int64_t>(l.tick));
+      line.Bind(9, l.message).Step(file_);
+      line.Reset();
+    }
+    Exec("COMMIT");
+    return id;
+  } catch (...) {
+    try {
+      Exec("ROLLBACK");
+    } catch (const ResultsError&) {
+      // the first error is the one to report
+    }
+    throw;
+  }
+}
+
+void ResultsDb::SetReportDir(std::int64_t id, const std::string& dir) {
+  Stmt s(db_, "UPDATE attempts SET report_dir = ? WHERE id = ?", file_);
+  s.Bind(1, dir).Bind(2, id).Step(file_);
+}
+
+namespace {
+constexpr const char* kAttemptSelect =
+    "SELECT a.id, s.name, l.name, l.file, a.scene_file, a.mode, a.started, a.case_seed, a.generated_case, a.total, "
+    "a.duration_s, a.within_1mm_pct, a.bias_mm, a.force_in_band_pct, a.sites_total, a.sites_read, a.sites_charted, "
+    "a.true_dx, a.chart_dx, a.declared_dx, a.recording, a.answers, a.report_dir FROM attempts a JOIN students s ON "
+    "s.id = a.student_id JOIN lessons l ON l.id = a.lesson_id ";
+
+AttemptRow ReadAttempt(const Stmt& s) {
+  AttemptRow a;
+  a.id = s.Int(0);
+  a.student = s.Text(1);
+  a.lesson_name = s.Text(2);
+  a.lesson_file = s.Text(3);
+  a.scene_file = s.Text(4);
+  a.mode = s.Text(5);
+  a.started = s.Text(6);
+  a.case_seed = static_cast<std::uint64_t>(s.Int(7));
+  a.generated_case = s.Int(8) != 0;
+  a.total = s.Real(9);
+  a.duration_s = s.Real(10);
+  a.within_1mm_pct = s.Real(11);
+  a.bias_mm = s.Real(12);
+  a.force_in_band_pct = s.Real(13);
+  a.sites_total = static_cast<int>(s.Int(14));
+  a.sites_read = static_cast<int>(s.Int(15));
+  a.sites_charted = static_cast<int>(s.Int(16));
+  a.true_dx = s.Text(17);
+  a.chart_dx = s.Text(18);
+  a.declared_dx = s.Text(19);
+  a.recording = s.Text(20);
+  a.answers = s.Text(21);
+  a.report_dir = s.Text(22);
+  return a;
+}
+}  // namespace
+
+std::vector<AttemptRow> ResultsDb::Attempts(const std::string& student, const std::string& lesson_file) const {
+  Stmt s(db_, (std::string(kAttemptSelect) + "WHERE (?1 = '' OR s.name = ?1) AND (?2 = '' OR l.file = ?2) ORDER BY a.id").c_str(),
+         file_);
+  s.Bind(1, student).Bind(2, lesson_file);
+  std::vector<AttemptRow> out;
+  while (s.Step(file_)) out.push_back(ReadAttempt(s));
+  return out;
+}
+
+std::optional<AttemptRow> ResultsDb::Attempt(std::int64_t id) const {
+  Stmt s(db_, (std::string(kAttemptSelect) + "WHERE a.id = ?").c_str(), file_);
+  s.Bind(1, id);
+  if (!s.Step(file_)) return std::nullopt;
+  return ReadAttempt(s);
+}
+
+std::vector<SiteRow> ResultsDb::Sites(const std::string& student, const std::string& lesson_file) const {
+  Stmt s(db_,
+         "SELECT t.attempt_id, s.name, a.started, t.fdi, t.site, t.truth_mm, t.reached_mm, t.entered_mm, t.peak_force_n "
+         "FROM attempt_sites t JOIN attempts a ON a.id = t.attempt_id JOIN students s ON s.id = a.student_id JOIN "
+         "lessons l ON l.id = a.lesson_id WHERE (?1 = '' OR s.name = ?1) AND (?2 = '' OR l.file = ?2) ORDER BY "
+         "t.attempt_id, t.fdi, t.site",
+         file_);
+  s.Bind(1, student).Bind(2, lesson_file);
+  std::vector<SiteRow> out;
+  while (s.Step(file_)) {
+    SiteRow r;
+    r.attempt = s.Int(0);
+    r.student = s.Text(1);
+    r.started = s.Text(2);
+    r.fdi = static_cast<int>(s.Int(3));
+    r.site = static_cast<int>(s.Int(4));
+    r.truth_mm = static_cast<int>(s.Int(5));
+    if (!s.IsNull(6)) r.reached_mm = s.Real(6);
+    if (!s.IsNull(7)) r.entered_mm = static_cast<int>(s.Int(7));
+    r.peak_force_n = s.Real(8);
+    out.push_back(r);
+  }
+  return out;
+}
+
+std::vector<std::string> ResultsDb::Students() const {
+  Stmt s(db_, "SELECT name FROM students ORDER BY name", file_);
+  std::vector<std::string> out;
+  while (s.Step(file_)) out.push_back(s.Text(0));
+  return out;
+}
+
+void ExportAttemptsCsv(const std::vector<AttemptRow>& rows, std::ostream& o) {
+  o << "attempt,student,lesson,lesson_file,mode,started,case_seed,total,duration_s,sites_total,sites_read,"
+       "sites_charted,within_1mm_pct,bias_mm,force_in_band_pct,true_dx,chart_dx,declared_dx,recording,report_dir\n";
+  for (const AttemptRow& a : rows)
+    o << a.id << ',' << Csv(a.student) << ',' << Csv(a.lesson_name) << ',' << Csv(a.lesson_file) << ',' << a.mode << ','
+      << a.started << ',' << a.case_seed << ',' << a.total << ',' << a.duration_s << ',' << a.sites_total << ','
+      << a.sites_read << ',' << a.sites_charted << ',' << a.within_1mm_pct << ',' << a.bias_mm << ','
+      << a.force_in_band_pct << ',' << Csv(a.true_dx) << ',' << Csv(a.chart_dx) << ',' << Csv(a.declared_dx) << ','
+      << Csv(a.recording) << ',' << Csv(a.report_dir) << '\n';
+}
+
+void ExportSitesCsv(const std::vector<SiteRow>& rows, std::ostream& o) {
+  o << "attempt,student,started,tooth,site,truth_mm,reached_mm,entered_mm,signed_error_mm,peak_force_n\n";
+  for (const SiteRow& r : rows) {
+    o << r.attempt << ',' << Csv(r.student) << ',' << r.started << ',' << r.fdi << ',' << SiteCode(r.site) << ','
+      << r.truth_mm << ',';
+    if (r.reached_mm) o << *r.reached_mm;
+    o << ',';
+    if (r.entered_mm) o << *r.entered_mm;
+    o << ',';
+    if (r.entered_mm) o << (*r.entered_mm - r.truth_mm);
+    o << ',' << r.peak_force_n << '\n';
+  }
+}
+
+}  // namespace sulcus

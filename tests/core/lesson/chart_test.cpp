@@ -1,0 +1,132 @@
+// The 2017 classification on the worked cases of the clinical notes, and the
+// chart's conventions (CAL, adjacency).
+#include <gtest/gtest.h>
+
+#include "core/lesson/chart.h"
+
+namespace sulcus {
+namespace {
+
+// A chart of `teeth`, every site PD 2 with the margin 2 mm above the CEJ (CAL 0).
+PerioChart Healthy(const std::vector<int>& teeth) {
+  PerioChart c;
+  for (int fdi : teeth) {
+    ToothChart t;
+    t.fdi = fdi;
+    for (SiteValues& s : t.sites) {
+      s.pd_mm = 2;
+      s.recession_mm = -2;
+    }
+    c.teeth.push_back(t);
+  }
+  return c;
+}
+
+// Sets a site's PD and CAL (recession = CAL - PD).
+void Set(PerioChart* c, int fdi, int site, int pd, int cal) {
+  SiteValues& s = c->Find(fdi)->sites[site];
+  s.pd_mm = pd;
+  s.recession_mm = cal - pd;
+}
+
+std::vector<int> TwentyFour() {
+  std::vector<int> t;
+  for (int q = 1; q <= 4; ++q)
+    for (int p = 1; p <= 6; ++p) t.push_back(q * 10 + p);
+  return t;
+}
+
+TEST(Chart, CalIsDepthPlusRecessionWithHalvesRoundedDown) {
+  SiteValues s;
+  EXPECT_FALSE(s.cal_mm());
+  s.pd_mm = 5;
+  s.recession_mm = 1;
+  EXPECT_EQ(*s.cal_mm(), 6);
+  s.recession_mm = -0.5;  // 4.5 -> 4
+  EXPECT_EQ(*s.cal_mm(), 4);
+  s.recession_mm = -1.5;  // 3.5 -> 3
+  EXPECT_EQ(*s.cal_mm(), 3);
+}
+
+TEST(Chart, AdjacentTeethAcrossTheMidlineToo) {
+  EXPECT_TRUE(AdjacentTeeth(46, 47));
+  EXPECT_TRUE(AdjacentTeeth(11, 21));
+  EXPECT_TRUE(AdjacentTeeth(31, 41));
+  EXPECT_FALSE(AdjacentTeeth(11, 41));
+  EXPECT_FALSE(AdjacentTeeth(45, 47));
+  EXPECT_FALSE(AdjacentTeeth(16, 26));
+}
+
+TEST(Staging2017, Cal4WithPd6AtTwoNonAdjacentTeethIsStageIII) {
+  PerioChart c = Healthy(TwentyFour());
+  Set(&c, 16, 0, 6, 4);
+  Set(&c, 26, 2, 6, 4);
+  const Diagnosis d = Classify2017(c);
+  EXPECT_EQ(d.kind, Diagnosis::Kind::kPeriodontitis);
+  EXPECT_EQ(d.worst_interdental_cal_mm, 4);
+  EXPECT_EQ(d.stage, Stage::kIII) << d.Summary();
+  EXPECT_EQ(d.extent, Extent::kLocalized);  // 2 of 24 teeth in the 3-4 mm band
+}
+
+TEST(Staging2017, TheSameWithPd6AtTwoAdjacentTeethOnlyIsStageII) {
+  PerioChart c = Healthy(TwentyFour());
+  Set(&c, 16, 0, 6, 4);
+  Set(&c, 15, 2, 6, 4);
+  Set(&c, 36, 0, 4, 3);  // loss at a tooth apart from them: a periodontitis case
+  const Diagnosis d = Classify2017(c);
+  EXPECT_EQ(d.kind, Diagnosis::Kind::kPeriodontitis);
+  EXPECT_EQ(d.stage, Stage::kII) << d.Summary();
+}
+
+TEST(Staging2017, Cal5AtThreeOf24TeethIsStageIIILocalized) {
+  PerioChart c = Healthy(TwentyFour());
+  Set(&c, 16, 0, 5, 5);
+  Set(&c, 26, 3, 5, 5);
+  Set(&c, 36, 5, 5, 5);
+  const Diagnosis d = Classify2017(c);
+  EXPECT_EQ(d.stage, Stage::kIII);
+  EXPECT_EQ(d.extent, Extent::kLocalized);
+  EXPECT_DOUBLE_EQ(d.extent_pct, 12.5);
+  EXPECT_EQ(d.Summary(), "periodontitis stage III, localized");
+}
+
+TEST(Staging2017, Bop20WithoutAttachmentLossIsLocalizedGingivitis) {
+  PerioChart c = Healthy(TwentyFour());  // 144 sites
+  int n = 0;
+  for (ToothChart& t : c.teeth)
+    for (SiteValues& s : t.sites)
+      if (n++ % 5 == 0) s.bleeding = true;  // 29 of 144 = 20.1 %
+  const Diagnosis d = Classify2017(c);
+  EXPECT_EQ(d.kind, Diagnosis::Kind::kGingivitisLocalized) << d.Summary();
+  EXPECT_NEAR(d.bop_pct, 20.1, 0.1);
+}
+
+TEST(Staging2017, HealthGeneralizedGingivitisAndNotAssessable) {
+  PerioChart c = Healthy(TwentyFour());
+  EXPECT_EQ(Classify2017(c).kind, Diagnosis::Kind::kHealth);
+  for (ToothChart& t : c.teeth)
+    for (int s = 0; s < 3; ++s) t.sites[s].bleeding = true;  // 50 %
+  EXPECT_EQ(Classify2017(c).kind, Diagnosis::Kind::kGingivitisGeneralized);
+  EXPECT_EQ(Classify2017(Healthy({46, 47})).kind, Diagnosis::Kind::kNotAssessable) << "two neighbours only";
+  PerioChart generalized = Healthy(TwentyFour());
+  for (ToothChart& t : generalized.teeth) Set(&generalized, t.fdi, 0, 4, 3);
+  const Diagnosis g = Classify2017(generalized);
+  EXPECT_EQ(g.stage, Stage::kII);
+  EXPECT_EQ(g.extent, Extent::kGeneralized);
+  EXPECT_FALSE(g.path.empty()) << "the decision path is reported";
+}
+
+TEST(Staging2017, ComplexityIgnoresThirdMolarsAndTheDistalOfSecondMolars) {
+  PerioChart c = Healthy({17, 18, 26, 27, 36});
+  Set(&c, 17, 2, 6, 4);  // 17 DB: distal of a second molar, not counted
+  Set(&c, 18, 0, 6, 4);  // a third molar, not counted
+  Set(&c, 36, 0, 3, 3);
+  EXPECT_EQ(Classify2017(c).stage, Stage::kII);
+  Set(&c, 27, 0, 6, 4);  // 27 MB counts; with 36 MB? 36 has PD 3: still one tooth
+  EXPECT_EQ(Classify2017(c).stage, Stage::kII);
+  Set(&c, 36, 0, 6, 4);  // two non-adjacent teeth with PD 6
+  EXPECT_EQ(Classify2017(c).stage, Stage::kIII);
+}
+
+}  // namespace
+}  // namespace sulcus

@@ -1,0 +1,310 @@
+// Lessons end to end on the shipped probing lesson: scripted students with
+// known behaviour get exactly the rubric lines they earn; a replayed attempt
+// gives the same report; lesson and answers files fail with file:line:column.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "core/lesson/attempt.h"
+#include "core/lesson/report.h"
+#include "core/lesson/scripted_student.h"
+
+namespace sulcus {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Lesson() { return fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml"; }
+fs::path Out(const std::string& name) {
+  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "lesson";
+  fs::create_directories(dir);
+  return dir / name;
+}
+fs::path Cache() { return fs::path(SULCUS_TEST_OUTPUT) / "probing-cache"; }
+
+fs::path Write(const std::string& name, const std::string& text) {
+  const fs::path p = Out(name);
+  std::ofstream(p) << text;
+  return p;
+}
+
+std::vector<std::string> Errors(const fs::path& file, bool answers = false) {
+  try {
+    if (answers) LoadAnswers(file);
+    else LoadLessonSpec(file);
+  } catch (const SceneLoadError& e) {
+    std::vector<std::string> v;
+    for (const SceneError& x : e.errors()) v.push_back(x.ToString());
+    return v;
+  }
+  return {};
+}
+
+AttemptOutcome Take(const std::string& student, const fs::path& record = {}) {
+  AttemptOptions o;
+  o.student = student;
+  o.device = "student:" + student;
+  o.cache_dir = Cache();
+  o.record = record;
+  return RunAttempt(Lesson(), o);
+}
+
+std::vector<const RubricLine*> Lines(const LessonResult& r, const std::string& category, RubricLine::Status status) {
+  std::vector<const RubricLine*> v;
+  for (const RubricLine& l : r.lines)
+    if (l.category == category && l.status == status) v.push_back(&l);
+  return v;
+}
+
+std::set<std::string> Sites(const std::vector<const RubricLine*>& lines) {
+  std::set<std::string> s;
+  for (const RubricLine* l : lines)
+    if (l->site) s.insert(l->site->ToString());
+  return s;
+}
+
+TEST(LessonFile, TheShippedLessonIsValid) {
+  const LessonSpec s = LoadLessonSpec(Lesson());
+  EXPECT_EQ(s.teeth, (std::vector<int>{47, 46, 45, 44}));
+  ASSERT_EQ(s.path.size(), 24u);
+  EXPECT_EQ(s.path.front().ToString(), "47 DB") << "the buccal pass starts distal of 47";
+  EXPECT_EQ(s.path[5].ToString(), "46 MB");
+  EXPECT_EQ(s.path[12].ToString(), "44 ML") << "the lingual pass comes back from 44";
+  EXPECT_EQ(s.steps.size(), 4u);
+  EXPECT_TRUE(s.practice());
+  EXPECT_EQ(s.probe, "unc15");
+}
+
+TEST(LessonFile, EveryErrorAtOnceWithItsPlace) {
+  const fs::path scene = fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
+  const fs::path p = Write("bad.yaml", "name: bad\n"
+                                       "scene: " + scene.string() + "\n"
+                                       "mode: practise\n"
+                                       "teeth: [46, 36]\n"
+                                       "path: [\"46 DB\", \"46 XX\", \"46 DB\"]\n"
+                                       "stepz: []\n"
+                                       "rubric:\n"
+                                       "  force_band_n: [0.3, 0.2]\n"
+                                       "  weights: {technik: 3}\n");
+  const auto e = Errors(p);
+  const std::string f = p.string();
+  EXPECT_EQ(e, (std::vector<std::string>{
+                   f + ":6:1: unknown key 'stepz' in the lesson; did you mean 'steps'?",
+                   f + ":3:7: unknown mode 'practise'; did you mean 'practice'?",
+                   f + ":9:13: unknown key 'technik' in 'weights' (expected one of: technique, reading, charting, force, angulation, "
+                       "coverage, bleeding, completeness, diagnosis)",
+                   f + ":8:17: 'force_band_n' must be [low, high] with low < high",
+                   f + ":4:13: tooth 36 is not in the scene periodontal_probing.yaml",
+                   f + ":5:17: a path entry is a tooth and a site, such as \"46 DB\" (sites MB, B, DB, ML, L, DL)",
+                   f + ":5:26: site 46 DB is twice in the path",
+                   f + ":1:1: a lesson needs 'steps:', a list of what the student does in order"}));
+  EXPECT_EQ(Errors(Write("noscene.yaml", "steps: [{instruction: x, complete: read}]\n")),
+            (std::vector<std::string>{Out("noscene.yaml").string() +
+                                      ":1:1: a lesson needs 'scene:', the scene file it runs on (relative to the "
+                                      "lesson's folder)"}));
+  const auto missing = Errors(Out("missing.yaml"));
+  ASSERT_EQ(missing.size(), 1u);
+  EXPECT_NE(missing[0].find("no such lesson file"), std::string::npos);
+}
+
+TEST(Answers, ChartAndEntriesFormsAndTheirErrors) {
+  const fs::path p = Write("answers.yaml", "chart:\n"
+                                           "  46: {pd: [5, 4, 7, 5, 4, 6], bleeding: [MB, DB]}\n"
+                                           "entries:\n"
+                                           "  - {site: \"47 ML\", pd: 4, tick: 1200}\n"
+                                           "diagnosis: {stage: III, extent: localized}\n");
+  const Answers a = LoadAnswers(p);
+  ASSERT_EQ(a.entries.size(), 7u);
+  EXPECT_EQ(a.entries[2].site.ToString(), "46 DB");
+  EXPECT_EQ(*a.entries[2].pd_mm, 7);
+  EXPECT_TRUE(a.entries[2].bleeding);
+  EXPECT_EQ(a.entries[6].tick, 1200u);
+  ASSERT_TRUE(a.diagnosis);
+  EXPECT_EQ(a.diagnosis->stage, Stage::kIII);
+  // What is saved reads back the same.
+  SaveAnswers(a, Out("answers_saved.yaml"));
+  const Answers b = LoadAnswers(Out("answers_saved.yaml"));
+  ASSERT_EQ(b.entries.size(), a.entries.size());
+  for (std::size_t i = 0; i < a.entries.size(); ++i) {
+    EXPECT_EQ(b.entries[i].site, a.entries[i].site);
+    EXPECT_EQ(b.entries[i].pd_mm, a.entries[i].pd_mm);
+    EXPECT_EQ(b.entries[i].bleeding, a.entries[i].bleeding);
+    EXPECT_EQ(b.entries[i].tick, a.entries[i].tick);
+  }
+  const fs::path bad = Write("answers_bad.yaml", "chart:\n"
+                                                 "  46: {pd: [5, 4, 7], bleeding: [MX]}\n"
+                                                 "diagnosis: {stage: V, extent: local}\n");
+  const std::string f = bad.string();
+  EXPECT_EQ(Errors(bad, true),
+            (std::vector<std::string>{
+                f + ":2:12: 'pd' must be a list of 6 numbers (depths at MB, B, DB, ML, L, DL), found 3",
+                f + ":2:34: unknown site 'MX' (MB, B, DB, ML, L, DL)",
+                f + ":3:20: 'stage' must be I, II, III or IV, not 'V'",
+                f + ":3:31: 'extent' must be localized or generalized (expected one of: localized, generalized)"}));
+}
+
+TEST(GeneratedCase, DrawsAChartWithTheAskedDiagnosisAndTheSeedRebuildsIt) {
+  const LessonSpec spec = LoadLessonSpec(Lesson());
+  const SceneSpec scene = LoadSceneSpec(spec.scene);
+  for (const auto& [stage, extent] : {std::pair{Stage::kIII, Extent::kLocalized}, std::pair{Stage::kII, Extent::kGeneralized},
+                                      std::pair{Stage::kI, Extent::kGeneralized}}) {
+    CaseSpec c;
+    c.generated = true;
+    c.stage = stage;
+    c.extent = extent;
+    std::set<std::string> distinct;
+    for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+      const SceneSpec s = ApplyCase(scene, spec.teeth, c, seed);
+      const Diagnosis d = Classify2017(TrueChart(s, spec.teeth));
+      EXPECT_EQ(d.stage, stage) << "seed " << seed;
+      EXPECT_EQ(d.extent, extent) << "seed " << seed;
+      std::string key;
+      for (const ObjectSpec& o : s.objects)
+        for (double p : o.pocket_mm) key += std::to_string(static_cast<int>(p));
+      distinct.insert(key);
+      // The same seed, the same case.
+      const SceneSpec again = ApplyCase(scene, spec.teeth, c, seed);
+      for (std::size_t i = 0; i < s.objects.size(); ++i) EXPECT_EQ(s.objects[i].pocket_mm, again.objects[i].pocket_mm);
+    }
+    EXPECT_GE(distinct.size(), 5u) << "cases cannot be learnt by heart";
+  }
+}
+
+TEST(Students, TheCarefulOneScoresNearlyFull) {
+  const AttemptOutcome out = Take("careful");
+  const LessonResult& r = out.result;
+  EXPECT_EQ(r.sites_read, 24);
+  EXPECT_EQ(r.sites_charted, 24);
+  for (const SiteResult& s : r.sites) {
+    ASSERT_TRUE(s.reached_mm) << s.site.ToString();
+    EXPECT_LE(std::abs(*s.reached_mm - s.truth_mm), 0.5) << s.site.ToString();
+    EXPECT_GE(s.peak_force_n, 0.15) << s.site.ToString();
+    EXPECT_LE(s.peak_force_n, 0.30) << s.site.ToString();
+    if (!IsInterdental(s.site.site)) {
+      EXPECT_LE(s.angle_deg, 5.0) << s.site.ToString();
+    }
+  }
+  for (const RubricLine& l : r.lines) EXPECT_NE(l.status, RubricLine::Status::kFail) << l.message;
+  EXPECT_GE(r.total, 95.0);
+  ASSERT_TRUE(r.declared);
+  EXPECT_EQ(r.declared->Summary(), r.true_dx.Summary());
+  EXPECT_EQ(r.true_dx.Summary(), "periodontitis stage III, localized");
+  for (const StepResult& s : r.steps) EXPECT_TRUE(s.completed) << s.id;
+  // Every line names a moment inside the attempt.
+  for (const RubricLine& l : r.lines) {
+    EXPECT_GE(l.tick, r.first_tick) << l.message;
+    EXPECT_LE(l.tick, r.last_tick + 1) << l.message;
+  }
+}
+
+TEST(Students, TheRoughOneFailsForceAndDamageAndBleedingIsFlagged) {
+  const LessonResult r = Take("rough").result;
+  EXPECT_EQ(Lines(r, "force", RubricLine::Status::kFail).size(), 24u) << "2 N at every floor";
+  EXPECT_EQ(Lines(r, "damage", RubricLine::Status::kFail).size(), 24u);
+  EXPECT_TRUE(Lines(r, "technique", RubricLine::Status::kFail).empty()) << "the floor is still reached";
+  std::set<std::string> bled;
+  for (const SiteResult& s : r.sites)
+    if (s.bled) bled.insert(s.site.ToString());
+  EXPECT_EQ(bled, (std::set<std::string>{"45 DB", "46 MB", "46 DB", "46 DL", "47 MB", "47 ML"})) << "the scene's";
+  std::set<std::string> flagged;
+  for (const RubricLine& l : r.lines)
+    if (l.category == "bleeding" && l.message.find("possibly caused by probing force") != std::string::npos)
+      flagged.insert(l.site->ToString());
+  EXPECT_EQ(flagged, bled);
+  EXPECT_LT(r.total, 80.0);
+}
+
+TEST(Students, TheMisreadingOneFailsReadingAtExactlyItsThreeSites) {
+  const LessonSpec spec = LoadLessonSpec(Lesson());
+  std::set<std::string> expected;
+  {
+    const auto scene = CompileScene(LoadSceneSpec(spec.scene), Cache());
+    const ScriptedStudent student("misreading", spec, *scene);
+    for (const SiteRef& s : student.misread_sites()) expected.insert(s.ToString());
+  }
+  EXPECT_EQ(expected, (std::set<std::string>{"47 DB", "46 DB", "45 DB"}));
+  const LessonResult r = Take("misreading").result;
+  EXPECT_EQ(Sites(Lines(r, "reading", RubricLine::Status::kFail)), expected);
+  EXPECT_EQ(Lines(r, "reading", RubricLine::Status::kPass).size(), 21u);
+  EXPECT_TRUE(Lines(r, "technique", RubricLine::Status::kFail).empty()) << "the technique was right";
+  EXPECT_TRUE(Lines(r, "technique", RubricLine::Status::kPartial).empty());
+  EXPECT_EQ(Sites(Lines(r, "charting", RubricLine::Status::kFail)), expected);
+}
+
+TEST(Students, TheSpotProberFailsCoverageOnEverySurface) {
+  const LessonResult r = Take("spot").result;
+  ASSERT_EQ(r.coverage.size(), 8u);
+  for (const SurfaceCoverage& c : r.coverage) EXPECT_LT(c.swept, 0.3) << c.fdi << (c.buccal ? " buccal" : " lingual");
+  EXPECT_EQ(Lines(r, "coverage", RubricLine::Status::kFail).size(), 8u);
+  EXPECT_NE(Lines(r, "coverage", RubricLine::Status::kFail)[0]->message.find("spot-probing"), std::string::npos);
+}
+
+TEST(Students, TheLazyOneSkipsATeethAndCompletenessSaysWhich) {
+  const LessonResult r = Take("lazy").result;
+  EXPECT_EQ(r.sites_read, 18);
+  const auto incomplete = Lines(r, "completeness", RubricLine::Status::kFail);
+  ASSERT_EQ(incomplete.size(), 2u);
+  EXPECT_EQ(incomplete[0]->message, "18 of 24 sites probed; not probed: 46 DB, 46 B, 46 MB, 46 ML, 46 L, 46 DL");
+  std::set<std::string> unprobed;
+  for (const RubricLine* l : Lines(r, "technique", RubricLine::Status::kFail))
+    if (l->message.find("not probed") != std::string::npos) unprobed.insert(l->site->ToString());
+  EXPECT_EQ(unprobed, (std::set<std::string>{"46 DB", "46 B", "46 MB", "46 ML", "46 L", "46 DL"}));
+  EXPECT_FALSE(r.steps[0].completed);
+}
+
+TEST(Replay, ARecordedAttemptGivesTheSameReport) {
+  const fs::path rec = Out("careful.rec");
+  const AttemptOutcome first = Take("careful", rec);
+  SaveAnswers(first.answers, Out("careful_answers.yaml"));
+  AttemptOptions o;
+  o.student = "careful";
+  o.device = "replay:" + rec.string();
+  o.answers = Out("careful_answers.yaml");
+  o.cache_dir = Cache();
+  const AttemptOutcome again = RunAttempt(Lesson(), o);
+  ReportInfo info;
+  info.started = "2026-01-01T00:00:00Z";
+  EXPECT_EQ(ReportJson(again.result, info), ReportJson(first.result, info)) << "the same report, byte for byte";
+  EXPECT_EQ(again.result.total, first.result.total);
+
+  // The JSON is well formed and says what the result says.
+  const YAML::Node j = YAML::Load(ReportJson(first.result, info));
+  EXPECT_EQ(j["lesson"].as<std::string>(), "Periodontal probing, lower right sextant");
+  EXPECT_EQ(j["sites"].size(), 24u);
+  EXPECT_EQ(j["lines"].size(), first.result.lines.size());
+  EXPECT_EQ(j["diagnosis"]["truth"]["stage"].as<std::string>(), "III");
+  const std::string html = ReportHtml(first.result, info);
+  for (const char* part : {"<table class=chart>", "Error map", "Force at each site", "Walking stroke", "Every line of the score",
+                           "periodontitis stage III, localized", "<svg"})
+    EXPECT_NE(html.find(part), std::string::npos) << part;
+  WriteReport(first.result, info, Out("report"));
+  EXPECT_TRUE(fs::exists(Out("report") / "report.html"));
+}
+
+TEST(LessonRun, PracticeShowsTheTruthAssessmentDoesNot) {
+  LessonSpec spec = LoadLessonSpec(Lesson());
+  const auto scene = CompileScene(LoadSceneSpec(spec.scene), Cache());
+  for (const auto mode : {LessonSpec::Mode::kPractice, LessonSpec::Mode::kAssessment}) {
+    spec.mode = mode;
+    LessonRun lesson(spec, *scene, "x");
+    TickRecord r;
+    r.tick = 10;
+    r.num_events = 1;
+    r.events[0] = HapticEvent::Of(EventKind::kProbeReading, 0);
+    r.events[0].payload.reading = {.fdi = 46, .site = 2, .depth_mm = 6.8, .peak_force_n = 0.2};
+    lesson.OnTick(r);
+    ASSERT_EQ(lesson.feedback().size(), 1u);
+    const bool truth_shown = lesson.feedback()[0].find("true depth is 7 mm") != std::string::npos;
+    EXPECT_EQ(truth_shown, mode == LessonSpec::Mode::kPractice) << lesson.feedback()[0];
+    ASSERT_TRUE(lesson.next_site());
+    EXPECT_EQ(lesson.next_site()->ToString(), "47 DB") << "the path's first unread site";
+  }
+}
+
+}  // namespace
+}  // namespace sulcus

@@ -1,0 +1,174 @@
+// The results database: attempts round-trip, schema versions, CSV export, and a
+// writer killed with SIGKILL in the middle of its attempts loses nothing that
+// was committed and leaves a sound database (a real child process).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sqlite3.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/lesson/results.h"
+
+namespace sulcus {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Fresh(const std::string& name) {
+  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "results" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir / "results.db";
+}
+
+LessonResult Sample(const std::string& student, double total) {
+  LessonResult r;
+  r.lesson_name = "Periodontal probing";
+  r.lesson_file = "/lessons/periodontal_probing.yaml";
+  r.scene_file = "/scenes/periodontal_probing.yaml";
+  r.mode = "practice";
+  r.student = student;
+  r.total = total;
+  r.sites_total = 24;
+  for (int t : {47, 46, 45, 44})
+    for (int s = 0; s < 6; ++s) {
+      SiteResult x;
+      x.site = {t, s};
+      x.truth_mm = 3;
+      x.reached_mm = 3.1;
+      ChartEntry e;
+      e.site = x.site;
+      e.pd_mm = (t == 46 && s == 2) ? 5 : 3;
+      e.tick = 100;
+      x.entry = e;
+      x.peak_force_n = 0.22;
+      r.sites.push_back(x);
+    }
+  for (int i = 0; i < 120; ++i) {
+    RubricLine l;
+    l.category = i % 2 ? "technique" : "force";
+    l.status = RubricLine::Status::kPass;
+    l.credit = 1;
+    l.message = "line " + std::to_string(i) + ", with a comma and \"quotes\"";
+    l.tick = static_cast<std::uint64_t>(i);
+    r.lines.push_back(l);
+  }
+  r.category_credit = {{"technique", 1.0}, {"force", 0.5}};
+  r.category_weight = {{"technique", 20}, {"force", 15}};
+  return r;
+}
+
+int Count(const fs::path& db, const std::string& sql) {
+  sqlite3* h = nullptr;
+  sqlite3_open(db.c_str(), &h);
+  sqlite3_stmt* s = nullptr;
+  sqlite3_prepare_v2(h, sql.c_str(), -1, &s, nullptr);
+  const int n = sqlite3_step(s) == SQLITE_ROW ? sqlite3_column_int(s, 0) : -1;
+  sqlite3_finalize(s);
+  sqlite3_close(h);
+  return n;
+}
+
+TEST(Results, AttemptsRoundTripAndExport) {
+  const fs::path file = Fresh("roundtrip");
+  {
+    ResultsDb db(file);
+    EXPECT_EQ(db.schema_version(), kResultsSchemaVersion);
+    EXPECT_EQ(db.Store(Sample("ada", 91.5), "2026-12-01T10:00:00Z", "/a.rec", "/a.yaml", "/a"), 1);
+    EXPECT_EQ(db.Store(Sample("ada", 95.0), "2026-12-02T10:00:00Z", "/b.rec", "/b.yaml", "/b"), 2);
+    EXPECT_EQ(db.Store(Sample("grace", 70.25), "2026-12-02T11:00:00Z", "/c.rec", "/c.yaml", "/c"), 3);
+  }
+  ResultsDb db(file);  // reopened: nothing to migrate
+  EXPECT_EQ(db.Students(), (std::vector<std::string>{"ada", "grace"}));
+  const auto ada = db.Attempts("ada");
+  ASSERT_EQ(ada.size(), 2u);
+  EXPECT_DOUBLE_EQ(ada[1].total, 95.0);
+  EXPECT_EQ(ada[1].recording, "/b.rec");
+  EXPECT_EQ(db.Attempts("", "/lessons/periodontal_probing.yaml").size(), 3u);
+  const auto one = db.Attempt(3);
+  ASSERT_TRUE(one);
+  EXPECT_EQ(one->student, "grace");
+  EXPECT_FALSE(db.Attempt(99));
+  const auto sites = db.Sites("grace");
+  ASSERT_EQ(sites.size(), 24u);
+  EXPECT_EQ(Count(file, "SELECT COUNT(*) FROM attempt_lines"), 360);
+  std::ostringstream csv;
+  ExportAttemptsCsv(db.Attempts(), csv);
+  const std::string text = csv.str();
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 4) << "a header and three attempts";
+  EXPECT_NE(csv.str().find("3,grace,Periodontal probing,"), std::string::npos) << csv.str();
+  std::ostringstream scsv;
+  ExportSitesCsv(sites, scsv);
+  EXPECT_NE(scsv.str().find(",46,DB,3,3.1,5,2,"), std::string::npos) << "signed error per site";
+  EXPECT_EQ(db.IntegrityCheck(), "ok");
+}
+
+TEST(Results, ANewerSchemaIsRefusedAndLeftAlone) {
+  const fs::path file = Fresh("newer");
+  { ResultsDb db(file); }
+  {
+    sqlite3* h = nullptr;
+    sqlite3_open(file.c_str(), &h);
+    sqlite3_exec(h, "PRAGMA user_version=99", nullptr, nullptr, nullptr);
+    sqlite3_close(h);
+  }
+  try {
+    ResultsDb db(file);
+    FAIL();
+  } catch (const ResultsError& e) {
+    EXPECT_NE(std::string(e.what()).find("schema version 99"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(Count(file, "PRAGMA user_version"), 99);
+  const fs::path junk = Fresh("junk");
+  std::ofstream(junk) << "this is not a database, it is a text file that someone renamed";
+  EXPECT_THROW(ResultsDb{junk}, ResultsError);
+}
+
+TEST(Results, AWriterKilledMidAttemptLosesNothingCommitted) {
+  const fs::path file = Fresh("killed");
+  { ResultsDb db(file); }  // created before the child, so the child only writes
+  int fds[2];
+  ASSERT_EQ(pipe(fds), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    close(fds[0]);
+    ResultsDb db(file);
+    for (int i = 0;; ++i) {
+      const std::int64_t id = db.Store(Sample("writer", i), "2026-12-01T00:00:00Z", "r", "a", "d");
+      if (write(fds[1], &id, sizeof id) != sizeof id) _exit(2);  // committed: tell the parent
+    }
+  }
+  close(fds[1]);
+  std::vector<std::int64_t> committed;
+  std::int64_t id = 0;
+  while (committed.size() < 25 && read(fds[0], &id, sizeof id) == sizeof id) committed.push_back(id);
+  usleep(1500);  // into the middle of the next attempt
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  close(fds[0]);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  ASSERT_EQ(committed.size(), 25u);
+
+  ResultsDb db(file);
+  EXPECT_EQ(db.IntegrityCheck(), "ok");
+  const auto rows = db.Attempts("writer");
+  ASSERT_GE(rows.size(), committed.size()) << "every committed attempt is there";
+  EXPECT_LE(rows.size(), committed.size() + 1) << "at most the one being committed when killed";
+  for (std::int64_t c : committed) EXPECT_TRUE(db.Attempt(c)) << "attempt " << c;
+  // Whole or absent: no attempt without all its sites and lines.
+  EXPECT_EQ(Count(file, "SELECT COUNT(*) FROM attempts a WHERE (SELECT COUNT(*) FROM attempt_sites s WHERE "
+                        "s.attempt_id = a.id) != 24 OR (SELECT COUNT(*) FROM attempt_lines l WHERE l.attempt_id = a.id) "
+                        "!= 120"),
+            0);
+  EXPECT_GT(db.Store(Sample("after", 1), "2026-12-01T00:00:01Z", "r", "a", "d"), 0) << "and it takes new attempts";
+}
+
+}  // namespace
+}  // namespace sulcus

@@ -1,0 +1,126 @@
+// The session hands every tick to every consumer, in order, live and offline;
+// and a compiled scene keeps each object's own sphere-tree settings even when
+// soft objects are moved behind the hard ones.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "core/session/session.h"
+
+namespace sulcus {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Out(const std::string& name) {
+  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "session";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+struct Collector final : TickConsumer {
+  void OnTick(const TickRecord& r) override {
+    if (!ticks.empty() && r.tick != ticks.back() + 1) ++gaps;
+    ticks.push_back(r.tick);
+  }
+  void OnEnd() override { ++ends; }
+  std::vector<std::uint64_t> ticks;
+  int gaps = 0, ends = 0;
+};
+
+std::unique_ptr<CompiledScene> Block() {
+  const fs::path scene = Out("block.yaml");
+  std::ofstream(scene) << "spheretree: {levels: 3, leaves: 16}\n"
+                          "objects:\n"
+                          "  - box: [10, 10, 4]\n"
+                          "    tissue: bone\n";
+  return CompileScene(LoadSceneSpec(scene), Out("cache"));
+}
+
+TEST(Session, EveryConsumerGetsEveryTickInOrderOffline) {
+  const auto scene = Block();
+  DeviceSpec d = MakeDevice("scripted:poke", *scene, 0.5);
+  SessionOptions so;
+  so.max_ticks = 400;
+  so.record = Out("offline.rec");
+  Session session(*scene, std::move(d), so);
+  Collector a, b;
+  session.AddConsumer(&a);
+  session.AddConsumer(&b);
+  session.RunOffline();
+  EXPECT_EQ(a.ticks.size(), 400u);
+  EXPECT_EQ(a.ticks, b.ticks);
+  EXPECT_EQ(a.gaps, 0);
+  EXPECT_EQ(a.ends, 1);
+  EXPECT_EQ(ReadRecording(Out("offline.rec")).frames.size(), 400u) << "the recorder is a consumer too";
+}
+
+TEST(Session, LiveTicksReachTheConsumersOffTheHapticThread) {
+  const auto scene = Block();
+  SessionOptions so;
+  so.max_ticks = 300;
+  so.realtime = false;
+  Session session(*scene, MakeDevice("scripted:poke", *scene, 0.5), so);
+  Collector c;
+  session.AddConsumer(&c);
+  session.Start();
+  while (session.running()) {
+    session.Pump();
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  session.Stop();
+  EXPECT_EQ(c.ticks.size(), 300u);
+  EXPECT_EQ(c.gaps, 0);
+  EXPECT_EQ(c.ends, 1);
+  EXPECT_EQ(session.dropped_ticks(), 0u);
+}
+
+TEST(Session, DeviceSpellingsAreCheckedWithAClearError) {
+  const auto scene = Block();
+  try {
+    MakeDevice("phantom", *scene, 1);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("--device must be scripted:NAME"), std::string::npos);
+  }
+  EXPECT_THROW(MakeDevice("scripted:wiggle", *scene, 1), std::invalid_argument);
+  EXPECT_THROW(MakeDevice("replay:" + Out("none.rec").string(), *scene, 1), RecordingError);
+}
+
+// The soft gingiva object comes first in the file, a hard one after it, each
+// with its own tree settings: after compiling, each has its own tree.
+TEST(CompileScene, SoftObjectsMovedLastKeepTheirOwnTreeSettings) {
+  const fs::path scene = Out("order.yaml");
+  std::ofstream(scene) << "effects: [contact, gingiva_compliance]\n"
+                          "objects:\n"
+                          "  - name: soft\n"
+                          "    cylinder: 3\n"
+                          "    height_mm: 4\n"
+                          "    tissue: gingiva\n"
+                          "    spheretree: {levels: 2, leaves: 8}\n"
+                          "  - name: hard\n"
+                          "    box: [6, 6, 2]\n"
+                          "    at: [20, 0, 0]\n"
+                          "    tissue: bone\n"
+                          "    spheretree: {levels: 3, leaves: 64}\n";
+  const SceneSpec spec = LoadSceneSpec(scene);
+  EXPECT_EQ(spec.objects[0].file_index, 0);
+  const auto c = CompileScene(spec, Out("cache"));
+  ASSERT_EQ(c->spec.objects.size(), 2u);
+  EXPECT_EQ(c->spec.objects[0].name, "hard") << "hard objects first in the engine";
+  EXPECT_EQ(c->spec.objects[0].file_index, 1) << "but it keeps its place in the file";
+  EXPECT_EQ(c->spec.objects[1].file_index, 0);
+  auto leaves = [](const SphereTree& t) {
+    int n = 0;
+    for (std::size_t i = 0; i < t.size(); ++i) n += t.IsLeaf(i);
+    return n;
+  };
+  EXPECT_GT(leaves(c->trees[0]), 8) << "the hard box has its 64-leaf tree";
+  EXPECT_LE(leaves(c->trees[0]), 64);
+  EXPECT_LE(leaves(c->trees[1]), 8) << "the soft cylinder has its 8-leaf tree";
+}
+
+}  // namespace
+}  // namespace sulcus
