@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sets everything up and runs Sulcus: installs the Debian packages, builds the
-# release preset, then runs the main program. Until the window lands, the main
-# program is a short headless demo of the CLI, which says what it does.
+# release preset, then runs the main program: the window when there is a display,
+# else a lesson taken headless by a scripted student, with its report.
 # Usage: scripts/sulcus.sh [sulcus-cli arguments...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,18 +20,18 @@ if [[ -n "${DISPLAY:-}" && -x build/release/bin/sulcus ]]; then
   exec build/release/bin/sulcus "$(pwd)/scenes/periodontal_probing.yaml"
 fi
 echo
-echo "No display (\$DISPLAY is not set), so this runs the headless demo instead:"
-mkdir -p build/release/demo
+echo "No display (\$DISPLAY is not set), so the main program runs a lesson headless:"
+echo "a scripted student takes the periodontal probing lesson (teeth 44 to 47), the"
+echo "attempt is scored and stored, and its report is written (the first run builds"
+echo "the scene's sphere-trees, about 20 s)."
 echo
-echo "1. Check the shipped probing scene and build its meshes and sphere-trees (cached):"
-echo "  \$ $cli scene build scenes/periodontal_probing.yaml"
-"$cli" scene build scenes/periodontal_probing.yaml
+echo "  \$ $cli lesson run lessons/periodontal_probing.yaml --student 'demo student' --device student:careful"
+"$cli" lesson run lessons/periodontal_probing.yaml --student "demo student" --device student:careful
 echo
-echo "2. Run the real haptic thread on it for 3 s with a scripted probe poking tooth 44:"
-echo "  \$ $cli run --scene scenes/periodontal_probing.yaml --device scripted:poke --seconds 3"
-"$cli" run --scene scenes/periodontal_probing.yaml --device scripted:poke --seconds 3 \
-  --record build/release/demo/poke.rec
+echo "The same lesson by a student who presses 2 N at the pocket floor:"
+echo "  \$ $cli lesson run lessons/periodontal_probing.yaml --student 'demo student' --device student:rough --quiet"
+"$cli" lesson run lessons/periodontal_probing.yaml --student "demo student" --device student:rough --quiet
 echo
-echo "3. Haptic devices plugged in:"
-echo "  \$ $cli devices"
-exec "$cli" devices
+echo "Every stored attempt (open a report.html in any browser):"
+echo "  \$ $cli results list"
+exec "$cli" results list

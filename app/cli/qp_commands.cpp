@@ -1,4 +1,4 @@
-// `sulcus-cli qp-bench FILE` and `sulcus-cli qp-gen KIND ...` (issue 5).
+// `sulcus-cli qp-bench FILE` and `sulcus-cli qp-gen KIND ...`.
 
 #include <algorithm>
 #include <chrono>

@@ -288,8 +288,9 @@ void LessonRun::OnTick(const TickRecord& r) {
   }
   ++ticks_;
   last_tick_ = r.tick;
+  // The probing force: along the probe's axis, as the readings score it.
   if (r.tick % LessonResult::kTraceEvery == 0)
-    force_trace_.push_back({r.tick, static_cast<float>(r.force_W.norm())});
+    force_trace_.push_back({r.tick, static_cast<float>(std::max(0.0, r.force_W.dot(r.X_WG.rotation().col(2))))});
   for (int i = 0; i < r.num_events; ++i) {
     const HapticEvent& e = r.events[i];
     switch (e.kind) {
@@ -528,7 +529,8 @@ LessonResult LessonRun::Finish() const {
       c.last_tick = st.last;
       const char* surface = buccal ? "buccal" : "lingual";
       const bool ok = c.swept >= rb.coverage_min;
-      L.push_back(Line("coverage", nullptr, t.fdi, ok ? S::kPass : S::kFail, ok ? 1 : c.swept / rb.coverage_min,
+      // A surface short of the minimum keeps at most half its credit, in proportion.
+      L.push_back(Line("coverage", nullptr, t.fdi, ok ? S::kPass : S::kFail, ok ? 1 : 0.5 * c.swept / rb.coverage_min,
                        Format("%d %s: %.0f %% of the sulcus swept (at least %.0f %%), %d strokes of %.1f mm, the tip "
                               "on the tooth %.0f %% of the time%s",
                               t.fdi, surface, 100 * c.swept, 100 * rb.coverage_min, c.strokes, c.stroke_mm,

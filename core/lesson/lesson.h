@@ -114,7 +114,7 @@ struct LessonResult {
   PerioChart true_chart, student_chart;
   Diagnosis true_dx, chart_dx;
   std::optional<DeclaredDiagnosis> declared;
-  std::vector<std::pair<std::uint64_t, float>> force_trace;  // (tick, |F| N) every kTraceEvery ticks
+  std::vector<std::pair<std::uint64_t, float>> force_trace;  // (tick, force along the probe, N) every kTraceEvery ticks
   std::vector<std::string> feedback;                         // what the student was told (practice)
   static constexpr int kTraceEvery = 5;
 };

@@ -154,7 +154,7 @@ std::string ChartBand(const LessonResult& r, bool upper, bool buccal) {
 std::string ErrorMap(const LessonResult& r) {
   std::ostringstream o;
   const std::vector<int> lower = ChartOrder(r, false), upper = ChartOrder(r, true);
-  const int cell = 26, gap = 6;
+  const int cell = 32, gap = 8;
   int width = 0;
   for (const auto* teeth : {&upper, &lower}) width = std::max<int>(width, static_cast<int>(teeth->size()) * (3 * cell + gap));
   const int rows = (upper.empty() ? 0 : 2) + (lower.empty() ? 0 : 2);
@@ -376,8 +376,8 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
        "<span style=\"background:#d03030\"></span>2 mm or more</p>\n"
     << ErrorMap(r) << "\n";
 
-  o << "<h2>Force at each site</h2>\n<p class=meta>The force while the tip was in the site's sulcus (blue), the band "
-       "of full credit (green), the tissue-damage limit (red dashes); the line marks the deepest moment.</p>\n<div "
+  o << "<h2>Force at each site</h2>\n<p class=meta>The force along the probe while the tip was in the site's sulcus "
+       "(blue), the band of full credit (green), the tissue-damage limit (red dashes); the line marks the deepest moment.</p>\n<div "
        "class=sites>";
   for (const SiteResult& s : r.sites) {
     if (!s.reached_mm) continue;

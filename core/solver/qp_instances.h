@@ -1,5 +1,5 @@
 #pragma once
-// Sequences of QP instances in the benchmark file format of issue 5, and a
+// Sequences of QP instances in the benchmark file format, and a
 // generator of contact-like sets (slot, wedge, plane, cluster, random).
 //
 // Format (little-endian): int32 n, m, S, T; float64 G_diag[n]; then S sequences

@@ -1,5 +1,5 @@
 #pragma once
-// Fit quality of a sphere-tree against its mesh (issue 4, "Metrics"): per level,
+// Fit quality of a sphere-tree against its mesh: per level,
 // how far spheres stick out of the surface, how much of the surface they cover,
 // how much volume they add, and whether children lie inside their parents.
 

@@ -1,4 +1,4 @@
-// What the haptic frame costs (issue 5): collision with the reference Algorithm 1
+// What the haptic frame costs: collision with the reference Algorithm 1
 // against the fast traversal, side by side on the same poses; and the whole frame
 // at 10, 100, 200 and 1,000 pairs and for the probe in the full mouth. Reports
 // median, p99 and max per frame as counters. Nothing passes or fails on time.

@@ -1,5 +1,5 @@
 #pragma once
-// A full-mouth stand-in for benchmarks until procedural anatomy lands (issue 3):
+// A full-mouth stand-in for the engine benchmarks (simple, reproducible shapes):
 // 32 tooth-sized ellipsoids (8 x 7 x 20 mm) on two parabolic arches and a jaw,
 // 33 objects of up to 512 leaves each, and a 512-leaf probe. Trees are built once
 // with the real builder and cached in the build tree.

@@ -1,4 +1,4 @@
-// Pictures of the generated teeth (issue 3): look at them. Saved under
+// Pictures of the generated teeth: look at them. Saved under
 // build/<preset>/test-output/screenshots/.
 
 #include <gtest/gtest.h>

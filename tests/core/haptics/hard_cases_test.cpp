@@ -1,4 +1,4 @@
-// The stability suite of issue 5: named hard cases, each a scene plus a scripted
+// The stability suite: named hard cases, each a scene plus a scripted
 // device trajectory, checked frame by frame against measured criteria:
 // - no NaN or Inf, ever;
 // - the graphic tool never penetrates a sphere by more than 1e-3 mm (checked by an

@@ -286,6 +286,30 @@ TEST(Replay, ARecordedAttemptGivesTheSameReport) {
   EXPECT_TRUE(fs::exists(Out("report") / "report.html"));
 }
 
+TEST(GeneratedCase, AnAssessmentOnADrawnCaseStoresItsSeedAndRebuilds) {
+  const fs::path lesson = fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing_case.yaml";
+  AttemptOptions o;
+  o.device = "student:careful";
+  o.seed = 7;
+  o.cache_dir = Cache();
+  o.record = Out("case.rec");
+  const AttemptOutcome out = RunAttempt(lesson, o);
+  EXPECT_EQ(out.seed, 7u);
+  EXPECT_TRUE(out.result.generated_case);
+  EXPECT_EQ(out.result.case_seed, 7u);
+  EXPECT_EQ(out.result.mode, "assessment");
+  EXPECT_EQ(out.result.true_dx.Summary(), "periodontitis stage III, localized");
+  for (const std::string& f : out.result.feedback) EXPECT_EQ(f.find("true depth"), std::string::npos) << f;
+  EXPECT_GE(out.result.total, 90.0);
+  // The same seed and recording rebuild the same result.
+  SaveAnswers(out.answers, Out("case_answers.yaml"));
+  o.device = "replay:" + Out("case.rec").string();
+  o.answers = Out("case_answers.yaml");
+  o.record.clear();
+  const AttemptOutcome again = RunAttempt(lesson, o);
+  EXPECT_EQ(ReportJson(again.result, {}), ReportJson(out.result, {}));
+}
+
 TEST(LessonRun, PracticeShowsTheTruthAssessmentDoesNot) {
   LessonSpec spec = LoadLessonSpec(Lesson());
   const auto scene = CompileScene(LoadSceneSpec(spec.scene), Cache());

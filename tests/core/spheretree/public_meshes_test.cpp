@@ -1,4 +1,4 @@
-// The builder on public meshes of different character (issue 4): smooth with
+// The builder on public meshes of different character: smooth with
 // thin parts (elephant), sharp edges (fandisk), a thin tube of genus 1 (knot1),
 // many holes (couplingdown, genus 9), many disconnected parts (bones, 26).
 // Scaled to 20 mm, the size of a tooth. Prints the figures; asserts the
@@ -55,7 +55,7 @@ INSTANTIATE_TEST_SUITE_P(Cgal, PublicMesh,
                          ::testing::Values("elephant", "fandisk", "knot1", "couplingdown", "bones"));
 
 // The default evaluation density is dense enough: doubling it moves no figure by
-// more than 5 % (issue 4).
+// more than 5 %.
 TEST(PublicMeshEval, DefaultDensityHasConverged) {
   const TriangleMesh mesh = LoadScaled("elephant");
   const SphereTree tree = BuildSphereTree(mesh, SphereTreeParams{});

@@ -1,4 +1,4 @@
-// Sphere-trees of the generated teeth (issue 4 measured on issue 3's anatomy):
+// Sphere-trees of the generated teeth:
 // asserts the guarantees (every surface sample covered, every child inside its
 // parent) and the issue's worst-protrusion target (1.5 % of the largest extent)
 // on every tooth and probe, and its mean target (0.3 %) on the probes, incisors,
