@@ -1,5 +1,6 @@
-// sulcus: the window. Opens a scene (the command line's, the last one, or the
-// periodontal probing scene) with the mouse and keyboard or a scripted device.
+// sulcus: the window. Opens on the start page (who, which lesson, which mode)
+// over the last scene; or on a scene given on the command line (the workbench),
+// or straight into a lesson (--lesson).
 
 #include <QApplication>
 #include <QCommandLineParser>
@@ -29,11 +30,15 @@ int main(int argc, char** argv) {
   QCommandLineOption device("device", "mouse, scripted:NAME or replay:FILE", "device");
   QCommandLineOption quit_after("quit-after", "Quit after this many seconds (demos, tests)", "seconds");
   QCommandLineOption screenshot("screenshot", "Save a screenshot here just before quitting", "png");
-  cli.addOptions({device, quit_after, screenshot});
+  QCommandLineOption lesson("lesson", "Start this lesson at once (no start page)", "file");
+  QCommandLineOption student("student", "Who takes the lesson", "name");
+  QCommandLineOption workbench("workbench", "Open the scene without a lesson (no start page)");
+  cli.addOptions({device, quit_after, screenshot, lesson, student, workbench});
   cli.process(app);
 
   std::filesystem::path scene;
-  if (!cli.positionalArguments().isEmpty()) {
+  const bool scene_given = !cli.positionalArguments().isEmpty();
+  if (scene_given) {
     scene = cli.positionalArguments().front().toStdString();
   } else if (const QString last = QSettings().value("scene/last").toString(); !last.isEmpty() &&
                                                                               std::filesystem::exists(last.toStdString())) {
@@ -42,10 +47,23 @@ int main(int argc, char** argv) {
     scene = std::filesystem::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
   }
   sulcus::ui::MainWindow window;
+  window.SetLessonFolders({std::filesystem::path(SULCUS_SOURCE_DIR) / "lessons"});
   window.show();
-  window.SetDevice(cli.isSet(device) ? cli.value(device).toStdString()
-                                     : QSettings().value("device/last", "mouse").toString().toStdString());
-  QTimer::singleShot(0, &window, [&] { window.OpenScene(scene); });
+  // A new student starts with the mouse, never with the last run's script.
+  window.SetDevice(cli.isSet(device) ? cli.value(device).toStdString() : "mouse");
+  QTimer::singleShot(0, &window, [&] {
+    if (cli.isSet(lesson)) {
+      sulcus::ui::MainWindow::LessonStart s;
+      s.lesson = cli.value(lesson).toStdString();
+      if (cli.isSet(student)) s.student = cli.value(student).toStdString();
+      if (cli.isSet(device)) s.device = cli.value(device).toStdString();
+      if (!window.StartLesson(s)) window.OpenScene(scene);
+      return;
+    }
+    window.OpenScene(scene);
+    // The start page, unless a scene was asked for: who, which lesson, which mode.
+    if (!scene_given && !cli.isSet(workbench) && !cli.isSet(quit_after)) window.ShowStartPage();
+  });
   if (cli.isSet(quit_after)) {
     QTimer::singleShot(static_cast<int>(cli.value(quit_after).toDouble() * 1000), &window, [&] {
       if (cli.isSet(screenshot)) window.SaveScreenshot(cli.value(screenshot).toStdString());

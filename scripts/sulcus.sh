@@ -15,9 +15,10 @@ if [[ $# -gt 0 ]]; then
   exec "$cli" "$@"
 fi
 if [[ -n "${DISPLAY:-}" && -x build/release/bin/sulcus ]]; then
-  echo "Opening the window on scenes/periodontal_probing.yaml (the first run builds its"
-  echo "sphere-trees, about 15 s; the mouse and keyboard move the probe: W/S, A/D, Q/E)."
-  exec build/release/bin/sulcus "$(pwd)/scenes/periodontal_probing.yaml"
+  echo "Opening the window on its start page: say who you are and pick a lesson (the"
+  echo "first run builds the scene's sphere-trees, about 20 s; the mouse and keyboard"
+  echo "move the probe: W/S, A/D, Q/E; F1 for help)."
+  exec build/release/bin/sulcus
 fi
 echo
 echo "No display (\$DISPLAY is not set), so the main program runs a lesson headless:"

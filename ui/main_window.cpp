@@ -4,6 +4,12 @@
 #include <QApplication>
 #include <QCheckBox>
 #include <QCloseEvent>
+#include <QDesktopServices>
+#include <QDialogButtonBox>
+#include <QGroupBox>
+#include <QRadioButton>
+#include <QTextBrowser>
+#include <QUrl>
 #include <QComboBox>
 #include <QDockWidget>
 #include <QEventLoop>
@@ -32,11 +38,20 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
+#include <fstream>
+#include <sstream>
 
 #include "core/haptics/devices/usb_discovery.h"
+#include "core/lesson/answers.h"
+#include "core/lesson/attempt.h"
+#include "core/lesson/report.h"
+#include "core/lesson/results.h"
+#include "ui/chart_widget.h"
 #include "core/haptics/scripted_device.h"
 #include "core/spheretree/cache.h"
 #include "ui/force_gauge.h"
+#include "ui/start_dialog.h"
 #include "ui/force_plot.h"
 #include "ui/mouse_device.h"
 #include "ui/scene_view.h"
@@ -184,7 +199,24 @@ void MainWindow::BuildUi() {
   });
   file->addSeparator();
   file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
-  statusBar()->showMessage("Open a scene (File > Open scene).");
+  BuildLessonDock();
+  auto* lessons = menuBar()->addMenu("&Lesson");
+  lessons->addAction("&Start a lesson...", this, [this] { ShowStartPage(); }, QKeySequence("Ctrl+L"));
+  lessons->addAction("&Declare the diagnosis...", this, [this] { AskDiagnosis(); });
+  lessons->addAction("&Finish the lesson", this, [this] { FinishLesson(); });
+  auto* help_menu = menuBar()->addMenu("&Help");
+  help_menu->addAction("&How to probe and chart", this, [this] {
+    QMessageBox::information(
+        this, "Sulcus help",
+        "<b>Moving the probe</b> (mouse and keyboard): W/S, A/D, Q/E move it; with Shift they turn it; Ctrl + drag "
+        "moves it with the mouse.<br><br><b>Probing</b>: walk the probe around each tooth in short up-and-down strokes "
+        "with the tip on the tooth, parallel to the long axis; at the contacts tilt it into the col. Press the pocket "
+        "floor lightly: the gauge's green band is 0.20-0.25 N.<br><br><b>Charting</b>: click the chart (or press Tab "
+        "to it), type the depth you read at each site in whole millimetres; it moves to the next site along the path. "
+        "B or Space marks bleeding on the site you just entered; Backspace goes back.<br><br><b>Diagnosis</b>: at the "
+        "end, Lesson &gt; Declare the diagnosis; then Lesson &gt; Finish shows your report.");
+  }, QKeySequence::HelpContents);
+  statusBar()->showMessage("Start a lesson (Lesson > Start, Ctrl+L) or open a scene (File > Open scene).");
 }
 
 void MainWindow::ShowErrors(const QString& title, const QString& text, const QString& details) {
@@ -211,6 +243,10 @@ bool MainWindow::OpenScene(const std::filesystem::path& file, bool wait) {
                details);
     return false;
   }
+  return OpenSpec(spec, file, wait);
+}
+
+bool MainWindow::OpenSpec(const SceneSpec& spec, const std::filesystem::path& file, bool wait) {
   // Compile off the UI thread; the dialog shows progress and can cancel.
   struct Job {
     std::mutex mutex;
@@ -247,7 +283,7 @@ bool MainWindow::OpenScene(const std::filesystem::path& file, bool wait) {
     {
       std::lock_guard lock(job->mutex);
       progress->setValue(static_cast<int>(job->fraction * 1000));
-      progress->setLabelText(QString("Building sphere-trees: %1").arg(Q(job->stage)));
+      progress->setLabelText(QString("Preparing the scene (the first time only: its collision spheres): %1").arg(Q(job->stage)));
     }
     if (!job->done) return;
     poll->stop();  // once: deleteLater may wait for an event loop that never comes back
@@ -321,7 +357,16 @@ void MainWindow::BeginSession() {
     return d;
   };
   DeviceSpec device;
-  if (device_name_.rfind("scripted:", 0) == 0 || device_name_.rfind("replay:", 0) == 0) {
+  if (lesson_spec_ && device_name_.rfind("student:", 0) == 0) {
+    try {
+      scripted_student_ = std::make_unique<ScriptedStudent>(device_name_.substr(8), *lesson_spec_, *scene_);
+      device.device = scripted_student_->MakeDevice();
+      device.name = device_name_;
+    } catch (const std::exception& e) {
+      device_error_ = e.what();
+      ShowErrors("Device", QString("The device %1 cannot be used.").arg(Q(device_name_)), Q(device_error_));
+    }
+  } else if (device_name_.rfind("scripted:", 0) == 0 || device_name_.rfind("replay:", 0) == 0) {
     try {
       device = MakeDevice(device_name_, *scene_, 600.0);
     } catch (const std::exception& e) {
@@ -340,6 +385,8 @@ void MainWindow::BeginSession() {
   so.record = recording_file_;
   so.device_name = device_name_;
   so.stop_when_device_finished = false;
+  so.free_run = lesson_spec_ && lesson_start_.free_run;
+  so.realtime = !so.free_run;
   try {
     session_ = std::make_unique<Session>(*scene_, std::move(device), so);
   } catch (const std::exception& e) {
@@ -350,6 +397,19 @@ void MainWindow::BeginSession() {
     session_ = std::make_unique<Session>(*scene_, use_mouse(), so);
   }
   session_->AddConsumer(&tap_);
+  if (lesson_spec_ && !lesson_) {
+    // The lesson follows this session's ticks from its first.
+    lesson_ = std::make_unique<LessonRun>(*lesson_spec_, *scene_, lesson_start_.student,
+                                          lesson_spec_->case_spec.generated ? lesson_seed_ : 0);
+    std::map<std::pair<int, int>, double> recession;
+    for (const SiteRef& site : lesson_spec_->path) recession[{site.fdi, site.site}] = lesson_->recession_mm(site);
+    chart_->SetLesson(lesson_spec_->teeth, lesson_spec_->path, recession);
+    feedback_->clear();
+    feedback_shown_ = 0;
+    looked_at_ = 0;
+    lesson_dock_->show();
+  }
+  if (lesson_) session_->AddConsumer(lesson_.get());
   try {
     session_->Start();
   } catch (const std::exception& e) {
@@ -394,6 +454,7 @@ void MainWindow::Tick() {
     while (events_->count() > 200) delete events_->takeItem(events_->count() - 1);
   }
   tap_.events.clear();
+  if (lesson_) UpdateLessonPanel();
   status_->setText(status_text());
   vtk_widget_->renderWindow()->Render();
 }
@@ -543,6 +604,292 @@ void MainWindow::closeEvent(QCloseEvent* e) {
   settings.setValue("window/state", saveState());
   StopSession();
   QMainWindow::closeEvent(e);
+}
+
+
+void MainWindow::BuildLessonDock() {
+  auto* panel = new QWidget;
+  auto* layout = new QVBoxLayout(panel);
+  step_label_ = new QLabel;
+  step_label_->setWordWrap(true);
+  step_label_->setTextFormat(Qt::RichText);
+  step_label_->setStyleSheet("font-size: 14px;");
+  layout->addWidget(step_label_);
+  next_label_ = new QLabel;
+  tip_label_ = new QLabel;
+  tilt_label_ = new QLabel;
+  tilt_label_->setToolTip("The probe's tilt from the tooth's long axis: keep it under 5 degrees at the mid-sites");
+  for (QLabel* l : {next_label_, tip_label_, tilt_label_}) {
+    l->setTextFormat(Qt::RichText);
+    layout->addWidget(l);
+  }
+  chart_ = new ChartWidget;
+  chart_->on_entry = [this](ChartEntry e) {
+    if (!lesson_) return;
+    e.tick = lesson_->last_tick() + 1;  // the moment it was entered
+    lesson_->Enter(e);
+  };
+  layout->addWidget(chart_);
+  feedback_ = new QListWidget;
+  feedback_->setMaximumHeight(110);
+  feedback_->setToolTip("What the lesson tells you as you go (the truth after each site in practice mode)");
+  layout->addWidget(feedback_);
+  auto* buttons = new QHBoxLayout;
+  diagnose_button_ = new QPushButton("Declare the diagnosis...");
+  finish_button_ = new QPushButton("Finish and see the report");
+  diagnose_button_->setToolTip("Stage and extent of periodontitis from your chart (2017 classification)");
+  finish_button_->setToolTip("Ends the lesson (whatever is left undone counts as not done) and shows your report");
+  connect(diagnose_button_, &QPushButton::clicked, this, [this] { AskDiagnosis(); });
+  connect(finish_button_, &QPushButton::clicked, this, [this] { FinishLesson(); });
+  buttons->addWidget(diagnose_button_);
+  buttons->addWidget(finish_button_);
+  layout->addLayout(buttons);
+  lesson_dock_ = new QDockWidget("Lesson", this);
+  lesson_dock_->setObjectName("lesson");
+  lesson_dock_->setWidget(panel);
+  addDockWidget(Qt::LeftDockWidgetArea, lesson_dock_);
+  lesson_dock_->hide();
+}
+
+void MainWindow::SetAidsLocked(bool locked) {
+  aids_locked_ = locked;
+  // Assessment: no aids, and they cannot be turned on.
+  if (locked) {
+    translucent_->setChecked(false);
+    sphere_level_->setValue(-1);
+  }
+  translucent_->setEnabled(!locked);
+  sphere_level_->setEnabled(!locked);
+  events_->setVisible(!locked);
+  device_box_->setEnabled(!lesson_spec_);
+}
+
+bool MainWindow::StartLesson(const LessonStart& start) {
+  LessonSpec spec;
+  try {
+    spec = LoadLessonSpec(start.lesson);
+  } catch (const SceneLoadError& e) {
+    QString details;
+    for (const SceneError& err : e.errors()) details += Q(err.ToString()) + "\n";
+    ShowErrors("Lesson has errors", QString("%1 has %2 error(s).").arg(Q(start.lesson.string())).arg(e.errors().size()),
+               details);
+    return false;
+  }
+  if (start.mode) spec.mode = *start.mode;
+  std::uint64_t seed = spec.case_spec.seed;
+  if (start.seed) seed = *start.seed;
+  else if (spec.case_spec.generated && spec.case_spec.random_seed) seed = static_cast<std::uint64_t>(std::time(nullptr)) & 0xffffff;
+  SceneSpec scene;
+  try {
+    scene = LessonScene(spec, seed);
+  } catch (const std::exception& e) {
+    ShowErrors("Lesson", "The lesson's scene cannot be made.", Q(e.what()));
+    return false;
+  }
+  if (lesson_) FinishLesson();
+  // The attempt's folder: its recording, entries and report.
+  const std::filesystem::path results = start.results_dir.empty() ? DefaultResultsDir() : start.results_dir;
+  char stamp[32], iso[32];
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S-", &tm);
+  std::strftime(iso, sizeof iso, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  std::string safe;
+  for (char c : start.student) safe += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  std::filesystem::path dir = results / "attempts" / (stamp + safe);
+  for (int n = 2; std::filesystem::exists(dir); ++n) dir = results / "attempts" / (stamp + safe + "-" + std::to_string(n));
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    ShowErrors("Lesson", "The attempt's folder cannot be made.", Q(dir.string() + ": " + ec.message()));
+    return false;
+  }
+  StopSession();
+  lesson_spec_ = spec;
+  lesson_start_ = start;
+  lesson_start_.results_dir = results;
+  lesson_seed_ = seed;
+  attempt_dir_ = dir;
+  lesson_started_ = iso;
+  lesson_.reset();
+  device_name_ = start.device;
+  recording_file_ = dir / "recording.rec";
+  QSettings().setValue("student/last", Q(start.student));
+  SetAidsLocked(!spec.practice());
+  if (!OpenSpec(scene, spec.scene, true) || !lesson_) {
+    lesson_spec_.reset();
+    lesson_.reset();
+    recording_file_.clear();
+    SetAidsLocked(false);
+    return false;
+  }
+  setWindowTitle(QString("Sulcus - %1 - %2 (%3)").arg(Q(spec.name), Q(start.student), Q(ToString(spec.mode))));
+  chart_->setFocus();
+  return true;
+}
+
+void MainWindow::ShowStartPage() {
+  StartDialog dialog(lesson_dirs_, DefaultResultsDir() / "results.db", this);
+  if (dialog.exec() != QDialog::Accepted || dialog.lesson().empty()) return;
+  LessonStart s;
+  s.lesson = dialog.lesson();
+  s.student = dialog.student();
+  s.mode = dialog.mode();
+  s.device = "mouse";
+  StartLesson(s);
+}
+
+QString MainWindow::lesson_text() const {
+  if (!lesson_) return {};
+  return step_label_->text() + "\n" + next_label_->text() + "\n" + tip_label_->text() + "\n" + tilt_label_->text();
+}
+
+void MainWindow::UpdateLessonPanel() {
+  const LessonRun& l = *lesson_;
+  const auto& steps = lesson_spec_->steps;
+  if (l.done()) {
+    step_label_->setText(l.current_step() >= static_cast<int>(steps.size())
+                             ? "<b>All steps done.</b> Finish the lesson to see your report."
+                             : "<b>Time is up.</b> Finish the lesson to see your report.");
+  } else {
+    const StepSpec& st = steps[static_cast<std::size_t>(l.current_step())];
+    step_label_->setText(QString("<b>Step %1 of %2</b>: %3").arg(l.current_step() + 1).arg(steps.size()).arg(Q(st.instruction).toHtmlEscaped()));
+  }
+  const std::optional<SiteRef> next = l.next_site();
+  next_label_->setText(next ? QString("Next: <b>%1</b>").arg(Q(next->ToString())) : QString());
+  if (next && next->fdi != looked_at_) {
+    looked_at_ = next->fdi;
+    LookAtTooth(next->fdi);  // the camera to the tooth the lesson asks for
+  }
+  const std::optional<SiteRef> tip = l.tip_site();
+  tip_label_->setText(tip ? QString("You are in the sulcus of <b>%1</b>").arg(Q(tip->ToString())) : "The tip is not in a sulcus");
+  chart_->SetProbing(tip);
+  if (const auto angle = l.tip_angle_deg()) {
+    const QString colour = *angle <= 5 ? "#2a8a3a" : *angle <= 10 ? "#c88a00" : "#c02020";
+    const int bars = std::min(20, static_cast<int>(*angle));
+    tilt_label_->setText(QString("Tilt from the long axis: <span style='color:%1'><b>%2&deg;</b> %3</span>")
+                             .arg(colour)
+                             .arg(*angle, 0, 'f', 0)
+                             .arg(QString(bars, QChar(0x2588))));
+  } else {
+    tilt_label_->setText("Tilt from the long axis: -");
+  }
+  for (; feedback_shown_ < l.feedback().size(); ++feedback_shown_) {
+    feedback_->insertItem(0, Q(l.feedback()[feedback_shown_]));
+    while (feedback_->count() > 50) delete feedback_->takeItem(feedback_->count() - 1);
+  }
+}
+
+bool MainWindow::DeclareDiagnosis(const DeclaredDiagnosis& d) {
+  if (!lesson_) return false;
+  DeclaredDiagnosis stamped = d;
+  stamped.tick = lesson_->last_tick() + 1;
+  lesson_->Declare(stamped);
+  feedback_->insertItem(0, Q("declared: " + d.Summary()));
+  return true;
+}
+
+void MainWindow::AskDiagnosis() {
+  if (!lesson_) return;
+  QDialog dialog(this);
+  dialog.setWindowTitle("Your diagnosis");
+  auto* layout = new QVBoxLayout(&dialog);
+  layout->addWidget(new QLabel("From your chart, by the 2017 classification:"));
+  auto* none = new QRadioButton("no periodontitis");
+  auto* perio = new QRadioButton("periodontitis");
+  perio->setChecked(true);
+  layout->addWidget(none);
+  layout->addWidget(perio);
+  auto* form = new QFormLayout;
+  auto* stage = new QComboBox;
+  stage->addItems({"I", "II", "III", "IV"});
+  auto* extent = new QComboBox;
+  extent->addItems({"localized", "generalized"});
+  form->addRow("Stage", stage);
+  form->addRow("Extent", extent);
+  layout->addLayout(form);
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+  layout->addWidget(buttons);
+  connect(buttons, &QDialogButtonBox::accepted, &dialog, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
+  if (dialog.exec() != QDialog::Accepted) return;
+  DeclaredDiagnosis d;
+  d.periodontitis = perio->isChecked();
+  if (d.periodontitis) {
+    d.stage = *StageFromString(stage->currentText().toStdString());
+    d.extent = *ExtentFromString(extent->currentText().toStdString());
+  }
+  DeclareDiagnosis(d);
+}
+
+bool MainWindow::FinishLesson() {
+  if (!lesson_ || !lesson_spec_) return false;
+  StopSession();  // the recording is written out
+  const LessonResult r = lesson_->Finish();
+  Answers answers;
+  for (const SiteResult& s : r.sites)
+    if (s.entry) answers.entries.push_back(*s.entry);
+  answers.diagnosis = r.declared;
+  QString problems;
+  try {
+    SaveAnswers(answers, attempt_dir_ / "answers.yaml");
+  } catch (const std::exception& e) {
+    problems += Q(e.what()) + "\n";
+  }
+  ReportInfo info;
+  info.recording = (attempt_dir_ / "recording.rec").string();
+  info.started = lesson_started_;
+  try {
+    WriteReport(r, info, attempt_dir_);
+    ResultsDb db(lesson_start_.results_dir / "results.db");
+    info.attempt_id = db.Store(r, lesson_started_, info.recording, (attempt_dir_ / "answers.yaml").string(),
+                               attempt_dir_.string());
+    WriteReport(r, info, attempt_dir_);
+  } catch (const std::exception& e) {
+    problems += Q(e.what()) + "\n";
+  }
+  last_result_ = r;
+  last_report_ = attempt_dir_ / "report.html";
+  lesson_.reset();
+  lesson_spec_.reset();
+  scripted_student_.reset();
+  recording_file_.clear();
+  SetAidsLocked(false);
+  lesson_dock_->hide();
+  if (!problems.isEmpty())
+    ShowErrors("Lesson", QString("Your attempt is kept in %1, but:").arg(Q(attempt_dir_.string())), problems);
+  ShowReport(r, last_report_);
+  device_name_ = "mouse";
+  StartSession();  // the workbench goes on, without the lesson
+  return true;
+}
+
+void MainWindow::ShowReport(const LessonResult& r, const std::filesystem::path& html) {
+  if (!report_dialog_) {
+    report_dialog_ = new QDialog(this);
+    report_dialog_->setWindowTitle("Your report");
+    report_dialog_->resize(980, 720);
+    auto* layout = new QVBoxLayout(report_dialog_);
+    auto* browser = new QTextBrowser;
+    browser->setObjectName("report");
+    layout->addWidget(browser);
+    auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
+    auto* open = buttons->addButton("Open the full report (pictures, force traces)", QDialogButtonBox::ActionRole);
+    layout->addWidget(buttons);
+    connect(buttons, &QDialogButtonBox::rejected, report_dialog_, &QDialog::hide);
+    connect(open, &QPushButton::clicked, this, [this] {
+      QDesktopServices::openUrl(QUrl::fromLocalFile(Q(last_report_.string())));
+    });
+  }
+  // The page itself (Qt shows its tables and text; the pictures are SVG, in the browser).
+  std::ifstream in(html);
+  std::stringstream text;
+  text << in.rdbuf();
+  auto* browser = report_dialog_->findChild<QTextBrowser*>("report");
+  browser->setHtml(Q(text.str()));
+  report_dialog_->setWindowTitle(QString("Your report: %1 / 100").arg(r.total, 0, 'f', 1));
+  report_dialog_->show();
 }
 
 }  // namespace sulcus::ui

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -21,9 +22,14 @@
 #include "core/haptics/haptic_thread.h"
 #include "core/haptics/recording.h"
 #include "core/scene/scene.h"
+#include "core/lesson/lesson.h"
+#include "core/lesson/scripted_student.h"
 #include "core/session/session.h"
 
 class QCheckBox;
+class QDialog;
+class QDockWidget;
+class QPushButton;
 class QComboBox;
 class QLabel;
 class QListWidget;
@@ -36,6 +42,7 @@ class vtkRenderer;
 
 namespace sulcus::ui {
 
+class ChartWidget;
 class ForceGauge;
 class ForcePlot;
 class MouseKeyboardDevice;
@@ -73,6 +80,35 @@ class MainWindow : public QMainWindow {
   bool StartRecording(const std::filesystem::path& file);
   void StopRecording();
 
+  // Lessons (the lesson engine, core/lesson): a lesson runs as one session,
+  // recorded into its attempt's folder; the lesson is a consumer of its ticks.
+  struct LessonStart {
+    std::filesystem::path lesson;
+    std::string student = "student";
+    std::optional<LessonSpec::Mode> mode;  // empty: the lesson's
+    std::string device = "mouse";          // or student:NAME (a scripted student), scripted:..., replay:...
+    bool free_run = false;                 // the thread as fast as it can (scripted students in tests)
+    std::optional<std::uint64_t> seed;     // a generated case's
+    std::filesystem::path results_dir;     // empty: DefaultResultsDir()
+  };
+  /// Loads the lesson (its errors shown, nothing changed when it has any), builds
+  /// its scene (waiting) and starts it. False when it could not start.
+  bool StartLesson(const LessonStart& start);
+  /// The start page (who, which lesson, which mode); starts the chosen lesson.
+  void ShowStartPage();
+  void SetLessonFolders(std::vector<std::filesystem::path> dirs) { lesson_dirs_ = std::move(dirs); }
+  bool DeclareDiagnosis(const DeclaredDiagnosis& d);
+  /// Ends the lesson: the recording written, the attempt scored, its entries and
+  /// report saved, stored in the results database, and the report shown.
+  bool FinishLesson();
+  const LessonRun* lesson() const { return lesson_.get(); }
+  ChartWidget* chart() const { return chart_; }
+  const std::optional<LessonResult>& last_result() const { return last_result_; }
+  const std::filesystem::path& last_report() const { return last_report_; }
+  QString lesson_text() const;
+  bool aids_locked() const { return aids_locked_; }
+  QDialog* report_dialog() const { return report_dialog_; }
+
  protected:
   void keyPressEvent(QKeyEvent* e) override;
   bool eventFilter(QObject* watched, QEvent* e) override;
@@ -85,6 +121,12 @@ class MainWindow : public QMainWindow {
   void StopSession();   // also ends a recording in progress
   void Tick();  // the display timer: snapshot -> view, gauge, status, events
   void ShowErrors(const QString& title, const QString& text, const QString& details);
+  bool OpenSpec(const SceneSpec& spec, const std::filesystem::path& file, bool wait);
+  void BuildLessonDock();
+  void UpdateLessonPanel();
+  void SetAidsLocked(bool locked);
+  void AskDiagnosis();
+  void ShowReport(const LessonResult& r, const std::filesystem::path& html);
 
   QVTKOpenGLNativeWidget* vtk_widget_ = nullptr;
   vtkRenderer* renderer_ = nullptr;
@@ -111,6 +153,26 @@ class MainWindow : public QMainWindow {
     void OnTick(const TickRecord& r) override { events.insert(events.end(), r.events.begin(), r.events.begin() + r.num_events); }
     std::vector<HapticEvent> events;
   } tap_;
+  std::vector<std::filesystem::path> lesson_dirs_;
+  // The lesson in progress.
+  std::optional<LessonSpec> lesson_spec_;
+  std::unique_ptr<LessonRun> lesson_;
+  std::unique_ptr<ScriptedStudent> scripted_student_;
+  LessonStart lesson_start_;
+  std::uint64_t lesson_seed_ = 0;
+  std::filesystem::path attempt_dir_;
+  std::string lesson_started_;
+  QDockWidget* lesson_dock_ = nullptr;
+  QLabel *step_label_ = nullptr, *next_label_ = nullptr, *tip_label_ = nullptr, *tilt_label_ = nullptr;
+  QListWidget* feedback_ = nullptr;
+  ChartWidget* chart_ = nullptr;
+  QPushButton *diagnose_button_ = nullptr, *finish_button_ = nullptr;
+  std::size_t feedback_shown_ = 0;
+  int looked_at_ = 0;
+  bool aids_locked_ = false;
+  std::optional<LessonResult> last_result_;
+  std::filesystem::path last_report_;
+  QDialog* report_dialog_ = nullptr;
   HapticSnapshot snapshot_;
   std::string device_error_;
   QString last_reading_;

@@ -142,6 +142,11 @@ LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene, std::st
     for (SurfaceTrack& s : surfaces_[i]) s.bins.assign(geometry_.teeth[i].margin_z.size(), false);
 }
 
+double LessonRun::recession_mm(const SiteRef& s) const {
+  const int i = SiteIndex(s);
+  return i >= 0 ? sites_[static_cast<std::size_t>(i)].recession_mm : 0.0;
+}
+
 int LessonRun::SiteIndex(const SiteRef& s) const {
   for (std::size_t i = 0; i < sites_.size(); ++i)
     if (sites_[i].site == s) return static_cast<int>(i);
@@ -207,6 +212,7 @@ std::optional<SiteRef> LessonRun::next_site() const {
 void LessonRun::Track(const TickRecord& r) {
   const Vector3 p_W = r.X_WG.translation();
   tip_site_.reset();
+  tip_angle_deg_.reset();
   // Under a contact the two neighbours' sulci meet (the col): the tip may be in
   // both. Each tooth whose sulcus holds it has the arc and the col marked; the
   // stroke and the "you are in" site go to the tooth it is closest to.
@@ -253,6 +259,8 @@ void LessonRun::Track(const TickRecord& r) {
   for (int s = 1; s < 6; ++s)
     if (AngleDistance(best_phi, t.site_angle[s]) < AngleDistance(best_phi, t.site_angle[nearest])) nearest = s;
   tip_site_ = SiteRef{t.fdi, nearest};
+  const double c = std::clamp(std::abs(r.X_WG.rotation().col(2).dot(t.X_WT.rotation().col(2))), 0.0, 1.0);
+  tip_angle_deg_ = std::acos(c) * kDeg;
   const bool buccal = std::sin(best_phi) >= 0;
   SurfaceTrack& st = surfaces_[static_cast<std::size_t>(best)][buccal ? 0 : 1];
   const double depth = best_depth;

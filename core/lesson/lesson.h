@@ -155,6 +155,10 @@ class LessonRun final : public TickConsumer {
   std::optional<SiteRef> next_site() const;
   /// Where the tip is now: the site whose sulcus holds it, if any.
   std::optional<SiteRef> tip_site() const { return tip_site_; }
+  /// The probe's angle to the long axis of the tooth whose sulcus holds the tip.
+  std::optional<double> tip_angle_deg() const { return tip_angle_deg_; }
+  /// The compiled scene's clinical recession per site (for the chart).
+  double recession_mm(const SiteRef& s) const;
   const std::vector<std::string>& feedback() const { return feedback_; }
   std::uint64_t last_tick() const { return last_tick_; }
   const LessonSpec& spec() const { return spec_; }
@@ -186,6 +190,7 @@ class LessonRun final : public TickConsumer {
   bool timed_out_ = false, ended_ = false;
   std::uint64_t first_tick_ = 0, last_tick_ = 0, ticks_ = 0;
   std::optional<SiteRef> tip_site_;
+  std::optional<double> tip_angle_deg_;
   std::vector<std::string> feedback_;
   std::vector<std::pair<std::uint64_t, float>> force_trace_;
   std::vector<std::uint8_t> in_contact_;  // per engine object

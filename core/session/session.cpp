@@ -1,6 +1,7 @@
 #include "core/session/session.h"
 
 #include <chrono>
+#include <thread>
 
 namespace sulcus {
 
@@ -46,8 +47,18 @@ void Session::Start() {
   topt.max_ticks = options_.max_ticks;
   topt.sink = this;
   topt.stop_when_device_finished = options_.stop_when_device_finished;
+  topt.free_run = options_.free_run;
   thread_ = std::make_unique<HapticThread>(loop_.get(), topt);
   thread_->Start();
+}
+
+void Session::Push(const TickRecord& r) noexcept {
+  // Free-running (no deadlines), the thread waits for room rather than drop a
+  // tick; at its rate it never waits (a full ring is counted as dropped).
+  if (options_.free_run)
+    while (ring_.size() >= ring_.capacity() && !stopping_.load(std::memory_order_acquire))
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+  ring_.Push(r);
 }
 
 void Session::Deliver(const TickRecord& r) {
@@ -74,6 +85,7 @@ void Session::End() {
 }
 
 void Session::Stop() {
+  stopping_.store(true, std::memory_order_release);
   if (thread_) thread_->Stop();
   Pump();
   if (started_ || delivered_ > 0) End();

@@ -13,6 +13,7 @@
 // hands each record over as it is made; a replayed recording's commands and
 // lateness are re-applied, so the same consumers see the same stream.
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -40,6 +41,7 @@ struct SessionOptions {
   std::uint64_t max_ticks = 0;        // 0: until Stop() or the device has no more input
   bool realtime = true;               // ask for real-time priority (live)
   bool stop_when_device_finished = true;  // live: end when a script or replay ends (the window keeps going)
+  bool free_run = false;              // live: no sleeping between ticks (a scripted student or replay as fast as possible)
   std::filesystem::path record;       // record every tick here (empty: no recording)
   std::string device_name;            // for the recording's header
   double force_scale = 1.0;
@@ -105,7 +107,7 @@ class Session final : private TickSink {
   const std::vector<std::unique_ptr<LoopEffect>>& effects() const { return effects_; }
 
  private:
-  void Push(const TickRecord& r) noexcept override { ring_.Push(r); }
+  void Push(const TickRecord& r) noexcept override;
   void Deliver(const TickRecord& r);
   void End();
 
@@ -126,6 +128,7 @@ class Session final : private TickSink {
   double last_step_us_ = 0;
   std::uint64_t delivered_ = 0;
   bool started_ = false, ended_ = false;
+  std::atomic<bool> stopping_{false};
 };
 
 }  // namespace sulcus

@@ -1,0 +1,187 @@
+// A lesson in the real window, under Xvfb: the start page lists the shipped
+// lessons (and a broken one as broken); a scripted student drives the device
+// (free-running, so the test waits for conditions, never for wall time) while
+// the chart is filled through real key events; the diagnosis is declared; the
+// report is shown, saved and stored. Practice shows the truth, assessment does
+// not and locks the aids. Screenshots go to test-output/ui.
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QCheckBox>
+#include <QDialog>
+#include <QElapsedTimer>
+#include <QKeyEvent>
+#include <QSurfaceFormat>
+#include <QTextBrowser>
+#include <QVTKOpenGLNativeWidget.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/lesson/results.h"
+#include "tests/common/output.h"
+#include "ui/chart_widget.h"
+#include "ui/main_window.h"
+#include "ui/start_dialog.h"
+
+namespace sulcus::ui {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Out(const std::string& name) { return test::OutputPath("ui", name); }
+fs::path Lessons() { return fs::path(SULCUS_SOURCE_DIR) / "lessons"; }
+
+// Runs the event loop until `done` holds (or a generous limit passes, which fails).
+template <class F>
+bool WaitFor(F done, int limit_ms = 240000) {
+  QElapsedTimer t;
+  t.start();
+  while (!done()) {
+    if (t.elapsed() > limit_ms) return false;
+    QApplication::processEvents(QEventLoop::AllEvents, 10);
+  }
+  return true;
+}
+
+void Key(QWidget* w, int key, const QString& text, Qt::KeyboardModifiers mods = Qt::NoModifier) {
+  QKeyEvent press(QEvent::KeyPress, key, mods, text);
+  QApplication::sendEvent(w, &press);
+  QKeyEvent release(QEvent::KeyRelease, key, mods, text);
+  QApplication::sendEvent(w, &release);
+}
+
+bool Save(QWidget* w, const std::string& name) { return w->grab().save(QString::fromStdString(Out(name).string())); }
+
+TEST(StartPage, ListsTheLessonsAndABrokenOneAsBroken) {
+  const fs::path extra = Out("instructor");
+  fs::create_directories(extra);
+  std::ofstream(extra / "broken.yaml") << "name: broken\nscene: nowhere.yaml\nsteps: [{instruction: x, complete: reed}]\n";
+  StartDialog d({Lessons(), extra}, Out("start_results.db"));
+  d.SetStudent("Ada");
+  d.show();
+  ASSERT_GE(d.items().size(), 3u);
+  bool broken = false, shipped = false;
+  for (const auto& it : d.items()) {
+    if (it.file.filename() == "broken.yaml") {
+      broken = it.broken;
+      EXPECT_NE(it.errors.find("broken.yaml:3:"), std::string::npos) << it.errors;
+    }
+    if (it.file.filename() == "periodontal_probing.yaml") shipped = !it.broken && !it.description.empty();
+  }
+  EXPECT_TRUE(broken);
+  EXPECT_TRUE(shipped);
+  EXPECT_TRUE(d.SelectLesson(Lessons() / "periodontal_probing.yaml"));
+  EXPECT_EQ(d.student(), "Ada");
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(&d, "start_page.png"));
+}
+
+// Types the chart as the student reads it: each site's deepest reading to the
+// nearest millimetre, B after the sites that bled.
+void ChartEverything(MainWindow& w) {
+  ChartWidget* chart = w.chart();
+  chart->setFocus();
+  const LessonResult sofar = w.lesson()->Finish();
+  for (const SiteResult& s : sofar.sites) {
+    const int pd = s.reached_mm ? static_cast<int>(std::lround(*s.reached_mm)) : 0;
+    Key(chart, Qt::Key_0 + pd, QString::number(pd));
+    if (s.bled) Key(chart, Qt::Key_B, "b");
+  }
+}
+
+TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
+  MainWindow w;
+  w.resize(1366, 768);
+  w.show();
+  MainWindow::LessonStart s;
+  s.lesson = Lessons() / "periodontal_probing.yaml";
+  s.student = "Window Student";
+  s.device = "student:careful";
+  s.free_run = true;
+  s.results_dir = Out("results");
+  ASSERT_TRUE(w.StartLesson(s));
+  ASSERT_NE(w.lesson(), nullptr);
+  EXPECT_FALSE(w.aids_locked());
+  EXPECT_TRUE(WaitFor([&] { return w.lesson_text().contains("Step 1 of 4"); })) << w.lesson_text().toStdString();
+  // Halfway round the buccal sulci: the lesson in progress.
+  ASSERT_TRUE(WaitFor([&] { return w.lesson()->Finish().sites_read >= 6; }));
+  EXPECT_TRUE(Save(&w, "lesson_in_progress.png"));
+  ASSERT_TRUE(WaitFor([&] { return w.lesson()->current_step() >= 2; })) << "both probing steps done";
+  ChartEverything(w);
+  EXPECT_EQ(w.chart()->entered(), 24);
+  EXPECT_EQ(w.lesson()->current_step(), 3) << "the chart step is done: on to the diagnosis";
+  EXPECT_TRUE(Save(&w, "lesson_charted.png"));
+  bool truth_shown = false;
+  for (const std::string& f : w.lesson()->feedback()) truth_shown |= f.find("the true depth is") != std::string::npos;
+  EXPECT_TRUE(truth_shown) << "practice: the truth after each site";
+  DeclaredDiagnosis d;
+  d.stage = Stage::kIII;
+  d.extent = Extent::kLocalized;
+  ASSERT_TRUE(w.DeclareDiagnosis(d));
+  ASSERT_TRUE(w.FinishLesson());
+  ASSERT_TRUE(w.last_result());
+  const LessonResult& r = *w.last_result();
+  EXPECT_EQ(r.sites_read, 24);
+  EXPECT_EQ(r.sites_charted, 24);
+  EXPECT_GE(r.total, 95.0);
+  EXPECT_EQ(r.declared->Summary(), "periodontitis stage III, localized");
+  for (const RubricLine& l : r.lines) EXPECT_NE(l.status, RubricLine::Status::kFail) << l.message;
+  EXPECT_TRUE(fs::exists(w.last_report()));
+  ASSERT_NE(w.report_dialog(), nullptr);
+  EXPECT_TRUE(w.report_dialog()->isVisible());
+  EXPECT_TRUE(w.report_dialog()->findChild<QTextBrowser*>("report")->toPlainText().contains("Every line of the score"));
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(w.report_dialog(), "lesson_report.png"));
+  ResultsDb db(Out("results") / "results.db");
+  const auto rows = db.Attempts("Window Student");
+  ASSERT_FALSE(rows.empty());
+  EXPECT_NEAR(rows.back().total, r.total, 1e-9);
+  EXPECT_TRUE(fs::exists(rows.back().recording));
+  w.report_dialog()->hide();
+}
+
+TEST(LessonWindow, AssessmentShowsNoTruthAndLocksTheAids) {
+  MainWindow w;
+  w.resize(1366, 768);
+  w.show();
+  MainWindow::LessonStart s;
+  s.lesson = Lessons() / "periodontal_probing.yaml";
+  s.student = "Window Student";
+  s.mode = LessonSpec::Mode::kAssessment;
+  s.device = "student:careful";
+  s.free_run = true;
+  s.results_dir = Out("results");
+  ASSERT_TRUE(w.StartLesson(s));
+  EXPECT_TRUE(w.aids_locked());
+  w.SetGingivaTranslucent(true);
+  auto* translucent = w.findChild<QCheckBox*>();
+  ASSERT_NE(translucent, nullptr);
+  EXPECT_FALSE(translucent->isEnabled()) << "the aids cannot be turned on";
+  ASSERT_TRUE(WaitFor([&] { return w.lesson()->current_step() >= 2; }));
+  for (const std::string& f : w.lesson()->feedback()) EXPECT_EQ(f.find("true depth"), std::string::npos) << f;
+  EXPECT_TRUE(Save(&w, "assessment_in_progress.png"));
+  ChartEverything(w);
+  ASSERT_TRUE(w.FinishLesson());
+  const LessonResult& r = *w.last_result();
+  EXPECT_EQ(r.mode, "assessment");
+  EXPECT_EQ(r.sites_charted, 24);
+  EXPECT_FALSE(r.declared) << "no diagnosis was declared";
+  bool undeclared = false;
+  for (const RubricLine& l : r.lines) undeclared |= l.category == "diagnosis" && l.message == "no diagnosis declared";
+  EXPECT_TRUE(undeclared);
+  EXPECT_FALSE(w.aids_locked()) << "the workbench again after the lesson";
+}
+
+}  // namespace
+}  // namespace sulcus::ui
+
+int main(int argc, char** argv) {
+  QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
+  QApplication app(argc, argv);
+  QApplication::setOrganizationName("SulcusTests");
+  QApplication::setApplicationName("lesson_window_test");
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}

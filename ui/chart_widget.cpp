@@ -1,0 +1,258 @@
+#include "ui/chart_widget.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <QKeyEvent>
+#include <QMouseEvent>
+#include <QPainter>
+
+namespace sulcus::ui {
+namespace {
+
+constexpr int kCell = 24, kRowH = 20, kLabelW = 78, kToothGap = 6, kBandTitle = 18, kHeader = 18;
+constexpr int kRows = 5;  // PD, recession, CAL, bleeding, truth (practice)
+const char* const kRowNames[kRows] = {"PD", "recession", "CAL", "bleeding", "true PD"};
+
+// Cells of a tooth in a band, left to right: distal, middle, mesial mirrored so
+// that the cell nearest the midline is the mesial one.
+std::array<int, 3> CellSites(int fdi, bool buccal) {
+  const bool right = fdi / 10 == 1 || fdi / 10 == 4;
+  if (buccal) return right ? std::array{2, 1, 0} : std::array{0, 1, 2};
+  return right ? std::array{5, 4, 3} : std::array{3, 4, 5};
+}
+
+int Rank(int fdi) {
+  const int q = fdi / 10, p = fdi % 10;
+  return (q == 1 || q == 4) ? 10 - p : 10 + p;
+}
+
+}  // namespace
+
+ChartWidget::ChartWidget(QWidget* parent) : QWidget(parent) {
+  setFocusPolicy(Qt::StrongFocus);
+  setToolTip("The periodontal chart. Type the depth you read (whole mm) and it moves to the next site; "
+             "B or Space marks bleeding on the site just entered; Backspace goes back. Shift+digit: 10 mm and over.");
+}
+
+void ChartWidget::SetLesson(const std::vector<int>& teeth, const std::vector<SiteRef>& path,
+                            const std::map<std::pair<int, int>, double>& recession_mm) {
+  bands_.clear();
+  for (bool upper : {true, false}) {
+    std::vector<int> t;
+    for (int fdi : teeth)
+      if ((fdi / 10 <= 2) == upper) t.push_back(fdi);
+    std::sort(t.begin(), t.end(), [](int a, int b) { return Rank(a) < Rank(b); });
+    if (t.empty()) continue;
+    // Upper: buccal then palatal; lower: lingual then buccal (as the chart is read).
+    if (upper) {
+      bands_.push_back({true, true, t});
+      bands_.push_back({true, false, t});
+    } else {
+      bands_.push_back({false, false, t});
+      bands_.push_back({false, true, t});
+    }
+  }
+  path_ = path;
+  cursor_ = 0;
+  last_entered_.reset();
+  pd_.clear();
+  bleeding_.clear();
+  truth_.clear();
+  recession_ = recession_mm;
+  updateGeometry();
+  update();
+}
+
+void ChartWidget::SetProbing(std::optional<SiteRef> site) {
+  if (site == probing_) return;
+  probing_ = site;
+  update();
+}
+
+void ChartWidget::SetTruth(const std::map<std::pair<int, int>, int>& truth) {
+  truth_ = truth;
+  update();
+}
+
+void ChartWidget::SetEnabled(bool on) {
+  enabled_ = on;
+  update();
+}
+
+std::optional<SiteRef> ChartWidget::cursor() const {
+  if (cursor_ >= path_.size()) return std::nullopt;
+  return path_[cursor_];
+}
+
+std::optional<int> ChartWidget::depth(const SiteRef& s) const {
+  const auto it = pd_.find({s.fdi, s.site});
+  if (it == pd_.end()) return std::nullopt;
+  return it->second;
+}
+
+bool ChartWidget::bleeding(const SiteRef& s) const {
+  const auto it = bleeding_.find({s.fdi, s.site});
+  return it != bleeding_.end() && it->second;
+}
+
+QSize ChartWidget::sizeHint() const {
+  int teeth = 1;
+  for (const Band& b : bands_) teeth = std::max<int>(teeth, static_cast<int>(b.teeth.size()));
+  return {kLabelW + teeth * (3 * kCell + kToothGap) + 8,
+          static_cast<int>(bands_.size()) * (kBandTitle + kHeader + kRows * kRowH + 6) + 8};
+}
+
+QRect ChartWidget::CellRect(int band, int tooth_index, int cell, int row) const {
+  const int y0 = 4 + band * (kBandTitle + kHeader + kRows * kRowH + 6) + kBandTitle + kHeader;
+  const int x = kLabelW + tooth_index * (3 * kCell + kToothGap) + cell * kCell;
+  return {x, y0 + row * kRowH, kCell - 1, kRowH - 1};
+}
+
+void ChartWidget::paintEvent(QPaintEvent*) {
+  QPainter p(this);
+  p.fillRect(rect(), palette().base());
+  QFont f = font();
+  f.setPointSizeF(std::max(7.0, f.pointSizeF() - 1));
+  p.setFont(f);
+  const std::optional<SiteRef> cur = cursor();
+  for (int b = 0; b < static_cast<int>(bands_.size()); ++b) {
+    const Band& band = bands_[b];
+    const int y0 = 4 + b * (kBandTitle + kHeader + kRows * kRowH + 6);
+    QFont bold = f;
+    bold.setBold(true);
+    p.setFont(bold);
+    p.setPen(palette().text().color());
+    p.drawText(QRect(4, y0, 300, kBandTitle), Qt::AlignLeft | Qt::AlignVCenter,
+               QString("%1 %2").arg(band.upper ? "upper" : "lower").arg(band.buccal ? "buccal" : band.upper ? "palatal" : "lingual"));
+    p.setFont(f);
+    for (int r = 0; r < kRows; ++r)
+      p.drawText(QRect(4, y0 + kBandTitle + kHeader + r * kRowH, kLabelW - 6, kRowH), Qt::AlignLeft | Qt::AlignVCenter,
+                 kRowNames[r]);
+    for (int t = 0; t < static_cast<int>(band.teeth.size()); ++t) {
+      const int fdi = band.teeth[t];
+      const QRect head(CellRect(b, t, 0, 0).left(), y0 + kBandTitle, 3 * kCell, kHeader);
+      p.setFont(bold);
+      p.setPen(palette().text().color());
+      p.drawText(head, Qt::AlignCenter, QString::number(fdi));
+      p.setFont(f);
+      const std::array<int, 3> sites = CellSites(fdi, band.buccal);
+      for (int c = 0; c < 3; ++c) {
+        const std::pair key{fdi, sites[c]};
+        const bool is_cursor = cur && cur->fdi == fdi && cur->site == sites[c];
+        const bool is_probing = probing_ && probing_->fdi == fdi && probing_->site == sites[c];
+        for (int r = 0; r < kRows; ++r) {
+          const QRect cell = CellRect(b, t, c, r);
+          QColor fill = palette().base().color();
+          if (is_probing) fill = QColor(255, 236, 140);
+          if (is_cursor && r == 0) fill = QColor(170, 205, 255);
+          p.fillRect(cell, fill);
+          p.setPen(QColor(190, 190, 190));
+          p.drawRect(cell);
+          QString text;
+          QColor colour = palette().text().color();
+          const auto pd = pd_.find(key);
+          const auto rec = recession_.find(key);
+          if (r == 0 && pd != pd_.end()) text = QString::number(pd->second);
+          if (r == 0 && pd != pd_.end() && pd->second >= 4) colour = QColor(200, 30, 30);
+          if (r == 1 && rec != recession_.end()) text = QString::number(rec->second, 'f', rec->second == std::floor(rec->second) ? 0 : 1);
+          if (r == 2 && pd != pd_.end() && rec != recession_.end()) {
+            SiteValues v;
+            v.pd_mm = pd->second;
+            v.recession_mm = rec->second;
+            text = QString::number(*v.cal_mm());
+            if (*v.cal_mm() >= 4) colour = QColor(200, 30, 30);
+          }
+          if (r == 3 && bleeding_.count(key) && bleeding_.at(key)) {
+            p.setBrush(QColor(210, 30, 30));
+            p.setPen(Qt::NoPen);
+            p.drawEllipse(cell.center(), 4, 4);
+            p.setBrush(Qt::NoBrush);
+          }
+          if (r == 4 && truth_.count(key) && pd != pd_.end()) {
+            text = QString::number(truth_.at(key));
+            colour = truth_.at(key) == pd->second ? QColor(30, 130, 50) : QColor(200, 120, 0);
+          }
+          if (!text.isEmpty()) {
+            p.setPen(colour);
+            p.drawText(cell, Qt::AlignCenter, text);
+          }
+        }
+      }
+    }
+  }
+  if (!enabled_) p.fillRect(rect(), QColor(255, 255, 255, 120));
+  if (hasFocus()) {
+    p.setPen(QPen(palette().highlight().color(), 2));
+    p.drawRect(rect().adjusted(1, 1, -1, -1));
+  }
+}
+
+void ChartWidget::Enter(int value) {
+  if (!enabled_ || cursor_ >= path_.size()) return;
+  const SiteRef s = path_[cursor_];
+  pd_[{s.fdi, s.site}] = value;
+  last_entered_ = cursor_;
+  ChartEntry e;
+  e.site = s;
+  e.pd_mm = value;
+  e.bleeding = bleeding(s);
+  if (on_entry) on_entry(e);
+  ++cursor_;
+  update();
+}
+
+void ChartWidget::keyPressEvent(QKeyEvent* e) {
+  if (!enabled_) return QWidget::keyPressEvent(e);
+  const int k = e->key();
+  if (k >= Qt::Key_0 && k <= Qt::Key_9) {
+    Enter((k - Qt::Key_0) + ((e->modifiers() & Qt::ShiftModifier) ? 10 : 0));
+    return;
+  }
+  // Shift+digit arrives as the shifted character on most layouts.
+  const QString shifted = ")!@#$%^&*(";
+  if (const int i = shifted.indexOf(e->text()); !e->text().isEmpty() && i >= 0) {
+    Enter(10 + i);
+    return;
+  }
+  if ((k == Qt::Key_B || k == Qt::Key_Space) && last_entered_) {
+    const SiteRef s = path_[*last_entered_];
+    const bool now = !bleeding(s);
+    bleeding_[{s.fdi, s.site}] = now;
+    ChartEntry entry;
+    entry.site = s;
+    entry.pd_mm = depth(s);
+    entry.bleeding = now;
+    if (on_entry) on_entry(entry);
+    update();
+    return;
+  }
+  if (k == Qt::Key_Backspace && cursor_ > 0) {
+    --cursor_;
+    const SiteRef s = path_[cursor_];
+    pd_.erase({s.fdi, s.site});
+    bleeding_.erase({s.fdi, s.site});
+    last_entered_ = cursor_ > 0 ? std::optional<std::size_t>(cursor_ - 1) : std::nullopt;
+    update();
+    return;
+  }
+  QWidget::keyPressEvent(e);
+}
+
+void ChartWidget::mousePressEvent(QMouseEvent* e) {
+  setFocus();
+  // A click on a cell puts the cursor there.
+  for (int b = 0; b < static_cast<int>(bands_.size()); ++b)
+    for (int t = 0; t < static_cast<int>(bands_[b].teeth.size()); ++t) {
+      const std::array<int, 3> sites = CellSites(bands_[b].teeth[t], bands_[b].buccal);
+      for (int c = 0; c < 3; ++c)
+        if (CellRect(b, t, c, 0).contains(e->pos())) {
+          for (std::size_t i = 0; i < path_.size(); ++i)
+            if (path_[i].fdi == bands_[b].teeth[t] && path_[i].site == sites[c]) cursor_ = i;
+          update();
+          return;
+        }
+    }
+}
+
+}  // namespace sulcus::ui

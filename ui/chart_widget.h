@@ -1,0 +1,69 @@
+#pragma once
+// The periodontal chart as clinicians know it (after Open Dental's perio chart):
+// four bands (upper buccal, upper palatal, lower lingual, lower buccal), three
+// cells a tooth (distal, middle, mesial, mirrored by quadrant), rows for the
+// probing depth, recession, CAL and bleeding, values of 4 mm and over in red.
+// Filled from the keyboard, without the mouse: a digit enters the depth of the
+// site under the cursor and advances along the lesson's path (Shift + digit for
+// 10 and over), B or Space marks bleeding on the site just entered, Backspace
+// steps back and clears. The site being probed is highlighted. Every entry goes
+// to `on_entry` (the window stamps it with the tick and hands it to the lesson).
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include <QWidget>
+
+#include "core/lesson/lesson.h"
+
+namespace sulcus::ui {
+
+class ChartWidget : public QWidget {
+ public:
+  explicit ChartWidget(QWidget* parent = nullptr);
+
+  /// The lesson's teeth and path; clears the entries. `recession_mm` (per site,
+  /// clinical) is shown and used for CAL: the lesson gives it.
+  void SetLesson(const std::vector<int>& teeth, const std::vector<SiteRef>& path,
+                 const std::map<std::pair<int, int>, double>& recession_mm);
+  void SetProbing(std::optional<SiteRef> site);  // highlighted: the site the tip is in
+  void SetTruth(const std::map<std::pair<int, int>, int>& truth);  // practice: shown in a row once a site is entered
+  void SetEnabled(bool on);
+
+  std::function<void(const ChartEntry&)> on_entry;
+
+  std::optional<SiteRef> cursor() const;
+  std::optional<int> depth(const SiteRef& s) const;
+  bool bleeding(const SiteRef& s) const;
+  int entered() const { return static_cast<int>(pd_.size()); }
+  QSize sizeHint() const override;
+
+ protected:
+  void paintEvent(QPaintEvent* e) override;
+  void keyPressEvent(QKeyEvent* e) override;
+  void mousePressEvent(QMouseEvent* e) override;
+
+ private:
+  struct Band {
+    bool upper, buccal;
+    std::vector<int> teeth;
+  };
+  void Enter(int value);
+  QRect CellRect(int band, int tooth_index, int cell, int row) const;
+
+  std::vector<Band> bands_;
+  std::vector<SiteRef> path_;
+  std::size_t cursor_ = 0;
+  std::optional<std::size_t> last_entered_;
+  std::map<std::pair<int, int>, int> pd_;
+  std::map<std::pair<int, int>, bool> bleeding_;
+  std::map<std::pair<int, int>, double> recession_;
+  std::map<std::pair<int, int>, int> truth_;
+  std::optional<SiteRef> probing_;
+  bool enabled_ = true;
+};
+
+}  // namespace sulcus::ui

@@ -1,0 +1,167 @@
+#include "ui/start_dialog.h"
+
+#include <algorithm>
+
+#include <QComboBox>
+#include <QDialogButtonBox>
+#include <QFileDialog>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QListWidget>
+#include <QPushButton>
+#include <QRadioButton>
+#include <QSettings>
+#include <QVBoxLayout>
+
+#include "core/lesson/results.h"
+
+namespace sulcus::ui {
+namespace {
+
+QString Q(const std::string& s) { return QString::fromStdString(s); }
+
+}  // namespace
+
+StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs, std::filesystem::path results_db, QWidget* parent)
+    : QDialog(parent), dirs_(std::move(lesson_dirs)), results_db_(std::move(results_db)) {
+  setWindowTitle("Sulcus: start a lesson");
+  resize(760, 520);
+  auto* layout = new QVBoxLayout(this);
+  auto* title = new QLabel("<h2>Sulcus</h2>Haptic periodontal training. Say who you are, pick a lesson and start.");
+  layout->addWidget(title);
+  auto* form = new QFormLayout;
+  student_ = new QComboBox;
+  student_->setEditable(true);
+  student_->setToolTip("Your name: pick it, or type a new one. Your results are kept under it.");
+  form->addRow("Student", student_);
+  layout->addLayout(form);
+  list_ = new QListWidget;
+  list_->setToolTip("The lessons shipped with Sulcus and your instructor's own.");
+  layout->addWidget(list_, 1);
+  about_ = new QLabel;
+  about_->setWordWrap(true);
+  about_->setMinimumHeight(60);
+  about_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  layout->addWidget(about_);
+  auto* modes = new QGroupBox("Mode");
+  auto* mode_row = new QHBoxLayout(modes);
+  own_mode_ = new QRadioButton("as the lesson says");
+  practice_ = new QRadioButton("practice (the truth after each site, aids allowed)");
+  assessment_ = new QRadioButton("assessment (no aids, the truth only in the report)");
+  own_mode_->setChecked(true);
+  for (QRadioButton* b : {own_mode_, practice_, assessment_}) mode_row->addWidget(b);
+  layout->addWidget(modes);
+  auto* buttons = new QDialogButtonBox;
+  auto* folder = buttons->addButton("Instructor's folder...", QDialogButtonBox::ActionRole);
+  folder->setToolTip("Add a folder of lesson files written by your instructor");
+  start_ = buttons->addButton("Start the lesson", QDialogButtonBox::AcceptRole);
+  buttons->addButton("Workbench (no lesson)", QDialogButtonBox::RejectRole);
+  layout->addWidget(buttons);
+  connect(buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
+  connect(folder, &QPushButton::clicked, this, [this] {
+    const QString dir = QFileDialog::getExistingDirectory(this, "Instructor's lesson folder");
+    if (dir.isEmpty()) return;
+    QSettings().setValue("lessons/folder", dir);
+    Refresh();
+  });
+  connect(list_, &QListWidget::currentRowChanged, this, [this](int row) {
+    if (row < 0 || row >= static_cast<int>(items_.size())) return;
+    const Item& it = items_[static_cast<std::size_t>(row)];
+    about_->setText(it.broken ? "<b>This lesson file has errors</b> (tell your instructor):<br><tt>" +
+                                    Q(it.errors).toHtmlEscaped().replace("\n", "<br>") + "</tt>"
+                              : Q(it.description).toHtmlEscaped());
+    start_->setEnabled(!it.broken);
+  });
+  connect(student_, &QComboBox::currentTextChanged, this, [this] { Refresh(); });
+  // Who was here last.
+  QSettings settings;
+  try {
+    ResultsDb db(results_db_);
+    for (const std::string& s : db.Students()) student_->addItem(Q(s));
+  } catch (const ResultsError&) {
+    // No database yet (or an unreadable one: the window reports it when storing).
+  }
+  const QString last = settings.value("student/last").toString();
+  if (!last.isEmpty()) SetStudent(last);
+  Refresh();
+}
+
+void StartDialog::SetStudent(const QString& name) {
+  if (student_->findText(name) < 0) student_->addItem(name);
+  student_->setCurrentText(name);
+}
+
+void StartDialog::Refresh() {
+  const int keep = list_->currentRow();
+  items_.clear();
+  list_->clear();
+  std::vector<std::filesystem::path> dirs = dirs_;
+  if (const QString extra = QSettings().value("lessons/folder").toString(); !extra.isEmpty())
+    dirs.push_back(extra.toStdString());
+  std::vector<AttemptRow> attempts;
+  try {
+    ResultsDb db(results_db_);
+    attempts = db.Attempts(student());
+  } catch (const ResultsError&) {
+  }
+  for (const auto& dir : dirs) {
+    std::error_code ec;
+    std::vector<std::filesystem::path> files;
+    for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+      if (e.path().extension() == ".yaml") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+      Item it;
+      it.file = std::filesystem::absolute(f).lexically_normal();
+      try {
+        const LessonSpec s = LoadLessonSpec(it.file);
+        it.title = (s.name.empty() ? f.stem().string() : s.name) + "  (" + ToString(s.mode) + ")";
+        it.description = s.description;
+      } catch (const SceneLoadError& e) {
+        it.broken = true;
+        it.title = f.filename().string() + " (broken)";
+        it.errors = e.what();
+      }
+      std::string last;
+      for (const AttemptRow& a : attempts)
+        if (a.lesson_file == it.file.string()) last = "  last score " + std::to_string(static_cast<int>(a.total + 0.5));
+      auto* item = new QListWidgetItem(Q(it.title + last));
+      if (it.broken) item->setForeground(QColor(190, 30, 30));
+      list_->addItem(item);
+      items_.push_back(it);
+    }
+  }
+  if (!items_.empty()) list_->setCurrentRow(keep >= 0 && keep < static_cast<int>(items_.size()) ? keep : 0);
+}
+
+bool StartDialog::SelectLesson(const std::filesystem::path& file) {
+  const auto want = std::filesystem::absolute(file).lexically_normal();
+  for (std::size_t i = 0; i < items_.size(); ++i)
+    if (items_[i].file == want) {
+      list_->setCurrentRow(static_cast<int>(i));
+      return true;
+    }
+  return false;
+}
+
+std::string StartDialog::student() const {
+  const std::string s = student_->currentText().trimmed().toStdString();
+  return s.empty() ? "student" : s;
+}
+
+std::filesystem::path StartDialog::lesson() const {
+  const int row = list_->currentRow();
+  if (row < 0 || row >= static_cast<int>(items_.size())) return {};
+  return items_[static_cast<std::size_t>(row)].file;
+}
+
+std::optional<LessonSpec::Mode> StartDialog::mode() const {
+  if (practice_->isChecked()) return LessonSpec::Mode::kPractice;
+  if (assessment_->isChecked()) return LessonSpec::Mode::kAssessment;
+  return std::nullopt;
+}
+
+}  // namespace sulcus::ui
