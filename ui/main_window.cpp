@@ -8,6 +8,8 @@
 #include <QDialogButtonBox>
 #include <QGroupBox>
 #include <QRadioButton>
+#include <QSignalBlocker>
+#include <QSlider>
 #include <QTextBrowser>
 #include <QUrl>
 #include <QComboBox>
@@ -36,6 +38,7 @@
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkRenderer.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -200,10 +203,16 @@ void MainWindow::BuildUi() {
   file->addSeparator();
   file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
   BuildLessonDock();
+  BuildReplayDock();
   auto* lessons = menuBar()->addMenu("&Lesson");
   lessons->addAction("&Start a lesson...", this, [this] { ShowStartPage(); }, QKeySequence("Ctrl+L"));
   lessons->addAction("&Declare the diagnosis...", this, [this] { AskDiagnosis(); });
   lessons->addAction("&Finish the lesson", this, [this] { FinishLesson(); });
+  lessons->addAction("&Replay a recording...", this, [this] {
+    const QString f = QFileDialog::getOpenFileName(this, "Replay a recording", Q(DefaultResultsDir().string()),
+                                                   "Recordings (*.rec)");
+    if (!f.isEmpty()) OpenReplay(f.toStdString());
+  });
   auto* help_menu = menuBar()->addMenu("&Help");
   help_menu->addAction("&How to probe and chart", this, [this] {
     QMessageBox::information(
@@ -440,6 +449,22 @@ void MainWindow::StopRecording() {
 }
 
 void MainWindow::Tick() {
+  if (replay_) {
+    if (replay_playing_) {
+      const auto now = std::chrono::steady_clock::now();
+      const double dt = std::chrono::duration<double>(now - replay_clock_).count();
+      replay_clock_ = now;
+      replay_position_ += dt * replay_speed_ * replay_->header.rate_hz;
+      const double last = static_cast<double>(replay_->frames.size() - 1);
+      if (replay_position_ >= last) {
+        replay_position_ = last;
+        SetReplayPlaying(false);
+      }
+      replay_index_ = static_cast<std::size_t>(replay_position_);
+    }
+    ShowReplayFrame();
+    return;
+  }
   if (!session_) return;
   HapticLoop& loop = session_->loop();
   if (loop.snapshots().Acquire()) snapshot_ = loop.snapshots().front();
@@ -851,6 +876,7 @@ bool MainWindow::FinishLesson() {
   }
   last_result_ = r;
   last_report_ = attempt_dir_ / "report.html";
+  last_recording_ = attempt_dir_ / "recording.rec";
   lesson_.reset();
   lesson_spec_.reset();
   scripted_student_.reset();
@@ -873,6 +899,13 @@ void MainWindow::ShowReport(const LessonResult& r, const std::filesystem::path& 
     auto* layout = new QVBoxLayout(report_dialog_);
     auto* browser = new QTextBrowser;
     browser->setObjectName("report");
+    browser->setOpenLinks(false);  // a moment of the report opens the replay there
+    connect(browser, &QTextBrowser::anchorClicked, this, [this](const QUrl& url) {
+      const QString f = url.fragment();
+      bool ok = false;
+      const std::uint64_t tick = f.startsWith('t') ? f.mid(1).toULongLong(&ok) : 0;
+      if (ok && !last_recording_.empty()) OpenReplay(last_recording_, tick);
+    });
     layout->addWidget(browser);
     auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
     auto* open = buttons->addButton("Open the full report (pictures, force traces)", QDialogButtonBox::ActionRole);
@@ -890,6 +923,135 @@ void MainWindow::ShowReport(const LessonResult& r, const std::filesystem::path& 
   browser->setHtml(Q(text.str()));
   report_dialog_->setWindowTitle(QString("Your report: %1 / 100").arg(r.total, 0, 'f', 1));
   report_dialog_->show();
+}
+
+
+void MainWindow::BuildReplayDock() {
+  auto* panel = new QWidget;
+  auto* layout = new QVBoxLayout(panel);
+  replay_label_ = new QLabel;
+  layout->addWidget(replay_label_);
+  replay_slider_ = new QSlider(Qt::Horizontal);
+  replay_slider_->setToolTip("Scrub through the recorded attempt");
+  layout->addWidget(replay_slider_);
+  connect(replay_slider_, &QSlider::valueChanged, this, [this](int v) {
+    if (!replay_ || replay_playing_) return;
+    replay_index_ = static_cast<std::size_t>(std::clamp(v, 0, static_cast<int>(replay_->frames.size()) - 1));
+    replay_position_ = static_cast<double>(replay_index_);
+  });
+  auto* row = new QHBoxLayout;
+  auto* back = new QPushButton("<");
+  replay_play_ = new QPushButton("Play");
+  auto* step = new QPushButton(">");
+  back->setToolTip("One tick back");
+  step->setToolTip("One tick on");
+  auto* speed = new QComboBox;
+  for (const char* sp : {"0.1x", "0.25x", "0.5x", "1x", "2x", "4x"}) speed->addItem(sp);
+  speed->setCurrentText("1x");
+  speed->setToolTip("Playback speed");
+  auto* close = new QPushButton("Close the replay");
+  for (QWidget* w : {static_cast<QWidget*>(back), static_cast<QWidget*>(replay_play_), static_cast<QWidget*>(step),
+                     static_cast<QWidget*>(speed), static_cast<QWidget*>(close)})
+    row->addWidget(w);
+  layout->addLayout(row);
+  connect(replay_play_, &QPushButton::clicked, this, [this] { SetReplayPlaying(!replay_playing_); });
+  auto nudge = [this](int d) {
+    if (!replay_) return;
+    SetReplayPlaying(false);
+    const long long i = std::clamp<long long>(static_cast<long long>(replay_index_) + d, 0,
+                                              static_cast<long long>(replay_->frames.size()) - 1);
+    replay_index_ = static_cast<std::size_t>(i);
+    replay_position_ = static_cast<double>(i);
+  };
+  connect(back, &QPushButton::clicked, this, [nudge] { nudge(-1); });
+  connect(step, &QPushButton::clicked, this, [nudge] { nudge(1); });
+  connect(speed, &QComboBox::currentTextChanged, this, [this](const QString& t) { replay_speed_ = t.chopped(1).toDouble(); });
+  connect(close, &QPushButton::clicked, this, [this] { CloseReplay(); });
+  replay_dock_ = new QDockWidget("Replay", this);
+  replay_dock_->setObjectName("replay");
+  replay_dock_->setWidget(panel);
+  addDockWidget(Qt::BottomDockWidgetArea, replay_dock_);
+  replay_dock_->hide();
+}
+
+bool MainWindow::OpenReplay(const std::filesystem::path& recording, std::uint64_t tick) {
+  if (!scene_) return false;
+  std::unique_ptr<Recording> rec;
+  try {
+    rec = std::make_unique<Recording>(ReadRecording(recording));
+  } catch (const RecordingError& e) {
+    ShowErrors("Replay", "The recording cannot be replayed.", Q(e.what()));
+    return false;
+  }
+  if (rec->frames.empty()) {
+    ShowErrors("Replay", "The recording has no ticks.", Q(recording.string()));
+    return false;
+  }
+  if (lesson_) FinishLesson();  // a lesson in progress is kept, never dropped
+  StopSession();
+  replay_ = std::move(rec);
+  // The frame of that tick (frames are in tick order).
+  const auto it = std::lower_bound(replay_->frames.begin(), replay_->frames.end(), tick,
+                                   [](const TickRecord& f, std::uint64_t t) { return f.tick < t; });
+  replay_index_ = static_cast<std::size_t>(std::min<std::ptrdiff_t>(it - replay_->frames.begin(),
+                                                                     static_cast<std::ptrdiff_t>(replay_->frames.size()) - 1));
+  replay_position_ = static_cast<double>(replay_index_);
+  replay_slider_->setRange(0, static_cast<int>(replay_->frames.size()) - 1);
+  replay_dock_->show();
+  SetReplayPlaying(false);
+  ShowReplayFrame();
+  statusBar()->showMessage(QString("Replaying %1").arg(Q(recording.string())));
+  return true;
+}
+
+void MainWindow::SetReplayPlaying(bool on) {
+  replay_playing_ = on && replay_;
+  replay_clock_ = std::chrono::steady_clock::now();
+  if (replay_play_) replay_play_->setText(replay_playing_ ? "Pause" : "Play");
+}
+
+void MainWindow::ShowReplayFrame() {
+  if (!replay_) return;
+  const TickRecord& f = replay_->frames[replay_index_];
+  HapticSnapshot s;
+  s.tick = f.tick;
+  s.time_s = f.time_s;
+  s.X_WH = f.sample.X_WH;
+  s.X_WG = f.X_WG;
+  s.force_W = f.force_W;
+  s.torque_W = f.torque_W;
+  s.output_scale = 1;
+  snapshot_ = s;
+  view_->Update(s);
+  gauge_->SetForce(f.force_W.norm());
+  if (replay_slider_->value() != static_cast<int>(replay_index_)) {
+    const QSignalBlocker block(replay_slider_);
+    replay_slider_->setValue(static_cast<int>(replay_index_));
+  }
+  status_->setText(QString("Replay of a recording (%1)\nThe blue tool is the device as it was, the white one the rendered "
+                           "probe.\nTick %2, %3 s\nForce %4 N")
+                       .arg(Q(replay_->header.device_name))
+                       .arg(f.tick)
+                       .arg(f.time_s, 0, 'f', 3)
+                       .arg(f.force_W.norm(), 0, 'f', 3));
+  replay_label_->setText(QString("Tick %1 of %2, %3 s; force %4 N")
+                             .arg(f.tick)
+                             .arg(replay_->frames.back().tick)
+                             .arg(f.time_s, 0, 'f', 3)
+                             .arg(f.force_W.norm(), 0, 'f', 3));
+  vtk_widget_->renderWindow()->Render();
+}
+
+std::uint64_t MainWindow::replay_tick() const { return replay_ ? replay_->frames[replay_index_].tick : 0; }
+
+const TickRecord* MainWindow::replay_frame() const { return replay_ ? &replay_->frames[replay_index_] : nullptr; }
+
+void MainWindow::CloseReplay() {
+  if (!replay_) return;
+  replay_.reset();
+  replay_playing_ = false;
+  replay_dock_->hide();
+  StartSession();
 }
 
 }  // namespace sulcus::ui

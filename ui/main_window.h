@@ -7,6 +7,7 @@
 // previous scene stays loaded.
 
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -30,6 +31,7 @@ class QCheckBox;
 class QDialog;
 class QDockWidget;
 class QPushButton;
+class QSlider;
 class QComboBox;
 class QLabel;
 class QListWidget;
@@ -109,6 +111,16 @@ class MainWindow : public QMainWindow {
   bool aids_locked() const { return aids_locked_; }
   QDialog* report_dialog() const { return report_dialog_; }
 
+  // Replay of a recorded attempt: the recorded device tool (blue, the ghost) and
+  // rendered tool in the view, play, pause, step, scrub and speed; the live
+  // session is stopped meanwhile. A rubric line of the report opens it at its tick.
+  bool OpenReplay(const std::filesystem::path& recording, std::uint64_t tick = 0);
+  void CloseReplay();
+  bool replaying() const { return replay_ != nullptr; }
+  std::uint64_t replay_tick() const;
+  const TickRecord* replay_frame() const;
+  void SetReplayPlaying(bool on);
+
  protected:
   void keyPressEvent(QKeyEvent* e) override;
   bool eventFilter(QObject* watched, QEvent* e) override;
@@ -173,6 +185,20 @@ class MainWindow : public QMainWindow {
   std::optional<LessonResult> last_result_;
   std::filesystem::path last_report_;
   QDialog* report_dialog_ = nullptr;
+  std::filesystem::path last_recording_;
+  // The replay.
+  std::unique_ptr<Recording> replay_;
+  std::size_t replay_index_ = 0;
+  double replay_position_ = 0;  // fractional frame index while playing
+  bool replay_playing_ = false;
+  double replay_speed_ = 1.0;
+  std::chrono::steady_clock::time_point replay_clock_;
+  QDockWidget* replay_dock_ = nullptr;
+  QSlider* replay_slider_ = nullptr;
+  QPushButton* replay_play_ = nullptr;
+  QLabel* replay_label_ = nullptr;
+  void BuildReplayDock();
+  void ShowReplayFrame();
   HapticSnapshot snapshot_;
   std::string device_error_;
   QString last_reading_;

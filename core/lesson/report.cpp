@@ -398,7 +398,8 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
        "<th>tick</th><th>what</th></tr>\n";
   for (const RubricLine& l : r.lines)
     o << "<tr class=" << ToString(l.status) << " id=\"t" << l.tick << "\"><td class=st>" << ToString(l.status) << "</td><td>"
-      << H(l.category) << "</td><td>" << Seconds(r, l.tick) << "</td><td>" << l.tick << "</td><td>" << H(l.message)
+      << H(l.category) << "</td><td><a href=\"#t" << l.tick << "\">" << Seconds(r, l.tick) << "</a></td><td>" << l.tick
+      << "</td><td>" << H(l.message)
       << "</td></tr>\n";
   o << "</table>\n";
   if (!r.feedback.empty()) {

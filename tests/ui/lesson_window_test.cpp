@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/haptics/recording.h"
 #include "core/lesson/results.h"
 #include "tests/common/output.h"
 #include "ui/chart_widget.h"
@@ -139,7 +140,29 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   ASSERT_FALSE(rows.empty());
   EXPECT_NEAR(rows.back().total, r.total, 1e-9);
   EXPECT_TRUE(fs::exists(rows.back().recording));
+
+  // A rubric line's moment opens the replay there: the recorded tools at that tick.
+  const RubricLine* line = nullptr;
+  for (const RubricLine& l : r.lines)
+    if (l.category == "force" && l.site && l.site->ToString() == "46 DB") line = &l;
+  ASSERT_NE(line, nullptr);
+  auto* browser = w.report_dialog()->findChild<QTextBrowser*>("report");
+  emit browser->anchorClicked(QUrl(QString("#t%1").arg(line->tick)));
+  ASSERT_TRUE(w.replaying());
+  EXPECT_EQ(w.replay_tick(), line->tick);
+  const Recording rec = ReadRecording(rows.back().recording);
+  const TickRecord* frame = w.replay_frame();
+  ASSERT_NE(frame, nullptr);
+  EXPECT_EQ(frame->X_WG.translation(), rec.frames[line->tick].X_WG.translation()) << "the recorded tool, at that tick";
+  EXPECT_EQ(frame->sample.X_WH.translation(), rec.frames[line->tick].sample.X_WH.translation()) << "and the ghost";
   w.report_dialog()->hide();
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(&w, "replay_at_46DB.png"));
+  w.SetReplayPlaying(true);
+  const std::uint64_t from = w.replay_tick();
+  EXPECT_TRUE(WaitFor([&] { return w.replay_tick() > from + 50; }, 60000)) << "it plays";
+  w.CloseReplay();
+  EXPECT_FALSE(w.replaying());
 }
 
 TEST(LessonWindow, AssessmentShowsNoTruthAndLocksTheAids) {
