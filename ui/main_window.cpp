@@ -54,6 +54,7 @@
 #include "core/haptics/scripted_device.h"
 #include "core/spheretree/cache.h"
 #include "ui/force_gauge.h"
+#include "ui/progress_dialog.h"
 #include "ui/start_dialog.h"
 #include "ui/force_plot.h"
 #include "ui/mouse_device.h"
@@ -208,6 +209,9 @@ void MainWindow::BuildUi() {
   lessons->addAction("&Start a lesson...", this, [this] { ShowStartPage(); }, QKeySequence("Ctrl+L"));
   lessons->addAction("&Declare the diagnosis...", this, [this] { AskDiagnosis(); });
   lessons->addAction("&Finish the lesson", this, [this] { FinishLesson(); });
+  lessons->addAction("My &progress...", this, [this] {
+    ShowProgress(QSettings().value("student/last", "student").toString().toStdString());
+  });
   lessons->addAction("&Replay a recording...", this, [this] {
     const QString f = QFileDialog::getOpenFileName(this, "Replay a recording", Q(DefaultResultsDir().string()),
                                                    "Recordings (*.rec)");
@@ -1052,6 +1056,15 @@ void MainWindow::CloseReplay() {
   replay_playing_ = false;
   replay_dock_->hide();
   StartSession();
+}
+
+
+QDialog* MainWindow::ShowProgress(const std::string& student, const std::filesystem::path& results_dir) {
+  const std::filesystem::path dir = results_dir.empty() ? DefaultResultsDir() : results_dir;
+  auto* d = new ProgressDialog(dir / "results.db", student, this);
+  d->setAttribute(Qt::WA_DeleteOnClose);
+  d->show();
+  return d;
 }
 
 }  // namespace sulcus::ui

@@ -120,6 +120,8 @@ class MainWindow : public QMainWindow {
   std::uint64_t replay_tick() const;
   const TickRecord* replay_frame() const;
   void SetReplayPlaying(bool on);
+  /// A student's attempts over time (the results database); returns the dialog.
+  QDialog* ShowProgress(const std::string& student, const std::filesystem::path& results_dir = {});
 
  protected:
   void keyPressEvent(QKeyEvent* e) override;

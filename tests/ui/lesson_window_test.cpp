@@ -12,18 +12,22 @@
 #include <QElapsedTimer>
 #include <QKeyEvent>
 #include <QSurfaceFormat>
+#include <QTableWidget>
 #include <QTextBrowser>
 #include <QVTKOpenGLNativeWidget.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
 #include "core/haptics/recording.h"
+#include "core/lesson/attempt.h"
 #include "core/lesson/results.h"
 #include "tests/common/output.h"
 #include "ui/chart_widget.h"
 #include "ui/main_window.h"
+#include "ui/progress_dialog.h"
 #include "ui/start_dialog.h"
 
 namespace sulcus::ui {
@@ -165,6 +169,34 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   EXPECT_FALSE(w.replaying());
 }
 
+TEST(LessonWindow, ProgressOverAttempts) {
+  // Three more attempts by the same student (headless, into the same database).
+  for (const char* who : {"student:rough", "student:misreading", "student:careful"}) {
+    AttemptOptions o;
+    o.student = "Window Student";
+    o.device = who;
+    o.cache_dir = std::getenv("SULCUS_CACHE_DIR");
+    const AttemptOutcome out = RunAttempt(Lessons() / "periodontal_probing.yaml", o);
+    ResultsDb db(Out("results") / "results.db");
+    db.Store(out.result, "2026-12-01T00:00:00Z", "", "", "");
+  }
+  MainWindow w;
+  w.show();
+  QDialog* d = w.ShowProgress("Window Student", Out("results"));
+  auto* p = dynamic_cast<ProgressDialog*>(d);
+  ASSERT_NE(p, nullptr);
+  EXPECT_GE(p->attempts_shown(), 3);
+  EXPECT_EQ(p->sites_table()->rowCount(), 24);
+  // The misreader's three sites show +2 in its column.
+  int plus_two = 0;
+  for (int r = 0; r < p->sites_table()->rowCount(); ++r)
+    for (int c = 0; c < p->sites_table()->columnCount(); ++c)
+      plus_two += p->sites_table()->item(r, c)->text() == "+2";
+  EXPECT_GE(plus_two, 3);
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(d, "progress.png"));
+}
+
 TEST(LessonWindow, AssessmentShowsNoTruthAndLocksTheAids) {
   MainWindow w;
   w.resize(1366, 768);
@@ -206,5 +238,6 @@ int main(int argc, char** argv) {
   QApplication::setOrganizationName("SulcusTests");
   QApplication::setApplicationName("lesson_window_test");
   ::testing::InitGoogleTest(&argc, argv);
+  std::filesystem::remove_all(sulcus::test::OutputPath("ui", "results"));  // every run starts with no attempts
   return RUN_ALL_TESTS();
 }
