@@ -631,6 +631,8 @@ void MainWindow::closeEvent(QCloseEvent* e) {
   QSettings settings;
   settings.setValue("window/geometry", saveGeometry());
   settings.setValue("window/state", saveState());
+  // A lesson in progress is kept: scored as far as it went, stored, its report written.
+  if (lesson_) FinishLesson(/*show_report=*/false);
   StopSession();
   QMainWindow::closeEvent(e);
 }
@@ -852,7 +854,7 @@ void MainWindow::AskDiagnosis() {
   DeclareDiagnosis(d);
 }
 
-bool MainWindow::FinishLesson() {
+bool MainWindow::FinishLesson(bool show_report) {
   if (!lesson_ || !lesson_spec_) return false;
   StopSession();  // the recording is written out
   const LessonResult r = lesson_->Finish();
@@ -889,7 +891,7 @@ bool MainWindow::FinishLesson() {
   lesson_dock_->hide();
   if (!problems.isEmpty())
     ShowErrors("Lesson", QString("Your attempt is kept in %1, but:").arg(Q(attempt_dir_.string())), problems);
-  ShowReport(r, last_report_);
+  if (show_report) ShowReport(r, last_report_);
   device_name_ = "mouse";
   StartSession();  // the workbench goes on, without the lesson
   return true;

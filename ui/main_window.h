@@ -102,7 +102,7 @@ class MainWindow : public QMainWindow {
   bool DeclareDiagnosis(const DeclaredDiagnosis& d);
   /// Ends the lesson: the recording written, the attempt scored, its entries and
   /// report saved, stored in the results database, and the report shown.
-  bool FinishLesson();
+  bool FinishLesson(bool show_report = true);
   const LessonRun* lesson() const { return lesson_.get(); }
   ChartWidget* chart() const { return chart_; }
   const std::optional<LessonResult>& last_result() const { return last_result_; }
