@@ -43,24 +43,7 @@ std::optional<DeclaredDiagnosis> ReadDiagnosis(YamlReader& r, const YAML::Node& 
 Answers LoadAnswers(const fs::path& file) {
   YamlReader r(file);
   Answers a;
-  std::ifstream in(file);
-  if (!in) {
-    r.errors().push_back({file.string(), 0, 0, fs::exists(file) ? "cannot be read" : "no such answers file"});
-    throw SceneLoadError(r.errors());
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  YAML::Node root;
-  try {
-    root = YAML::Load(text.str());
-  } catch (const YAML::ParserException& e) {
-    r.Error(e.mark, "YAML syntax: " + e.msg);
-    throw SceneLoadError(r.errors());
-  }
-  if (!root.IsMap()) {
-    r.Error(root, "an answers file is a map with 'chart:' or 'entries:', and 'diagnosis:'");
-    throw SceneLoadError(r.errors());
-  }
+  const YAML::Node root = LoadYamlMap(r, "answers file", "an answers file is a map with 'chart:' or 'entries:', and 'diagnosis:'");
   r.CheckKeys(root, {"chart", "entries", "diagnosis"}, "the answers");
   if (const YAML::Node chart = root["chart"]; chart && r.IsMap(chart, "'chart'")) {
     for (auto it = chart.begin(); it != chart.end(); ++it) {

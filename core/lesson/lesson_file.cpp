@@ -235,24 +235,7 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   YamlReader r(file);
   LessonSpec spec;
   spec.file = file;
-  std::ifstream in(file);
-  if (!in) {
-    r.errors().push_back({file.string(), 0, 0, fs::exists(file) ? "cannot be read" : "no such lesson file"});
-    throw SceneLoadError(r.errors());
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  YAML::Node root;
-  try {
-    root = YAML::Load(text.str());
-  } catch (const YAML::ParserException& e) {
-    r.Error(e.mark, "YAML syntax: " + e.msg);
-    throw SceneLoadError(r.errors());
-  }
-  if (!root.IsMap()) {
-    r.Error(root, "a lesson is a map with at least 'scene:' and 'steps:'");
-    throw SceneLoadError(r.errors());
-  }
+  const YAML::Node root = LoadYamlMap(r, "lesson file", "a lesson is a map with at least 'scene:' and 'steps:'");
   r.CheckKeys(root, {"name", "description", "scene", "mode", "probe", "teeth", "path", "steps", "rubric",
                      "time_limit_s", "case"},
               "the lesson");

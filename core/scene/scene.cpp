@@ -295,24 +295,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
   Reader r(file);
   SceneSpec spec;
   spec.file = file;
-  std::ifstream in(file);
-  if (!in) {
-    r.errors().push_back({file.string(), 0, 0, fs::exists(file) ? "cannot be read" : "no such scene file"});
-    throw SceneLoadError(r.errors());
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  YAML::Node root;
-  try {
-    root = YAML::Load(text.str());
-  } catch (const YAML::ParserException& e) {
-    r.Error(e.mark, "YAML syntax: " + e.msg);
-    throw SceneLoadError(r.errors());
-  }
-  if (!root.IsMap()) {
-    r.Error(root, "a scene is a map with at least 'objects:'");
-    throw SceneLoadError(r.errors());
-  }
+  const YAML::Node root = LoadYamlMap(r, "scene file", "a scene is a map with at least 'objects:'");
   r.CheckKeys(root, {"name", "description", "tool", "haptics", "effects", "spheretree", "arch", "gingiva", "mouth_open_mm",
                      "objects"},
               "the scene");

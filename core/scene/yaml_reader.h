@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -159,5 +160,31 @@ class YamlReader {
   std::vector<SceneError> errors_;
 };
 
+
+/// Reads `r`'s file as a YAML map. Throws SceneLoadError, with the file named,
+/// when it is missing ("no such " + kind), unreadable, not YAML, or not a map
+/// (`not_a_map` says what it should be).
+inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind, const std::string& not_a_map) {
+  const std::filesystem::path& file = r.file_;
+  std::ifstream in(file);
+  if (!in) {
+    r.errors().push_back({file.string(), 0, 0, std::filesystem::exists(file) ? "cannot be read" : "no such " + kind});
+    throw SceneLoadError(r.errors());
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  YAML::Node root;
+  try {
+    root = YAML::Load(text.str());
+  } catch (const YAML::ParserException& e) {
+    r.Error(e.mark, "YAML syntax: " + e.msg);
+    throw SceneLoadError(r.errors());
+  }
+  if (!root.IsMap()) {
+    r.Error(root, not_a_map);
+    throw SceneLoadError(r.errors());
+  }
+  return root;
+}
 
 }  // namespace sulcus

@@ -96,17 +96,22 @@ void ChartEverything(MainWindow& w) {
   }
 }
 
-TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
-  MainWindow w;
-  w.resize(1366, 768);
-  w.show();
+// The careful scripted student on the shipped lesson, as fast as the thread can go.
+MainWindow::LessonStart CarefulStudent() {
   MainWindow::LessonStart s;
   s.lesson = Lessons() / "periodontal_probing.yaml";
   s.student = "Window Student";
   s.device = "student:careful";
   s.free_run = true;
   s.results_dir = Out("results");
-  ASSERT_TRUE(w.StartLesson(s));
+  return s;
+}
+
+TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
+  MainWindow w;
+  w.resize(1366, 768);
+  w.show();
+  ASSERT_TRUE(w.StartLesson(CarefulStudent()));
   ASSERT_NE(w.lesson(), nullptr);
   EXPECT_FALSE(w.aids_locked());
   EXPECT_TRUE(WaitFor([&] { return w.lesson_text().contains("Step 1 of 4"); })) << w.lesson_text().toStdString();
@@ -201,13 +206,8 @@ TEST(LessonWindow, AssessmentShowsNoTruthAndLocksTheAids) {
   MainWindow w;
   w.resize(1366, 768);
   w.show();
-  MainWindow::LessonStart s;
-  s.lesson = Lessons() / "periodontal_probing.yaml";
-  s.student = "Window Student";
+  MainWindow::LessonStart s = CarefulStudent();
   s.mode = LessonSpec::Mode::kAssessment;
-  s.device = "student:careful";
-  s.free_run = true;
-  s.results_dir = Out("results");
   ASSERT_TRUE(w.StartLesson(s));
   EXPECT_TRUE(w.aids_locked());
   w.SetGingivaTranslucent(true);
