@@ -453,6 +453,7 @@ void MainWindow::StopRecording() {
 }
 
 void MainWindow::Tick() {
+  ++frames_;
   if (replay_) {
     if (replay_playing_) {
       const auto now = std::chrono::steady_clock::now();

@@ -108,6 +108,7 @@ class MainWindow : public QMainWindow {
   const std::optional<LessonResult>& last_result() const { return last_result_; }
   const std::filesystem::path& last_report() const { return last_report_; }
   QString lesson_text() const;
+  std::uint64_t frames() const { return frames_; }  // display frames drawn
   bool aids_locked() const { return aids_locked_; }
   QDialog* report_dialog() const { return report_dialog_; }
 
@@ -201,6 +202,7 @@ class MainWindow : public QMainWindow {
   QLabel* replay_label_ = nullptr;
   void BuildReplayDock();
   void ShowReplayFrame();
+  std::uint64_t frames_ = 0;
   HapticSnapshot snapshot_;
   std::string device_error_;
   QString last_reading_;

@@ -17,6 +17,7 @@
 #include <QVTKOpenGLNativeWidget.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -111,6 +112,20 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   MainWindow w;
   w.resize(1366, 768);
   w.show();
+  {
+    // A figure, not a check: display frames a second with the thread at 1 kHz (the mouse device).
+    MainWindow::LessonStart live = CarefulStudent();
+    live.device = "mouse";
+    live.free_run = false;
+    ASSERT_TRUE(w.StartLesson(live));
+    const std::uint64_t f0 = w.frames();
+    QElapsedTimer t;
+    t.start();
+    WaitFor([&] { return t.elapsed() > 3000; });
+    std::printf("figure: %.1f display frames a second under Xvfb with the haptic thread at 1 kHz\n",
+                (w.frames() - f0) * 1000.0 / t.elapsed());
+    ASSERT_TRUE(w.FinishLesson(false));
+  }
   ASSERT_TRUE(w.StartLesson(CarefulStudent()));
   ASSERT_NE(w.lesson(), nullptr);
   EXPECT_FALSE(w.aids_locked());
@@ -130,7 +145,11 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   d.stage = Stage::kIII;
   d.extent = Extent::kLocalized;
   ASSERT_TRUE(w.DeclareDiagnosis(d));
+  QElapsedTimer finish;
+  finish.start();
   ASSERT_TRUE(w.FinishLesson());
+  std::printf("figure: %lld ms from the last entry to the report on screen (scored, saved, stored)\n",
+              static_cast<long long>(finish.elapsed()));
   ASSERT_TRUE(w.last_result());
   const LessonResult& r = *w.last_result();
   EXPECT_EQ(r.sites_read, 24);
