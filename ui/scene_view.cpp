@@ -162,12 +162,10 @@ void SceneView::Update(const HapticSnapshot& s) {
   // The glyph pipeline is built once (Load); each frame only refills its points.
   contact_points_->Reset();
   contact_radii_->Reset();
-  const CollisionWorld& world = scene_->model->world;
   for (int i = 0; i < s.num_shown_pairs; ++i) {
-    const ContactPair& c = s.shown_pairs[i];
-    const Vector3 p = world.ObjectCenter(c.object, c.object_leaf);
+    const Vector3& p = s.shown_centers_W[static_cast<std::size_t>(i)];
     contact_points_->InsertNextPoint(p.x(), p.y(), p.z());
-    contact_radii_->InsertNextValue(world.ObjectRadius(c.object, c.object_leaf));
+    contact_radii_->InsertNextValue(s.shown_radii[static_cast<std::size_t>(i)]);
   }
   contact_points_->Modified();
   contact_radii_->Modified();

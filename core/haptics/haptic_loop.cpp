@@ -226,7 +226,12 @@ void HapticLoop::FillSnapshot() noexcept {
   s.in_contact = in_contact_;
   int shown = 0;
   for (int i = 0; i < data_.num_pairs && shown < HapticSnapshot::kMaxShownPairs; ++i)
-    if (data_.pairs[i].gap < 0.05) s.shown_pairs[shown++] = data_.pairs[i];
+    if (data_.pairs[i].gap < 0.05) {
+      const ContactPair& c = data_.pairs[i];
+      s.shown_centers_W[shown] = model_.world.ObjectCenter(c.object, c.object_leaf);
+      s.shown_radii[shown] = model_.world.ObjectRadius(c.object, c.object_leaf);
+      s.shown_pairs[shown++] = c;
+    }
   s.num_shown_pairs = shown;
   s.faults = faults_;
   s.max_force_n = max_force_n_;

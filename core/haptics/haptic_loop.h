@@ -124,6 +124,10 @@ struct HapticSnapshot {
   std::array<std::uint64_t, kMaxObjects / 64> in_contact{};  // bit per object
   int num_shown_pairs = 0;
   std::array<ContactPair, kMaxShownPairs> shown_pairs{};
+  // The object spheres of those pairs, in the world (the window draws them
+  // without reading the engine's model).
+  std::array<Vector3, kMaxShownPairs> shown_centers_W{};
+  std::array<double, kMaxShownPairs> shown_radii{};
   LoopFaults faults;
   // Totals since the start.
   double max_force_n = 0;              // the largest force sent
