@@ -7,6 +7,8 @@
 #include <QDesktopServices>
 #include <QDialogButtonBox>
 #include <QGroupBox>
+#include <QInputDialog>
+#include <QLineEdit>
 #include <QRadioButton>
 #include <QSignalBlocker>
 #include <QSlider>
@@ -48,12 +50,14 @@
 #include "core/haptics/devices/usb_discovery.h"
 #include "core/lesson/answers.h"
 #include "core/lesson/attempt.h"
+#include "core/lesson/instructor.h"
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
 #include "ui/chart_widget.h"
 #include "core/haptics/scripted_device.h"
 #include "core/spheretree/cache.h"
 #include "ui/force_gauge.h"
+#include "ui/instructor_dialog.h"
 #include "ui/progress_dialog.h"
 #include "ui/start_dialog.h"
 #include "ui/force_plot.h"
@@ -211,6 +215,25 @@ void MainWindow::BuildUi() {
   lessons->addAction("&Finish the lesson", this, [this] { FinishLesson(); });
   lessons->addAction("My &progress...", this, [this] {
     ShowProgress(QSettings().value("student/last", "student").toString().toStdString());
+  });
+  lessons->addAction("&Instructor...", this, [this] {
+    const std::filesystem::path lock_file = DefaultResultsDir() / "instructor.pwhash";
+    const bool first = !InstructorLock(lock_file).is_set();
+    bool ok = false;
+    const QString pass = QInputDialog::getText(
+        this, "Instructor", first ? "Set the instructor's passphrase (at least 8 characters; students must not know it):"
+                                  : "The instructor's passphrase:",
+        QLineEdit::Password, "", &ok);
+    if (!ok) return;
+    if (first) {
+      const QString again = QInputDialog::getText(this, "Instructor", "The same passphrase again:", QLineEdit::Password, "", &ok);
+      if (!ok) return;
+      if (again != pass) {
+        QMessageBox::warning(this, "Instructor", "The two passphrases differ; nothing was set.");
+        return;
+      }
+    }
+    OpenInstructor(pass.toStdString());
   });
   lessons->addAction("&Replay a recording...", this, [this] {
     const QString f = QFileDialog::getOpenFileName(this, "Replay a recording", Q(DefaultResultsDir().string()),
@@ -1068,6 +1091,26 @@ QDialog* MainWindow::ShowProgress(const std::string& student, const std::filesys
   d->setAttribute(Qt::WA_DeleteOnClose);
   d->show();
   return d;
+}
+
+
+QDialog* MainWindow::OpenInstructor(const std::string& passphrase, const std::filesystem::path& results_dir) {
+  const std::filesystem::path dir = results_dir.empty() ? DefaultResultsDir() : results_dir;
+  try {
+    InstructorLock lock(dir / "instructor.pwhash");
+    if (!lock.is_set()) lock.Set(passphrase);
+    if (!lock.Check(passphrase)) {
+      ShowErrors("Instructor", "Wrong passphrase.", "The instructor's view stays closed.");
+      return nullptr;
+    }
+    auto* d = new InstructorDialog(dir / "results.db", this);
+    d->setAttribute(Qt::WA_DeleteOnClose);
+    d->show();
+    return d;
+  } catch (const std::exception& e) {
+    ShowErrors("Instructor", "The instructor's view cannot be opened.", Q(e.what()));
+    return nullptr;
+  }
 }
 
 }  // namespace sulcus::ui

@@ -123,6 +123,9 @@ class MainWindow : public QMainWindow {
   void SetReplayPlaying(bool on);
   /// A student's attempts over time (the results database); returns the dialog.
   QDialog* ShowProgress(const std::string& student, const std::filesystem::path& results_dir = {});
+  /// The instructor's view for this passphrase (set on first use); nullptr,
+  /// after saying so, for a wrong one.
+  QDialog* OpenInstructor(const std::string& passphrase, const std::filesystem::path& results_dir = {});
 
  protected:
   void keyPressEvent(QKeyEvent* e) override;

@@ -372,6 +372,25 @@ std::vector<std::string> ResultsDb::Students() const {
   return out;
 }
 
+int ResultsDb::DeleteStudent(const std::string& student) {
+  Exec("BEGIN IMMEDIATE");
+  try {
+    Stmt d(db_, "DELETE FROM attempts WHERE student_id = (SELECT id FROM students WHERE name = ?)", file_);
+    d.Bind(1, student).Step(file_);
+    const int n = sqlite3_changes(db_);
+    Stmt s(db_, "DELETE FROM students WHERE name = ?", file_);
+    s.Bind(1, student).Step(file_);
+    Exec("COMMIT");
+    return n;
+  } catch (...) {
+    try {
+      Exec("ROLLBACK");
+    } catch (const ResultsError&) {
+    }
+    throw;
+  }
+}
+
 void ExportAttemptsCsv(const std::vector<AttemptRow>& rows, std::ostream& o) {
   o << "attempt,student,lesson,lesson_file,mode,started,case_seed,total,duration_s,sites_total,sites_read,"
        "sites_charted,within_1mm_pct,bias_mm,force_in_band_pct,true_dx,chart_dx,declared_dx,recording,report_dir\n";

@@ -67,6 +67,9 @@ class ResultsDb {
   std::optional<AttemptRow> Attempt(std::int64_t id) const;
   std::vector<SiteRow> Sites(const std::string& student = "", const std::string& lesson_file = "") const;
   std::vector<std::string> Students() const;
+  /// Deletes every attempt of a student and the student (one transaction);
+  /// returns how many attempts went. Their recordings and reports stay on disk.
+  int DeleteStudent(const std::string& student);
   int schema_version() const;
   /// "ok" when the database is sound.
   std::string IntegrityCheck() const;

@@ -21,6 +21,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "core/haptics/recording.h"
 #include "core/lesson/attempt.h"
@@ -28,6 +29,7 @@
 #include "tests/common/output.h"
 #include "ui/chart_widget.h"
 #include "ui/main_window.h"
+#include "ui/instructor_dialog.h"
 #include "ui/progress_dialog.h"
 #include "ui/start_dialog.h"
 
@@ -219,6 +221,41 @@ TEST(LessonWindow, ProgressOverAttempts) {
   EXPECT_GE(plus_two, 3);
   QApplication::processEvents();
   EXPECT_TRUE(Save(d, "progress.png"));
+}
+
+TEST(Instructor, RefusesAWrongPassphraseAndShowsEveryStudentWithTheRightOne) {
+  const fs::path dir = Out("instructor_results");
+  fs::remove_all(dir);
+  {
+    ResultsDb db(dir / "results.db");
+    AttemptOptions o;
+    o.device = "student:misreading";
+    o.cache_dir = std::getenv("SULCUS_CACHE_DIR");
+    for (const char* who : {"ada", "grace", "linus"}) {
+      o.student = who;
+      db.Store(RunAttempt(Lessons() / "periodontal_probing.yaml", o).result, "2026-12-01T00:00:00Z", "", "", "");
+    }
+  }
+  MainWindow w;
+  w.show();
+  ASSERT_NE(w.OpenInstructor("the cohort's passphrase", dir), nullptr) << "first use sets it";
+  for (QWidget* top : QApplication::topLevelWidgets())
+    if (auto* d = dynamic_cast<InstructorDialog*>(top)) d->close();
+  EXPECT_EQ(w.OpenInstructor("a student's guess", dir), nullptr);
+  QDialog* d = w.OpenInstructor("the cohort's passphrase", dir);
+  ASSERT_NE(d, nullptr);
+  auto* view = dynamic_cast<InstructorDialog*>(d);
+  EXPECT_EQ(view->students(), 3);
+  EXPECT_EQ(view->attempts_table()->rowCount(), 3);
+  // The misreader's three sites are the cohort's worst.
+  ASSERT_GE(view->cohort_table()->rowCount(), 3);
+  std::set<QString> worst;
+  for (int r = 0; r < 3; ++r) worst.insert(view->cohort_table()->item(r, 0)->text());
+  EXPECT_EQ(worst, (std::set<QString>{"47 DB", "46 DB", "45 DB"}));
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(d, "instructor.png"));
+  EXPECT_EQ(view->DeleteStudent("grace"), 1);
+  EXPECT_EQ(view->students(), 2);
 }
 
 TEST(LessonWindow, AssessmentShowsNoTruthAndLocksTheAids) {

@@ -10,8 +10,10 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
+#include "core/lesson/instructor.h"
 #include "core/lesson/results.h"
 
 namespace sulcus {
@@ -106,6 +108,38 @@ TEST(Results, AttemptsRoundTripAndExport) {
   ExportSitesCsv(sites, scsv);
   EXPECT_NE(scsv.str().find(",46,DB,3,3.1,5,2,"), std::string::npos) << "signed error per site";
   EXPECT_EQ(db.IntegrityCheck(), "ok");
+}
+
+TEST(Results, DeletingAStudentTakesTheirAttemptsWithThem) {
+  const fs::path file = Fresh("delete");
+  ResultsDb db(file);
+  db.Store(Sample("ada", 90), "2026-12-01T10:00:00Z", "", "", "");
+  db.Store(Sample("ada", 91), "2026-12-01T11:00:00Z", "", "", "");
+  db.Store(Sample("grace", 80), "2026-12-01T12:00:00Z", "", "", "");
+  EXPECT_EQ(db.DeleteStudent("ada"), 2);
+  EXPECT_EQ(db.Students(), (std::vector<std::string>{"grace"}));
+  EXPECT_EQ(Count(file, "SELECT COUNT(*) FROM attempt_sites"), 24) << "the sites went with their attempts";
+  EXPECT_EQ(Count(file, "SELECT COUNT(*) FROM attempt_lines"), 120);
+  EXPECT_EQ(db.DeleteStudent("nobody"), 0);
+}
+
+TEST(Instructor, ThePassphraseIsKeptOnlyAsAHash) {
+  const fs::path file = Fresh("lock").parent_path() / "instructor.pwhash";
+  InstructorLock lock(file);
+  EXPECT_FALSE(lock.is_set());
+  EXPECT_FALSE(lock.Check("anything at all"));
+  EXPECT_THROW(lock.Set("short"), std::runtime_error);
+  lock.Set("correct horse battery");
+  EXPECT_TRUE(lock.is_set());
+  EXPECT_TRUE(lock.Check("correct horse battery"));
+  EXPECT_FALSE(lock.Check("correct horse batterY"));
+  EXPECT_FALSE(lock.Check(""));
+  EXPECT_THROW(lock.Set("another passphrase"), std::runtime_error) << "set once";
+  std::ifstream in(file);
+  const std::string stored((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(stored.find("horse"), std::string::npos);
+  EXPECT_EQ(stored.rfind("$argon2id$", 0), 0u) << stored;
+  EXPECT_TRUE(InstructorLock(file).Check("correct horse battery")) << "another process reads the same hash";
 }
 
 TEST(Results, ANewerSchemaIsRefusedAndLeftAlone) {
