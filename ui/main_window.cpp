@@ -171,7 +171,8 @@ void MainWindow::BuildUi() {
   events_ = new QListWidget;
   layout->addWidget(events_, 1);
   auto* help = new QLabel("Mouse device: Ctrl+drag moves the tool, Ctrl+Shift+drag turns it, Ctrl+wheel pushes it; "
-                          "keys W/S, A/D, Q/E move it (with Shift: turn). Drag without Ctrl moves the camera.");
+                          "keys W/S, A/D, Q/E move it 0.1 mm (with Shift: turn; hold Alt for 0.02 mm steps). Drag "
+                          "without Ctrl moves the camera. F1: help.");
   help->setWordWrap(true);
   layout->addWidget(help);
   auto* dock = new QDockWidget("Instrument", this);
@@ -244,8 +245,9 @@ void MainWindow::BuildUi() {
   help_menu->addAction("&How to probe and chart", this, [this] {
     QMessageBox::information(
         this, "Sulcus help",
-        "<b>Moving the probe</b> (mouse and keyboard): W/S, A/D, Q/E move it; with Shift they turn it; Ctrl + drag "
-        "moves it with the mouse.<br><br><b>Probing</b>: walk the probe around each tooth in short up-and-down strokes "
+        "<b>Moving the probe</b> (mouse and keyboard): W/S, A/D, Q/E move it 0.1 mm a press; with Shift they turn "
+        "it; hold Alt for fine steps (0.02 mm, to hold the force band). Ctrl + drag moves it with the mouse, Ctrl + "
+        "wheel pushes it (with Alt, finely).<br><br><b>Probing</b>: walk the probe around each tooth in short up-and-down strokes "
         "with the tip on the tooth, parallel to the long axis; at the contacts tilt it into the col. Press the pocket "
         "floor lightly: the gauge's green band is 0.20-0.25 N.<br><br><b>Charting</b>: click the chart (or press Tab "
         "to it), type the depth you read at each site in whole millimetres; it moves to the next site along the path. "
@@ -576,7 +578,10 @@ void MainWindow::keyPressEvent(QKeyEvent* e) {
     QMainWindow::keyPressEvent(e);
     return;
   }
-  const double step = 0.25, turn = 0.05;  // mm, rad per key press
+  // mm, rad per key press; with Alt, fine: 0.02 mm is 0.04 N at the pocket floor
+  // (2 N/mm), so the 0.20-0.25 N band can be held on purpose.
+  const bool fine = e->modifiers() & Qt::AltModifier;
+  const double step = fine ? 0.02 : 0.1, turn = fine ? 0.01 : 0.05;
   Vector3 d = Vector3::Zero();
   switch (e->key()) {
     case Qt::Key_D: d.x() = 1; break;
@@ -615,7 +620,8 @@ bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
     if (e->type() == QEvent::Wheel) {
       auto* w = static_cast<QWheelEvent*>(e);
       if (!(w->modifiers() & Qt::ControlModifier)) return QMainWindow::eventFilter(watched, e);
-      mouse_->Nudge(-0.5 * (w->angleDelta().y() / 120.0) * view, Vector3::Zero());
+      const double per_notch = (w->modifiers() & Qt::AltModifier) ? 0.02 : 0.2;  // mm; Alt: fine
+      mouse_->Nudge(-per_notch * (w->angleDelta().y() / 120.0) * view, Vector3::Zero());
       return true;
     }
     auto* m = static_cast<QMouseEvent*>(e);
