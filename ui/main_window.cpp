@@ -114,11 +114,18 @@ void MainWindow::BuildUi() {
   device_box_->addItem("mouse");
   for (const std::string& n : ScriptNames()) device_box_->addItem(Q("scripted:" + n));
   // Hardware that is plugged in, with what it needs (no hardware backend is built here).
-  for (const UsbDeviceInfo& d : ScanUsb().known) {
+  const auto known = ScanUsb().known;
+  for (const UsbDeviceInfo& d : known) {
     device_box_->addItem(Q(d.name + " (needs: " + d.backend + ")"));
     if (auto* model = qobject_cast<QStandardItemModel*>(device_box_->model()))
       model->item(device_box_->count() - 1)->setEnabled(false);
   }
+  if (known.empty()) {
+    device_box_->addItem("no Phantom or Touch found (USB)");
+    if (auto* model = qobject_cast<QStandardItemModel*>(device_box_->model()))
+      model->item(device_box_->count() - 1)->setEnabled(false);
+  }
+  device_box_->setToolTip("The mouse and keyboard, a developer's scripted probe, or a haptic device when one is plugged in");
   form->addRow("Device", device_box_);
   connect(device_box_, &QComboBox::textActivated, this, [this](const QString& d) { SetDevice(d.toStdString()); });
   sphere_level_ = new QSpinBox;
@@ -159,7 +166,9 @@ void MainWindow::BuildUi() {
   });
   auto* pause = new QPushButton("Pause");
   pause->setCheckable(true);
-  connect(pause, &QPushButton::toggled, this, [this](bool on) {
+  pause->setToolTip("Pause the force (the tool stays where it is); press again to resume");
+  connect(pause, &QPushButton::toggled, this, [this, pause](bool on) {
+    pause->setText(on ? "Resume" : "Pause");
     if (session_) session_->loop().Send({on ? HapticCommand::Kind::kPause : HapticCommand::Kind::kResume});
   });
   auto* buttons = new QHBoxLayout;
@@ -384,8 +393,15 @@ void MainWindow::BeginSession() {
   device_error_.clear();
   if (!scene_) return;
   auto use_mouse = [this] {
-    // The tool starts above the first tooth's crown, working end along its axis.
-    const ScriptTarget top = FindScriptTarget(*scene_, "poke");
+    // The tool starts above a crown, working end along its axis: in a lesson the
+    // crown of its first tooth, else the first lower tooth.
+    int first = -1;
+    if (lesson_spec_ && !lesson_spec_->path.empty())
+      for (int i = 0; i < static_cast<int>(scene_->spec.objects.size()); ++i)
+        if (scene_->spec.objects[i].kind == ObjectSpec::Kind::kTooth &&
+            scene_->spec.objects[i].fdi == lesson_spec_->path.front().fdi)
+          first = i;
+    const ScriptTarget top = FindScriptTarget(*scene_, "poke", first);
     auto mouse = std::make_unique<MouseKeyboardDevice>(
         RigidTransform(Quaternion::FromTwoVectors(Vector3::UnitZ(), top.n_W), top.p_W + 4.0 * top.n_W));
     mouse_ = mouse.get();
