@@ -148,8 +148,9 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
 /// An object's name, or "object N" for an index the scene does not have.
 std::string ObjectName(const SceneSpec& spec, int object);
 
-/// One line for a haptic event, with the scene's names: "contact_began: tooth 46",
-/// "force_above 1.01 N", "reading 3.8 mm at 46 B (0.22 N, 4 deg)", "bleeding at 46 MB".
+/// One line for a haptic event, in words a student reads, with the scene's
+/// names: "touching tooth 46", "force above 1.01 N", "reading 3.8 mm at 46 B
+/// (0.22 N, 4 deg)", "bleeding at 46 MB".
 std::string DescribeEvent(const SceneSpec& spec, const HapticEvent& e);
 
 /// FNV-1a of a file's bytes (recordings name the scene they were made on).

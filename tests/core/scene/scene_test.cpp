@@ -265,15 +265,19 @@ TEST(SceneEvents, DescribedWithTheScenesNames) {
   e.payload.reading = {.fdi = 46, .site = 1, .depth_mm = 3.85, .peak_force_n = 0.223, .axis_angle_deg = 4.2};
   EXPECT_EQ(DescribeEvent(spec, e), "reading 3.9 mm at 46 B (0.22 N, 4 deg)");
   e.kind = EventKind::kContactBegan;
-  EXPECT_EQ(DescribeEvent(spec, e), "contact_began: tooth 46");
+  EXPECT_EQ(DescribeEvent(spec, e), "touching tooth 46");
   e.object = 7;
-  EXPECT_EQ(DescribeEvent(spec, e), "contact_began: object 7");
+  EXPECT_EQ(DescribeEvent(spec, e), "touching object 7");
   e.kind = EventKind::kForceAbove;
   e.payload.force.force_n = 1.014;
-  EXPECT_EQ(DescribeEvent(spec, e), "force_above 1.01 N");
+  EXPECT_EQ(DescribeEvent(spec, e), "force above 1.01 N");
   e.kind = EventKind::kCommand;
   e.payload.command.command = static_cast<std::uint8_t>(HapticCommand::Kind::kPause);
   EXPECT_EQ(DescribeEvent(spec, e), "command: pause");
+  e = HapticEvent::Of(EventKind::kProbeReading, 0);
+  e.payload.reading = {.fdi = 46, .site = 2, .depth_mm = 7.4, .peak_force_n = 1.66, .axis_angle_deg = 3};
+  EXPECT_EQ(DescribeEvent(spec, e),
+            "reading 7.4 mm at 46 DB (1.66 N, 3 deg): too hard, the tip went into the attachment (tissue damage)");
 }
 
 }  // namespace
