@@ -245,6 +245,11 @@ void MainWindow::BuildUi() {
     }
     OpenInstructor(pass.toStdString());
   });
+  lessons->addAction("Play a &demonstration as a ghost...", this, [this] {
+    const QString f = QFileDialog::getOpenFileName(this, "A recorded demonstration", Q(DefaultResultsDir().string()),
+                                                   "Recordings (*.rec)");
+    SetDemonstration(f.toStdString());
+  });
   lessons->addAction("&Replay a recording...", this, [this] {
     const QString f = QFileDialog::getOpenFileName(this, "Replay a recording", Q(DefaultResultsDir().string()),
                                                    "Recordings (*.rec)");
@@ -515,6 +520,10 @@ void MainWindow::Tick() {
   HapticLoop& loop = session_->loop();
   if (loop.snapshots().Acquire()) snapshot_ = loop.snapshots().front();
   view_->Update(snapshot_);
+  if (demonstration_ && !demonstration_->frames.empty()) {
+    const std::size_t i = std::min<std::size_t>(snapshot_.tick, demonstration_->frames.size() - 1);
+    view_->ShowGhost(demonstration_->frames[i].X_WG);
+  }
   gauge_->SetForce(snapshot_.force_W.norm());
   plot_->Push(snapshot_.time_s, snapshot_.force_W.norm(), snapshot_.torque_W.norm());
   session_->Pump();
@@ -1134,5 +1143,25 @@ QDialog* MainWindow::OpenInstructor(const std::string& passphrase, const std::fi
     return nullptr;
   }
 }
+
+
+bool MainWindow::SetDemonstration(const std::filesystem::path& recording) {
+  if (recording.empty()) {
+    demonstration_.reset();
+    view_->ShowGhost(std::nullopt);
+    return true;
+  }
+  try {
+    demonstration_ = std::make_unique<Recording>(ReadRecording(recording));
+  } catch (const RecordingError& e) {
+    ShowErrors("Demonstration", "The demonstration cannot be played.", Q(e.what()));
+    return false;
+  }
+  StartSession();  // from its first tick, beside the student's
+  statusBar()->showMessage(QString("The green probe is the demonstration %1").arg(Q(recording.string())));
+  return true;
+}
+
+const std::optional<RigidTransform>& MainWindow::ghost_pose() const { return view_->ghost(); }
 
 }  // namespace sulcus::ui

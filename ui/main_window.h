@@ -121,6 +121,10 @@ class MainWindow : public QMainWindow {
   std::uint64_t replay_tick() const;
   const TickRecord* replay_frame() const;
   void SetReplayPlaying(bool on);
+  /// An instructor's recorded demonstration played as a ghost probe while the
+  /// student probes live, tick for tick from the session's start; empty stops it.
+  bool SetDemonstration(const std::filesystem::path& recording);
+  const std::optional<RigidTransform>& ghost_pose() const;
   /// A student's attempts over time (the results database); returns the dialog.
   QDialog* ShowProgress(const std::string& student, const std::filesystem::path& results_dir = {});
   /// The instructor's view for this passphrase (set on first use); nullptr,
@@ -194,6 +198,7 @@ class MainWindow : public QMainWindow {
   std::filesystem::path last_recording_;
   // The replay.
   std::unique_ptr<Recording> replay_;
+  std::unique_ptr<Recording> demonstration_;
   std::size_t replay_index_ = 0;
   double replay_position_ = 0;  // fractional frame index while playing
   bool replay_playing_ = false;

@@ -89,6 +89,9 @@ SceneView::SceneView(vtkRenderer* renderer) : renderer_(renderer) {
 void SceneView::AddToolActors(const ProbeModel& probe) {
   tool_haptic_ = MeshActor(probe.mesh, {0.30, 0.55, 1.0, 0.35, 0.2});
   renderer_->AddActor(tool_haptic_);
+  tool_ghost_ = MeshActor(probe.mesh, {0.35, 0.85, 0.45, 0.45, 0.2});
+  tool_ghost_->SetVisibility(false);
+  renderer_->AddActor(tool_ghost_);
   tool_graphic_.push_back(MeshActor(probe.mesh, {0.97, 0.97, 0.97, 1.0, 0.8}));
   // The markings: dark rings (lines) and coloured bands around the working end.
   for (const ProbeMarking& m : probe.markings) {
@@ -146,6 +149,13 @@ void SceneView::Load(const CompiledScene& scene) {
   renderer_->AddActor(contact_actor_);
   spheres_shown_ = -1;
   View(Side::kBuccal);
+}
+
+void SceneView::ShowGhost(const std::optional<RigidTransform>& X_WG) {
+  ghost_ = X_WG;
+  if (!tool_ghost_) return;
+  tool_ghost_->SetVisibility(X_WG.has_value());
+  if (X_WG) tool_ghost_->SetUserMatrix(ToVtk(*X_WG));
 }
 
 void SceneView::Update(const HapticSnapshot& s) {

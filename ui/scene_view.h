@@ -4,6 +4,7 @@
 // ("graphic") tool in white with the probe's markings, contact spheres, and the
 // sphere-trees at any level. Reads snapshots only (DESIGN.md).
 
+#include <optional>
 #include <vector>
 
 #include <vtkActor.h>
@@ -27,6 +28,9 @@ class SceneView {
   void Load(const CompiledScene& scene);
   /// Moves the tools and highlights contacts from the latest snapshot.
   void Update(const HapticSnapshot& s);
+  /// A demonstration's probe beside the live one (green, translucent); empty hides it.
+  void ShowGhost(const std::optional<RigidTransform>& X_WG);
+  const std::optional<RigidTransform>& ghost() const { return ghost_; }
 
   /// Shows the spheres of every object's tree cut at `level` (0 root); -1 hides them.
   void ShowSpheres(int level);
@@ -48,7 +52,8 @@ class SceneView {
   vtkRenderer* renderer_;
   const CompiledScene* scene_ = nullptr;
   std::vector<vtkSmartPointer<vtkActor>> objects_, gingiva_, tool_graphic_, spheres_, contacts_;
-  vtkSmartPointer<vtkActor> tool_haptic_, contact_actor_;
+  vtkSmartPointer<vtkActor> tool_haptic_, tool_ghost_, contact_actor_;
+  std::optional<RigidTransform> ghost_;
   vtkSmartPointer<vtkPoints> contact_points_;
   vtkSmartPointer<vtkDoubleArray> contact_radii_;
   vtkSmartPointer<vtkPolyData> contact_poly_;

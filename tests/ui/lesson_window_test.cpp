@@ -193,6 +193,15 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   EXPECT_TRUE(WaitFor([&] { return w.replay_tick() > from + 50; }, 60000)) << "it plays";
   w.CloseReplay();
   EXPECT_FALSE(w.replaying());
+
+  // That attempt as a demonstration: its probe moves as a ghost beside the live one, tick for tick.
+  ASSERT_TRUE(w.SetDemonstration(rows.back().recording));
+  ASSERT_TRUE(WaitFor([&] { return w.last_snapshot().tick > 500 && w.ghost_pose().has_value(); }, 60000));
+  const std::uint64_t now = w.last_snapshot().tick;
+  EXPECT_EQ(w.ghost_pose()->translation(), rec.frames[std::min<std::size_t>(now, rec.frames.size() - 1)].X_WG.translation());
+  EXPECT_TRUE(Save(&w, "demonstration_ghost.png"));
+  ASSERT_TRUE(w.SetDemonstration({}));
+  EXPECT_FALSE(w.ghost_pose().has_value());
 }
 
 TEST(LessonWindow, ProgressOverAttempts) {
