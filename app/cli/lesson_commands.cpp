@@ -29,9 +29,18 @@ namespace fs = std::filesystem;
 
 void PrintResult(const LessonResult& r) {
   std::printf("lesson: %s (%s), student %s\n", r.lesson_name.c_str(), r.mode.c_str(), r.student.c_str());
-  for (const RubricLine& l : r.lines)
+  // What needs attention and what was said; the lines that passed are counted
+  // (every line is in the report).
+  int passed = 0;
+  for (const RubricLine& l : r.lines) {
+    if (l.status == RubricLine::Status::kPass) {
+      ++passed;
+      continue;
+    }
     std::printf("  %-8s %-12s %9.3f s  %s\n", ToString(l.status), l.category.c_str(),
                 static_cast<double>(l.tick) / r.rate_hz, l.message.c_str());
+  }
+  std::printf("  (%d more lines passed; the report lists every line)\n", passed);
   std::printf("categories:");
   for (const auto& [cat, credit] : r.category_credit) std::printf(" %s %.0f%%", cat.c_str(), 100 * credit);
   std::printf("\nscore %.1f / 100; %d of %d sites probed, %d charted; within 1 mm %.0f %%, exact %.0f %%, bias %+.2f mm "
