@@ -75,6 +75,13 @@ void ForcePlot::Push(double t, double f, double tq) {
   }
 }
 
+void ForcePlot::SetSamples(const std::vector<std::array<double, 3>>& samples) {
+  history_.clear();
+  for (const auto& s : samples) history_.push_back({s[0], s[1], s[2]});
+  last_draw_ = samples.empty() ? -1 : samples.back()[0];
+  Redraw();
+}
+
 void ForcePlot::Clear() {
   history_.clear();
   last_draw_ = -1;

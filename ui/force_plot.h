@@ -2,6 +2,7 @@
 // The force and torque of the last seconds as a VTK chart (vtkChartXY in a
 // QVTKOpenGLNativeWidget), with the clinical probing band drawn as two lines.
 
+#include <array>
 #include <deque>
 #include <vector>
 
@@ -23,6 +24,9 @@ class ForcePlot : public QWidget {
   /// One sample; the chart redraws at most 10 times a second.
   void Push(double t_s, double force_n, double torque_nmm);
   void Clear();
+  /// The whole window at once, oldest first, (t s, force N, torque N*mm): a
+  /// replay shows the last 5 s up to its cursor (the right edge).
+  void SetSamples(const std::vector<std::array<double, 3>>& samples);
   int rows() const;  // samples in the chart now
 
  private:

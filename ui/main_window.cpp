@@ -1085,6 +1085,15 @@ void MainWindow::ShowReplayFrame() {
   snapshot_ = s;
   view_->Update(s);
   gauge_->SetForce(f.force_W.norm());
+  // The force trace of the last 5 s up to the cursor (every 10 ms).
+  std::vector<std::array<double, 3>> trace;
+  const std::size_t span = static_cast<std::size_t>(5 * replay_->header.rate_hz);
+  const std::size_t every = std::max<std::size_t>(1, static_cast<std::size_t>(replay_->header.rate_hz / 100));
+  for (std::size_t i = replay_index_ > span ? replay_index_ - span : 0; i <= replay_index_; i += every) {
+    const TickRecord& g = replay_->frames[i];
+    trace.push_back({g.time_s, g.force_W.norm(), g.torque_W.norm()});
+  }
+  plot_->SetSamples(trace);
   if (replay_slider_->value() != static_cast<int>(replay_index_)) {
     const QSignalBlocker block(replay_slider_);
     replay_slider_->setValue(static_cast<int>(replay_index_));

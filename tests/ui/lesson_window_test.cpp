@@ -187,6 +187,7 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   EXPECT_EQ(frame->sample.X_WH.translation(), rec.frames[line->tick].sample.X_WH.translation()) << "and the ghost";
   w.report_dialog()->hide();
   QApplication::processEvents();
+  EXPECT_GT(w.plot_rows(), 10) << "the force trace of the last seconds up to the cursor";
   EXPECT_TRUE(Save(&w, "replay_at_46DB.png"));
   w.SetReplayPlaying(true);
   const std::uint64_t from = w.replay_tick();
