@@ -96,14 +96,19 @@ class ReplayDevice final : public Device {
 
 /// Replays a recording through a loop as fast as possible, with the recorded
 /// lateness and commands, calling `each(frame index, loop)` after every tick.
+/// Sends a recorded tick's commands to the loop again, as the thread met them.
+inline void ResendCommands(const TickRecord& f, HapticLoop* loop) {
+  for (int e = 0; e < f.num_events; ++e)
+    if (f.events[e].kind == EventKind::kCommand)
+      loop->Send({static_cast<HapticCommand::Kind>(f.events[e].payload.command.command),
+                  f.events[e].payload.command.value});
+}
+
 template <class Each>
 void ReplayOffline(const Recording& recording, HapticLoop* loop, Each each) {
   for (std::size_t i = 0; i < recording.frames.size(); ++i) {
     const TickRecord& f = recording.frames[i];
-    for (int e = 0; e < f.num_events; ++e)
-      if (f.events[e].kind == EventKind::kCommand)
-        loop->Send({static_cast<HapticCommand::Kind>(f.events[e].payload.command.command),
-                    f.events[e].payload.command.value});
+    ResendCommands(f, loop);
     loop->Tick(f.overrun);
     each(i, *loop);
   }

@@ -103,10 +103,7 @@ void Session::RunOffline(const std::function<void(const HapticLoop&)>& each) {
       // The recorded commands and lateness, as the thread met them.
       const TickRecord& f = replayed_->frames[i];
       overrun = f.overrun;
-      for (int e = 0; e < f.num_events; ++e)
-        if (f.events[e].kind == EventKind::kCommand)
-          loop_->Send({static_cast<HapticCommand::Kind>(f.events[e].payload.command.command),
-                       f.events[e].payload.command.value});
+      ResendCommands(f, loop_.get());
     }
     const auto t0 = std::chrono::steady_clock::now();
     loop_->Tick(overrun);
