@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace sulcus {
 namespace {
@@ -110,7 +111,7 @@ class ProbingDepth final : public LoopEffect {
       deepest_tick_ = loop->tick();
       const Vector3 tool_axis = data.X_WG.rotation().col(2);
       const double c = std::clamp(std::abs(tool_axis.dot(s.axis_W)), 0.0, 1.0);
-      angle_deg_ = std::acos(c) * 180.0 / 3.14159265358979323846;
+      angle_deg_ = std::acos(c) * 180.0 / std::numbers::pi;
     }
     if (depth >= deepest_ - kDwellMm) peak_force_ = std::max(peak_force_, f);
     if (bleeding_ && s.bleeding && !bled_ && depth >= s.pocket_mm - 0.5) {

@@ -136,8 +136,6 @@ LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene, std::st
   for (const StepSpec& st : spec.steps) step_results_.push_back({st.id, st.instruction});
   in_contact_.assign(scene.spec.objects.size(), 0);
   surfaces_.resize(geometry_.teeth.size());
-  for (auto& pair : surfaces_)
-    for (SurfaceTrack& s : pair) s.bins.assign(geometry_.teeth.empty() ? 0 : 72, false);
   for (std::size_t i = 0; i < geometry_.teeth.size(); ++i)
     for (SurfaceTrack& s : surfaces_[i]) s.bins.assign(geometry_.teeth[i].margin_z.size(), false);
 }
