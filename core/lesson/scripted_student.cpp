@@ -280,7 +280,10 @@ void ScriptedStudent::OnTick(const TickRecord& r) {
 
 void ScriptedStudent::OnEnd() {
   if (!lesson_) return;
-  // The chart in path order, then the diagnosis of that chart.
+  // The chart in path order, then the diagnosis of that chart (its own, by the
+  // 2017 rules: the student does not need the lesson's score for it).
+  PerioChart chart;
+  for (int fdi : spec_.teeth) chart.teeth.push_back({.fdi = fdi});
   for (const SiteRef& s : spec_.path) {
     const auto it = std::find_if(seen_.begin(), seen_.end(), [&](const Seen& x) { return x.site == s; });
     if (it == seen_.end() || it->deepest <= 0) continue;
@@ -292,13 +295,14 @@ void ScriptedStudent::OnEnd() {
     e.pd_mm = pd;
     e.bleeding = it->bled;
     lesson_->Enter(e);
+    if (ToothChart* t = chart.Find(s.fdi)) t->sites[s.site] = {pd, lesson_->recession_mm(s), it->bled};
   }
-  const LessonResult sofar = lesson_->Finish();
+  const Diagnosis mine = Classify2017(chart);
   DeclaredDiagnosis d;
   d.tick = last_tick_;
-  d.periodontitis = sofar.chart_dx.kind == Diagnosis::Kind::kPeriodontitis;
-  d.stage = sofar.chart_dx.stage;
-  d.extent = sofar.chart_dx.extent;
+  d.periodontitis = mine.kind == Diagnosis::Kind::kPeriodontitis;
+  d.stage = mine.stage;
+  d.extent = mine.extent;
   lesson_->Declare(d);
 }
 
