@@ -775,20 +775,11 @@ bool MainWindow::StartLesson(const LessonStart& start) {
   if (lesson_) FinishLesson();
   // The attempt's folder: its recording, entries and report.
   const std::filesystem::path results = start.results_dir.empty() ? DefaultResultsDir() : start.results_dir;
-  char stamp[32], iso[32];
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S-", &tm);
-  std::strftime(iso, sizeof iso, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  std::string safe;
-  for (char c : start.student) safe += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-  std::filesystem::path dir = results / "attempts" / (stamp + safe);
-  for (int n = 2; std::filesystem::exists(dir); ++n) dir = results / "attempts" / (stamp + safe + "-" + std::to_string(n));
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) {
-    ShowErrors("Lesson", "The attempt's folder cannot be made.", Q(dir.string() + ": " + ec.message()));
+  AttemptFolder folder;
+  try {
+    folder = NewAttemptFolder(results, start.student);
+  } catch (const std::exception& e) {
+    ShowErrors("Lesson", "The attempt's folder cannot be made.", Q(e.what()));
     return false;
   }
   StopSession();
@@ -796,11 +787,10 @@ bool MainWindow::StartLesson(const LessonStart& start) {
   lesson_start_ = start;
   lesson_start_.results_dir = results;
   lesson_seed_ = seed;
-  attempt_dir_ = dir;
-  lesson_started_ = iso;
+  attempt_ = folder;
   lesson_.reset();
   device_name_ = start.device;
-  recording_file_ = dir / "recording.rec";
+  recording_file_ = folder.recording();
   QSettings().setValue("student/last", Q(start.student));
   SetAidsLocked(!spec.practice());
   if (!OpenSpec(scene, spec.scene, true) || !lesson_) {
@@ -913,31 +903,15 @@ bool MainWindow::FinishLesson(bool show_report) {
   if (!lesson_ || !lesson_spec_) return false;
   StopSession();  // the recording is written out
   const LessonResult r = lesson_->Finish();
-  Answers answers;
-  for (const SiteResult& s : r.sites)
-    if (s.entry) answers.entries.push_back(*s.entry);
-  answers.diagnosis = r.declared;
   QString problems;
   try {
-    SaveAnswers(answers, attempt_dir_ / "answers.yaml");
+    KeepAttempt(r, attempt_, attempt_.dir, lesson_start_.results_dir / "results.db");
   } catch (const std::exception& e) {
-    problems += Q(e.what()) + "\n";
-  }
-  ReportInfo info;
-  info.recording = (attempt_dir_ / "recording.rec").string();
-  info.started = lesson_started_;
-  try {
-    WriteReport(r, info, attempt_dir_);
-    ResultsDb db(lesson_start_.results_dir / "results.db");
-    info.attempt_id = db.Store(r, lesson_started_, info.recording, (attempt_dir_ / "answers.yaml").string(),
-                               attempt_dir_.string());
-    WriteReport(r, info, attempt_dir_);
-  } catch (const std::exception& e) {
-    problems += Q(e.what()) + "\n";
+    problems = Q(e.what());
   }
   last_result_ = r;
-  last_report_ = attempt_dir_ / "report.html";
-  last_recording_ = attempt_dir_ / "recording.rec";
+  last_report_ = attempt_.dir / "report.html";
+  last_recording_ = attempt_.recording();
   lesson_.reset();
   lesson_spec_.reset();
   scripted_student_.reset();
@@ -945,7 +919,7 @@ bool MainWindow::FinishLesson(bool show_report) {
   SetAidsLocked(false);
   lesson_dock_->hide();
   if (!problems.isEmpty())
-    ShowErrors("Lesson", QString("Your attempt is kept in %1, but:").arg(Q(attempt_dir_.string())), problems);
+    ShowErrors("Lesson", QString("Your attempt is kept in %1, but:").arg(Q(attempt_.dir.string())), problems);
   if (show_report) ShowReport(r, last_report_);
   device_name_ = "mouse";
   StartSession();  // the workbench goes on, without the lesson

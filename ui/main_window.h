@@ -23,6 +23,7 @@
 #include "core/haptics/haptic_thread.h"
 #include "core/haptics/recording.h"
 #include "core/scene/scene.h"
+#include "core/lesson/attempt.h"
 #include "core/lesson/lesson.h"
 #include "core/lesson/scripted_student.h"
 #include "core/session/session.h"
@@ -182,8 +183,7 @@ class MainWindow : public QMainWindow {
   std::unique_ptr<ScriptedStudent> scripted_student_;
   LessonStart lesson_start_;
   std::uint64_t lesson_seed_ = 0;
-  std::filesystem::path attempt_dir_;
-  std::string lesson_started_;
+  AttemptFolder attempt_;
   QDockWidget* lesson_dock_ = nullptr;
   QLabel *step_label_ = nullptr, *next_label_ = nullptr, *tip_label_ = nullptr, *tilt_label_ = nullptr;
   QListWidget* feedback_ = nullptr;

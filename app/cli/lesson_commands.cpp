@@ -57,15 +57,6 @@ struct RunArgs {
   bool quiet = false, no_store = false;
 };
 
-std::string Now(const char* fmt) {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char b[64];
-  std::strftime(b, sizeof b, fmt, &tm);
-  return b;
-}
-
 fs::path ResultsDir(const std::string& option) { return option.empty() ? DefaultResultsDir() : fs::path(option); }
 
 // Progress of a cold scene build (the first run builds the sphere-trees, which
@@ -88,19 +79,14 @@ BuildProgress Progress() {
 
 int RunLesson(const RunArgs& a) {
   const fs::path results = ResultsDir(a.results);
-  const std::string started = Now("%Y-%m-%dT%H:%M:%SZ");
-  std::string safe;
-  for (char c : a.student) safe += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-  fs::path dir = results / "attempts" / (Now("%Y%m%d-%H%M%S-") + safe);
-  for (int n = 2; fs::exists(dir); ++n) dir = results / "attempts" / (Now("%Y%m%d-%H%M%S-") + safe + "-" + std::to_string(n));
-  fs::create_directories(dir);
+  const AttemptFolder folder = NewAttemptFolder(results, a.student);
   AttemptOptions o;
   o.student = a.student;
   o.device = a.device;
   o.answers = a.answers;
   if (a.seed >= 0) o.seed = static_cast<std::uint64_t>(a.seed);
   o.cache_dir = DefaultCacheDir();
-  o.record = dir / "recording.rec";
+  o.record = folder.recording();
   o.progress = Progress();
   std::fprintf(stderr, "lesson %s, student '%s', device %s\n", a.lesson.c_str(), a.student.c_str(), a.device.c_str());
   // The lesson by its full path, so that the attempt can be rebuilt from anywhere.
@@ -108,34 +94,31 @@ int RunLesson(const RunArgs& a) {
   for (const std::string& n : out.notes) std::fprintf(stderr, "%s\n", n.c_str());
   std::fprintf(stderr, "scene ready in %.2f s; %" PRIu64 " ticks (%.1f s of lesson) ran in %.2f s\n", out.compile_s,
                out.ticks, out.result.duration_s, out.run_s);
-  // The attempt first (recording, entries, report), then the database: nothing is lost if the database fails.
-  SaveAnswers(out.answers, dir / "answers.yaml");
-  ReportInfo info;
-  info.recording = o.record.string();
-  info.started = started;
-  const fs::path report_dir = a.out_dir.empty() ? dir : fs::path(a.out_dir);
-  WriteReport(out.result, info, report_dir);
-  if (!a.no_store) {
+  const fs::path report_dir = a.out_dir.empty() ? folder.dir : fs::path(a.out_dir);
+  int status = 0;
+  if (a.no_store) {
+    SaveAnswers(out.answers, folder.answers());
+    ReportInfo info;
+    info.recording = folder.recording().string();
+    info.started = folder.started;
+    WriteReport(out.result, info, report_dir);
+  } else {
     try {
       const auto t0 = std::chrono::steady_clock::now();
-      ResultsDb db(results / "results.db");
-      info.attempt_id = db.Store(out.result, started, o.record.string(), (dir / "answers.yaml").string(),
-                                 report_dir.string());
+      const std::int64_t id = KeepAttempt(out.result, folder, report_dir, results / "results.db");
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      WriteReport(out.result, info, report_dir);  // again, now naming its attempt
-      std::fprintf(stderr, "stored as attempt %lld in %s (%.1f ms)\n", static_cast<long long>(info.attempt_id),
-                   db.file().c_str(), ms);
+      std::fprintf(stderr, "kept as attempt %lld in %s (entries, report and database row in %.1f ms)\n",
+                   static_cast<long long>(id), (results / "results.db").c_str(), ms);
     } catch (const ResultsError& e) {
       std::fprintf(stderr, "error: the attempt was not stored in the results database: %s\n"
-                           "(its recording, entries and report are kept in %s)\n", e.what(), dir.c_str());
-      if (!a.quiet) PrintResult(out.result);
-      return 1;
+                           "(its recording, entries and report are kept in %s)\n", e.what(), folder.dir.c_str());
+      status = 1;
     }
   }
   if (!a.quiet) PrintResult(out.result);
   else std::printf("score %.1f / 100 (%s)\n", out.result.total, out.result.student.c_str());
   std::printf("report: %s\n", (report_dir / "report.html").c_str());
-  return 0;
+  return status;
 }
 
 struct ReportArgs {

@@ -1,11 +1,52 @@
 #include "core/lesson/attempt.h"
 
+#include <cctype>
 #include <chrono>
+#include <ctime>
 #include <random>
 
+#include "core/lesson/report.h"
+#include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
 
 namespace sulcus {
+
+AttemptFolder NewAttemptFolder(const std::filesystem::path& results, const std::string& student) {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char stamp[32], iso[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S-", &tm);
+  std::strftime(iso, sizeof iso, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  std::string name = stamp;
+  for (char c : student) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  AttemptFolder f{results / "attempts" / name, iso};
+  for (int n = 2; std::filesystem::exists(f.dir); ++n) f.dir = results / "attempts" / (name + "-" + std::to_string(n));
+  std::filesystem::create_directories(f.dir);
+  return f;
+}
+
+Answers AnswersOf(const LessonResult& r) {
+  Answers a;
+  for (const SiteResult& s : r.sites)
+    if (s.entry) a.entries.push_back(*s.entry);
+  a.diagnosis = r.declared;
+  if (a.diagnosis && a.diagnosis->tick == kAfterReading) a.diagnosis->tick = r.last_tick;
+  return a;
+}
+
+std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder, const std::filesystem::path& report_dir,
+                         const std::filesystem::path& results_db) {
+  SaveAnswers(AnswersOf(r), folder.answers());
+  ReportInfo info;
+  info.recording = folder.recording().string();
+  info.started = folder.started;
+  WriteReport(r, info, report_dir);
+  ResultsDb db(results_db);
+  info.attempt_id = db.Store(r, folder.started, info.recording, folder.answers().string(), report_dir.string());
+  WriteReport(r, info, report_dir);  // again, now naming its attempt
+  return info.attempt_id;
+}
 
 SceneSpec LessonScene(const LessonSpec& spec, std::uint64_t seed) {
   SceneSpec scene = LoadSceneSpec(spec.scene);
@@ -62,16 +103,11 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
   }
   out.result = lesson.Finish();
   // What was entered, with every tick resolved, so the attempt can be rebuilt.
-  for (const SiteResult& s : out.result.sites)
-    if (s.entry) out.answers.entries.push_back(*s.entry);
+  out.answers = AnswersOf(out.result);
   for (const ChartEntry& e : lesson.entries()) {
     const bool known = std::any_of(out.result.sites.begin(), out.result.sites.end(),
                                    [&](const SiteResult& s) { return s.site == e.site; });
     if (!known) out.answers.entries.push_back(e);  // entries for sites outside the path are kept too
-  }
-  if (out.result.declared) {
-    out.answers.diagnosis = out.result.declared;
-    if (out.answers.diagnosis->tick == kAfterReading) out.answers.diagnosis->tick = out.result.last_tick;
   }
   return out;
 }

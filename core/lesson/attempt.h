@@ -43,6 +43,26 @@ struct AttemptOutcome {
 /// Throws SceneLoadError, std::invalid_argument, RecordingError, std::runtime_error.
 AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const AttemptOptions& options);
 
+/// A new attempt's folder, `results`/attempts/<UTC time>-<student>, created, and
+/// when it started (ISO 8601, UTC). Throws std::filesystem::filesystem_error.
+struct AttemptFolder {
+  std::filesystem::path dir;
+  std::string started;
+  std::filesystem::path recording() const { return dir / "recording.rec"; }
+  std::filesystem::path answers() const { return dir / "answers.yaml"; }
+};
+AttemptFolder NewAttemptFolder(const std::filesystem::path& results, const std::string& student);
+
+/// What the student entered, every tick resolved: each site's entry and the declaration.
+Answers AnswersOf(const LessonResult& r);
+
+/// Keeps a finished attempt: its entries and its report (in `report_dir`) first,
+/// then its row in `results_db`, then the report again naming the attempt; so
+/// a database that fails loses nothing. Returns the attempt's id. Throws
+/// ResultsError (database) or std::runtime_error (files).
+std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder, const std::filesystem::path& report_dir,
+                         const std::filesystem::path& results_db);
+
 /// The scene a lesson runs on for a seed (its case applied when it has one).
 SceneSpec LessonScene(const LessonSpec& spec, std::uint64_t seed);
 
