@@ -687,7 +687,10 @@ void MainWindow::closeEvent(QCloseEvent* e) {
   settings.setValue("window/geometry", saveGeometry());
   settings.setValue("window/state", saveState());
   // A lesson in progress is kept: scored as far as it went, stored, its report written.
-  if (lesson_) FinishLesson(/*show_report=*/false);
+  if (lesson_) {
+    if (!lesson_->done()) lesson_->SetEnding("the window was closed before the last step");
+    FinishLesson(/*show_report=*/false);
+  }
   StopSession();
   QMainWindow::closeEvent(e);
 }
@@ -700,6 +703,11 @@ void MainWindow::BuildLessonDock() {
   step_label_->setWordWrap(true);
   step_label_->setTextFormat(Qt::RichText);
   step_label_->setStyleSheet("font-size: 14px;");
+  banner_ = new QLabel;
+  banner_->setWordWrap(true);
+  banner_->setStyleSheet("background: #fbe3c8; border-left: 4px solid #c86400; padding: 6px; font-size: 13px;");
+  banner_->hide();
+  layout->addWidget(banner_);
   layout->addWidget(step_label_);
   next_label_ = new QLabel;
   tip_label_ = new QLabel;
@@ -714,6 +722,7 @@ void MainWindow::BuildLessonDock() {
     if (!lesson_) return;
     e.tick = lesson_->last_tick() + 1;  // the moment it was entered
     lesson_->Enter(e);
+    SaveEntriesSoFar();
   };
   layout->addWidget(chart_);
   feedback_ = new QListWidget;
@@ -800,12 +809,20 @@ bool MainWindow::StartLesson(const LessonStart& start) {
     SetAidsLocked(false);
     return false;
   }
+  try {
+    WriteAttemptMarker(attempt_, {spec.file, start.student, ToString(spec.mode), seed, attempt_.started});
+  } catch (const std::exception& e) {
+    feedback_->insertItem(0, QString("This attempt cannot be rebuilt if Sulcus stops: %1").arg(Q(e.what())));
+  }
+  device_was_lost_ = false;
+  banner_->hide();
   setWindowTitle(QString("Sulcus - %1 - %2 (%3)").arg(Q(spec.name), Q(start.student), Q(ToString(spec.mode))));
   chart_->setFocus();
   return true;
 }
 
 void MainWindow::ShowStartPage() {
+  RecoverUnfinishedAttempts();
   StartDialog dialog(lesson_dirs_, DefaultResultsDir() / "results.db", this);
   if (dialog.exec() != QDialog::Accepted || dialog.lesson().empty()) return;
   LessonStart s;
@@ -822,7 +839,21 @@ QString MainWindow::lesson_text() const {
 }
 
 void MainWindow::UpdateLessonPanel() {
-  const LessonRun& l = *lesson_;
+  LessonRun& l = *lesson_;
+  if (l.device_lost() != device_was_lost_) {
+    device_was_lost_ = l.device_lost();
+    if (device_was_lost_) {
+      banner_->setText("<b>The device stopped answering.</b> Nothing is lost: your attempt and entries are kept. "
+                       "Reconnect it and go on (the force ramps in gently), or finish to keep the attempt as "
+                       "incomplete.");
+      banner_->show();
+      l.SetEnding("the device stopped answering and the lesson was finished before the last step");
+    } else {
+      banner_->hide();
+      l.SetEnding("");
+      feedback_->insertItem(0, "The device is back: the force ramps in over half a second.");
+    }
+  }
   const auto& steps = lesson_spec_->steps;
   if (l.done()) {
     step_label_->setText(l.current_step() >= static_cast<int>(steps.size())
@@ -862,8 +893,65 @@ bool MainWindow::DeclareDiagnosis(const DeclaredDiagnosis& d) {
   DeclaredDiagnosis stamped = d;
   stamped.tick = lesson_->last_tick() + 1;
   lesson_->Declare(stamped);
+  SaveEntriesSoFar();
   feedback_->insertItem(0, Q("declared: " + d.Summary()));
   return true;
+}
+
+void MainWindow::SaveEntriesSoFar() {
+  if (!lesson_) return;
+  // Rewritten whole (atomically) after every entry: a program that stops loses
+  // nothing the student entered; RecoverUnfinishedAttempts rebuilds from it.
+  Answers a;
+  a.entries = lesson_->entries();
+  a.diagnosis = lesson_->declared();
+  try {
+    SaveAnswers(a, attempt_.answers());
+  } catch (const std::exception& e) {
+    feedback_->insertItem(0, QString("Your entries cannot be saved as you go: %1").arg(Q(e.what())));
+  }
+}
+
+QString MainWindow::lesson_banner() const { return banner_ && !banner_->isHidden() ? banner_->text() : QString(); }
+
+int MainWindow::RecoverUnfinishedAttempts(const std::filesystem::path& results_dir) {
+  const std::filesystem::path results = results_dir.empty() ? DefaultResultsDir() : results_dir;
+  const std::vector<std::filesystem::path> dirs = UnfinishedAttempts(results);
+  if (dirs.empty()) return 0;
+  QProgressDialog progress(QString("Keeping %1 attempt(s) that Sulcus did not finish keeping when it stopped...")
+                               .arg(dirs.size()),
+                           QString(), 0, static_cast<int>(dirs.size()), this);
+  progress.setWindowTitle("Recovering attempts");
+  progress.setMinimumDuration(0);
+  progress.setValue(0);
+  QString kept, failed;
+  int n = 0;
+  for (const std::filesystem::path& d : dirs) {
+    QApplication::processEvents();
+    try {
+      const RecoveredAttempt a = RecoverAttempt(d, results, DefaultCacheDir());
+      kept += QString("%1: %2, %3 / 100%4\n")
+                  .arg(Q(a.result.student), Q(a.result.lesson_name))
+                  .arg(a.result.total, 0, 'f', 1)
+                  .arg(a.result.complete ? "" : " (incomplete)");
+      ++n;
+    } catch (const std::exception& e) {
+      failed += QString("%1: %2\n").arg(Q(d.string()), Q(e.what()));
+    }
+    progress.setValue(progress.value() + 1);
+  }
+  if (!kept.isEmpty()) {
+    auto* box = new QMessageBox(QMessageBox::Information, "Attempts kept",
+                                "Sulcus stopped before these attempts were kept. Each was rebuilt from its recording "
+                                "and your entries and is kept, scored as far as it went:\n\n" + kept,
+                                QMessageBox::Ok, this);
+    box->setObjectName("recovered");
+    box->setAttribute(Qt::WA_DeleteOnClose);
+    box->show();
+  }
+  if (!failed.isEmpty())
+    ShowErrors("Recovering attempts", "These attempts could not be rebuilt; their files are left as they were.", failed);
+  return n;
 }
 
 void MainWindow::AskDiagnosis() {

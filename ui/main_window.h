@@ -104,6 +104,12 @@ class MainWindow : public QMainWindow {
   /// Ends the lesson: the recording written, the attempt scored, its entries and
   /// report saved, stored in the results database, and the report shown.
   bool FinishLesson(bool show_report = true);
+  /// Keeps the attempts that were started and never kept (Sulcus stopped
+  /// mid-lesson): each rebuilt from its recording and entries, stored as
+  /// incomplete, and the student told. Returns how many were kept.
+  int RecoverUnfinishedAttempts(const std::filesystem::path& results_dir = {});
+  /// The lesson's banner (device lost, and so on); empty when none is shown.
+  QString lesson_banner() const;
   const LessonRun* lesson() const { return lesson_.get(); }
   ChartWidget* chart() const { return chart_; }
   const std::optional<LessonResult>& last_result() const { return last_result_; }
@@ -186,6 +192,9 @@ class MainWindow : public QMainWindow {
   AttemptFolder attempt_;
   QDockWidget* lesson_dock_ = nullptr;
   QLabel *step_label_ = nullptr, *next_label_ = nullptr, *tip_label_ = nullptr, *tilt_label_ = nullptr;
+  QLabel* banner_ = nullptr;  // the device stopped answering, ...
+  bool device_was_lost_ = false;
+  void SaveEntriesSoFar();
   QListWidget* feedback_ = nullptr;
   ChartWidget* chart_ = nullptr;
   QPushButton *diagnose_button_ = nullptr, *finish_button_ = nullptr;

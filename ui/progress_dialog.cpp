@@ -100,7 +100,9 @@ void ProgressDialog::ShowLesson(const std::string& lesson_file) {
   const int n = static_cast<int>(attempts_.size());
   table_->SetNumberOfRows(n);
   double sum = 0;
+  int incomplete = 0;
   for (int i = 0; i < n; ++i) {
+    incomplete += attempts_[i].complete ? 0 : 1;
     table_->SetValue(i, 0, i + 1);
     table_->SetValue(i, 1, attempts_[i].total);
     table_->SetValue(i, 2, attempts_[i].within_1mm_pct);
@@ -117,11 +119,13 @@ void ProgressDialog::ShowLesson(const std::string& lesson_file) {
     p->SetWidth(2.5);
   }
   chart_widget_->renderWindow()->Render();
-  summary_->setText(QString("%1 attempts; mean score %2, last %3. Averages over many attempts predict clinical "
+  summary_->setText(QString("%1 attempts%4; mean score %2, last %3. Averages over many attempts predict clinical "
                             "performance better than any single one.")
                         .arg(n)
                         .arg(n ? sum / n : 0, 0, 'f', 1)
-                        .arg(n ? attempts_.back().total : 0, 0, 'f', 1));
+                        .arg(n ? attempts_.back().total : 0, 0, 'f', 1)
+                        .arg(incomplete ? QString(" (%1 incomplete, scored as far as they went)").arg(incomplete)
+                                        : QString()));
   // Sites x attempts, signed error of the charted depth.
   std::vector<std::pair<int, int>> keys;
   std::map<std::pair<std::int64_t, std::pair<int, int>>, int> err;

@@ -216,6 +216,27 @@ void AddLessonCommands(CLI::App& app) {
   report->add_option("--results", r->results, "Results folder");
   report->callback([r] { ExitStatus() = Report(*r); });
 
+  auto recover_dir = std::make_shared<std::string>();
+  CLI::App* recover = lesson->add_subcommand(
+      "recover", "Keep the attempts that were started and never kept (the program stopped mid-lesson): each is "
+                 "rebuilt from its recording and entries and stored as incomplete");
+  recover->add_option("--results", *recover_dir, "Results folder");
+  recover->callback([recover_dir] {
+    const fs::path results = ResultsDir(*recover_dir);
+    const std::vector<fs::path> dirs = UnfinishedAttempts(results);
+    if (dirs.empty()) std::printf("no unfinished attempts in %s\n", results.c_str());
+    for (const fs::path& d : dirs) {
+      try {
+        const RecoveredAttempt a = RecoverAttempt(d, results, DefaultCacheDir(), Progress());
+        std::printf("kept %s as attempt %lld: %.1f / 100, %s\n", d.c_str(), static_cast<long long>(a.id),
+                    a.result.total, a.result.complete ? "complete" : ("incomplete (" + a.result.ended + ")").c_str());
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s cannot be rebuilt: %s (its files are left as they were)\n", d.c_str(), e.what());
+        ExitStatus() = 1;
+      }
+    }
+  });
+
   CLI::App* results = app.add_subcommand("results", "Students' results: list, show, export as CSV");
   results->require_subcommand(1);
   auto q = std::make_shared<std::array<std::string, 4>>();  // student, lesson, output, results folder
@@ -238,7 +259,8 @@ void AddLessonCommands(CLI::App& app) {
     std::printf("%6s  %-20s  %-16s  %-36s  %6s  %8s  %s\n", "id", "started", "student", "lesson", "score", "within1", "diagnosis declared");
     for (const AttemptRow& a : rows)
       std::printf("%6lld  %-20s  %-16s  %-36s  %6.1f  %7.0f%%  %s\n", static_cast<long long>(a.id), a.started.c_str(),
-                  a.student.c_str(), a.lesson_name.substr(0, 36).c_str(), a.total, a.within_1mm_pct, a.declared_dx.c_str());
+                  a.student.c_str(), a.lesson_name.substr(0, 36).c_str(), a.total, a.within_1mm_pct,
+                  (a.declared_dx + (a.complete ? "" : "  [incomplete: " + a.ended + "]")).c_str());
     std::printf("%zu attempts in %s\n", rows.size(), db.file().c_str());
   });
   show->callback([q, id] {
@@ -252,6 +274,7 @@ void AddLessonCommands(CLI::App& app) {
                 a->total, a->sites_read, a->sites_total, a->sites_charted, a->within_1mm_pct, a->bias_mm,
                 a->force_in_band_pct, a->duration_s, a->true_dx.c_str(), a->chart_dx.c_str(), a->declared_dx.c_str(),
                 a->recording.c_str(), a->report_dir.c_str());
+    if (!a->complete) std::printf("incomplete: %s\n", a->ended.c_str());
     for (const SiteRow& s : db.Sites(a->student, a->lesson_file)) {
       if (s.attempt != a->id) continue;
       std::printf("  %d %-2s truth %d  reached %s  entered %s  %.2f N\n", s.fdi, SiteCode(s.site), s.truth_mm,

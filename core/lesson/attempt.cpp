@@ -1,9 +1,15 @@
 #include "core/lesson/attempt.h"
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <ctime>
+#include <fstream>
 #include <random>
+
+#include <yaml-cpp/yaml.h>
+
+#include "core/scene/yaml_reader.h"
 
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
@@ -48,6 +54,93 @@ std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder, con
   return info.attempt_id;
 }
 
+namespace fs = std::filesystem;
+
+void WriteAttemptMarker(const AttemptFolder& folder, const AttemptMarker& m) {
+  YAML::Emitter e;
+  e << YAML::Comment("A Sulcus attempt: what it takes to rebuild it if it was not finished") << YAML::BeginMap;
+  e << YAML::Key << "lesson" << YAML::Value << m.lesson.string();
+  e << YAML::Key << "student" << YAML::Value << m.student;
+  e << YAML::Key << "mode" << YAML::Value << m.mode;
+  e << YAML::Key << "seed" << YAML::Value << m.seed;
+  e << YAML::Key << "started" << YAML::Value << m.started;
+  e << YAML::EndMap;
+  const fs::path file = folder.dir / "attempt.yaml", tmp = folder.dir / "attempt.yaml.tmp";
+  {
+    std::ofstream out(tmp);
+    out << e.c_str() << "\n";
+    if (!out.flush()) throw std::runtime_error(tmp.string() + ": cannot write the attempt's marker");
+  }
+  std::error_code ec;
+  fs::rename(tmp, file, ec);
+  if (ec) throw std::runtime_error(file.string() + ": cannot write the attempt's marker: " + ec.message());
+}
+
+AttemptMarker ReadAttemptMarker(const fs::path& dir) {
+  YamlReader r(dir / "attempt.yaml");
+  const YAML::Node root = LoadYamlMap(r, "attempt marker", "a map with lesson, student, mode, seed and started");
+  r.CheckKeys(root, {"lesson", "student", "mode", "seed", "started"}, "the attempt marker");
+  AttemptMarker m;
+  for (const char* k : {"lesson", "student", "mode", "started"})
+    if (!root[k]) r.Error(root, std::string("the attempt marker needs '") + k + "'");
+  if (root["lesson"]) m.lesson = r.Text(root["lesson"], "lesson");
+  if (root["student"]) m.student = r.Text(root["student"], "student");
+  if (root["mode"]) {
+    m.mode = r.Text(root["mode"], "mode");
+    if (m.mode != "practice" && m.mode != "assessment") r.Error(root["mode"], "'mode' must be practice or assessment");
+  }
+  if (root["seed"]) m.seed = static_cast<std::uint64_t>(r.Number(root["seed"], "seed", 0, 9.0e15, 0));
+  if (root["started"]) m.started = r.Text(root["started"], "started");
+  if (!r.errors().empty()) throw SceneLoadError(r.errors());
+  return m;
+}
+
+std::vector<fs::path> UnfinishedAttempts(const fs::path& results) {
+  std::vector<fs::path> out;
+  std::error_code ec;
+  const fs::path attempts = results / "attempts";
+  if (!fs::is_directory(attempts, ec)) return out;
+  for (const fs::directory_entry& d : fs::directory_iterator(attempts, ec)) {
+    if (!d.is_directory(ec)) continue;
+    const fs::path dir = d.path();
+    if (fs::exists(dir / "attempt.yaml", ec) && !fs::exists(dir / "report.json", ec) &&
+        !fs::exists(dir / "recovery.txt", ec))
+      out.push_back(dir);
+  }
+  std::sort(out.begin(), out.end());  // folder names start with their UTC time
+  return out;
+}
+
+RecoveredAttempt RecoverAttempt(const fs::path& dir, const fs::path& results, const fs::path& cache_dir,
+                                const BuildProgress& progress) {
+  try {
+    const AttemptMarker m = ReadAttemptMarker(dir);
+    AttemptFolder folder{dir, m.started};
+    AttemptOptions o;
+    o.student = m.student;
+    o.device = "replay:" + folder.recording().string();
+    if (fs::exists(folder.answers())) o.answers = folder.answers();
+    o.seed = m.seed;
+    o.cache_dir = cache_dir;
+    o.progress = progress;
+    o.mode = m.mode == "assessment" ? LessonSpec::Mode::kAssessment : LessonSpec::Mode::kPractice;
+    AttemptOutcome out = RunAttempt(m.lesson, o);
+    LessonResult& r = out.result;
+    if (!r.complete) {
+      r.ended = "Sulcus stopped before the attempt was kept; it was rebuilt from its recording and entries";
+      for (RubricLine& l : r.lines)
+        if (l.category == "time" && l.message.rfind("incomplete: ", 0) == 0) l.message = "incomplete: " + r.ended;
+    }
+    const std::int64_t id = KeepAttempt(r, folder, dir, results / "results.db");
+    return {id, std::move(r)};
+  } catch (const std::exception& e) {
+    std::ofstream why(dir / "recovery.txt");
+    why << "This attempt could not be rebuilt: " << e.what() << "\n"
+        << "Its files are left as they were; remove this file to try again.\n";
+    throw;
+  }
+}
+
 SceneSpec LessonScene(const LessonSpec& spec, std::uint64_t seed) {
   SceneSpec scene = LoadSceneSpec(spec.scene);
   if (spec.case_spec.generated) scene = ApplyCase(scene, spec.teeth, spec.case_spec, seed);
@@ -71,6 +164,7 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
   out.compile_s = std::chrono::duration<double>(Clock::now() - t0).count();
   const CompiledScene& scene = *out.scene;
 
+  if (o.mode) out.spec.mode = *o.mode;
   LessonRun lesson(spec, scene, o.student, spec.case_spec.generated ? out.seed : 0);
   std::unique_ptr<ScriptedStudent> student;
   DeviceSpec device;

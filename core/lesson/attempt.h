@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/lesson/answers.h"
 #include "core/lesson/lesson.h"
@@ -26,6 +27,7 @@ struct AttemptOptions {
   std::filesystem::path record;          // where to record the attempt (empty: no recording)
   std::filesystem::path cache_dir;       // meshes and sphere-trees
   BuildProgress progress;                // the scene's build progress
+  std::optional<LessonSpec::Mode> mode;  // the lesson's own unless given
 };
 
 struct AttemptOutcome {
@@ -62,6 +64,38 @@ Answers AnswersOf(const LessonResult& r);
 /// ResultsError (database) or std::runtime_error (files).
 std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder, const std::filesystem::path& report_dir,
                          const std::filesystem::path& results_db);
+
+/// What an attempt in progress needs to be rebuilt if the program stops before
+/// it is kept: written as `attempt.yaml` in its folder when it starts. The
+/// recording and the entries (answers.yaml, rewritten after each entry) are
+/// written as the attempt goes.
+struct AttemptMarker {
+  std::filesystem::path lesson;
+  std::string student, mode;  // mode: practice or assessment
+  std::uint64_t seed = 0;
+  std::string started;
+};
+/// Throws std::runtime_error naming the file.
+void WriteAttemptMarker(const AttemptFolder& folder, const AttemptMarker& m);
+/// Throws SceneLoadError (file:line:column) for a marker that does not read.
+AttemptMarker ReadAttemptMarker(const std::filesystem::path& dir);
+
+/// Attempt folders under `results`/attempts that were started (a marker) and
+/// never kept (no report), oldest first; those whose recovery failed before
+/// (a recovery.txt saying why) are left out.
+std::vector<std::filesystem::path> UnfinishedAttempts(const std::filesystem::path& results);
+
+/// Rebuilds an unfinished attempt from its recording and entries, scores it as
+/// far as it went (incomplete unless every step was done), and keeps it in the
+/// folder and in `results`/results.db. Returns its id. On failure writes the
+/// reason to recovery.txt in the folder (so it is not tried at every start;
+/// nothing in the folder is deleted) and throws.
+struct RecoveredAttempt {
+  std::int64_t id = 0;
+  LessonResult result;
+};
+RecoveredAttempt RecoverAttempt(const std::filesystem::path& dir, const std::filesystem::path& results,
+                                const std::filesystem::path& cache_dir, const BuildProgress& progress = {});
 
 /// The scene a lesson runs on for a seed (its case applied when it has one).
 SceneSpec LessonScene(const LessonSpec& spec, std::uint64_t seed);

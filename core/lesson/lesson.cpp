@@ -339,6 +339,12 @@ void LessonRun::OnTick(const TickRecord& r) {
         }
         break;
       }
+      case EventKind::kDeviceLost:
+        if (!device_lost()) interruptions_.push_back({r.tick, 0});
+        break;
+      case EventKind::kDeviceBack:
+        if (device_lost()) interruptions_.back().back_tick = r.tick;
+        break;
       case EventKind::kTissueDamage:
         damage_.push_back({Line("damage", nullptr, 0, S::kFail, 0,
                                 Format("%.2f N on %s, above its limit of %.2f N",
@@ -391,6 +397,10 @@ LessonResult LessonRun::Finish() const {
   out.force_trace = force_trace_;
   out.feedback = feedback_;
   out.sites_total = static_cast<int>(sites_.size());
+  out.complete = step_ >= static_cast<int>(spec_.steps.size()) && !timed_out_;
+  if (!out.complete)
+    out.ended = !ending_.empty() ? ending_ : timed_out_ ? "the time limit was reached" : "it ended before the last step";
+  out.interruptions = interruptions_;
   auto& L = out.lines;
 
   // Entries entered "after the reading" take the tick after the site's last reading.
@@ -608,6 +618,16 @@ LessonResult LessonRun::Finish() const {
 
   // Time and steps.
   L.push_back(Line("time", nullptr, 0, S::kInfo, 0, Format("%.1f s in all", out.duration_s), last_tick_));
+  if (!out.complete)
+    L.push_back(Line("time", nullptr, 0, S::kInfo, 0, "incomplete: " + out.ended, last_tick_));
+  for (const LessonResult::Interruption& i : out.interruptions) {
+    const double lost_s = static_cast<double>(i.lost_tick - std::min(i.lost_tick, first_tick_)) / rate_hz_;
+    L.push_back(Line("time", nullptr, 0, S::kInfo, 0,
+                     i.back_tick ? Format("the device stopped answering at %.1f s and was back %.1f s later", lost_s,
+                                          static_cast<double>(i.back_tick - i.lost_tick) / rate_hz_)
+                                 : Format("the device stopped answering at %.1f s and did not come back", lost_s),
+                     i.lost_tick));
+  }
   for (const StepResult& st : out.steps)
     L.push_back(Line("time", nullptr, 0, S::kInfo, 0,
                      Format("step '%s': %s in %.1f s", st.id.c_str(),

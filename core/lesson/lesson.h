@@ -116,6 +116,15 @@ struct LessonResult {
   std::optional<DeclaredDiagnosis> declared;
   std::vector<std::pair<std::uint64_t, float>> force_trace;  // (tick, force along the probe, N) every kTraceEvery ticks
   std::vector<std::string> feedback;                         // what the student was told (practice)
+  /// Every step done. An attempt that ended before (the window closed, the
+  /// program stopped, the device was lost) is kept and scored as far as it went.
+  bool complete = false;
+  std::string ended;  // how an incomplete attempt ended ("" when complete)
+  /// The device stopped answering at lost_tick and came back at back_tick (0: it did not).
+  struct Interruption {
+    std::uint64_t lost_tick = 0, back_tick = 0;
+  };
+  std::vector<Interruption> interruptions;
   static constexpr int kTraceEvery = 5;
 };
 
@@ -165,6 +174,11 @@ class LessonRun final : public TickConsumer {
   const std::vector<ChartEntry>& entries() const { return entries_; }
   const std::optional<DeclaredDiagnosis>& declared() const { return declared_; }
 
+  /// The device is not answering now (a kDeviceLost without its kDeviceBack).
+  bool device_lost() const { return !interruptions_.empty() && interruptions_.back().back_tick == 0; }
+  /// How the attempt ended when it ends before its last step (kept in the result).
+  void SetEnding(std::string why) { ending_ = std::move(why); }
+
   /// Scores the attempt (any time; usually after OnEnd).
   LessonResult Finish() const;
 
@@ -188,6 +202,8 @@ class LessonRun final : public TickConsumer {
   std::vector<StepResult> step_results_;
   int step_ = 0;
   bool timed_out_ = false, ended_ = false;
+  std::string ending_;
+  std::vector<LessonResult::Interruption> interruptions_;
   std::uint64_t first_tick_ = 0, last_tick_ = 0, ticks_ = 0;
   std::optional<SiteRef> tip_site_;
   std::optional<double> tip_angle_deg_;

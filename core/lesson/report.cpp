@@ -261,6 +261,12 @@ std::string ReportJson(const LessonResult& r, const ReportInfo& info) {
   o << "  \"generated_case\": " << (r.generated_case ? "true" : "false") << ",\n  \"case_seed\": " << r.case_seed << ",\n";
   o << "  \"rate_hz\": " << Num(r.rate_hz, 1) << ",\n  \"first_tick\": " << r.first_tick << ",\n  \"last_tick\": "
     << r.last_tick << ",\n  \"duration_s\": " << Num(r.duration_s, 3) << ",\n";
+  o << "  \"complete\": " << (r.complete ? "true" : "false") << ",\n  \"ended\": " << J(r.ended)
+    << ",\n  \"interruptions\": [";
+  for (std::size_t i = 0; i < r.interruptions.size(); ++i)
+    o << (i ? ", " : "") << "{\"lost_tick\": " << r.interruptions[i].lost_tick << ", \"back_tick\": "
+      << r.interruptions[i].back_tick << "}";
+  o << "],\n";
   o << "  \"total\": " << Num(r.total, 2) << ",\n  \"categories\": {";
   bool first = true;
   for (const auto& [cat, credit] : r.category_credit) {
@@ -342,6 +348,9 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
     << " &middot; " << H(info.started) << " &middot; " << Num(r.duration_s, 1) << " s &middot; scene "
     << H(r.scene_file) << (r.generated_case ? " &middot; generated case, seed " + std::to_string(r.case_seed) : "")
     << (info.attempt_id ? " &middot; attempt " + std::to_string(info.attempt_id) : "") << "</div>\n";
+  if (!r.complete)
+    o << "<p style=\"background:#fbeacc;padding:6px 10px;border-left:4px solid #d08a00\"><b>Incomplete attempt</b>: "
+      << H(r.ended) << ". It is kept and scored as far as it went.</p>\n";
   o << "<p><span class=score>" << Num(r.total, 1) << "</span> / 100 &nbsp; " << r.sites_read << " of " << r.sites_total
     << " sites probed, " << r.sites_charted << " charted; within 1 mm of the truth " << Num(r.within_1mm_pct, 0)
     << " %, exact " << Num(r.exact_pct, 0) << " %; signed bias " << F("%+.2f", r.bias_mm) << " mm (interdental "

@@ -82,6 +82,11 @@ CREATE TABLE attempt_lines (
 );
 CREATE INDEX attempts_by_student ON attempts(student_id, started);
 )sql",
+    // 2: whether the attempt reached its last step, and how it ended when it did not.
+    R"sql(
+ALTER TABLE attempts ADD COLUMN complete INTEGER NOT NULL DEFAULT 1;
+ALTER TABLE attempts ADD COLUMN ended TEXT NOT NULL DEFAULT '';
+)sql",
 };
 constexpr int kNumMigrations = sizeof(kMigrations) / sizeof(kMigrations[0]);
 static_assert(kNumMigrations == kResultsSchemaVersion);
@@ -231,15 +236,16 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
     Stmt a(db_,
            "INSERT INTO attempts(student_id, lesson_id, started, mode, scene_file, generated_case, case_seed, total, "
            "duration_s, sites_total, sites_read, sites_charted, within_1mm_pct, bias_mm, force_in_band_pct, true_dx, "
-           "chart_dx, declared_dx, recording, answers, report_dir) VALUES ((SELECT id FROM students WHERE name = ?), "
-           "(SELECT id FROM lessons WHERE file = ?), ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+           "chart_dx, declared_dx, recording, answers, report_dir, complete, ended) VALUES ((SELECT id FROM students "
+           "WHERE name = ?), (SELECT id FROM lessons WHERE file = ?), ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, "
+           "?, ?, ?, ?)",
            file_);
     a.Bind(1, r.student).Bind(2, r.lesson_file).Bind(3, started).Bind(4, r.mode).Bind(5, r.scene_file);
     a.Bind(6, r.generated_case ? 1 : 0).Bind(7, static_cast<std::int64_t>(r.case_seed)).Bind(8, r.total);
     a.Bind(9, r.duration_s).Bind(10, r.sites_total).Bind(11, r.sites_read).Bind(12, r.sites_charted);
     a.Bind(13, r.within_1mm_pct).Bind(14, r.bias_mm).Bind(15, r.force_in_band_pct).Bind(16, r.true_dx.Summary());
     a.Bind(17, r.chart_dx.Summary()).Bind(18, DeclaredText(r)).Bind(19, recording).Bind(20, answers);
-    a.Bind(21, report_dir).Step(file_);
+    a.Bind(21, report_dir).Bind(22, r.complete ? 1 : 0).Bind(23, r.ended).Step(file_);
     const std::int64_t id = sqlite3_last_insert_rowid(db_);
     Stmt site(db_,
               "INSERT INTO attempt_sites(attempt_id, fdi, site, truth_mm, reached_mm, entered_mm, peak_force_n, "
@@ -292,7 +298,7 @@ namespace {
 constexpr const char* kAttemptSelect =
     "SELECT a.id, s.name, l.name, l.file, a.scene_file, a.mode, a.started, a.case_seed, a.generated_case, a.total, "
     "a.duration_s, a.within_1mm_pct, a.bias_mm, a.force_in_band_pct, a.sites_total, a.sites_read, a.sites_charted, "
-    "a.true_dx, a.chart_dx, a.declared_dx, a.recording, a.answers, a.report_dir FROM attempts a JOIN students s ON "
+    "a.true_dx, a.chart_dx, a.declared_dx, a.recording, a.answers, a.report_dir, a.complete, a.ended FROM attempts a JOIN students s ON "
     "s.id = a.student_id JOIN lessons l ON l.id = a.lesson_id ";
 
 AttemptRow ReadAttempt(const Stmt& s) {
@@ -320,6 +326,8 @@ AttemptRow ReadAttempt(const Stmt& s) {
   a.recording = s.Text(20);
   a.answers = s.Text(21);
   a.report_dir = s.Text(22);
+  a.complete = s.Int(23) != 0;
+  a.ended = s.Text(24);
   return a;
 }
 }  // namespace
@@ -393,13 +401,13 @@ int ResultsDb::DeleteStudent(const std::string& student) {
 
 void ExportAttemptsCsv(const std::vector<AttemptRow>& rows, std::ostream& o) {
   o << "attempt,student,lesson,lesson_file,mode,started,case_seed,total,duration_s,sites_total,sites_read,"
-       "sites_charted,within_1mm_pct,bias_mm,force_in_band_pct,true_dx,chart_dx,declared_dx,recording,report_dir\n";
+       "sites_charted,within_1mm_pct,bias_mm,force_in_band_pct,true_dx,chart_dx,declared_dx,complete,ended,recording,report_dir\n";
   for (const AttemptRow& a : rows)
     o << a.id << ',' << Csv(a.student) << ',' << Csv(a.lesson_name) << ',' << Csv(a.lesson_file) << ',' << a.mode << ','
       << a.started << ',' << a.case_seed << ',' << a.total << ',' << a.duration_s << ',' << a.sites_total << ','
       << a.sites_read << ',' << a.sites_charted << ',' << a.within_1mm_pct << ',' << a.bias_mm << ','
       << a.force_in_band_pct << ',' << Csv(a.true_dx) << ',' << Csv(a.chart_dx) << ',' << Csv(a.declared_dx) << ','
-      << Csv(a.recording) << ',' << Csv(a.report_dir) << '\n';
+      << (a.complete ? 1 : 0) << ',' << Csv(a.ended) << ',' << Csv(a.recording) << ',' << Csv(a.report_dir) << '\n';
 }
 
 void ExportSitesCsv(const std::vector<SiteRow>& rows, std::ostream& o) {

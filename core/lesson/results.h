@@ -20,7 +20,7 @@ struct sqlite3;
 
 namespace sulcus {
 
-inline constexpr int kResultsSchemaVersion = 1;
+inline constexpr int kResultsSchemaVersion = 2;
 
 class ResultsError : public std::runtime_error {
  public:
@@ -36,6 +36,8 @@ struct AttemptRow {
   int sites_total = 0, sites_read = 0, sites_charted = 0;
   std::string true_dx, chart_dx, declared_dx;
   std::string recording, answers, report_dir;
+  bool complete = true;
+  std::string ended;  // how an incomplete attempt ended
 };
 
 struct SiteRow {

@@ -11,6 +11,7 @@
 #include <QDialog>
 #include <QElapsedTimer>
 #include <QKeyEvent>
+#include <QMessageBox>
 #include <QSurfaceFormat>
 #include <QTableWidget>
 #include <QTextBrowser>
@@ -138,7 +139,15 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   ASSERT_TRUE(WaitFor([&] { return w.lesson()->current_step() >= 2; })) << "both probing steps done";
   ChartEverything(w);
   EXPECT_EQ(w.chart()->entered(), 24);
-  EXPECT_EQ(w.lesson()->current_step(), 3) << "the chart step is done: on to the diagnosis";
+  EXPECT_EQ(w.lesson()->current_step(), 3) << "the chart step is done: on to the diagnosis; " << [&] {
+    const LessonResult now = w.lesson()->Finish();
+    std::string why = "ticks " + std::to_string(now.first_tick) + ".." + std::to_string(now.last_tick) +
+                      ", charted " + std::to_string(now.sites_charted) + (now.complete ? "" : ", " + now.ended);
+    for (const StepResult& st : now.steps)
+      why += "; " + st.id + (st.completed ? " done" : st.timed_out ? " timed out" : " open");
+    for (const std::string& f : now.feedback) why += "; " + f;
+    return why;
+  }();
   EXPECT_TRUE(Save(&w, "lesson_charted.png"));
   bool truth_shown = false;
   for (const std::string& f : w.lesson()->feedback()) truth_shown |= f.find("the true depth is") != std::string::npos;
@@ -293,6 +302,59 @@ TEST(LessonWindow, AssessmentShowsNoTruthAndLocksTheAids) {
   for (const RubricLine& l : r.lines) undeclared |= l.category == "diagnosis" && l.message == "no diagnosis declared";
   EXPECT_TRUE(undeclared);
   EXPECT_FALSE(w.aids_locked()) << "the workbench again after the lesson";
+}
+
+TEST(LessonWindow, AClosedWindowKeepsTheAttemptAsIncompleteAndAStoppedOneIsRecovered) {
+  const fs::path results = Out("results_closed");
+  fs::remove_all(results);
+  MainWindow::LessonStart s = CarefulStudent();
+  s.student = "Closing Student";
+  s.results_dir = results;
+  fs::path folder;
+  {
+    MainWindow w;
+    w.show();
+    ASSERT_TRUE(w.StartLesson(s));
+    ASSERT_TRUE(WaitFor([&] { return w.lesson()->Finish().sites_read >= 4; }));
+    Key(w.chart(), Qt::Key_3, "3");
+    Key(w.chart(), Qt::Key_2, "2");
+    ASSERT_EQ(w.lesson()->entries().size(), 2u);
+    EXPECT_TRUE(w.close());
+  }
+  ResultsDb db(results / "results.db");
+  auto rows = db.Attempts("Closing Student");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_FALSE(rows[0].complete);
+  EXPECT_EQ(rows[0].ended, "the window was closed before the last step");
+  EXPECT_EQ(rows[0].sites_charted, 2);
+  folder = fs::path(rows[0].recording).parent_path();
+  EXPECT_TRUE(fs::exists(folder / "answers.yaml"));
+  EXPECT_EQ(LoadAnswers(folder / "answers.yaml").entries.size(), 2u);
+  EXPECT_TRUE(UnfinishedAttempts(results).empty()) << "a kept attempt is not recovered again";
+
+  // The same attempt as if Sulcus had stopped before keeping it: no report, no row.
+  fs::remove(folder / "report.json");
+  fs::remove(folder / "report.html");
+  fs::remove(results / "results.db");
+  fs::remove(results / "results.db-wal");
+  fs::remove(results / "results.db-shm");
+  MainWindow w;
+  w.show();
+  EXPECT_EQ(w.RecoverUnfinishedAttempts(results), 1);
+  QMessageBox* box = w.findChild<QMessageBox*>("recovered");
+  ASSERT_NE(box, nullptr);
+  EXPECT_TRUE(box->text().contains("Closing Student")) << box->text().toStdString();
+  EXPECT_TRUE(box->text().contains("(incomplete)")) << box->text().toStdString();
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(box, "recovered_attempts.png"));
+  box->close();
+  ResultsDb again(results / "results.db");
+  rows = again.Attempts("Closing Student");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_FALSE(rows[0].complete);
+  EXPECT_NE(rows[0].ended.find("rebuilt from its recording"), std::string::npos) << rows[0].ended;
+  EXPECT_EQ(rows[0].sites_charted, 2);
+  EXPECT_EQ(w.RecoverUnfinishedAttempts(results), 0);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "core/lesson/attempt.h"
 #include "core/lesson/report.h"
+#include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
 
 namespace sulcus {
@@ -328,6 +329,85 @@ TEST(LessonRun, PracticeShowsTheTruthAssessmentDoesNot) {
     ASSERT_TRUE(lesson.next_site());
     EXPECT_EQ(lesson.next_site()->ToString(), "47 DB") << "the path's first unread site";
   }
+}
+
+TEST(LessonRun, ALostDeviceIsNamedWithItsMomentsAndTheAttemptIsIncomplete) {
+  const LessonSpec spec = LoadLessonSpec(Lesson());
+  const auto scene = CompileScene(LoadSceneSpec(spec.scene), Cache());
+  LessonRun lesson(spec, *scene, "x");
+  TickRecord r;
+  for (std::uint64_t t = 1; t <= 3000; ++t) {
+    r.tick = t;
+    r.num_events = 0;
+    if (t == 1000 || t == 2600) r.events[r.num_events++] = HapticEvent::Of(EventKind::kDeviceLost);
+    if (t == 1500) r.events[r.num_events++] = HapticEvent::Of(EventKind::kDeviceBack);
+    lesson.OnTick(r);
+    EXPECT_EQ(lesson.device_lost(), (t >= 1000 && t < 1500) || t >= 2600) << t;
+  }
+  lesson.SetEnding("the device stopped answering and the lesson was finished before the last step");
+  const LessonResult res = lesson.Finish();
+  EXPECT_FALSE(res.complete);
+  EXPECT_EQ(res.ended, "the device stopped answering and the lesson was finished before the last step");
+  ASSERT_EQ(res.interruptions.size(), 2u);
+  EXPECT_EQ(res.interruptions[0].lost_tick, 1000u);
+  EXPECT_EQ(res.interruptions[0].back_tick, 1500u);
+  EXPECT_EQ(res.interruptions[1].back_tick, 0u);
+  std::vector<std::string> said;
+  for (const RubricLine& l : res.lines)
+    if (l.category == "time") said.push_back(l.message);
+  EXPECT_NE(std::find(said.begin(), said.end(), "the device stopped answering at 1.0 s and was back 0.5 s later"),
+            said.end());
+  EXPECT_NE(std::find(said.begin(), said.end(), "the device stopped answering at 2.6 s and did not come back"),
+            said.end());
+  EXPECT_NE(std::find(said.begin(), said.end(), "incomplete: " + res.ended), said.end());
+  const std::string json = ReportJson(res, {});
+  EXPECT_NE(json.find("\"complete\": false"), std::string::npos);
+  EXPECT_NE(json.find("{\"lost_tick\": 1000, \"back_tick\": 1500}"), std::string::npos);
+  EXPECT_NE(ReportHtml(res, {}).find("Incomplete attempt"), std::string::npos);
+}
+
+TEST(Recovery, AnAttemptCutShortByAStoppedProgramIsRebuiltAndKeptAsIncomplete) {
+  const fs::path results = Out("recovery");
+  fs::remove_all(results);
+  const AttemptFolder folder = NewAttemptFolder(results, "ada");
+  const AttemptOutcome whole = Take("careful", folder.recording());
+  ASSERT_TRUE(whole.result.complete);
+  // The program stops at about the middle: the recording ends there (its last
+  // frame cut in half) and the entries saved so far are those made before it.
+  const std::uint64_t cut = whole.result.first_tick + (whole.result.last_tick - whole.result.first_tick) / 2;
+  Answers so_far;
+  for (const ChartEntry& e : whole.answers.entries)
+    if (e.tick < cut) so_far.entries.push_back(e);
+  ASSERT_GT(so_far.entries.size(), 3u);
+  ASSERT_LT(so_far.entries.size(), whole.answers.entries.size());
+  SaveAnswers(so_far, folder.answers());
+  fs::resize_file(folder.recording(), fs::file_size(folder.recording()) / 2 + 101);
+  WriteAttemptMarker(folder, {Lesson(), "ada", "practice", 0, folder.started});
+  EXPECT_EQ(ReadAttemptMarker(folder.dir).student, "ada");
+
+  // A folder whose marker is broken is reported once, left as it was, and not tried again.
+  const AttemptFolder broken = NewAttemptFolder(results, "bob");
+  std::ofstream(broken.dir / "attempt.yaml") << "lesson: [unclosed\n";
+  ASSERT_EQ(UnfinishedAttempts(results), (std::vector<fs::path>{folder.dir, broken.dir}));
+  EXPECT_THROW(RecoverAttempt(broken.dir, results, Cache()), SceneLoadError);
+  EXPECT_TRUE(fs::exists(broken.dir / "recovery.txt"));
+  EXPECT_TRUE(fs::exists(broken.dir / "attempt.yaml"));
+
+  const RecoveredAttempt kept = RecoverAttempt(folder.dir, results, Cache());
+  EXPECT_FALSE(kept.result.complete);
+  EXPECT_NE(kept.result.ended.find("rebuilt from its recording"), std::string::npos) << kept.result.ended;
+  EXPECT_LT(kept.result.sites_charted, whole.result.sites_charted);
+  EXPECT_EQ(kept.result.sites_charted, static_cast<int>(so_far.entries.size()));
+  EXPECT_LT(kept.result.last_tick, whole.result.last_tick);
+  EXPECT_LT(kept.result.total, whole.result.total);
+  EXPECT_TRUE(fs::exists(folder.dir / "report.html"));
+  EXPECT_TRUE(UnfinishedAttempts(results).empty());
+  ResultsDb db(results / "results.db");
+  const auto rows = db.Attempts("ada");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].id, kept.id);
+  EXPECT_FALSE(rows[0].complete);
+  EXPECT_EQ(rows[0].started, folder.started);
 }
 
 }  // namespace

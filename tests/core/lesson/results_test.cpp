@@ -76,6 +76,54 @@ int Count(const fs::path& db, const std::string& sql) {
   return n;
 }
 
+TEST(Results, IncompleteAttemptsKeepHowTheyEnded) {
+  const fs::path file = Fresh("incomplete");
+  ResultsDb db(file);
+  LessonResult done = Sample("ada", 90);
+  done.complete = true;
+  LessonResult cut = Sample("ada", 40);
+  cut.complete = false;
+  cut.ended = "the window was closed before the last step";
+  db.Store(done, "2026-12-01T10:00:00Z", "/a.rec", "/a.yaml", "/a");
+  db.Store(cut, "2026-12-01T11:00:00Z", "/b.rec", "/b.yaml", "/b");
+  const auto rows = db.Attempts("ada");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_TRUE(rows[0].complete);
+  EXPECT_EQ(rows[0].ended, "");
+  EXPECT_FALSE(rows[1].complete);
+  EXPECT_EQ(rows[1].ended, cut.ended);
+  std::ostringstream csv;
+  ExportAttemptsCsv(rows, csv);
+  EXPECT_NE(csv.str().find(",0,the window was closed before the last step,"), std::string::npos) << csv.str();
+}
+
+TEST(Results, VersionOneDatabaseIsMigratedKeepingItsAttempts) {
+  const fs::path file = Fresh("migrate1");
+  {
+    ResultsDb db(file);
+    db.Store(Sample("ada", 88), "2026-12-01T10:00:00Z", "/a.rec", "/a.yaml", "/a");
+  }
+  {  // Make it what a version-1 Sulcus wrote: no complete/ended columns.
+    sqlite3* h = nullptr;
+    ASSERT_EQ(sqlite3_open(file.c_str(), &h), SQLITE_OK);
+    char* err = nullptr;
+    ASSERT_EQ(sqlite3_exec(h,
+                           "ALTER TABLE attempts DROP COLUMN complete; ALTER TABLE attempts DROP COLUMN ended; "
+                           "PRAGMA user_version=1",
+                           nullptr, nullptr, &err),
+              SQLITE_OK)
+        << (err ? err : "");
+    sqlite3_close(h);
+  }
+  EXPECT_EQ(Count(file, "PRAGMA user_version"), 1);
+  ResultsDb db(file);
+  EXPECT_EQ(db.schema_version(), 2);
+  const auto rows = db.Attempts("ada");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_DOUBLE_EQ(rows[0].total, 88);
+  EXPECT_TRUE(rows[0].complete);  // what version 1 kept was complete
+}
+
 TEST(Results, AttemptsRoundTripAndExport) {
   const fs::path file = Fresh("roundtrip");
   {
