@@ -1,5 +1,7 @@
 #include "ui/chart_widget.h"
 
+#include "core/lesson/lesson_spec.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -60,7 +62,26 @@ void ChartWidget::SetLesson(const std::vector<int>& teeth, const std::vector<Sit
   bleeding_.clear();
   truth_.clear();
   recession_ = recession_mm;
+  read_only_ = false;
   updateGeometry();
+  update();
+}
+
+void ChartWidget::ShowChart(const PerioChart& chart) {
+  std::vector<int> teeth;
+  std::map<std::pair<int, int>, double> recession;
+  for (const ToothChart& t : chart.teeth) {
+    teeth.push_back(t.fdi);
+    for (int s = 0; s < kSitesPerTooth; ++s) recession[{t.fdi, s}] = t.sites[s].recession_mm;
+  }
+  SetLesson(teeth, StandardPath(teeth), recession);
+  for (const ToothChart& t : chart.teeth)
+    for (int s = 0; s < kSitesPerTooth; ++s) {
+      if (t.sites[s].pd_mm) pd_[{t.fdi, s}] = *t.sites[s].pd_mm;
+      bleeding_[{t.fdi, s}] = t.sites[s].bleeding;
+    }
+  cursor_ = path_.size();
+  read_only_ = true;
   update();
 }
 
@@ -72,6 +93,7 @@ void ChartWidget::SetProbing(std::optional<SiteRef> site) {
 
 void ChartWidget::SetTruth(const std::map<std::pair<int, int>, int>& truth) {
   truth_ = truth;
+  updateGeometry();
   update();
 }
 
@@ -96,15 +118,17 @@ bool ChartWidget::bleeding(const SiteRef& s) const {
   return it != bleeding_.end() && it->second;
 }
 
+int ChartWidget::rows() const { return truth_.empty() ? kRows - 1 : kRows; }
+
 QSize ChartWidget::sizeHint() const {
   int teeth = 1;
   for (const Band& b : bands_) teeth = std::max<int>(teeth, static_cast<int>(b.teeth.size()));
   return {kLabelW + teeth * (3 * kCell + kToothGap) + 8,
-          static_cast<int>(bands_.size()) * (kBandTitle + kHeader + kRows * kRowH + 6) + 8};
+          static_cast<int>(bands_.size()) * (kBandTitle + kHeader + rows() * kRowH + 6) + 8};
 }
 
 QRect ChartWidget::CellRect(int band, int tooth_index, int cell, int row) const {
-  const int y0 = 4 + band * (kBandTitle + kHeader + kRows * kRowH + 6) + kBandTitle + kHeader;
+  const int y0 = 4 + band * (kBandTitle + kHeader + rows() * kRowH + 6) + kBandTitle + kHeader;
   const int x = kLabelW + tooth_index * (3 * kCell + kToothGap) + cell * kCell;
   return {x, y0 + row * kRowH, kCell - 1, kRowH - 1};
 }
@@ -118,7 +142,7 @@ void ChartWidget::paintEvent(QPaintEvent*) {
   const std::optional<SiteRef> cur = cursor();
   for (int b = 0; b < static_cast<int>(bands_.size()); ++b) {
     const Band& band = bands_[b];
-    const int y0 = 4 + b * (kBandTitle + kHeader + kRows * kRowH + 6);
+    const int y0 = 4 + b * (kBandTitle + kHeader + rows() * kRowH + 6);
     QFont bold = f;
     bold.setBold(true);
     p.setFont(bold);
@@ -126,7 +150,7 @@ void ChartWidget::paintEvent(QPaintEvent*) {
     p.drawText(QRect(4, y0, 300, kBandTitle), Qt::AlignLeft | Qt::AlignVCenter,
                QString("%1 %2").arg(band.upper ? "upper" : "lower").arg(band.buccal ? "buccal" : band.upper ? "palatal" : "lingual"));
     p.setFont(f);
-    for (int r = 0; r < kRows; ++r)
+    for (int r = 0; r < rows(); ++r)
       p.drawText(QRect(4, y0 + kBandTitle + kHeader + r * kRowH, kLabelW - 6, kRowH), Qt::AlignLeft | Qt::AlignVCenter,
                  kRowNames[r]);
     for (int t = 0; t < static_cast<int>(band.teeth.size()); ++t) {
@@ -141,7 +165,7 @@ void ChartWidget::paintEvent(QPaintEvent*) {
         const std::pair key{fdi, sites[c]};
         const bool is_cursor = cur && cur->fdi == fdi && cur->site == sites[c];
         const bool is_probing = probing_ && probing_->fdi == fdi && probing_->site == sites[c];
-        for (int r = 0; r < kRows; ++r) {
+        for (int r = 0; r < rows(); ++r) {
           const QRect cell = CellRect(b, t, c, r);
           QColor fill = palette().base().color();
           if (is_probing) fill = QColor(255, 236, 140);
@@ -189,7 +213,7 @@ void ChartWidget::paintEvent(QPaintEvent*) {
 }
 
 void ChartWidget::Enter(int value) {
-  if (!enabled_ || cursor_ >= path_.size()) return;
+  if (!enabled_ || read_only_ || cursor_ >= path_.size()) return;
   const SiteRef s = path_[cursor_];
   pd_[{s.fdi, s.site}] = value;
   last_entered_ = cursor_;
@@ -203,7 +227,7 @@ void ChartWidget::Enter(int value) {
 }
 
 void ChartWidget::keyPressEvent(QKeyEvent* e) {
-  if (!enabled_) return QWidget::keyPressEvent(e);
+  if (!enabled_ || read_only_) return QWidget::keyPressEvent(e);
   const int k = e->key();
   if (k >= Qt::Key_0 && k <= Qt::Key_9) {
     Enter((k - Qt::Key_0) + ((e->modifiers() & Qt::ShiftModifier) ? 10 : 0));

@@ -32,6 +32,8 @@ class ChartWidget : public QWidget {
   void SetProbing(std::optional<SiteRef> site);  // highlighted: the site the tip is in
   void SetTruth(const std::map<std::pair<int, int>, int>& truth);  // practice: shown in a row once a site is entered
   void SetEnabled(bool on);
+  /// Shows a whole chart, read only (an instructor's preview of a case's truth).
+  void ShowChart(const PerioChart& chart);
 
   std::function<void(const ChartEntry&)> on_entry;
 
@@ -53,6 +55,7 @@ class ChartWidget : public QWidget {
   };
   void Enter(int value);
   QRect CellRect(int band, int tooth_index, int cell, int row) const;
+  int rows() const;  // the true PD row only when there is truth to show (practice)
 
   std::vector<Band> bands_;
   std::vector<SiteRef> path_;
@@ -63,7 +66,7 @@ class ChartWidget : public QWidget {
   std::map<std::pair<int, int>, double> recession_;
   std::map<std::pair<int, int>, int> truth_;
   std::optional<SiteRef> probing_;
-  bool enabled_ = true;
+  bool enabled_ = true, read_only_ = false;
 };
 
 }  // namespace sulcus::ui

@@ -5,7 +5,12 @@
 #include <fstream>
 #include <map>
 
+#include <QComboBox>
 #include <QDialogButtonBox>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QRandomGenerator>
+#include <QSpinBox>
 #include <QFileDialog>
 #include <QHeaderView>
 #include <QLabel>
@@ -16,6 +21,8 @@
 #include <QVBoxLayout>
 
 #include "core/lesson/results.h"
+#include "core/scene/scene.h"
+#include "ui/chart_widget.h"
 
 namespace sulcus::ui {
 namespace {
@@ -35,8 +42,9 @@ QTableWidget* Table(const QStringList& headers) {
 
 }  // namespace
 
-InstructorDialog::InstructorDialog(std::filesystem::path results_db, QWidget* parent)
-    : QDialog(parent), db_file_(std::move(results_db)) {
+InstructorDialog::InstructorDialog(std::filesystem::path results_db, std::vector<std::filesystem::path> lesson_dirs,
+                                   QWidget* parent)
+    : QDialog(parent), db_file_(std::move(results_db)), lesson_dirs_(std::move(lesson_dirs)) {
   setWindowTitle("Sulcus: instructor");
   resize(1000, 680);
   auto* layout = new QVBoxLayout(this);
@@ -49,6 +57,7 @@ InstructorDialog::InstructorDialog(std::filesystem::path results_db, QWidget* pa
   cohort_->setToolTip("The sites the cohort charts worst, across every attempt of every student");
   tabs->addTab(attempts_, "Every attempt");
   tabs->addTab(cohort_, "The cohort's sites");
+  BuildCaseTab(tabs);
   layout->addWidget(tabs, 1);
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
   auto* csv = buttons->addButton("Export every attempt (CSV)...", QDialogButtonBox::ActionRole);
@@ -75,6 +84,143 @@ InstructorDialog::InstructorDialog(std::filesystem::path results_db, QWidget* pa
   });
   Refresh();
 }
+
+void InstructorDialog::BuildCaseTab(QTabWidget* tabs) {
+  auto* page = new QWidget;
+  auto* layout = new QVBoxLayout(page);
+  layout->addWidget(new QLabel(
+      "Draw a periodontitis case on a probing lesson's teeth: pockets, recession and bleeding until the true chart "
+      "classifies as asked (2017 classification). Preview its chart, then save it as a scene that lessons can use."));
+  auto* form = new QFormLayout;
+  case_lesson_ = new QComboBox;
+  for (const std::filesystem::path& dir : lesson_dirs_) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) continue;
+    std::vector<std::filesystem::path> files;
+    for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+      if (e.path().extension() == ".yaml") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const std::filesystem::path& f : files) {
+      try {
+        const LessonSpec spec = LoadLessonSpec(f);
+        case_lesson_->addItem(Q(spec.name + "  (" + f.filename().string() + ")"), Q(f.string()));
+      } catch (const std::exception&) {
+        // broken lessons are listed as broken on the start page; a case needs one that loads
+      }
+    }
+  }
+  case_stage_ = new QComboBox;
+  case_stage_->addItems({"I", "II", "III"});
+  case_stage_->setCurrentIndex(2);
+  case_extent_ = new QComboBox;
+  case_extent_->addItems({"localized", "generalized"});
+  case_seed_ = new QSpinBox;
+  case_seed_->setRange(0, 2147483647);
+  case_seed_->setValue(1);
+  case_seed_->setToolTip("The same lesson, stage, extent and seed always draw the same case");
+  auto* seed_row = new QHBoxLayout;
+  auto* reseed = new QPushButton("Another");
+  reseed->setToolTip("A new seed: another case of the same stage and extent");
+  seed_row->addWidget(case_seed_, 1);
+  seed_row->addWidget(reseed);
+  form->addRow("Lesson", case_lesson_);
+  form->addRow("Stage", case_stage_);
+  form->addRow("Extent", case_extent_);
+  form->addRow("Seed", seed_row);
+  layout->addLayout(form);
+  auto* buttons = new QHBoxLayout;
+  auto* draw = new QPushButton("Draw the case");
+  case_save_ = new QPushButton("Save as a scene...");
+  case_save_->setEnabled(false);
+  buttons->addWidget(draw);
+  buttons->addWidget(case_save_);
+  buttons->addStretch(1);
+  layout->addLayout(buttons);
+  case_label_ = new QLabel;
+  case_label_->setWordWrap(true);
+  case_label_->setTextFormat(Qt::RichText);
+  layout->addWidget(case_label_);
+  case_chart_ = new ChartWidget;
+  layout->addWidget(case_chart_, 1);
+  auto redraw = [this] {
+    if (case_lesson_->currentIndex() < 0) return;
+    DrawCase(case_lesson_->currentData().toString().toStdString(), *StageFromString(case_stage_->currentText().toStdString()),
+             *ExtentFromString(case_extent_->currentText().toStdString()), static_cast<std::uint64_t>(case_seed_->value()));
+  };
+  connect(draw, &QPushButton::clicked, this, redraw);
+  connect(reseed, &QPushButton::clicked, this, [this, redraw] {
+    case_seed_->setValue(static_cast<int>(QRandomGenerator::global()->bounded(1, 999999)));
+    redraw();
+  });
+  connect(case_save_, &QPushButton::clicked, this, [this] {
+    if (!case_spec_) return;
+    const std::filesystem::path scene = case_spec_->scene;
+    const std::string name = scene.stem().string() + "_stage_" + ToString(case_.stage) + "_" + ToString(case_.extent) +
+                             "_" + std::to_string(case_seed_value_) + ".yaml";
+    const QString f = QFileDialog::getSaveFileName(this, "Save the case as a scene", Q((scene.parent_path() / name).string()),
+                                                   "Scenes (*.yaml)");
+    if (!f.isEmpty()) SaveCase(f.toStdString());
+  });
+  tabs->addTab(page, "Cases");
+}
+
+bool InstructorDialog::DrawCase(const std::filesystem::path& lesson, Stage stage, Extent extent, std::uint64_t seed) {
+  case_spec_.reset();
+  case_save_->setEnabled(false);
+  try {
+    LessonSpec spec = LoadLessonSpec(lesson);
+    CaseSpec c;
+    c.generated = true;
+    c.stage = stage;
+    c.extent = extent;
+    c.seed = seed;
+    const SceneSpec scene = ApplyCase(LoadSceneSpec(spec.scene), spec.teeth, c, seed);
+    const PerioChart truth = TrueChart(scene, spec.teeth);
+    const Diagnosis d = Classify2017(truth);
+    case_chart_->ShowChart(truth);
+    QString path;
+    for (const std::string& step : d.path) path += "<li>" + Q(step).toHtmlEscaped() + "</li>";
+    case_label_->setText(QString("<b>%1</b> on %2 (seed %3)<ul>%4</ul>")
+                             .arg(Q(d.Summary()).toHtmlEscaped(), Q(spec.scene.filename().string()).toHtmlEscaped())
+                             .arg(seed)
+                             .arg(path));
+    // The form says what was drawn (also when drawn by a call, not the form).
+    int index = case_lesson_->findData(Q(lesson.string()));
+    if (index < 0) {
+      case_lesson_->addItem(Q(spec.name + "  (" + lesson.filename().string() + ")"), Q(lesson.string()));
+      index = case_lesson_->count() - 1;
+    }
+    case_lesson_->setCurrentIndex(index);
+    case_stage_->setCurrentText(ToString(stage));
+    case_extent_->setCurrentText(ToString(extent));
+    case_seed_->setValue(static_cast<int>(seed));
+    case_spec_ = std::move(spec);
+    case_ = c;
+    case_seed_value_ = seed;
+    case_save_->setEnabled(true);
+    return true;
+  } catch (const std::exception& e) {
+    case_label_->setText(QString("<span style='color:#c02020'>No case drawn: %1</span>").arg(Q(e.what()).toHtmlEscaped()));
+    return false;
+  }
+}
+
+bool InstructorDialog::SaveCase(const std::filesystem::path& scene_file) {
+  if (!case_spec_) return false;
+  try {
+    SaveCaseScene(*case_spec_, case_, case_seed_value_, scene_file);
+    case_label_->setText(case_label_->text() +
+                         QString("Saved as <b>%1</b>. A lesson uses it with <tt>scene: %2</tt> (and no <tt>case:</tt>).")
+                             .arg(Q(scene_file.string()).toHtmlEscaped(), Q(scene_file.filename().string()).toHtmlEscaped()));
+    return true;
+  } catch (const std::exception& e) {
+    case_label_->setText(case_label_->text() + QString("<span style='color:#c02020'>Not saved: %1</span>")
+                                                    .arg(Q(e.what()).toHtmlEscaped()));
+    return false;
+  }
+}
+
+QString InstructorDialog::case_summary() const { return case_label_ ? case_label_->text() : QString(); }
 
 int InstructorDialog::DeleteStudent(const std::string& name) {
   ResultsDb db(db_file_);

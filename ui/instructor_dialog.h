@@ -4,18 +4,30 @@
 // student's results.
 
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <vector>
+
+#include "core/lesson/lesson_spec.h"
 
 #include <QDialog>
 
 class QTableWidget;
 class QLabel;
+class QComboBox;
+class QSpinBox;
+class QPushButton;
+class QTabWidget;
 
 namespace sulcus::ui {
 
+class ChartWidget;
+
 class InstructorDialog : public QDialog {
  public:
-  InstructorDialog(std::filesystem::path results_db, QWidget* parent = nullptr);
+  /// `lesson_dirs`: where the lessons a case can be drawn for are found.
+  InstructorDialog(std::filesystem::path results_db, std::vector<std::filesystem::path> lesson_dirs = {},
+                   QWidget* parent = nullptr);
   void Refresh();
   int students() const { return students_; }
   const QTableWidget* attempts_table() const { return attempts_; }
@@ -23,12 +35,31 @@ class InstructorDialog : public QDialog {
   /// Deletes a student's results (after the window asked to confirm).
   int DeleteStudent(const std::string& name);
 
+  // A case drawn for a probing lesson (stage, extent, seed), previewed as its
+  // true chart and classification, saved as a scene of its own.
+  /// Draws it; false (and the reason shown) when no such case fits the lesson's teeth.
+  bool DrawCase(const std::filesystem::path& lesson, Stage stage, Extent extent, std::uint64_t seed);
+  /// Saves the drawn case; false (and the reason shown) when it cannot.
+  bool SaveCase(const std::filesystem::path& scene_file);
+  const ChartWidget* case_chart() const { return case_chart_; }
+  QString case_summary() const;
+
  private:
+  void BuildCaseTab(QTabWidget* tabs);
   std::filesystem::path db_file_;
   QTableWidget* attempts_ = nullptr;
   QTableWidget* cohort_ = nullptr;
   QLabel* summary_ = nullptr;
   int students_ = 0;
+  std::vector<std::filesystem::path> lesson_dirs_;
+  QComboBox *case_lesson_ = nullptr, *case_stage_ = nullptr, *case_extent_ = nullptr;
+  QSpinBox* case_seed_ = nullptr;
+  QPushButton* case_save_ = nullptr;
+  ChartWidget* case_chart_ = nullptr;
+  QLabel* case_label_ = nullptr;
+  std::optional<LessonSpec> case_spec_;  // the lesson the drawn case is for
+  CaseSpec case_;
+  std::uint64_t case_seed_value_ = 0;
 };
 
 }  // namespace sulcus::ui

@@ -1205,7 +1205,7 @@ QDialog* MainWindow::OpenInstructor(const std::string& passphrase, const std::fi
       ShowErrors("Instructor", "Wrong passphrase.", "The instructor's view stays closed.");
       return nullptr;
     }
-    auto* d = new InstructorDialog(dir / "results.db", this);
+    auto* d = new InstructorDialog(dir / "results.db", lesson_dirs_, this);
     d->setAttribute(Qt::WA_DeleteOnClose);
     d->show();
     return d;

@@ -35,8 +35,9 @@ int SiteFromCode(const std::string& code) {
 
 std::optional<int> SiteValues::cal_mm() const {
   if (!pd_mm) return std::nullopt;
-  // Whole mm, a half rounding down: 4.5 -> 4, -0.5 -> -1.
-  return static_cast<int>(std::ceil(*pd_mm + recession_mm - 0.5 - 1e-9));
+  // Whole mm, a half rounding down: 4.5 -> 4. A pocket floor coronal to the CEJ
+  // (PD 1 with the margin 1.5 mm above it) is no attachment lost: 0, never negative.
+  return std::max(0, static_cast<int>(std::ceil(*pd_mm + recession_mm - 0.5 - 1e-9)));
 }
 
 ToothChart* PerioChart::Find(int fdi) {

@@ -7,7 +7,7 @@
 // `recession_mm` positive when the margin lies apical to the CEJ (root exposed),
 // negative when it lies coronal (health: the margin about 1.5 mm above the CEJ);
 // CAL = PD + recession, derived, never stored; CAL is charted in whole mm, a
-// half millimetre rounding down (toward less attachment loss).
+// half millimetre rounding down (toward less attachment loss), and never below 0.
 
 #include <array>
 #include <cstdint>

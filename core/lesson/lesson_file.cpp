@@ -9,6 +9,7 @@
 #include "core/anatomy/tooth.h"
 #include "core/lesson/lesson_spec.h"
 #include "core/scene/yaml_reader.h"
+#include "core/scene/scene.h"
 
 namespace sulcus {
 namespace {
@@ -229,6 +230,76 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth, const
   }
   throw std::runtime_error(std::string("no case of stage ") + ToString(c.stage) + ", " + ToString(c.extent) +
                            " can be drawn on these teeth (try another extent or more teeth)");
+}
+
+SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64_t seed, const fs::path& out) {
+  const SceneSpec base = LoadSceneSpec(lesson.scene);
+  const SceneSpec cased = ApplyCase(base, lesson.teeth, c, seed);
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(lesson.scene.string());
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(lesson.scene.string() + ": " + e.what());
+  }
+  std::error_code ec;
+  const fs::path from = fs::weakly_canonical(lesson.scene.parent_path(), ec);
+  const fs::path to = fs::weakly_canonical(fs::absolute(out).parent_path(), ec);
+  bool meshes = false;
+  for (const YAML::Node& o : root["objects"]) meshes |= o.IsMap() && o["mesh"].IsDefined();
+  if (meshes && from != to)
+    throw std::runtime_error(out.string() + ": " + lesson.scene.string() +
+                             " names mesh files relative to its folder; save the case in " + from.string());
+  const std::string what = std::string("stage ") + ToString(c.stage) + ", " + ToString(c.extent) + ", seed " +
+                           std::to_string(seed);
+  const std::string name = (base.name.empty() ? lesson.scene.stem().string() : base.name) + " (case: " + what + ")";
+  root["name"] = name;
+  root["description"] = "Periodontitis " + what + ", drawn by Sulcus on " + lesson.scene.filename().string() +
+                        " for the lesson " + lesson.file.filename().string() + ".";
+  for (YAML::Node o : root["objects"]) {
+    if (!o.IsMap() || !o["tooth"]) continue;
+    const int fdi = o["tooth"].as<int>(0);
+    if (std::find(lesson.teeth.begin(), lesson.teeth.end(), fdi) == lesson.teeth.end()) continue;
+    for (const ObjectSpec& t : cased.objects) {
+      if (t.kind != ObjectSpec::Kind::kTooth || t.fdi != fdi) continue;
+      YAML::Node pockets(YAML::NodeType::Sequence), recession(YAML::NodeType::Sequence), bleeding(YAML::NodeType::Sequence);
+      for (int s = 0; s < 6; ++s) {
+        pockets.push_back(t.pocket_mm[s]);
+        recession.push_back(t.recession_mm[s]);
+        if (t.bleeding[s]) bleeding.push_back(kSiteCodes[s]);
+      }
+      for (YAML::Node* n : {&pockets, &recession, &bleeding}) n->SetStyle(YAML::EmitterStyle::Flow);
+      o["pockets_mm"] = pockets;
+      o["recession_mm"] = recession;
+      if (bleeding.size() > 0) o["bleeding"] = bleeding;
+      else o.remove("bleeding");
+    }
+  }
+  YAML::Emitter e;
+  e << root;
+  const fs::path tmp = fs::path(out).concat(".tmp");
+  {
+    std::ofstream f(tmp);
+    f << "# " << name << "\n"
+      << "# A generated periodontitis case (" << what << ") written by Sulcus from\n"
+      << "# " << lesson.scene.filename().string() << "; the lesson " << lesson.file.filename().string()
+      << " draws the same case from the same seed.\n"
+      << e.c_str() << "\n";
+    if (!f.flush()) throw std::runtime_error(tmp.string() + ": cannot write the scene");
+  }
+  fs::rename(tmp, out, ec);
+  if (ec) throw std::runtime_error(out.string() + ": cannot write the scene: " + ec.message());
+  // Read back: the file must give the chart that was drawn.
+  SceneSpec back = LoadSceneSpec(out);
+  const PerioChart want = TrueChart(cased, lesson.teeth), got = TrueChart(back, lesson.teeth);
+  for (std::size_t t = 0; t < want.teeth.size(); ++t)
+    for (int s = 0; s < kSitesPerTooth; ++s) {
+      const auto& a = want.teeth[t].sites[s];
+      const auto& b = t < got.teeth.size() ? got.teeth[t].sites[s] : a;
+      if (t >= got.teeth.size() || a.pd_mm != b.pd_mm || a.recession_mm != b.recession_mm || a.bleeding != b.bleeding)
+        throw std::runtime_error(out.string() + ": the saved scene does not read back as the drawn case (tooth " +
+                                 std::to_string(want.teeth[t].fdi) + ")");
+    }
+  return back;
 }
 
 LessonSpec LoadLessonSpec(const fs::path& file) {

@@ -86,6 +86,15 @@ std::vector<SiteRef> StandardPath(std::vector<int> teeth);
 /// (at most a few thousand draws; throws std::runtime_error when none fits).
 SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth, const CaseSpec& c, std::uint64_t seed);
 
+/// Writes the scene the lesson runs on with its case drawn for `stage`,
+/// `extent` and `seed` as a scene file of its own at `out` (the lesson's scene
+/// with its teeth's pockets, recession and bleeding replaced; every other key as
+/// it was; the case named in the file's first lines). The file is read back and
+/// its true chart checked against the drawn one. An instructor's fixed case for
+/// lessons without `case:`. Throws std::runtime_error naming the file (a scene
+/// that names mesh files can only be saved in its own folder), SceneLoadError.
+SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64_t seed, const std::filesystem::path& out);
+
 /// The scene's true chart over `teeth` (clinical recession: the scene's
 /// recession minus the healthy margin's 1.5 mm above the CEJ).
 PerioChart TrueChart(const SceneSpec& scene, const std::vector<int>& teeth);

@@ -13,6 +13,7 @@
 #include <QKeyEvent>
 #include <QMessageBox>
 #include <QSurfaceFormat>
+#include <QTabWidget>
 #include <QTableWidget>
 #include <QTextBrowser>
 #include <QVTKOpenGLNativeWidget.h>
@@ -275,6 +276,33 @@ TEST(Instructor, RefusesAWrongPassphraseAndShowsEveryStudentWithTheRightOne) {
   EXPECT_TRUE(Save(d, "instructor.png"));
   EXPECT_EQ(view->DeleteStudent("grace"), 1);
   EXPECT_EQ(view->students(), 2);
+
+  // A case drawn on the practice lesson's teeth, previewed, saved as a scene.
+  const fs::path lesson = Lessons() / "periodontal_probing.yaml";
+  ASSERT_TRUE(view->DrawCase(lesson, Stage::kII, Extent::kGeneralized, 11));
+  EXPECT_TRUE(view->case_summary().contains("periodontitis stage II, generalized")) << view->case_summary().toStdString();
+  const LessonSpec spec = LoadLessonSpec(lesson);
+  CaseSpec c;
+  c.generated = true;
+  c.stage = Stage::kII;
+  c.extent = Extent::kGeneralized;
+  const PerioChart truth = TrueChart(ApplyCase(LoadSceneSpec(spec.scene), spec.teeth, c, 11), spec.teeth);
+  for (const ToothChart& t : truth.teeth)
+    for (int site = 0; site < kSitesPerTooth; ++site) {
+      EXPECT_EQ(view->case_chart()->depth({t.fdi, site}), t.sites[site].pd_mm) << t.fdi << " " << site;
+      EXPECT_EQ(view->case_chart()->bleeding({t.fdi, site}), t.sites[site].bleeding) << t.fdi << " " << site;
+    }
+  if (auto* tabs = d->findChild<QTabWidget*>()) tabs->setCurrentIndex(tabs->count() - 1);
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(d, "instructor_case.png"));
+  const fs::path saved = Out("case_stage_ii.yaml");
+  fs::remove(saved);
+  ASSERT_TRUE(view->SaveCase(saved)) << view->case_summary().toStdString();
+  EXPECT_EQ(Classify2017(TrueChart(LoadSceneSpec(saved), spec.teeth)).Summary(), "periodontitis stage II, generalized");
+  // A new draw replaces the old one.
+  ASSERT_TRUE(view->DrawCase(lesson, Stage::kIII, Extent::kLocalized, 5));
+  EXPECT_TRUE(view->case_summary().contains("stage III, localized")) << view->case_summary().toStdString();
+  EXPECT_FALSE(view->case_summary().contains("stage II,"));
 }
 
 TEST(LessonWindow, AssessmentShowsNoTruthAndLocksTheAids) {

@@ -46,6 +46,8 @@ TEST(Chart, CalIsDepthPlusRecessionWithHalvesRoundedDown) {
   EXPECT_EQ(*s.cal_mm(), 4);
   s.recession_mm = -1.5;  // 3.5 -> 3
   EXPECT_EQ(*s.cal_mm(), 3);
+  s.pd_mm = 1;  // the floor 0.5 mm coronal to the CEJ: no attachment lost
+  EXPECT_EQ(*s.cal_mm(), 0);
 }
 
 TEST(Chart, AdjacentTeethAcrossTheMidlineToo) {
