@@ -41,6 +41,7 @@ class ChartWidget : public QWidget {
   std::optional<int> depth(const SiteRef& s) const;
   bool bleeding(const SiteRef& s) const;
   int entered() const { return static_cast<int>(pd_.size()); }
+  bool shows_truth() const { return !truth_.empty(); }
   QSize sizeHint() const override;
 
  protected:

@@ -1,5 +1,6 @@
 #include "ui/force_gauge.h"
 
+#include <QFontMetricsF>
 #include <QPainter>
 
 #include <algorithm>
@@ -10,6 +11,11 @@ namespace sulcus::ui {
 ForceGauge::ForceGauge(QWidget* parent) : QWidget(parent) {
   setMinimumSize(260, 75);
   setToolTip("Probing force; the green band is the clinical probing force, 0.20 to 0.25 N");
+}
+
+void ForceGauge::SetLabel(const QString& label) {
+  label_ = label;
+  update();
 }
 
 void ForceGauge::SetForce(double f) {
@@ -23,7 +29,9 @@ void ForceGauge::paintEvent(QPaintEvent*) {
   const QRectF all = rect().adjusted(6, 6, -6, -6);
   p.fillRect(rect(), QColor(36, 38, 44));
   // The bar.
-  const QRectF bar(all.left(), all.top() + 22, all.width(), 26);
+  // Inset by half a label each side, so that the end labels (0.0, 0.6) are whole.
+  const double inset = QFontMetricsF(p.font()).horizontalAdvance("0.0") / 2 + 1;
+  const QRectF bar(all.left() + inset, all.top() + 22, all.width() - 2 * inset, 26);
   auto x_of = [&](double n) { return bar.left() + bar.width() * std::clamp(n / kScaleN, 0.0, 1.0); };
   p.fillRect(bar, QColor(58, 60, 68));
   p.fillRect(QRectF(QPointF(x_of(kBandLow), bar.top()), QPointF(x_of(kBandHigh), bar.bottom())), QColor(60, 170, 90));
@@ -32,13 +40,14 @@ void ForceGauge::paintEvent(QPaintEvent*) {
   p.setPen(QColor(200, 200, 205));
   for (double n = 0; n <= kScaleN + 1e-9; n += 0.1) {
     p.drawLine(QPointF(x_of(n), bar.bottom()), QPointF(x_of(n), bar.bottom() + 4));
-    p.drawText(QPointF(x_of(n) - 9, bar.bottom() + 16), QString::number(n, 'f', 1));
+    const QString label = QString::number(n, 'f', 1);
+    p.drawText(QPointF(x_of(n) - QFontMetricsF(p.font()).horizontalAdvance(label) / 2, bar.bottom() + 16), label);
   }
   QFont big = p.font();
   big.setBold(true);
   p.setFont(big);
   p.drawText(QPointF(all.left(), all.top() + 14),
-             QString("Force %1 N%2").arg(force_, 0, 'f', 3).arg(force_ > kScaleN ? "  (off scale)" : ""));
+             QString("%1 %2 N%3").arg(label_).arg(force_, 0, 'f', 3).arg(force_ > kScaleN ? "  (off scale)" : ""));
   p.setFont(QFont());
 }
 

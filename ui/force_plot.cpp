@@ -41,6 +41,9 @@ ForcePlot::ForcePlot(QWidget* parent) : QWidget(parent), widget_(new QVTKOpenGLN
   }
   chart_->SetShowLegend(false);
   chart_->GetLegend()->GetLabelProperties()->SetColor(0.1, 0.1, 0.12);  // on the legend's white box
+  // Top left, over the oldest seconds: the newest (right) stay visible.
+  chart_->GetLegend()->SetHorizontalAlignment(vtkChartLegend::LEFT);
+  chart_->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
   for (int axis : {vtkAxis::LEFT, vtkAxis::BOTTOM}) {
     chart_->GetAxis(axis)->GetLabelProperties()->SetColor(0.8, 0.8, 0.8);
     chart_->GetAxis(axis)->GetTitleProperties()->SetColor(0.8, 0.8, 0.8);

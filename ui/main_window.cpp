@@ -10,6 +10,7 @@
 #include <QInputDialog>
 #include <QLineEdit>
 #include <QRadioButton>
+#include <QScrollArea>
 #include <QSignalBlocker>
 #include <QSlider>
 #include <QTextBrowser>
@@ -82,6 +83,20 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
 }
 
 MainWindow::~MainWindow() { StopSession(); }
+
+namespace {
+// A side panel that scrolls when the screen is short (a 1366 x 768 laptop)
+// instead of holding the window taller than the screen.
+QScrollArea* Scrolling(QWidget* panel) {
+  auto* scroll = new QScrollArea;
+  scroll->setWidget(panel);
+  scroll->setWidgetResizable(true);
+  scroll->setFrameShape(QFrame::NoFrame);
+  scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+  scroll->setMinimumWidth(panel->sizeHint().width() + 16);
+  return scroll;
+}
+}  // namespace
 
 void MainWindow::BuildUi() {
   setWindowTitle("Sulcus");
@@ -179,14 +194,12 @@ void MainWindow::BuildUi() {
   layout->addWidget(new QLabel("Events"));
   events_ = new QListWidget;
   layout->addWidget(events_, 1);
-  auto* help = new QLabel("Mouse device: Ctrl+drag moves the tool, Ctrl+Shift+drag turns it, Ctrl+wheel pushes it; "
-                          "keys W/S, A/D, Q/E move it 0.1 mm (with Shift: turn; hold Alt for 0.02 mm steps). Drag "
-                          "without Ctrl moves the camera. F1: help.");
-  help->setWordWrap(true);
-  layout->addWidget(help);
+  device_help_ = new QLabel;
+  device_help_->setWordWrap(true);
+  layout->addWidget(device_help_);
   auto* dock = new QDockWidget("Instrument", this);
   dock->setObjectName("instrument");
-  dock->setWidget(panel);
+  dock->setWidget(Scrolling(panel));
   dock->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable);
   addDockWidget(Qt::RightDockWidgetArea, dock);
 
@@ -435,6 +448,7 @@ void MainWindow::BeginSession() {
   }
   if (!device.device) device = use_mouse();
   session_device_ = device.device->caps().name;
+  UpdateDeviceHelp(device.name);
   snapshot_ = HapticSnapshot{};  // nothing from the previous session is shown as this one's
   gauge_->Clear();
   plot_->Clear();
@@ -463,6 +477,14 @@ void MainWindow::BeginSession() {
     std::map<std::pair<int, int>, double> recession;
     for (const SiteRef& site : lesson_spec_->path) recession[{site.fdi, site.site}] = lesson_->recession_mm(site);
     chart_->SetLesson(lesson_spec_->teeth, lesson_spec_->path, recession);
+    if (lesson_spec_->practice()) {
+      // Practice: the true depth of each site appears once the student has entered it.
+      std::map<std::pair<int, int>, int> truth;
+      for (const ToothChart& t : TrueChart(scene_->spec, lesson_spec_->teeth).teeth)
+        for (int s = 0; s < kSitesPerTooth; ++s)
+          if (t.sites[s].pd_mm) truth[{t.fdi, s}] = *t.sites[s].pd_mm;
+      chart_->SetTruth(truth);
+    }
     feedback_->clear();
     feedback_shown_ = 0;
     looked_at_ = 0;
@@ -483,6 +505,27 @@ void MainWindow::BeginSession() {
                                .arg(Q(session_device_), Q(scene_file_.string()),
                                     session_->recorder() ? QString(", recording") : QString()));
 }
+
+void MainWindow::UpdateDeviceHelp(const std::string& device) {
+  // What moves the tool now: the footer describes the device that runs, not always the mouse.
+  QString text;
+  if (device == "mouse") {
+    text = "Mouse device: Ctrl+drag moves the tool, Ctrl+Shift+drag turns it, Ctrl+wheel pushes it; keys W/S, A/D, "
+           "Q/E move it 0.1 mm (with Shift: turn; hold Alt for 0.02 mm steps). Drag without Ctrl moves the camera.";
+  } else if (device.rfind("student:", 0) == 0) {
+    text = QString("A scripted student (%1) holds the probe: watch it work. Drag moves the camera.")
+               .arg(Q(device.substr(8)));
+  } else if (device.rfind("scripted:", 0) == 0 || device.rfind("replay", 0) == 0) {
+    text = QString("The tool follows %1, not your hand. Drag moves the camera; choose the mouse under Device to take "
+                   "it back.")
+               .arg(Q(device));
+  } else {
+    text = QString("The tool follows the %1 in your hand. Drag moves the camera.").arg(Q(session_device_));
+  }
+  device_help_->setText(text + " F1: help.");
+}
+
+QString MainWindow::device_help() const { return device_help_ ? device_help_->text() : QString(); }
 
 bool MainWindow::StartRecording(const std::filesystem::path& file) {
   if (!scene_) return false;
@@ -524,7 +567,16 @@ void MainWindow::Tick() {
     const std::size_t i = std::min<std::size_t>(snapshot_.tick, demonstration_->frames.size() - 1);
     view_->ShowGhost(demonstration_->frames[i].X_WG);
   }
-  gauge_->SetForce(snapshot_.force_W.norm());
+  if (lesson_) {
+    // In a lesson the gauge shows what the lesson scores: the force along the
+    // probe (pressing on the pocket floor), not the side force of the tip on the tooth.
+    const double along = snapshot_.force_W.dot(snapshot_.X_WG.rotation().col(2));
+    gauge_->SetLabel("Probing force");
+    gauge_->SetForce(std::max(0.0, along));
+  } else {
+    gauge_->SetLabel("Force");
+    gauge_->SetForce(snapshot_.force_W.norm());
+  }
   plot_->Push(snapshot_.time_s, snapshot_.force_W.norm(), snapshot_.torque_W.norm());
   session_->Pump();
   for (const HapticEvent& e : tap_.events) {
@@ -741,7 +793,7 @@ void MainWindow::BuildLessonDock() {
   layout->addLayout(buttons);
   lesson_dock_ = new QDockWidget("Lesson", this);
   lesson_dock_->setObjectName("lesson");
-  lesson_dock_->setWidget(panel);
+  lesson_dock_->setWidget(Scrolling(panel));
   addDockWidget(Qt::LeftDockWidgetArea, lesson_dock_);
   lesson_dock_->hide();
 }

@@ -73,6 +73,7 @@ class MainWindow : public QMainWindow {
   QString status_text() const;
   const QString& last_reading() const { return last_reading_; }
   SceneView* view() const { return view_.get(); }
+  vtkRenderer* renderer() const { return renderer_; }
   MouseKeyboardDevice* mouse() const { return mouse_; }
   QWidget* view_widget() const;
   void ShowSpheres(int level);
@@ -110,6 +111,8 @@ class MainWindow : public QMainWindow {
   int RecoverUnfinishedAttempts(const std::filesystem::path& results_dir = {});
   /// The lesson's banner (device lost, and so on); empty when none is shown.
   QString lesson_banner() const;
+  /// The footer's line on how the tool is moved (it names the device that runs).
+  QString device_help() const;
   const LessonRun* lesson() const { return lesson_.get(); }
   ChartWidget* chart() const { return chart_; }
   const std::optional<LessonResult>& last_result() const { return last_result_; }
@@ -193,6 +196,8 @@ class MainWindow : public QMainWindow {
   QDockWidget* lesson_dock_ = nullptr;
   QLabel *step_label_ = nullptr, *next_label_ = nullptr, *tip_label_ = nullptr, *tilt_label_ = nullptr;
   QLabel* banner_ = nullptr;  // the device stopped answering, ...
+  QLabel* device_help_ = nullptr;
+  void UpdateDeviceHelp(const std::string& device);
   bool device_was_lost_ = false;
   void SaveEntriesSoFar();
   QListWidget* feedback_ = nullptr;

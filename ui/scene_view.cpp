@@ -211,6 +211,7 @@ void SceneView::ShowSpheres(int level) {
 }
 
 void SceneView::SetGingivaTranslucent(bool on) {
+  gingiva_translucent_ = on;
   for (auto& a : gingiva_) a->GetProperty()->SetOpacity(on ? 0.45 : 1.0);
 }
 
@@ -221,6 +222,46 @@ void SceneView::Frame(const Vector3& focus, const Vector3& from_dir, double dist
   cam->SetPosition(eye.x(), eye.y(), eye.z());
   cam->SetViewUp(up.x(), up.y(), up.z());
   cam->SetViewAngle(30);
+  // Soft tissues between the camera and what it looks at (a cheek in front of a
+  // molar, the lips in front of the incisors) turn see-through, as a retracted
+  // cheek would be; they come back when the view no longer passes through them.
+  see_through_ = 0;
+  if (scene_) {
+    for (std::size_t i = 0; i < objects_.size() && i < scene_->spec.objects.size(); ++i) {
+      const ObjectSpec& o = scene_->spec.objects[i];
+      if (o.kind != ObjectSpec::Kind::kAnatomy || o.tissue == Tissue::kBone || o.tissue == Tissue::kGingiva) continue;
+      double b[6];
+      objects_[i]->GetBounds(b);
+      // Slab test of the segment eye -> focus against the actor's world box.
+      double t0 = 0, t1 = 1;
+      for (int a = 0; a < 3 && t0 <= t1; ++a) {
+        const double d = focus[a] - eye[a];
+        if (std::abs(d) < 1e-12) {
+          if (eye[a] < b[2 * a] || eye[a] > b[2 * a + 1]) t1 = -1;
+          continue;
+        }
+        double ta = (b[2 * a] - eye[a]) / d, tb = (b[2 * a + 1] - eye[a]) / d;
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+      }
+      const bool in_the_way = t0 <= t1;
+      objects_[i]->GetProperty()->SetOpacity(in_the_way ? 0.18 : LookOf(o.tissue).opacity);
+      see_through_ += in_the_way;
+    }
+    // The occlusal view of a full mouth looks at the lower arch: the upper one
+    // (teeth, their gingiva, jaw and palate) is faded out of the way.
+    for (std::size_t i = 0; i < objects_.size() && i < scene_->spec.objects.size(); ++i) {
+      const ObjectSpec& o = scene_->spec.objects[i];
+      const bool upper = ((o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva) &&
+                          (o.fdi / 10 == 1 || o.fdi / 10 == 2)) ||
+                         (o.kind == ObjectSpec::Kind::kAnatomy && (o.anatomy == "jaw_upper" || o.anatomy == "palate"));
+      if (!upper) continue;
+      if (fade_upper_) objects_[i]->GetProperty()->SetOpacity(0.08);
+      else if (o.kind != ObjectSpec::Kind::kAnatomy && !(o.tissue == Tissue::kGingiva && gingiva_translucent_))
+        objects_[i]->GetProperty()->SetOpacity(LookOf(o.tissue).opacity);
+    }
+  }
   renderer_->ResetCameraClippingRange();
 }
 
@@ -237,8 +278,11 @@ void SceneView::View(Side side) {
     centre += c;
     lo = lo.cwiseMin(c);
     hi = hi.cwiseMax(c);
-    buccal += o.X_WO.rotation().col(1) * (o.mirrored ? 1.0 : 1.0);
-    occlusal += o.X_WO.rotation().col(2);
+    buccal += o.X_WO.rotation().col(1);
+    // "Up" out of the lower arch: a lower tooth's occlusal direction, an upper
+    // tooth's reversed (both arches together would otherwise cancel out).
+    const int quadrant = o.fdi / 10;
+    occlusal += (quadrant == 1 || quadrant == 2 ? -1.0 : 1.0) * o.X_WO.rotation().col(2);
     ++teeth;
   }
   if (teeth == 0) {
@@ -251,6 +295,10 @@ void SceneView::View(Side side) {
   buccal.normalize();
   occlusal.normalize();
   const double extent = std::max(25.0, (hi - lo).norm() * 1.6);
+  bool lower = false, upper = false;
+  for (const ObjectSpec& o : scene_->spec.objects)
+    if (o.kind == ObjectSpec::Kind::kTooth) (o.fdi / 10 <= 2 ? upper : lower) = true;
+  fade_upper_ = side == Side::kOcclusal && lower && upper;
   switch (side) {
     case Side::kBuccal: Frame(centre, buccal + 0.35 * occlusal, 1.6 * extent, occlusal); break;
     case Side::kLingual: Frame(centre, -buccal + 0.35 * occlusal, 1.6 * extent, occlusal); break;
@@ -263,6 +311,7 @@ bool SceneView::LookAtTooth(int fdi) {
   for (const ObjectSpec& o : scene_->spec.objects) {
     if (o.kind != ObjectSpec::Kind::kTooth || o.fdi != fdi) continue;
     const Vector3 occlusal = o.X_WO.rotation().col(2);
+    fade_upper_ = false;
     Frame(o.X_WO * Vector3(0, 0, 2), o.X_WO.rotation().col(1) + 0.4 * occlusal, 38, occlusal);
     return true;
   }

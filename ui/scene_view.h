@@ -44,6 +44,8 @@ class SceneView {
   bool LookAtTooth(int fdi);
 
   const RigidTransform& graphic_pose() const { return X_WG_; }
+  /// How many soft tissues the current view looks through (shown see-through).
+  int see_through() const { return see_through_; }
 
  private:
   void AddToolActors(const ProbeModel& probe);
@@ -59,6 +61,8 @@ class SceneView {
   vtkSmartPointer<vtkPolyData> contact_poly_;
   RigidTransform X_WG_;
   int spheres_shown_ = -1;
+  int see_through_ = 0;
+  bool fade_upper_ = false, gingiva_translucent_ = false;
   bool show_contacts_ = true;
 };
 

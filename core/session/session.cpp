@@ -69,7 +69,7 @@ void Session::Deliver(const TickRecord& r) {
 
 std::size_t Session::Pump() {
   std::size_t n = 0;
-  while (ring_.Pop(&scratch_)) {
+  while (n < kRingTicks && ring_.Pop(&scratch_)) {
     Deliver(scratch_);
     ++n;
   }
@@ -87,7 +87,8 @@ void Session::End() {
 void Session::Stop() {
   stopping_.store(true, std::memory_order_release);
   if (thread_) thread_->Stop();
-  Pump();
+  while (Pump() > 0) {
+  }
   if (started_ || delivered_ > 0) End();
 }
 

@@ -75,8 +75,10 @@ class Session final : private TickSink {
 
   /// Starts the device and the haptic thread. Throws DeviceError, std::system_error.
   void Start();
-  /// Live: hands the records made since the last call to the consumers; returns
-  /// how many. Call it often (every few ms to every 100 ms); the ring holds 16 s at 1 kHz.
+  /// Live: hands the records made since the last call to the consumers, at most
+  /// a ring's worth (16 s at 1 kHz), so that a free-running thread that refills
+  /// the ring as fast as it drains cannot hold the caller; returns how many.
+  /// Call it often (every few ms to every 100 ms).
   std::size_t Pump();
   /// Live: true while the thread runs.
   bool running() const { return thread_ && thread_->running(); }
@@ -122,7 +124,8 @@ class Session final : private TickSink {
   std::unique_ptr<HapticThread> thread_;
   std::unique_ptr<RecordingWriter> recorder_;
   std::vector<TickConsumer*> consumers_;
-  SpscRing<TickRecord, 16384> ring_;
+  static constexpr std::size_t kRingTicks = 16384;
+  SpscRing<TickRecord, kRingTicks> ring_;
   TickRecord scratch_;
   TimeHistogram offline_step_us_;
   double last_step_us_ = 0;

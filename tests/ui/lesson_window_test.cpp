@@ -153,6 +153,7 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   bool truth_shown = false;
   for (const std::string& f : w.lesson()->feedback()) truth_shown |= f.find("the true depth is") != std::string::npos;
   EXPECT_TRUE(truth_shown) << "practice: the truth after each site";
+  EXPECT_TRUE(w.chart()->shows_truth()) << "practice: the chart's true-PD row";
   DeclaredDiagnosis d;
   d.stage = Stage::kIII;
   d.extent = Extent::kLocalized;
@@ -319,6 +320,7 @@ TEST(LessonWindow, AssessmentShowsNoTruthAndLocksTheAids) {
   EXPECT_FALSE(translucent->isEnabled()) << "the aids cannot be turned on";
   ASSERT_TRUE(WaitFor([&] { return w.lesson()->current_step() >= 2; }));
   for (const std::string& f : w.lesson()->feedback()) EXPECT_EQ(f.find("true depth"), std::string::npos) << f;
+  EXPECT_FALSE(w.chart()->shows_truth()) << "assessment: no true-PD row";
   EXPECT_TRUE(Save(&w, "assessment_in_progress.png"));
   ChartEverything(w);
   ASSERT_TRUE(w.FinishLesson());

@@ -12,6 +12,8 @@
 #include <QMouseEvent>
 #include <QSurfaceFormat>
 #include <QVTKOpenGLNativeWidget.h>
+#include <vtkCamera.h>
+#include <vtkRenderer.h>
 
 #include <cmath>
 #include <filesystem>
@@ -59,6 +61,9 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
   EXPECT_GT(s.tick, 1000u);
   EXPECT_DOUBLE_EQ(w.gauge_force(), s.force_W.norm()) << "the gauge shows the engine's force";
   EXPECT_TRUE(w.status_text().contains("Haptic rate 1000 Hz")) << w.status_text().toStdString();
+  EXPECT_TRUE(w.device_help().contains("scripted:poke, not your hand")) << w.device_help().toStdString();
+  EXPECT_FALSE(w.device_help().contains("Ctrl+drag")) << "the footer describes the device that runs";
+  EXPECT_LE(w.minimumSizeHint().height(), 740) << "fits a 1366 x 768 laptop screen with its panel";
   EXPECT_TRUE(w.LookAtTooth(44));
   EXPECT_FALSE(w.LookAtTooth(11));
   ASSERT_TRUE(w.SaveScreenshot(Out("probe_on_tooth.png")));
@@ -98,6 +103,7 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
   // The mouse and keyboard device: Ctrl + drag moves the tool, W moves it +y.
   w.SetDevice("mouse");
   ASSERT_NE(w.mouse(), nullptr);
+  EXPECT_TRUE(w.device_help().contains("Ctrl+drag moves the tool")) << w.device_help().toStdString();
   const Vector3 tool_before = w.mouse()->pose().translation();
   QWidget* view = w.view_widget();
   const QPoint c = view->rect().center();
@@ -152,6 +158,29 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
   RunFor(100);
   w.error_dialog()->grab().save(QString::fromStdString(Out("error_dialog.png").string()));
   EXPECT_TRUE(w.running()) << "the previous scene keeps running";
+}
+
+TEST(MainWindow, TheFullMouthIsSeenFromWhereADentistLooks) {
+  MainWindow w;
+  w.resize(1280, 760);
+  w.show();
+  w.SetDevice("mouse");
+  ASSERT_TRUE(w.OpenScene(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml", true));
+  RunFor(200);
+  // Looking at a lower molar from the buccal side passes through the cheek: it turns see-through.
+  ASSERT_TRUE(w.LookAtTooth(36));
+  EXPECT_GE(w.view()->see_through(), 1) << "the cheek in front of 36";
+  RunFor(100);
+  ASSERT_TRUE(w.SaveScreenshot(Out("full_mouth_36.png")));
+  // The occlusal view looks down on the lower arch, the incisors at the top of the picture.
+  w.view()->View(SceneView::Side::kOcclusal);
+  double up[3], from[3], to[3];
+  w.renderer()->GetActiveCamera()->GetViewUp(up);
+  w.renderer()->GetActiveCamera()->GetPosition(from);
+  w.renderer()->GetActiveCamera()->GetFocalPoint(to);
+  EXPECT_GT(from[2] - to[2], 0) << "from above (the lower arch's occlusal side)";
+  RunFor(100);
+  ASSERT_TRUE(w.SaveScreenshot(Out("full_mouth_occlusal.png")));
 }
 
 }  // namespace

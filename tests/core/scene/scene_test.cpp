@@ -179,7 +179,7 @@ TEST(SceneFile, SphereTreeSettingsPerObjectAndForTheCollars) {
 
 TEST(SceneFile, ShippedScenesValidate) {
   int seen = 0;
-  for (const char* folder : {"scenes", "scenes/hard"}) {
+  for (const char* folder : {"scenes", "tests/scenes/hard"}) {
     for (const auto& entry : fs::directory_iterator(fs::path(SULCUS_SOURCE_DIR) / folder)) {
       if (entry.path().extension() != ".yaml") continue;
       ++seen;
@@ -190,7 +190,7 @@ TEST(SceneFile, ShippedScenesValidate) {
 }
 
 TEST(SceneFile, CompilesIntoAnEngineModelThatRuns) {
-  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes/hard/narrow_slot.yaml");
+  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard/narrow_slot.yaml");
   fs::remove_all(Dir() / "cache");  // an empty cache: every tree is built and reports progress
   int calls = 0;
   const auto scene = CompileScene(spec, Dir() / "cache", [&](std::string_view, double) {

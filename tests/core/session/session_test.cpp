@@ -77,6 +77,38 @@ TEST(Session, LiveTicksReachTheConsumersOffTheHapticThread) {
   EXPECT_EQ(session.dropped_ticks(), 0u);
 }
 
+// A free-running thread refills the ring as fast as a consumer drains it: one
+// Pump hands at most a ring's worth and returns, so the window's timer is not
+// held for as long as the thread can go.
+TEST(Session, OnePumpOfAFreeRunningThreadIsBounded) {
+  const auto scene = Block();
+  SessionOptions so;
+  so.max_ticks = 200000;
+  so.realtime = false;
+  so.free_run = true;
+  Session session(*scene, MakeDevice("scripted:poke", *scene, 300), so);
+  struct Slow final : TickConsumer {
+    std::uint64_t n = 0;
+    void OnTick(const TickRecord&) override {
+      ++n;
+      if (n % 64 == 0) std::this_thread::sleep_for(std::chrono::microseconds(50));  // slower than the thread
+    }
+  } slow;
+  session.AddConsumer(&slow);
+  session.Start();
+  while (slow.n == 0) {
+    session.Pump();
+    std::this_thread::yield();
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the ring fills
+  const std::size_t one = session.Pump();
+  EXPECT_LE(one, 16384u) << "one pump: at most a ring's worth";
+  EXPECT_GT(one, 0u);
+  session.Stop();
+  EXPECT_EQ(session.dropped_ticks(), 0u) << "free run waits for room, it drops nothing";
+  EXPECT_EQ(slow.n, session.ticks_delivered());
+}
+
 TEST(Session, DeviceSpellingsAreCheckedWithAClearError) {
   const auto scene = Block();
   try {
