@@ -184,7 +184,10 @@ void AddRunCommands(CLI::App& app) {
   exp->add_option("FILE", *file, "Recording file")->required()->check(CLI::ExistingFile);
   exp->add_flag("--csv", *csv, "CSV (the only format so far)");
   exp->add_option("-o,--output", *out, "Output file (default: standard output)");
-  exp->callback([=] {
+  // The callback holds every flag's storage: CLI11 writes through the pointers
+  // while parsing, after this function has returned.
+  exp->callback([file, out, csv] {
+    (void)*csv;  // CSV is the only format; the flag is accepted for scripts that name it
     const Recording rec = ReadRecording(*file);
     if (!rec.warning.empty()) std::fprintf(stderr, "warning: %s\n", rec.warning.c_str());
     if (out->empty()) {

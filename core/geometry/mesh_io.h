@@ -1,7 +1,8 @@
 #pragma once
-// Mesh files: STL (ASCII and binary), OBJ, PLY and OFF, read and written through
-// OpenMesh. Loading either returns a complete mesh or throws MeshError naming the
-// file and the fault; nothing is half-loaded.
+// Mesh files: STL (ASCII and binary), OBJ, PLY and OFF, read by Sulcus's own
+// readers (mesh_readers.h: bounded by the file, for input from someone else) and
+// written through OpenMesh. Loading either returns a complete mesh or throws
+// MeshError naming the file and the fault; nothing is half-loaded.
 
 #include <filesystem>
 
@@ -27,7 +28,7 @@ struct MeshSaveOptions {
 
 /// Writes the mesh; the format comes from the extension. Coordinates survive a
 /// round trip to float32 precision (about 1e-7 relative, 2e-6 mm on a tooth): STL
-/// stores float32, and OpenMesh's readers parse every format into float32.
+/// and binary PLY store float32, and OpenMesh writes text formats at float precision.
 /// Throws MeshError when the file cannot be written.
 void SaveMesh(const TriangleMesh& mesh, const std::filesystem::path& path,
               const MeshSaveOptions& options = {});

@@ -1,6 +1,7 @@
 #include "core/haptics/recording.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iomanip>
@@ -214,6 +215,13 @@ Recording ReadRecording(const std::filesystem::path& file) {
                     std::to_string(at) + "); the " + std::to_string(rec.frames.size()) + " frames before it are kept";
       break;
     }
+    // A recording is replayed into the engine and read into reports: a NaN or an
+    // infinity in it is corruption, refused, never carried on.
+    const auto finite = [](const RigidTransform& X) { return X.rotation().allFinite() && X.translation().allFinite(); };
+    if (!std::isfinite(r.time_s) || !std::isfinite(r.sample.time_s) || !finite(r.sample.X_WH) || !finite(r.X_WG) ||
+        !r.force_W.allFinite() || !r.torque_W.allFinite())
+      throw RecordingError(file.string() + ": frame " + std::to_string(rec.frames.size()) + " (byte " + std::to_string(at) +
+                           ") holds a non-finite number (NaN or infinity): the recording is corrupt");
     rec.frames.push_back(r);
   }
   return rec;

@@ -171,13 +171,23 @@ Trajectory LoadTrajectoryCsv(const std::filesystem::path& file) {
       fail("expected 7 or 8 columns (" + expected + "), got " + std::to_string(v.size()));
     Keyframe k;
     k.t_s = v[0];
+    if (k.t_s < 0 || k.t_s > 1e6) fail("time " + std::to_string(k.t_s) + " s is out of range (0 to 1000000 s)");
     if (!keys.empty() && !(k.t_s > keys.back().t_s))
-      fail("time " + cell + " must be after the previous row's " + std::to_string(keys.back().t_s) + " s");
+      fail("time " + std::to_string(k.t_s) + " s must be after the previous row's " + std::to_string(keys.back().t_s) + " s");
+    for (int c = 1; c <= 3; ++c)
+      if (std::abs(v[static_cast<std::size_t>(c)]) > 1e4)
+        fail("column " + std::to_string(c + 1) + ": " + std::to_string(v[static_cast<std::size_t>(c)]) +
+             " mm is out of range (a device moves within +-10000 mm)");
+    for (int c = 4; c <= 6; ++c)
+      if (std::abs(v[static_cast<std::size_t>(c)]) > 36000)
+        fail("column " + std::to_string(c + 1) + ": " + std::to_string(v[static_cast<std::size_t>(c)]) +
+             " degrees is out of range (+-36000)");
     k.p_W = {v[1], v[2], v[3]};
     const double deg = kPi / 180;
     k.q_W = Quaternion(RotationFromEuler(v[4] * deg, v[5] * deg, v[6] * deg));
     if (v.size() == 8) {
-      if (v[7] < 0 || v[7] != std::floor(v[7])) fail("buttons must be a whole number >= 0");
+      if (v[7] < 0 || v[7] != std::floor(v[7]) || v[7] > 4294967295.0)
+        fail("buttons must be a whole number from 0 to 4294967295 (a bit per button)");
       k.buttons = static_cast<std::uint32_t>(v[7]);
     }
     keys.push_back(k);

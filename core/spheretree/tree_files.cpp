@@ -94,6 +94,13 @@ SphereTree ReadSph(const fs::path& path, const Vector3& offset) {
   if (branching < 2 || branching > 32) fail("branch " + std::to_string(branching) + " out of range (2 to 32)");
   const std::size_t full = FullSize(levels, branching);
   if (full > 50'000'000) fail("tree too large");
+  // Every node takes a line of at least four numbers ("0 0 0 0"): a header that
+  // asks for more nodes than the file can hold is refused before anything is allocated.
+  std::error_code size_ec;
+  const std::uintmax_t bytes = fs::file_size(path, size_ec);
+  if (!size_ec && full > bytes / 8 + 1)
+    fail(std::to_string(levels) + " levels of " + std::to_string(branching) + " need " + std::to_string(full) +
+         " node lines; a file of " + std::to_string(bytes) + " bytes cannot hold them");
 
   struct Slot {
     double x, y, z, r;
@@ -118,6 +125,10 @@ SphereTree ReadSph(const fs::path& path, const Vector3& offset) {
     for (double v : values) {
       if (!std::isfinite(v)) fail("non-finite number");
     }
+    // Millimetres: a sphere 100 m across or 100 m away is no tooth's (and would overflow what measures it).
+    for (int k = 0; k < 4; ++k)
+      if (std::abs(values[static_cast<std::size_t>(k)]) > 1e5)
+        fail("'" + std::to_string(values[static_cast<std::size_t>(k)]) + "' mm is out of range (at most 100000 mm)");
     slots.push_back({values[0], values[1], values[2], values[3]});
   }
   if (slots.size() < full) {

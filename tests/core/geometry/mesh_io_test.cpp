@@ -100,7 +100,7 @@ TEST(MeshIo, BinaryAndAsciiStlDiffer) {
 TEST(MeshIo, BadFilesFailWithTheirFault) {
   ExpectLoadFails(Bad("does_not_exist.stl"), "no such file");
   ExpectLoadFails(Bad("empty.stl"), "file is empty");
-  ExpectLoadFails(Bad("garbage.off"), "not a readable off file");
+  ExpectLoadFails(Bad("garbage.off"), "line 1: expected the header 'OFF', found 'this'");
   ExpectLoadFails(Bad("open.obj"), "open: 3 boundary edge(s) (expected a closed, manifold surface)");
   ExpectLoadFails(Bad("nonmanifold_edge.obj"), "non-manifold: 1 edge(s) shared by more than two faces");
   ExpectLoadFails(Bad("pinched_vertex.off"), "non-manifold: 1 vertex(es) where separate sheets touch");
