@@ -193,7 +193,20 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
     case ObjectSpec::Kind::kTooth: return ArchMirror(o.mirrored, GenerateTooth(o.fdi).mesh);
     case ObjectSpec::Kind::kGingiva: return ArchMirror(o.mirrored, GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o)).mesh);
     case ObjectSpec::Kind::kAnatomy: return MakeSoftTissue(o.anatomy, ArchParams{.upper_lift_mm = o.mouth_open_mm});
-    case ObjectSpec::Kind::kMesh: return LoadMesh(o.mesh);
+    case ObjectSpec::Kind::kMesh: {
+      TriangleMesh m = LoadMesh(o.mesh);
+      // Scene meshes are in millimetres: a mouth is about 60 mm across. A mesh of
+      // metres read as millimetres, or a scan in microns, would build its trees for
+      // minutes and mean nothing: refused with the size it has.
+      const Aabb b = m.Bounds();
+      const double across = (b.max - b.min).norm();
+      if (across > kMaxSceneObjectMm)
+        throw MeshError(o.mesh.string(), "is " + std::to_string(static_cast<long long>(across)) +
+                                             " mm across; a scene object may be at most " +
+                                             std::to_string(static_cast<int>(kMaxSceneObjectMm)) +
+                                             " mm (is the mesh in another unit than millimetres?)");
+      return m;
+    }
     case ObjectSpec::Kind::kBox:
       return MakeBox(o.size, std::max(1, static_cast<int>(std::ceil(o.size.maxCoeff() / 2))));
     case ObjectSpec::Kind::kSphere: return MakeIcosphere(o.radius_mm, 4);

@@ -113,8 +113,9 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     const std::string base = folder.lexically_normal().string();
     if (fs::path(rel).is_absolute() || full.string().rfind(base, 0) != 0 || rel.find("..") != std::string::npos) {
       r.Error(n["mesh"], "mesh path '" + rel + "' leaves the scene's folder; put the mesh beside the scene file");
-    } else if (!fs::exists(full)) {
-      r.Error(n["mesh"], "mesh file '" + rel + "' not found (looked for " + full.string() + ")");
+    } else if (std::error_code ec; !fs::exists(full, ec)) {
+      r.Error(n["mesh"], ec ? "mesh file '" + rel.substr(0, 200) + "' cannot be looked up: " + ec.message()
+                            : "mesh file '" + rel + "' not found (looked for " + full.string() + ")");
     }
     o.mesh = full;
     o.name = fs::path(rel).stem().string();
@@ -134,15 +135,15 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   } else if (kind == "box") {
     o.kind = ObjectSpec::Kind::kBox;
     double s[3] = {1, 1, 1};
-    r.Numbers(n["box"], "box", 3, 1e-3, 1000, s, "mm", "sizes along x, y, z in mm");
+    r.Numbers(n["box"], "box", 3, 1e-3, 200, s, "mm", "sizes along x, y, z in mm");
     o.size = Vector3(s[0], s[1], s[2]);
     o.name = "box " + std::to_string(index + 1);
   } else {
     o.kind = kind == "sphere" ? ObjectSpec::Kind::kSphere : ObjectSpec::Kind::kCylinder;
-    o.radius_mm = r.Number(n[kind], kind, 1e-3, 1000, 1, "mm");
+    o.radius_mm = r.Number(n[kind], kind, 1e-3, 100, 1, "mm (a mouth is about 60 mm across)");
     if (kind == "cylinder") {
       if (n["height_mm"]) {
-        o.height_mm = r.Number(n["height_mm"], "height_mm", 1e-3, 1000, 1, "mm");
+        o.height_mm = r.Number(n["height_mm"], "height_mm", 1e-3, 200, 1, "mm");
       } else {
         r.Error(n, "a cylinder needs 'height_mm'");
       }

@@ -105,6 +105,9 @@ struct SceneSpec {
   std::vector<ObjectSpec> objects;
 };
 
+/// The largest object a scene may hold, in mm (a mouth is about 60 mm across).
+inline constexpr double kMaxSceneObjectMm = 300;
+
 /// Parses and validates a scene file. Throws SceneLoadError listing every error
 /// (unknown keys with a suggestion, wrong types, out-of-range values, missing mesh
 /// files, non-existent FDI numbers, paths leaving the scene's folder, unknown

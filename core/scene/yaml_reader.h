@@ -168,7 +168,8 @@ inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind, const std:
   const std::filesystem::path& file = r.file_;
   std::ifstream in(file);
   if (!in) {
-    r.errors().push_back({file.string(), 0, 0, std::filesystem::exists(file) ? "cannot be read" : "no such " + kind});
+    std::error_code ec;
+    r.errors().push_back({file.string(), 0, 0, std::filesystem::exists(file, ec) ? "cannot be read" : "no such " + kind});
     throw SceneLoadError(r.errors());
   }
   std::stringstream text;
@@ -176,7 +177,7 @@ inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind, const std:
   YAML::Node root;
   try {
     root = YAML::Load(text.str());
-  } catch (const YAML::ParserException& e) {
+  } catch (const YAML::Exception& e) {  // syntax, too deep, ...
     r.Error(e.mark, "YAML syntax: " + e.msg);
     throw SceneLoadError(r.errors());
   }

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 
@@ -86,6 +87,37 @@ TEST(SceneFile, MeshPathsStayInTheSceneFolderAndMustExist) {
   EXPECT_EQ(missing[0].rfind("2:11: mesh file 'nope.stl' not found (looked for ", 0), 0u) << missing[0];
 }
 
+TEST(SceneFile, AMeshFarTooLargeForAMouthIsRefusedBeforeItsTreesAreBuilt) {
+  // A tetrahedron 1,000 mm across: a mesh in another unit, or a slipped scale.
+  {
+    std::ofstream stl(Dir() / "huge.stl");
+    stl << "solid huge\n";
+    const double v[4][3] = {{0, 0, 0}, {1000, 0, 0}, {0, 1000, 0}, {0, 0, 1000}};
+    for (const auto& f : {std::array{0, 2, 1}, std::array{0, 1, 3}, std::array{0, 3, 2}, std::array{1, 2, 3}}) {
+      stl << "facet normal 0 0 0\nouter loop\n";
+      for (int i : f) stl << "vertex " << v[i][0] << " " << v[i][1] << " " << v[i][2] << "\n";
+      stl << "endloop\nendfacet\n";
+    }
+    stl << "endsolid huge\n";
+  }
+  const SceneSpec spec = LoadSceneSpec(Write("huge_mesh.yaml", "objects:\n  - mesh: huge.stl\n    tissue: bone\n"));
+  bool asked = false;
+  try {
+    CompileScene(spec, Dir() / "cache-huge", [&](std::string_view stage, double) {
+      asked |= stage.find("cover") != std::string_view::npos;
+      return true;
+    });
+    FAIL() << "compiled a 1,000 mm mesh";
+  } catch (const MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("huge.stl: is 1732 mm across; a scene object may be at most 300 mm"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(asked) << "refused before any tree was built";
+  EXPECT_EQ(Errors("objects:\n  - box: [1000, 1, 1]\n    tissue: bone\n"),
+            (Lines{"2:11: 'box' is 1000 mm, expected 0.001 to 200"}));
+}
+
 TEST(SceneFile, EffectsAreValidatedEvenBeforeTheyExist) {
   EXPECT_EQ(Errors("effects: [contact, probing_dept]\nobjects: []\n"),
             (Lines{"1:20: unknown effect 'probing_dept'; did you mean 'probing_depth'?"}));
@@ -101,7 +133,7 @@ TEST(SceneFile, ManyErrorsAtOnceAndSyntaxErrors) {
   EXPECT_EQ(all, (Lines{"2:12: FDI 99 does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)",
                         "3:5: 'box 2' needs a 'tissue' (enamel, root, gingiva, bone, tongue, cheek, palate, lip, "
                         "mucosa, metal)",
-                        "4:13: 'sphere' is -2 mm, expected 0.001 to 1000",
+                        "4:13: 'sphere' is -2 mm (a mouth is about 60 mm across), expected 0.001 to 100",
                         "5:13: unknown tissue 'bonne'; did you mean 'bone'?"}));
   const Lines syntax = Errors("objects:\n  - tooth: [46\n");
   ASSERT_EQ(syntax.size(), 1u);
