@@ -199,6 +199,7 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   w.report_dialog()->hide();
   QApplication::processEvents();
   EXPECT_GT(w.plot_rows(), 10) << "the force trace of the last seconds up to the cursor";
+  EXPECT_LE(w.minimumSizeHint().height(), 740) << "with the replay's timeline the window still fits 768 px";
   EXPECT_TRUE(Save(&w, "replay_at_46DB.png"));
   w.SetReplayPlaying(true);
   const std::uint64_t from = w.replay_tick();
