@@ -55,9 +55,14 @@ void Session::Start() {
 void Session::Push(const TickRecord& r) noexcept {
   // Free-running (no deadlines), the thread waits for room rather than drop a
   // tick; at its rate it never waits (a full ring is counted as dropped).
-  if (options_.free_run)
-    while (ring_.size() >= ring_.capacity() && !stopping_.load(std::memory_order_acquire))
+  if (options_.free_run) {
+    while (ring_.size() >= ring_.capacity()) {
+      // A tick made after Stop() was asked for is not the session's: with the
+      // ring full it is left out (not counted as dropped).
+      if (stopping_.load(std::memory_order_acquire)) return;
       std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+  }
   ring_.Push(r);
 }
 
