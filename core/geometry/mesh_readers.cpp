@@ -530,10 +530,10 @@ RawMesh ReadPly(const std::string& b, const fs::path& path) {
           continue;
         }
         const double c = body.Read(pr.count_type, "a list's count");
-        if (!(c >= 0) || c != std::floor(c)) body.Fail("a list's count must be a whole number >= 0");
+        if (!std::isfinite(c) || c < 0 || c != std::floor(c)) body.Fail("a list's count must be a whole number >= 0");
         const std::size_t item = format == 0 ? 2 : PlySize(pr.type);
         if (c > static_cast<double>(body.remaining() / item + 1))
-          body.Fail("a list of " + std::to_string(static_cast<long long>(c)) + " items is longer than the file");
+          body.Fail("a list of " + std::to_string(c) + " items is longer than the file");
         const long long count = static_cast<long long>(c);
         for (long long j = 0; j < count; ++j) {
           const double v = body.Read(pr.type, "a list item");

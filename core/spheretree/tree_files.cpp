@@ -223,6 +223,7 @@ SphereTree ReadTreeBinary(const fs::path& path, std::uint64_t expected_key) {
   std::memcpy(&stored, buf.data() + kHead + body, sizeof stored);
   if (stored != Fnv1a(buf.data(), kHead + body)) throw TreeFileError(name + ": checksum mismatch (corrupt)");
   if (key != expected_key) throw TreeFileError(name + ": built for another mesh or other parameters");
+  if (n == 0) throw TreeFileError(name + ": holds no spheres (a tree has at least its root)");
   SphereTree tree;
   tree.levels = static_cast<int>(header[1]);
   tree.branching = static_cast<int>(header[2]);
