@@ -18,10 +18,6 @@ namespace sulcus {
 namespace {
 
 namespace fs = std::filesystem;
-using OpenMesh::VertexHandle;
-using OpenMesh::HalfedgeHandle;
-using OpenMesh::FaceHandle;
-using OpenMesh::EdgeHandle;
 
 struct DoubleTraits : OpenMesh::DefaultTraits {
   using Point = OpenMesh::Vec3d;

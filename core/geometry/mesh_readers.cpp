@@ -9,7 +9,6 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <functional>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -86,9 +85,8 @@ class Tokens {
     }
     return false;
   }
-  int line() const { return line_ + (at_line_start_ ? 1 : 0); }
-  int token_line() const { return line_; }
   std::size_t pos() const { return pos_; }
+  int line() const { return line_; }  // of the last token or line read
   void Seek(std::size_t p, int line) {
     pos_ = p;
     line_ = line;
@@ -129,9 +127,9 @@ bool ParseInt(std::string_view t, long long* v) {
   return r.ec == std::errc() && r.ptr == t.data() + t.size();
 }
 
-int CheckedIndex(long long v, const std::function<void(const std::string&)>& fail) {
+int CheckedIndex(long long v, const Tokens& tok) {
   if (v < std::numeric_limits<int>::min() / 2 || v > std::numeric_limits<int>::max() / 2)
-    fail("vertex index " + std::to_string(v) + " is out of range");
+    tok.Fail("vertex index " + std::to_string(v) + " is out of range");
   return static_cast<int>(v);
 }
 
@@ -254,7 +252,6 @@ RawMesh ReadObj(const std::string& text, const fs::path& path) {
   Tokens tok(text, path);
   RawMesh m;
   std::vector<std::string_view> t;
-  auto fail = [&](const std::string& w) { tok.Fail(w); };
   while (tok.NextLine(&t)) {
     if (t[0] == "v") {
       m.points.push_back(Point3(t, 1, tok, "vertex"));
@@ -270,7 +267,7 @@ RawMesh ReadObj(const std::string& text, const fs::path& path) {
         // Negative: relative to the vertices read so far.
         if (v < 0) v += static_cast<long long>(m.points.size());
         else v -= 1;
-        poly.push_back(CheckedIndex(v, fail));
+        poly.push_back(CheckedIndex(v, tok));
       }
       m.polygons.push_back(std::move(poly));
     }
@@ -307,14 +304,11 @@ RawMesh ReadOff(const std::string& text, const fs::path& path) {
   RawMesh m;
   m.points.reserve(static_cast<std::size_t>(nv));
   m.polygons.reserve(static_cast<std::size_t>(nf));
-  const bool colours = head[0] == 'C';
-  (void)colours;
   for (long long i = 0; i < nv; ++i) {
     if (!tok.NextLine(&t))
       throw MeshError(path.string(), "ends after " + std::to_string(i) + " of its " + std::to_string(nv) + " vertices");
     m.points.push_back(Point3(t, 0, tok, "vertex"));
   }
-  auto fail = [&](const std::string& w) { tok.Fail(w); };
   for (long long i = 0; i < nf; ++i) {
     if (!tok.NextLine(&t))
       throw MeshError(path.string(), "ends after " + std::to_string(i) + " of its " + std::to_string(nf) + " faces");
@@ -326,7 +320,7 @@ RawMesh ReadOff(const std::string& text, const fs::path& path) {
     for (long long j = 0; j < k; ++j) {
       long long v;
       if (!ParseInt(t[static_cast<std::size_t>(j + 1)], &v)) tok.Fail("face vertex '" + std::string(t[j + 1]) + "' is not an index");
-      poly.push_back(CheckedIndex(v, fail));
+      poly.push_back(CheckedIndex(v, tok));
     }
     m.polygons.push_back(std::move(poly));
   }
@@ -428,35 +422,16 @@ class PlyBody {
 
 RawMesh ReadPly(const std::string& b, const fs::path& path) {
   // The header: text lines up to end_header.
-  std::size_t pos = 0;
-  int line = 0;
-  auto next_line = [&](std::string* out) {
-    if (pos >= b.size()) return false;
-    std::size_t e = b.find('\n', pos);
-    if (e == std::string::npos) e = b.size();
-    *out = b.substr(pos, e - pos);
-    if (!out->empty() && out->back() == '\r') out->pop_back();
-    pos = std::min(b.size(), e + 1);
-    ++line;
-    return true;
-  };
-  auto fail = [&](const std::string& what) -> void {
-    throw MeshError(path.string(), "line " + std::to_string(line) + ": " + what);
-  };
-  std::string l;
-  if (!next_line(&l) || l != "ply") fail("expected 'ply' as the first line");
+  Tokens header(b, path);
+  auto fail = [&](const std::string& what) { header.Fail(what); };
+  std::vector<std::string_view> t;
+  if (!header.NextLine(&t) || t.size() != 1 || t[0] != "ply") fail("expected 'ply' as the first line");
   int format = -1;
   std::vector<PlyElement> elements;
   bool header_done = false;
-  while (next_line(&l)) {
-    std::vector<std::string> w;
-    for (std::size_t i = 0; i < l.size();) {
-      while (i < l.size() && std::isspace(static_cast<unsigned char>(l[i]))) ++i;
-      const std::size_t s = i;
-      while (i < l.size() && !std::isspace(static_cast<unsigned char>(l[i]))) ++i;
-      if (i > s) w.push_back(l.substr(s, i - s));
-    }
-    if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
+  while (header.NextLine(&t)) {
+    const std::vector<std::string> w(t.begin(), t.end());
+    if (w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "end_header") {
       header_done = true;
       break;
@@ -474,7 +449,7 @@ RawMesh ReadPly(const std::string& b, const fs::path& path) {
       PlyProperty p;
       if (w.size() == 5 && w[1] == "list") {
         p.list = true;
-        if (!PlyTypeOf(w[2], &p.count_type) || !PlyTypeOf(w[3], &p.type)) fail("unknown property type in '" + l + "'");
+        if (!PlyTypeOf(w[2], &p.count_type) || !PlyTypeOf(w[3], &p.type)) fail("unknown property type in 'property list " + w[2] + " " + w[3] + "'");
         if (p.count_type == PlyType::kFloat32 || p.count_type == PlyType::kFloat64) fail("a list's count must be an integer type");
         p.name = w[4];
       } else if (w.size() == 3) {
@@ -491,7 +466,7 @@ RawMesh ReadPly(const std::string& b, const fs::path& path) {
   if (!header_done) throw MeshError(path.string(), "the PLY header has no 'end_header'");
   if (format < 0) throw MeshError(path.string(), "the PLY header has no 'format' line");
 
-  PlyBody body(b, pos, line, format, path);
+  PlyBody body(b, header.pos(), header.line(), format, path);
   RawMesh m;
   for (const PlyElement& e : elements) {
     // The least room each record takes, against what is left, before any loop.
@@ -533,7 +508,8 @@ RawMesh ReadPly(const std::string& b, const fs::path& path) {
         if (!std::isfinite(c) || c < 0 || c != std::floor(c)) body.Fail("a list's count must be a whole number >= 0");
         const std::size_t item = format == 0 ? 2 : PlySize(pr.type);
         if (c > static_cast<double>(body.remaining() / item + 1))
-          body.Fail("a list of " + std::to_string(c) + " items is longer than the file");
+          body.Fail("a list of " + std::to_string(static_cast<unsigned long long>(std::min(c, 1e19))) +
+                    " items is longer than the file");
         const long long count = static_cast<long long>(c);
         for (long long j = 0; j < count; ++j) {
           const double v = body.Read(pr.type, "a list item");
