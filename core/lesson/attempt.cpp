@@ -124,13 +124,9 @@ RecoveredAttempt RecoverAttempt(const fs::path& dir, const fs::path& results, co
     o.cache_dir = cache_dir;
     o.progress = progress;
     o.mode = m.mode == "assessment" ? LessonSpec::Mode::kAssessment : LessonSpec::Mode::kPractice;
+    o.ending = "Sulcus stopped before the attempt was kept; it was rebuilt from its recording and entries";
     AttemptOutcome out = RunAttempt(m.lesson, o);
     LessonResult& r = out.result;
-    if (!r.complete) {
-      r.ended = "Sulcus stopped before the attempt was kept; it was rebuilt from its recording and entries";
-      for (RubricLine& l : r.lines)
-        if (l.category == "time" && l.message.rfind("incomplete: ", 0) == 0) l.message = "incomplete: " + r.ended;
-    }
     const std::int64_t id = KeepAttempt(r, folder, dir, results / "results.db");
     return {id, std::move(r)};
   } catch (const std::exception& e) {
@@ -195,6 +191,7 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
     for (const ChartEntry& e : a.entries) lesson.Enter(e);
     if (a.diagnosis) lesson.Declare(*a.diagnosis);
   }
+  lesson.SetEnding(o.ending);
   out.result = lesson.Finish();
   // What was entered, with every tick resolved, so the attempt can be rebuilt.
   out.answers = AnswersOf(out.result);

@@ -28,6 +28,7 @@ struct AttemptOptions {
   std::filesystem::path cache_dir;       // meshes and sphere-trees
   BuildProgress progress;                // the scene's build progress
   std::optional<LessonSpec::Mode> mode;  // the lesson's own unless given
+  std::string ending;                    // how it ended, if it ends before its last step (LessonRun::SetEnding)
 };
 
 struct AttemptOutcome {

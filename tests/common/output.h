@@ -13,4 +13,12 @@ inline std::filesystem::path OutputPath(const std::string& folder, const std::st
   return name.empty() ? dir : dir / name;
 }
 
+/// The same folder's subfolder `name`, emptied: a test that starts from nothing.
+inline std::filesystem::path FreshOutputPath(const std::string& folder, const std::string& name) {
+  const std::filesystem::path dir = OutputPath(folder, name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 }  // namespace sulcus::test

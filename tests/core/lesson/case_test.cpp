@@ -3,6 +3,9 @@
 // chart and classification, usable by a lesson without `case:`.
 #include <gtest/gtest.h>
 
+#include "tests/common/meshes.h"
+#include "tests/common/output.h"
+
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -16,12 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Dir(const std::string& name) {
-  const fs::path d = fs::path(SULCUS_TEST_OUTPUT) / "case" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path Dir(const std::string& name) { return test::FreshOutputPath("case", name); }
 
 TEST(CaseScene, ASavedCaseReadsBackAsTheDrawnChartAndALessonCanUseIt) {
   const LessonSpec lesson = LoadLessonSpec(fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml");
@@ -76,17 +74,7 @@ TEST(CaseScene, ASceneWithMeshFilesIsSavedOnlyBesideItself) {
   std::ifstream in(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
   std::stringstream text;
   text << in.rdbuf();
-  {  // a closed tetrahedron, 4 mm
-    std::ofstream stl(src / "block.stl");
-    stl << "solid block\n";
-    const double v[4][3] = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}};
-    for (const auto& f : {std::array{0, 2, 1}, std::array{0, 1, 3}, std::array{0, 3, 2}, std::array{1, 2, 3}}) {
-      stl << "facet normal 0 0 0\nouter loop\n";
-      for (int i : f) stl << "vertex " << v[i][0] << " " << v[i][1] << " " << v[i][2] << "\n";
-      stl << "endloop\nendfacet\n";
-    }
-    stl << "endsolid block\n";
-  }
+  test::WriteTetrahedronStl(src / "block.stl", 4);
   std::ofstream(src / "scene.yaml") << text.str() << "  - mesh: block.stl\n    tissue: bone\n    at: [0, 0, -40]\n";
   std::ofstream(src / "lesson.yaml") << "name: x\nscene: scene.yaml\nsteps:\n  - {id: r, instruction: x, complete: read}\n";
   const LessonSpec lesson = LoadLessonSpec(src / "lesson.yaml");

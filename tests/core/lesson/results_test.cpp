@@ -15,18 +15,14 @@
 
 #include "core/lesson/instructor.h"
 #include "core/lesson/results.h"
+#include "tests/common/output.h"
 
 namespace sulcus {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Fresh(const std::string& name) {
-  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "results" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir / "results.db";
-}
+fs::path Fresh(const std::string& name) { return test::FreshOutputPath("results", name) / "results.db"; }
 
 LessonResult Sample(const std::string& student, double total) {
   LessonResult r;

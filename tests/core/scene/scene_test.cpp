@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/common/meshes.h"
+
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -89,17 +91,7 @@ TEST(SceneFile, MeshPathsStayInTheSceneFolderAndMustExist) {
 
 TEST(SceneFile, AMeshFarTooLargeForAMouthIsRefusedBeforeItsTreesAreBuilt) {
   // A tetrahedron 1,000 mm across: a mesh in another unit, or a slipped scale.
-  {
-    std::ofstream stl(Dir() / "huge.stl");
-    stl << "solid huge\n";
-    const double v[4][3] = {{0, 0, 0}, {1000, 0, 0}, {0, 1000, 0}, {0, 0, 1000}};
-    for (const auto& f : {std::array{0, 2, 1}, std::array{0, 1, 3}, std::array{0, 3, 2}, std::array{1, 2, 3}}) {
-      stl << "facet normal 0 0 0\nouter loop\n";
-      for (int i : f) stl << "vertex " << v[i][0] << " " << v[i][1] << " " << v[i][2] << "\n";
-      stl << "endloop\nendfacet\n";
-    }
-    stl << "endsolid huge\n";
-  }
+  test::WriteTetrahedronStl(Dir() / "huge.stl", 1000);
   const SceneSpec spec = LoadSceneSpec(Write("huge_mesh.yaml", "objects:\n  - mesh: huge.stl\n    tissue: bone\n"));
   bool asked = false;
   try {
