@@ -93,20 +93,12 @@ void InstructorDialog::BuildCaseTab(QTabWidget* tabs) {
       "classifies as asked (2017 classification). Preview its chart, then save it as a scene that lessons can use."));
   auto* form = new QFormLayout;
   case_lesson_ = new QComboBox;
-  for (const std::filesystem::path& dir : lesson_dirs_) {
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec)) continue;
-    std::vector<std::filesystem::path> files;
-    for (const auto& e : std::filesystem::directory_iterator(dir, ec))
-      if (e.path().extension() == ".yaml") files.push_back(e.path());
-    std::sort(files.begin(), files.end());
-    for (const std::filesystem::path& f : files) {
-      try {
-        const LessonSpec spec = LoadLessonSpec(f);
-        case_lesson_->addItem(Q(spec.name + "  (" + f.filename().string() + ")"), Q(f.string()));
-      } catch (const std::exception&) {
-        // broken lessons are listed as broken on the start page; a case needs one that loads
-      }
+  for (const std::filesystem::path& f : LessonFiles(lesson_dirs_)) {
+    try {
+      const LessonSpec spec = LoadLessonSpec(f);
+      case_lesson_->addItem(Q(spec.name + "  (" + f.filename().string() + ")"), Q(f.string()));
+    } catch (const std::exception&) {
+      // broken lessons are listed as broken on the start page; a case needs one that loads
     }
   }
   case_stage_ = new QComboBox;

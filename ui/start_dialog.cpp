@@ -107,32 +107,25 @@ void StartDialog::Refresh() {
     attempts = db.Attempts(student());
   } catch (const ResultsError&) {
   }
-  for (const auto& dir : dirs) {
-    std::error_code ec;
-    std::vector<std::filesystem::path> files;
-    for (const auto& e : std::filesystem::directory_iterator(dir, ec))
-      if (e.path().extension() == ".yaml") files.push_back(e.path());
-    std::sort(files.begin(), files.end());
-    for (const auto& f : files) {
-      Item it;
-      it.file = std::filesystem::absolute(f).lexically_normal();
-      try {
-        const LessonSpec s = LoadLessonSpec(it.file);
-        it.title = (s.name.empty() ? f.stem().string() : s.name) + "  (" + ToString(s.mode) + ")";
-        it.description = s.description;
-      } catch (const SceneLoadError& e) {
-        it.broken = true;
-        it.title = f.filename().string() + " (broken)";
-        it.errors = e.what();
-      }
-      std::string last;
-      for (const AttemptRow& a : attempts)
-        if (a.lesson_file == it.file.string()) last = "  last score " + std::to_string(static_cast<int>(a.total + 0.5));
-      auto* item = new QListWidgetItem(Q(it.title + last));
-      if (it.broken) item->setForeground(QColor(190, 30, 30));
-      list_->addItem(item);
-      items_.push_back(it);
+  for (const auto& f : LessonFiles(dirs)) {
+    Item it;
+    it.file = std::filesystem::absolute(f).lexically_normal();
+    try {
+      const LessonSpec s = LoadLessonSpec(it.file);
+      it.title = (s.name.empty() ? f.stem().string() : s.name) + "  (" + ToString(s.mode) + ")";
+      it.description = s.description;
+    } catch (const SceneLoadError& e) {
+      it.broken = true;
+      it.title = f.filename().string() + " (broken)";
+      it.errors = e.what();
     }
+    std::string last;
+    for (const AttemptRow& a : attempts)
+      if (a.lesson_file == it.file.string()) last = "  last score " + std::to_string(static_cast<int>(a.total + 0.5));
+    auto* item = new QListWidgetItem(Q(it.title + last));
+    if (it.broken) item->setForeground(QColor(190, 30, 30));
+    list_->addItem(item);
+    items_.push_back(it);
   }
   if (!items_.empty()) list_->setCurrentRow(keep >= 0 && keep < static_cast<int>(items_.size()) ? keep : 0);
 }

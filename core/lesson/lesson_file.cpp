@@ -302,6 +302,19 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
   return back;
 }
 
+std::vector<fs::path> LessonFiles(const std::vector<fs::path>& dirs) {
+  std::vector<fs::path> out;
+  for (const fs::path& dir : dirs) {
+    std::error_code ec;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+      if (e.path().extension() == ".yaml") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    out.insert(out.end(), files.begin(), files.end());
+  }
+  return out;
+}
+
 LessonSpec LoadLessonSpec(const fs::path& file) {
   YamlReader r(file);
   LessonSpec spec;

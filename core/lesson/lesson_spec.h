@@ -77,6 +77,10 @@ const char* ToString(LessonSpec::Mode m);
 /// error found, each `file:line:column: message`.
 LessonSpec LoadLessonSpec(const std::filesystem::path& file);
 
+/// The lesson files (.yaml) of each folder, each folder's sorted by name; a
+/// folder that is missing or unreadable gives none.
+std::vector<std::filesystem::path> LessonFiles(const std::vector<std::filesystem::path>& dirs);
+
 /// The usual charting path (Open Dental's): upper buccal 18 -> 28, upper palatal
 /// 28 -> 18, lower buccal 48 -> 38, lower lingual 38 -> 48, over the given teeth.
 std::vector<SiteRef> StandardPath(std::vector<int> teeth);
