@@ -964,8 +964,6 @@ void MainWindow::SaveEntriesSoFar() {
   }
 }
 
-QString MainWindow::lesson_banner() const { return banner_ && !banner_->isHidden() ? banner_->text() : QString(); }
-
 int MainWindow::RecoverUnfinishedAttempts(const std::filesystem::path& results_dir) {
   const std::filesystem::path results = results_dir.empty() ? DefaultResultsDir() : results_dir;
   const std::vector<std::filesystem::path> dirs = UnfinishedAttempts(results);

@@ -109,8 +109,6 @@ class MainWindow : public QMainWindow {
   /// mid-lesson): each rebuilt from its recording and entries, stored as
   /// incomplete, and the student told. Returns how many were kept.
   int RecoverUnfinishedAttempts(const std::filesystem::path& results_dir = {});
-  /// The lesson's banner (device lost, and so on); empty when none is shown.
-  QString lesson_banner() const;
   /// The footer's line on how the tool is moved (it names the device that runs).
   QString device_help() const;
   const LessonRun* lesson() const { return lesson_.get(); }
