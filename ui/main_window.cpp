@@ -447,6 +447,7 @@ void MainWindow::BeginSession() {
     }
   }
   if (!device.device) device = use_mouse();
+  if (device_wrapper_) device.device = device_wrapper_(std::move(device.device));
   session_device_ = device.device->caps().name;
   UpdateDeviceHelp(device.name);
   snapshot_ = HapticSnapshot{};  // nothing from the previous session is shown as this one's
@@ -889,6 +890,8 @@ QString MainWindow::lesson_text() const {
   if (!lesson_) return {};
   return step_label_->text() + "\n" + next_label_->text() + "\n" + tip_label_->text() + "\n" + tilt_label_->text();
 }
+
+QString MainWindow::banner_text() const { return banner_->isVisible() ? banner_->text() : QString(); }
 
 void MainWindow::UpdateLessonPanel() {
   LessonRun& l = *lesson_;

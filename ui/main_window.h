@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -116,6 +117,12 @@ class MainWindow : public QMainWindow {
   const std::optional<LessonResult>& last_result() const { return last_result_; }
   const std::filesystem::path& last_report() const { return last_report_; }
   QString lesson_text() const;
+  /// The banner over the lesson panel (the device stopped answering), empty when hidden.
+  QString banner_text() const;
+  /// Wraps the device of every session started from now on (tests: a device
+  /// that can be unplugged and plugged back in). Empty: the device as it is.
+  using DeviceWrapper = std::function<std::unique_ptr<Device>(std::unique_ptr<Device>)>;
+  void SetDeviceWrapper(DeviceWrapper wrap) { device_wrapper_ = std::move(wrap); }
   std::uint64_t frames() const { return frames_; }  // display frames drawn
   bool aids_locked() const { return aids_locked_; }
   QDialog* report_dialog() const { return report_dialog_; }
@@ -194,6 +201,7 @@ class MainWindow : public QMainWindow {
   QDockWidget* lesson_dock_ = nullptr;
   QLabel *step_label_ = nullptr, *next_label_ = nullptr, *tip_label_ = nullptr, *tilt_label_ = nullptr;
   QLabel* banner_ = nullptr;  // the device stopped answering, ...
+  DeviceWrapper device_wrapper_;
   QLabel* device_help_ = nullptr;
   void UpdateDeviceHelp(const std::string& device);
   bool device_was_lost_ = false;

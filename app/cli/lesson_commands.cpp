@@ -88,6 +88,9 @@ int RunLesson(const RunArgs& a) {
   o.cache_dir = DefaultCacheDir();
   o.record = folder.recording();
   o.progress = Progress();
+  // Kept as it goes (a marker and the entries so far): if this program is
+  // stopped mid-attempt, the next start rebuilds it (lesson recover, the window).
+  if (!a.no_store) o.keep_in = &folder;
   std::fprintf(stderr, "lesson %s, student '%s', device %s\n", a.lesson.c_str(), a.student.c_str(), a.device.c_str());
   // The lesson by its full path, so that the attempt can be rebuilt from anywhere.
   const AttemptOutcome out = RunAttempt(fs::absolute(a.lesson).lexically_normal(), o);
@@ -109,6 +112,9 @@ int RunLesson(const RunArgs& a) {
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       std::fprintf(stderr, "kept as attempt %lld in %s (entries, report and database row in %.1f ms)\n",
                    static_cast<long long>(id), (results / "results.db").c_str(), ms);
+      // Kept: with its report elsewhere, the folder's marker would read as unfinished.
+      std::error_code ec;
+      if (report_dir != folder.dir) fs::remove(folder.dir / "attempt.yaml", ec);
     } catch (const ResultsError& e) {
       std::fprintf(stderr, "error: the attempt was not stored in the results database: %s\n"
                            "(its recording, entries and report are kept in %s)\n", e.what(), folder.dir.c_str());

@@ -37,7 +37,7 @@ CollisionWorld::CollisionWorld(const SphereTree& tool, const std::vector<Object>
 }
 
 CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X_WT, double margin,
-                            CollisionScratch* s, ContactPair* out, int capacity) noexcept {
+                            CollisionScratch* s, ContactPair* out, int capacity, const QueryLimits& limits) noexcept {
   CollisionStats stats;
   const SphereTree& tool = world.tool();
   const Matrix3& R = X_WT.rotation();
@@ -70,6 +70,7 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
   };
 
   for (int obj = 0; obj < world.num_objects(); ++obj) {
+    if (stats.cut_short) break;
     const std::size_t base = world.offset_[obj];
     const double* bx = ox + base;
     const double* by = oy + base;
@@ -85,6 +86,7 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
           out[stats.pairs++] = {obj, b, a, std::sqrt(dist2) - tr[a] - br[b]};
         } else {
           stats.overflow = true;
+          if (limits.stop_when_full) stats.cut_short = true;
         }
       } else if (top == CollisionScratch::kStackCapacity) {
         stats.stack_overflow = true;
@@ -97,7 +99,12 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
     // The roots: the broad phase.
     const Vector3 root_T = Rt * (Vector3(bx[0], by[0], bz[0]) - p);
     test_children(tx, ty, tz, tr, 0, 1, root_T, br[0], [&](std::int32_t a, double dd) { hit(a, 0, dd); });
+    if (stats.cut_short) return stats;
     while (top > 0) {
+      if (stats.cut_short || (limits.max_node_tests > 0 && stats.node_tests >= limits.max_node_tests)) {
+        stats.cut_short = true;
+        return stats;
+      }
       --top;
       const std::int32_t a = s->stack_tool[top], b = s->stack_obj[top];
       const bool a_leaf = tool.child_count[a] == 0, b_leaf = ocount[b] == 0;

@@ -37,6 +37,7 @@ struct ContactPair {
 
 struct CollisionScratch;
 struct CollisionStats;
+struct QueryLimits;
 
 /// The immutable collision scene: the tool's tree in the tool frame T and every
 /// object's tree moved into the world frame W once (objects do not move).
@@ -64,7 +65,7 @@ class CollisionWorld {
 
  private:
   friend CollisionStats FindContacts(const CollisionWorld&, const RigidTransform&, double,
-                                     CollisionScratch*, ContactPair*, int) noexcept;
+                                     CollisionScratch*, ContactPair*, int, const QueryLimits&) noexcept;
   const SphereTree* tool_;
   std::vector<Object> objects_;
   // All object nodes in W, flat (structure of arrays); object i starts at offset_[i].
@@ -87,14 +88,28 @@ struct CollisionStats {
   int pairs = 0;             // written to the output
   bool overflow = false;     // more pairs existed than the capacity held
   bool stack_overflow = false;
+  bool cut_short = false;    // stopped by a QueryLimits (the pairs are a part of the set)
   int node_tests = 0;        // sphere-sphere tests made
+};
+
+/// Bounds on one query's work, for callers that must not wait on an unbounded
+/// traversal (a tool deep inside an object overlaps many node pairs).
+struct QueryLimits {
+  bool stop_when_full = false;  // stop at the first pair past `capacity` (an overlap test: capacity 1)
+  int max_node_tests = 0;       // stop after about this many sphere tests (0: no limit)
 };
 
 /// Leaf pairs with gap < margin for the tool at X_WT, written to `out`
 /// (capacity entries at most), in traversal order (deterministic; object by
-/// object). No allocation; never throws.
+/// object). No allocation; never throws. With limits, the query may stop early
+/// (`cut_short`), having done O(capacity + max_node_tests) work.
 CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X_WT, double margin,
-                            CollisionScratch* scratch, ContactPair* out, int capacity) noexcept;
+                            CollisionScratch* scratch, ContactPair* out, int capacity,
+                            const QueryLimits& limits) noexcept;
+inline CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X_WT, double margin,
+                                   CollisionScratch* scratch, ContactPair* out, int capacity) noexcept {
+  return FindContacts(world, X_WT, margin, scratch, out, capacity, QueryLimits{});
+}
 
 /// The reference: Algorithm 1 as a plain recursion over both trees (descending
 /// both sides), no pruning tricks. In its own traversal order.

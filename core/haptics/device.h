@@ -56,6 +56,12 @@ class Device {
 
   /// True once a scripted or replayed input has no more frames.
   virtual bool finished() const noexcept { return false; }
+
+  /// Haptic thread: true while the device knows it is gone (a fatal driver
+  /// error, unplugged), so that the loop zeroes the force on this tick rather
+  /// than after its watchdog's timeout. A device that cannot tell returns false
+  /// and the watchdog decides from stale readings.
+  virtual bool lost() const noexcept { return false; }
 };
 
 }  // namespace sulcus

@@ -1,7 +1,9 @@
 #include "core/haptics/engine.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <iterator>
 
 namespace sulcus {
 namespace {
@@ -51,6 +53,77 @@ void SpringWrench(const EngineParams& p, const RigidTransform& X_WH, EngineData*
                       &d->force_saturated);
 }
 
+// Candidate poses for a tool found inside an object: the device pose, then the
+// device pose moved along 26 directions of the tool frame (its axis first) by
+// growing distances, nearest first.
+constexpr double kFreeSearchMm[] = {0.25, 0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16, 24};
+constexpr int kFreeSearchDirections = 26;
+constexpr int kFreeSearchCandidates = 1 + kFreeSearchDirections * static_cast<int>(std::size(kFreeSearchMm));
+
+Vector3 FreeSearchDirection(int i) {
+  // The tool's axis (+z, -z) first, then its other faces, edges and corners.
+  static const auto table = [] {
+    std::array<Vector3, kFreeSearchDirections> t;
+    int n = 0;
+    t[n++] = Vector3(0, 0, 1);
+    t[n++] = Vector3(0, 0, -1);
+    for (int pass = 1; pass <= 3; ++pass)
+      for (int x = -1; x <= 1; ++x)
+        for (int y = -1; y <= 1; ++y)
+          for (int z = -1; z <= 1; ++z) {
+            const int nonzero = (x != 0) + (y != 0) + (z != 0);
+            if (nonzero != pass || (pass == 1 && x == 0 && y == 0)) continue;
+            t[n++] = Vector3(x, y, z).normalized();
+          }
+    return t;
+  }();
+  return table[static_cast<std::size_t>(i)];
+}
+
+RigidTransform FreeSearchCandidate(const RigidTransform& X_WH, int k) {
+  if (k == 0) return X_WH;
+  const int d = (k - 1) / kFreeSearchDirections, dir = (k - 1) % kFreeSearchDirections;
+  return RigidTransform(X_WH.rotation(),
+                        X_WH.translation() + kFreeSearchMm[d] * (X_WH.rotation() * FreeSearchDirection(dir)));
+}
+
+// A frame inside an object: the rendered tool is at the device (no force) while
+// candidate poses are tried within the frame's budget of sphere tests; the
+// first free one becomes the rendered tool, outside, and the spring (ramped in
+// by the loop, which sees the fault) pulls the hand out from there.
+void FindFreeSpace(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) {
+  const EngineParams& p = model.params;
+  ++d->inside_frames;
+  int budget = std::max(1, p.free_search_node_tests);
+  for (int tried = 0; tried < kFreeSearchCandidates && budget > 0; ++tried) {
+    const RigidTransform X = FreeSearchCandidate(X_WH, d->free_search_next);
+    // An overlap test: the first pair in overlap stops it.
+    const CollisionStats cs = FindContacts(model.world, X, 0.0, &d->scratch, d->pairs.data(), 0,
+                                           QueryLimits{true, budget});
+    budget -= cs.node_tests;
+    if (cs.cut_short && !cs.overflow) break;  // out of budget: this candidate again next frame
+    if (!cs.overflow && !cs.stack_overflow) {
+      d->inside = false;
+      d->free_search_next = 0;
+      ++d->faults.inside;
+      ResetTool(X, d);
+      d->X_WH = X_WH;
+      return;
+    }
+    d->free_search_next = (d->free_search_next + 1) % kFreeSearchCandidates;
+  }
+  d->X_WG = X_WH;
+  d->num_pairs = 0;
+  d->active_contacts = 0;
+  d->num_active_keys = 0;
+  d->last_move_mm = 0;
+}
+
+void EnterInside(EngineData* d) {
+  d->inside = true;
+  d->free_search_next = 0;
+}
+
 }  // namespace
 
 EngineModel::EngineModel(const SphereTree& tool, const std::vector<CollisionWorld::Object>& objects,
@@ -74,6 +147,8 @@ void ResetTool(const RigidTransform& X_WG, EngineData* d) {
   d->force_W.setZero();
   d->torque_W.setZero();
   d->initialized = true;
+  d->inside = false;
+  d->free_search_next = 0;
 }
 
 void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) noexcept {
@@ -93,6 +168,14 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   }
   d->X_WH = X_WH;
   if (!d->initialized) ResetTool(X_WH, d);
+  if (d->inside) {
+    FindFreeSpace(model, X_WH, d);
+    d->force_W.setZero();
+    d->torque_W.setZero();
+    d->force_saturated = false;
+    d->timings.total_us = Micros(t0, Clock::now());
+    return;
+  }
 
   // The query margin must cover how far any tool point moves this frame, so that
   // no pair outside it can be reached (no pop-through). Guess from the last
@@ -110,7 +193,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   const Vector6 to_device = d->X_WG.DifferenceTo(X_WH);
   const double device_move = MoveBound(to_device, reach);
   double step_scale = device_move > p.max_step_mm ? p.max_step_mm / device_move : 1.0;
-  bool accepted = false;
+  bool accepted = false, deep = false;
+  double overlap = 0;  // deepest overlap of the rendered tool at the frame's start
   d->sweeps = 0;
   for (int sweep = 0; sweep < EngineData::kMaxSweeps; ++sweep) {
     d->sweeps = sweep + 1;
@@ -120,11 +204,14 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
         step_scale < 1.0 ? d->X_WG.Perturbed(step_scale * to_device.head<3>(), step_scale * to_device.tail<3>())
                          : X_WH;
     const auto t_collide = Clock::now();
+    // Past max_pairs the set is not used: the query stops there.
     const CollisionStats cs =
-        FindContacts(world, d->X_WG, margin, &d->scratch, d->pairs.data(), p.max_pairs);
+        FindContacts(world, d->X_WG, margin, &d->scratch, d->pairs.data(), p.max_pairs, QueryLimits{true, 0});
     d->num_pairs = cs.pairs;
     d->timings.collide_us += Micros(t_collide, Clock::now());
     d->pair_overflow = cs.overflow || cs.stack_overflow;
+    if (sweep == 0 && !d->pair_overflow)
+      for (int i = 0; i < cs.pairs; ++i) overlap = std::max(overlap, -d->pairs[i].gap);
     if (d->pair_overflow) {
       // Too many pairs to trust the set: try a shorter step with a smaller margin.
       step_scale *= 0.5;
@@ -195,6 +282,11 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       for (int i = 0; i < sol->num_active; ++i) d->warm_rows[num_warm++] = sol->active[i];
     }
     if (!Usable(sol->status)) break;
+    if (sol->status == QpStatus::kInfeasibleRelaxed && d->max_penetration_mm > p.inside_mm) {
+      // No pose near this one is out of the object: the rendered tool is inside it.
+      deep = true;
+      break;
+    }
     move = MoveBound(d->X_WG.DifferenceTo(X), reach);
     d->sweep_move_mm[sweep] = move;
     // Every pair left out had gap >= margin, so a shorter move cannot reach it.
@@ -205,6 +297,19 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     margin = p.base_margin_mm + 1.25 * move;  // cover the actual move, with headroom
   }
   d->margin_mm = margin;
+  if (deep || (!accepted && ((d->pair_overflow && sol == nullptr) || overlap > 10 * p.penetration_tolerance_mm))) {
+    // Inside an object, overlapping it by more pairs than a set holds even at
+    // the shortest step, or overlapping it in a frame that could not move (the
+    // next frame would be the same: a frozen tool): follow the device with no
+    // force until free space next to it is found, starting this frame.
+    EnterInside(d);
+    FindFreeSpace(model, X_WH, d);
+    d->force_W.setZero();
+    d->torque_W.setZero();
+    d->force_saturated = false;
+    d->timings.total_us = Micros(t0, Clock::now());
+    return;
+  }
   if (d->pair_overflow) ++d->faults.pair_overflow;
   if (sol != nullptr) {
     d->qp_status = sol->status;

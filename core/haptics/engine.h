@@ -30,6 +30,16 @@ struct EngineParams {
   int max_linearizations = 4;
   double max_step_mm = 2.0;       // most a tool point moves per frame (2 m/s at 1 kHz)
   int max_pairs = 2048;
+  // A rendered tool that the solve cannot take out of an object (its least
+  // violation leaves it this far in), that overlaps it by more pairs than
+  // max_pairs, or that overlaps it in a frame that could not move it is inside
+  // it, as when a session starts with the device in tissue: it is brought to
+  // free space next to the device (below), never left frozen there. Shallower
+  // overlaps the QP pushes out by itself.
+  double inside_mm = 0.1;
+  // Most sphere tests a frame spends looking for that free space; the search
+  // goes on next frame where it stopped.
+  int free_search_node_tests = 40000;
 };
 
 /// The immutable engine model: the collision world and the parameters.
@@ -47,7 +57,8 @@ struct EngineFaults {
   std::uint64_t solver = 0;             // QP status other than solved / relaxed
   std::uint64_t penetration = 0;        // exact penetration above tolerance after the last pass
   std::uint64_t sweep = 0;              // the frame's move could not be covered: pose held
-  std::uint64_t total() const { return nonfinite_device + pair_overflow + solver + penetration + sweep; }
+  std::uint64_t inside = 0;             // the tool was found inside an object and brought out
+  std::uint64_t total() const { return nonfinite_device + pair_overflow + solver + penetration + sweep + inside; }
 };
 
 /// Per-stage wall time of the last frame, microseconds.
@@ -83,6 +94,12 @@ struct EngineData {
   int qp_iterations = 0;
   int linearizations = 0;
   double kkt_residual = 0;
+
+  // Inside an object: the rendered tool follows the device with no force while
+  // poses around the device are tried, nearest first, for one that is free.
+  bool inside = false;
+  int free_search_next = 0;      // the next candidate pose to try
+  std::uint64_t inside_frames = 0;  // frames spent inside (all sessions)
 
   StepTimings timings;
   EngineFaults faults;

@@ -120,7 +120,8 @@ void HapticLoop::Tick(bool overrun) noexcept {
       ramp_start_tick_ = tick_;
       Emit(HapticEvent::Of(EventKind::kDeviceBack));
     }
-  } else if (device_ok_ && static_cast<double>(tick_ - last_fresh_tick_) >= options_.safety.device_timeout_s * rate) {
+  } else if (device_ok_ && (device_->lost() ||
+                            static_cast<double>(tick_ - last_fresh_tick_) >= options_.safety.device_timeout_s * rate)) {
     device_ok_ = false;
     ++faults_.device_stalls;
     Emit(HapticEvent::Of(EventKind::kDeviceLost));

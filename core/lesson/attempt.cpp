@@ -137,6 +137,43 @@ RecoveredAttempt RecoverAttempt(const fs::path& dir, const fs::path& results, co
   }
 }
 
+namespace {
+
+// Rewrites the attempt's entries after each new one (atomically, SaveAnswers), so
+// that a program stopped mid-attempt loses nothing entered. A file that cannot be
+// written is said once and the attempt goes on (its entries are kept in memory).
+class EntrySaver final : public TickConsumer {
+ public:
+  EntrySaver(const LessonRun& lesson, fs::path file, std::vector<std::string>* notes)
+      : lesson_(lesson), file_(std::move(file)), notes_(notes) {}
+  void OnTick(const TickRecord&) override { SaveIfNew(); }
+  void OnEnd() override { SaveIfNew(); }  // a scripted student charts when the probing ends
+
+ private:
+  void SaveIfNew() {
+    if (lesson_.entries().size() == saved_ && lesson_.declared().has_value() == declared_) return;
+    saved_ = lesson_.entries().size();
+    declared_ = lesson_.declared().has_value();
+    Answers a;
+    a.entries = lesson_.entries();
+    a.diagnosis = lesson_.declared();
+    try {
+      SaveAnswers(a, file_);
+    } catch (const std::exception& e) {
+      if (!failed_) notes_->push_back(std::string("the entries cannot be saved as they go: ") + e.what());
+      failed_ = true;
+    }
+  }
+
+  const LessonRun& lesson_;
+  fs::path file_;
+  std::vector<std::string>* notes_;
+  std::size_t saved_ = 0;
+  bool declared_ = false, failed_ = false;
+};
+
+}  // namespace
+
 SceneSpec LessonScene(const LessonSpec& spec, std::uint64_t seed) {
   SceneSpec scene = LoadSceneSpec(spec.scene);
   if (spec.case_spec.generated) scene = ApplyCase(scene, spec.teeth, spec.case_spec, seed);
@@ -161,6 +198,7 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
   const CompiledScene& scene = *out.scene;
 
   if (o.mode) out.spec.mode = *o.mode;
+  if (o.keep_in) WriteAttemptMarker(*o.keep_in, {lesson_file, o.student, ToString(spec.mode), out.seed, o.keep_in->started});
   LessonRun lesson(spec, scene, o.student, spec.case_spec.generated ? out.seed : 0);
   std::unique_ptr<ScriptedStudent> student;
   DeviceSpec device;
@@ -182,6 +220,12 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
     student->Attach(&lesson);
     session.AddConsumer(student.get());
   }
+  std::unique_ptr<EntrySaver> saver;
+  if (o.keep_in) {
+    saver = std::make_unique<EntrySaver>(lesson, o.keep_in->answers(), &out.notes);
+    session.AddConsumer(saver.get());
+  }
+  for (TickConsumer* c : o.consumers) session.AddConsumer(c);
   const auto t1 = Clock::now();
   session.RunOffline();
   out.run_s = std::chrono::duration<double>(Clock::now() - t1).count();

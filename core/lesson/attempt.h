@@ -18,6 +18,16 @@
 
 namespace sulcus {
 
+/// A new attempt's folder, `results`/attempts/<UTC time>-<student>, created, and
+/// when it started (ISO 8601, UTC). Throws std::filesystem::filesystem_error.
+struct AttemptFolder {
+  std::filesystem::path dir;
+  std::string started;
+  std::filesystem::path recording() const { return dir / "recording.rec"; }
+  std::filesystem::path answers() const { return dir / "answers.yaml"; }
+};
+AttemptFolder NewAttemptFolder(const std::filesystem::path& results, const std::string& student);
+
 struct AttemptOptions {
   std::string student = "student";
   /// student:NAME (ScriptedStudentNames), scripted:NAME|FILE.csv, replay:FILE.
@@ -29,6 +39,13 @@ struct AttemptOptions {
   BuildProgress progress;                // the scene's build progress
   std::optional<LessonSpec::Mode> mode;  // the lesson's own unless given
   std::string ending;                    // how it ended, if it ends before its last step (LessonRun::SetEnding)
+  /// Kept as it goes: the attempt's marker is written in this folder when it
+  /// starts and its entries (answers.yaml) are rewritten after each one, so that
+  /// an attempt cut short by a stopped program can be rebuilt (RecoverAttempt).
+  /// Not owned; null: nothing is written before the attempt ends.
+  const AttemptFolder* keep_in = nullptr;
+  /// More consumers of the tick stream, after the lesson and the student. Not owned.
+  std::vector<TickConsumer*> consumers;
 };
 
 struct AttemptOutcome {
@@ -45,16 +62,6 @@ struct AttemptOutcome {
 
 /// Throws SceneLoadError, std::invalid_argument, RecordingError, std::runtime_error.
 AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const AttemptOptions& options);
-
-/// A new attempt's folder, `results`/attempts/<UTC time>-<student>, created, and
-/// when it started (ISO 8601, UTC). Throws std::filesystem::filesystem_error.
-struct AttemptFolder {
-  std::filesystem::path dir;
-  std::string started;
-  std::filesystem::path recording() const { return dir / "recording.rec"; }
-  std::filesystem::path answers() const { return dir / "answers.yaml"; }
-};
-AttemptFolder NewAttemptFolder(const std::filesystem::path& results, const std::string& student);
 
 /// What the student entered, every tick resolved: each site's entry and the declaration.
 Answers AnswersOf(const LessonResult& r);

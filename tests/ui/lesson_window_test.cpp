@@ -18,6 +18,7 @@
 #include <QTextBrowser>
 #include <QVTKOpenGLNativeWidget.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -386,6 +387,63 @@ TEST(LessonWindow, AClosedWindowKeepsTheAttemptAsIncompleteAndAStoppedOneIsRecov
   EXPECT_NE(rows[0].ended.find("rebuilt from its recording"), std::string::npos) << rows[0].ended;
   EXPECT_EQ(rows[0].sites_charted, 2);
   EXPECT_EQ(w.RecoverUnfinishedAttempts(results), 0);
+}
+
+// A device the test unplugs and plugs back in, around the scripted student's hand.
+class UnpluggableDevice final : public Device {
+ public:
+  UnpluggableDevice(std::unique_ptr<Device> hand, std::atomic<bool>* unplugged) : hand_(std::move(hand)), unplugged_(unplugged) {}
+  const DeviceCaps& caps() const override { return hand_->caps(); }
+  void Start() override { hand_->Start(); }
+  void Stop() noexcept override { hand_->Stop(); }
+  // The hand waits while the device is unplugged: its script resumes where it was.
+  bool Read(double t_s, DeviceSample* out) noexcept override {
+    const bool gone = unplugged_->load();
+    if (gone && !gone_) since_s_ = t_s;
+    if (!gone && gone_) paused_s_ += t_s - since_s_;
+    gone_ = gone;
+    return !gone_ && hand_->Read(t_s - paused_s_, out);
+  }
+  void Write(const Vector3& f, const Vector3& t) noexcept override {
+    if (gone_ && f.norm() > 0) pushed_while_gone_ = true;
+    hand_->Write(f, t);
+  }
+  bool finished() const noexcept override { return hand_->finished(); }
+  bool lost() const noexcept override { return gone_; }
+  static inline std::atomic<bool> pushed_while_gone_{false};
+
+ private:
+  std::unique_ptr<Device> hand_;
+  std::atomic<bool>* unplugged_;
+  bool gone_ = false;
+  double since_s_ = 0, paused_s_ = 0;
+};
+
+TEST(LessonWindow, ADeviceUnpluggedMidLessonShowsTheBannerKeepsTheAttemptAndResumes) {
+  MainWindow w;
+  w.resize(1366, 768);
+  w.show();
+  std::atomic<bool> unplugged{false};
+  w.SetDeviceWrapper([&](std::unique_ptr<Device> d) -> std::unique_ptr<Device> {
+    return std::make_unique<UnpluggableDevice>(std::move(d), &unplugged);
+  });
+  ASSERT_TRUE(w.StartLesson(CarefulStudent()));
+  ASSERT_TRUE(WaitFor([&] { return w.lesson()->Finish().sites_read >= 3; }));
+  EXPECT_TRUE(w.banner_text().isEmpty());
+  unplugged = true;
+  ASSERT_TRUE(WaitFor([&] { return w.banner_text().contains("stopped answering"); }));
+  EXPECT_TRUE(w.banner_text().contains("Nothing is lost")) << w.banner_text().toStdString();
+  EXPECT_TRUE(Save(&w, "device_unplugged.png"));
+  unplugged = false;
+  ASSERT_TRUE(WaitFor([&] { return w.banner_text().isEmpty(); }));
+  EXPECT_FALSE(UnpluggableDevice::pushed_while_gone_.load()) << "no force went out while it was unplugged";
+  const LessonResult sofar = w.lesson()->Finish();
+  ASSERT_EQ(sofar.interruptions.size(), 1u);
+  EXPECT_GT(sofar.interruptions[0].back_tick, sofar.interruptions[0].lost_tick);
+  // The lesson goes on after the device is back: more sites are read.
+  const int read_before = sofar.sites_read;
+  EXPECT_TRUE(WaitFor([&] { return w.lesson()->Finish().sites_read > read_before; }));
+  ASSERT_TRUE(w.FinishLesson(false));
 }
 
 }  // namespace

@@ -115,8 +115,13 @@ unsigned int OpenHapticsDevice::Servo() noexcept {
   if (fatal) {
     fatal_.fetch_add(1, std::memory_order_relaxed);
     faulted_.store(true, std::memory_order_relaxed);
+    clean_frames_ = 0;
   }
-  if (faulted_.load(std::memory_order_relaxed)) return HD_CALLBACK_CONTINUE;  // no readings: the watchdog acts
+  if (faulted_.load(std::memory_order_relaxed)) {
+    // No readings while lost; back after a run of error-free frames.
+    if (fatal || ++clean_frames_ < kResumeFrames) return HD_CALLBACK_CONTINUE;
+    faulted_.store(false, std::memory_order_relaxed);
+  }
 
   // Column-major 4x4, millimetres, stylus frame S in the device frame D.
   Matrix3 R;

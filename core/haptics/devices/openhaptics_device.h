@@ -6,8 +6,10 @@
 // HDAPI gives millimetres in the device frame D and takes force in newtons and
 // torque in mN*m (= N*mm, Sulcus's unit) about the gimbal. Non-fatal HDAPI
 // errors (exceeded force or velocity, warm motors) are counted and the servo
-// loop carries on; a fatal one (device fault, communication) stops the readings,
-// so the haptic loop's watchdog zeroes the force.
+// loop carries on; a fatal one (device fault, communication) stops the readings
+// and the device reports itself lost, so the haptic loop zeroes the force on
+// that tick. When the servo loop then runs error-free for kResumeFrames frames
+// (the device answers again), readings resume and the loop ramps the force in.
 //
 // Built only when CMake finds the SDK; tests compile it against a test double.
 
@@ -38,6 +40,10 @@ class OpenHapticsDevice final : public Device {
   void Stop() noexcept override;
   bool Read(double t_s, DeviceSample* out) noexcept override;
   void Write(const Vector3& force_W, const Vector3& torque_W) noexcept override;
+  bool lost() const noexcept override { return faulted_.load(std::memory_order_relaxed); }
+
+  /// Error-free servo frames after a fatal error before the device counts as back.
+  static constexpr int kResumeFrames = 500;
 
   std::uint64_t servo_ticks() const { return servo_ticks_.load(std::memory_order_relaxed); }
   std::uint64_t warnings() const { return warnings_.load(std::memory_order_relaxed); }  // non-fatal errors
@@ -68,6 +74,7 @@ class OpenHapticsDevice final : public Device {
   std::uint64_t last_serial_ = 0;
   RigidTransform last_X_WS_;        // the stylus in W at the last reading (haptic thread)
   std::atomic<bool> faulted_{false};
+  int clean_frames_ = 0;            // servo thread: error-free frames since the last fatal error
   std::atomic<std::uint64_t> servo_ticks_{0}, warnings_{0}, fatal_{0};
   std::atomic<std::uint32_t> last_error_{0};
 };

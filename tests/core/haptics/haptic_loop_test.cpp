@@ -32,12 +32,14 @@ class PuppetDevice final : public Device {
     out->time_s = t;
     return answering;
   }
+  bool lost() const noexcept override { return gone; }
   void Write(const Vector3& f, const Vector3& t) noexcept override {
     force = f;
     torque = t;
   }
   RigidTransform pose = At(0, 0, 3);
   bool answering = true;
+  bool gone = false;  // says it is gone (unplugged), as a driver can
   Vector3 force = Vector3::Zero(), torque = Vector3::Zero();
 
  private:
@@ -105,6 +107,58 @@ TEST(HapticLoop, ClampsForceToTheSmallerOfSceneAndDeviceLimits) {
   EXPECT_NEAR(rig.device.force.norm(), 2.0, 1e-9);
 }
 
+TEST(HapticLoop, ADeviceThatSaysItIsGoneGetsZeroForceOnThatTickAndRampsBackIn) {
+  Rig rig;  // the watchdog's own timeout (10 ticks) is not waited for
+  rig.device.pose = At(0, 0, -0.5);
+  for (int i = 0; i < 600; ++i) rig.Tick(false);
+  ASSERT_GT(rig.device.force.norm(), 0.4);
+  rig.Events();
+  rig.device.answering = false;
+  rig.device.gone = true;
+  rig.Tick(false);
+  EXPECT_EQ(rig.device.force.norm(), 0.0) << "zero on the tick it is gone";
+  EXPECT_TRUE(Has(rig.Events(), EventKind::kDeviceLost));
+  EXPECT_EQ(rig.loop.faults().device_stalls, 1u);
+  for (int i = 0; i < 30; ++i) rig.Tick(false);
+  EXPECT_EQ(rig.device.force.norm(), 0.0);
+  rig.device.answering = true;
+  rig.device.gone = false;
+  rig.Tick(false);
+  EXPECT_TRUE(Has(rig.Events(), EventKind::kDeviceBack));
+  EXPECT_EQ(rig.device.force.norm(), 0.0) << "the ramp restarts from zero";
+  double before = 0;
+  for (int i = 0; i < 100; ++i) {
+    rig.Tick(false);
+    EXPECT_GE(rig.device.force.norm(), before - 1e-12) << "rising, tick " << i;
+    before = rig.device.force.norm();
+  }
+  EXPECT_GT(before, 0.0);
+  EXPECT_LT(before, 0.4) << "still ramping a tenth of a second later";
+}
+
+TEST(HapticLoop, AStartDeepInsideAnObjectRampsTheForceInFromFreeSpaceWithoutAJump) {
+  Rig rig;
+  rig.device.pose = At(0.1, 0.1, -1.2);  // the tip 1.2 mm into the block's top, from the first tick
+  double last = 0, worst_step = 0, most = 0;
+  for (int i = 0; i < 1000; ++i) {
+    rig.Tick(false);
+    const double f = rig.device.force.norm();
+    ASSERT_TRUE(std::isfinite(f));
+    worst_step = std::max(worst_step, std::abs(f - last));
+    most = std::max(most, f);
+    if (i == 20) {
+      EXPECT_GT(f, 0.0) << "not left without force";
+    }
+    last = f;
+  }
+  // The ramp (0.5 s to the device's 2 N) bounds each tick's change: 2 N / 500 ticks.
+  EXPECT_LE(worst_step, 2.0 / 500 + 1e-9);
+  EXPECT_LE(most, 2.0 + 1e-9);
+  EXPECT_GT(last, 1.0) << "the spring pulls the hand out of the block";
+  EXPECT_GE(rig.loop.data().faults.inside, 1u);
+  EXPECT_GT(rig.loop.data().X_WG.translation().z(), -0.01) << "the rendered tool is on top of the block";
+}
+
 TEST(HapticLoop, WatchdogZeroesForceWhenTheDeviceStallsAndRampsBackIn) {
   LoopOptions options;
   options.safety.device_timeout_s = 0.005;  // 5 ticks
@@ -149,12 +203,14 @@ TEST(HapticLoop, NanPoseIsAFaultWithZeroForceNeverANanForce) {
   rig.device.pose = At(0, 0, -0.5);
   for (int i = 0; i < 600; ++i) rig.Tick(false);
   const Vector3 held = rig.loop.data().X_WG.translation();
+  // (The first tick found the tool 0.5 mm inside the block and brought it out: a fault of its own.)
+  const std::uint64_t faults_before = rig.loop.faults().engine;
   rig.device.pose = At(std::numeric_limits<double>::quiet_NaN(), 0, 0);
   rig.Tick(false);
   EXPECT_TRUE(rig.device.force.allFinite());
   EXPECT_EQ(rig.device.force.norm(), 0.0);
   EXPECT_EQ(rig.loop.data().X_WG.translation(), held);
-  EXPECT_EQ(rig.loop.faults().engine, 1u);
+  EXPECT_EQ(rig.loop.faults().engine, faults_before + 1);
   rig.device.pose = At(0, 0, -0.5);
   rig.Tick(false);
   EXPECT_LT(rig.device.force.norm(), 0.01) << "ramps back in after the fault";

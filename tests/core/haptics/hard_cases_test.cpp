@@ -353,5 +353,96 @@ TEST(HardCasesSlow, MillionFrameRandomRun) {
   ExpectStable(o, Contact::kNonConvex);
 }
 
+// A session that starts with the tool deep inside an object, the device held
+// there, then pulled out: the rendered tool is brought to free space next to the
+// device within a few frames (checked by an independent query), the force is
+// finite and bounded at every frame, it is not left at zero while the hand is
+// inside, and once the device is out the rendered tool follows it again.
+struct DeepStart {
+  int frames_to_free = -1;        // first frame with the rendered tool in free space
+  double max_penetration_after = 0;  // from that frame on
+  int zero_force_inside = 0;      // frames with no force while the device was inside
+  double max_force = 0;
+  bool finite = true;
+  double end_gap = 0;             // |p_G - p_H| at the end (the device out in free space)
+  std::uint64_t inside_faults = 0;
+};
+
+DeepStart RunDeepStart(const test::Scene& scene, const RigidTransform& inside, const Vector3& out_W, int hold = 300,
+                       int pull = 1200) {
+  EngineParams params;
+  const auto model = scene.Model(params);
+  EngineData d(*model);
+  ResetTool(inside, &d);
+  CollisionScratch scratch;
+  std::vector<ContactPair> check(200000);
+  DeepStart r;
+  const int frames = hold + pull + 200;
+  for (int i = 0; i < frames; ++i) {
+    const double t = std::clamp((i - hold) / static_cast<double>(pull), 0.0, 1.0);
+    const RigidTransform X_WH(inside.rotation(), inside.translation() + t * out_W);
+    Step(*model, X_WH, &d);
+    r.finite = r.finite && d.force_W.allFinite() && d.torque_W.allFinite() && d.X_WG.translation().allFinite();
+    r.max_force = std::max(r.max_force, d.force_W.norm());
+    const CollisionStats at_device = FindContacts(model->world, X_WH, 0.0, &scratch, check.data(), 0, QueryLimits{true, 0});
+    const bool device_inside = at_device.overflow;
+    if (device_inside && d.force_W.norm() == 0) ++r.zero_force_inside;
+    const CollisionStats cs = FindContacts(model->world, d.X_WG, 0.0, &scratch, check.data(), static_cast<int>(check.size()));
+    double pen = 0;
+    for (int k = 0; k < cs.pairs; ++k) pen = std::max(pen, -check[k].gap);
+    if (r.frames_to_free < 0 && pen <= kMaxPenetration) r.frames_to_free = i;
+    if (r.frames_to_free >= 0) r.max_penetration_after = std::max(r.max_penetration_after, pen);
+    r.end_gap = (d.X_WG.translation() - X_WH.translation()).norm();
+  }
+  r.inside_faults = d.faults.inside;
+  return r;
+}
+
+void ExpectRecovers(const DeepStart& r) {
+  EXPECT_TRUE(r.finite);
+  EXPECT_GE(r.frames_to_free, 0) << "never in free space";
+  EXPECT_LE(r.frames_to_free, 10) << "brought out within a few frames";
+  EXPECT_LE(r.max_penetration_after, kMaxPenetration);
+  EXPECT_LE(r.zero_force_inside, 10) << "no force for more than 10 frames while the hand was inside";
+  EXPECT_LE(r.max_force, EngineParams{}.max_force_n + 1e-9);
+  EXPECT_LT(r.end_gap, 1e-6) << "out in free space, the rendered tool follows the device again";
+  EXPECT_GE(r.inside_faults, 1u);
+}
+
+TEST(HardCasesDeepStart, FiveMillimetresInsideABlock) {
+  test::Scene s = WithProbe();
+  s.Add(test::MakeBlock(5, 5, -10, -0.5, 0.5, 0.5), Pose(Vector3::Zero()));
+  ExpectRecovers(RunDeepStart(s, Pose(Vector3(0.1, 0.1, -5)), Vector3(0, 0, 9)));
+}
+
+TEST(HardCasesDeepStart, AcrossAWallOfTheNarrowSlot) {
+  test::Scene s = WithProbe();
+  const double w = 0.7, r = 0.3;
+  s.Add(test::MakeBlock(0, 3, -3, 1, 0.25, r), Pose(Vector3(-(w / 2 + r), 0, 0)));
+  s.Add(test::MakeBlock(0, 3, -3, 1, 0.25, r), Pose(Vector3(w / 2 + r, 0, 0)));
+  s.Add(test::MakeBlock(2, 3, -3.5, -3.5, 0.5, 0.5), Pose(Vector3::Zero()));
+  const Matrix3 tilted = Eigen::AngleAxisd(kPi / 3, Vector3::UnitY()).toRotationMatrix();  // the shaft through a wall
+  ExpectRecovers(RunDeepStart(s, Pose(Vector3(0, 0, -2), tilted), Vector3(0, 0, 8)));
+}
+
+TEST(HardCasesDeepStart, InsideBothSlabsOfTheWedge) {
+  test::Scene s = WithProbe();
+  const double a = 35 * kPi / 180;
+  const Matrix3 Rl = Eigen::AngleAxisd(a, Vector3::UnitY()).toRotationMatrix();
+  const Matrix3 Rr = Eigen::AngleAxisd(-a, Vector3::UnitY()).toRotationMatrix();
+  const SphereTree slab = test::MakeBlock(4, 4, -0.4, -0.4, 0.4, 0.4);
+  s.Add(slab, Pose(Vector3(-4 * std::cos(a), 0, 4 * std::sin(a)), Rl));
+  s.Add(slab, Pose(Vector3(4 * std::cos(a), 0, 4 * std::sin(a)), Rr));
+  const Matrix3 across = Eigen::AngleAxisd(kPi / 2, Vector3::UnitY()).toRotationMatrix();  // lying across the wedge
+  // Pulled out sideways, past the slabs' ends: free space whichever side it was brought out on.
+  ExpectRecovers(RunDeepStart(s, Pose(Vector3(0, 0, 1.5), across), Vector3(0, 12, 0)));
+}
+
+TEST(HardCasesDeepStart, InsideAThinWall) {
+  test::Scene s = WithProbe();
+  s.Add(test::MakeBlock(0, 6, -6, 20, 0.25, 0.3), Pose(Vector3::Zero()));  // 0.6 mm thick
+  ExpectRecovers(RunDeepStart(s, Pose(Vector3(0, 0, 0)), Vector3(-6, 0, 0)));
+}
+
 }  // namespace
 }  // namespace sulcus

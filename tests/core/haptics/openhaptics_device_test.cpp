@@ -4,10 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
+#include <vector>
 #include <numbers>
 
+#include "core/haptics/haptic_loop.h"
 #include "tests/common/compare.h"
+#include "tests/core/haptics/test_scenes.h"
 #include "tests/core/haptics/hd_test_double.h"
 
 namespace sulcus {
@@ -122,6 +126,79 @@ TEST_F(OpenHaptics, AFatalErrorStopsReadingsAndForces) {
   EXPECT_FALSE(device.Read(0.001, &s)) << "the loop's watchdog takes over";
   hd::RunServo(1);
   EXPECT_EQ(hd::Get().force[2], 0.0) << "no force once faulted";
+}
+
+TEST_F(OpenHaptics, AFaultedDeviceIsLostAndComesBackAfterARunOfCleanFrames) {
+  auto ready = Ready();
+  OpenHapticsDevice& device = *ready;
+  EXPECT_FALSE(device.lost());
+  hd::Get().servo_errors = {HD_COMM_ERROR};
+  hd::RunServo(1);
+  EXPECT_TRUE(device.lost());
+  DeviceSample s;
+  hd::RunServo(OpenHapticsDevice::kResumeFrames - 1);
+  EXPECT_TRUE(device.lost()) << "not back before a run of clean frames";
+  EXPECT_FALSE(device.Read(0.1, &s));
+  hd::Get().servo_errors = {HD_COMM_ERROR};  // a flicker starts the count again
+  hd::RunServo(1);
+  hd::RunServo(OpenHapticsDevice::kResumeFrames - 1);
+  EXPECT_TRUE(device.lost());
+  hd::RunServo(1);
+  EXPECT_FALSE(device.lost());
+  EXPECT_TRUE(device.Read(0.2, &s)) << "readings again";
+  EXPECT_EQ(device.fatal_errors(), 2u);
+}
+
+// The haptic loop over the double: a probe pressed into a block; the device
+// faults mid-contact: zero force on the loop's next tick (not after the
+// watchdog's timeout), the loss and the return as events, the force ramped in.
+TEST_F(OpenHaptics, TheLoopZeroesForceOnTheTickTheDeviceFaultsAndRampsInWhenItIsBack) {
+  test::Scene scene;
+  scene.tool = std::make_unique<SphereTree>(test::MakeProbe());
+  scene.Add(test::MakeBlock(3, 3, -1.5, -0.5, 0.5, 0.5), RigidTransform::Identity());
+  auto model = scene.Model();
+  OpenHapticsOptions o;
+  o.max_torque_nmm = 515;  // device frame = world, tool frame = stylus
+  OpenHapticsDevice device(o);
+  device.Start();
+  HapticLoop loop(*model, &device, {});
+  std::vector<EventKind> events;
+  auto tick = [&] {
+    hd::RunServo(1);
+    loop.Tick(false);
+    const TickRecord& r = loop.last_record();
+    for (int i = 0; i < r.num_events; ++i) events.push_back(r.events[i].kind);
+    return Force().norm();
+  };
+  auto seen = [&](EventKind k) { return std::find(events.begin(), events.end(), k) != events.end(); };
+  hd::Get().transform[14] = 3;  // above the block
+  for (int i = 0; i < 50; ++i) tick();
+  hd::Get().transform[14] = -0.5;  // pressed 0.5 mm into its top
+  for (int i = 0; i < 800; ++i) tick();
+  ASSERT_GT(Force().norm(), 0.3);
+  ASSERT_FALSE(seen(EventKind::kDeviceLost));
+
+  hd::Get().servo_errors = {HD_DEVICE_FAULT};
+  hd::RunServo(1);  // the error is known at the end of the servo frame
+  loop.Tick(false);
+  const TickRecord& lost = loop.last_record();
+  EXPECT_EQ(lost.force_W.norm(), 0.0) << "the loop's output is zero on its next tick";
+  hd::RunServo(1);
+  EXPECT_EQ(Force().norm(), 0.0) << "and the next servo frame sends nothing";
+  ASSERT_GE(lost.num_events, 1);
+  EXPECT_TRUE(std::any_of(lost.events.begin(), lost.events.begin() + lost.num_events,
+                          [](const HapticEvent& e) { return e.kind == EventKind::kDeviceLost; }));
+  for (int i = 0; i < OpenHapticsDevice::kResumeFrames - 3; ++i) EXPECT_EQ(tick(), 0.0);
+  EXPECT_FALSE(seen(EventKind::kDeviceBack));
+  for (int i = 0; i < 5; ++i) tick();
+  EXPECT_TRUE(seen(EventKind::kDeviceBack));
+  double f = 0;
+  for (int i = 0; i < 100; ++i) f = tick();
+  EXPECT_GT(f, 0.0);
+  EXPECT_LT(f, 0.3) << "ramping in, not a jump back to full force";
+  for (int i = 0; i < 600; ++i) f = tick();
+  EXPECT_GT(f, 0.3) << "and back to full force";
+  device.Stop();
 }
 
 TEST_F(OpenHaptics, OpenFailureSaysWhatToCheck) {

@@ -2,6 +2,9 @@
 // known behaviour get exactly the rubric lines they earn; a replayed attempt
 // gives the same report; lesson and answers files fail with file:line:column.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -10,6 +13,7 @@
 #include <map>
 #include <set>
 
+#include "core/haptics/recording.h"
 #include "core/lesson/attempt.h"
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
@@ -408,6 +412,178 @@ TEST(Recovery, AnAttemptCutShortByAStoppedProgramIsRebuiltAndKeptAsIncomplete) {
   EXPECT_EQ(rows[0].id, kept.id);
   EXPECT_FALSE(rows[0].complete);
   EXPECT_EQ(rows[0].started, folder.started);
+}
+
+// A headless attempt in a real child process, killed with SIGKILL (a consumer
+// stops the child at a tick, or after the last tick before the attempt is kept,
+// and tells the parent): what it kept as it went (its marker, its recording up
+// to what the recorder had written, its entries so far) rebuilds it,
+// incomplete, in the results. `at` 0: after the last tick.
+struct Killed {
+  AttemptFolder folder;
+  fs::path results;
+};
+Killed KillAttemptAt(const std::string& name, std::uint64_t at) {
+  Killed k;
+  k.results = Out(name);
+  fs::remove_all(k.results);
+  k.folder = NewAttemptFolder(k.results, "kim");
+  int fds[2];
+  EXPECT_EQ(pipe(fds), 0);
+  const pid_t child = fork();
+  EXPECT_GE(child, 0);
+  if (child == 0) {
+    close(fds[0]);
+    struct Stop final : TickConsumer {
+      int fd;
+      std::uint64_t at;
+      Stop(int f, std::uint64_t a) : fd(f), at(a) {}
+      void Here() {
+        const char c = 'k';
+        if (write(fd, &c, 1) != 1) _exit(3);
+        for (;;) pause();  // killed here
+      }
+      void OnTick(const TickRecord& r) override {
+        if (at != 0 && r.tick == at) Here();
+      }
+      void OnEnd() override { Here(); }
+    } stop(fds[1], at);
+    AttemptOptions o;
+    o.student = "kim";
+    o.device = "student:careful";
+    o.cache_dir = Cache();
+    o.record = k.folder.recording();
+    o.keep_in = &k.folder;
+    o.consumers = {&stop};
+    try {
+      RunAttempt(Lesson(), o);
+    } catch (...) {
+      _exit(4);
+    }
+    _exit(5);
+  }
+  close(fds[1]);
+  char c = 0;
+  const bool told = read(fds[0], &c, 1) == 1;
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  close(fds[0]);
+  EXPECT_TRUE(told) << "the child ended with " << (WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  EXPECT_EQ(UnfinishedAttempts(k.results), std::vector<fs::path>{k.folder.dir});
+  EXPECT_EQ(ReadAttemptMarker(k.folder.dir).student, "kim");
+  return k;
+}
+
+TEST(Recovery, AHeadlessAttemptKilledMidLessonIsRebuiltFromItsRecording) {
+  constexpr std::uint64_t kAt = 70000;  // about half of the careful student's lesson
+  const Killed k = KillAttemptAt("killed-mid", kAt);
+  // The careful student charts when the probing is over: nothing entered yet.
+  EXPECT_FALSE(fs::exists(k.folder.answers()));
+  const Recording rec = ReadRecording(k.folder.recording());
+  ASSERT_FALSE(rec.frames.empty());
+  EXPECT_LE(rec.frames.back().tick, kAt);
+  // At most what the recorder had not yet written is lost: its ring (8,192
+  // ticks, which an offline run can fill ahead of the writer) and a stdio buffer.
+  EXPECT_GT(rec.frames.back().tick, kAt - 8192 - 100);
+
+  const RecoveredAttempt kept = RecoverAttempt(k.folder.dir, k.results, Cache());
+  EXPECT_FALSE(kept.result.complete);
+  EXPECT_GT(kept.result.sites_read, 6) << "the readings made before the kill are scored";
+  EXPECT_LT(kept.result.sites_read, 24);
+  EXPECT_EQ(kept.result.sites_charted, 0);
+  EXPECT_LE(kept.result.last_tick, kAt);
+  EXPECT_TRUE(UnfinishedAttempts(k.results).empty());
+  ResultsDb db(k.results / "results.db");
+  const auto rows = db.Attempts("kim");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].id, kept.id);
+  EXPECT_FALSE(rows[0].complete);
+}
+
+TEST(Recovery, AHeadlessAttemptKilledBeforeItWasKeptLosesNoEntry) {
+  const Killed k = KillAttemptAt("killed-end", 0);
+  const Answers saved = LoadAnswers(k.folder.answers());
+  EXPECT_EQ(saved.entries.size(), 24u) << "the chart, saved as it was entered";
+  EXPECT_TRUE(saved.diagnosis.has_value());
+  const RecoveredAttempt kept = RecoverAttempt(k.folder.dir, k.results, Cache());
+  EXPECT_EQ(kept.result.sites_charted, 24);
+  EXPECT_TRUE(kept.result.declared.has_value());
+  EXPECT_TRUE(kept.result.complete) << "every step was done before the kill";
+  ResultsDb db(k.results / "results.db");
+  EXPECT_EQ(db.Attempts("kim").size(), 1u);
+}
+
+// A device that vanishes mid-lesson (as if unplugged) and comes back: wraps the
+// careful student's hand, says it is gone between two times.
+class VanishingDevice final : public Device {
+ public:
+  VanishingDevice(std::unique_ptr<Device> hand, double from_s, double to_s)
+      : hand_(std::move(hand)), from_s_(from_s), to_s_(to_s) {}
+  const DeviceCaps& caps() const override { return hand_->caps(); }
+  void Start() override { hand_->Start(); }
+  void Stop() noexcept override { hand_->Stop(); }
+  // The hand waits while the device is gone: its script resumes where it was.
+  bool Read(double t_s, DeviceSample* out) noexcept override {
+    gone_ = t_s >= from_s_ && t_s < to_s_;
+    if (gone_) return false;
+    return hand_->Read(t_s >= to_s_ ? t_s - (to_s_ - from_s_) : t_s, out);
+  }
+  void Write(const Vector3& f, const Vector3& t) noexcept override { hand_->Write(f, t); }
+  bool finished() const noexcept override { return hand_->finished(); }
+  bool lost() const noexcept override { return gone_; }
+
+ private:
+  std::unique_ptr<Device> hand_;
+  double from_s_, to_s_;
+  bool gone_ = false;
+};
+
+TEST(DeviceLoss, ADeviceUnpluggedMidLessonGetsZeroForceAtOnceTheAttemptGoesOnAndTheReportNamesIt) {
+  const LessonSpec spec = LoadLessonSpec(Lesson());
+  const auto scene = CompileScene(LessonScene(spec, 0), Cache());
+  ScriptedStudent student("careful", spec, *scene);
+  LessonRun lesson(spec, *scene, "una");
+  student.Attach(&lesson);
+  constexpr double kFrom = 40.0, kTo = 41.0;  // seconds, while the student probes
+  DeviceSpec device;
+  device.device = std::make_unique<VanishingDevice>(student.MakeDevice(), kFrom, kTo);
+  device.name = "student:careful, unplugged for a second";
+  SessionOptions so;
+  so.max_ticks = static_cast<std::uint64_t>((spec.time_limit_s + 1) * scene->spec.rate_hz);
+  Session session(*scene, std::move(device), so);
+  struct Forces final : TickConsumer {
+    std::vector<double> n;
+    void OnTick(const TickRecord& r) override {
+      if (n.size() <= r.tick) n.resize(r.tick + 1);
+      n[r.tick] = r.force_W.norm();
+    }
+  } forces;
+  session.AddConsumer(&lesson);
+  session.AddConsumer(&student);
+  session.AddConsumer(&forces);
+  session.RunOffline();
+  const double rate = scene->spec.rate_hz;
+  const auto from = static_cast<std::size_t>(kFrom * rate), to = static_cast<std::size_t>(kTo * rate);
+  ASSERT_GT(forces.n.size(), to + 1000);
+  double before = 0;
+  for (std::size_t t = from - 1000; t < from; ++t) before = std::max(before, forces.n[t]);
+  EXPECT_GT(before, 0.1) << "the student was probing when the device went";
+  for (std::size_t t = from; t < to; ++t) ASSERT_EQ(forces.n[t], 0.0) << "tick " << t;
+  // Back: the force rises from zero over the ramp (0.5 s), it does not jump.
+  EXPECT_EQ(forces.n[to], 0.0);
+  for (std::size_t t = to + 1; t < to + 50; ++t) EXPECT_LT(forces.n[t], 0.05) << "tick " << t;
+
+  const LessonResult r = lesson.Finish();
+  ASSERT_EQ(r.interruptions.size(), 1u);
+  EXPECT_EQ(r.interruptions[0].lost_tick, from);
+  EXPECT_EQ(r.interruptions[0].back_tick, to);
+  EXPECT_TRUE(r.complete) << r.ended;
+  EXPECT_EQ(r.sites_charted, 24);
+  ReportInfo info;
+  const std::string html = ReportHtml(r, info);
+  EXPECT_NE(html.find("the device stopped answering at 40.0 s and was back 1.0 s later"), std::string::npos);
 }
 
 }  // namespace
