@@ -8,6 +8,8 @@
 # tests/fuzz/regressions/TARGET/ with the fix, so that ctest replays it forever.
 #
 #   scripts/fuzz.sh [SECONDS] [TARGET...]     e.g. scripts/fuzz.sh 600 mesh_ply
+#   FUZZ_RUNS=1000000 scripts/fuzz.sh 7200    each target until a million executions (or 2 h)
+#   FUZZ_SEED=1 ...                           a fixed seed (CI)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-20}
@@ -35,7 +37,7 @@ for t in "${targets[@]}"; do
   [ -f "tests/fuzz/dict/$t.dict" ] && dict=(-dict="tests/fuzz/dict/$t.dict")
   log="$out/$t.log"
   set +e
-  build/fuzz/tests/fuzz/fuzz_"$t" "$work" "${dict[@]}" -seed="${FUZZ_SEED:-0}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2560 \
+  build/fuzz/tests/fuzz/fuzz_"$t" "$work" "${dict[@]}" -seed="${FUZZ_SEED:-0}" -max_total_time="$seconds" -runs="${FUZZ_RUNS:--1}" -timeout=10 -rss_limit_mb=2560 \
     -max_len=65536 -print_final_stats=1 -artifact_prefix="$artifacts/" >"$log" 2>&1
   rc=$?
   set -e

@@ -149,19 +149,27 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
   for (Effect e : base.effects)
     if (e != Effect::kContact) configs.push_back({ToString(e), {Effect::kContact, e}});
   configs.push_back({"all of the scene's", base.effects});
+  // Friction is measured whether or not the scene names it (on its objects' coefficients).
+  if (!base.HasEffect(Effect::kFriction)) {
+    configs.push_back({"friction (not in the scene)", {Effect::kContact, Effect::kFriction}});
+    std::vector<Effect> all = base.effects;
+    all.push_back(Effect::kFriction);
+    configs.push_back({"all of the scene's + friction", all});
+  }
   std::ofstream csv(dir / "effects.csv");
-  csv << "config,tick_mean_us,tick_p50_us,tick_p99_us,readings,reading_mm,max_force_n,soft_contacts,bleeding,damage\n";
+  csv << "config,tick_mean_us,tick_p50_us,tick_p99_us,readings,reading_mm,max_force_n,soft_contacts,bleeding,damage,"
+         "stuck_ticks,sliding_ticks\n";
   std::printf("effects on %s: the scripted insert, 8000 ticks offline (each tick timed 3 times, averaged)\n",
               scene_file.c_str());
-  std::printf("  %-36s %8s %8s %8s  %8s %8s %9s %5s %5s %5s\n", "effects", "mean us", "p50 us", "p99 us", "readings",
-              "reading", "max F (N)", "soft", "bleed", "harm");
+  std::printf("  %-36s %8s %8s %8s  %8s %8s %9s %5s %5s %5s %6s %6s\n", "effects", "mean us", "p50 us", "p99 us",
+              "readings", "reading", "max F (N)", "soft", "bleed", "harm", "stuck", "slide");
   for (const Config& c : configs) {
     SceneSpec spec = base;
     spec.effects = c.effects;
     const auto scene = CompileScene(spec, DefaultCacheDir());
     const ScriptTarget target = FindScriptTarget(*scene, "insert");
     std::vector<double> tick_us;
-    int readings = 0, soft = 0, bleeding = 0, damage = 0;
+    int readings = 0, soft = 0, bleeding = 0, damage = 0, stuck = 0, sliding = 0;
     double reading = 0, max_force = 0;
     for (int run = 0; run < 3; ++run) {
       // Counts the effects' events of the first run.
@@ -191,10 +199,16 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
       session.AddConsumer(&counter);
       std::vector<double> us;
       us.reserve(8000);
-      session.RunOffline([&](const HapticLoop&) { us.push_back(session.last_step_us()); });
+      int run_stuck = 0, run_sliding = 0;
+      session.RunOffline([&](const HapticLoop& loop) {
+        us.push_back(session.last_step_us());
+        run_stuck += loop.data().friction == EngineData::Friction::kStick;
+        run_sliding += loop.data().friction == EngineData::Friction::kSlip;
+      });
       if (run == 0) {
         readings = counter.readings, soft = counter.soft, bleeding = counter.bleeding, damage = counter.damage;
         reading = counter.reading, max_force = counter.max_force;
+        stuck = run_stuck, sliding = run_sliding;
       }
       if (tick_us.empty()) tick_us.assign(us.size(), 0);
       for (std::size_t i = 0; i < us.size(); ++i) tick_us[i] += us[i] / 3;  // mean over runs, tick by tick
@@ -204,10 +218,10 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
     double mean = 0;
     for (double v : sorted) mean += v / sorted.size();
     const double p50 = sorted[sorted.size() / 2], p99 = sorted[sorted.size() * 99 / 100];
-    std::printf("  %-36s %8.2f %8.2f %8.2f  %8d %8.2f %9.3f %5d %5d %5d\n", c.label.c_str(), mean, p50, p99, readings,
-                reading, max_force, soft, bleeding, damage);
+    std::printf("  %-36s %8.2f %8.2f %8.2f  %8d %8.2f %9.3f %5d %5d %5d %6d %6d\n", c.label.c_str(), mean, p50, p99,
+                readings, reading, max_force, soft, bleeding, damage, stuck, sliding);
     csv << '"' << c.label << '"' << ',' << mean << ',' << p50 << ',' << p99 << ',' << readings << ',' << reading << ','
-        << max_force << ',' << soft << ',' << bleeding << ',' << damage << '\n';
+        << max_force << ',' << soft << ',' << bleeding << ',' << damage << ',' << stuck << ',' << sliding << '\n';
   }
   csv.close();
   const fs::path gp = dir / "effects.gp";

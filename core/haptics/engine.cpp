@@ -119,6 +119,112 @@ void FindFreeSpace(const EngineModel& model, const RigidTransform& X_WH, EngineD
   d->last_move_mm = 0;
 }
 
+// Largest penetration of this frame's pairs with the tool at X.
+double WorstPenetration(const CollisionWorld& world, const RigidTransform& X, const EngineData& d) {
+  double worst = 0;
+  for (int i = 0; i < d.num_pairs; ++i) worst = std::max(worst, -Gap(world, X, d.pairs[i]));
+  return worst;
+}
+
+// Coulomb friction on the rendered tool, in the god-object manner (Zilles and
+// Salisbury; Harwin and Melder). The contact normal n is the active
+// constraints' normals weighted by their multipliers; with the tool kept where
+// it was, the spring from the device has a normal part (the normal force /
+// k_t) and a tangential part. The tool sticks there while the tangential part
+// stays inside the static cone (mu_s times the normal part); beyond it, it
+// slides, placed on the kinetic cone's edge between where it was and the
+// device's foot on the surface, and sticks again only when the device comes
+// back inside the kinetic cone: a steady drag slides steadily, without
+// alternating stick and slip (no buzz). Translation only: a stuck tool may
+// still turn about its tip (the tool frame's origin). A sliding pose is lifted
+// out of the sphere bumps it would enter; a pose that still penetrates is not
+// taken (the frictionless one is).
+void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH, const QpSolution& sol, RigidTransform* X,
+                   EngineData* d) {
+  const EngineParams& p = model.params;
+  const EngineData::Friction before = d->friction;
+  auto done = [&](EngineData::Friction now) {
+    if (before != now) ++d->friction_transitions;
+    d->friction = now;
+  };
+  if (sol.num_active == 0 || d->active_contacts == 0) {
+    d->friction_device_W = X_WH.translation();
+    return done(EngineData::Friction::kNone);
+  }
+  // The normal where the tool was (a curved crown turns it between there and
+  // the frictionless pose): the mean direction of the pairs touching there
+  // (this frame's pairs were found at that pose).
+  const Vector3 p_H = X_WH.translation(), p_last = d->X_WG.translation();
+  const RigidTransform X_last(X->rotation(), p_last);
+  const SphereTree& tool = model.world.tool();
+  constexpr double kTouching = 1e-3, kNear = 0.05;  // mm: touching the nearest; near enough to touch at all
+  double nearest = kNear;
+  for (int i = 0; i < d->num_pairs; ++i) nearest = std::min(nearest, Gap(model.world, X_last, d->pairs[i]));
+  Vector3 n = Vector3::Zero();
+  double mu = 0, weight = 0;
+  for (int i = 0; i < d->num_pairs && nearest < kNear; ++i) {
+    const ContactPair& c = d->pairs[i];
+    const Vector3 away = X_last * tool.center(c.tool_leaf) - model.world.ObjectCenter(c.object, c.object_leaf);
+    const double dist = away.norm();
+    if (dist < 1e-12 || dist - tool.r[c.tool_leaf] - model.world.ObjectRadius(c.object, c.object_leaf) > nearest + kTouching)
+      continue;
+    n += away / dist;
+    mu += model.friction[c.object];
+    weight += 1;
+  }
+  if (weight <= 0 || n.norm() < 1e-12) return done(EngineData::Friction::kNone);
+  n.normalize();
+  mu /= weight;
+  const Vector3 r = p_last - p_H;
+  const double normal = r.dot(n);  // the normal force / k_t with the tool kept where it was
+  if (mu <= 0 || normal <= 0) return done(EngineData::Friction::kNone);
+  const Vector3 t = r - normal * n;
+  const double tangential = t.norm();
+  const double mu_s = mu, mu_k = EngineModel::kKineticShare * mu;
+  // Sliding, it goes on sliding while the device keeps leading it (its step
+  // this frame along the tangential lead is more than 0.1 um), and sticks when
+  // the device stops or turns back: the bumps between spheres, which turn n a
+  // little from frame to frame, then cannot flip it back and forth.
+  const Vector3 device_step = p_H - d->friction_device_W;
+  d->friction_device_W = p_H;
+  const bool leading = tangential > 1e-12 && device_step.dot(-t / tangential) > 1e-4;
+  const bool stick = before == EngineData::Friction::kSlip ? !leading && tangential <= mu_s * normal
+                                                           : tangential <= mu_s * normal;
+  RigidTransform candidate(X->rotation(), p_last);
+  if (!stick) {
+    // From the frictionless pose (on the surface, at the device's foot or short
+    // of it), back toward where the tool was until the spring leans on the
+    // kinetic cone's edge.
+    const Vector3 p_X = X->translation(), x = p_X - p_H;
+    const double x_normal = std::max(x.dot(n), 0.0);
+    const double x_tangential = (x - x.dot(n) * n).norm();
+    Vector3 back = p_last - p_X;
+    back -= back.dot(n) * n;
+    const double room = back.norm();
+    const double lag = std::clamp(mu_k * x_normal - x_tangential, 0.0, room);
+    candidate = RigidTransform(X->rotation(), room > 1e-12 ? Vector3(p_X + (lag / room) * back) : p_X);
+    // Out of the bumps between spheres that the tangent plane cuts.
+    for (int i = 0; i < 3; ++i) {
+      const double w = WorstPenetration(model.world, candidate, *d);
+      if (w <= p.penetration_tolerance_mm) break;
+      candidate = RigidTransform(candidate.rotation(), candidate.translation() + (w + 1e-6) * n);
+    }
+  }
+  if (WorstPenetration(model.world, candidate, *d) <= p.penetration_tolerance_mm) {
+    *X = candidate;
+    return done(stick ? EngineData::Friction::kStick : EngineData::Friction::kSlip);
+  }
+  if (stick) {
+    // Turning about the tip would enter the object: stuck whole.
+    const RigidTransform last(d->X_WG.rotation(), p_last);
+    if (WorstPenetration(model.world, last, *d) <= p.penetration_tolerance_mm) {
+      *X = last;
+      return done(EngineData::Friction::kStick);
+    }
+  }
+  done(EngineData::Friction::kNone);
+}
+
 void EnterInside(EngineData* d) {
   d->inside = true;
   d->free_search_next = 0;
@@ -318,6 +424,10 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   }
   if (accepted) {
     // The accepted sweep's pairs and solution belong together: commit both.
+    if (!model.friction.empty()) {
+      ApplyFriction(model, X_WH, *sol, &X, d);
+      move = MoveBound(d->X_WG.DifferenceTo(X), reach);  // a stuck tool did not move: the next margin is small
+    }
     d->X_WG = X;
     d->last_move_mm = move;
     d->active_contacts = sol->num_active;

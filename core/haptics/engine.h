@@ -48,6 +48,11 @@ struct EngineModel {
               const EngineParams& params);
   CollisionWorld world;
   EngineParams params;
+  /// Coulomb friction (the scene's `friction` effect): per object, the static
+  /// coefficient; kinetic is kKineticShare of it. Empty: no friction, and the
+  /// frame does no friction work at all (one test of this vector's size).
+  std::vector<double> friction;
+  static constexpr double kKineticShare = 0.8;
 };
 
 /// Fault counters; a fault never throws, it is counted and the frame falls back.
@@ -94,6 +99,13 @@ struct EngineData {
   int qp_iterations = 0;
   int linearizations = 0;
   double kkt_residual = 0;
+
+  // Friction (when the model has it): the rendered tool stuck where it touched,
+  // or sliding on the edge of the kinetic friction cone.
+  enum class Friction : std::uint8_t { kNone, kStick, kSlip };
+  Friction friction = Friction::kNone;
+  std::uint64_t friction_transitions = 0;  // stick <-> slip changes (all frames)
+  Vector3 friction_device_W = Vector3::Zero();  // the device's position at the last friction frame
 
   // Inside an object: the rendered tool follows the device with no force while
   // poses around the device are tried, nearest first, for one that is free.

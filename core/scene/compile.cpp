@@ -287,6 +287,9 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   std::vector<CollisionWorld::Object> hard, soft_objects;
   for (int i = 0; i < n; ++i) (i < soft_first ? hard : soft_objects).push_back({&scene->trees[i], objs[i].X_WO});
   scene->model = std::make_unique<EngineModel>(scene->tool_tree, hard, spec.haptics);
+  // Friction on the hard objects (soft gingiva is springs, not constraints).
+  if (spec.HasEffect(Effect::kFriction))
+    for (int i = 0; i < soft_first; ++i) scene->model->friction.push_back(objs[i].material.friction);
   BuildEffectsModel(scene.get(), soft_first, soft_objects);
   return scene;
 }

@@ -185,8 +185,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (n["stiffness_n_per_mm"])
     r.Error(n["stiffness_n_per_mm"], "'stiffness_n_per_mm' is not used by this version of Sulcus (hard objects are "
                                      "rigid; gingiva_compliance sets the gingiva's own); remove it");
-  if (n["friction"])
-    r.Error(n["friction"], "'friction' is not used by this version of Sulcus (no friction effect yet); remove it");
+  if (n["friction"]) o.material.friction = r.Number(n["friction"], "friction", 0, 2, o.material.friction, "");
   if (n["damage_limit_n"]) o.material.damage_limit_n = r.Number(n["damage_limit_n"], "damage_limit_n", 0, 1e9, 1, "N");
 
   for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm"}) {
@@ -341,10 +340,11 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
         for (const auto& en : kEffects) {
           if (name == en.name) {
             found = true;
-            if (en.effect == Effect::kFriction || en.effect == Effect::kSurfaceTexture) {
+            if (en.effect == Effect::kSurfaceTexture) {
               // Named in the design, not built yet: refused rather than silently ignored.
               r.Error(item, "effect '" + name + "' is not available in this version of Sulcus; remove it "
-                            "(available: contact, gingiva_compliance, probing_depth, bleeding_on_probing, tissue_damage)");
+                            "(available: contact, gingiva_compliance, friction, probing_depth, bleeding_on_probing, "
+                            "tissue_damage)");
               continue;
             }
             if (!spec.HasEffect(en.effect)) {

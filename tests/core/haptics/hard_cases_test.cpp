@@ -24,6 +24,7 @@
 #include <cstdlib>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <random>
 
 #include "core/geometry/primitives.h"
@@ -442,6 +443,100 @@ TEST(HardCasesDeepStart, InsideAThinWall) {
   test::Scene s = WithProbe();
   s.Add(test::MakeBlock(0, 6, -6, 20, 0.25, 0.3), Pose(Vector3::Zero()));  // 0.6 mm thick
   ExpectRecovers(RunDeepStart(s, Pose(Vector3(0, 0, 0)), Vector3(-6, 0, 0)));
+}
+
+// Friction (the `friction` effect): on a plate inclined by `tilt`, the device
+// comes straight down (world -z) onto it and is held 1.5 mm below where it first
+// touched. The spring then leans tan(tilt) off the plate's normal: below the
+// friction angle the rendered tool sticks where it touched; above it, it slides
+// down the slope until the spring leans on the kinetic cone's edge.
+struct FrictionRun {
+  double slid_mm = 0;           // along the plate, from the first contact to the end
+  double ratio = 0;             // tangential over normal force at the end
+  std::uint64_t transitions = 0;
+  double rest_jitter = 0;       // force change over the last 200 frames
+};
+
+FrictionRun RunInclined(double tilt_deg, double mu) {
+  test::Scene s = WithProbe();
+  const Matrix3 R = Eigen::AngleAxisd(tilt_deg * kPi / 180, Vector3::UnitY()).toRotationMatrix();
+  // A fine plate (spacing 0.05 mm): the valleys between its spheres lean at most
+  // 4 degrees, so they hold the tool far less than the friction does.
+  s.Add(test::MakeBlock(3, 3, -0.5, -0.5, 0.05, 0.5), Pose(Vector3::Zero(), R));
+  auto model = s.Model();
+  model->friction = {mu};
+  EngineData d(*model);
+  const Vector3 n = R * Vector3::UnitZ();
+  const Vector3 down_slope = (R * Vector3::UnitX()).z() < 0 ? Vector3(R * Vector3::UnitX()) : Vector3(R * -Vector3::UnitX());
+  ResetTool(Pose(Vector3(0, 0, 3)), &d);
+  FrictionRun r;
+  std::optional<Vector3> touched;
+  double z = 3;
+  Vector3 last_force = Vector3::Zero();
+  for (int i = 0; i < 3000; ++i) {
+    if (!touched || d.X_WG.translation().z() - z < 1.5) z -= 0.002;  // 2 mm/s, to 1.5 mm below the touch
+    Step(*model, Pose(Vector3(0, 0, z)), &d);
+    if (!touched && d.active_contacts > 0) touched = d.X_WG.translation();
+    if (i >= 2800) r.rest_jitter = std::max(r.rest_jitter, (d.force_W - last_force).norm());
+    last_force = d.force_W;
+  }
+  const Vector3 F = d.force_W;
+  r.slid_mm = touched ? (d.X_WG.translation() - *touched).dot(down_slope) : -1;
+  r.ratio = (F - F.dot(n) * n).norm() / F.dot(n);
+  r.transitions = d.friction_transitions;
+  return r;
+}
+
+TEST(HardCasesFriction, AnInclinedPlateHoldsTheToolBelowTheFrictionAngleAndLetsItSlideAbove) {
+  constexpr double kMu = 0.4;  // friction angle 21.8 degrees; kinetic 0.32 (17.7 degrees)
+  constexpr double kValley = 0.08;  // tan of the steepest valley wall of the plate's spheres (4.6 degrees)
+  const FrictionRun below = RunInclined(12, kMu);
+  EXPECT_LT(std::abs(below.slid_mm), 0.01) << "stuck where it touched";
+  EXPECT_NEAR(below.ratio, std::tan(12 * kPi / 180), 0.01) << "the spring leans as the device pushes";
+  const FrictionRun above = RunInclined(35, kMu);
+  EXPECT_GT(above.slid_mm, 0.1) << "slid down the slope";
+  EXPECT_NEAR(above.ratio, EngineModel::kKineticShare * kMu, kValley) << "on the kinetic cone's edge";
+  const FrictionRun none = RunInclined(35, 0.0);
+  EXPECT_GT(none.slid_mm, above.slid_mm + 0.3) << "without friction it slides further";
+  EXPECT_LT(none.ratio, kValley) << "and the force is about the plate's normal";
+  for (const FrictionRun& r : {below, above}) {
+    EXPECT_LE(r.rest_jitter, kRestForceJitter) << "still at rest";
+    EXPECT_LE(r.transitions, 4u) << "no chatter between stick and slip";
+  }
+}
+
+TEST(HardCasesFriction, ASteadyDragSlidesSteadilyWithoutBuzzAndStopsWhenTheDeviceStops) {
+  test::Scene s = WithProbe();
+  s.Add(test::MakeBlock(6, 2, -0.5, -0.5, 0.05, 0.5), Pose(Vector3::Zero()));  // fine, as above
+  auto model = s.Model();
+  constexpr double kMu = 0.3;
+  model->friction = {kMu};
+  EngineData d(*model);
+  ResetTool(Pose(Vector3(-4, 0, 2)), &d);
+  std::vector<double> ratio;
+  std::vector<int> state;
+  Vector3 last_force = Vector3::Zero();
+  double rest_jitter = 0;
+  for (int i = 0; i < 2500; ++i) {
+    Vector3 p(-4, 0, Lerp(2, -1, i / 300.0));                     // down, 1 mm into the plate
+    if (i >= 500) p.x() = Lerp(-4, 4, (i - 500) / 1500.0);      // dragged 8 mm at 5.3 mm/s
+    Step(*model, Pose(p), &d);
+    if (i >= 900 && i < 2000) {
+      const Vector3 F = d.force_W;
+      ratio.push_back(std::hypot(F.x(), F.y()) / F.z());
+      state.push_back(static_cast<int>(d.friction));
+    }
+    if (i >= 2250) rest_jitter = std::max(rest_jitter, (d.force_W - last_force).norm());
+    last_force = d.force_W;
+  }
+  int changes = 0;
+  for (std::size_t i = 1; i < state.size(); ++i) changes += state[i] != state[i - 1];
+  EXPECT_EQ(changes, 0) << "one steady slide, no stick-slip alternation";
+  EXPECT_EQ(state.front(), static_cast<int>(EngineData::Friction::kSlip));
+  for (double q : ratio) EXPECT_NEAR(q, EngineModel::kKineticShare * kMu, 0.08);
+  EXPECT_LE(rest_jitter, kRestForceJitter) << "stuck again once the device stops";
+  EXPECT_EQ(d.friction, EngineData::Friction::kStick);
+  EXPECT_LE(d.friction_transitions, 6u);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <optional>
 
 #include "core/haptics/effects.h"
 #include "core/haptics/scripted_device.h"
@@ -79,6 +80,44 @@ TEST(Probing, AnEffectNotNamedIsNotInTheLoop) {
   m.on = {};
   m.on.probing_depth = true;  // no sites (no gingiva): nothing to measure, nothing runs
   EXPECT_TRUE(MakeEffects(m).empty());
+}
+
+// Friction on a tooth: the probe pressed 1 mm into the crown of the scene's
+// first tooth along its surface normal, then the device moved sideways. With
+// friction named (coefficient 0.3 on every object), a sideways offset of a fifth
+// of the push leaves the tool where it touched and one of twice the push makes
+// it slide; without friction the same small offset already moves it. And a
+// scene that does not name friction has none in its model.
+TEST(Probing, FrictionHoldsAProbeOnAToothBelowItsConeAndLetsItSlideAbove) {
+  SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
+  ASSERT_FALSE(spec.HasEffect(Effect::kFriction));
+  EXPECT_TRUE(CompileScene(spec, Cache())->model->friction.empty()) << "not named: no friction in the model";
+  auto run = [&](bool friction, double offset_mm) {
+    SceneSpec s = spec;
+    if (friction) s.effects.push_back(Effect::kFriction);
+    for (ObjectSpec& o : s.objects) o.material.friction = 0.3;
+    const auto scene = CompileScene(s, Cache());
+    EXPECT_EQ(scene->model->friction.empty(), !friction);
+    const ScriptTarget target = FindScriptTarget(*scene, "poke");
+    const Vector3 n = target.n_W;
+    const Vector3 t = n.unitOrthogonal();
+    const Matrix3 R = Quaternion::FromTwoVectors(Vector3::UnitZ(), n).toRotationMatrix();
+    EngineData d(*scene->model);
+    ResetTool(RigidTransform(R, target.p_W + 2 * n), &d);
+    std::optional<Vector3> touched;
+    for (int i = 0; i < 3000; ++i) {
+      const double down = std::min(3.0, 0.01 * i);  // to 1 mm below the surface point
+      const double side = i < 1000 ? 0 : std::min(offset_mm, 0.001 * (i - 1000));
+      Step(*scene->model, RigidTransform(R, target.p_W + (2 - down) * n + side * t), &d);
+      if (!touched && d.active_contacts > 0) touched = d.X_WG.translation();
+      if (i == 999) touched = d.X_WG.translation();  // where it rests before the sideways move
+    }
+    EXPECT_EQ(d.faults.total(), 0u);
+    return touched ? ((d.X_WG.translation() - *touched) - (d.X_WG.translation() - *touched).dot(n) * n).norm() : -1.0;
+  };
+  EXPECT_LT(run(true, 0.2), 0.02) << "stuck: the tool stays where it touched";
+  EXPECT_GT(run(true, 2.0), 0.5) << "slides once the spring leans past the cone";
+  EXPECT_GT(run(false, 0.2), 0.1) << "without friction the small offset already moves it";
 }
 
 }  // namespace

@@ -70,6 +70,19 @@ TEST(SceneFile, WrongTypesAndRanges) {
             (Lines{"2:10: 'box' must be a list of 3 numbers (sizes along x, y, z in mm), found 2"}));
 }
 
+TEST(SceneFile, FrictionIsAnEffectWithACoefficientPerObjectAndTextureIsRefused) {
+  EXPECT_EQ(Errors("effects: [contact, friction]\nobjects:\n  - box: [1, 1, 1]\n    tissue: bone\n    friction: 0.25\n"),
+            (Lines{"accepted"}));
+  EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    friction: 3\n"),
+            (Lines{"4:15: 'friction' is 3, expected 0 to 2"}));
+  EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    friction: slippery\n"),
+            (Lines{"4:15: 'friction' must be a number, found 'slippery'"}));
+  const Lines texture = Errors("effects: [contact, surface_texture]\nobjects: []\n");
+  ASSERT_EQ(texture.size(), 1u);
+  EXPECT_EQ(texture[0].rfind("1:20: effect 'surface_texture' is not available in this version of Sulcus", 0), 0u)
+      << texture[0];
+}
+
 TEST(SceneFile, ClinicalTruthIsChecked) {
   // Tooth 31's root is 12.5 mm long.
   EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    pockets_mm: [3, 13, 3, 3, 3, 3]\n"),
