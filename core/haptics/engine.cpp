@@ -225,6 +225,15 @@ void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH, const Q
   done(EngineData::Friction::kNone);
 }
 
+// A frame inside an object: the search for free space, and no force.
+void InsideFrame(const EngineModel& model, const RigidTransform& X_WH, Clock::time_point t0, EngineData* d) {
+  FindFreeSpace(model, X_WH, d);
+  d->force_W.setZero();
+  d->torque_W.setZero();
+  d->force_saturated = false;
+  d->timings.total_us = Micros(t0, Clock::now());
+}
+
 void EnterInside(EngineData* d) {
   d->inside = true;
   d->free_search_next = 0;
@@ -274,14 +283,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   }
   d->X_WH = X_WH;
   if (!d->initialized) ResetTool(X_WH, d);
-  if (d->inside) {
-    FindFreeSpace(model, X_WH, d);
-    d->force_W.setZero();
-    d->torque_W.setZero();
-    d->force_saturated = false;
-    d->timings.total_us = Micros(t0, Clock::now());
-    return;
-  }
+  if (d->inside) return InsideFrame(model, X_WH, t0, d);
 
   // The query margin must cover how far any tool point moves this frame, so that
   // no pair outside it can be reached (no pop-through). Guess from the last
@@ -409,12 +411,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     // next frame would be the same: a frozen tool): follow the device with no
     // force until free space next to it is found, starting this frame.
     EnterInside(d);
-    FindFreeSpace(model, X_WH, d);
-    d->force_W.setZero();
-    d->torque_W.setZero();
-    d->force_saturated = false;
-    d->timings.total_us = Micros(t0, Clock::now());
-    return;
+    return InsideFrame(model, X_WH, t0, d);
   }
   if (d->pair_overflow) ++d->faults.pair_overflow;
   if (sol != nullptr) {

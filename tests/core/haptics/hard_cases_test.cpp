@@ -162,13 +162,30 @@ test::Scene WithProbe() {
   return s;
 }
 
-TEST(HardCases, NarrowSlot) {
-  // Opposing walls 0.7 mm apart (the tip is 0.5 mm, the shaft 0.8 mm), a floor.
+// Opposing walls 0.7 mm apart (the tip is 0.5 mm, the shaft 0.8 mm), a floor.
+test::Scene NarrowSlot() {
   test::Scene s = WithProbe();
   const double w = 0.7, r = 0.3;
   s.Add(test::MakeBlock(0, 3, -3, 1, 0.25, r), Pose(Vector3(-(w / 2 + r), 0, 0)));
   s.Add(test::MakeBlock(0, 3, -3, 1, 0.25, r), Pose(Vector3(w / 2 + r, 0, 0)));
   s.Add(test::MakeBlock(2, 3, -3.5, -3.5, 0.5, 0.5), Pose(Vector3::Zero()));
+  return s;
+}
+
+// Two slabs leaning 35 degrees, meeting in a V at the origin.
+test::Scene Wedge() {
+  test::Scene s = WithProbe();
+  const double a = 35 * kPi / 180;
+  const Matrix3 Rl = Eigen::AngleAxisd(a, Vector3::UnitY()).toRotationMatrix();
+  const Matrix3 Rr = Eigen::AngleAxisd(-a, Vector3::UnitY()).toRotationMatrix();
+  const SphereTree slab = test::MakeBlock(4, 4, -0.4, -0.4, 0.4, 0.4);
+  s.Add(slab, Pose(Vector3(-4 * std::cos(a), 0, 4 * std::sin(a)), Rl));
+  s.Add(slab, Pose(Vector3(4 * std::cos(a), 0, 4 * std::sin(a)), Rr));
+  return s;
+}
+
+TEST(HardCases, NarrowSlot) {
+  const test::Scene s = NarrowSlot();
   const Outcome o = RunCase(s, {}, 3300, [](int i) {
     if (i < 1500) return Pose(Vector3(0, 0, Lerp(3, -4, i / 1500.0)));       // down into the slot
     if (i < 3000) return Pose(Vector3(std::sin((i - 1500) * 0.01), 0, -4));  // side to side
@@ -179,13 +196,7 @@ TEST(HardCases, NarrowSlot) {
 }
 
 TEST(HardCases, Wedge) {
-  test::Scene s = WithProbe();
-  const double a = 35 * kPi / 180;
-  const Matrix3 Rl = Eigen::AngleAxisd(a, Vector3::UnitY()).toRotationMatrix();
-  const Matrix3 Rr = Eigen::AngleAxisd(-a, Vector3::UnitY()).toRotationMatrix();
-  const SphereTree slab = test::MakeBlock(4, 4, -0.4, -0.4, 0.4, 0.4);
-  s.Add(slab, Pose(Vector3(-4 * std::cos(a), 0, 4 * std::sin(a)), Rl));
-  s.Add(slab, Pose(Vector3(4 * std::cos(a), 0, 4 * std::sin(a)), Rr));
+  const test::Scene s = Wedge();
   const Outcome o = RunCase(s, {}, 2600, [](int i) {
     if (i < 1000) return Pose(Vector3(0, 0, Lerp(4, -3, i / 1000.0)));
     if (i < 2300) return Pose(Vector3(0, 2 * std::sin((i - 1000) * 0.005), -3));
@@ -417,23 +428,13 @@ TEST(HardCasesDeepStart, FiveMillimetresInsideABlock) {
 }
 
 TEST(HardCasesDeepStart, AcrossAWallOfTheNarrowSlot) {
-  test::Scene s = WithProbe();
-  const double w = 0.7, r = 0.3;
-  s.Add(test::MakeBlock(0, 3, -3, 1, 0.25, r), Pose(Vector3(-(w / 2 + r), 0, 0)));
-  s.Add(test::MakeBlock(0, 3, -3, 1, 0.25, r), Pose(Vector3(w / 2 + r, 0, 0)));
-  s.Add(test::MakeBlock(2, 3, -3.5, -3.5, 0.5, 0.5), Pose(Vector3::Zero()));
+  const test::Scene s = NarrowSlot();
   const Matrix3 tilted = Eigen::AngleAxisd(kPi / 3, Vector3::UnitY()).toRotationMatrix();  // the shaft through a wall
   ExpectRecovers(RunDeepStart(s, Pose(Vector3(0, 0, -2), tilted), Vector3(0, 0, 8)));
 }
 
 TEST(HardCasesDeepStart, InsideBothSlabsOfTheWedge) {
-  test::Scene s = WithProbe();
-  const double a = 35 * kPi / 180;
-  const Matrix3 Rl = Eigen::AngleAxisd(a, Vector3::UnitY()).toRotationMatrix();
-  const Matrix3 Rr = Eigen::AngleAxisd(-a, Vector3::UnitY()).toRotationMatrix();
-  const SphereTree slab = test::MakeBlock(4, 4, -0.4, -0.4, 0.4, 0.4);
-  s.Add(slab, Pose(Vector3(-4 * std::cos(a), 0, 4 * std::sin(a)), Rl));
-  s.Add(slab, Pose(Vector3(4 * std::cos(a), 0, 4 * std::sin(a)), Rr));
+  const test::Scene s = Wedge();
   const Matrix3 across = Eigen::AngleAxisd(kPi / 2, Vector3::UnitY()).toRotationMatrix();  // lying across the wedge
   // Pulled out sideways, past the slabs' ends: free space whichever side it was brought out on.
   ExpectRecovers(RunDeepStart(s, Pose(Vector3(0, 0, 1.5), across), Vector3(0, 12, 0)));
