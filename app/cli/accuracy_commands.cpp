@@ -103,6 +103,59 @@ FrameStats RunSlide(const SphereTree& probe, const SphereTree& object, const Aab
   return s;
 }
 
+// Sliding at a constant device depth over a flat face (the top of a box, at
+// z = top): the normal force should be constant and the rendered tool level; the
+// sphere bumps make both ripple. 300 frames pressed 0.3 mm below the face, then
+// 3,000 frames along x at 4 mm/s. A pop is a frame whose force changes by more
+// than 0.05 N beyond what the device's own move explains (k_t times it).
+struct RippleStats {
+  double force_ripple_pct = 0;  // peak to peak of the normal force over its mean
+  double height_ripple_mm = 0;  // peak to peak of the rendered tool's height
+  int pops = 0;
+  double worst_pop_n = 0;
+  double p50_us = 0, p99_us = 0;
+  std::uint64_t faults = 0;
+};
+
+RippleStats RunFlatSlide(const SphereTree& probe, const SphereTree& plate, double top, EngineParams params) {
+  const EngineModel model(probe, {{&plate, RigidTransform::Identity()}}, params);
+  EngineData d(model);
+  auto at = [&](double x) { return RigidTransform(Matrix3::Identity(), Vector3(x, 0, top - 0.3)); };
+  ResetTool(RigidTransform(Matrix3::Identity(), Vector3(-6, 0, top + 1)), &d);
+  RippleStats r;
+  std::vector<double> us, fz, gz;
+  Vector3 last_f = Vector3::Zero(), last_h = at(-6).translation();
+  const int warmup = 300, frames = 3000;
+  for (int i = 0; i < warmup + frames; ++i) {
+    const double x = -6 + 12.0 * std::max(0, i - warmup) / frames;
+    const RigidTransform X = at(x);
+    const auto t0 = Clock::now();
+    Step(model, X, &d);
+    const double dt = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+    if (i >= warmup) {
+      us.push_back(dt);
+      fz.push_back(d.force_W.z());
+      gz.push_back(d.X_WG.translation().z());
+      const double unexplained = (d.force_W - last_f).norm() - params.k_t * (X.translation() - last_h).norm();
+      if (unexplained > 0.05) ++r.pops;
+      r.worst_pop_n = std::max(r.worst_pop_n, unexplained);
+    }
+    last_f = d.force_W;
+    last_h = X.translation();
+  }
+  std::sort(us.begin(), us.end());
+  const auto [fmin, fmax] = std::minmax_element(fz.begin(), fz.end());
+  const auto [gmin, gmax] = std::minmax_element(gz.begin(), gz.end());
+  double mean = 0;
+  for (double f : fz) mean += f / fz.size();
+  r.force_ripple_pct = mean > 0 ? 100 * (*fmax - *fmin) / mean : 0;
+  r.height_ripple_mm = *gmax - *gmin;
+  r.p50_us = us[us.size() / 2];
+  r.p99_us = us[us.size() * 99 / 100];
+  r.faults = d.faults.total();
+  return r;
+}
+
 void Plot(const fs::path& dir) {
   if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
     std::printf("gnuplot not found: CSV written, no plots (scripts/install-deps.sh installs gnuplot-nox)\n");
@@ -127,10 +180,19 @@ void Plot(const fs::path& dir) {
       << "set xlabel 'penetration tolerance (mm)'\nset ylabel 'us per frame / linearisations x 10'\nset logscale y\n"
       << "plot '" << (dir / "tolerance.csv").string() << "' skip 1 using 1:2 with linespoints lw 2 title 'frame p50 (us)',"
       << " '' skip 1 using 1:3 with linespoints lw 2 title 'frame p99 (us)',"
-      << " '' skip 1 using 1:($4*10) with linespoints lw 2 title 'mean linearisations x 10'\n";
+      << " '' skip 1 using 1:($4*10) with linespoints lw 2 title 'mean linearisations x 10'\n"
+      << "unset logscale\nset logscale x 2\nset format x '%g'\nset y2tics\n"
+      << "set output '" << (dir / "ripple.png").string() << "'\n"
+      << "set title 'Sliding on a flat plate: what the hand feels of the sphere bumps'\n"
+      << "set xlabel 'leaf spheres of the plate'\nset ylabel 'normal force ripple, % (peak to peak / mean)'\n"
+      << "set y2label 'rendered tool height ripple (mm)'\nset logscale y\nset logscale y2\n"
+      << "plot '" << (dir / "ripple.csv").string() << "' skip 1 using 1:2 with linespoints lw 2 title 'force ripple %',"
+      << " 7 with lines dt 2 lw 1 title 'Weber fraction for force (7 %)',"
+      << " '' skip 1 using 1:3 axes x1y2 with linespoints lw 2 title 'height ripple (mm)'\n";
   out.close();
   if (std::system(("gnuplot '" + gp.string() + "'").c_str()) == 0) {
-    std::printf("plots: %s, %s\n", (dir / "resolution.png").c_str(), (dir / "tolerance.png").c_str());
+    std::printf("plots: %s, %s, %s\n", (dir / "resolution.png").c_str(), (dir / "tolerance.png").c_str(),
+                (dir / "ripple.png").c_str());
   } else {
     std::printf("gnuplot failed on %s\n", gp.c_str());
   }
@@ -310,6 +372,30 @@ void AddAccuracyCommands(CLI::App& app) {
     }
     res.close();
 
+    // Sliding on a flat plate (a 16 x 16 x 4 mm box) at constant depth, per leaf count.
+    {
+      const TriangleMesh box_mesh = MakeBox(Vector3(16, 16, 4), 8);
+      const double top = box_mesh.Bounds().max.z();
+      std::ofstream rip(dir / "ripple.csv");
+      rip << "leaves,force_ripple_pct,height_ripple_mm,pops,worst_pop_n,frame_p50_us,frame_p99_us,faults\n";
+      std::printf("\nsliding on a flat plate at constant depth (0.3 mm): normal force ripple (7 %% is about what a "
+                  "hand tells apart), rendered tool height ripple, pops (> 0.05 N in a frame beyond the device's move)\n");
+      std::printf("  budget leaves  force ripple %%  height ripple mm  pops  worst pop N  frame p50 us  p99 us  faults\n");
+      for (int budget : {32, 128, 512, 2048}) {
+        SphereTreeParams p;
+        p.leaves = budget;
+        p.levels = budget > 512 ? 5 : 4;
+        const SphereTree plate = LoadOrBuildSphereTree(box_mesh, p, cache);
+        const RippleStats r = RunFlatSlide(probe, plate, top, EngineParams{});
+        std::printf("  %6d %6zu  %14.2f  %16.4f  %4d  %11.3f  %12.2f  %6.2f  %6llu\n", budget, plate.NumLeaves(),
+                    r.force_ripple_pct, r.height_ripple_mm, r.pops, r.worst_pop_n, r.p50_us, r.p99_us,
+                    static_cast<unsigned long long>(r.faults));
+        rip << plate.NumLeaves() << ',' << r.force_ripple_pct << ',' << r.height_ripple_mm << ',' << r.pops << ','
+            << r.worst_pop_n << ',' << r.p50_us << ',' << r.p99_us << ',' << r.faults << '\n';
+        std::fflush(stdout);
+      }
+    }
+
     // What the budget is spent on, at 512 leaves: the mean (default) or the worst.
     std::printf("\nspend (512 leaves): what the leaves are traded for after the min-max cover\n");
     std::printf("  spend  worst %%   mean %%   overlap  build s  frame p50 us  p99 us  pairs  faults\n");
@@ -346,7 +432,8 @@ void AddAccuracyCommands(CLI::App& app) {
           << ',' << f.faults << '\n';
     }
     tol.close();
-    std::printf("\nCSV: %s, %s\n", (dir / "resolution.csv").c_str(), (dir / "tolerance.csv").c_str());
+    std::printf("\nCSV: %s, %s, %s\n", (dir / "resolution.csv").c_str(), (dir / "tolerance.csv").c_str(),
+                (dir / "ripple.csv").c_str());
     Plot(dir);
   });
 }
