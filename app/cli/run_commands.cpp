@@ -1,6 +1,7 @@
 // `sulcus-cli run`, `sulcus-cli devices`, `sulcus-cli recording ...`: the real
 // haptic thread without a window, the USB devices, and recordings.
 
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "app/cli/commands.h"
 #include "core/haptics/devices/usb_discovery.h"
@@ -80,8 +82,11 @@ int Run(const RunArgs& a) {
   RunSummary summary(scene->spec, so.rate_hz);
   session.AddConsumer(&summary);
   std::fprintf(stderr, "running %s at %.0f Hz for %.1f s ...\n", session.device_name().c_str(), so.rate_hz, a.seconds);
+  std::vector<int> node_tests;  // offline: the collision work of each tick, in sphere tests
   if (a.offline) {
-    session.RunOffline();  // as fast as possible, on this thread: the same ticks, no clock
+    node_tests.reserve(so.max_ticks);
+    // As fast as possible, on this thread: the same ticks, no clock.
+    session.RunOffline([&](const HapticLoop& l) { node_tests.push_back(l.data().node_tests); });
   } else {
     session.Start();
     while (session.running()) {
@@ -112,6 +117,11 @@ int Run(const RunArgs& a) {
               miss_pct);
   std::printf("step: p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us%s\n", step_hist.Percentile(0.5),
               step_hist.Percentile(0.99), step_hist.Percentile(0.999), step_hist.max_us(), a.offline ? " (offline)" : "");
+  if (!node_tests.empty()) {
+    std::sort(node_tests.begin(), node_tests.end());
+    std::printf("collision: sphere tests a tick p50 %d, p99 %d, p99.9 %d, max %d\n", node_tests[node_tests.size() / 2],
+                node_tests[node_tests.size() * 99 / 100], node_tests[node_tests.size() * 999 / 1000], node_tests.back());
+  }
   std::printf("contact: %" PRIu64 " ticks in contact (%.1f %%)", s.contact_ticks,
               ticks ? 100.0 * s.contact_ticks / ticks : 0.0);
   for (const auto& [object, n] : summary.began)

@@ -301,6 +301,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   const Vector6 to_device = d->X_WG.DifferenceTo(X_WH);
   const double device_move = MoveBound(to_device, reach);
   double step_scale = device_move > p.max_step_mm ? p.max_step_mm / device_move : 1.0;
+  d->node_tests = 0;
+  d->node_budget_hit = false;
   bool accepted = false, deep = false;
   double overlap = 0;  // deepest overlap of the rendered tool at the frame's start
   d->sweeps = 0;
@@ -314,10 +316,14 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     const auto t_collide = Clock::now();
     // Past max_pairs the set is not used: the query stops there.
     const CollisionStats cs =
-        FindContacts(world, d->X_WG, margin, &d->scratch, d->pairs.data(), p.max_pairs, QueryLimits{true, 0});
+        FindContacts(world, d->X_WG, margin, &d->scratch, d->pairs.data(), p.max_pairs,
+                     QueryLimits{true, p.max_node_tests});
     d->num_pairs = cs.pairs;
+    d->node_tests += cs.node_tests;
     d->timings.collide_us += Micros(t_collide, Clock::now());
-    d->pair_overflow = cs.overflow || cs.stack_overflow;
+    const bool over_budget = cs.cut_short && !cs.overflow;
+    d->node_budget_hit = d->node_budget_hit || over_budget;
+    d->pair_overflow = cs.overflow || cs.stack_overflow || over_budget;
     if (sweep == 0 && !d->pair_overflow)
       for (int i = 0; i < cs.pairs; ++i) overlap = std::max(overlap, -d->pairs[i].gap);
     if (d->pair_overflow) {

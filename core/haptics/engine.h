@@ -29,7 +29,7 @@ struct EngineParams {
   double penetration_tolerance_mm = 1e-4;  // re-linearise while the exact check exceeds it
   int max_linearizations = 4;
   double max_step_mm = 2.0;       // most a tool point moves per frame (2 m/s at 1 kHz)
-  int max_pairs = 2048;
+  int max_pairs = 4096;
   // A rendered tool that the solve cannot take out of an object (its least
   // violation leaves it this far in), that overlaps it by more pairs than
   // max_pairs, or that overlaps it in a frame that could not move it is inside
@@ -40,6 +40,11 @@ struct EngineParams {
   // Most sphere tests a frame spends looking for that free space; the search
   // goes on next frame where it stopped.
   int free_search_node_tests = 40000;
+  // Most sphere tests one contact query of a frame may make (0: no limit). A
+  // query that would need more is treated as an overflow: a shorter step with a
+  // smaller margin is tried, so a frame's collision work is bounded by
+  // kMaxSweeps times this, whatever the pose.
+  int max_node_tests = 20000;
 };
 
 /// The immutable engine model: the collision world and the parameters.
@@ -89,6 +94,8 @@ struct EngineData {
   double margin_mm = 0;      // query margin used (covers this frame's move)
   static constexpr int kMaxSweeps = 6;
   int sweeps = 0;            // queries this frame (a re-query when the move outgrew the margin)
+  int node_tests = 0;        // sphere tests this frame, all its queries
+  bool node_budget_hit = false;  // a query of this frame was cut short by max_node_tests
   double sweep_margin_mm[kMaxSweeps] = {};
   double sweep_move_mm[kMaxSweeps] = {};
   double last_move_mm = 0;   // how far a tool point moved last frame (margin guess)
