@@ -477,7 +477,7 @@ Killed KillAttemptAt(const std::string& name, std::uint64_t at) {
 }
 
 TEST(Recovery, AHeadlessAttemptKilledMidLessonIsRebuiltFromItsRecording) {
-  constexpr std::uint64_t kAt = 70000;  // about half of the careful student's lesson
+  constexpr std::uint64_t kAt = 40000;  // four sites into the careful student's lesson
   const Killed k = KillAttemptAt("killed-mid", kAt);
   // The careful student charts when the probing is over: nothing entered yet.
   EXPECT_FALSE(fs::exists(k.folder.answers()));
@@ -490,7 +490,7 @@ TEST(Recovery, AHeadlessAttemptKilledMidLessonIsRebuiltFromItsRecording) {
 
   const RecoveredAttempt kept = RecoverAttempt(k.folder.dir, k.results, Cache());
   EXPECT_FALSE(kept.result.complete);
-  EXPECT_GT(kept.result.sites_read, 6) << "the readings made before the kill are scored";
+  EXPECT_GE(kept.result.sites_read, 3) << "the readings made before the kill are scored";
   EXPECT_LT(kept.result.sites_read, 24);
   EXPECT_EQ(kept.result.sites_charted, 0);
   EXPECT_LE(kept.result.last_tick, kAt);
