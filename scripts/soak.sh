@@ -29,7 +29,8 @@ while kill -0 $pid 2>/dev/null; do
   fds=$(ls /proc/$pid/fd 2>/dev/null | wc -l)
   [ -z "$rss" ] && break
   printf '%8d %10s %8s %8s\n' "$now" "$rss" "$fds" "$thr"
-  if [ -z "$first_rss" ] && [ "$now" -ge "$interval" ]; then first_rss=$rss first_fds=$fds; fi
+  # The baseline: the second sample past the start (the first can catch the scene still loading).
+  if [ -z "$first_rss" ] && [ "$now" -ge $(( 2 * interval )) ]; then first_rss=$rss first_fds=$fds; fi
   last_rss=$rss last_fds=$fds
   sleep "$interval"
 done
@@ -37,5 +38,5 @@ wait $pid || { echo "soak: the run failed:"; cat "$log"; exit 1; }
 trap - EXIT
 tail -n 12 "$log"
 if [ -n "$first_rss" ]; then
-  echo "growth after the first sample past ${interval} s: RSS $(( last_rss - first_rss )) KiB, file handles $(( last_fds - first_fds ))"
+  echo "growth after the sample at $(( 2 * interval )) s: RSS $(( last_rss - first_rss )) KiB, file handles $(( last_fds - first_fds ))"
 fi
