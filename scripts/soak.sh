@@ -2,7 +2,7 @@
 # A soak run (not a CI test): the real haptic thread at the scene's rate for a
 # long time with a scripted device, its memory (RSS) and open file handles
 # sampled at a fixed interval. Prints one line a sample and the growth from the
-# first minute to the end. Builds the release preset first.
+# second sample to the end. Builds the release preset first.
 #
 #   scripts/soak.sh [SECONDS=3600] [INTERVAL=60] [SCENE=scenes/oral_inspection.yaml] [DEVICE=scripted:random]
 set -euo pipefail
