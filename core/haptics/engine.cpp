@@ -127,15 +127,15 @@ double WorstPenetration(const CollisionWorld& world, const RigidTransform& X, co
 }
 
 // Coulomb friction on the rendered tool, in the god-object manner (Zilles and
-// Salisbury; Harwin and Melder). The contact normal n is the active
-// constraints' normals weighted by their multipliers; with the tool kept where
-// it was, the spring from the device has a normal part (the normal force /
-// k_t) and a tangential part. The tool sticks there while the tangential part
-// stays inside the static cone (mu_s times the normal part); beyond it, it
-// slides, placed on the kinetic cone's edge between where it was and the
-// device's foot on the surface, and sticks again only when the device comes
-// back inside the kinetic cone: a steady drag slides steadily, without
-// alternating stick and slip (no buzz). Translation only: a stuck tool may
+// Salisbury; Harwin and Melder). The contact normal n is the mean direction of
+// the pairs touching where the tool was; with the tool kept there, the spring
+// from the device has a normal part (the normal force / k_t) and a tangential
+// part. The tool sticks there while the tangential part stays inside the static
+// cone (mu_s times the normal part); beyond it, it slides, placed on the
+// kinetic cone's edge between where it was and the device's foot on the
+// surface, and sticks again only when the device stops leading it: a steady
+// drag slides steadily, without alternating stick and slip (no buzz), whatever
+// the sphere bumps do to n. Translation only: a stuck tool may
 // still turn about its tip (the tool frame's origin). A sliding pose is lifted
 // out of the sphere bumps it would enter; a pose that still penetrates is not
 // taken (the frictionless one is).
