@@ -60,31 +60,29 @@ constexpr double kFreeSearchMm[] = {0.25, 0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16, 24
 constexpr int kFreeSearchDirections = 26;
 constexpr int kFreeSearchCandidates = 1 + kFreeSearchDirections * static_cast<int>(std::size(kFreeSearchMm));
 
-Vector3 FreeSearchDirection(int i) {
-  // The tool's axis (+z, -z) first, then its other faces, edges and corners.
-  static const auto table = [] {
-    std::array<Vector3, kFreeSearchDirections> t;
-    int n = 0;
-    t[n++] = Vector3(0, 0, 1);
-    t[n++] = Vector3(0, 0, -1);
-    for (int pass = 1; pass <= 3; ++pass)
-      for (int x = -1; x <= 1; ++x)
-        for (int y = -1; y <= 1; ++y)
-          for (int z = -1; z <= 1; ++z) {
-            const int nonzero = (x != 0) + (y != 0) + (z != 0);
-            if (nonzero != pass || (pass == 1 && x == 0 && y == 0)) continue;
-            t[n++] = Vector3(x, y, z).normalized();
-          }
-    return t;
-  }();
-  return table[static_cast<std::size_t>(i)];
-}
+// The tool's axis (+z, -z) first, then its other faces, edges and corners; made
+// at load, so the haptic thread never meets a first-call initialisation.
+const std::array<Vector3, kFreeSearchDirections> kFreeSearchDirection = [] {
+  std::array<Vector3, kFreeSearchDirections> t;
+  int n = 0;
+  t[n++] = Vector3(0, 0, 1);
+  t[n++] = Vector3(0, 0, -1);
+  for (int pass = 1; pass <= 3; ++pass)
+    for (int x = -1; x <= 1; ++x)
+      for (int y = -1; y <= 1; ++y)
+        for (int z = -1; z <= 1; ++z) {
+          const int nonzero = (x != 0) + (y != 0) + (z != 0);
+          if (nonzero != pass || (pass == 1 && x == 0 && y == 0)) continue;
+          t[n++] = Vector3(x, y, z).normalized();
+        }
+  return t;
+}();
 
 RigidTransform FreeSearchCandidate(const RigidTransform& X_WH, int k) {
   if (k == 0) return X_WH;
   const int d = (k - 1) / kFreeSearchDirections, dir = (k - 1) % kFreeSearchDirections;
   return RigidTransform(X_WH.rotation(),
-                        X_WH.translation() + kFreeSearchMm[d] * (X_WH.rotation() * FreeSearchDirection(dir)));
+                        X_WH.translation() + kFreeSearchMm[d] * (X_WH.rotation() * kFreeSearchDirection[static_cast<std::size_t>(dir)]));
 }
 
 // A frame inside an object: the rendered tool is at the device (no force) while
@@ -93,7 +91,6 @@ RigidTransform FreeSearchCandidate(const RigidTransform& X_WH, int k) {
 // by the loop, which sees the fault) pulls the hand out from there.
 void FindFreeSpace(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) {
   const EngineParams& p = model.params;
-  ++d->inside_frames;
   int budget = std::max(1, p.free_search_node_tests);
   for (int tried = 0; tried < kFreeSearchCandidates && budget > 0; ++tried) {
     const RigidTransform X = FreeSearchCandidate(X_WH, d->free_search_next);
@@ -203,14 +200,14 @@ void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH, const Q
     const double room = back.norm();
     const double lag = std::clamp(mu_k * x_normal - x_tangential, 0.0, room);
     candidate = RigidTransform(X->rotation(), room > 1e-12 ? Vector3(p_X + (lag / room) * back) : p_X);
-    // Out of the bumps between spheres that the tangent plane cuts.
-    for (int i = 0; i < 3; ++i) {
-      const double w = WorstPenetration(model.world, candidate, *d);
-      if (w <= p.penetration_tolerance_mm) break;
-      candidate = RigidTransform(candidate.rotation(), candidate.translation() + (w + 1e-6) * n);
-    }
   }
-  if (WorstPenetration(model.world, candidate, *d) <= p.penetration_tolerance_mm) {
+  // A sliding pose is lifted out of the bumps between spheres that the tangent plane cuts.
+  double worst = WorstPenetration(model.world, candidate, *d);
+  for (int i = 0; !stick && i < 3 && worst > p.penetration_tolerance_mm; ++i) {
+    candidate = RigidTransform(candidate.rotation(), candidate.translation() + (worst + 1e-6) * n);
+    worst = WorstPenetration(model.world, candidate, *d);
+  }
+  if (worst <= p.penetration_tolerance_mm) {
     *X = candidate;
     return done(stick ? EngineData::Friction::kStick : EngineData::Friction::kSlip);
   }

@@ -118,7 +118,6 @@ struct EngineData {
   // poses around the device are tried, nearest first, for one that is free.
   bool inside = false;
   int free_search_next = 0;      // the next candidate pose to try
-  std::uint64_t inside_frames = 0;  // frames spent inside (all sessions)
 
   StepTimings timings;
   EngineFaults faults;
