@@ -150,7 +150,17 @@ void MainWindow::BuildUi() {
   form->addRow("Sphere-tree level", sphere_level_);
   connect(sphere_level_, qOverload<int>(&QSpinBox::valueChanged), this, [this](int l) { ShowSpheres(l); });
   translucent_ = new QCheckBox("translucent gingiva");
-  form->addRow("", translucent_);
+  lips_hidden_ = new QCheckBox("hide lips and cheeks");
+  lips_hidden_->setToolTip("Take the lips and cheeks out of the picture, as a retractor would; "
+                           "the instrument still meets them");
+  auto* see_row = new QHBoxLayout;
+  see_row->addWidget(translucent_);
+  see_row->addWidget(lips_hidden_);
+  form->addRow("", see_row);
+  connect(lips_hidden_, &QCheckBox::toggled, this, [this](bool on) {
+    view_->SetLipsAndCheeksHidden(on);
+    vtk_widget_->renderWindow()->Render();
+  });
   connect(translucent_, &QCheckBox::toggled, this, [this](bool on) {
     view_->SetGingivaTranslucent(on);
     vtk_widget_->renderWindow()->Render();
@@ -165,16 +175,19 @@ void MainWindow::BuildUi() {
   look_row->addWidget(look_button);
   form->addRow("Camera", look_row);
   auto* views = new QHBoxLayout;
+  auto* occlusal_views = new QHBoxLayout;
   for (auto [label, side] : {std::pair{"Buccal", SceneView::Side::kBuccal}, std::pair{"Lingual", SceneView::Side::kLingual},
-                             std::pair{"Occlusal", SceneView::Side::kOcclusal}}) {
+                             std::pair{"Front", SceneView::Side::kFront}, std::pair{"Lower arch", SceneView::Side::kOcclusal},
+                             std::pair{"Upper arch", SceneView::Side::kUpperOcclusal}}) {
     auto* b = new QPushButton(label);
     connect(b, &QPushButton::clicked, this, [this, side = side] {
       view_->View(side);
       vtk_widget_->renderWindow()->Render();
     });
-    views->addWidget(b);
+    (side == SceneView::Side::kOcclusal || side == SceneView::Side::kUpperOcclusal ? occlusal_views : views)->addWidget(b);
   }
   form->addRow("View", views);
+  form->addRow("Occlusal", occlusal_views);
   auto* reset = new QPushButton("Reset tool");
   connect(reset, &QPushButton::clicked, this, [this] {
     if (session_) session_->loop().Send({HapticCommand::Kind::kResetTool});

@@ -175,6 +175,7 @@ class MainWindow : public QMainWindow {
   QComboBox* device_box_ = nullptr;
   QSpinBox* sphere_level_ = nullptr;
   QCheckBox* translucent_ = nullptr;
+  QCheckBox* lips_hidden_ = nullptr;
   QTimer* timer_ = nullptr;
   QMessageBox* error_dialog_ = nullptr;
 

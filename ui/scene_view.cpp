@@ -1,5 +1,7 @@
 #include "ui/scene_view.h"
 
+#include <algorithm>
+
 #include <vtkCamera.h>
 #include <vtkCylinderSource.h>
 #include <vtkDoubleArray.h>
@@ -14,6 +16,10 @@
 #include <vtkTransform.h>
 #include <vtkTransformPolyDataFilter.h>
 
+#include <vtkUnsignedCharArray.h>
+
+#include "core/anatomy/arch.h"
+#include "core/anatomy/findings.h"
 #include "ui/mesh_view.h"
 
 namespace sulcus::ui {
@@ -35,8 +41,37 @@ Look LookOf(Tissue t) {
     case Tissue::kLip: return {0.80, 0.40, 0.45, 1.0, 0.3};
     case Tissue::kMucosa: return {0.88, 0.56, 0.58, 1.0, 0.25};
     case Tissue::kMetal: return {0.70, 0.72, 0.75, 1.0, 0.8};
+    case Tissue::kCalculus: return {0.78, 0.70, 0.44, 1.0, 0.1};
   }
   return {0.8, 0.8, 0.8, 1.0, 0.2};
+}
+
+// Per-vertex colours: `base` blended toward the finding's colours by weight
+// (0: untouched, 1: the finding's centre).
+void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Look& base, bool caries) {
+  auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  colours->SetNumberOfComponents(3);
+  colours->SetName("finding");
+  colours->SetNumberOfTuples(static_cast<vtkIdType>(weight.size()));
+  const Vector3 from(base.r, base.g, base.b);
+  // Caries: a chalky white rim (demineralised enamel) around a brown centre.
+  // Inflamed gingiva: deep red.
+  const Vector3 rim(0.99, 0.98, 0.95), centre(0.36, 0.22, 0.12), red(0.80, 0.16, 0.20);
+  for (std::size_t i = 0; i < weight.size(); ++i) {
+    const double w = weight[i];
+    Vector3 c = from;
+    if (caries) {
+      c = w < 0.3 ? Vector3(from + (rim - from) * (w / 0.3)) : Vector3(rim + (centre - rim) * ((w - 0.3) / 0.7));
+    } else {
+      c = from + (red - from) * w;
+    }
+    colours->SetTuple3(static_cast<vtkIdType>(i), 255 * c.x(), 255 * c.y(), 255 * c.z());
+  }
+  auto* mapper = vtkPolyDataMapper::SafeDownCast(actor->GetMapper());
+  auto* poly = vtkPolyData::SafeDownCast(mapper->GetInput());
+  poly->GetPointData()->SetScalars(colours);
+  mapper->SetColorModeToDirectScalars();
+  mapper->ScalarVisibilityOn();
 }
 
 vtkSmartPointer<vtkMatrix4x4> ToVtk(const RigidTransform& X) {
@@ -129,7 +164,22 @@ void SceneView::Load(const CompiledScene& scene) {
   scene_ = &scene;
   for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
     const ObjectSpec& o = scene.spec.objects[i];
-    auto actor = MeshActor(scene.meshes[i], LookOf(o.tissue));
+    Look look = LookOf(o.tissue);
+    // The jaws are bone under alveolar mucosa: drawn as the mucosa, a deeper
+    // red than the attached gingiva.
+    if (o.kind == ObjectSpec::Kind::kAnatomy && o.tissue == Tissue::kBone) look = {0.78, 0.40, 0.44, 1.0, 0.25};
+    auto actor = MeshActor(scene.meshes[i], look);
+    // Findings drawn where the scene puts them: caries on its surface, inflamed
+    // gingiva at its sites.
+    const bool carious = std::any_of(o.caries_mm.begin(), o.caries_mm.end(), [](double r) { return r > 0; });
+    const bool inflamed = std::any_of(o.inflamed.begin(), o.inflamed.end(), [](bool b) { return b; });
+    if (o.kind == ObjectSpec::Kind::kTooth && carious) {
+      PaintVertices(actor, CariesCoverage(GenerateTooth(o.fdi), o.caries_mm), look, true);
+    } else if (o.kind == ObjectSpec::Kind::kGingiva && inflamed) {
+      std::vector<Vector3> in_tooth_frame;
+      for (const Vector3& v : scene.meshes[i].vertices()) in_tooth_frame.push_back(ArchMirror(o.mirrored, v));
+      PaintVertices(actor, InflammationCoverage(in_tooth_frame, o.inflamed), look, false);
+    }
     actor->SetUserMatrix(ToVtk(o.X_WO));
     renderer_->AddActor(actor);
     objects_.push_back(actor);
@@ -210,6 +260,16 @@ void SceneView::ShowSpheres(int level) {
   }
 }
 
+void SceneView::SetLipsAndCheeksHidden(bool hidden) {
+  lips_hidden_ = hidden;
+  if (!scene_) return;
+  for (std::size_t i = 0; i < objects_.size() && i < scene_->spec.objects.size(); ++i) {
+    const ObjectSpec& o = scene_->spec.objects[i];
+    if (o.kind == ObjectSpec::Kind::kAnatomy && (o.tissue == Tissue::kLip || o.tissue == Tissue::kCheek))
+      objects_[i]->SetVisibility(!hidden);
+  }
+}
+
 void SceneView::SetGingivaTranslucent(bool on) {
   gingiva_translucent_ = on;
   for (auto& a : gingiva_) a->GetProperty()->SetOpacity(on ? 0.45 : 1.0);
@@ -250,16 +310,26 @@ void SceneView::Frame(const Vector3& focus, const Vector3& from_dir, double dist
       see_through_ += in_the_way;
     }
     // The occlusal view of a full mouth looks at the lower arch: the upper one
-    // (teeth, their gingiva, jaw and palate) is faded out of the way.
+    // (teeth, their gingiva, jaw and palate) is faded out of the way; the upper
+    // arch's occlusal view fades the lower arch, the tongue and the floor.
     for (std::size_t i = 0; i < objects_.size() && i < scene_->spec.objects.size(); ++i) {
       const ObjectSpec& o = scene_->spec.objects[i];
-      const bool upper = ((o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva) &&
-                          (o.fdi / 10 == 1 || o.fdi / 10 == 2)) ||
-                         (o.kind == ObjectSpec::Kind::kAnatomy && (o.anatomy == "jaw_upper" || o.anatomy == "palate"));
-      if (!upper) continue;
-      if (fade_upper_) objects_[i]->GetProperty()->SetOpacity(0.08);
-      else if (o.kind != ObjectSpec::Kind::kAnatomy && !(o.tissue == Tissue::kGingiva && gingiva_translucent_))
+      const bool tooth_or_gingiva = o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva;
+      const bool anatomy = o.kind == ObjectSpec::Kind::kAnatomy;
+      const bool upper = (tooth_or_gingiva && (o.fdi / 10 == 1 || o.fdi / 10 == 2)) ||
+                         (anatomy && (o.anatomy == "jaw_upper" || o.anatomy == "palate" || o.anatomy == "soft_palate"));
+      const bool lower = (tooth_or_gingiva && (o.fdi / 10 == 3 || o.fdi / 10 == 4)) ||
+                         (anatomy && (o.anatomy == "jaw_lower" || o.anatomy == "tongue" || o.anatomy == "floor_of_mouth"));
+      const bool lip_or_cheek = anatomy && (o.tissue == Tissue::kLip || o.tissue == Tissue::kCheek);
+      objects_[i]->SetVisibility(!(lips_hidden_ && lip_or_cheek));
+      if (!upper && !lower) continue;
+      if ((upper && fade_upper_) || (lower && fade_lower_)) {
+        objects_[i]->GetProperty()->SetOpacity(0.08);
+      } else if (!anatomy && !(o.tissue == Tissue::kGingiva && gingiva_translucent_)) {
         objects_[i]->GetProperty()->SetOpacity(LookOf(o.tissue).opacity);
+      } else if (anatomy) {
+        objects_[i]->GetProperty()->SetOpacity(LookOf(o.tissue).opacity);
+      }
     }
   }
   renderer_->ResetCameraClippingRange();
@@ -299,10 +369,20 @@ void SceneView::View(Side side) {
   for (const ObjectSpec& o : scene_->spec.objects)
     if (o.kind == ObjectSpec::Kind::kTooth) (o.fdi / 10 <= 2 ? upper : lower) = true;
   fade_upper_ = side == Side::kOcclusal && lower && upper;
+  fade_lower_ = side == Side::kUpperOcclusal && lower && upper;
   switch (side) {
     case Side::kBuccal: Frame(centre, buccal + 0.35 * occlusal, 1.6 * extent, occlusal); break;
     case Side::kLingual: Frame(centre, -buccal + 0.35 * occlusal, 1.6 * extent, occlusal); break;
     case Side::kOcclusal: Frame(centre, occlusal, 1.8 * extent, buccal); break;
+    case Side::kUpperOcclusal: Frame(centre, -occlusal, 1.8 * extent, buccal); break;
+    case Side::kFront: {
+      // From in front of the patient, level with the mouth's opening: the
+      // incisors in the middle of the picture, the patient's left on the right.
+      const Vector3 front = Vector3::UnitY();
+      const Vector3 at(centre.x(), std::max(hi.y(), lo.y()), centre.z());
+      Frame(at, front, 2.2 * extent, Vector3::UnitZ());
+      break;
+    }
   }
 }
 
@@ -311,7 +391,7 @@ bool SceneView::LookAtTooth(int fdi) {
   for (const ObjectSpec& o : scene_->spec.objects) {
     if (o.kind != ObjectSpec::Kind::kTooth || o.fdi != fdi) continue;
     const Vector3 occlusal = o.X_WO.rotation().col(2);
-    fade_upper_ = false;
+    fade_upper_ = fade_lower_ = false;
     Frame(o.X_WO * Vector3(0, 0, 2), o.X_WO.rotation().col(1) + 0.4 * occlusal, 38, occlusal);
     return true;
   }

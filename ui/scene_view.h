@@ -38,8 +38,17 @@ class SceneView {
   void ShowContacts(bool on) { show_contacts_ = on; }
   void SetGingivaTranslucent(bool on);
 
-  enum class Side { kBuccal, kLingual, kOcclusal };
+  /// Hides the lips and cheeks from the picture (as a retractor would hold them
+  /// out of the view); the instrument still meets them.
+  void SetLipsAndCheeksHidden(bool hidden);
+  bool lips_and_cheeks_hidden() const { return lips_hidden_; }
+
+  enum class Side { kBuccal, kLingual, kOcclusal, kFront, kUpperOcclusal };
   void View(Side side);
+  /// The camera at `focus` + `distance` * `from_dir`, looking at `focus`.
+  void LookAt(const Vector3& focus, const Vector3& from_dir, double distance, const Vector3& up) {
+    Frame(focus, from_dir, distance, up);
+  }
   /// Frames one tooth from its buccal side; false if the scene has no such tooth.
   bool LookAtTooth(int fdi);
 
@@ -62,7 +71,7 @@ class SceneView {
   RigidTransform X_WG_;
   int spheres_shown_ = -1;
   int see_through_ = 0;
-  bool fade_upper_ = false, gingiva_translucent_ = false;
+  bool fade_upper_ = false, fade_lower_ = false, gingiva_translucent_ = false, lips_hidden_ = false;
   bool show_contacts_ = true;
 };
 

@@ -3,9 +3,10 @@
 //
 // World frame W: +x the patient's left, +y anterior (toward the lips), +z up; the
 // occlusal plane is z = 0 with the mouth closed. Each arch is the parabola
-// y = -k x^2 through the contact points; teeth are laid along it by their
-// mesiodistal crown widths, touching at their contacts, with modest inclinations
-// (incisors tipped labially, molars lingually).
+// y = -k x^2 through the contact points; teeth are laid along it with modest
+// inclinations (incisors tipped labially, molars lingually), each as close to
+// its mesial neighbour as it goes without the two intersecting (the centres are
+// fitted once on the exact meshes, arch_fit.h, and tested).
 //
 // A tooth's own frame (tooth.h) is right-handed with +x mesial, +y buccal, +z
 // occlusal. On the patient's lower left and upper right that triple is
@@ -22,7 +23,13 @@ namespace sulcus {
 struct ArchParams {
   double k_lower = 0.052;        // parabola y = -k x^2 (1/mm): first molars about 45 mm apart
   double k_upper = 0.045;        // the upper arch is wider and encloses the lower
-  double upper_lift_mm = 0.0;    // raise the upper arch (open the mouth)
+  double upper_lift_mm = 0.0;    // raise the upper arch (open the mouth) above its place in occlusion
+  double lower_setback_mm = 2.0; // the lower arch moved back (-y): the incisors' overjet
+  // The upper arch's height above the lower when the teeth meet (mouth closed):
+  // the least lift at which no upper tooth's mesh intersects a lower one's with
+  // the default arches (found by bisection on the exact meshes; a test checks
+  // that the teeth are apart here and intersect 0.05 mm lower).
+  double occlusion_mm = 5.20;
   bool third_molars = false;     // 28 teeth without them, 32 with
 };
 
@@ -33,6 +40,18 @@ struct PlacedTooth {
   Vector3 mesial_W, buccal_W, occlusal_W;  // unit directions for lesson sites
   Vector3 contact_mesial_W, contact_distal_W;  // the arch points where it meets its neighbours
 };
+
+/// The point `arc` mm along the arch's occlusal curve from the midline, on the
+/// patient's right (x < 0) or left.
+Vector3 ArchPoint(bool upper, bool patient_right, double arc, const ArchParams& params = {});
+
+/// Tooth `fdi` on its arch with its crown's centre `s_centre` mm along the arch
+/// from the midline (PlaceArch uses the fitted centres, ArchCentreMm).
+PlacedTooth PlaceTooth(int fdi, double s_centre, const ArchParams& params = {});
+
+/// Where PlaceArch puts a tooth (1 central incisor .. 8 third molar) along its
+/// arch: its crown's centre, mm from the midline along the occlusal curve.
+double ArchCentreMm(bool upper, int position);
 
 /// The teeth of one arch (upper or lower), from the right third (or second) molar
 /// to the left one, in arch order.

@@ -1,5 +1,5 @@
 #pragma once
-// Periodontal probes (CLINICAL.md, "Probes"): the working end, the bent shank and
+// Periodontal probes and dental explorers: the working end, the bent shank and
 // the handle as one closed mesh, the markings as data, and the tip frame.
 //
 // Tool frame T = tip frame: origin at the tip's end, +z along the working end
@@ -26,10 +26,14 @@ struct ProbeModel {
   std::vector<ProbeMarking> markings;
   double tip_radius_mm = 0;          // ball (WHO) or rounded taper
   bool ball_tip = false;
+  bool explorer = false;             // a sharp explorer (no markings), not a probe
   double working_length_mm = 0;      // straight part from the tip to the bend
 };
 
-/// Known names: "williams", "unc15", "who". Throws std::invalid_argument otherwise.
+/// Known names: the periodontal probes "williams", "unc15", "who" (its 0.5 mm ball
+/// is also the ball-ended probe used to detect caries without damage), and the
+/// explorers "explorer23" (shepherd's hook No. 23) and "explorer1112" (11/12).
+/// Throws std::invalid_argument otherwise.
 ProbeModel MakeProbe(const std::string& name);
 
 }  // namespace sulcus

@@ -1,51 +1,450 @@
 #include "core/anatomy/soft_tissue.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
 #include <stdexcept>
 
-#include "core/geometry/primitives.h"
+#include "core/anatomy/tooth.h"
 
 namespace sulcus {
 namespace {
 
-TriangleMesh Ellipsoid(const Vector3& centre, const Vector3& radii) {
-  TriangleMesh m = MakeIcosphere(1.0, 4);
-  m.Transform(radii.asDiagonal(), centre);
-  return m;
+constexpr double kPi = std::numbers::pi;
+
+// One arch's occlusal curve as a function of signed arc length s (negative on
+// the patient's right), with its tangent (toward +s) and outward normal.
+class ArchCurve {
+ public:
+  ArchCurve(bool upper, const ArchParams& params) {
+    points_.resize(2 * kHalf + 1);
+    for (int i = 0; i <= 2 * kHalf; ++i) {
+      const double s = (i - kHalf) * kStep;
+      points_[i] = ArchPoint(upper, s < 0, std::abs(s), params);
+    }
+  }
+  Vector3 Point(double s) const {
+    const double x = std::clamp(s / kStep + kHalf, 0.0, 2.0 * kHalf - 1e-9);
+    const int i = static_cast<int>(x);
+    const double t = x - i;
+    return (1 - t) * points_[i] + t * points_[i + 1];
+  }
+  Vector3 Tangent(double s) const { return (Point(s + 0.1) - Point(s - 0.1)).normalized(); }
+  Vector3 Normal(double s) const {  // horizontal, out of the arch (buccal)
+    const Vector3 t = Tangent(s);
+    return Vector3(-t.y(), t.x(), 0).normalized();
+  }
+  // The s whose curve point is nearest p (in plan), from a starting guess.
+  double Project(const Vector3& p, double s0) const {
+    double s = s0;
+    for (int i = 0; i < 5; ++i) {
+      Vector3 d = p - Point(s);
+      d.z() = 0;
+      s += d.dot(Tangent(s));
+    }
+    return s;
+  }
+
+ private:
+  static constexpr int kHalf = 2000;       // samples each side of the midline
+  static constexpr double kStep = 0.05;    // mm: the curve to 100 mm from the midline
+  std::vector<Vector3> points_;
+};
+
+// A closed mesh through rings of equal size (each a closed loop), capped at
+// both ends by a vertex at the ring's centroid; made outward.
+TriangleMesh Loft(const std::vector<std::vector<Vector3>>& rings) {
+  const int n = static_cast<int>(rings.size()), m = static_cast<int>(rings.front().size());
+  std::vector<Vector3> v;
+  std::vector<TriangleMesh::Face> f;
+  auto centroid = [&](const std::vector<Vector3>& r) {
+    Vector3 c = Vector3::Zero();
+    for (const Vector3& p : r) c += p;
+    return Vector3(c / static_cast<double>(r.size()));
+  };
+  v.push_back(centroid(rings.front()));
+  for (const auto& r : rings) v.insert(v.end(), r.begin(), r.end());
+  v.push_back(centroid(rings.back()));
+  const int last = static_cast<int>(v.size()) - 1;
+  auto id = [&](int ring, int i) { return 1 + ring * m + (i % m); };
+  for (int i = 0; i < m; ++i) f.push_back({0, id(0, i + 1), id(0, i)});
+  for (int k = 0; k + 1 < n; ++k) {
+    for (int i = 0; i < m; ++i) {
+      f.push_back({id(k, i), id(k, i + 1), id(k + 1, i + 1)});
+      f.push_back({id(k, i), id(k + 1, i + 1), id(k + 1, i)});
+    }
+  }
+  for (int i = 0; i < m; ++i) f.push_back({last, id(n - 1, i), id(n - 1, i + 1)});
+  TriangleMesh mesh(std::move(v), std::move(f));
+  if (mesh.Volume() < 0) mesh.FlipOrientation();
+  return mesh;
 }
 
-// A tube along the arch y = -k x^2 (|x| <= half_width) at height z.
-TriangleMesh ArchTube(double k, double half_width, double z, double radius) {
-  std::vector<Vector3> path;
-  std::vector<double> radii;
-  const int n = 48;
-  for (int i = 0; i <= n; ++i) {
-    const double x = -half_width + 2 * half_width * i / n;
-    path.emplace_back(x, -k * x * x, z);
-    const double end = std::min(i, n - i);
-    radii.push_back(end == 0 ? 0.0 : radius * std::min(1.0, std::sqrt(end / 2.0)));
+// A rounded rectangle (superellipse of exponent e) spanning [u0, u1] along
+// `u` and [z0, z1] along +z, about `origin`; m points, counter-clockwise.
+std::vector<Vector3> Section(const Vector3& origin, const Vector3& u, double u0, double u1, double z0, double z1,
+                             int m, double e = 4.0) {
+  std::vector<Vector3> ring;
+  const double cu = 0.5 * (u0 + u1), hu = 0.5 * (u1 - u0), cz = 0.5 * (z0 + z1), hz = 0.5 * (z1 - z0);
+  for (int i = 0; i < m; ++i) {
+    const double a = 2 * kPi * i / m, c = std::cos(a), s = std::sin(a);
+    const double x = std::copysign(std::pow(std::abs(c), 2 / e), c), y = std::copysign(std::pow(std::abs(s), 2 / e), s);
+    ring.push_back(origin + (cu + hu * x) * u + Vector3(0, 0, cz + hz * y));
   }
-  return MakeSweep(path, radii, 24);
+  return ring;
+}
+
+struct Extent {
+  double n_min = 1e9, n_max = -1e9;  // offsets along the arch's outward normal
+  double far = -1e9;                 // the deepest root point, as distance away from the crowns (sign * z)
+  bool any = false;
+};
+
+// The placed teeth of an arch (no third molars) and their meshes, with each
+// tooth's centre on the curve.
+struct ArchTeeth {
+  std::vector<PlacedTooth> placed;
+  std::vector<TriangleMesh> meshes;
+  std::vector<double> s;  // signed arc of each tooth's centre
+};
+
+ArchTeeth Teeth(bool upper, const ArchParams& arch) {
+  ArchTeeth t;
+  t.placed = PlaceArch(upper, arch);
+  for (const PlacedTooth& p : t.placed) {
+    t.meshes.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi, {.resolution = 3}).mesh));
+    const bool right = p.tooth.quadrant == 1 || p.tooth.quadrant == 4;
+    t.s.push_back((right ? -1 : 1) * ArchCentreMm(upper, p.tooth.position));
+  }
+  return t;
+}
+
+// The last tooth's distal end, mm along the arch.
+double ArchEnd(bool upper) { return ArchCentreMm(upper, 7) + 5.5; }
+
+// The jaw of one arch: a bar along the curve whose section holds every root
+// (1.5 mm of bone around it, 2.5 mm beyond the apex), its top at the crest.
+TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>& drops) {
+  const ArchCurve curve(upper, arch);
+  const ArchTeeth teeth = Teeth(upper, arch);
+  const double sign = upper ? 1.0 : -1.0;  // away from the occlusal plane
+  const double end = ArchEnd(upper) + 7;   // past the last molar: the retromolar bone
+  const int stations = static_cast<int>(2 * end / 0.75) + 1;
+  std::vector<Extent> ext(stations);
+  // The crest: each tooth's own (its CEJ's centre, the tooth frame's origin,
+  // `drop` beyond it) across its cervix; where two cervices' ranges meet, the
+  // more occlusal of the two, so every root has at least its own crest; between
+  // them, interpolated.
+  std::vector<double> crest(stations, std::numeric_limits<double>::quiet_NaN());
+  auto station_s = [&](int i) { return -end + 2 * end * i / (stations - 1); };
+  std::vector<double> crest_of(teeth.placed.size());
+  for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
+    const PlacedTooth& p = teeth.placed[k];
+    const auto it = drops.find(p.tooth.fdi);
+    const double drop = it == drops.end() ? 1.5 : it->second;
+    crest_of[k] = p.X_WT.translation().z() + sign * drop;
+    const double half = Dimensions(p.tooth).md_cervix / 2 + 0.5;
+    for (int i = 0; i < stations; ++i) {
+      if (std::abs(station_s(i) - teeth.s[k]) > half) continue;
+      crest[i] = std::isnan(crest[i]) ? crest_of[k] : (upper ? std::min(crest[i], crest_of[k]) : std::max(crest[i], crest_of[k]));
+    }
+  }
+  for (int i = 0; i < stations; ++i) {
+    if (!std::isnan(crest[i])) continue;
+    int a = i, b = i;
+    while (a >= 0 && std::isnan(crest[a])) --a;
+    while (b < stations && std::isnan(crest[b])) ++b;
+    if (a < 0 && b >= stations) continue;
+    if (a < 0) {
+      crest[i] = crest[b];
+    } else if (b >= stations) {
+      crest[i] = crest[a];
+    } else {
+      crest[i] = crest[a] + (crest[b] - crest[a]) * (i - a) / static_cast<double>(b - a);
+    }
+  }
+  for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
+    const double crest_z = crest_of[k];
+    for (const Vector3& v : teeth.meshes[k].vertices()) {
+      const double s = curve.Project(v, teeth.s[k]);
+      const int i = static_cast<int>(std::lround((s + end) / (2 * end) * (stations - 1)));
+      const double along = sign * (v.z() - crest_z);  // > 0: in the bone
+      if (along < 0 || i < 0 || i >= stations) continue;
+      for (int j = std::max(0, i - 2); j <= std::min(stations - 1, i + 2); ++j) {
+        const double n = (v - curve.Point(station_s(j))).dot(curve.Normal(station_s(j)));
+        Extent& e = ext[j];
+        e.any = true;
+        e.n_min = std::min(e.n_min, n);
+        e.n_max = std::max(e.n_max, n);
+        e.far = std::max(e.far, sign * v.z());
+      }
+    }
+  }
+  // Stations without roots (the ends) take the nearest rooted station's section.
+  int first = 0, last = stations - 1;
+  while (first < stations && !ext[first].any) ++first;
+  while (last >= 0 && !ext[last].any) --last;
+  for (int i = 0; i < first; ++i) ext[i] = ext[first];
+  for (int i = last + 1; i < stations; ++i) ext[i] = ext[last];
+  // Smooth the section along the arch (the bone does not follow each root's bulge).
+  std::vector<Extent> smooth = ext;
+  for (int i = 0; i < stations; ++i) {
+    for (int j = std::max(0, i - 4); j <= std::min(stations - 1, i + 4); ++j) {
+      smooth[i].n_min = std::min(smooth[i].n_min, ext[j].n_min);
+      smooth[i].n_max = std::max(smooth[i].n_max, ext[j].n_max);
+      smooth[i].far = std::max(smooth[i].far, ext[j].far);
+    }
+  }
+  std::vector<std::vector<Vector3>> rings;
+  for (int i = 0; i < stations; ++i) {
+    const double s = station_s(i);
+    const Extent& e = smooth[i];
+    const double top = crest[i];
+    // The bone's far edge: 2.5 mm past the deepest apex; its near edge, the crest.
+    const double far = sign * (e.far + 2.5);
+    Vector3 origin = curve.Point(s);
+    origin.z() = 0;
+    // Tapered and rounded at both ends of the arch.
+    const double taper = std::min(1.0, std::sqrt(std::max(0.05, (end - std::abs(s)) / 4.0)));
+    const double mid = 0.5 * (e.n_min + e.n_max), half = 0.5 * (e.n_max - e.n_min) + 1.5;
+    rings.push_back(Section(origin, curve.Normal(s), mid - half * taper, mid + half * taper, std::min(top, far),
+                            std::max(top, far), 32, 6.0));
+  }
+  return Loft(rings);
+}
+
+// The buccal extent of the teeth (both arches) at each station of a curve:
+// the largest outward offset of any tooth point near it.
+double BuccalExtent(const ArchCurve& curve, const std::vector<const ArchTeeth*>& arches, double s, double width) {
+  double best = 3.0;
+  for (const ArchTeeth* a : arches) {
+    for (std::size_t k = 0; k < a->placed.size(); ++k) {
+      const double s_k = curve.Project(a->placed[k].X_WT.translation(), a->s[k]);
+      if (std::abs(s_k - s) > 8) continue;
+      for (const Vector3& v : a->meshes[k].vertices()) {
+        const double sv = curve.Project(v, s_k);
+        if (std::abs(sv - s) > width) continue;
+        best = std::max(best, (v - curve.Point(sv)).dot(curve.Normal(sv)));
+      }
+    }
+  }
+  return best;
+}
+
+// A slab outside the teeth along `curve` from s0 to s1: its inner face a
+// vestibule's width (`gap`) outside the teeth, `thickness` thick, z from z0 to
+// z1 (tapered to its ends when `round_ends`).
+TriangleMesh OuterSlab(const ArchCurve& curve, const std::vector<const ArchTeeth*>& arches, double s0, double s1,
+                       double gap, double thickness, double z0, double z1, double z_round = 2) {
+  const int stations = std::max(8, static_cast<int>((s1 - s0) / 1.0));
+  std::vector<double> inner(stations + 1);
+  for (int i = 0; i <= stations; ++i) inner[i] = BuccalExtent(curve, arches, s0 + (s1 - s0) * i / stations, 1.0) + gap;
+  // Smoothed: the mucosa drapes over the teeth's bulges.
+  std::vector<double> smooth = inner;
+  for (int i = 0; i <= stations; ++i)
+    for (int j = std::max(0, i - 3); j <= std::min(stations, i + 3); ++j) smooth[i] = std::max(smooth[i], inner[j]);
+  std::vector<std::vector<Vector3>> rings;
+  for (int i = 0; i <= stations; ++i) {
+    const double s = s0 + (s1 - s0) * i / stations;
+    const double t = std::min(i, stations - i) / std::max(1.0, z_round);
+    const double shrink = std::min(1.0, 0.35 + 0.65 * std::sqrt(t));
+    Vector3 o = curve.Point(s);
+    o.z() = 0;
+    const double zc = 0.5 * (z0 + z1), hz = 0.5 * (z1 - z0) * shrink;
+    rings.push_back(Section(o, curve.Normal(s), smooth[i], smooth[i] + thickness * std::max(0.5, shrink), zc - hz,
+                            zc + hz, 24, 3.0));
+  }
+  return Loft(rings);
+}
+
+// Heights of the two arches' teeth: the lower incisal edge, the upper, and the
+// crests (lower: its highest; upper: its lowest), for sizing soft tissue.
+struct Levels {
+  double lower_edge, upper_edge, lower_crest, upper_crest;
+};
+
+Levels LevelsOf(const ArchTeeth& lower, const ArchTeeth& upper) {
+  Levels l{-1e9, 1e9, -1e9, 1e9};
+  for (const TriangleMesh& m : lower.meshes) l.lower_edge = std::max(l.lower_edge, m.Bounds().max.z());
+  for (const TriangleMesh& m : upper.meshes) l.upper_edge = std::min(l.upper_edge, m.Bounds().min.z());
+  for (const PlacedTooth& p : lower.placed) l.lower_crest = std::max(l.lower_crest, p.X_WT.translation().z() - 1.5);
+  for (const PlacedTooth& p : upper.placed) l.upper_crest = std::min(l.upper_crest, p.X_WT.translation().z() + 1.5);
+  return l;
+}
+
+// The lingual limit of the lower teeth across the mouth at height y: the half
+// width of the space the tongue lies in.
+double LingualHalfWidth(const ArchTeeth& lower, double y) {
+  double half = 1e9;
+  for (const TriangleMesh& m : lower.meshes) {
+    for (const Vector3& v : m.vertices()) {
+      if (std::abs(v.y() - y) < 1.0) half = std::min(half, std::abs(v.x()));
+    }
+  }
+  return half;
+}
+
+TriangleMesh Tongue(const ArchTeeth& lower, const Levels& lv) {
+  // From the tip, 3 mm behind the lower incisors' lingual surfaces, back 45 mm.
+  double front = -1e9;  // the central incisors' lingual extent
+  for (std::size_t k = 0; k < lower.placed.size(); ++k)
+    if (lower.placed[k].tooth.position == 1) front = std::max(front, lower.meshes[k].Bounds().min.y());
+  const double tip = front - 3.0, back = tip - 45.0;
+  const int stations = 46;
+  std::vector<std::vector<Vector3>> rings;
+  const double lower_z = lv.lower_crest - 8.0;  // where it joins the floor of the mouth
+  double widest = 0;  // behind the last molars the tongue keeps its widest
+  for (int i = 0; i <= stations; ++i) {
+    const double y = tip + (back - tip) * i / stations;
+    const double from_tip = tip - y;
+    // Half width: 2 mm inside the lower teeth, the tip rounded like a half disc.
+    const double room = LingualHalfWidth(lower, y);
+    if (room < 100) widest = std::max(widest, room - 2.0);
+    const double w = room < 100 ? room - 2.0 : widest;
+    const double r_tip = 0.8 * w;
+    const double round = from_tip < r_tip ? std::sqrt(std::max(0.0, 1 - std::pow(1 - from_tip / r_tip, 2))) : 1.0;
+    const double half = std::max(0.8, w * std::max(0.12, round));
+    // The dorsum level with the lower occlusal plane, rising toward the back and
+    // falling to the tip; the ventral surface free under the first 12 mm, then
+    // down to the floor of the mouth.
+    const double top = lv.lower_edge - 1.5 + 4.0 * std::pow(from_tip / 45.0, 1.5) - 2.5 * (1 - round);
+    const double bottom = from_tip < 12 ? top - 4.0 - (top - 4.0 - lower_z) * (from_tip / 12.0) : lower_z;
+    rings.push_back(Section(Vector3(0, y, 0), Vector3::UnitX(), -half, half, std::min(bottom, top - 2.5), top, 32, 2.6));
+  }
+  return Loft(rings);
+}
+
+TriangleMesh FloorOfMouth(const ArchTeeth& lower, const Levels& lv, const ArchParams& arch) {
+  // A horseshoe of mucosa inside the lower arch, from first molar to first
+  // molar, 7 mm below the crest, from 0.5 mm inside the roots (in the jaw's
+  // lingual bone) 9 mm toward the tongue.
+  const ArchCurve curve(false, arch);
+  const double end = ArchCentreMm(false, 6);
+  std::vector<std::vector<Vector3>> rings;
+  const int stations = 48;
+  for (int i = 0; i <= stations; ++i) {
+    const double s = -end + 2 * end * i / stations;
+    double lingual = 0;
+    for (std::size_t k = 0; k < lower.placed.size(); ++k) {
+      if (std::abs(lower.s[k] - s) > 4) continue;
+      for (const Vector3& v : lower.meshes[k].vertices()) {
+        lingual = std::min(lingual, (v - curve.Point(s)).dot(curve.Normal(s)));
+      }
+    }
+    Vector3 o = curve.Point(s);
+    o.z() = 0;
+    const double top = lv.lower_crest - 7.0;
+    rings.push_back(Section(o, curve.Normal(s), lingual - 9.5, lingual - 0.5, top - 3.0, top, 20, 3.0));
+  }
+  return Loft(rings);
+}
+
+TriangleMesh Palate(const ArchTeeth& upper, const Levels& lv, bool soft) {
+  // The hard palate: a vault between the upper teeth's palatal sides, from
+  // behind the incisors to the second molars' distal surfaces; the soft palate
+  // hangs from its back edge.
+  double front = -1e9, back = 1e9;
+  for (std::size_t k = 0; k < upper.placed.size(); ++k) {
+    const Aabb b = upper.meshes[k].Bounds();
+    if (upper.placed[k].tooth.position == 1) front = std::max(front, b.min.y());
+    back = std::min(back, b.min.y());
+  }
+  auto half_width = [&](double y) {
+    double half = 1e9;
+    for (const TriangleMesh& m : upper.meshes)
+      for (const Vector3& v : m.vertices())
+        if (std::abs(v.y() - y) < 1.0) half = std::min(half, std::abs(v.x()));
+    return half > 100 ? 0.0 : half;
+  };
+  const double vault = 11.0;  // palatal vault above the crest at the midline
+  std::vector<std::vector<Vector3>> rings;
+  const int m = 28;
+  if (!soft) {
+    const double y0 = front - 1.0, y1 = back;
+    const int stations = 40;
+    for (int i = 0; i <= stations; ++i) {
+      const double y = y0 + (y1 - y0) * i / stations;
+      double half = half_width(y);
+      if (half == 0) half = half_width(y0 - 3);
+      const double rise = std::sqrt(std::min(1.0, (y0 - y) / 8.0));
+      half = std::max(1.0, half * std::max(0.2, rise));
+      std::vector<Vector3> ring;
+      // Lower (oral) surface: a vault from the teeth's palatal sides (at the
+      // crest) to `vault` above it; upper surface 4 mm above.
+      for (int j = 0; j < m; ++j) {
+        const double a = 2 * kPi * j / m, c = std::cos(a), s = std::sin(a);
+        const double x = half * c;
+        const double under = lv.upper_crest - 1.0 + vault * rise * std::sqrt(std::max(0.0, 1 - c * c));
+        ring.emplace_back(x, y, s < 0 ? under - 0.5 : under + 4.0 * std::abs(s) + 0.5);
+      }
+      rings.push_back(std::move(ring));
+    }
+    return Loft(rings);
+  }
+  // Soft palate: 14 mm long, hanging 35 degrees down from the hard palate's back.
+  const double half0 = std::max(8.0, 0.8 * half_width(back + 2));
+  const int stations = 16;
+  for (int i = 0; i <= stations; ++i) {
+    const double t = static_cast<double>(i) / stations;
+    const double y = back + 1 - 14 * t * std::cos(0.6);
+    const double top = lv.upper_crest - 1.0 + vault + 3.5 - 14 * t * std::sin(0.6);
+    const double half = half0 * (1 - 0.45 * t * t);
+    rings.push_back(Section(Vector3(0, y, 0), Vector3::UnitX(), -half, half, top - 3.5, top, m, 2.4));
+  }
+  return Loft(rings);
 }
 
 }  // namespace
 
+double CrestDropMm(double pocket_plus_recession_mm) { return std::max(1.5, pocket_plus_recession_mm - 0.5); }
+
 const std::vector<std::string>& SoftTissueNames() {
-  static const std::vector<std::string> names = {"tongue", "palate", "cheek_left", "cheek_right", "jaw_lower",
-                                                 "jaw_upper"};
+  static const std::vector<std::string> names = {"jaw_lower", "jaw_upper", "lip_upper", "lip_lower", "cheek_left",
+                                                 "cheek_right", "tongue", "floor_of_mouth", "palate", "soft_palate"};
   return names;
 }
 
-TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch) {
-  const double lift = arch.upper_lift_mm;
-  if (name == "tongue") return Ellipsoid({0, -21, -4}, {14.5, 21, 9});
-  if (name == "palate") return Ellipsoid({0, -19, 21 + lift}, {16, 22, 6});
-  if (name == "cheek_left") return Ellipsoid({34, -19, lift / 2}, {3, 19, 15 + lift / 2});
-  if (name == "cheek_right") return Ellipsoid({-34, -19, lift / 2}, {3, 19, 15 + lift / 2});
-  if (name == "jaw_lower") return ArchTube(arch.k_lower, 25, -13, 6.5);
-  if (name == "jaw_upper") return ArchTube(arch.k_upper, 27, 13 + lift, 6.5);
-  std::string known;
-  for (const std::string& n : SoftTissueNames()) known += (known.empty() ? "" : ", ") + n;
-  throw std::invalid_argument("unknown anatomy '" + name + "'; known: " + known);
+std::string TongueRegion(const Vector3& n) {
+  if (n.z() > 0.6) return "dorsum";
+  if (n.z() < -0.6) return "ventral surface";
+  return "lateral border";
+}
+
+TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch, const std::map<int, double>& drops) {
+  const auto& known = SoftTissueNames();
+  if (std::find(known.begin(), known.end(), name) == known.end()) {
+    std::string list;
+    for (const std::string& n : known) list += (list.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("unknown anatomy '" + name + "'; known: " + list);
+  }
+  if (name == "jaw_lower") return Jaw(false, arch, drops);
+  if (name == "jaw_upper") return Jaw(true, arch, drops);
+  const ArchTeeth lower = Teeth(false, arch), upper = Teeth(true, arch);
+  const Levels lv = LevelsOf(lower, upper);
+  if (name == "tongue") return Tongue(lower, lv);
+  if (name == "floor_of_mouth") return FloorOfMouth(lower, lv, arch);
+  if (name == "palate") return Palate(upper, lv, false);
+  if (name == "soft_palate") return Palate(upper, lv, true);
+  // Lips and cheeks: 2.5 mm of vestibule outside the teeth; the lips from
+  // commissure to commissure (about the canines' distal surfaces), the cheeks
+  // from there to 8 mm behind the last molars, from fold to fold.
+  const double commissure = ArchCentreMm(true, 3) + 4.5;
+  if (name == "lip_upper" || name == "lip_lower") {
+    const bool up = name == "lip_upper";
+    const ArchCurve curve(up, arch);
+    const std::vector<const ArchTeeth*> teeth = {up ? &upper : &lower};
+    // The upper lip's edge 2 mm above the upper incisal edge, the lower's 1 mm
+    // below the lower's; each up (down) to its vestibule's fold.
+    const double edge = up ? lv.upper_edge + 2.0 : lv.lower_edge - 1.0;
+    const double fold = up ? lv.upper_crest + 9.0 : lv.lower_crest - 9.0;
+    return OuterSlab(curve, teeth, -commissure, commissure, 2.5, 9.0, std::min(edge, fold), std::max(edge, fold), 6);
+  }
+  const bool left = name == "cheek_left";
+  const ArchCurve curve(true, arch);
+  const double s0 = commissure - 5, s1 = ArchEnd(true) + 8;
+  return OuterSlab(curve, {&upper, &lower}, left ? s0 : -s1, left ? s1 : -s0, 2.5, 5.0, lv.lower_crest - 9.0,
+                   lv.upper_crest + 9.0, 5);
 }
 
 }  // namespace sulcus

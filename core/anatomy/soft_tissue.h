@@ -1,9 +1,13 @@
 #pragma once
-// The rest of the mouth, simply: tongue, palate, cheeks (buccal mucosa) and the
-// alveolar bone of each jaw, in the world frame of arch.h, sized to the arches.
-// Enough for oral inspection (the tongue hides lingual surfaces, the cheeks bound
-// the vestibule); not anatomy to learn from.
+// The rest of the mouth, in the world frame of arch.h, shaped around the placed
+// teeth: the jaws (alveolar bone under its mucosa, holding every root, its crest
+// 1.5 mm apical to the CEJ in health and lower where attachment is lost), the
+// lips, the cheeks (buccal mucosa, a vestibule's width outside the teeth), the
+// tongue (dorsum, lateral borders, ventral surface), the floor of the mouth and
+// the hard and soft palate. Each is one named region an inspection lesson can
+// ask for; the scene gives each its own tissue.
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -12,12 +16,30 @@
 
 namespace sulcus {
 
-/// The names MakeSoftTissue knows: tongue, palate, cheek_left, cheek_right,
-/// jaw_lower, jaw_upper.
+/// Changes whenever MakeSoftTissue's meshes change: caches of generated meshes
+/// key on it.
+inline constexpr int kSoftTissueVersion = 2;
+
+/// The names MakeSoftTissue knows: jaw_lower, jaw_upper, lip_upper, lip_lower,
+/// cheek_left, cheek_right, tongue, floor_of_mouth, palate, soft_palate.
 const std::vector<std::string>& SoftTissueNames();
 
-/// A closed, outward mesh in the world frame. Throws std::invalid_argument for
-/// an unknown name.
-TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch = {});
+/// How far below the CEJ the bone crest lies at a tooth (mm, along its axis):
+/// 1.5 in health, 1 mm below the deepest pocket floor where attachment is lost
+/// (horizontal bone loss). `pocket_plus_recession_mm` is the largest of the
+/// tooth's six sites; the pocket floor lies that far minus the 1.5 mm the margin
+/// stands above the CEJ.
+double CrestDropMm(double pocket_plus_recession_mm);
+
+/// A closed, outward mesh in the world frame. `crest_drop_mm` gives the crest
+/// per FDI tooth for the jaws (CrestDropMm; teeth not named: 1.5 mm). Throws
+/// std::invalid_argument for an unknown name.
+TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch = {},
+                            const std::map<int, double>& crest_drop_mm = {});
+
+/// The part of the tongue a point on it belongs to, from the surface's normal
+/// there: "dorsum" (facing up), "ventral surface" (facing down) or "lateral
+/// border" (facing sideways).
+std::string TongueRegion(const Vector3& normal_W);
 
 }  // namespace sulcus

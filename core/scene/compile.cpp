@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "core/anatomy/arch.h"
+#include "core/anatomy/findings.h"
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/probe.h"
 #include "core/anatomy/soft_tissue.h"
@@ -39,14 +40,22 @@ GingivaParams GingivaOf(const ObjectSpec& o) {
 std::string GeneratorKey(const ObjectSpec& o) {
   std::ostringstream k;
   k.precision(17);
-  k << "sulcus-generated-mesh v2|";
+  k << "sulcus-generated-mesh v3|";
   switch (o.kind) {
     case ObjectSpec::Kind::kTooth: k << "tooth|" << o.fdi << '|' << o.mirrored; break;
     case ObjectSpec::Kind::kGingiva:
       k << "gingiva|" << o.fdi << '|' << o.mirrored;
       for (int i = 0; i < 6; ++i) k << '|' << o.pocket_mm[i] << '|' << o.recession_mm[i];
       break;
-    case ObjectSpec::Kind::kAnatomy: k << "anatomy|" << o.anatomy << '|' << o.mouth_open_mm; break;
+    case ObjectSpec::Kind::kCalculus:
+      k << "calculus|" << o.fdi << '|' << o.mirrored << '|' << o.calculus_site << '|' << o.calculus[o.calculus_site]
+        << '|' << o.with_gingiva;
+      for (int i = 0; i < 6; ++i) k << '|' << o.pocket_mm[i] << '|' << o.recession_mm[i];
+      break;
+    case ObjectSpec::Kind::kAnatomy:
+      k << "anatomy " << kSoftTissueVersion << '|' << o.anatomy << '|' << o.mouth_open_mm;
+      for (const auto& [fdi, drop] : o.crest_drop_mm) k << '|' << fdi << ':' << drop;
+      break;
     default: return {};
   }
   return k.str();
@@ -192,7 +201,14 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
   switch (o.kind) {
     case ObjectSpec::Kind::kTooth: return ArchMirror(o.mirrored, GenerateTooth(o.fdi).mesh);
     case ObjectSpec::Kind::kGingiva: return ArchMirror(o.mirrored, GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o)).mesh);
-    case ObjectSpec::Kind::kAnatomy: return MakeSoftTissue(o.anatomy, ArchParams{.upper_lift_mm = o.mouth_open_mm});
+    case ObjectSpec::Kind::kCalculus: {
+      const ToothModel tooth = GenerateTooth(o.fdi);
+      std::optional<GingivaModel> g;
+      if (o.with_gingiva) g = GenerateGingiva(tooth, GingivaOf(o));
+      return ArchMirror(o.mirrored, MakeCalculus(tooth, g ? &*g : nullptr, o.calculus_site, o.calculus[o.calculus_site] == 2));
+    }
+    case ObjectSpec::Kind::kAnatomy:
+      return MakeSoftTissue(o.anatomy, ArchParams{.upper_lift_mm = o.mouth_open_mm}, o.crest_drop_mm);
     case ObjectSpec::Kind::kMesh: {
       TriangleMesh m = LoadMesh(o.mesh);
       // Scene meshes are in millimetres: a mouth is about 60 mm across. A mesh of

@@ -28,7 +28,7 @@ struct TissueName {
 constexpr TissueName kTissues[] = {{"enamel", Tissue::kEnamel}, {"root", Tissue::kRoot},     {"gingiva", Tissue::kGingiva},
                                    {"bone", Tissue::kBone},     {"tongue", Tissue::kTongue}, {"cheek", Tissue::kCheek},
                                    {"palate", Tissue::kPalate}, {"lip", Tissue::kLip},       {"mucosa", Tissue::kMucosa},
-                                   {"metal", Tissue::kMetal}};
+                                   {"metal", Tissue::kMetal},   {"calculus", Tissue::kCalculus}};
 struct EffectName {
   const char* name;
   Effect effect;
@@ -40,7 +40,7 @@ constexpr EffectName kEffects[] = {{"contact", Effect::kContact},
                                    {"probing_depth", Effect::kProbingDepth},
                                    {"bleeding_on_probing", Effect::kBleedingOnProbing},
                                    {"tissue_damage", Effect::kTissueDamage}};
-const std::vector<std::string> kProbes = {"williams", "unc15", "who"};
+const std::vector<std::string> kProbes = {"williams", "unc15", "who", "explorer23", "explorer1112"};
 
 using Reader = YamlReader;
 
@@ -81,7 +81,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (!r.IsMap(n, "an object")) return;
   r.CheckKeys(n, {"name", "tooth", "mesh", "box", "sphere", "cylinder", "anatomy", "height_mm", "at", "turn_deg", "tissue",
                   "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding",
-                  "inflamed", "caries_mm", "spheretree"},
+                  "inflamed", "caries_mm", "calculus", "spheretree"},
               "an object");
   if (n["spheretree"]) ReadTreeParams(r, n["spheretree"], "an object's 'spheretree'", false, &o.trees);
   std::vector<std::string> kinds;
@@ -128,10 +128,12 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     }
     o.name = o.anatomy;
     std::replace(o.name.begin(), o.name.end(), '_', ' ');
-    o.tissue = o.anatomy == "tongue"   ? Tissue::kTongue
-               : o.anatomy == "palate" ? Tissue::kPalate
-               : o.anatomy.rfind("cheek", 0) == 0 ? Tissue::kCheek
-                                                  : Tissue::kBone;
+    o.tissue = o.anatomy == "tongue"                                       ? Tissue::kTongue
+               : o.anatomy == "palate" || o.anatomy == "soft_palate"        ? Tissue::kPalate
+               : o.anatomy.rfind("cheek", 0) == 0                          ? Tissue::kCheek
+               : o.anatomy.rfind("lip", 0) == 0                            ? Tissue::kLip
+               : o.anatomy == "floor_of_mouth"                             ? Tissue::kMucosa
+                                                                           : Tissue::kBone;
   } else if (kind == "box") {
     o.kind = ObjectSpec::Kind::kBox;
     double s[3] = {1, 1, 1};
@@ -188,7 +190,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (n["friction"]) o.material.friction = r.Number(n["friction"], "friction", 0, 2, o.material.friction, "");
   if (n["damage_limit_n"]) o.material.damage_limit_n = r.Number(n["damage_limit_n"], "damage_limit_n", 0, 1e9, 1, "N");
 
-  for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm"}) {
+  for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm", "calculus"}) {
     if (n[key] && kind != "tooth") r.Error(n[key], std::string("'") + key + "' is for teeth only");
   }
   if (kind == "tooth") {
@@ -245,6 +247,37 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
         }
       }
     }
+    if (const YAML::Node& c = n["calculus"]) {
+      // calculus: {supra: [L, DL], sub: [MB]}
+      if (!c.IsMap()) {
+        r.Error(c, "'calculus' must map 'supra' and 'sub' to lists of sites, e.g. {supra: [L], sub: [MB]}");
+      } else {
+        for (auto it = c.begin(); it != c.end(); ++it) {
+          const std::string where = it->first.Scalar();
+          if (where != "supra" && where != "sub") {
+            r.Error(it->first, "unknown calculus position '" + where + "'" + Suggest(where, {"supra", "sub"}) +
+                                   " (supra: above the gingival margin, sub: in the sulcus)");
+            continue;
+          }
+          if (!it->second.IsSequence()) {
+            r.Error(it->second, "'" + where + "' must be a list of sites, e.g. [MB, DL]");
+            continue;
+          }
+          for (const YAML::Node& site : it->second) {
+            const std::string code = site.IsScalar() ? site.Scalar() : "";
+            const auto at = std::find(kSiteCodes.begin(), kSiteCodes.end(), code);
+            if (at == kSiteCodes.end()) {
+              r.Error(site, "unknown site '" + code + "'" +
+                                Suggest(code, std::vector<std::string>(kSiteCodes.begin(), kSiteCodes.end())));
+            } else if (o.calculus[at - kSiteCodes.begin()] != 0) {
+              r.Error(site, "site " + code + " has calculus named twice");
+            } else {
+              o.calculus[at - kSiteCodes.begin()] = where == "supra" ? 1 : 2;
+            }
+          }
+        }
+      }
+    }
   }
   spec->objects.push_back(std::move(o));
 }
@@ -287,6 +320,7 @@ Material DefaultMaterial(Tissue t) {
     case Tissue::kLip:
     case Tissue::kMucosa: return {0.1, 0.4, 0.5};
     case Tissue::kPalate: return {1.0, 0.3, 1.0};
+    case Tissue::kCalculus: return {1e9, 0.2, 1e9};  // hard and rough
     default: return {};
   }
 }
@@ -373,6 +407,16 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
     for (std::size_t i = 0; i < objects.size(); ++i) ReadObject(r, objects[i], folder, static_cast<int>(i), &spec, &names);
   }
+  // The jaws' bone crest follows each tooth's attachment loss (its deepest site).
+  for (ObjectSpec& jaw : spec.objects) {
+    if (jaw.kind != ObjectSpec::Kind::kAnatomy || jaw.anatomy.rfind("jaw", 0) != 0) continue;
+    for (const ObjectSpec& t : spec.objects) {
+      if (t.kind != ObjectSpec::Kind::kTooth || !t.has_sites) continue;
+      double loss = 0;
+      for (int s = 0; s < 6; ++s) loss = std::max(loss, t.pocket_mm[s] + t.recession_mm[s]);
+      jaw.crest_drop_mm[t.fdi] = CrestDropMm(loss);
+    }
+  }
   if (spec.gingiva) {
     // A collar around every tooth, carrying the tooth's site truth.
     const std::size_t teeth = spec.objects.size();
@@ -400,6 +444,29 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
         // reported with the tooth
       }
       spec.objects.push_back(std::move(g));
+    }
+  }
+  // A deposit object per calculus site, on its tooth (sized in mm, so a few
+  // levels of a small tree fit it).
+  for (std::size_t i = 0, n = spec.objects.size(); i < n; ++i) {
+    const ObjectSpec& t = spec.objects[i];
+    if (t.kind != ObjectSpec::Kind::kTooth) continue;
+    for (int s = 0; s < 6; ++s) {
+      if (t.calculus[s] == 0) continue;
+      ObjectSpec c = t;
+      c.kind = ObjectSpec::Kind::kCalculus;
+      c.file_index = -1;
+      c.calculus_site = s;
+      c.name = std::string("calculus ") + std::to_string(t.fdi) + " " + kSiteCodes[s];
+      c.tissue = Tissue::kCalculus;
+      c.material = DefaultMaterial(Tissue::kCalculus);
+      c.with_gingiva = spec.gingiva;
+      c.trees.levels = 3;
+      c.trees.branching = 8;
+      c.trees.leaves = 64;
+      c.trees.target_error_mm = 0;
+      if (!t.has_sites) c.pocket_mm.fill(2.0);
+      spec.objects.push_back(std::move(c));
     }
   }
   if (!r.errors().empty()) throw SceneLoadError(r.errors());

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -39,7 +40,7 @@ class SceneLoadError : public std::runtime_error {
   std::vector<SceneError> errors_;
 };
 
-enum class Tissue { kEnamel, kRoot, kGingiva, kBone, kTongue, kCheek, kPalate, kLip, kMucosa, kMetal };
+enum class Tissue { kEnamel, kRoot, kGingiva, kBone, kTongue, kCheek, kPalate, kLip, kMucosa, kMetal, kCalculus };
 const char* ToString(Tissue t);
 
 /// What the engine uses of a tissue. Defaults per tissue in DefaultMaterial.
@@ -61,12 +62,13 @@ inline constexpr std::array<const char*, 6> kSiteCodes = {"MB", "B", "DB", "ML",
 inline constexpr std::array<const char*, 5> kSurfaces = {"mesial", "distal", "buccal", "lingual", "occlusal"};
 
 struct ObjectSpec {
-  enum class Kind { kTooth, kMesh, kBox, kSphere, kCylinder, kGingiva, kAnatomy } kind = Kind::kTooth;
+  enum class Kind { kTooth, kMesh, kBox, kSphere, kCylinder, kGingiva, kAnatomy, kCalculus } kind = Kind::kTooth;
   std::string name;
   int fdi = 0;                       // kTooth, kGingiva (the tooth it surrounds)
   bool mirrored = false;             // kTooth, kGingiva placed on the arch (arch.h)
   std::string anatomy;               // kAnatomy: tongue, palate, cheek_left, ... (soft_tissue.h)
   double mouth_open_mm = 0;          // the scene's: upper teeth and tissues raised by this
+  std::map<int, double> crest_drop_mm;  // kAnatomy jaws: the bone crest below each tooth's CEJ (soft_tissue.h)
   std::filesystem::path mesh;        // kMesh, resolved against the scene's folder
   Vector3 size = Vector3::Zero();    // kBox, mm
   double radius_mm = 0, height_mm = 0;  // kSphere, kCylinder
@@ -82,6 +84,11 @@ struct ObjectSpec {
   std::array<bool, 6> inflamed{};    // gingiva inflamed at the site
   // Caries by surface (mesial, distal, buccal, lingual, occlusal): lesion size in mm, 0 for none.
   std::array<double, 5> caries_mm{};
+  // Calculus by site: 0 none, 1 supragingival, 2 subgingival. The scene adds one
+  // kCalculus object per deposit (its `calculus_site` the site, `fdi` the tooth).
+  std::array<int, 6> calculus{};
+  int calculus_site = -1;
+  bool with_gingiva = false;         // kCalculus: the scene has gingiva (the deposit sits by its margin)
   int line = 0, column = 0;  // where the object is declared
   // Its place in the file's `objects` list (0-based); -1 for what the scene adds
   // (the gingival collars, which carry their tooth's `fdi`). The compiled scene

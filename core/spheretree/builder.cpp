@@ -1169,7 +1169,9 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   double h = std::sqrt(check.area / (0.433 * wanted));
   std::vector<Vector3> normals;
   std::vector<Piece> pieces = Subdivide(mesh, h, &normals, orientation);
-  while (pieces.size() > 4u * static_cast<std::size_t>(wanted)) {  // long thin faces
+  // Long thin faces: coarser pieces, down to one per face (a mesh of more faces
+  // than that keeps one piece each).
+  while (pieces.size() > 4u * static_cast<std::size_t>(wanted) && pieces.size() > mesh.num_faces()) {
     h *= 1.5;
     normals.clear();
     pieces = Subdivide(mesh, h, &normals, orientation);

@@ -183,6 +183,68 @@ TEST(MainWindow, TheFullMouthIsSeenFromWhereADentistLooks) {
   ASSERT_TRUE(w.SaveScreenshot(Out("full_mouth_occlusal.png")));
 }
 
+// The anatomy as a dentist looks at it: saved pictures to look at, with the
+// view's state checked.
+TEST(MainWindow, TheMouthFromTheFrontEachArchAndTheFindingsUpClose) {
+  MainWindow w;
+  w.resize(1280, 760);
+  w.show();
+  w.SetDevice("mouse");
+  ASSERT_TRUE(w.OpenScene(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml", true));
+  RunFor(200);
+  SceneView* v = w.view();
+  // From the front with the lips and cheeks held back.
+  v->SetLipsAndCheeksHidden(true);
+  EXPECT_TRUE(v->lips_and_cheeks_hidden());
+  v->View(SceneView::Side::kFront);
+  RunFor(100);
+  ASSERT_TRUE(w.SaveScreenshot(Out("mouth_front_retracted.png")));
+  // And with them: the lips in front of the teeth.
+  v->SetLipsAndCheeksHidden(false);
+  v->View(SceneView::Side::kFront);
+  RunFor(100);
+  ASSERT_TRUE(w.SaveScreenshot(Out("mouth_front.png")));
+  // Each arch occlusally: the upper from below, the lower arch and tongue faded.
+  v->SetLipsAndCheeksHidden(true);
+  v->View(SceneView::Side::kUpperOcclusal);
+  double from[3], to[3];
+  w.renderer()->GetActiveCamera()->GetPosition(from);
+  w.renderer()->GetActiveCamera()->GetFocalPoint(to);
+  EXPECT_LT(from[2] - to[2], 0) << "from below (the upper arch's occlusal side)";
+  RunFor(100);
+  ASSERT_TRUE(w.SaveScreenshot(Out("upper_arch_occlusal.png")));
+  v->View(SceneView::Side::kOcclusal);
+  RunFor(100);
+  ASSERT_TRUE(w.SaveScreenshot(Out("lower_arch_occlusal.png")));
+  // Caries up close: 36's occlusal and buccal lesions, 26's mesial one.
+  const auto tooth_at = [&](int fdi) {
+    for (const ObjectSpec& o : w.scene()->spec.objects)
+      if (o.kind == ObjectSpec::Kind::kTooth && o.fdi == fdi) return o.X_WO;
+    return RigidTransform();
+  };
+  const RigidTransform X36 = tooth_at(36);
+  v->LookAt(X36 * Vector3(0, 1.5, 6), X36.rotation() * Vector3(0, 0.8, 1), 22, X36.rotation() * Vector3(1, 0, 0));
+  RunFor(100);
+  ASSERT_TRUE(w.SaveScreenshot(Out("caries_36.png")));
+  // Calculus on the lingual surfaces of the lower incisors, seen from behind them.
+  const RigidTransform X31 = tooth_at(31);
+  v->LookAt(X31 * Vector3(-2.5, -2, 1.5), X31.rotation() * Vector3(0, -1, 0.9), 26, X31.rotation() * Vector3(0, 0, 1));
+  RunFor(100);
+  ASSERT_TRUE(w.SaveScreenshot(Out("calculus_31_41.png")));
+  // The probing sextant: recession and deep pockets at 46, its furcation above the
+  // bone (7 mm pockets and 1 mm recession), seen through translucent gingiva.
+  ASSERT_TRUE(w.OpenScene(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml", true));
+  RunFor(200);
+  ASSERT_TRUE(w.LookAtTooth(46));
+  RunFor(100);
+  ASSERT_TRUE(w.SaveScreenshot(Out("sextant_46.png")));
+  w.SetGingivaTranslucent(true);
+  const RigidTransform X46 = tooth_at(46);
+  w.view()->LookAt(X46 * Vector3(0, 0, -2.5), X46.rotation() * Vector3(0, 1, 0.15), 40, X46.rotation() * Vector3(0, 0, 1));
+  RunFor(100);
+  ASSERT_TRUE(w.SaveScreenshot(Out("furcation_46.png")));
+}
+
 }  // namespace
 }  // namespace sulcus::ui
 

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -85,6 +87,93 @@ TEST(SoftTissue, EveryPieceIsASolid) {
     EXPECT_TRUE(m.Check().IsSolid()) << name;
   }
   EXPECT_THROW(MakeSoftTissue("uvula"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace sulcus
+
+// Findings on the anatomy (core/anatomy/findings.h).
+#include "core/anatomy/findings.h"
+
+namespace sulcus {
+namespace {
+
+TEST(Findings, CariesSitsOnTheSurfaceItNames) {
+  const ToothModel molar = GenerateTooth(36);
+  const Vector3 occlusal = CariesCentre(molar, ToothSurface::kOcclusal);
+  const Vector3 mesial = CariesCentre(molar, ToothSurface::kMesial);
+  const Vector3 distal = CariesCentre(molar, ToothSurface::kDistal);
+  const Vector3 buccal = CariesCentre(molar, ToothSurface::kBuccal);
+  const Vector3 lingual = CariesCentre(molar, ToothSurface::kLingual);
+  EXPECT_GT(occlusal.z(), 0.6 * molar.dimensions.crown_height);
+  EXPECT_LT(std::hypot(occlusal.x(), occlusal.y()), 2.0);  // in the central fossa
+  EXPECT_GT(mesial.x(), 0.4 * molar.dimensions.md_crown);
+  EXPECT_LT(distal.x(), -0.4 * molar.dimensions.md_crown);
+  EXPECT_GT(buccal.y(), 0.3 * molar.dimensions.bl);
+  EXPECT_LT(lingual.y(), -0.3 * molar.dimensions.bl);
+  for (const Vector3* p : {&mesial, &distal, &buccal, &lingual}) {
+    EXPECT_GT(p->z(), 0.0);  // on the crown, above the CEJ
+    EXPECT_LT(p->z(), molar.dimensions.crown_height);
+  }
+  // A 2 mm occlusal lesion covers the vertices within 2 mm of its centre and no other.
+  const std::vector<double> cover = CariesCoverage(molar, {0, 0, 0, 0, 2.0});
+  int covered = 0;
+  for (std::size_t i = 0; i < cover.size(); ++i) {
+    const double d = (molar.mesh.vertices()[i] - occlusal).norm();
+    EXPECT_EQ(cover[i] > 0, d < 2.0) << i;
+    covered += cover[i] > 0;
+  }
+  EXPECT_GT(covered, 5);
+}
+
+TEST(Findings, InflammationAtTheNamedSitesOnly) {
+  const GingivaModel g = GenerateGingiva(GenerateTooth(46));
+  const std::vector<double> w = InflammationCoverage(g.mesh.vertices(), {false, true, false, false, false, false});  // B
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const Vector3& v = g.mesh.vertices()[i];
+    const double th = std::atan2(v.y(), v.x());  // B is at +pi/2
+    if (std::abs(th - std::numbers::pi / 2) < 0.2) {
+      EXPECT_EQ(w[i], 1.0);
+    }
+    if (v.y() < 0) {
+      EXPECT_EQ(w[i], 0.0);  // nothing on the lingual side
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sulcus
+
+#include "core/anatomy/mesh_contact.h"
+
+namespace sulcus {
+namespace {
+
+TEST(Findings, CalculusSitsOnTheToothAboveOrInTheSulcus) {
+  const ToothModel tooth = GenerateTooth(31);
+  const GingivaModel g = GenerateGingiva(tooth);
+  for (int site : {1, 4, 5}) {
+    for (bool sub : {false, true}) {
+      const TriangleMesh c = MakeCalculus(tooth, &g, site, sub);
+      ASSERT_TRUE(c.Check().IsSolid());
+      // Attached to the tooth (the meshes meet) and standing out of it.
+      EXPECT_TRUE(MeshesIntersect(c, tooth.mesh)) << site << sub;
+      const std::vector<bool> inside = InsideSolid(tooth.mesh, c.vertices());
+      EXPECT_GT(std::count(inside.begin(), inside.end(), false), 10) << site << sub;
+      // At its site, above the margin or between floor and margin.
+      Vector3 centre = Vector3::Zero();
+      for (const Vector3& v : c.vertices()) centre += v;
+      centre /= static_cast<double>(c.num_vertices());
+      const double th = std::atan2(centre.y(), centre.x());
+      EXPECT_LT(std::abs(std::remainder(th - SiteAngles()[site], 2 * std::numbers::pi)), 0.05) << site;
+      if (sub) {
+        EXPECT_GT(centre.z(), g.floor[site].z()) << site;
+        EXPECT_LT(centre.z(), g.margin[site].z()) << site;
+      } else {
+        EXPECT_GT(centre.z(), g.margin[site].z()) << site;
+      }
+    }
+  }
 }
 
 }  // namespace

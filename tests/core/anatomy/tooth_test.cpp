@@ -191,7 +191,7 @@ namespace sulcus {
 namespace {
 
 TEST(Probe, ValidSolidsWithTheTipAtTheOrigin) {
-  for (const char* name : {"williams", "unc15", "who"}) {
+  for (const char* name : {"williams", "unc15", "who", "explorer23", "explorer1112"}) {
     const ProbeModel p = MakeProbe(name);
     for (const TriangleMesh* m : {&p.mesh, &p.collision_mesh}) {
       const MeshReport r = m->Check();

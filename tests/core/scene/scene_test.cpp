@@ -137,7 +137,7 @@ TEST(SceneFile, ManyErrorsAtOnceAndSyntaxErrors) {
       "    tissue: bonne\n");
   EXPECT_EQ(all, (Lines{"2:12: FDI 99 does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)",
                         "3:5: 'box 2' needs a 'tissue' (enamel, root, gingiva, bone, tongue, cheek, palate, lip, "
-                        "mucosa, metal)",
+                        "mucosa, metal, calculus)",
                         "4:13: 'sphere' is -2 mm (a mouth is about 60 mm across), expected 0.001 to 100",
                         "5:13: unknown tissue 'bonne'; did you mean 'bone'?"}));
   const Lines syntax = Errors("objects:\n  - tooth: [46\n");
@@ -255,8 +255,8 @@ namespace {
 TEST(SceneFile, ArchGingivaAnatomyCariesAndInflammation) {
   EXPECT_EQ(Errors("arch: maybe\nobjects:\n  - tooth: 46\n"), (Lines{"1:7: 'arch' must be true or false"}));
   EXPECT_EQ(Errors("objects:\n  - anatomy: tounge\n"),
-            (Lines{"2:14: unknown anatomy 'tounge'; did you mean 'tongue'? (known: tongue, palate, cheek_left, "
-                   "cheek_right, jaw_lower, jaw_upper)"}));
+            (Lines{"2:14: unknown anatomy 'tounge'; did you mean 'tongue'? (known: jaw_lower, jaw_upper, lip_upper, "
+                   "lip_lower, cheek_left, cheek_right, tongue, floor_of_mouth, palate, soft_palate)"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 36\n    caries_mm: {ocllusal: 2}\n"),
             (Lines{"3:17: unknown surface 'ocllusal'; did you mean 'occlusal'? (mesial, distal, buccal, lingual, "
                    "occlusal)"}));
@@ -286,6 +286,34 @@ TEST(SceneFile, ArchGingivaAnatomyCariesAndInflammation) {
   EXPECT_EQ(s.objects[4].pocket_mm[0], 2.0) << "a tooth without truth gets healthy 2 mm sulci";
   EXPECT_TRUE(s.objects[0].inflamed[0]);
   EXPECT_EQ(s.objects[0].caries_mm[4], 2.5);
+}
+
+TEST(SceneFile, CalculusBySiteAboveOrBelowTheMargin) {
+  EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    calculus: [L]\n"),
+            (Lines{"3:15: 'calculus' must map 'supra' and 'sub' to lists of sites, e.g. {supra: [L], sub: [MB]}"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    calculus: {supra: [L], subb: [MB]}\n"),
+            (Lines{"3:28: unknown calculus position 'subb'; did you mean 'sub'? (supra: above the gingival margin, "
+                   "sub: in the sulcus)"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    calculus: {supra: [L], sub: [L]}\n"),
+            (Lines{"3:34: site L has calculus named twice"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    calculus: {supra: [LL]}\n"),
+            (Lines{"3:24: unknown site 'LL'; did you mean 'ML'?"}));
+  EXPECT_EQ(Errors("objects:\n  - sphere: 2\n    tissue: bone\n    calculus: {supra: [L]}\n"),
+            (Lines{"4:15: 'calculus' is for teeth only"}));
+  // A deposit object per site, on its tooth, named for it; hard.
+  const SceneSpec s = LoadSceneSpec(Write("calculus_ok.yaml",
+                                          "arch: true\ngingiva: true\nobjects:\n  - tooth: 31\n"
+                                          "    calculus: {supra: [L, DL], sub: [MB]}\n"));
+  std::vector<std::string> names;
+  for (const ObjectSpec& o : s.objects) {
+    if (o.kind != ObjectSpec::Kind::kCalculus) continue;
+    names.push_back(o.name);
+    EXPECT_EQ(o.tissue, Tissue::kCalculus);
+    EXPECT_EQ(o.fdi, 31);
+    EXPECT_TRUE(o.with_gingiva);
+    EXPECT_EQ(o.X_WO.translation(), s.objects[0].X_WO.translation());
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"calculus 31 MB", "calculus 31 L", "calculus 31 DL"}));
 }
 
 }  // namespace

@@ -103,6 +103,17 @@ TEST(Builder, MoreLeavesFitBetter) {
   EXPECT_LT(fine, 0.5 * coarse);
 }
 
+TEST(Builder, AMeshOfMoreFacesThanSamplesStillBuilds) {
+  // 16 leaves want 3,000 samples; a sphere of 20,480 faces has more than four
+  // times that many even at one piece per face. It builds, one piece a face
+  // (the sampling once grew its piece size without end here).
+  const TriangleMesh mesh = MakeIcosphere(5.0, 5);
+  ASSERT_GT(mesh.num_faces(), 4u * 3000u);
+  const SphereTree tree = BuildSphereTree(mesh, Small(16));
+  EXPECT_GT(tree.NumLeaves(), 0u);
+  EXPECT_LT(EvaluateSphereTree(mesh, tree, Quick()).leaves().protrusion_max_mm, 5.0);
+}
+
 TEST(Builder, TargetErrorMode) {
   const TriangleMesh mesh = MakeTorus(10, 3, 48, 24);
   SphereTreeParams p = Small();

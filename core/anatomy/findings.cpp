@@ -1,0 +1,140 @@
+#include "core/anatomy/findings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/anatomy/gingiva.h"
+#include "core/geometry/primitives.h"
+
+namespace sulcus {
+
+Vector3 CariesCentre(const ToothModel& tooth, ToothSurface surface) {
+  const ToothDimensions& d = tooth.dimensions;
+  const bool anterior = tooth.tooth.position <= 3;
+  // The vertex that maximises a score: outward along the surface's direction at
+  // the wanted height.
+  auto best = [&](auto score) {
+    const Vector3* arg = &tooth.mesh.vertices().front();
+    double top = -1e300;
+    for (const Vector3& v : tooth.mesh.vertices()) {
+      const double s = score(v);
+      if (s > top) {
+        top = s;
+        arg = &v;
+      }
+    }
+    return *arg;
+  };
+  const double contact = (anterior ? 0.75 : 0.6) * d.crown_height;
+  switch (surface) {
+    case ToothSurface::kMesial:
+    case ToothSurface::kDistal: {
+      const double sx = surface == ToothSurface::kMesial ? 1 : -1;
+      const double z = contact - 1.5;  // just cervical of the contact
+      return best([&](const Vector3& v) { return sx * v.x() - 3 * std::abs(v.z() - z) - std::abs(v.y()); });
+    }
+    case ToothSurface::kBuccal:
+    case ToothSurface::kLingual: {
+      const double sy = surface == ToothSurface::kBuccal ? 1 : -1;
+      const double z = 0.2 * d.crown_height + 0.8;  // the cervical third, above the CEJ's scallop
+      return best([&](const Vector3& v) { return sy * v.y() - 3 * std::abs(v.z() - z) - std::abs(v.x()); });
+    }
+    case ToothSurface::kOcclusal:
+      if (anterior) {
+        // The lingual fossa below the incisal edge.
+        const double z = 0.7 * d.crown_height;
+        return best([&](const Vector3& v) { return -v.y() - 3 * std::abs(v.z() - z) - std::abs(v.x()); });
+      }
+      // The central fossa: the crown's top surface nearest the long axis.
+      return best([&](const Vector3& v) { return v.z() > 0.5 * d.crown_height ? v.z() - 4 * std::hypot(v.x(), v.y()) : -1e300; });
+  }
+  return Vector3::Zero();
+}
+
+std::vector<double> CariesCoverage(const ToothModel& tooth, const std::array<double, 5>& caries_mm) {
+  std::vector<double> out(tooth.mesh.num_vertices(), 0.0);
+  for (int s = 0; s < 5; ++s) {
+    const double r = caries_mm[s];
+    if (r <= 0) continue;
+    const Vector3 c = CariesCentre(tooth, static_cast<ToothSurface>(s));
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const double d = (tooth.mesh.vertices()[i] - c).norm();
+      if (d < r) out[i] = std::max(out[i], 1 - d / r);
+    }
+  }
+  return out;
+}
+
+std::vector<double> InflammationCoverage(const std::vector<Vector3>& vertices, const std::array<bool, 6>& inflamed) {
+  constexpr double kPi = std::numbers::pi;
+  std::vector<double> out(vertices.size(), 0.0);
+  const auto& angles = SiteAngles();
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const double th = std::atan2(vertices[i].y(), vertices[i].x());
+    for (int s = 0; s < 6; ++s) {
+      if (!inflamed[s]) continue;
+      double d = std::abs(std::remainder(th - angles[s], 2 * kPi));
+      // Sites are pi/4 apart (pi/2 across the proximal surfaces): full within
+      // pi/10 of the site, none beyond pi/4.
+      const double w = std::clamp((kPi / 4 - d) / (kPi / 4 - kPi / 10), 0.0, 1.0);
+      out[i] = std::max(out[i], w);
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// The tooth's outer surface along the horizontal ray from the axis at angle th
+// and height z (the farthest crossing), or 0 when the ray misses.
+double SurfaceRadius(const TriangleMesh& mesh, double th, double z) {
+  const Vector3 o(0, 0, z), d(std::cos(th), std::sin(th), 0);
+  double best = 0;
+  const auto& v = mesh.vertices();
+  for (const auto& f : mesh.faces()) {
+    const Vector3& a = v[f[0]];
+    const Vector3 e1 = v[f[1]] - a, e2 = v[f[2]] - a;
+    const Vector3 p = d.cross(e2);
+    const double det = e1.dot(p);
+    if (std::abs(det) < 1e-14) continue;
+    const Vector3 s = o - a;
+    const double u = s.dot(p) / det;
+    if (u < 0 || u > 1) continue;
+    const Vector3 q = s.cross(e1);
+    const double w = d.dot(q) / det;
+    if (w < 0 || u + w > 1) continue;
+    best = std::max(best, e2.dot(q) / det);
+  }
+  return best;
+}
+
+}  // namespace
+
+TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, int site, bool subgingival) {
+  const double th = SiteAngles()[site];
+  double margin = 1.5, floor = -0.5;
+  if (gingiva) {
+    margin = gingiva->margin[site].z();
+    floor = gingiva->floor[site].z();
+  } else {
+    const int k = static_cast<int>(std::lround(th / (2 * std::numbers::pi) * tooth.cej.size())) % tooth.cej.size();
+    margin = tooth.cej[k].z() + 1.5;
+    floor = margin - 2.0;
+  }
+  const double z = subgingival ? floor + (margin - floor) / 3 : margin + 0.8;
+  const double r = SurfaceRadius(tooth.mesh, th, z);
+  // Semi-axes: 1.0 along the surface (tangent), 0.6 up the tooth, 0.45 out of
+  // it; the centre 0.15 mm inside the surface, so 0.3 mm stands proud.
+  TriangleMesh m = MakeIcosphere(1.0, 3);
+  const Vector3 radial(std::cos(th), std::sin(th), 0), tangent(-std::sin(th), std::cos(th), 0);
+  Matrix3 A;
+  A.col(0) = 0.45 * radial;
+  A.col(1) = 1.0 * tangent;
+  A.col(2) = 0.6 * Vector3::UnitZ();
+  m.Transform(A, (r - 0.15) * radial + Vector3(0, 0, z));
+  if (m.Volume() < 0) m.FlipOrientation();
+  return m;
+}
+
+}  // namespace sulcus

@@ -1,0 +1,44 @@
+#pragma once
+// Where the scene's findings sit on the generated anatomy, so that they are
+// drawn where they are (and, for lessons, found where they are): a caries
+// lesion on a named surface of a tooth, inflamed gingiva at named sites.
+
+#include <array>
+#include <vector>
+
+#include "core/anatomy/tooth.h"
+
+namespace sulcus {
+
+/// Tooth surfaces in the order of scene files' `caries_mm` keys.
+enum class ToothSurface { kMesial, kDistal, kBuccal, kLingual, kOcclusal };
+
+/// The centre of a lesion on `surface`, a vertex of the tooth's mesh (tooth
+/// frame): occlusal in the central fossa (molars, premolars) or on the incisal
+/// edge's lingual slope (incisors, canines); proximal just cervical of the
+/// contact point (where proximal caries starts); buccal and lingual in the
+/// cervical third.
+Vector3 CariesCentre(const ToothModel& tooth, ToothSurface surface);
+
+/// Per vertex of the tooth's mesh: how far inside a lesion it lies, 1 at a
+/// lesion's centre falling to 0 at its rim (radius: the lesion's size), the
+/// largest over the five surfaces. `caries_mm` as in the scene (0: none).
+std::vector<double> CariesCoverage(const ToothModel& tooth, const std::array<double, 5>& caries_mm);
+
+/// Per vertex of a gingival mesh in its tooth's frame: how inflamed the tissue
+/// is, 1 at an inflamed site fading to 0 half way to the next site, by the
+/// vertex's angle around the tooth (site angles as in gingiva.h).
+std::vector<double> InflammationCoverage(const std::vector<Vector3>& vertices, const std::array<bool, 6>& inflamed);
+
+struct GingivaModel;
+
+/// A calculus deposit at probing site `site` (0..5, MB B DB ML L DL) of a tooth,
+/// in the tooth frame: a flattened ellipsoid (2 mm along the surface, 1.2 mm
+/// high) on the root or crown surface, standing 0.3 mm proud of it.
+/// Supragingival: just above the gingival margin; subgingival: in the sulcus,
+/// a third of the way from the floor to the margin. Without gingiva
+/// (`gingiva` null) the margin is taken 1.5 mm above the CEJ and the floor
+/// 2 mm below that.
+TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, int site, bool subgingival);
+
+}  // namespace sulcus

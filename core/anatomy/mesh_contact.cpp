@@ -1,0 +1,81 @@
+#include "core/anatomy/mesh_contact.h"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/intersection.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace sulcus {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = K::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+Mesh ToCgal(const TriangleMesh& input) {
+  Mesh m;
+  std::vector<Mesh::Vertex_index> vi;
+  vi.reserve(input.num_vertices());
+  for (const Vector3& v : input.vertices()) vi.push_back(m.add_vertex(Point(v.x(), v.y(), v.z())));
+  for (const auto& f : input.faces()) m.add_face(vi[f[0]], vi[f[1]], vi[f[2]]);
+  return m;
+}
+
+bool BoxesApart(const TriangleMesh& a, const TriangleMesh& b, double margin) {
+  const Aabb x = a.Bounds(), y = b.Bounds();
+  for (int i = 0; i < 3; ++i)
+    if (x.min[i] > y.max[i] + margin || y.min[i] > x.max[i] + margin) return true;
+  return false;
+}
+
+// Smallest distance from a vertex of `from` to the surface in `tree`.
+double VertexGap(const TriangleMesh& from, const Tree& tree) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Vector3& v : from.vertices()) best = std::min(best, tree.squared_distance(Point(v.x(), v.y(), v.z())));
+  return std::sqrt(best);
+}
+
+}  // namespace
+
+bool MeshesIntersect(const TriangleMesh& a, const TriangleMesh& b) {
+  if (BoxesApart(a, b, 0)) return false;
+  const Mesh ma = ToCgal(a), mb = ToCgal(b);
+  // Surfaces crossing, or one solid wholly inside the other (closed meshes).
+  return PMP::do_intersect(ma, mb, CGAL::parameters::do_overlap_test_of_bounded_sides(true),
+                           CGAL::parameters::do_overlap_test_of_bounded_sides(true));
+}
+
+MeshContact MeasureContact(const TriangleMesh& a, const TriangleMesh& b) {
+  MeshContact c;
+  c.intersect = MeshesIntersect(a, b);
+  if (c.intersect) return c;
+  const Mesh ma = ToCgal(a), mb = ToCgal(b);
+  Tree ta(faces(ma).first, faces(ma).second, ma), tb(faces(mb).first, faces(mb).second, mb);
+  ta.accelerate_distance_queries();
+  tb.accelerate_distance_queries();
+  c.gap_mm = std::min(VertexGap(b, ta), VertexGap(a, tb));
+  return c;
+}
+
+std::vector<bool> InsideSolid(const TriangleMesh& solid, const std::vector<Vector3>& points) {
+  const Mesh m = ToCgal(solid);
+  Tree tree(faces(m).first, faces(m).second, m);
+  const CGAL::Side_of_triangle_mesh<Mesh, K> side(tree);
+  std::vector<bool> out;
+  out.reserve(points.size());
+  for (const Vector3& p : points) out.push_back(side(Point(p.x(), p.y(), p.z())) != CGAL::ON_UNBOUNDED_SIDE);
+  return out;
+}
+
+}  // namespace sulcus

@@ -1,0 +1,160 @@
+// Teeth on the arches touch their neighbours and overlap nothing, measured with
+// exact triangle geometry (core/anatomy/mesh_contact.h).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <algorithm>
+#include <map>
+
+#include "core/anatomy/arch.h"
+#include "core/anatomy/mesh_contact.h"
+#include "core/anatomy/tooth.h"
+
+namespace sulcus {
+namespace {
+
+std::vector<std::pair<PlacedTooth, TriangleMesh>> Mouth(const ArchParams& params) {
+  std::map<int, TriangleMesh> teeth;
+  std::vector<std::pair<PlacedTooth, TriangleMesh>> out;
+  for (bool upper : {false, true}) {
+    for (const PlacedTooth& p : PlaceArch(upper, params)) out.emplace_back(p, PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
+  }
+  return out;
+}
+
+TEST(ArchContact, NeighboursTouchAndNoTwoTeethIntersect) {
+  for (const double open : {25.0, 0.0}) {
+    const auto mouth = Mouth({.upper_lift_mm = open, .third_molars = true});
+    for (std::size_t i = 0; i < mouth.size(); ++i) {
+      for (std::size_t j = i + 1; j < mouth.size(); ++j) {
+        const PlacedTooth& a = mouth[i].first;
+        const PlacedTooth& b = mouth[j].first;
+        const bool neighbours = a.tooth.upper() == b.tooth.upper() &&
+                                (j == i + 1 || (a.tooth.position == 1 && b.tooth.position == 1));
+        if (neighbours) {
+          const MeshContact c = MeasureContact(mouth[i].second, mouth[j].second);
+          std::printf("open %4.1f  %d-%d  %s gap %.3f mm\n", open, a.tooth.fdi, b.tooth.fdi,
+                      c.intersect ? "INTERSECT" : "apart", c.gap_mm);
+          EXPECT_FALSE(c.intersect) << a.tooth.fdi << "-" << b.tooth.fdi;
+          EXPECT_LE(c.gap_mm, 0.3) << a.tooth.fdi << "-" << b.tooth.fdi;
+        } else {
+          EXPECT_FALSE(MeshesIntersect(mouth[i].second, mouth[j].second))
+              << a.tooth.fdi << " and " << b.tooth.fdi << " with the mouth open " << open << " mm";
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sulcus
+
+#include "core/anatomy/arch_fit.h"
+
+namespace sulcus {
+namespace {
+
+TEST(ArchContact, TheClosedMouthsTeethMeet) {
+  // At the default occlusion no upper tooth intersects a lower one (the test
+  // above); 0.05 mm lower, some do: the arches touch when the mouth is closed.
+  ArchParams params;
+  params.occlusion_mm -= 0.05;
+  std::vector<TriangleMesh> lower, upper;
+  for (const PlacedTooth& p : PlaceArch(false, params)) lower.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
+  for (const PlacedTooth& p : PlaceArch(true, params)) upper.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
+  int crossing = 0;
+  for (const TriangleMesh& a : lower)
+    for (const TriangleMesh& b : upper) crossing += MeshesIntersect(a, b);
+  EXPECT_GT(crossing, 0);
+}
+
+TEST(ArchContact, TheTableIsTheFit) {
+  for (bool upper : {false, true}) {
+    const ArchFit fit = FitArchCentres(upper);
+    std::printf("%s:", upper ? "upper" : "lower");
+    for (double c : fit.centre_mm) std::printf(" %.3f,", c);
+    std::printf("\n");
+    for (int pos = 1; pos <= 8; ++pos) EXPECT_NEAR(ArchCentreMm(upper, pos), fit.centre_mm[pos - 1], 0.005) << pos;
+  }
+}
+
+}  // namespace
+}  // namespace sulcus
+
+#include "core/anatomy/soft_tissue.h"
+
+namespace sulcus {
+namespace {
+
+class SoftTissueAround : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    for (bool upper : {false, true})
+      for (const PlacedTooth& p : PlaceArch(upper, {.upper_lift_mm = 20})) {
+        placed_.push_back(p);
+        teeth_.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
+      }
+  }
+  static inline std::vector<PlacedTooth> placed_;
+  static inline std::vector<TriangleMesh> teeth_;
+};
+
+TEST_F(SoftTissueAround, EveryRootIsInItsJawBelowTheCrest) {
+  const std::map<int, double> drops = {{46, CrestDropMm(8)}};  // 7 mm pocket and 1 mm recession at 46
+  for (bool upper : {false, true}) {
+    const TriangleMesh jaw = MakeSoftTissue(upper ? "jaw_upper" : "jaw_lower", {.upper_lift_mm = 20}, drops);
+    ASSERT_TRUE(jaw.Check().IsSolid());
+    for (std::size_t k = 0; k < placed_.size(); ++k) {
+      const PlacedTooth& p = placed_[k];
+      if (p.tooth.upper() != upper) continue;
+      const auto it = drops.find(p.tooth.fdi);
+      const double drop = it == drops.end() ? 1.5 : it->second;
+      // Points of the tooth 0.5 mm or more beyond the crest (the crest is level,
+      // `drop` beyond the CEJ's centre, away from the crown): the root in the
+      // bone. Every one of them inside the jaw.
+      const Vector3 axis = p.X_WT.rotation().col(2);  // toward the crown
+      const double toward_crown = upper ? -1 : 1;
+      std::vector<Vector3> root;
+      for (const Vector3& v : teeth_[k].vertices())
+        if (toward_crown * (v.z() - p.X_WT.translation().z()) < -drop - 0.5) root.push_back(v);
+      ASSERT_FALSE(root.empty()) << p.tooth.fdi;
+      const std::vector<bool> inside = InsideSolid(jaw, root);
+      EXPECT_EQ(std::count(inside.begin(), inside.end(), false), 0) << p.tooth.fdi;
+      // And the crown stands out of it: the CEJ's centre is above the crest.
+      EXPECT_FALSE(InsideSolid(jaw, {p.X_WT.translation() + 1.0 * axis})[0]) << p.tooth.fdi;
+    }
+  }
+}
+
+TEST_F(SoftTissueAround, LipsCheeksTongueAndFloorTouchNoTooth) {
+  for (const char* name : {"lip_upper", "lip_lower", "cheek_left", "cheek_right", "tongue", "floor_of_mouth", "soft_palate"}) {
+    const TriangleMesh m = MakeSoftTissue(name, {.upper_lift_mm = 20});
+    ASSERT_TRUE(m.Check().IsSolid()) << name;
+    for (std::size_t k = 0; k < teeth_.size(); ++k)
+      EXPECT_FALSE(MeshesIntersect(m, teeth_[k])) << name << " and tooth " << placed_[k].tooth.fdi;
+  }
+}
+
+TEST_F(SoftTissueAround, ThePalateHoldsNoCrown) {
+  const TriangleMesh palate = MakeSoftTissue("palate", {.upper_lift_mm = 20});
+  ASSERT_TRUE(palate.Check().IsSolid());
+  for (std::size_t k = 0; k < placed_.size(); ++k) {
+    const PlacedTooth& p = placed_[k];
+    if (!p.tooth.upper()) continue;
+    std::vector<Vector3> crown;
+    for (const Vector3& v : teeth_[k].vertices())
+      if ((v - p.X_WT.translation()).dot(p.X_WT.rotation().col(2)) > 0.5) crown.push_back(v);
+    const std::vector<bool> inside = InsideSolid(palate, crown);
+    EXPECT_EQ(std::count(inside.begin(), inside.end(), true), 0) << p.tooth.fdi;
+  }
+}
+
+TEST(SoftTissue, TheTonguesRegionsByTheSurfaceNormal) {
+  EXPECT_EQ(TongueRegion(Vector3(0, 0, 1)), "dorsum");
+  EXPECT_EQ(TongueRegion(Vector3(0, 0, -1)), "ventral surface");
+  EXPECT_EQ(TongueRegion(Vector3(1, 0, 0.2).normalized()), "lateral border");
+}
+
+}  // namespace
+}  // namespace sulcus
