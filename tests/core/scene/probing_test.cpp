@@ -4,7 +4,9 @@
 // does not name is not in the loop at all.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
+#include <numbers>
 #include <optional>
 
 #include "core/haptics/effects.h"
@@ -118,6 +120,70 @@ TEST(Probing, FrictionHoldsAProbeOnAToothBelowItsConeAndLetsItSlideAbove) {
   EXPECT_LT(run(true, 0.2), 0.02) << "stuck: the tool stays where it touched";
   EXPECT_GT(run(true, 2.0), 0.5) << "slides once the spring leans past the cone";
   EXPECT_GT(run(false, 0.2), 0.1) << "without friction the small offset already moves it";
+}
+
+}  // namespace
+}  // namespace sulcus
+
+#include "core/anatomy/arch.h"
+#include "core/anatomy/gingiva.h"
+
+namespace sulcus {
+namespace {
+
+// Interproximal probing: the probe, tilted buccally as a clinician tilts it to
+// reach under the contact, goes down between 45 and 46 at 46's mesial surface
+// (the point under the contact, where the col is) and reaches that point's
+// pocket floor, pressing it; through the soft gingiva of both teeth, past 45's
+// crown, with no engine fault.
+TEST(Probing, UnderTheContactBetween45And46TheTipReachesTheFloor) {
+  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
+  const auto scene = CompileScene(spec, Cache());
+  const ObjectSpec* tooth = nullptr;
+  for (const ObjectSpec& o : scene->spec.objects)
+    if (o.kind == ObjectSpec::Kind::kTooth && o.fdi == 46) tooth = &o;
+  ASSERT_NE(tooth, nullptr);
+  GingivaParams gp;
+  gp.pocket_mm = tooth->pocket_mm;
+  gp.recession_mm = tooth->recession_mm;
+  const GingivaModel g = GenerateGingiva(GenerateTooth(46), gp);
+  // In 46's frame (+x mesial, toward 45; +y buccal; +z occlusal): the sulcus'
+  // middle at the mesial point, and its floor there.
+  const double floor_z = g.FloorAt(0), r = g.sulcus_r[0];
+  ASSERT_LT(floor_z, g.margin_z[0] - 4.0) << "a deep interproximal pocket (5 and 5 mm at MB and ML)";
+  auto world = [&](const Vector3& p_T) { return Vector3(tooth->X_WO * ArchMirror(tooth->mirrored, p_T)); };
+  const Matrix3 R = tooth->X_WO.rotation() * (tooth->mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1)).asDiagonal();
+  const double tilt = 20 * std::numbers::pi / 180;
+  const Vector3 up_T(0, std::sin(tilt), std::cos(tilt));  // the working end toward the shank
+  const Vector3 end_T(r, 0, floor_z - 0.3);               // 0.3 mm past the floor: pressing it
+  const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), (R * up_T).normalized());
+  std::vector<Keyframe> keys;
+  const double travel = 9.0, speed = 4.0;  // mm, mm/s
+  const int ticks = static_cast<int>(travel / speed * 1000);
+  for (int i = 0; i <= ticks; i += 10)
+    keys.push_back({i * 0.001, world(end_T + (travel - speed * i * 0.001) * up_T), q, 0});
+  DeviceSpec d;
+  d.device = std::make_unique<ScriptedDevice>(Trajectory(std::move(keys)), "interproximal");
+  SessionOptions so;
+  so.max_ticks = static_cast<std::uint64_t>(ticks + 400);
+  Session session(*scene, std::move(d), so);
+  struct Deepest final : TickConsumer {
+    void OnTick(const TickRecord& rec) override { last = rec; }
+    TickRecord last;
+  } consumer;
+  session.AddConsumer(&consumer);
+  session.RunOffline();
+  // Where the rendered tip ended, in 46's frame.
+  const Vector3 tip_T = ArchMirror(tooth->mirrored, tooth->X_WO.inverse() * consumer.last.X_WG.translation());
+  std::printf("tip %.2f %.2f %.2f, floor %.2f at r %.2f, margin %.2f, force %.3f N\n", tip_T.x(), tip_T.y(), tip_T.z(),
+              floor_z, r, g.margin_z[0], consumer.last.force_W.norm());
+  EXPECT_LE(tip_T.z(), floor_z + 0.2) << "the tip reached the floor under the contact";
+  EXPECT_GE(tip_T.z(), floor_z - 0.8) << "and pressed it, not through it";
+  EXPECT_NEAR(tip_T.x(), r, 0.8) << "in the sulcus, not pushed out of it";
+  EXPECT_LT(std::abs(tip_T.y()), 1.0) << "under the contact, between buccal and lingual";
+  EXPECT_GT(consumer.last.force_W.norm(), 0.1) << "pressing the floor";
+  EXPECT_LT(consumer.last.force_W.norm(), 1.5);
+  EXPECT_EQ(session.loop().faults().total(), 0u);
 }
 
 }  // namespace
