@@ -156,6 +156,18 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (n["name"]) o.name = r.Text(n["name"], "name");
   if (!names->insert(o.name).second) r.Error(n["name"] ? n["name"] : n, "two objects are named '" + o.name + "'");
   o.X_WO = r.Pose(n, "at", "turn_deg");
+  // An upper tooth placed by hand stands crown down, as in the mouth (its frame
+  // turned half a turn about y: occlusal down, buccal still +y), unless the
+  // scene turns it itself.
+  if (kind == "tooth" && !n["turn_deg"] && o.fdi > 0 && !(spec->arch && !n["at"])) {
+    try {
+      if (FdiTooth::Parse(o.fdi).upper())
+        o.X_WO = o.X_WO * RigidTransform(Eigen::AngleAxisd(std::numbers::pi, Vector3::UnitY()).toRotationMatrix(),
+                                         Vector3::Zero());
+    } catch (const std::invalid_argument&) {
+      // reported with the tooth
+    }
+  }
   if (kind == "tooth" && spec->arch && !n["at"] && !n["turn_deg"] && o.fdi > 0) {
     try {
       const FdiTooth t = FdiTooth::Parse(o.fdi);

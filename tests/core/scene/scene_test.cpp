@@ -288,6 +288,18 @@ TEST(SceneFile, ArchGingivaAnatomyCariesAndInflammation) {
   EXPECT_EQ(s.objects[0].caries_mm[4], 2.5);
 }
 
+TEST(SceneFile, AnUpperToothPlacedByHandStandsCrownDown) {
+  const SceneSpec s = LoadSceneSpec(Write("upper_by_hand.yaml",
+                                          "objects:\n  - tooth: 11\n    at: [0, 0, 20]\n  - tooth: 41\n    at: [0, 0, 0]\n"
+                                          "  - tooth: 21\n    at: [9, 0, 20]\n    turn_deg: [0, 0, 0]\n"));
+  ASSERT_EQ(s.objects.size(), 3u);
+  EXPECT_NEAR(s.objects[0].X_WO.rotation().col(2).z(), -1.0, 1e-12) << "11: occlusal down";
+  EXPECT_NEAR(s.objects[0].X_WO.rotation().col(1).y(), 1.0, 1e-12) << "11: labial still forward";
+  EXPECT_NEAR(s.objects[0].X_WO.translation().z(), 20.0, 1e-12) << "where the scene put it";
+  EXPECT_NEAR(s.objects[1].X_WO.rotation().col(2).z(), 1.0, 1e-12) << "41: occlusal up";
+  EXPECT_NEAR(s.objects[2].X_WO.rotation().col(2).z(), 1.0, 1e-12) << "21 turned by the scene: as written";
+}
+
 TEST(SceneFile, CalculusBySiteAboveOrBelowTheMargin) {
   EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    calculus: [L]\n"),
             (Lines{"3:15: 'calculus' must map 'supra' and 'sub' to lists of sites, e.g. {supra: [L], sub: [MB]}"}));
