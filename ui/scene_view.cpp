@@ -20,6 +20,7 @@
 
 #include "core/anatomy/arch.h"
 #include "core/anatomy/findings.h"
+#include "core/anatomy/soft_tissue.h"
 #include "ui/mesh_view.h"
 
 namespace sulcus::ui {
@@ -48,22 +49,29 @@ Look LookOf(Tissue t) {
 
 // Per-vertex colours: `base` blended toward the finding's colours by weight
 // (0: untouched, 1: the finding's centre).
-void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Look& base, bool caries) {
+enum class Paint { kCaries, kInflamed, kUlcer, kWhite, kRed };
+
+void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Look& base, Paint paint) {
   auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
   colours->SetNumberOfComponents(3);
   colours->SetName("finding");
   colours->SetNumberOfTuples(static_cast<vtkIdType>(weight.size()));
   const Vector3 from(base.r, base.g, base.b);
   // Caries: a chalky white rim (demineralised enamel) around a brown centre.
-  // Inflamed gingiva: deep red.
+  // Inflamed gingiva, erythroplakia: deep red. An ulcer: a yellow-grey fibrin
+  // floor in a red halo. Leukoplakia: a white patch.
   const Vector3 rim(0.99, 0.98, 0.95), centre(0.36, 0.22, 0.12), red(0.80, 0.16, 0.20);
+  const Vector3 fibrin(0.90, 0.86, 0.66), white(0.96, 0.95, 0.92);
+  auto blend = [](const Vector3& a, const Vector3& b, double t) { return Vector3(a + (b - a) * std::clamp(t, 0.0, 1.0)); };
   for (std::size_t i = 0; i < weight.size(); ++i) {
     const double w = weight[i];
     Vector3 c = from;
-    if (caries) {
-      c = w < 0.3 ? Vector3(from + (rim - from) * (w / 0.3)) : Vector3(rim + (centre - rim) * ((w - 0.3) / 0.7));
-    } else {
-      c = from + (red - from) * w;
+    switch (paint) {
+      case Paint::kCaries: c = w < 0.3 ? blend(from, rim, w / 0.3) : blend(rim, centre, (w - 0.3) / 0.7); break;
+      case Paint::kInflamed:
+      case Paint::kRed: c = blend(from, red, w); break;
+      case Paint::kUlcer: c = w < 0.35 ? blend(from, red, w / 0.35) : blend(red, fibrin, (w - 0.35) / 0.25); break;
+      case Paint::kWhite: c = blend(from, white, w / 0.3); break;
     }
     colours->SetTuple3(static_cast<vtkIdType>(i), 255 * c.x(), 255 * c.y(), 255 * c.z());
   }
@@ -174,11 +182,15 @@ void SceneView::Load(const CompiledScene& scene) {
     const bool carious = std::any_of(o.caries_mm.begin(), o.caries_mm.end(), [](double r) { return r > 0; });
     const bool inflamed = std::any_of(o.inflamed.begin(), o.inflamed.end(), [](bool b) { return b; });
     if (o.kind == ObjectSpec::Kind::kTooth && carious) {
-      PaintVertices(actor, CariesCoverage(GenerateTooth(o.fdi), o.caries_mm), look, true);
+      PaintVertices(actor, CariesCoverage(GenerateTooth(o.fdi), o.caries_mm), look, Paint::kCaries);
     } else if (o.kind == ObjectSpec::Kind::kGingiva && inflamed) {
       std::vector<Vector3> in_tooth_frame;
       for (const Vector3& v : scene.meshes[i].vertices()) in_tooth_frame.push_back(ArchMirror(o.mirrored, v));
-      PaintVertices(actor, InflammationCoverage(in_tooth_frame, o.inflamed), look, false);
+      PaintVertices(actor, InflammationCoverage(in_tooth_frame, o.inflamed), look, Paint::kInflamed);
+    } else if (o.kind == ObjectSpec::Kind::kAnatomy && !o.lesion_kind.empty()) {
+      const Vector3 at = LesionCentre(o.anatomy, o.lesion_region, scene.meshes[i]);
+      const Paint paint = o.lesion_kind == "ulcer" ? Paint::kUlcer : o.lesion_kind == "leukoplakia" ? Paint::kWhite : Paint::kRed;
+      PaintVertices(actor, LesionCoverage(scene.meshes[i], at, o.lesion_mm), look, paint);
     }
     actor->SetUserMatrix(ToVtk(o.X_WO));
     renderer_->AddActor(actor);

@@ -66,6 +66,15 @@ std::vector<double> CariesCoverage(const ToothModel& tooth, const std::array<dou
   return out;
 }
 
+std::vector<double> LesionCoverage(const TriangleMesh& mesh, const Vector3& centre, double radius_mm) {
+  std::vector<double> out(mesh.num_vertices(), 0.0);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const double d = (mesh.vertices()[i] - centre).norm();
+    if (d < radius_mm) out[i] = 1 - d / radius_mm;
+  }
+  return out;
+}
+
 std::vector<double> InflammationCoverage(const std::vector<Vector3>& vertices, const std::array<bool, 6>& inflamed) {
   constexpr double kPi = std::numbers::pi;
   std::vector<double> out(vertices.size(), 0.0);

@@ -30,6 +30,10 @@ std::vector<double> CariesCoverage(const ToothModel& tooth, const std::array<dou
 /// vertex's angle around the tooth (site angles as in gingiva.h).
 std::vector<double> InflammationCoverage(const std::vector<Vector3>& vertices, const std::array<bool, 6>& inflamed);
 
+/// Per vertex of a mesh: how far inside a round lesion of radius `radius_mm`
+/// centred at `centre` it lies (1 at the centre, 0 at the rim and beyond).
+std::vector<double> LesionCoverage(const TriangleMesh& mesh, const Vector3& centre, double radius_mm);
+
 struct GingivaModel;
 
 /// A calculus deposit at probing site `site` (0..5, MB B DB ML L DL) of a tooth,

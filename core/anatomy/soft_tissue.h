@@ -42,4 +42,16 @@ TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch = {}
 /// border" (facing sideways).
 std::string TongueRegion(const Vector3& normal_W);
 
+/// Soft-tissue lesions a scene may place on a named region.
+const std::vector<std::string>& LesionKinds();  // ulcer, leukoplakia, erythroplakia
+/// The regions of a soft tissue a lesion may sit on: the tongue's "dorsum",
+/// "lateral_border_left", "lateral_border_right", "ventral"; "centre" for the
+/// lips, cheeks, palates and the floor of the mouth; none for the jaws.
+std::vector<std::string> LesionRegions(const std::string& anatomy);
+
+/// Where a lesion on `region` of the tissue `anatomy` is centred: a vertex of
+/// its mesh (`mesh`, as MakeSoftTissue made it) on the side that faces the
+/// mouth. Throws std::invalid_argument for a region the tissue does not have.
+Vector3 LesionCentre(const std::string& anatomy, const std::string& region, const TriangleMesh& mesh);
+
 }  // namespace sulcus

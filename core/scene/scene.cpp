@@ -81,7 +81,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (!r.IsMap(n, "an object")) return;
   r.CheckKeys(n, {"name", "tooth", "mesh", "box", "sphere", "cylinder", "anatomy", "height_mm", "at", "turn_deg", "tissue",
                   "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding",
-                  "inflamed", "caries_mm", "calculus", "spheretree"},
+                  "inflamed", "caries_mm", "calculus", "lesion", "spheretree"},
               "an object");
   if (n["spheretree"]) ReadTreeParams(r, n["spheretree"], "an object's 'spheretree'", false, &o.trees);
   std::vector<std::string> kinds;
@@ -202,6 +202,36 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (n["friction"]) o.material.friction = r.Number(n["friction"], "friction", 0, 2, o.material.friction, "");
   if (n["damage_limit_n"]) o.material.damage_limit_n = r.Number(n["damage_limit_n"], "damage_limit_n", 0, 1e9, 1, "N");
 
+  if (const YAML::Node& l = n["lesion"]) {
+    // lesion: {kind: ulcer, region: lateral_border_left, size_mm: 3}
+    if (kind != "anatomy") {
+      r.Error(l, "'lesion' is for soft tissue ('anatomy' objects); a tooth's findings are caries_mm and calculus");
+    } else if (!l.IsMap()) {
+      r.Error(l, "'lesion' must be a map, e.g. {kind: ulcer, region: lateral_border_left, size_mm: 3}");
+    } else {
+      r.CheckKeys(l, {"kind", "region", "size_mm"}, "'lesion'");
+      const auto regions = LesionRegions(o.anatomy);
+      if (regions.empty()) r.Error(l, "no lesion on '" + o.anatomy + "': it is bone; lesions are for soft tissue");
+      if (!l["kind"]) {
+        r.Error(l, "a lesion needs 'kind' (" + Join(LesionKinds()) + ")");
+      } else {
+        o.lesion_kind = r.Text(l["kind"], "kind");
+        if (std::find(LesionKinds().begin(), LesionKinds().end(), o.lesion_kind) == LesionKinds().end())
+          r.Error(l["kind"], "unknown lesion '" + o.lesion_kind + "'" + Suggest(o.lesion_kind, LesionKinds()));
+      }
+      if (l["region"]) {
+        o.lesion_region = r.Text(l["region"], "region");
+        if (!regions.empty() && std::find(regions.begin(), regions.end(), o.lesion_region) == regions.end())
+          r.Error(l["region"], "'" + o.anatomy + "' has no region '" + o.lesion_region + "'" +
+                                   Suggest(o.lesion_region, regions));
+      } else if (regions.size() > 1) {
+        r.Error(l, "a lesion on the " + o.anatomy + " needs 'region' (" + Join(regions) + ")");
+      } else if (!regions.empty()) {
+        o.lesion_region = regions[0];
+      }
+      o.lesion_mm = l["size_mm"] ? r.Number(l["size_mm"], "size_mm", 0.5, 15, 2, "mm (the lesion's radius)") : 2.0;
+    }
+  }
   for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm", "calculus"}) {
     if (n[key] && kind != "tooth") r.Error(n[key], std::string("'") + key + "' is for teeth only");
   }

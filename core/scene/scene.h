@@ -88,7 +88,10 @@ struct ObjectSpec {
   // kCalculus object per deposit (its `calculus_site` the site, `fdi` the tooth).
   std::array<int, 6> calculus{};
   int calculus_site = -1;
-  bool with_gingiva = false;         // kCalculus: the scene has gingiva (the deposit sits by its margin)
+  bool with_gingiva = false;
+  // kAnatomy: a soft-tissue lesion (soft_tissue.h), empty kind for none.
+  std::string lesion_kind, lesion_region;
+  double lesion_mm = 0;  // radius         // kCalculus: the scene has gingiva (the deposit sits by its margin)
   int line = 0, column = 0;  // where the object is declared
   // Its place in the file's `objects` list (0-based); -1 for what the scene adds
   // (the gingival collars, which carry their tooth's `fdi`). The compiled scene

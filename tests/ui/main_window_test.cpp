@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/anatomy/soft_tissue.h"
 #include "core/haptics/recording.h"
 #include "ui/mouse_device.h"
 #include "ui/scene_view.h"
@@ -231,6 +232,15 @@ TEST(MainWindow, TheMouthFromTheFrontEachArchAndTheFindingsUpClose) {
   v->LookAt(X31 * Vector3(-2.5, -2, 1.5), X31.rotation() * Vector3(0, -1, 0.9), 26, X31.rotation() * Vector3(0, 0, 1));
   RunFor(100);
   ASSERT_TRUE(w.SaveScreenshot(Out("calculus_31_41.png")));
+  // The ulcer on the tongue's left lateral border, from above its left side.
+  const TriangleMesh* tongue = nullptr;
+  for (std::size_t i = 0; i < w.scene()->spec.objects.size(); ++i)
+    if (w.scene()->spec.objects[i].anatomy == "tongue") tongue = &w.scene()->meshes[i];
+  ASSERT_NE(tongue, nullptr);
+  const Vector3 ulcer = LesionCentre("tongue", "lateral_border_left", *tongue);
+  v->LookAt(ulcer, Vector3(0.55, 0.1, 1), 40, Vector3::UnitY());
+  RunFor(100);
+  ASSERT_TRUE(w.SaveScreenshot(Out("ulcer_tongue.png")));
   // The probing sextant: recession and deep pockets at 46, its furcation above the
   // bone (7 mm pockets and 1 mm recession), seen through translucent gingiva.
   ASSERT_TRUE(w.OpenScene(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml", true));

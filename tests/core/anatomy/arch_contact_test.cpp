@@ -150,6 +150,35 @@ TEST_F(SoftTissueAround, ThePalateHoldsNoCrown) {
   }
 }
 
+TEST(SoftTissue, LesionsSitOnTheRegionTheyName) {
+  const TriangleMesh tongue = MakeSoftTissue("tongue", {.upper_lift_mm = 20});
+  const Aabb b = tongue.Bounds();
+  const Vector3 left = LesionCentre("tongue", "lateral_border_left", tongue);
+  const Vector3 right = LesionCentre("tongue", "lateral_border_right", tongue);
+  const Vector3 dorsum = LesionCentre("tongue", "dorsum", tongue);
+  const Vector3 ventral = LesionCentre("tongue", "ventral", tongue);
+  // The extreme of the tongue's section where each lesion sits, along a direction.
+  auto extreme = [&](const Vector3& at, const Vector3& dir) {
+    double m = -1e9;
+    for (const Vector3& v : tongue.vertices())
+      if (std::abs(v.y() - at.y()) < 1.5) m = std::max(m, v.dot(dir));
+    return m;
+  };
+  EXPECT_GT(left.x(), extreme(left, Vector3::UnitX()) - 1.0) << "on the patient's left border (+x)";
+  EXPECT_GT(left.x(), 5.0);
+  EXPECT_LT(right.x(), -extreme(right, -Vector3::UnitX()) + 1.0) << "on the right border";
+  EXPECT_GT(dorsum.z(), extreme(dorsum, Vector3::UnitZ()) - 1.0) << "on top";
+  EXPECT_LT(std::abs(dorsum.x()), 3.0);
+  EXPECT_LT(ventral.z(), dorsum.z() - 3.0);
+  EXPECT_GT(ventral.y(), b.max.y() - 12.0) << "under the tip";
+  const TriangleMesh cheek = MakeSoftTissue("cheek_left", {.upper_lift_mm = 20});
+  const Vector3 c = LesionCentre("cheek_left", "centre", cheek);
+  // On its inner side: toward the midline is the mouth, outward the cheek.
+  EXPECT_EQ(InsideSolid(cheek, {c - Vector3(1.0, 0, 0), c + Vector3(1.0, 0, 0)}), (std::vector<bool>{false, true}));
+  EXPECT_THROW(LesionCentre("tongue", "centre", tongue), std::invalid_argument);
+  EXPECT_TRUE(LesionRegions("jaw_lower").empty());
+}
+
 TEST(SoftTissue, TheTonguesRegionsByTheSurfaceNormal) {
   EXPECT_EQ(TongueRegion(Vector3(0, 0, 1)), "dorsum");
   EXPECT_EQ(TongueRegion(Vector3(0, 0, -1)), "ventral surface");

@@ -300,6 +300,29 @@ TEST(SceneFile, AnUpperToothPlacedByHandStandsCrownDown) {
   EXPECT_NEAR(s.objects[2].X_WO.rotation().col(2).z(), 1.0, 1e-12) << "21 turned by the scene: as written";
 }
 
+TEST(SceneFile, ASoftTissueLesionOnANamedRegion) {
+  EXPECT_EQ(Errors("objects:\n  - anatomy: tongue\n    lesion: {kind: ulser, region: dorsum}\n"),
+            (Lines{"3:20: unknown lesion 'ulser'; did you mean 'ulcer'?"}));
+  EXPECT_EQ(Errors("objects:\n  - anatomy: tongue\n    lesion: {kind: ulcer}\n"),
+            (Lines{"3:13: a lesion on the tongue needs 'region' (dorsum, lateral_border_left, lateral_border_right, "
+                   "ventral)"}));
+  EXPECT_EQ(Errors("objects:\n  - anatomy: tongue\n    lesion: {kind: ulcer, region: lateral_border}\n"),
+            (Lines{"3:35: 'tongue' has no region 'lateral_border' (expected one of: dorsum, lateral_border_left, "
+                   "lateral_border_right, ventral)"}));
+  EXPECT_EQ(Errors("objects:\n  - anatomy: jaw_lower\n    lesion: {kind: ulcer}\n"),
+            (Lines{"3:13: no lesion on 'jaw_lower': it is bone; lesions are for soft tissue"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    lesion: {kind: ulcer}\n"),
+            (Lines{"3:13: 'lesion' is for soft tissue ('anatomy' objects); a tooth's findings are caries_mm and calculus"}));
+  const SceneSpec s = LoadSceneSpec(Write("lesion_ok.yaml", "objects:\n  - anatomy: tongue\n"
+                                                            "    lesion: {kind: ulcer, region: lateral_border_left, size_mm: 3}\n"
+                                                            "  - anatomy: cheek_right\n    lesion: {kind: leukoplakia}\n"));
+  EXPECT_EQ(s.objects[0].lesion_kind, "ulcer");
+  EXPECT_EQ(s.objects[0].lesion_region, "lateral_border_left");
+  EXPECT_EQ(s.objects[0].lesion_mm, 3.0);
+  EXPECT_EQ(s.objects[1].lesion_region, "centre") << "a cheek has one region";
+  EXPECT_EQ(s.objects[1].lesion_mm, 2.0) << "the default size";
+}
+
 TEST(SceneFile, CalculusBySiteAboveOrBelowTheMargin) {
   EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    calculus: [L]\n"),
             (Lines{"3:15: 'calculus' must map 'supra' and 'sub' to lists of sites, e.g. {supra: [L], sub: [MB]}"}));
