@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
+#include <tuple>
 #include <numbers>
 #include <stdexcept>
 
@@ -109,7 +111,7 @@ struct ArchTeeth {
   std::vector<double> s;  // signed arc of each tooth's centre
 };
 
-ArchTeeth Teeth(bool upper, const ArchParams& arch) {
+ArchTeeth MakeTeeth(bool upper, const ArchParams& arch) {
   ArchTeeth t;
   t.placed = PlaceArch(upper, arch);
   for (const PlacedTooth& p : t.placed) {
@@ -120,6 +122,19 @@ ArchTeeth Teeth(bool upper, const ArchParams& arch) {
   return t;
 }
 
+// The same arch's teeth are generated once per process: every soft tissue of a
+// scene is shaped around them.
+const ArchTeeth& Teeth(bool upper, const ArchParams& arch) {
+  static std::mutex mutex;
+  static std::map<std::tuple<bool, double, double, double, double, double, bool>, ArchTeeth> made;
+  const auto key = std::tuple(upper, arch.k_lower, arch.k_upper, arch.upper_lift_mm + arch.occlusion_mm,
+                              arch.lower_setback_mm, 0.0, arch.third_molars);
+  std::lock_guard lock(mutex);
+  auto it = made.find(key);
+  if (it == made.end()) it = made.emplace(key, MakeTeeth(upper, arch)).first;
+  return it->second;
+}
+
 // The last tooth's distal end, mm along the arch.
 double ArchEnd(bool upper) { return ArchCentreMm(upper, 7) + 5.5; }
 
@@ -127,7 +142,7 @@ double ArchEnd(bool upper) { return ArchCentreMm(upper, 7) + 5.5; }
 // (1.5 mm of bone around it, 2.5 mm beyond the apex), its top at the crest.
 TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>& drops) {
   const ArchCurve curve(upper, arch);
-  const ArchTeeth teeth = Teeth(upper, arch);
+  const ArchTeeth& teeth = Teeth(upper, arch);
   const double sign = upper ? 1.0 : -1.0;  // away from the occlusal plane
   const double end = ArchEnd(upper) + 7;   // past the last molar: the retromolar bone
   const int stations = static_cast<int>(2 * end / 0.75) + 1;
@@ -371,12 +386,12 @@ TriangleMesh Palate(const ArchTeeth& upper, const Levels& lv, bool soft) {
       half = std::max(1.0, half * std::max(0.2, rise));
       std::vector<Vector3> ring;
       // Lower (oral) surface: a vault from the teeth's palatal sides (at the
-      // crest) to `vault` above it; upper surface 4 mm above.
+      // crest) to `vault` above it; the bone and mucosa 3.5 to 5.5 mm thick.
       for (int j = 0; j < m; ++j) {
         const double a = 2 * kPi * j / m, c = std::cos(a), s = std::sin(a);
         const double x = half * c;
         const double under = lv.upper_crest - 1.0 + vault * rise * std::sqrt(std::max(0.0, 1 - c * c));
-        ring.emplace_back(x, y, s < 0 ? under - 0.5 : under + 4.0 * std::abs(s) + 0.5);
+        ring.emplace_back(x, y, s < 0 ? under - 1.0 : under + 2.5 + 2.0 * std::abs(s));
       }
       rings.push_back(std::move(ring));
     }
@@ -420,7 +435,8 @@ TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch, con
   }
   if (name == "jaw_lower") return Jaw(false, arch, drops);
   if (name == "jaw_upper") return Jaw(true, arch, drops);
-  const ArchTeeth lower = Teeth(false, arch), upper = Teeth(true, arch);
+  const ArchTeeth& lower = Teeth(false, arch);
+  const ArchTeeth& upper = Teeth(true, arch);
   const Levels lv = LevelsOf(lower, upper);
   if (name == "tongue") return Tongue(lower, lv);
   if (name == "floor_of_mouth") return FloorOfMouth(lower, lv, arch);

@@ -61,6 +61,19 @@ const std::vector<std::string>& ScriptNames() {
   return names;
 }
 
+Quaternion ScriptOrientation(const ScriptTarget& target) {
+  const Vector3 n = target.n_W.normalized();
+  const Vector3 axis = target.axis_W.squaredNorm() > 0 ? target.axis_W.normalized() : n;
+  const Vector3 z = target.tool_axis_W.squaredNorm() > 0 ? target.tool_axis_W.normalized() : axis;
+  const Vector3 lean = target.shank_W - target.shank_W.dot(z) * z;
+  if (lean.squaredNorm() < 1e-12) return Quaternion::FromTwoVectors(Vector3::UnitZ(), z);
+  Matrix3 R;
+  R.col(0) = -lean.normalized();
+  R.col(2) = z;
+  R.col(1) = z.cross(R.col(0));
+  return Quaternion(R);
+}
+
 Trajectory MakeScript(const std::string& name, const ScriptTarget& target, double duration_s,
                       std::uint64_t seed) {
   if (std::find(ScriptNames().begin(), ScriptNames().end(), name) == ScriptNames().end()) {
@@ -74,8 +87,7 @@ Trajectory MakeScript(const std::string& name, const ScriptTarget& target, doubl
   Vector3 u = target.along_W - target.along_W.dot(n) * n;
   u = u.squaredNorm() > 1e-12 ? u.normalized() : AnyPerpendicular(n);
   const Vector3 tilt_axis = n.cross(u).normalized();
-  const Vector3 tool_axis = target.tool_axis_W.squaredNorm() > 0 ? target.tool_axis_W.normalized() : axis;
-  const Quaternion q0 = Quaternion::FromTwoVectors(Vector3::UnitZ(), tool_axis);
+  const Quaternion q0 = ScriptOrientation(target);
   const Vector3& p = target.p_W;
 
   // Random motion: a few sinusoids per direction, seeded.

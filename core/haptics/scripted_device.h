@@ -42,10 +42,16 @@ struct ScriptTarget {
   Vector3 axis_W = Vector3::Zero();  // zero: use n_W
   Vector3 along_W = Vector3::Zero(); // a tangent for slides (zero: any)
   Vector3 tool_axis_W = Vector3::Zero();  // the working end's direction if not axis_W (a tilt)
+  Vector3 shank_W = Vector3::Zero();      // where the shank leans (the tool frame's -x), zero: any
   double insert_depth_mm = 4.0;      // how far below the target `insert` goes
   double insert_offset_mm = 0.3;     // how far off the target, along n, `insert` moves
   int object = -1;                   // the scene object the target is on, when known
 };
+
+/// The tool's orientation a trajectory starts from: its +z along the tool axis
+/// (tool_axis_W, else axis_W, else n_W), its shank (-x) leaning toward shank_W
+/// when given.
+Quaternion ScriptOrientation(const ScriptTarget& target);
 
 /// The names the CLI offers.
 const std::vector<std::string>& ScriptNames();

@@ -352,13 +352,14 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
     t.axis_W = R * Vector3::UnitZ();
     t.along_W = R * Vector3::UnitX();
     t.tool_axis_W = R * Vector3(0, 0.15, 1).normalized();  // tilted buccally, as a clinician does
+    t.shank_W = R * Vector3(0, -1, 0);  // the shank over the crown, not out through the cheek
     t.insert_offset_mm = 0;
     // How deep to go: press the probe down this path, tick by tick through the
     // engine and the scene's effects, until it feels the clinical probing force
     // (0.22 N): the depth where the sphere-trees' floor pushes back that hard.
     t.insert_depth_mm = o.pocket_mm[1] + 0.22 / scene.spec.haptics.k_t;
     {
-      const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), t.tool_axis_W.normalized());
+      const Quaternion q = ScriptOrientation(t);
       std::vector<Keyframe> keys;
       const double step = 0.005, from = -2.0, to = o.pocket_mm[1] + 2.0;
       for (int i = 0; from + i * step <= to; ++i)

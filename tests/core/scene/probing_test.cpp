@@ -188,3 +188,35 @@ TEST(Probing, UnderTheContactBetween45And46TheTipReachesTheFloor) {
 
 }  // namespace
 }  // namespace sulcus
+
+namespace sulcus {
+namespace {
+
+// The scripted insert in the full mouth: the shank leans over the crown, not out
+// through the cheek or lip, so the probe goes down the sulcus of the tooth it
+// was aimed at from a free start: no engine fault, no saturated force.
+TEST(Probing, TheScriptedInsertInTheFullMouthKeepsItsShankOutOfTheCheek) {
+  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
+  const auto scene = CompileScene(spec, Cache());
+  const ScriptTarget target = FindScriptTarget(*scene, "insert");
+  EXPECT_EQ(scene->spec.objects[target.object].fdi, 46) << "the lower tooth with the deepest buccal pocket";
+  EXPECT_GT(ScriptOrientation(target).toRotationMatrix().col(0).dot(target.n_W), 0.9)
+      << "the tool's +x buccal: its shank (-x) leans lingually";
+  DeviceSpec d;
+  d.device = std::make_unique<ScriptedDevice>(MakeScript("insert", target, 4.0));
+  SessionOptions so;
+  so.max_ticks = 4000;
+  Session session(*scene, std::move(d), so);
+  struct Force final : TickConsumer {
+    void OnTick(const TickRecord& r) override { max_force = std::max(max_force, r.force_W.norm()); }
+    double max_force = 0;
+  } consumer;
+  session.AddConsumer(&consumer);
+  session.RunOffline();
+  EXPECT_EQ(session.loop().faults().total(), 0u);
+  EXPECT_GT(consumer.max_force, 0.1) << "it touched the pocket floor";
+  EXPECT_LT(consumer.max_force, 1.0) << "and nothing it should not";
+}
+
+}  // namespace
+}  // namespace sulcus
