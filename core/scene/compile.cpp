@@ -236,6 +236,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
                                             const BuildProgress& progress) {
   auto scene = std::make_unique<CompiledScene>();
   scene->spec = spec;
+  FollowAttachmentLoss(&scene->spec);  // the pockets may have changed since loading
   const bool compliance = spec.HasEffect(Effect::kGingivaCompliance);
   // Soft objects (gingiva, under gingiva_compliance) go last: the engine's hard
   // world is the objects before them, with the same indices as the scene's.

@@ -326,6 +326,19 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
 
 }  // namespace
 
+void FollowAttachmentLoss(SceneSpec* spec) {
+  for (ObjectSpec& jaw : spec->objects) {
+    if (jaw.kind != ObjectSpec::Kind::kAnatomy || jaw.anatomy.rfind("jaw", 0) != 0) continue;
+    jaw.crest_drop_mm.clear();
+    for (const ObjectSpec& t : spec->objects) {
+      if (t.kind != ObjectSpec::Kind::kTooth || !t.has_sites) continue;
+      double loss = 0;
+      for (int s = 0; s < 6; ++s) loss = std::max(loss, t.pocket_mm[s] + t.recession_mm[s]);
+      jaw.crest_drop_mm[t.fdi] = CrestDropMm(loss);
+    }
+  }
+}
+
 std::string SceneError::ToString() const {
   return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message;
 }
@@ -449,16 +462,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
     for (std::size_t i = 0; i < objects.size(); ++i) ReadObject(r, objects[i], folder, static_cast<int>(i), &spec, &names);
   }
-  // The jaws' bone crest follows each tooth's attachment loss (its deepest site).
-  for (ObjectSpec& jaw : spec.objects) {
-    if (jaw.kind != ObjectSpec::Kind::kAnatomy || jaw.anatomy.rfind("jaw", 0) != 0) continue;
-    for (const ObjectSpec& t : spec.objects) {
-      if (t.kind != ObjectSpec::Kind::kTooth || !t.has_sites) continue;
-      double loss = 0;
-      for (int s = 0; s < 6; ++s) loss = std::max(loss, t.pocket_mm[s] + t.recession_mm[s]);
-      jaw.crest_drop_mm[t.fdi] = CrestDropMm(loss);
-    }
-  }
+  FollowAttachmentLoss(&spec);
   if (spec.gingiva) {
     // A collar around every tooth, carrying the tooth's site truth.
     const std::size_t teeth = spec.objects.size();

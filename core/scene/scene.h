@@ -124,6 +124,12 @@ inline constexpr double kMaxSceneObjectMm = 300;
 /// effects, YAML syntax errors).
 SceneSpec LoadSceneSpec(const std::filesystem::path& file);
 
+/// Sets each jaw's bone crest (`crest_drop_mm`) from the teeth's pockets and
+/// recession, as they are now: LoadSceneSpec and CompileScene call it, so a
+/// scene whose pockets were changed after loading (a generated case) gets the
+/// bone that goes with them.
+void FollowAttachmentLoss(SceneSpec* spec);
+
 /// An object's mesh in its own frame (before X_WO): a generated tooth, gingiva
 /// or soft tissue, the mesh file, or the solid. Throws MeshError for an
 /// unreadable mesh file.

@@ -220,3 +220,42 @@ TEST(Probing, TheScriptedInsertInTheFullMouthKeepsItsShankOutOfTheCheek) {
 
 }  // namespace
 }  // namespace sulcus
+
+namespace sulcus {
+namespace {
+
+// Pockets changed after loading (as a generated case changes them) get the bone
+// that goes with them: the jaw's crest is set when the scene is compiled, so the
+// probe reaches a 6 mm pocket at 44 B instead of stopping on the bone 1.5 mm
+// below the CEJ.
+TEST(Probing, ADeepenedPocketHasItsBoneLoweredToo) {
+  SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
+  for (ObjectSpec& o : spec.objects)
+    if ((o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva) && o.fdi == 44) o.pocket_mm[1] = 6;
+  const auto scene = CompileScene(spec, Cache());
+  for (const ObjectSpec& o : scene->spec.objects)
+    if (o.kind == ObjectSpec::Kind::kAnatomy && o.anatomy == "jaw_lower") {
+      EXPECT_EQ(o.crest_drop_mm.at(44), 5.5);
+    }
+  const ScriptTarget target = FindScriptTarget(*scene, "insert");
+  ASSERT_EQ(scene->spec.objects[target.object].fdi, 44);
+  DeviceSpec d;
+  d.device = std::make_unique<ScriptedDevice>(MakeScript("insert", target, 4.0));
+  SessionOptions so;
+  so.max_ticks = 4000;
+  Session session(*scene, std::move(d), so);
+  struct Readings final : TickConsumer {
+    void OnTick(const TickRecord& r) override {
+      for (int i = 0; i < r.num_events; ++i)
+        if (r.events[i].kind == EventKind::kProbeReading) depth.push_back(r.events[i].payload.reading.depth_mm);
+    }
+    std::vector<double> depth;
+  } consumer;
+  session.AddConsumer(&consumer);
+  session.RunOffline();
+  ASSERT_EQ(consumer.depth.size(), 1u);
+  EXPECT_NEAR(consumer.depth[0], 6.0, 0.4);
+}
+
+}  // namespace
+}  // namespace sulcus
