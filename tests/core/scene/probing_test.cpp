@@ -259,3 +259,90 @@ TEST(Probing, ADeepenedPocketHasItsBoneLoweredToo) {
 
 }  // namespace
 }  // namespace sulcus
+
+#include "core/anatomy/mesh_contact.h"
+#include "core/anatomy/probe.h"
+#include "core/haptics/engine.h"
+#include "core/spheretree/metrics.h"
+
+namespace sulcus {
+namespace {
+
+// The narrow slot (0.7 mm between two walls; the probe's tip 0.5 mm, its working
+// end widening to 1 mm over 13 mm): how far down the tip can go is set by where
+// the working end wedges between the walls' top edges. Its taper is shallow
+// (0.019 mm of radius per mm), so every 0.01 mm the spheres stand out of the
+// walls or the probe lifts the wedge by 0.5 mm: a fit error e costs e / taper
+// of depth. Measured: with the default 512-leaf walls the tip stops 4.9 mm
+// short of where the exact meshes let it go; with the walls fitted to 0.05 mm
+// (6 levels) it goes down to within what the measured protrusions of walls and
+// probe allow, and never below the true limit.
+TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
+  SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard/narrow_slot.yaml");
+  auto depth_reached = [&](const CompiledScene& scene) {
+    EngineData d(*scene.model);
+    ResetTool(RigidTransform(Matrix3::Identity(), Vector3(0, 0, 8)), &d);
+    for (int i = 0; i <= 1200; ++i) Step(*scene.model, RigidTransform(Matrix3::Identity(), Vector3(0, 0, 8 - 0.01 * i)), &d);
+    EXPECT_EQ(d.faults.total(), 0u);
+    return d.X_WG.translation().z();
+  };
+  const auto coarse = CompileScene(spec, Cache());
+  // The true limit: the lowest tip height at which the probe's exact mesh meets
+  // neither wall (bisection on exact triangle intersection).
+  std::vector<TriangleMesh> walls;
+  for (std::size_t i = 0; i < coarse->meshes.size(); ++i) {
+    if (coarse->spec.objects[i].name.find("wall") == std::string::npos) continue;
+    TriangleMesh m = coarse->meshes[i];
+    m.Transform(coarse->spec.objects[i].X_WO.rotation(), coarse->spec.objects[i].X_WO.translation());
+    walls.push_back(std::move(m));
+  }
+  ASSERT_EQ(walls.size(), 2u);
+  auto free_at = [&](double z) {
+    TriangleMesh probe = coarse->tool_mesh;
+    probe.Transform(Matrix3::Identity(), Vector3(0, 0, z));
+    for (const TriangleMesh& w : walls)
+      if (MeshesIntersect(probe, w)) return false;
+    return true;
+  };
+  double lo = -4.0, hi = 8.0;  // touching at lo (or the floor), free at hi
+  ASSERT_TRUE(free_at(hi));
+  ASSERT_FALSE(free_at(lo));
+  while (hi - lo > 0.005) {
+    const double mid = 0.5 * (lo + hi);
+    (free_at(mid) ? hi : lo) = mid;
+  }
+  const double truth = hi;
+  const double with_512 = depth_reached(*coarse);
+  for (ObjectSpec& o : spec.objects) {
+    if (o.name.find("wall") == std::string::npos) continue;
+    o.trees.levels = 6;
+    o.trees.target_error_mm = 0.05;
+  }
+  const double fitted = depth_reached(*CompileScene(spec, Cache()));  // built here, then from the cache
+  // What the fits allow: the worst protrusion of the fitted walls and of the
+  // probe, over the working end's taper.
+  const auto fine = CompileScene(spec, Cache());
+  EvalParams quick;
+  quick.surface_samples = 20000;
+  quick.points_per_sphere = 96;
+  quick.volume_samples_per_sphere = 0;
+  double wall_err = 0;
+  for (std::size_t i = 0; i < fine->meshes.size(); ++i)
+    if (fine->spec.objects[i].name.find("wall") != std::string::npos)
+      wall_err = std::max(wall_err, EvaluateSphereTree(fine->meshes[i], fine->trees[i], quick).leaves().protrusion_max_mm);
+  const double tool_err = EvaluateSphereTree(fine->tool_mesh, fine->tool_tree, quick).leaves().protrusion_max_mm;
+  const ProbeModel probe = MakeProbe(spec.probe);
+  const double taper = (0.5 - probe.tip_radius_mm) / probe.working_length_mm;
+  const double allowed = (wall_err + tool_err) / taper;
+  std::printf("narrow slot: the exact meshes let the tip down to z = %.2f mm; 512-leaf walls stop it at %.2f; "
+              "walls fitted to 0.05 mm (worst %.3f mm, probe %.3f mm: %.2f mm of depth) at %.2f\n",
+              truth, with_512, wall_err, tool_err, allowed, fitted);
+  EXPECT_GT(with_512, truth + 3.0) << "the default fit closes the slot";
+  EXPECT_LT(fitted, with_512 - 2.0) << "the fine fit opens it";
+  EXPECT_LE(wall_err, 0.05 + 1e-6) << "the fit asked for";
+  EXPECT_LT(fitted, truth + allowed) << "as far down as the spheres' geometry allows";
+  EXPECT_GT(fitted, truth - 0.15) << "and never below the true limit (through the walls)";
+}
+
+}  // namespace
+}  // namespace sulcus
