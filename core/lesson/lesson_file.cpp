@@ -172,6 +172,7 @@ PerioChart TrueChart(const SceneSpec& scene, const std::vector<int>& teeth) {
         t.sites[s].recession_mm = o.recession_mm[s] - kHealthyMarginAboveCejMm;
         t.sites[s].bleeding = o.bleeding[s];
       }
+      for (const auto& [entrance, hamp] : o.furcation) t.furcation = std::max(t.furcation, hamp);
       chart.teeth.push_back(t);
     }
   }

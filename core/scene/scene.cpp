@@ -81,7 +81,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (!r.IsMap(n, "an object")) return;
   r.CheckKeys(n, {"name", "tooth", "mesh", "box", "sphere", "cylinder", "anatomy", "height_mm", "at", "turn_deg", "tissue",
                   "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding",
-                  "inflamed", "caries_mm", "calculus", "lesion", "spheretree"},
+                  "inflamed", "caries_mm", "calculus", "furcation", "lesion", "spheretree"},
               "an object");
   if (n["spheretree"]) ReadTreeParams(r, n["spheretree"], "an object's 'spheretree'", false, &o.trees);
   std::vector<std::string> kinds;
@@ -232,7 +232,31 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
       o.lesion_mm = l["size_mm"] ? r.Number(l["size_mm"], "size_mm", 0.5, 15, 2, "mm (the lesion's radius)") : 2.0;
     }
   }
-  for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm", "calculus"}) {
+  if (const YAML::Node& f = n["furcation"]; f && kind == "tooth" && o.fdi > 0) {
+    // furcation: {B: 2, L: 1}
+    std::vector<std::string> entrances;
+    try {
+      entrances = FurcationEntrances(o.fdi);
+    } catch (const std::invalid_argument&) {
+      // reported with the tooth
+    }
+    if (!f.IsMap()) {
+      r.Error(f, "'furcation' must map entrances to Hamp classes 0 to 3, e.g. {B: 2, L: 1}");
+    } else if (entrances.empty()) {
+      r.Error(f, "tooth " + std::to_string(o.fdi) + " has one root: no furcation");
+    } else {
+      for (auto it = f.begin(); it != f.end(); ++it) {
+        const std::string e = it->first.Scalar();
+        if (std::find(entrances.begin(), entrances.end(), e) == entrances.end()) {
+          r.Error(it->first, "tooth " + std::to_string(o.fdi) + " has no furcation entrance '" + e + "' (its entrances: " +
+                                 Join(entrances) + ")");
+        } else {
+          o.furcation[e] = r.Integer(it->second, "furcation class", 0, 3, 0);
+        }
+      }
+    }
+  }
+  for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm", "calculus", "furcation"}) {
     if (n[key] && kind != "tooth") r.Error(n[key], std::string("'") + key + "' is for teeth only");
   }
   if (kind == "tooth") {
@@ -326,15 +350,39 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
 
 }  // namespace
 
+std::vector<std::string> FurcationEntrances(int fdi) {
+  const FdiTooth t = FdiTooth::Parse(fdi);
+  if (t.position >= 6) return t.upper() ? std::vector<std::string>{"B", "M", "D"} : std::vector<std::string>{"B", "L"};
+  if (t.upper() && t.position == 4) return {"M", "D"};
+  return {};
+}
+
+double FurcationDepthMm(int fdi) {
+  const FdiTooth t = FdiTooth::Parse(fdi);
+  if (t.position >= 6) return t.upper() ? 3.5 : 3.0;  // tooth.cpp's root trunks
+  if (t.upper() && t.position == 4) return 0.45 * Dimensions(t).root_length;
+  return 0;
+}
+
 void FollowAttachmentLoss(SceneSpec* spec) {
   for (ObjectSpec& jaw : spec->objects) {
     if (jaw.kind != ObjectSpec::Kind::kAnatomy || jaw.anatomy.rfind("jaw", 0) != 0) continue;
     jaw.crest_drop_mm.clear();
     for (const ObjectSpec& t : spec->objects) {
-      if (t.kind != ObjectSpec::Kind::kTooth || !t.has_sites) continue;
-      double loss = 0;
-      for (int s = 0; s < 6; ++s) loss = std::max(loss, t.pocket_mm[s] + t.recession_mm[s]);
-      jaw.crest_drop_mm[t.fdi] = CrestDropMm(loss);
+      if (t.kind != ObjectSpec::Kind::kTooth) continue;
+      double drop = 0;
+      if (t.has_sites) {
+        double loss = 0;
+        for (int s = 0; s < 6; ++s) loss = std::max(loss, t.pocket_mm[s] + t.recession_mm[s]);
+        drop = CrestDropMm(loss);
+      }
+      int worst = 0;
+      for (const auto& [entrance, hamp] : t.furcation) worst = std::max(worst, hamp);
+      if (worst > 0) {
+        static constexpr double kBelowEntrance[4] = {0, 0.5, 1.5, 3.0};
+        drop = std::max({drop, CrestDropMm(0), FurcationDepthMm(t.fdi) + kBelowEntrance[worst]});
+      }
+      if (drop > 0) jaw.crest_drop_mm[t.fdi] = drop;
     }
   }
 }

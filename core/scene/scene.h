@@ -87,6 +87,9 @@ struct ObjectSpec {
   // Calculus by site: 0 none, 1 supragingival, 2 subgingival. The scene adds one
   // kCalculus object per deposit (its `calculus_site` the site, `fdi` the tooth).
   std::array<int, 6> calculus{};
+  // Furcation involvement by entrance (Hamp class 0-3): lower molars B, L;
+  // upper molars B, M, D; the upper first premolar M, D (FurcationEntrances).
+  std::map<std::string, int> furcation;
   int calculus_site = -1;
   bool with_gingiva = false;
   // kAnatomy: a soft-tissue lesion (soft_tissue.h), empty kind for none.
@@ -124,8 +127,18 @@ inline constexpr double kMaxSceneObjectMm = 300;
 /// effects, YAML syntax errors).
 SceneSpec LoadSceneSpec(const std::filesystem::path& file);
 
+/// The furcation entrances a tooth has: {"B", "L"} for lower molars, {"B", "M",
+/// "D"} for upper molars, {"M", "D"} for the upper first premolar, none else.
+std::vector<std::string> FurcationEntrances(int fdi);
+
+/// How far below the CEJ a tooth's roots part (mm), 0 for a single root.
+double FurcationDepthMm(int fdi);
+
 /// Sets each jaw's bone crest (`crest_drop_mm`) from the teeth's pockets and
-/// recession, as they are now: LoadSceneSpec and CompileScene call it, so a
+/// recession, as they are now, and below the furcation where a tooth's
+/// furcation is involved (class 1: 0.5 mm below the entrance, 2: 1.5 mm,
+/// 3: 3 mm; the bone between the roots is not modelled, so the class is the
+/// chart's truth and the bone only shows the entrance): LoadSceneSpec and CompileScene call it, so a
 /// scene whose pockets were changed after loading (a generated case) gets the
 /// bone that goes with them.
 void FollowAttachmentLoss(SceneSpec* spec);

@@ -92,5 +92,26 @@ TEST(CaseScene, ASceneWithMeshFilesIsSavedOnlyBesideItself) {
   EXPECT_TRUE(fs::exists(src / "case.yaml"));
 }
 
+// Furcation in the scene is the chart's truth, and class II raises stage II to III.
+TEST(CaseScene, AFurcationInTheSceneIsInTheTrueChartAndRaisesTheStage) {
+  const LessonSpec lesson = LoadLessonSpec(fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml");
+  SceneSpec scene = LoadSceneSpec(lesson.scene);
+  // A stage II chart: 3-4 mm of interdental CAL at several teeth, no PD >= 6.
+  for (ObjectSpec& o : scene.objects) {
+    if (o.kind != ObjectSpec::Kind::kTooth) continue;
+    o.pocket_mm = {4, 3, 4, 4, 3, 4};
+    o.recession_mm = {1.5, 1.5, 1.5, 1.5, 1.5, 1.5};
+    o.bleeding = {};
+  }
+  const Diagnosis before = Classify2017(TrueChart(scene, lesson.teeth));
+  ASSERT_EQ(before.stage, Stage::kII);
+  for (ObjectSpec& o : scene.objects)
+    if (o.kind == ObjectSpec::Kind::kTooth && o.fdi == 46) o.furcation["B"] = 2;
+  const PerioChart truth = TrueChart(scene, lesson.teeth);
+  ASSERT_NE(truth.Find(46), nullptr);
+  EXPECT_EQ(truth.Find(46)->furcation, 2);
+  EXPECT_EQ(Classify2017(truth).stage, Stage::kIII);
+}
+
 }  // namespace
 }  // namespace sulcus

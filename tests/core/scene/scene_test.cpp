@@ -323,6 +323,30 @@ TEST(SceneFile, ASoftTissueLesionOnANamedRegion) {
   EXPECT_EQ(s.objects[1].lesion_mm, 2.0) << "the default size";
 }
 
+TEST(SceneFile, FurcationByEntranceAndTheBoneBelowIt) {
+  EXPECT_EQ(Errors("objects:\n  - tooth: 44\n    furcation: {B: 1}\n"),
+            (Lines{"3:16: tooth 44 has one root: no furcation"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    furcation: {M: 1}\n"),
+            (Lines{"3:17: tooth 46 has no furcation entrance 'M' (its entrances: B, L)"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 16\n    furcation: {B: 4}\n"),
+            (Lines{"3:20: 'furcation class' is 4, expected 0 to 3"}));
+  EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    furcation: {B: 1}\n"),
+            (Lines{"4:16: 'furcation' is for teeth only"}));
+  EXPECT_EQ(FurcationEntrances(16), (std::vector<std::string>{"B", "M", "D"}));
+  EXPECT_EQ(FurcationEntrances(24), (std::vector<std::string>{"M", "D"}));
+  EXPECT_TRUE(FurcationEntrances(34).empty());
+  // Healthy pockets, but class II at 36 B: the jaw's crest drops below the
+  // furcation (3 mm below the CEJ, then 1.5 mm more); 35 keeps the healthy 1.5 mm.
+  const SceneSpec s = LoadSceneSpec(Write("furcation_ok.yaml",
+                                          "arch: true\nobjects:\n  - tooth: 36\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
+                                          "    furcation: {B: 2, L: 1}\n  - tooth: 35\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
+                                          "  - anatomy: jaw_lower\n"));
+  EXPECT_EQ(s.objects[0].furcation.at("B"), 2);
+  EXPECT_EQ(s.objects[0].furcation.at("L"), 1);
+  EXPECT_DOUBLE_EQ(s.objects[2].crest_drop_mm.at(36), 4.5);
+  EXPECT_DOUBLE_EQ(s.objects[2].crest_drop_mm.at(35), 1.5);
+}
+
 TEST(SceneFile, CalculusBySiteAboveOrBelowTheMargin) {
   EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    calculus: [L]\n"),
             (Lines{"3:15: 'calculus' must map 'supra' and 'sub' to lists of sites, e.g. {supra: [L], sub: [MB]}"}));
