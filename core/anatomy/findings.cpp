@@ -52,6 +52,19 @@ Vector3 CariesCentre(const ToothModel& tooth, ToothSurface surface) {
   return Vector3::Zero();
 }
 
+SurfacePoint CariesSpot(const ToothModel& tooth, ToothSurface surface) {
+  SurfacePoint out;
+  out.point = CariesCentre(tooth, surface);
+  Vector3 n = Vector3::Zero();
+  const auto& v = tooth.mesh.vertices();
+  for (const auto& f : tooth.mesh.faces()) {
+    if (v[f[0]] != out.point && v[f[1]] != out.point && v[f[2]] != out.point) continue;
+    n += (v[f[1]] - v[f[0]]).cross(v[f[2]] - v[f[0]]);
+  }
+  if (n.norm() > 0) out.normal = n.normalized();
+  return out;
+}
+
 std::vector<double> CariesCoverage(const ToothModel& tooth, const std::array<double, 5>& caries_mm) {
   std::vector<double> out(tooth.mesh.num_vertices(), 0.0);
   for (int s = 0; s < 5; ++s) {

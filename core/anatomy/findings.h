@@ -20,6 +20,15 @@ enum class ToothSurface { kMesial, kDistal, kBuccal, kLingual, kOcclusal };
 /// cervical third.
 Vector3 CariesCentre(const ToothModel& tooth, ToothSurface surface);
 
+/// A point on a tooth's surface with its outward normal (tooth frame).
+struct SurfacePoint {
+  Vector3 point = Vector3::Zero(), normal = Vector3::UnitZ();
+};
+
+/// CariesCentre with the surface's outward normal there (the mean of the
+/// normals of the faces around it).
+SurfacePoint CariesSpot(const ToothModel& tooth, ToothSurface surface);
+
 /// Per vertex of the tooth's mesh: how far inside a lesion it lies, 1 at a
 /// lesion's centre falling to 0 at its rim (radius: the lesion's size), the
 /// largest over the five surfaces. `caries_mm` as in the scene (0: none).

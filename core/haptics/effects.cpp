@@ -172,6 +172,75 @@ class TissueDamage final : public LoopEffect {
   std::vector<std::uint8_t> over_;
 };
 
+class CariesCatch final : public LoopEffect {
+ public:
+  explicit CariesCatch(const EffectsModel& m) : m_(m) {}
+  const char* name() const override { return "caries_catch"; }
+  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
+    const Vector3 tip = data.X_WG.translation();
+    // The lesion under the tip, if its tooth is being touched.
+    int on = -1;
+    double weight = 0;
+    for (std::size_t l = 0; l < m_.lesions.size(); ++l) {
+      const CariesLesion& c = m_.lesions[l];
+      const double d = (tip - c.centre_W).norm();
+      if (d > c.radius_mm + kTipReachMm || !Touching(data, c.tooth)) continue;
+      on = static_cast<int>(l);
+      weight = std::clamp(1 - d / (c.radius_mm + kTipReachMm), 0.0, 1.0);
+      break;
+    }
+    if (on < 0) {
+      caught_ = -1;
+      return;
+    }
+    const CariesLesion& c = m_.lesions[static_cast<std::size_t>(on)];
+    const CariesFeel& f = m_.caries;
+    const double normal = force_W->dot(c.normal_W);  // > 0: the tip pressed into the surface
+    if (normal <= 0) {
+      caught_ = -1;
+      return;
+    }
+    // Softer than enamel: less of the normal force at the lesion.
+    *force_W -= (1 - f.softness) * weight * normal * c.normal_W;
+    const Vector3 device = data.X_WH.translation();
+    if (caught_ != on) {
+      if (normal < f.catch_force_n) return;
+      caught_ = on;
+      anchor_ = device;
+      HapticEvent e = HapticEvent::Of(EventKind::kCariesCatch, c.tooth);
+      e.payload.damage = {normal, f.catch_force_n};
+      loop->Emit(e);
+    }
+    if (normal < 0.3 * f.catch_force_n) {  // lifted off: free again
+      caught_ = -1;
+      return;
+    }
+    // Caught: a tangential spring back to where it caught, holding up to a share
+    // of the normal force; beyond that it slips (the anchor follows).
+    Vector3 slip = device - anchor_;
+    slip -= slip.dot(c.normal_W) * c.normal_W;
+    const double cap = f.catch_ratio * normal;
+    const double stretch = slip.norm();
+    if (f.catch_k_n_per_mm * stretch > cap && stretch > 0) {
+      anchor_ += slip * (1 - cap / (f.catch_k_n_per_mm * stretch));
+      slip *= cap / (f.catch_k_n_per_mm * stretch);
+    }
+    *force_W -= f.catch_k_n_per_mm * slip;
+  }
+  void Reset() noexcept override { caught_ = -1; }
+
+ private:
+  static constexpr double kTipReachMm = 0.3;  // the tip's radius and a little: touching the lesion's rim counts
+  static bool Touching(const EngineData& data, int object) {
+    for (int i = 0; i < data.num_active_keys; ++i)
+      if (ContactPair::ObjectOfKey(data.active_keys[i]) == object) return true;
+    return false;
+  }
+  const EffectsModel& m_;
+  int caught_ = -1;
+  Vector3 anchor_ = Vector3::Zero();
+};
+
 }  // namespace
 
 std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& m) {
@@ -179,6 +248,7 @@ std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& m) {
   if (m.on.gingiva_compliance && m.soft_world) out.push_back(std::make_unique<GingivaCompliance>(m));
   const bool depth = m.on.probing_depth, bleeding = m.on.bleeding_on_probing;
   if ((depth || bleeding) && !m.sites.empty()) out.push_back(std::make_unique<ProbingDepth>(m, depth, bleeding));
+  if (m.on.caries_catch && !m.lesions.empty()) out.push_back(std::make_unique<CariesCatch>(m));
   if (m.on.tissue_damage) out.push_back(std::make_unique<TissueDamage>(m));
   return out;
 }

@@ -12,6 +12,10 @@
 //                       reading (the deepest point of one insertion) when it leaves.
 //   bleeding_on_probing a bleeding site bleeds when probed to its floor.
 //   tissue_damage       the force on an object above its tissue's damage limit.
+//   caries_catch        a carious lesion is softer than enamel (the normal force
+//                       there is scaled down) and catches a tip pressed into it
+//                       (a tangential spring to where it caught, slipping past a
+//                       cap), with an event when it catches.
 
 #include <array>
 #include <memory>
@@ -37,6 +41,25 @@ struct ProbingSite {
 /// nothing here yet).
 struct EffectsOn {
   bool gingiva_compliance = false, probing_depth = false, bleeding_on_probing = false, tissue_damage = false;
+  bool caries_catch = false;
+};
+
+/// A carious lesion in the world: on object `tooth`, a disc of `radius_mm`
+/// about `centre_W` on the surface whose outward normal there is `normal_W`.
+struct CariesLesion {
+  int tooth = -1;
+  Vector3 centre_W = Vector3::Zero(), normal_W = Vector3::UnitZ();
+  double radius_mm = 0;
+};
+
+/// caries_catch's feel: the share of the normal force a lesion's centre keeps
+/// (softer than enamel), the normal force at which a tip catches, the catch's
+/// tangential stiffness and how much of the normal force it can hold.
+struct CariesFeel {
+  double softness = 0.6;        // normal force scaled to this at the centre, to 1 at the rim
+  double catch_force_n = 0.3;
+  double catch_k_n_per_mm = 0.8;
+  double catch_ratio = 0.8;
 };
 
 /// What the effects need from the scene, immutable after compile.
@@ -49,6 +72,9 @@ struct EffectsModel {
   std::unique_ptr<CollisionWorld> soft_world;
   int soft_first = 0;
   std::vector<std::vector<float>> soft_leaf_stiffness;
+  // caries_catch
+  std::vector<CariesLesion> lesions;
+  CariesFeel caries;
 };
 
 /// The effects that are on, in a fixed order, ready for HapticLoop. An effect

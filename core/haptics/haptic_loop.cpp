@@ -27,6 +27,7 @@ const char* ToString(EventKind kind) {
     case EventKind::kBleeding: return "bleeding";
     case EventKind::kTissueDamage: return "tissue_damage";
     case EventKind::kSoftContact: return "soft_contact";
+    case EventKind::kCariesCatch: return "caries_catch";
   }
   return "?";
 }

@@ -34,8 +34,9 @@ enum class EventKind : std::uint8_t {
   kBleeding,        // bleeding_on_probing: a bleeding site was probed to its floor; bleeding
   kTissueDamage,    // tissue_damage: the force on an object rose above its limit; damage
   kSoftContact,     // gingiva_compliance: the probe began pressing soft tissue; soft
+  kCariesCatch,     // caries_catch: the tip caught in a carious lesion; object (the tooth), damage (force, 0)
 };
-inline constexpr int kNumEventKinds = 12;
+inline constexpr int kNumEventKinds = 13;
 const char* ToString(EventKind kind);
 
 /// A probing reading: the deepest point of one insertion into a site's sulcus.

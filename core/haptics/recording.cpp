@@ -261,7 +261,8 @@ void ExportCsv(const Recording& rec, std::ostream& out) {
           break;
         }
         case EventKind::kBleeding: out << ':' << e.payload.bleeding.fdi << ':' << e.payload.bleeding.site; break;
-        case EventKind::kTissueDamage: out << ':' << e.object << ':' << e.payload.damage.force_n; break;
+        case EventKind::kTissueDamage:
+        case EventKind::kCariesCatch: out << ':' << e.object << ':' << e.payload.damage.force_n; break;
         default:
           if (e.object >= 0) out << ':' << e.object;
       }

@@ -116,6 +116,22 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
   m.on.probing_depth = spec.HasEffect(Effect::kProbingDepth);
   m.on.bleeding_on_probing = spec.HasEffect(Effect::kBleedingOnProbing);
   m.on.tissue_damage = spec.HasEffect(Effect::kTissueDamage);
+  m.on.caries_catch = spec.HasEffect(Effect::kCariesCatch);
+  if (m.on.caries_catch) {
+    for (int i = 0; i < static_cast<int>(objs.size()); ++i) {
+      const ObjectSpec& o = objs[i];
+      if (o.kind != ObjectSpec::Kind::kTooth || i >= soft_first) continue;
+      std::optional<ToothModel> tooth;
+      for (int s = 0; s < 5; ++s) {
+        if (o.caries_mm[s] <= 0) continue;
+        if (!tooth) tooth = GenerateTooth(o.fdi);
+        const SurfacePoint p = CariesSpot(*tooth, static_cast<ToothSurface>(s));
+        const Matrix3 mirror = (o.mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1)).asDiagonal();
+        m.lesions.push_back({i, o.X_WO * ArchMirror(o.mirrored, p.point), (o.X_WO.rotation() * mirror * p.normal).normalized(),
+                             o.caries_mm[s]});
+      }
+    }
+  }
   for (const ObjectSpec& o : objs) m.damage_limit_n.push_back(o.material.damage_limit_n);
   m.soft_first = soft_first;
   const bool sites = spec.gingiva && (m.on.probing_depth || m.on.bleeding_on_probing);

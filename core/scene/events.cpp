@@ -50,6 +50,10 @@ std::string DescribeEvent(const SceneSpec& spec, const HapticEvent& e) {
                     name.c_str(), e.payload.damage.limit_n);
       break;
     case EventKind::kSoftContact: std::snprintf(text, sizeof text, "pressing %s", name.c_str()); break;
+    case EventKind::kCariesCatch:
+      std::snprintf(text, sizeof text, "the tip caught in a carious lesion on %s (%.2f N)", name.c_str(),
+                    e.payload.damage.force_n);
+      break;
     default: std::snprintf(text, sizeof text, "%s", ToString(e.kind)); break;
   }
   return text;

@@ -39,7 +39,8 @@ constexpr EffectName kEffects[] = {{"contact", Effect::kContact},
                                    {"surface_texture", Effect::kSurfaceTexture},
                                    {"probing_depth", Effect::kProbingDepth},
                                    {"bleeding_on_probing", Effect::kBleedingOnProbing},
-                                   {"tissue_damage", Effect::kTissueDamage}};
+                                   {"tissue_damage", Effect::kTissueDamage},
+                                   {"caries_catch", Effect::kCariesCatch}};
 const std::vector<std::string> kProbes = {"williams", "unc15", "who", "explorer23", "explorer1112"};
 
 using Reader = YamlReader;
@@ -481,7 +482,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
               // Named in the design, not built yet: refused rather than silently ignored.
               r.Error(item, "effect '" + name + "' is not available in this version of Sulcus; remove it "
                             "(available: contact, gingiva_compliance, friction, probing_depth, bleeding_on_probing, "
-                            "tissue_damage)");
+                            "tissue_damage, caries_catch)");
               continue;
             }
             if (!spec.HasEffect(en.effect)) {

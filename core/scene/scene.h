@@ -53,7 +53,7 @@ Material DefaultMaterial(Tissue t);
 
 /// The effects a scene may ask for (DESIGN.md, "Effects on demand").
 enum class Effect { kContact, kGingivaCompliance, kFriction, kSurfaceTexture, kProbingDepth,
-                    kBleedingOnProbing, kTissueDamage };
+                    kBleedingOnProbing, kTissueDamage, kCariesCatch };
 const char* ToString(Effect e);
 
 /// Probing sites in charting order.

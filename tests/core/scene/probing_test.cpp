@@ -346,3 +346,77 @@ TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
 
 }  // namespace
 }  // namespace sulcus
+
+#include <fstream>
+
+#include "tests/common/output.h"
+
+namespace sulcus {
+namespace {
+
+// caries_catch: an explorer pressed into 36's occlusal lesion and then drawn
+// 1 mm sideways feels a softer surface and a catch that holds it back; the same
+// press and draw on the same tooth without the lesion feels neither (and has no
+// caries_catch in its loop at all).
+TEST(Probing, ACariousLesionFeelsSofterAndCatchesTheExplorer) {
+  const fs::path dir = test::FreshOutputPath("caries", "catch");
+  auto write = [&](const std::string& name, bool carious) {
+    std::ofstream(dir / name) << "tool:\n  probe: explorer23\neffects: [contact, caries_catch]\nobjects:\n"
+                              << "  - tooth: 36\n" << (carious ? "    caries_mm: {occlusal: 2.5}\n" : "");
+    return dir / name;
+  };
+  const auto carious = CompileScene(LoadSceneSpec(write("carious.yaml", true)), Cache());
+  const auto sound = CompileScene(LoadSceneSpec(write("sound.yaml", false)), Cache());
+  ASSERT_EQ(carious->effects.lesions.size(), 1u);
+  EXPECT_TRUE(sound->effects.lesions.empty());
+  EXPECT_TRUE(MakeEffects(sound->effects).empty()) << "no lesion: nothing in the loop";
+  const CariesLesion lesion = carious->effects.lesions[0];
+  const Vector3 n = lesion.normal_W, t = n.unitOrthogonal();
+  const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), n);
+  // Down onto the lesion's centre to 0.5 mm past the surface in 0.5 s, held
+  // 0.3 s, drawn 1 mm along t in 0.5 s, held 0.2 s.
+  std::vector<Keyframe> keys;
+  for (int i = 0; i <= 1500; i += 10) {
+    const double s = i * 0.001;
+    const double depth = s < 0.5 ? -3.0 + 3.5 * s / 0.5 : 0.5;
+    const double along = s < 0.8 ? 0.0 : std::min(1.0, (s - 0.8) / 0.5);
+    keys.push_back({s, Vector3(lesion.centre_W - depth * n + along * t), q, 0});
+  }
+  struct Run {
+    double normal_held = 0, tangential_drawn = 0;
+    int catches = 0;
+  };
+  auto run = [&](const CompiledScene& scene) {
+    DeviceSpec d;
+    d.device = std::make_unique<ScriptedDevice>(Trajectory(keys), "press and draw");
+    SessionOptions so;
+    so.max_ticks = 1500;
+    Session session(scene, std::move(d), so);
+    struct Probe final : TickConsumer {
+      Vector3 n, t;
+      Run out;
+      void OnTick(const TickRecord& r) override {
+        if (r.tick == 790) out.normal_held = r.force_W.dot(n);
+        if (r.tick == 1490) out.tangential_drawn = -r.force_W.dot(t);  // holding back the draw
+        for (int i = 0; i < r.num_events; ++i) out.catches += r.events[i].kind == EventKind::kCariesCatch;
+      }
+    } probe;
+    probe.n = n;
+    probe.t = t;
+    session.AddConsumer(&probe);
+    session.RunOffline();
+    EXPECT_EQ(session.loop().faults().total(), 0u);
+    return probe.out;
+  };
+  const Run on = run(*carious), off = run(*sound);
+  std::printf("lesion: normal %.3f N held, %.3f N holding back the draw, %d catch; sound: %.3f N, %.3f N, %d\n",
+              on.normal_held, on.tangential_drawn, on.catches, off.normal_held, off.tangential_drawn, off.catches);
+  EXPECT_GT(off.normal_held, 0.3) << "pressed";
+  EXPECT_LT(on.normal_held, 0.8 * off.normal_held) << "softer than enamel";
+  EXPECT_GT(on.tangential_drawn, off.tangential_drawn + 0.15) << "the catch holds the tip back";
+  EXPECT_EQ(on.catches, 1);
+  EXPECT_EQ(off.catches, 0);
+}
+
+}  // namespace
+}  // namespace sulcus
