@@ -651,6 +651,7 @@ void MainWindow::ShowSpheres(int level) {
 QWidget* MainWindow::view_widget() const { return vtk_widget_; }
 
 void MainWindow::SetGingivaTranslucent(bool on) { translucent_->setChecked(on); }
+void MainWindow::SetLipsAndCheeksHidden(bool hidden) { lips_hidden_->setChecked(hidden); }
 
 bool MainWindow::LookAtTooth(int fdi) {
   const bool ok = view_->LookAtTooth(fdi);

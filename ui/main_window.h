@@ -80,6 +80,8 @@ class MainWindow : public QMainWindow {
   void ShowSpheres(int level);
   bool LookAtTooth(int fdi);
   void SetGingivaTranslucent(bool on);
+  /// As the "hide lips and cheeks" box does.
+  void SetLipsAndCheeksHidden(bool hidden);
   /// Saves the window (3D view included) as a PNG.
   bool SaveScreenshot(const std::filesystem::path& png);
   bool StartRecording(const std::filesystem::path& file);

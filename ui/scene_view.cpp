@@ -197,6 +197,7 @@ void SceneView::Load(const CompiledScene& scene) {
     objects_.push_back(actor);
     if (o.tissue == Tissue::kGingiva) gingiva_.push_back(actor);
   }
+  SetLipsAndCheeksHidden(lips_hidden_);  // as the window's box says, for this scene too
   AddToolActors(MakeProbe(scene.spec.probe));
   contact_points_ = vtkSmartPointer<vtkPoints>::New();
   contact_radii_ = vtkSmartPointer<vtkDoubleArray>::New();

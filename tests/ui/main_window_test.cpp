@@ -195,18 +195,19 @@ TEST(MainWindow, TheMouthFromTheFrontEachArchAndTheFindingsUpClose) {
   RunFor(200);
   SceneView* v = w.view();
   // From the front with the lips and cheeks held back.
-  v->SetLipsAndCheeksHidden(true);
-  EXPECT_TRUE(v->lips_and_cheeks_hidden());
+  w.SetLipsAndCheeksHidden(true);
+  EXPECT_TRUE(v->lips_and_cheeks_hidden()) << "the box hides them in the view";
   v->View(SceneView::Side::kFront);
   RunFor(100);
   ASSERT_TRUE(w.SaveScreenshot(Out("mouth_front_retracted.png")));
   // And with them: the lips in front of the teeth.
-  v->SetLipsAndCheeksHidden(false);
+  w.SetLipsAndCheeksHidden(false);
+  EXPECT_FALSE(v->lips_and_cheeks_hidden());
   v->View(SceneView::Side::kFront);
   RunFor(100);
   ASSERT_TRUE(w.SaveScreenshot(Out("mouth_front.png")));
   // Each arch occlusally: the upper from below, the lower arch and tongue faded.
-  v->SetLipsAndCheeksHidden(true);
+  w.SetLipsAndCheeksHidden(true);
   v->View(SceneView::Side::kUpperOcclusal);
   double from[3], to[3];
   w.renderer()->GetActiveCamera()->GetPosition(from);
