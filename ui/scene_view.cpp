@@ -393,7 +393,7 @@ void SceneView::View(Side side) {
       // incisors in the middle of the picture, the patient's left on the right.
       const Vector3 front = Vector3::UnitY();
       const Vector3 at(centre.x(), std::max(hi.y(), lo.y()), centre.z());
-      Frame(at, front, 2.2 * extent, Vector3::UnitZ());
+      Frame(at, front, 1.5 * extent, Vector3::UnitZ());
       break;
     }
   }
