@@ -1,4 +1,4 @@
-# Shared target settings and the layering rule of DESIGN.md.
+# Shared target settings and the layering rule of docs/architecture.md.
 
 set_property(GLOBAL PROPERTY SULCUS_CORE_TARGETS "")
 
@@ -60,7 +60,7 @@ function(sulcus_check_core_layering)
       if(link MATCHES "^(Qt5|Qt6|Qt)::|^VTK::|^vtk|Qt5(Core|Gui|Widgets)")
         message(FATAL_ERROR
           "Layering violation: core target '${target}' links '${link}'. "
-          "core/ must never depend on Qt or VTK (see DESIGN.md); put this code in ui/.")
+          "core/ must never depend on Qt or VTK (see docs/architecture.md); put this code in ui/.")
       endif()
     endforeach()
   endforeach()

@@ -2,7 +2,7 @@
 // The workbench window on the live haptic thread: the 3D view, the force gauge,
 // the status panel, devices, recording, sphere-trees, camera views. The UI thread
 // reads snapshots and events and sends commands; it never touches the engine's
-// data (DESIGN.md). Scenes compile off the UI thread behind a cancellable
+// data (docs/architecture.md). Scenes compile off the UI thread behind a cancellable
 // progress dialog; a scene with errors opens a dialog listing them all and the
 // previous scene stays loaded.
 

@@ -2,7 +2,7 @@
 // The 3D view of a compiled scene: every object with a material that reads as
 // its tissue, the device ("haptic") tool in translucent blue and the rendered
 // ("graphic") tool in white with the probe's markings, contact spheres, and the
-// sphere-trees at any level. Reads snapshots only (DESIGN.md).
+// sphere-trees at any level. Reads snapshots only (docs/architecture.md).
 
 #include <optional>
 #include <vector>

@@ -228,7 +228,7 @@ std::string ToString(ToothType t) {
 }
 
 ToothDimensions Dimensions(const FdiTooth& t) {
-  // crown height, root length, MD crown, MD cervix, BL, roots, palatal root (CLINICAL.md).
+  // crown height, root length, MD crown, MD cervix, BL, roots, palatal root (typical adult values).
   static const ToothDimensions upper[8] = {
       {10.5, 13, 8.5, 7.0, 7.0, 1}, {9.0, 13, 6.5, 5.0, 6.0, 1},  {10.0, 17, 7.5, 5.5, 8.0, 1},
       {8.5, 14, 7.0, 5.0, 9.0, 2},  {8.5, 14, 6.5, 5.0, 9.0, 1},  {7.5, 12, 10.0, 8.0, 11.0, 3, 13},

@@ -1,5 +1,5 @@
 #pragma once
-// Procedural teeth from clinical dimensions (shared/CLINICAL.md), by FDI number.
+// Procedural teeth from clinical dimensions (typical adult values from dental anatomy texts), by FDI number.
 //
 // Tooth frame (every tooth, upper or lower): origin at the centre of the
 // cemento-enamel junction (CEJ) level, +z along the long axis toward the
@@ -25,7 +25,7 @@ namespace sulcus {
 enum class ToothType { kCentralIncisor, kLateralIncisor, kCanine, kFirstPremolar, kSecondPremolar,
                        kFirstMolar, kSecondMolar, kThirdMolar };
 
-/// Typical adult dimensions, mm (CLINICAL.md's table; third molars from second
+/// Typical adult dimensions, mm (dental anatomy texts' typical values; third molars from second
 /// molars, slightly smaller).
 struct ToothDimensions {
   double crown_height = 0;

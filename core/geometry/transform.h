@@ -1,7 +1,7 @@
 #pragma once
 // Rigid transforms and the paper's 6-vector configuration.
 //
-// Naming follows frames (STYLE.md): `X_WT` is the pose of frame T in frame W, so
+// Naming follows frames (docs/architecture.md, "Rules the code keeps"): `X_WT` is the pose of frame T in frame W, so
 // `p_W = X_WT * p_T` and `X_WB = X_WT * X_TB`.
 //
 // Configuration (paper eq. 1): q = (x, y, z, gamma, beta, alpha), with the rotation
@@ -64,7 +64,7 @@ class RigidTransform {
 
   /// This pose moved by dp (a translation in the outer frame) and turned by the
   /// rotation vector dtheta (about the origin of this pose, in the outer frame):
-  /// R' = Exp(dtheta) R, p' = p + dp. This is the local increment of DESIGN.md.
+  /// R' = Exp(dtheta) R, p' = p + dp. This is the local increment of docs/architecture.md.
   RigidTransform Perturbed(const Vector3& dp, const Vector3& dtheta) const;
 
   /// The increment (dp, dtheta) that takes this pose to `other` in the sense of

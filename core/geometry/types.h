@@ -1,5 +1,5 @@
 #pragma once
-// Eigen aliases used across core/. Units: mm, s, N, N*mm, rad (DESIGN.md).
+// Eigen aliases used across core/. Units: mm, s, N, N*mm, rad (docs/architecture.md).
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

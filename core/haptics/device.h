@@ -1,5 +1,5 @@
 #pragma once
-// The device layer's one interface (DESIGN.md, "Devices and the haptic thread"):
+// The device layer's one interface (docs/architecture.md, "Devices and the haptic thread"):
 // pose, buttons and a time stamp in; force and torque out; what the device can do.
 // Backends: scripted trajectories and replays (here), OpenHaptics (devices/), the
 // mouse and keyboard (in the window, ui/). Units at this interface are Sulcus's:

@@ -1,5 +1,5 @@
 #pragma once
-// Effects on demand (DESIGN.md): a scene lists the effects it needs, and the
+// Effects on demand (docs/architecture.md): a scene lists the effects it needs, and the
 // loop's list holds exactly those, so an effect the scene does not name is not
 // in the loop at all (no call, no branch). Each effect reads the engine's data
 // after the step, may add to the output force, and emits typed events

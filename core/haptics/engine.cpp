@@ -347,7 +347,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     for (int pass = 0; pass < std::max(1, p.max_linearizations); ++pass) {
       const auto t_build = Clock::now();
       // Constraint i: n^T dp + ((c_T - p) x n)^T dtheta >= -(|c_T - c_O| - r_T - r_O),
-      // the distance form linearised at X (DESIGN.md step 3).
+      // the distance form linearised at X (docs/architecture.md step 3).
       for (int i = 0; i < m; ++i) {
         const ContactPair& c = d->pairs[i];
         const Vector3 cT = X * tool.center(c.tool_leaf);

@@ -1,5 +1,5 @@
 #pragma once
-// One haptic frame (DESIGN.md, "One haptic frame"): collide the tool's
+// One haptic frame (docs/architecture.md, "One haptic frame"): collide the tool's
 // sphere-tree against the scene at the graphic pose, linearise every pair
 // constraint in the distance form with a local rotation increment, solve the QP
 // that keeps the graphic tool out of every object while staying as close as

@@ -1,5 +1,5 @@
 #pragma once
-// Lock-free hand-offs between the haptic thread and the rest (STYLE.md rule 8):
+// Lock-free hand-offs between the haptic thread and the rest (docs/architecture.md, "Rules the code keeps"):
 // a triple buffer for the latest snapshot, a fixed-capacity single-producer /
 // single-consumer ring for events and commands, and a histogram of times that
 // another thread can read at any moment. No locks, no allocation after

@@ -416,7 +416,7 @@ const char* ToString(Effect e) {
 
 Material DefaultMaterial(Tissue t) {
   // Stiffness: hard tissue rigid, soft tissue compliant (approx.); damage limits
-  // from CLINICAL.md (0.5 N tongue and cheek, 0.30 N gingiva).
+  // as the clinical literature gives them (0.5 N tongue and cheek, 0.30 N gingiva).
   switch (t) {
     case Tissue::kGingiva: return {0.3, 0.3, 0.30};
     case Tissue::kTongue:

@@ -51,7 +51,7 @@ struct Material {
 };
 Material DefaultMaterial(Tissue t);
 
-/// The effects a scene may ask for (DESIGN.md, "Effects on demand").
+/// The effects a scene may ask for (docs/architecture.md, "Effects on demand").
 enum class Effect { kContact, kGingivaCompliance, kFriction, kSurfaceTexture, kProbingDepth,
                     kBleedingOnProbing, kTissueDamage, kCariesCatch };
 const char* ToString(Effect e);

@@ -1,5 +1,5 @@
 #pragma once
-// A Session owns one run (DESIGN.md, "Sessions, lessons and scoring"): the
+// A Session owns one run (docs/architecture.md, "Sessions, lessons and scoring"): the
 // compiled scene, the device, the scene's effects, the haptic loop, the thread
 // (live) or the offline ticker, and the recorder. Every tick's record (device
 // pose, graphic pose, force, typed events) goes, off the haptic thread and in

@@ -1,5 +1,5 @@
 #pragma once
-// Builds a sphere-tree from a closed mesh by a medial-axis method (DESIGN.md,
+// Builds a sphere-tree from a closed mesh by a medial-axis method (docs/architecture.md,
 // "Sphere-trees"): Voronoi poles of dense surface samples approximate the medial
 // axis; leaves are chosen among medial spheres by a greedy set cover of the
 // surface that bounds each leaf's protrusion, then tightened (the surface

@@ -1,7 +1,7 @@
 #pragma once
 // Inside tests and distances to a closed mesh, for building and evaluating
 // sphere-trees. Backed by CGAL's AABB tree; no CGAL type in this header (CGAL
-// stays in .cpp files, DESIGN.md).
+// stays in .cpp files, docs/architecture.md).
 
 #include <memory>
 

@@ -1,6 +1,6 @@
 #pragma once
 // Counts heap allocations made by the current thread while a guard is alive
-// (STYLE.md rule 6; after Drake's LimitMalloc). Linking sulcus_test_common
+// (docs/architecture.md, "Rules the code keeps"; after Drake's LimitMalloc). Linking sulcus_test_common
 // replaces the global operator new/delete with counting versions.
 //
 //   AllocationGuard guard;

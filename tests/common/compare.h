@@ -1,5 +1,5 @@
 #pragma once
-// Floating-point comparison for tests (STYLE.md rule 14): one helper for scalars
+// Floating-point comparison for tests (docs/architecture.md, "Rules the code keeps"): one helper for scalars
 // and matrices, absolute or relative, with tolerances that carry a name and a
 // reason. Never EXPECT_EQ a computed double.
 

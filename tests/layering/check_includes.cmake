@@ -1,4 +1,4 @@
-# Fails if any file under core/ includes a Qt or VTK header (DESIGN.md).
+# Fails if any file under core/ includes a Qt or VTK header (docs/architecture.md).
 file(GLOB_RECURSE sources ${CORE_DIR}/*.h ${CORE_DIR}/*.cpp ${CORE_DIR}/*.hpp)
 set(found "")
 foreach(f IN LISTS sources)

@@ -55,7 +55,7 @@ TEST_P(EveryTooth, IsAValidSolidWithClinicalDimensions) {
   EXPECT_EQ(r.euler_characteristic, 2);
   const ToothDimensions& d = m.dimensions;
   const Aabb box = r.bounds;
-  // Within 10 % of CLINICAL.md (the criterion).
+  // Within 10 % of the typical adult dimensions.
   EXPECT_NEAR(box.max.z(), d.crown_height, 0.1 * d.crown_height);
   EXPECT_NEAR(-box.min.z(), d.longest_root(), 0.1 * d.longest_root());
   EXPECT_NEAR(CrownWidth(m.mesh, 0), d.md_crown, 0.1 * d.md_crown);

@@ -178,7 +178,7 @@ TEST(SceneFile, ValuesAreRead) {
   EXPECT_TRUE(s.objects[0].bleeding[5]);
   EXPECT_FALSE(s.objects[0].bleeding[0]);
   EXPECT_EQ(s.objects[1].tissue, Tissue::kGingiva);
-  EXPECT_DOUBLE_EQ(s.objects[1].material.damage_limit_n, 0.30);  // CLINICAL.md's gingiva limit
+  EXPECT_DOUBLE_EQ(s.objects[1].material.damage_limit_n, 0.30);  // the gingiva's clinical limit
 }
 
 // Trees: the scene's `spheretree` for every object, an object's own over it,
