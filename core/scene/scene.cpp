@@ -330,7 +330,8 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
             r.Error(it->second, "'" + where + "' must be a list of sites, e.g. [MB, DL]");
             continue;
           }
-          for (const YAML::Node& site : it->second) {
+          const YAML::Node sites = it->second;  // a copy: the iterator's pair is a temporary
+          for (const YAML::Node& site : sites) {
             const std::string code = site.IsScalar() ? site.Scalar() : "";
             const auto at = std::find(kSiteCodes.begin(), kSiteCodes.end(), code);
             if (at == kSiteCodes.end()) {
