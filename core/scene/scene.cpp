@@ -544,8 +544,8 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
   }
   // A deposit object per calculus site, on its tooth (sized in mm, so a few
   // levels of a small tree fit it).
-  for (std::size_t i = 0, n = spec.objects.size(); i < n; ++i) {
-    const ObjectSpec& t = spec.objects[i];
+  std::vector<ObjectSpec> deposits;  // appended after the loop: the tooth references stay valid
+  for (const ObjectSpec& t : spec.objects) {
     if (t.kind != ObjectSpec::Kind::kTooth) continue;
     for (int s = 0; s < 6; ++s) {
       if (t.calculus[s] == 0) continue;
@@ -562,9 +562,10 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
       c.trees.leaves = 64;
       c.trees.target_error_mm = 0;
       if (!t.has_sites) c.pocket_mm.fill(2.0);
-      spec.objects.push_back(std::move(c));
+      deposits.push_back(std::move(c));
     }
   }
+  for (ObjectSpec& c : deposits) spec.objects.push_back(std::move(c));
   if (!r.errors().empty()) throw SceneLoadError(r.errors());
   return spec;
 }
