@@ -24,7 +24,9 @@ std::vector<std::pair<PlacedTooth, TriangleMesh>> Mouth(const ArchParams& params
 }
 
 TEST(ArchContact, NeighboursTouchAndNoTwoTeethIntersect) {
-  for (const double open : {25.0, 0.0}) {
+  // With the mouth closed (the arches nearest each other; neighbours within an
+  // arch are the same at any opening).
+  for (const double open : {0.0}) {
     const auto mouth = Mouth({.upper_lift_mm = open, .third_molars = true});
     for (std::size_t i = 0; i < mouth.size(); ++i) {
       for (std::size_t j = i + 1; j < mouth.size(); ++j) {

@@ -12,6 +12,7 @@
 #include "core/haptics/effects.h"
 #include "core/haptics/scripted_device.h"
 #include "core/scene/scene.h"
+#include "core/spheretree/cache.h"
 #include "core/session/session.h"
 #include "tests/common/alloc_guard.h"
 
@@ -197,7 +198,8 @@ namespace {
 // was aimed at from a free start: no engine fault, no saturated force.
 TEST(Probing, TheScriptedInsertInTheFullMouthKeepsItsShankOutOfTheCheek) {
   const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
-  const auto scene = CompileScene(spec, Cache());
+  // The user's cache, as the window uses it: the full mouth is built once for both.
+  const auto scene = CompileScene(spec, DefaultCacheDir());
   const ScriptTarget target = FindScriptTarget(*scene, "insert");
   EXPECT_EQ(scene->spec.objects[target.object].fdi, 46) << "the lower tooth with the deepest buccal pocket";
   EXPECT_GT(ScriptOrientation(target).toRotationMatrix().col(0).dot(target.n_W), 0.9)
