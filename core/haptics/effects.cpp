@@ -241,6 +241,53 @@ class CariesCatch final : public LoopEffect {
   Vector3 anchor_ = Vector3::Zero();
 };
 
+class SurfaceTexture final : public LoopEffect {
+ public:
+  explicit SurfaceTexture(const EffectsModel& m) : m_(m) {}
+  const char* name() const override { return "surface_texture"; }
+  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop*) noexcept override {
+    const Vector3 tip = data.X_WG.translation();
+    const double f = force_W->norm();
+    // The surface touched: the first textured object among the active pairs.
+    int object = -1;
+    for (int i = 0; i < data.num_active_keys && object < 0; ++i) {
+      const auto o = static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
+      if (o < m_.texture_kind.size() && m_.texture_kind[o] != TextureKind::kNone) object = static_cast<int>(o);
+    }
+    if (object < 0 || f < 1e-3) {
+      has_last_ = false;
+      return;
+    }
+    const Vector3 normal = *force_W / f;
+    if (has_last_) {
+      Vector3 step = tip - last_;
+      step -= step.dot(normal) * normal;
+      slid_mm_ += step.norm();
+    }
+    last_ = tip;
+    has_last_ = true;
+    const auto o = static_cast<std::size_t>(object);
+    const Texture* t = &m_.texture.calculus;
+    if (m_.texture_kind[o] == TextureKind::kTooth) {
+      // Above the CEJ (the tooth frame's z = 0, scalloped within a millimetre): enamel.
+      t = (m_.X_OW[o] * tip).z() >= 0 ? &m_.texture.enamel : &m_.texture.root;
+    }
+    const double press = std::min(1.0, f / 0.5);
+    *force_W += press * t->amplitude_n * std::sin(2 * std::numbers::pi * slid_mm_ / t->period_mm) * normal;
+  }
+  void Reset() noexcept override {
+    has_last_ = false;
+    slid_mm_ = 0;
+  }
+
+ private:
+
+  const EffectsModel& m_;
+  Vector3 last_ = Vector3::Zero();
+  bool has_last_ = false;
+  double slid_mm_ = 0;
+};
+
 }  // namespace
 
 std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& m) {
@@ -249,6 +296,7 @@ std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& m) {
   const bool depth = m.on.probing_depth, bleeding = m.on.bleeding_on_probing;
   if ((depth || bleeding) && !m.sites.empty()) out.push_back(std::make_unique<ProbingDepth>(m, depth, bleeding));
   if (m.on.caries_catch && !m.lesions.empty()) out.push_back(std::make_unique<CariesCatch>(m));
+  if (m.on.surface_texture) out.push_back(std::make_unique<SurfaceTexture>(m));
   if (m.on.tissue_damage) out.push_back(std::make_unique<TissueDamage>(m));
   return out;
 }

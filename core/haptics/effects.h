@@ -16,8 +16,12 @@
 //                       there is scaled down) and catches a tip pressed into it
 //                       (a tangential spring to where it caught, slipping past a
 //                       cap), with an event when it catches.
+//   surface_texture     enamel, root cementum and calculus feel different
+//                       under a sliding tip: a small force along the contact
+//                       normal, periodic in the distance slid.
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -36,12 +40,25 @@ struct ProbingSite {
   bool bleeding = false;
 };
 
-/// Which of the effects this layer implements the scene named (the scene file
-/// checks the names; friction and surface_texture are accepted there and have
-/// nothing here yet).
+/// Which of the effects this layer implements the scene named (friction is
+/// the engine's, EngineModel::friction).
 struct EffectsOn {
   bool gingiva_compliance = false, probing_depth = false, bleeding_on_probing = false, tissue_damage = false;
-  bool caries_catch = false;
+  bool caries_catch = false, surface_texture = false;
+};
+
+/// surface_texture: what a sliding tip feels of each surface, a force along
+/// the contact normal that varies with the distance slid (so the same at any
+/// haptic rate): amplitude (N, at 0.5 N of contact force and in proportion
+/// below) and spatial period (mm).
+struct Texture {
+  double amplitude_n = 0, period_mm = 1;
+};
+/// What an object's surface is for the texture: none, or a tooth (enamel above
+/// its CEJ, root cementum below), or calculus.
+enum class TextureKind : std::uint8_t { kNone, kTooth, kCalculus };
+struct TextureFeel {
+  Texture enamel{0.015, 0.25}, root{0.04, 0.15}, calculus{0.10, 0.30};
 };
 
 /// A carious lesion in the world: on object `tooth`, a disc of `radius_mm`
@@ -75,6 +92,11 @@ struct EffectsModel {
   // caries_catch
   std::vector<CariesLesion> lesions;
   CariesFeel caries;
+  // surface_texture: per hard object its kind and its frame's inverse (for a
+  // tooth, the tip's height above the CEJ in the tooth frame).
+  std::vector<TextureKind> texture_kind;
+  std::vector<RigidTransform> X_OW;
+  TextureFeel texture;
 };
 
 /// The effects that are on, in a fixed order, ready for HapticLoop. An effect

@@ -117,6 +117,18 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
   m.on.bleeding_on_probing = spec.HasEffect(Effect::kBleedingOnProbing);
   m.on.tissue_damage = spec.HasEffect(Effect::kTissueDamage);
   m.on.caries_catch = spec.HasEffect(Effect::kCariesCatch);
+  m.on.surface_texture = spec.HasEffect(Effect::kSurfaceTexture);
+  if (m.on.surface_texture) {
+    for (int i = 0; i < static_cast<int>(objs.size()); ++i) {
+      const ObjectSpec& o = objs[i];
+      m.texture_kind.push_back(i >= soft_first                          ? TextureKind::kNone
+                               : o.kind == ObjectSpec::Kind::kTooth     ? TextureKind::kTooth
+                               : o.kind == ObjectSpec::Kind::kCalculus  ? TextureKind::kCalculus
+                                                                        : TextureKind::kNone);
+      // Mirrored teeth keep z: the tooth frame's height is the same either way.
+      m.X_OW.push_back(o.X_WO.inverse());
+    }
+  }
   if (m.on.caries_catch) {
     for (int i = 0; i < static_cast<int>(objs.size()); ++i) {
       const ObjectSpec& o = objs[i];

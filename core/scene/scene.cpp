@@ -479,13 +479,6 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
         for (const auto& en : kEffects) {
           if (name == en.name) {
             found = true;
-            if (en.effect == Effect::kSurfaceTexture) {
-              // Named in the design, not built yet: refused rather than silently ignored.
-              r.Error(item, "effect '" + name + "' is not available in this version of Sulcus; remove it "
-                            "(available: contact, gingiva_compliance, friction, probing_depth, bleeding_on_probing, "
-                            "tissue_damage, caries_catch)");
-              continue;
-            }
             if (!spec.HasEffect(en.effect)) {
               spec.effects.push_back(en.effect);
             }

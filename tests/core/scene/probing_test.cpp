@@ -422,3 +422,78 @@ TEST(Probing, ACariousLesionFeelsSofterAndCatchesTheExplorer) {
 
 }  // namespace
 }  // namespace sulcus
+
+namespace sulcus {
+namespace {
+
+// surface_texture: the same slide along tooth 46's buccal surface with and
+// without the effect; the difference is the texture's force, along the contact
+// normal, periodic in the distance slid: enamel's on the crown, root
+// cementum's (larger, finer) below the CEJ.
+TEST(Probing, EnamelAndRootFeelDifferentUnderASlidingTip) {
+  const fs::path dir = test::FreshOutputPath("texture", "slide");
+  auto compile = [&](bool texture) {
+    const fs::path file = dir / (texture ? "on.yaml" : "off.yaml");
+    std::ofstream(file) << "tool:\n  probe: who\neffects: [contact" << (texture ? ", surface_texture" : "")
+                        << "]\nobjects:\n  - tooth: 46\n";
+    return CompileScene(LoadSceneSpec(file), Cache());
+  };
+  const auto on = compile(true), off = compile(false);
+  ASSERT_EQ(MakeEffects(on->effects).size(), 1u);
+  ASSERT_TRUE(MakeEffects(off->effects).empty());
+  const TriangleMesh& tooth = on->meshes[0];  // the tooth frame is the world here
+  for (const double z : {3.0, -3.0}) {
+    // The buccal surface at this height, and a slide 0.4 mm inside it from x = -2 to 2 mm.
+    double y_surface = 0;
+    for (const Vector3& v : tooth.vertices())
+      if (std::abs(v.z() - z) < 0.4 && std::abs(v.x()) < 0.5) y_surface = std::max(y_surface, v.y());
+    const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), Vector3(0, 1, 1).normalized());
+    std::vector<Keyframe> keys;
+    for (int i = 0; i <= 1200; i += 10) {
+      const double s = std::clamp((i - 200) / 1000.0, 0.0, 1.0);
+      keys.push_back({i * 0.001, Vector3(-2 + 4 * s, y_surface - 0.4, z), q, 0});
+    }
+    auto forces = [&](const CompiledScene& scene) {
+      DeviceSpec d;
+      d.device = std::make_unique<ScriptedDevice>(Trajectory(keys), "slide");
+      SessionOptions so;
+      so.max_ticks = 1200;
+      Session session(scene, std::move(d), so);
+      struct Trace final : TickConsumer {
+        std::vector<Vector3> f;
+        void OnTick(const TickRecord& r) override { f.push_back(r.force_W); }
+      } trace;
+      session.AddConsumer(&trace);
+      session.RunOffline();
+      return trace.f;
+    };
+    const std::vector<Vector3> with = forces(*on), without = forces(*off);
+    ASSERT_EQ(with.size(), without.size());
+    // The texture's force over the slide (ticks 300 to 1100, pressing).
+    double biggest = 0, allowed = 0;
+    int sign_changes = 0, last_sign = 0;
+    for (std::size_t t = 300; t < 1100; ++t) {
+      const double f = without[t].norm();
+      if (f < 0.05) continue;
+      const double d = (with[t] - without[t]).dot(without[t] / f);
+      EXPECT_LT((with[t] - without[t] - d * without[t] / f).norm(), 1e-9) << "along the normal only";
+      const Texture& expect = z > 0 ? on->effects.texture.enamel : on->effects.texture.root;
+      allowed = std::max(allowed, std::min(1.0, f / 0.5) * expect.amplitude_n);
+      biggest = std::max(biggest, std::abs(d));
+      const int sign = d > 1e-6 ? 1 : d < -1e-6 ? -1 : 0;
+      if (sign != 0 && last_sign != 0 && sign != last_sign) ++sign_changes;
+      if (sign != 0) last_sign = sign;
+    }
+    std::printf("slide at z = %+.0f mm: texture force up to %.4f N (allowed %.4f), %d sign changes\n", z, biggest,
+                allowed, sign_changes);
+    EXPECT_GT(biggest, 0.5 * allowed) << z;
+    EXPECT_LE(biggest, allowed + 1e-9) << z;
+    // 3.2 mm slid in those ticks: about 2 * 3.2 / period sign changes (the tip slides a little less than the device).
+    const double period = z > 0 ? on->effects.texture.enamel.period_mm : on->effects.texture.root.period_mm;
+    EXPECT_GT(sign_changes, 2 * 1.5 / period) << z;
+    EXPECT_LT(sign_changes, 2 * 4.0 / period) << z;
+  }
+}
+
+}  // namespace
+}  // namespace sulcus
