@@ -106,32 +106,6 @@ std::vector<double> InflammationCoverage(const std::vector<Vector3>& vertices, c
   return out;
 }
 
-namespace {
-
-// The tooth's outer surface along the horizontal ray from the axis at angle th
-// and height z (the farthest crossing), or 0 when the ray misses.
-double SurfaceRadius(const TriangleMesh& mesh, double th, double z) {
-  const Vector3 o(0, 0, z), d(std::cos(th), std::sin(th), 0);
-  double best = 0;
-  const auto& v = mesh.vertices();
-  for (const auto& f : mesh.faces()) {
-    const Vector3& a = v[f[0]];
-    const Vector3 e1 = v[f[1]] - a, e2 = v[f[2]] - a;
-    const Vector3 p = d.cross(e2);
-    const double det = e1.dot(p);
-    if (std::abs(det) < 1e-14) continue;
-    const Vector3 s = o - a;
-    const double u = s.dot(p) / det;
-    if (u < 0 || u > 1) continue;
-    const Vector3 q = s.cross(e1);
-    const double w = d.dot(q) / det;
-    if (w < 0 || u + w > 1) continue;
-    best = std::max(best, e2.dot(q) / det);
-  }
-  return best;
-}
-
-}  // namespace
 
 TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, int site, bool subgingival) {
   const double th = SiteAngles()[site];
@@ -145,7 +119,7 @@ TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, 
     floor = margin - 2.0;
   }
   const double z = subgingival ? floor + (margin - floor) / 3 : margin + 0.8;
-  const double r = SurfaceRadius(tooth.mesh, th, z);
+  const double r = OuterRadius(tooth.mesh, th, z);
   // Semi-axes: 1.0 along the surface (tangent), 0.6 up the tooth, 0.45 out of
   // it; the centre 0.15 mm inside the surface, so 0.3 mm stands proud.
   TriangleMesh m = MakeIcosphere(1.0, 3);

@@ -11,6 +11,23 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+// Periodic smooth interpolation of the six site values around the tooth, with
+// the mesial (0) and distal (pi) points the mean of their neighbours.
+double AroundTooth(const std::array<double, 6>& site, double th) {
+  // Knots by angle: M, MB, B, DB, D, DL, L, ML.
+  const double knots[8] = {0.5 * (site[0] + site[3]), site[0], site[1], site[2],
+                           0.5 * (site[2] + site[5]), site[5], site[4], site[3]};
+  double a = std::fmod(th, 2 * kPi);
+  if (a < 0) a += 2 * kPi;
+  const double x = a / (kPi / 4);
+  const int i = static_cast<int>(std::floor(x)) % 8;
+  const double t = x - std::floor(x);
+  const double s = 0.5 - 0.5 * std::cos(kPi * t);
+  return knots[i] + s * (knots[(i + 1) % 8] - knots[i]);
+}
+
+}  // namespace
+
 // The farthest crossing of the horizontal ray from (0, 0, z) along angle th with
 // the mesh (the tooth's outer surface in that direction), or 0 when it misses.
 double OuterRadius(const TriangleMesh& mesh, double th, double z) {
@@ -33,23 +50,6 @@ double OuterRadius(const TriangleMesh& mesh, double th, double z) {
   }
   return best;
 }
-
-// Periodic smooth interpolation of the six site values around the tooth, with
-// the mesial (0) and distal (pi) points the mean of their neighbours.
-double AroundTooth(const std::array<double, 6>& site, double th) {
-  // Knots by angle: M, MB, B, DB, D, DL, L, ML.
-  const double knots[8] = {0.5 * (site[0] + site[3]), site[0], site[1], site[2],
-                           0.5 * (site[2] + site[5]), site[5], site[4], site[3]};
-  double a = std::fmod(th, 2 * kPi);
-  if (a < 0) a += 2 * kPi;
-  const double x = a / (kPi / 4);
-  const int i = static_cast<int>(std::floor(x)) % 8;
-  const double t = x - std::floor(x);
-  const double s = 0.5 - 0.5 * std::cos(kPi * t);
-  return knots[i] + s * (knots[(i + 1) % 8] - knots[i]);
-}
-
-}  // namespace
 
 double GingivaModel::FloorAt(double th) const {
   const int n = static_cast<int>(floor_z.size());

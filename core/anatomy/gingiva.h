@@ -44,6 +44,11 @@ struct GingivaModel {
 /// least 1 mm of root in the gingiva.
 inline double MaxAttachmentLoss(const ToothDimensions& d) { return d.longest_root() - 1.0; }
 
+/// The farthest crossing of the horizontal ray from (0, 0, z) along angle th
+/// (radians from +x) with the mesh: the tooth's outer surface in that
+/// direction at that height, or 0 when the ray misses.
+double OuterRadius(const TriangleMesh& mesh, double th, double z);
+
 /// Site angles in the tooth frame, in charting order (MB, B, DB, ML, L, DL).
 const std::array<double, 6>& SiteAngles();
 

@@ -126,9 +126,9 @@ ArchTeeth MakeTeeth(bool upper, const ArchParams& arch) {
 // scene is shaped around them.
 const ArchTeeth& Teeth(bool upper, const ArchParams& arch) {
   static std::mutex mutex;
-  static std::map<std::tuple<bool, double, double, double, double, double, bool>, ArchTeeth> made;
+  static std::map<std::tuple<bool, double, double, double, double, bool>, ArchTeeth> made;
   const auto key = std::tuple(upper, arch.k_lower, arch.k_upper, arch.upper_lift_mm + arch.occlusion_mm,
-                              arch.lower_setback_mm, 0.0, arch.third_molars);
+                              arch.lower_setback_mm, arch.third_molars);
   std::lock_guard lock(mutex);
   auto it = made.find(key);
   if (it == made.end()) it = made.emplace(key, MakeTeeth(upper, arch)).first;

@@ -138,9 +138,8 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
         if (o.caries_mm[s] <= 0) continue;
         if (!tooth) tooth = GenerateTooth(o.fdi);
         const SurfacePoint p = CariesSpot(*tooth, static_cast<ToothSurface>(s));
-        const Matrix3 mirror = (o.mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1)).asDiagonal();
-        m.lesions.push_back({i, o.X_WO * ArchMirror(o.mirrored, p.point), (o.X_WO.rotation() * mirror * p.normal).normalized(),
-                             o.caries_mm[s]});
+        m.lesions.push_back({i, o.X_WO * ArchMirror(o.mirrored, p.point),
+                             o.X_WO.rotation() * ArchMirror(o.mirrored, p.normal), o.caries_mm[s]});
       }
     }
   }
