@@ -1,5 +1,6 @@
 #include "ui/main_window.h"
 
+#include <cctype>
 #include <QAction>
 #include <QApplication>
 #include <QCheckBox>
@@ -55,6 +56,8 @@
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
 #include "ui/chart_widget.h"
+#include "ui/odontogram_widget.h"
+#include "core/lesson/scripted_inspector.h"
 #include "core/haptics/scripted_device.h"
 #include "core/spheretree/cache.h"
 #include "ui/force_gauge.h"
@@ -444,8 +447,14 @@ void MainWindow::BeginSession() {
   DeviceSpec device;
   if (lesson_spec_ && device_name_.rfind("student:", 0) == 0) {
     try {
-      scripted_student_ = std::make_unique<ScriptedStudent>(device_name_.substr(8), *lesson_spec_, *scene_);
-      device.device = scripted_student_->MakeDevice();
+      if (lesson_spec_->inspection()) {
+        auto inspector = std::make_unique<ScriptedInspector>(device_name_.substr(8), *lesson_spec_, *scene_);
+        device.device = inspector->MakeDevice();
+        scripted_inspector_ = std::move(inspector);
+      } else {
+        scripted_student_ = std::make_unique<ScriptedStudent>(device_name_.substr(8), *lesson_spec_, *scene_);
+        device.device = scripted_student_->MakeDevice();
+      }
       device.name = device_name_;
     } catch (const std::exception& e) {
       device_error_ = e.what();
@@ -488,10 +497,18 @@ void MainWindow::BeginSession() {
     // The lesson follows this session's ticks from its first.
     lesson_ = std::make_unique<LessonRun>(*lesson_spec_, *scene_, lesson_start_.student,
                                           lesson_spec_->case_spec.generated ? lesson_seed_ : 0);
+    const bool inspection = lesson_spec_->inspection();
+    chart_->setVisible(!inspection);
+    odontogram_->setVisible(inspection);
+    tilt_label_->setVisible(!inspection);
+    diagnose_button_->setText(inspection ? "Submit the findings" : "Declare the diagnosis...");
+    diagnose_button_->setToolTip(inspection ? "Says your odontogram is complete (you may still change it until you finish)"
+                                            : "Stage and extent of periodontitis from your chart (2017 classification)");
+    if (inspection) odontogram_->SetLesson(lesson_spec_->teeth, lesson_spec_->regions);
     std::map<std::pair<int, int>, double> recession;
     for (const SiteRef& site : lesson_spec_->path) recession[{site.fdi, site.site}] = lesson_->recession_mm(site);
     chart_->SetLesson(lesson_spec_->teeth, lesson_spec_->path, recession);
-    if (lesson_spec_->practice()) {
+    if (lesson_spec_->practice() && !inspection) {
       // Practice: the true depth of each site appears once the student has entered it.
       std::map<std::pair<int, int>, int> truth;
       for (const ToothChart& t : TrueChart(scene_->spec, lesson_spec_->teeth).teeth)
@@ -505,6 +522,11 @@ void MainWindow::BeginSession() {
     lesson_dock_->show();
   }
   if (lesson_) session_->AddConsumer(lesson_.get());
+  if (lesson_ && scripted_inspector_) {
+    // A scripted inspector records what it examines, as a student would.
+    static_cast<ScriptedInspector*>(scripted_inspector_.get())->Attach(lesson_.get());
+    session_->AddConsumer(scripted_inspector_.get());
+  }
   try {
     session_->Start();
   } catch (const std::exception& e) {
@@ -792,6 +814,16 @@ void MainWindow::BuildLessonDock() {
     SaveEntriesSoFar();
   };
   layout->addWidget(chart_);
+  odontogram_ = new OdontogramWidget;
+  odontogram_->on_finding = [this](Finding f) {
+    if (!lesson_) return;
+    f.tick = lesson_->last_tick() + 1;  // the moment it was recorded
+    lesson_->Record(f);
+    SaveEntriesSoFar();
+    feedback_->insertItem(0, Q("recorded: " + f.ToString()));
+  };
+  odontogram_->hide();
+  layout->addWidget(odontogram_);
   feedback_ = new QListWidget;
   feedback_->setMaximumHeight(110);
   feedback_->setToolTip("What the lesson tells you as you go (the truth after each site in practice mode)");
@@ -801,7 +833,10 @@ void MainWindow::BuildLessonDock() {
   finish_button_ = new QPushButton("Finish and see the report");
   diagnose_button_->setToolTip("Stage and extent of periodontitis from your chart (2017 classification)");
   finish_button_->setToolTip("Ends the lesson (whatever is left undone counts as not done) and shows your report");
-  connect(diagnose_button_, &QPushButton::clicked, this, [this] { AskDiagnosis(); });
+  connect(diagnose_button_, &QPushButton::clicked, this, [this] {
+    if (lesson_spec_ && lesson_spec_->inspection()) SubmitFindings();
+    else AskDiagnosis();
+  });
   connect(finish_button_, &QPushButton::clicked, this, [this] { FinishLesson(); });
   buttons->addWidget(diagnose_button_);
   buttons->addWidget(finish_button_);
@@ -884,7 +919,8 @@ bool MainWindow::StartLesson(const LessonStart& start) {
   device_was_lost_ = false;
   banner_->hide();
   setWindowTitle(QString("Sulcus - %1 - %2 (%3)").arg(Q(spec.name), Q(start.student), Q(ToString(spec.mode))));
-  chart_->setFocus();
+  if (spec.inspection()) odontogram_->setFocus();
+  else chart_->setFocus();
   return true;
 }
 
@@ -932,14 +968,49 @@ void MainWindow::UpdateLessonPanel() {
     const StepSpec& st = steps[static_cast<std::size_t>(l.current_step())];
     step_label_->setText(QString("<b>Step %1 of %2</b>: %3").arg(l.current_step() + 1).arg(steps.size()).arg(Q(st.instruction).toHtmlEscaped()));
   }
-  const std::optional<SiteRef> next = l.next_site();
+  if (lesson_spec_->inspection()) {
+    // What is left of this step, where the tip is, what has been examined.
+    const InspectionTracker& in = *l.inspection();
+    std::vector<std::string> left = l.pending(), examined;
+    QString todo;
+    for (std::size_t i = 0; i < left.size() && i < 6; ++i) {
+      const bool tooth = !left[i].empty() && std::isdigit(static_cast<unsigned char>(left[i][0]));
+      todo += (i ? ", " : "") + Q(tooth ? left[i] : RegionLabel(left[i]));
+    }
+    if (left.size() > 6) todo += QString(" and %1 more").arg(left.size() - 6);
+    next_label_->setText(left.empty() ? QString() : "Still to examine: <b>" + todo.toHtmlEscaped() + "</b>");
+    int touching = 0;
+    QString on = "The tip is not resting on anything the lesson examines";
+    if (const int u = in.tip_unit(); u >= 0) {
+      const InspectionUnit& unit = in.units()[static_cast<std::size_t>(u)];
+      touching = unit.fdi;
+      on = "The tip is on <b>" + Q(unit.region.empty() ? unit.Name() : RegionLabel(unit.region)).toHtmlEscaped() + "</b>";
+    }
+    tip_label_->setText(on);
+    for (const InspectionUnit& u : in.units())
+      if (u.touched) examined.push_back(u.Name());
+    odontogram_->SetExamined(examined);
+    odontogram_->SetTouching(touching);
+    // The camera to the first tooth the step still asks for.
+    for (const std::string& u : left)
+      if (!u.empty() && std::isdigit(static_cast<unsigned char>(u[0]))) {
+        const int fdi = std::stoi(u);
+        if (fdi != looked_at_) {
+          looked_at_ = fdi;
+          LookAtTooth(fdi);
+        }
+        break;
+      }
+  }
+  const std::optional<SiteRef> next = lesson_spec_->inspection() ? std::nullopt : l.next_site();
   next_label_->setText(next ? QString("Next: <b>%1</b>").arg(Q(next->ToString())) : QString());
-  if (next && next->fdi != looked_at_) {
+  if (next && next->fdi != looked_at_ && !lesson_spec_->inspection()) {
     looked_at_ = next->fdi;
     LookAtTooth(next->fdi);  // the camera to the tooth the lesson asks for
   }
   const std::optional<SiteRef> tip = l.tip_site();
-  tip_label_->setText(tip ? QString("You are in the sulcus of <b>%1</b>").arg(Q(tip->ToString())) : "The tip is not in a sulcus");
+  if (!lesson_spec_->inspection())
+    tip_label_->setText(tip ? QString("You are in the sulcus of <b>%1</b>").arg(Q(tip->ToString())) : "The tip is not in a sulcus");
   chart_->SetProbing(tip);
   if (const auto angle = l.tip_angle_deg()) {
     const QString colour = *angle <= 5 ? "#2a8a3a" : *angle <= 10 ? "#c88a00" : "#c02020";
@@ -967,6 +1038,14 @@ bool MainWindow::DeclareDiagnosis(const DeclaredDiagnosis& d) {
   return true;
 }
 
+bool MainWindow::SubmitFindings() {
+  if (!lesson_ || !lesson_spec_ || !lesson_spec_->inspection()) return false;
+  lesson_->Submit(lesson_->last_tick() + 1);
+  SaveEntriesSoFar();
+  feedback_->insertItem(0, "Findings submitted. You may still change them until you finish the lesson.");
+  return true;
+}
+
 void MainWindow::SaveEntriesSoFar() {
   if (!lesson_) return;
   // Rewritten whole (atomically) after every entry: a program that stops loses
@@ -974,6 +1053,8 @@ void MainWindow::SaveEntriesSoFar() {
   Answers a;
   a.entries = lesson_->entries();
   a.diagnosis = lesson_->declared();
+  a.findings = lesson_->findings();
+  a.submitted = lesson_->submitted();
   try {
     SaveAnswers(a, attempt_.answers());
   } catch (const std::exception& e) {
@@ -1070,6 +1151,7 @@ bool MainWindow::FinishLesson(bool show_report) {
   lesson_.reset();
   lesson_spec_.reset();
   scripted_student_.reset();
+  scripted_inspector_.reset();
   recording_file_.clear();
   SetAidsLocked(false);
   lesson_dock_->hide();

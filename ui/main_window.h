@@ -47,6 +47,7 @@ class vtkRenderer;
 namespace sulcus::ui {
 
 class ChartWidget;
+class OdontogramWidget;
 class ForceGauge;
 class ForcePlot;
 class MouseKeyboardDevice;
@@ -116,6 +117,9 @@ class MainWindow : public QMainWindow {
   QString device_help() const;
   const LessonRun* lesson() const { return lesson_.get(); }
   ChartWidget* chart() const { return chart_; }
+  OdontogramWidget* odontogram() const { return odontogram_; }
+  /// Inspection lessons: the odontogram submitted as complete (the button does this).
+  bool SubmitFindings();
   const std::optional<LessonResult>& last_result() const { return last_result_; }
   const std::filesystem::path& last_report() const { return last_report_; }
   QString lesson_text() const;
@@ -198,6 +202,7 @@ class MainWindow : public QMainWindow {
   std::optional<LessonSpec> lesson_spec_;
   std::unique_ptr<LessonRun> lesson_;
   std::unique_ptr<ScriptedStudent> scripted_student_;
+  std::unique_ptr<TickConsumer> scripted_inspector_;  // a ScriptedInspector playing the hand (inspection lessons)
   LessonStart lesson_start_;
   std::uint64_t lesson_seed_ = 0;
   AttemptFolder attempt_;
@@ -211,6 +216,7 @@ class MainWindow : public QMainWindow {
   void SaveEntriesSoFar();
   QListWidget* feedback_ = nullptr;
   ChartWidget* chart_ = nullptr;
+  OdontogramWidget* odontogram_ = nullptr;
   QPushButton *diagnose_button_ = nullptr, *finish_button_ = nullptr;
   std::size_t feedback_shown_ = 0;
   int looked_at_ = 0;

@@ -475,6 +475,10 @@ std::vector<std::string> LesionRegions(const std::string& anatomy) {
 }
 
 Vector3 LesionCentre(const std::string& anatomy, const std::string& region, const TriangleMesh& mesh) {
+  return RegionSpot(anatomy, region, mesh).point;
+}
+
+SurfacePoint RegionSpot(const std::string& anatomy, const std::string& region, const TriangleMesh& mesh) {
   const auto regions = LesionRegions(anatomy);
   if (std::find(regions.begin(), regions.end(), region) == regions.end())
     throw std::invalid_argument("'" + anatomy + "' has no region '" + region + "' for a lesion");
@@ -516,13 +520,13 @@ Vector3 LesionCentre(const std::string& anatomy, const std::string& region, cons
     anchor = Vector3(0, b.max.y(), b.max.z());
   }
   double best = std::numeric_limits<double>::infinity();
-  Vector3 at = mid;
+  SurfacePoint at{mid, facing};
   for (std::size_t i = 0; i < mesh.num_vertices(); ++i) {
     if (normals[i].norm() == 0 || normals[i].normalized().dot(facing) < 0.5) continue;
     const double d = (mesh.vertices()[i] - anchor).norm();
     if (d < best) {
       best = d;
-      at = mesh.vertices()[i];
+      at = {mesh.vertices()[i], normals[i].normalized()};
     }
   }
   return at;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/anatomy/arch.h"
+#include "core/anatomy/findings.h"
 #include "core/geometry/mesh.h"
 
 namespace sulcus {
@@ -53,5 +54,7 @@ std::vector<std::string> LesionRegions(const std::string& anatomy);
 /// its mesh (`mesh`, as MakeSoftTissue made it) on the side that faces the
 /// mouth. Throws std::invalid_argument for a region the tissue does not have.
 Vector3 LesionCentre(const std::string& anatomy, const std::string& region, const TriangleMesh& mesh);
+/// LesionCentre with the surface's outward normal there (unit; toward the mouth).
+SurfacePoint RegionSpot(const std::string& anatomy, const std::string& region, const TriangleMesh& mesh);
 
 }  // namespace sulcus

@@ -152,14 +152,23 @@ class TissueDamage final : public LoopEffect {
   explicit TissueDamage(const EffectsModel& m) : m_(m), over_(m.damage_limit_n.size(), 0) {}
   const char* name() const override { return "tissue_damage"; }
   void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
+    // Each object bears its share of the contact force (its pairs' multipliers):
+    // a tool pressed on a tooth while brushing the lip does not hurt the lip.
     const double f = force_W->norm();
     for (int i = 0; i < data.num_active_keys; ++i) {
       const auto object = static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
       if (object >= over_.size()) continue;
-      const bool over = f > m_.damage_limit_n[object];
+      bool first = true;
+      for (int j = 0; j < i && first; ++j) first = ContactPair::ObjectOfKey(data.active_keys[j]) != static_cast<int>(object);
+      if (!first) continue;
+      double share = 0;
+      for (int j = i; j < data.num_active_keys; ++j)
+        if (ContactPair::ObjectOfKey(data.active_keys[j]) == static_cast<int>(object)) share += data.active_share[j];
+      const double on = f * share;
+      const bool over = on > m_.damage_limit_n[object];
       if (over && !over_[object]) {
         HapticEvent e = HapticEvent::Of(EventKind::kTissueDamage, static_cast<int>(object));
-        e.payload.damage = {f, m_.damage_limit_n[object]};
+        e.payload.damage = {on, m_.damage_limit_n[object]};
         loop->Emit(e);
       }
       over_[object] = over;

@@ -67,6 +67,7 @@ struct CariesLesion {
   int tooth = -1;
   Vector3 centre_W = Vector3::Zero(), normal_W = Vector3::UnitZ();
   double radius_mm = 0;
+  int surface = 0;  // ToothSurface: mesial, distal, buccal, lingual, occlusal
 };
 
 /// caries_catch's feel: the share of the normal force a lesion's centre keeps

@@ -432,7 +432,19 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     d->last_move_mm = move;
     d->active_contacts = sol->num_active;
     d->num_active_keys = 0;
-    for (int i = 0; i < sol->num_active; ++i) d->active_keys[d->num_active_keys++] = d->pairs[sol->active[i]].key();
+    double total = 0;
+    for (int i = 0; i < sol->num_active; ++i) {
+      const int row = sol->active[i];
+      d->active_keys[d->num_active_keys] = d->pairs[row].key();
+      // The row's share of the contact force: its multiplier times the
+      // translational part of its normal.
+      const double* a = &d->A[static_cast<std::size_t>(row) * kQpVars];
+      const double w = std::max(0.0, sol->lambda[i]) * std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+      d->active_share[d->num_active_keys++] = w;
+      total += w;
+    }
+    for (int i = 0; i < d->num_active_keys; ++i)
+      d->active_share[i] = total > 0 ? d->active_share[i] / total : 1.0 / d->num_active_keys;
     if (d->max_penetration_mm > p.penetration_tolerance_mm && sol->status == QpStatus::kSolved) {
       ++d->faults.penetration;
     }

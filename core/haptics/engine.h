@@ -10,6 +10,7 @@
 // EngineData holds everything that changes, sized once. Step() never allocates
 // and never throws; faults are counted in EngineData.
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <vector>
@@ -128,6 +129,7 @@ struct EngineData {
   std::vector<double> A, b;
   std::vector<std::uint64_t> active_keys;  // last frame's active pairs
   int num_active_keys = 0;
+  std::array<double, kQpMaxActive> active_share{};  // each active pair's share of the contact force (sums to 1)
   std::vector<std::int32_t> warm_rows;
   CollisionScratch scratch;
   QpSolver qp;

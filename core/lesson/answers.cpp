@@ -1,8 +1,10 @@
 #include "core/lesson/answers.h"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
+#include "core/anatomy/soft_tissue.h"
 #include "core/scene/yaml_reader.h"
 
 namespace sulcus {
@@ -38,13 +40,96 @@ std::optional<DeclaredDiagnosis> ReadDiagnosis(YamlReader& r, const YAML::Node& 
   return d;
 }
 
+bool ReadBool(YamlReader& r, const YAML::Node& n, const char* key) {
+  bool v = false;
+  if (!n.IsScalar() || !YAML::convert<bool>::decode(n, v)) r.Error(n, std::string("'") + key + "' must be true or false");
+  return v;
+}
+
+// One line of `findings:`; a caries list gives one finding per surface.
+void ReadFinding(YamlReader& r, const YAML::Node& n, std::vector<Finding>* out) {
+  if (!r.IsMap(n, "a finding")) return;
+  r.CheckKeys(n, {"tooth", "caries", "calculus", "inflamed", "status", "region", "lesion", "present", "tick"}, "a finding");
+  Finding f;
+  if (n["tick"]) f.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
+  if (n["present"]) f.present = ReadBool(r, n["present"], "present");
+  int kinds = 0;
+  for (const char* k : {"caries", "calculus", "inflamed", "status", "lesion"}) kinds += n[k] ? 1 : 0;
+  if (kinds != 1) {
+    r.Error(n, "a finding is one of: {tooth: 36, caries: [O, B]}, {tooth: 16, calculus: true}, {tooth: 31, inflamed: "
+               "true}, {tooth: 24, status: 3} or {region: tongue_dorsum, lesion: ulcer}");
+    return;
+  }
+  if (n["lesion"]) {
+    f.kind = Finding::Kind::kLesion;
+    f.lesion = r.Text(n["lesion"], "lesion");
+    const auto& kinds_known = LesionKinds();
+    if (std::find(kinds_known.begin(), kinds_known.end(), f.lesion) == kinds_known.end())
+      r.Error(n["lesion"], "unknown lesion '" + f.lesion + "'" + Suggest(f.lesion, kinds_known));
+    if (!n["region"]) {
+      r.Error(n, "a lesion needs its 'region', e.g. tongue_lateral_border_left");
+      return;
+    }
+    f.region = r.Text(n["region"], "region");
+    const auto& regions = InspectionRegionNames();
+    if (std::find(regions.begin(), regions.end(), f.region) == regions.end())
+      r.Error(n["region"], "unknown region '" + f.region + "'" + Suggest(f.region, regions));
+    out->push_back(f);
+    return;
+  }
+  if (n["region"]) r.Error(n["region"], "'region' goes with 'lesion'; tooth findings name a 'tooth'");
+  if (!n["tooth"]) {
+    r.Error(n, "a tooth finding needs 'tooth', an FDI number");
+    return;
+  }
+  f.fdi = r.Integer(n["tooth"], "tooth", 11, 48, 0);
+  if (n["calculus"] || n["inflamed"]) {
+    const char* key = n["calculus"] ? "calculus" : "inflamed";
+    f.kind = n["calculus"] ? Finding::Kind::kCalculus : Finding::Kind::kInflamed;
+    if (!ReadBool(r, n[key], key)) f.present = false;
+    out->push_back(f);
+  } else if (n["status"]) {
+    f.kind = Finding::Kind::kStatus;
+    f.status = r.Integer(n["status"], "status", 0, 9, 0);
+    out->push_back(f);
+  } else {
+    f.kind = Finding::Kind::kCaries;
+    const YAML::Node c = n["caries"];
+    std::vector<YAML::Node> items;
+    if (c.IsSequence()) for (const YAML::Node& i : c) items.push_back(i);
+    else items.push_back(c);
+    for (const YAML::Node& i : items) {
+      const auto surface = SurfaceFromCode(i.IsScalar() ? i.Scalar() : "");
+      if (!surface) {
+        r.Error(i, "unknown surface '" + (i.IsScalar() ? i.Scalar() : "") + "' (M, D, B, L, O)");
+        continue;
+      }
+      f.surface = *surface;
+      out->push_back(f);
+    }
+  }
+}
+
 }  // namespace
 
 Answers LoadAnswers(const fs::path& file) {
   YamlReader r(file);
   Answers a;
   const YAML::Node root = LoadYamlMap(r, "answers file", "an answers file is a map with 'chart:' or 'entries:', and 'diagnosis:'");
-  r.CheckKeys(root, {"chart", "entries", "diagnosis"}, "the answers");
+  r.CheckKeys(root, {"chart", "entries", "diagnosis", "findings", "submitted"}, "the answers");
+  if (const YAML::Node fs = root["findings"]) {
+    if (!fs.IsSequence()) r.Error(fs, "'findings' must be a list, e.g. [{tooth: 36, caries: [O]}, {region: tongue_dorsum, lesion: ulcer}]");
+    else
+      for (const YAML::Node& n : fs) ReadFinding(r, n, &a.findings);
+  }
+  if (const YAML::Node sub = root["submitted"]) {
+    bool b = false;
+    if (sub.IsScalar() && YAML::convert<bool>::decode(sub, b)) {
+      if (b) a.submitted = kAfterReading;
+    } else {
+      a.submitted = static_cast<std::uint64_t>(r.Number(sub, "submitted", 0, 1e15, 0));
+    }
+  }
   if (const YAML::Node chart = root["chart"]; chart && r.IsMap(chart, "'chart'")) {
     for (auto it = chart.begin(); it != chart.end(); ++it) {
       const int fdi = r.Integer(it->first, "tooth", 11, 48, 0);
@@ -114,7 +199,7 @@ Answers LoadAnswers(const fs::path& file) {
 void SaveAnswers(const Answers& a, const fs::path& file) {
   std::ostringstream o;
   o << "# What the student entered, with the tick of each entry (sulcus-cli lesson report reads it).\n";
-  o << "entries:\n";
+  o << (a.entries.empty() ? "entries: []\n" : "entries:\n");
   for (const ChartEntry& e : a.entries) {
     o << "  - {site: \"" << e.site.ToString() << "\"";
     if (e.pd_mm) o << ", pd: " << *e.pd_mm;
@@ -128,6 +213,24 @@ void SaveAnswers(const Answers& a, const fs::path& file) {
     if (d.periodontitis) o << ", stage: " << ToString(d.stage) << ", extent: " << ToString(d.extent);
     if (d.tick != kAfterReading) o << ", tick: " << d.tick;
     o << "}\n";
+  }
+  if (!a.findings.empty()) o << "findings:\n";
+  for (const Finding& f : a.findings) {
+    o << "  - {";
+    switch (f.kind) {
+      case Finding::Kind::kLesion: o << "region: " << f.region << ", lesion: " << f.lesion; break;
+      case Finding::Kind::kCaries: o << "tooth: " << f.fdi << ", caries: " << SurfaceCode(f.surface); break;
+      case Finding::Kind::kCalculus: o << "tooth: " << f.fdi << ", calculus: true"; break;
+      case Finding::Kind::kInflamed: o << "tooth: " << f.fdi << ", inflamed: true"; break;
+      case Finding::Kind::kStatus: o << "tooth: " << f.fdi << ", status: " << f.status; break;
+    }
+    if (!f.present) o << ", present: false";
+    if (f.tick != kAfterReading) o << ", tick: " << f.tick;
+    o << "}\n";
+  }
+  if (a.submitted) {
+    if (*a.submitted == kAfterReading) o << "submitted: true\n";
+    else o << "submitted: " << *a.submitted << "\n";
   }
   const fs::path tmp = file.string() + ".tmp";
   {

@@ -2,7 +2,8 @@
 // Answers files: what a student entered, for headless lessons and for
 // rebuilding an attempt (lessons/README.md, "Answers files"). Either a chart
 // (per tooth six depths and the bleeding sites) or a list of entries with their
-// ticks (what an attempt stores), and the declared diagnosis.
+// ticks (what an attempt stores), and the declared diagnosis; for inspection
+// lessons the findings recorded on the odontogram and when it was submitted.
 
 #include <filesystem>
 #include <optional>
@@ -16,6 +17,10 @@ namespace sulcus {
 struct Answers {
   std::vector<ChartEntry> entries;
   std::optional<DeclaredDiagnosis> diagnosis;
+  // Inspection lessons: the odontogram's findings and when it was submitted
+  // (kAfterReading: at the end).
+  std::vector<Finding> findings;
+  std::optional<std::uint64_t> submitted;
 };
 
 /// Throws SceneLoadError with every error as `file:line:column: message`.

@@ -13,6 +13,7 @@
 
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
+#include "core/lesson/scripted_inspector.h"
 #include "core/lesson/scripted_student.h"
 
 namespace sulcus {
@@ -38,6 +39,8 @@ Answers AnswersOf(const LessonResult& r) {
     if (s.entry) a.entries.push_back(*s.entry);
   a.diagnosis = r.declared;
   if (a.diagnosis && a.diagnosis->tick == kAfterReading) a.diagnosis->tick = r.last_tick;
+  a.findings = r.inspection.findings;
+  a.submitted = r.inspection.submitted_tick;
   return a;
 }
 
@@ -151,12 +154,18 @@ class EntrySaver final : public TickConsumer {
 
  private:
   void SaveIfNew() {
-    if (lesson_.entries().size() == saved_ && lesson_.declared().has_value() == declared_) return;
+    if (lesson_.entries().size() == saved_ && lesson_.declared().has_value() == declared_ &&
+        lesson_.findings().size() == findings_ && lesson_.submitted().has_value() == submitted_)
+      return;
     saved_ = lesson_.entries().size();
     declared_ = lesson_.declared().has_value();
+    findings_ = lesson_.findings().size();
+    submitted_ = lesson_.submitted().has_value();
     Answers a;
     a.entries = lesson_.entries();
     a.diagnosis = lesson_.declared();
+    a.findings = lesson_.findings();
+    a.submitted = lesson_.submitted();
     try {
       SaveAnswers(a, file_);
     } catch (const std::exception& e) {
@@ -168,8 +177,8 @@ class EntrySaver final : public TickConsumer {
   const LessonRun& lesson_;
   fs::path file_;
   std::vector<std::string>* notes_;
-  std::size_t saved_ = 0;
-  bool declared_ = false, failed_ = false;
+  std::size_t saved_ = 0, findings_ = 0;
+  bool declared_ = false, submitted_ = false, failed_ = false;
 };
 
 }  // namespace
@@ -201,8 +210,13 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
   if (o.keep_in) WriteAttemptMarker(*o.keep_in, {lesson_file, o.student, ToString(spec.mode), out.seed, o.keep_in->started});
   LessonRun lesson(spec, scene, o.student, spec.case_spec.generated ? out.seed : 0);
   std::unique_ptr<ScriptedStudent> student;
+  std::unique_ptr<ScriptedInspector> inspector;
   DeviceSpec device;
-  if (o.device.rfind("student:", 0) == 0) {
+  if (o.device.rfind("student:", 0) == 0 && spec.inspection()) {
+    inspector = std::make_unique<ScriptedInspector>(o.device.substr(8), spec, scene);
+    device.device = inspector->MakeDevice();
+    device.name = o.device;
+  } else if (o.device.rfind("student:", 0) == 0) {
     student = std::make_unique<ScriptedStudent>(o.device.substr(8), spec, scene);
     device.device = student->MakeDevice();
     device.name = o.device;
@@ -220,6 +234,10 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
     student->Attach(&lesson);
     session.AddConsumer(student.get());
   }
+  if (inspector && o.answers.empty()) {
+    inspector->Attach(&lesson);
+    session.AddConsumer(inspector.get());
+  }
   std::unique_ptr<EntrySaver> saver;
   if (o.keep_in) {
     saver = std::make_unique<EntrySaver>(lesson, o.keep_in->answers(), &out.notes);
@@ -234,6 +252,8 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
     const Answers a = LoadAnswers(o.answers);
     for (const ChartEntry& e : a.entries) lesson.Enter(e);
     if (a.diagnosis) lesson.Declare(*a.diagnosis);
+    for (const Finding& f : a.findings) lesson.Record(f);
+    if (a.submitted) lesson.Submit(*a.submitted);
   }
   lesson.SetEnding(o.ending);
   out.result = lesson.Finish();

@@ -1,6 +1,7 @@
 #include "core/lesson/lesson.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -115,7 +116,7 @@ LessonGeometry MakeLessonGeometry(const CompiledScene& scene, const std::vector<
 LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene, std::string student, std::uint64_t case_seed)
     : spec_(spec),
       scene_(scene),
-      geometry_(MakeLessonGeometry(scene, spec.teeth)),
+      geometry_(spec.inspection() ? LessonGeometry{} : MakeLessonGeometry(scene, spec.teeth)),
       student_(std::move(student)),
       case_seed_(case_seed),
       rate_hz_(scene.spec.rate_hz > 0 ? scene.spec.rate_hz : 1000) {
@@ -138,6 +139,11 @@ LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene, std::st
   surfaces_.resize(geometry_.teeth.size());
   for (std::size_t i = 0; i < geometry_.teeth.size(); ++i)
     for (SurfaceTrack& s : surfaces_[i]) s.bins.assign(geometry_.teeth[i].margin_z.size(), false);
+  if (spec.inspection()) {
+    inspection_.emplace(spec_, scene);
+    for (const StepSpec& st : spec_.steps) step_units_.push_back(inspection_->StepUnits(st));
+    odontogram_ = EmptyOdontogram(spec_.teeth);
+  }
 }
 
 double LessonRun::recession_mm(const SiteRef& s) const {
@@ -161,6 +167,13 @@ bool LessonRun::SiteInStep(const StepSpec& st, const SiteRef& s) const {
 
 bool LessonRun::StepComplete(const StepSpec& st) const {
   if (st.complete == StepSpec::Complete::kDiagnosis) return declared_.has_value();
+  if (st.complete == StepSpec::Complete::kRecorded) return submitted_.has_value();
+  if (st.complete == StepSpec::Complete::kTouched) {
+    const std::size_t i = static_cast<std::size_t>(&st - spec_.steps.data());
+    for (int u : step_units_[i])
+      if (!inspection_->units()[static_cast<std::size_t>(u)].touched) return false;
+    return true;
+  }
   for (const SiteResult& r : sites_) {
     if (!SiteInStep(st, r.site)) continue;
     if (st.complete == StepSpec::Complete::kRead && !r.reached_mm) return false;
@@ -356,8 +369,69 @@ void LessonRun::OnTick(const TickRecord& r) {
       default: break;
     }
   }
-  Track(r);
+  if (inspection_) FollowInspection(r);
+  else Track(r);
   Advance(r.tick);
+}
+
+void LessonRun::FollowInspection(const TickRecord& r) {
+  inspection_->OnTick(r, in_contact_);
+  // The student has moved on when half the units of a later step (at least
+  // one) are examined: the steps between end as skipped, with what they
+  // missed. (A tooth touched on the way to a cheek does not move the lesson on.)
+  const int u = inspection_->tip_unit();
+  if (u < 0 || done()) return;
+  const auto& units = inspection_->units();
+  if (!units[static_cast<std::size_t>(u)].touched || units[static_cast<std::size_t>(u)].first_tick != r.tick) return;
+  const int n = static_cast<int>(spec_.steps.size());
+  auto in_step = [&](int k, int unit) {
+    const auto& us = step_units_[static_cast<std::size_t>(k)];
+    return std::find(us.begin(), us.end(), unit) != us.end();
+  };
+  for (int k = 0; k <= step_; ++k)
+    if (in_step(k, u)) return;
+  int later = -1;
+  for (int k = step_ + 1; k < n && later < 0; ++k) {
+    if (!in_step(k, u)) continue;
+    int examined = 0;
+    for (int m : step_units_[static_cast<std::size_t>(k)]) examined += units[static_cast<std::size_t>(m)].touched;
+    const auto size = static_cast<int>(step_units_[static_cast<std::size_t>(k)].size());
+    if (2 * examined >= size) later = k;
+    else return;
+  }
+  if (later < 0) return;
+  while (step_ < later) {
+    StepResult& res = step_results_[static_cast<std::size_t>(step_)];
+    res.skipped = true;
+    res.ended_tick = r.tick;
+    for (int m : step_units_[static_cast<std::size_t>(step_)])
+      if (!units[static_cast<std::size_t>(m)].touched) res.missed.push_back(units[static_cast<std::size_t>(m)].Name());
+    feedback_.push_back("step '" + res.id + "' left for '" + spec_.steps[static_cast<std::size_t>(later)].id +
+                        "' before it was done");
+    ++step_;
+    step_results_[static_cast<std::size_t>(step_)].started_tick = r.tick;
+  }
+}
+
+void LessonRun::Record(const Finding& f) {
+  findings_.push_back(f);
+  odontogram_.Apply(f);
+  Advance(f.tick == kAfterReading ? last_tick_ : f.tick);
+}
+
+void LessonRun::Submit(std::uint64_t tick) {
+  submitted_ = tick == kAfterReading ? last_tick_ : tick;
+  Advance(*submitted_);
+}
+
+std::vector<std::string> LessonRun::pending() const {
+  std::vector<std::string> out;
+  if (!inspection_ || done()) return out;
+  for (int u : step_units_[static_cast<std::size_t>(step_)]) {
+    const InspectionUnit& unit = inspection_->units()[static_cast<std::size_t>(u)];
+    if (!unit.touched) out.push_back(unit.Name());
+  }
+  return out;
 }
 
 void LessonRun::Enter(const ChartEntry& e) {
@@ -377,30 +451,8 @@ void LessonRun::Declare(const DeclaredDiagnosis& d) {
   Advance(d.tick == kAfterReading ? last_tick_ : d.tick);
 }
 
-LessonResult LessonRun::Finish() const {
+void LessonRun::ScoreProbing(LessonResult& out) const {
   const RubricSpec& rb = spec_.rubric;
-  LessonResult out;
-  out.lesson_name = spec_.name;
-  out.lesson_file = spec_.file.string();
-  out.scene_file = scene_.spec.file.string();
-  out.mode = ToString(spec_.mode);
-  out.student = student_;
-  out.case_seed = case_seed_;
-  out.generated_case = spec_.case_spec.generated;
-  out.rate_hz = rate_hz_;
-  out.rubric = rb;
-  out.sites = sites_;
-  out.steps = step_results_;
-  out.first_tick = first_tick_;
-  out.last_tick = last_tick_;
-  out.duration_s = ticks_ > 0 ? static_cast<double>(last_tick_ - first_tick_ + 1) / rate_hz_ : 0;
-  out.force_trace = force_trace_;
-  out.feedback = feedback_;
-  out.sites_total = static_cast<int>(sites_.size());
-  out.complete = step_ >= static_cast<int>(spec_.steps.size()) && !timed_out_;
-  if (!out.complete)
-    out.ended = !ending_.empty() ? ending_ : timed_out_ ? "the time limit was reached" : "it ended before the last step";
-  out.interruptions = interruptions_;
   auto& L = out.lines;
 
   // Entries entered "after the reading" take the tick after the site's last reading.
@@ -616,6 +668,214 @@ LessonResult LessonRun::Finish() const {
     L.push_back(Line("diagnosis", nullptr, 0, S::kFail, 0, "no diagnosis declared", last_tick_));
   }
 
+  out.sites_read = read;
+  out.sites_charted = charted;
+  out.within_1mm_pct = charted ? 100.0 * within1 / charted : 0;
+  out.exact_pct = charted ? 100.0 * exact / charted : 0;
+  out.bias_mm = charted ? bias / charted : 0;
+  out.bias_proximal_mm = proximal ? bias_prox / proximal : 0;
+  out.force_in_band_pct = read ? 100.0 * in_band / read : 0;
+}
+
+void LessonRun::ScoreInspection(LessonResult& out) const {
+  auto& L = out.lines;
+  const RubricSpec& rb = spec_.rubric;
+  InspectionResult& in = out.inspection;
+  in.regions = spec_.regions;
+  in.teeth = spec_.teeth;
+  in.units = inspection_->units();
+  in.truth = TrueOdontogram(scene_.spec, spec_.teeth, spec_.regions);
+  in.recorded = odontogram_;
+  in.findings = findings_;
+  for (Finding& f : in.findings)
+    if (f.tick == kAfterReading) f.tick = last_tick_;
+  in.submitted_tick = submitted_;
+  in.presses = inspection_->presses();
+  auto seconds = [&](std::uint64_t tick) { return static_cast<double>(tick - std::min(tick, first_tick_)) / rate_hz_; };
+
+  // Coverage: the units the steps name (all of them when no step names any).
+  std::vector<bool> scored(in.units.size(), false);
+  bool any = false;
+  for (const auto& us : step_units_)
+    for (int u : us) scored[static_cast<std::size_t>(u)] = any = true;
+  if (!any) scored.assign(in.units.size(), true);
+  for (const InspectionUnit& u : in.units) {
+    if (!u.region.empty() && scored[static_cast<std::size_t>(&u - in.units.data())])
+      L.push_back(Line("coverage", nullptr, 0, u.touched ? S::kPass : S::kFail, u.touched ? 1 : 0,
+                       u.touched ? Format("%s: examined at %.1f s (%.1f s on it)", RegionLabel(u.region).c_str(),
+                                          seconds(u.first_tick), u.dwell_s)
+                                 : RegionLabel(u.region) + ": not examined",
+                       u.touched ? u.first_tick : last_tick_));
+  }
+  for (int fdi : spec_.teeth) {
+    int asked = 0, done = 0;
+    std::string missed;
+    std::uint64_t last = 0;
+    for (int s = 0; s < 5; ++s) {
+      const int u = inspection_->UnitOf(fdi, static_cast<ToothSurface>(s));
+      if (u < 0 || !scored[static_cast<std::size_t>(u)]) continue;
+      ++asked;
+      const InspectionUnit& unit = in.units[static_cast<std::size_t>(u)];
+      if (unit.touched) {
+        ++done;
+        last = std::max(last, unit.first_tick);
+      } else {
+        missed += (missed.empty() ? "" : ", ") + std::string(SurfaceCode(static_cast<ToothSurface>(s)));
+      }
+    }
+    if (asked == 0) continue;
+    L.push_back(Line("coverage", nullptr, fdi, done == asked ? S::kPass : done > 0 ? S::kPartial : S::kFail,
+                     static_cast<double>(done) / asked,
+                     done == asked ? Format("%d: every surface examined (%d)", fdi, asked)
+                                   : Format("%d: %s not examined (%d of %d surfaces)", fdi, missed.c_str(), done, asked),
+                     done == asked ? last : last_tick_));
+  }
+
+  // Sequence: each step examined in its turn.
+  for (std::size_t k = 0; k < out.steps.size(); ++k) {
+    if (step_units_[k].empty()) continue;
+    const StepResult& st = out.steps[k];
+    std::string missed;
+    for (const std::string& m : st.missed) missed += (missed.empty() ? "" : ", ") + m;
+    if (st.completed)
+      L.push_back(Line("sequence", nullptr, 0, S::kPass, 1, "'" + st.id + "': examined in its turn", st.ended_tick));
+    else if (st.skipped)
+      L.push_back(Line("sequence", nullptr, 0, S::kFail, 0,
+                       "'" + st.id + "': left for a later step with " + missed + " not examined", st.ended_tick));
+    else
+      L.push_back(Line("sequence", nullptr, 0, S::kFail, 0, "'" + st.id + "': not finished", last_tick_));
+  }
+
+  // Findings against the truth: every finding and every miss named.
+  std::map<std::string, std::uint64_t> when;  // a unit's last finding
+  for (const Finding& f : in.findings) {
+    const std::string key = f.kind == Finding::Kind::kLesion ? "lesion " + f.region
+                            : f.kind == Finding::Kind::kCaries
+                                ? "caries " + std::to_string(f.fdi) + " " + SurfaceCode(f.surface)
+                                : std::string(ToString(f.kind)) + " " + std::to_string(f.fdi);
+    when[key] = f.tick;
+  }
+  const std::uint64_t end_tick = submitted_ ? *submitted_ : last_tick_;
+  auto tick_of = [&](const std::string& key) {
+    const auto it = when.find(key);
+    return it != when.end() ? it->second : end_tick;
+  };
+  auto judge = [&](FindingScore& sc, bool truth, bool said, const std::string& key, const std::string& what,
+                   const char* found, const char* missed, const char* wrong) {
+    if (truth && said) {
+      ++sc.tp;
+      L.push_back(Line("findings", nullptr, 0, S::kPass, 1, what + ": " + found, tick_of(key)));
+    } else if (truth) {
+      ++sc.fn;
+      L.push_back(Line("findings", nullptr, 0, S::kFail, 0, what + ": " + missed, end_tick));
+    } else if (said) {
+      ++sc.fp;
+      L.push_back(Line("findings", nullptr, 0, S::kFail, 0, what + ": " + wrong, tick_of(key)));
+    } else {
+      ++sc.tn;
+    }
+  };
+  FindingScore caries{"caries"}, calculus{"calculus"}, inflamed{"inflamed gingiva"}, lesion{"lesion"}, status{"status"};
+  for (const ToothRecord& t : in.truth.teeth) {
+    const ToothRecord* r = in.recorded.Find(t.fdi);
+    ToothRecord none;
+    none.fdi = t.fdi;
+    if (!r) r = &none;
+    for (int s = 0; s < 5; ++s) {
+      const std::string name = std::to_string(t.fdi) + " " + SurfaceCode(static_cast<ToothSurface>(s));
+      judge(caries, t.caries[static_cast<std::size_t>(s)], r->caries[static_cast<std::size_t>(s)], "caries " + name,
+            name, "caries found", "caries missed", "caries recorded on a sound surface");
+    }
+    const std::string tooth = std::to_string(t.fdi);
+    judge(calculus, t.calculus, r->calculus, "calculus " + tooth, tooth, "calculus found", "calculus missed",
+          "calculus recorded where there is none");
+    judge(inflamed, t.inflamed, r->inflamed, "inflamed gingiva " + tooth, tooth, "inflamed gingiva found",
+          "inflamed gingiva missed", "gingiva recorded as inflamed where it is healthy");
+    // Status: the WHO code recorded (or implied by the caries marks) against the truth's.
+    const int want = t.Status(), got = r->Status();
+    if (want != 0 && got == want) ++status.tp;
+    else if (want != 0) ++status.fn;
+    else if (got != 0) ++status.fp;
+    else ++status.tn;
+    if (r->status && got != want)
+      L.push_back(Line("findings", nullptr, t.fdi, S::kFail, 0,
+                       Format("%d: status %d (%s) recorded; it is %d (%s)", t.fdi, got, WhoStatusName(got), want,
+                              WhoStatusName(want)),
+                       tick_of("status " + tooth)));
+  }
+  for (const std::string& region : spec_.regions) {
+    const auto t = in.truth.lesions.find(region), r = in.recorded.lesions.find(region);
+    const bool truth = t != in.truth.lesions.end(), said = r != in.recorded.lesions.end();
+    const std::string what = RegionLabel(region);
+    if (truth && said && t->second != r->second) {
+      ++lesion.tp;
+      L.push_back(Line("findings", nullptr, 0, S::kPartial, 0.5,
+                       what + ": a lesion found, recorded as " + r->second + "; it is " + t->second + " (look again)",
+                       tick_of("lesion " + region)));
+      continue;
+    }
+    judge(lesion, truth, said, "lesion " + region, what, ("a " + (truth ? t->second : std::string()) + " found").c_str(),
+          ("a " + (truth ? t->second : std::string()) + " missed").c_str(), "a lesion recorded on healthy mucosa");
+  }
+  for (FindingScore* sc : {&caries, &calculus, &inflamed, &lesion, &status}) {
+    in.scores.push_back(*sc);
+    if (sc->kind == "status") continue;
+    L.push_back(Line("findings", nullptr, 0, S::kInfo, 0,
+                     Format("%s: sensitivity %.0f %% (%d of %d found), specificity %.0f %% (%d false)", sc->kind.c_str(),
+                            100 * sc->sensitivity(), sc->tp, sc->tp + sc->fn, 100 * sc->specificity(), sc->fp),
+                     end_tick));
+  }
+  if (!submitted_)
+    L.push_back(Line("findings", nullptr, 0, S::kInfo, 0, "the findings were not submitted as complete", last_tick_));
+
+  // Damage: force on tissue above its limit, force into a lesion above the gentle limit.
+  bool damaged = false;
+  for (const auto& [line, idx] : damage_) {
+    L.push_back(line);
+    damaged = true;
+  }
+  for (const LesionPress& p : in.presses) {
+    damaged = true;
+    const bool tooth = !p.where.empty() && std::isdigit(static_cast<unsigned char>(p.where[0]));
+    L.push_back(Line("damage", nullptr, 0, S::kFail, 0,
+                     Format("%s: %.2f N into the lesion, above the gentle %.2f N%s", tooth ? p.where.c_str()
+                                                                                            : RegionLabel(p.where).c_str(),
+                            p.force_n, rb.lesion_force_n,
+                            tooth ? " (a tip forced into demineralised enamel cavitates it)" : ""),
+                     p.tick));
+  }
+  if (!damaged) L.push_back(Line("damage", nullptr, 0, S::kPass, 1, "no tissue damaged, no lesion pressed hard", last_tick_));
+}
+
+LessonResult LessonRun::Finish() const {
+  const RubricSpec& rb = spec_.rubric;
+  LessonResult out;
+  out.lesson_name = spec_.name;
+  out.lesson_file = spec_.file.string();
+  out.scene_file = scene_.spec.file.string();
+  out.mode = ToString(spec_.mode);
+  out.student = student_;
+  out.case_seed = case_seed_;
+  out.generated_case = spec_.case_spec.generated;
+  out.rate_hz = rate_hz_;
+  out.rubric = rb;
+  out.sites = sites_;
+  out.steps = step_results_;
+  out.first_tick = first_tick_;
+  out.last_tick = last_tick_;
+  out.duration_s = ticks_ > 0 ? static_cast<double>(last_tick_ - first_tick_ + 1) / rate_hz_ : 0;
+  out.force_trace = force_trace_;
+  out.feedback = feedback_;
+  out.sites_total = static_cast<int>(sites_.size());
+  out.complete = step_ >= static_cast<int>(spec_.steps.size()) && !timed_out_;
+  if (!out.complete)
+    out.ended = !ending_.empty() ? ending_ : timed_out_ ? "the time limit was reached" : "it ended before the last step";
+  out.interruptions = interruptions_;
+  out.kind = ToString(spec_.kind);
+  if (inspection_) ScoreInspection(out);
+  else ScoreProbing(out);
+  auto& L = out.lines;
+
   // Time and steps.
   L.push_back(Line("time", nullptr, 0, S::kInfo, 0, Format("%.1f s in all", out.duration_s), last_tick_));
   if (!out.complete)
@@ -641,7 +901,7 @@ LessonResult LessonRun::Finish() const {
       {"technique", rb.technique}, {"reading", rb.reading},     {"charting", rb.charting},
       {"force", rb.force},         {"angulation", rb.angulation}, {"coverage", rb.coverage},
       {"bleeding", rb.bleeding},   {"completeness", rb.completeness}, {"diagnosis", rb.diagnosis},
-      {"damage", rb.force}};  // damage weighs as much as force
+      {"damage", rb.DamageWeight()}, {"findings", rb.findings}, {"sequence", rb.sequence}};
   std::map<std::string, std::pair<double, int>> sums;
   for (const RubricLine& l : L) {
     if (l.status == S::kInfo) continue;
@@ -660,13 +920,6 @@ LessonResult LessonRun::Finish() const {
     score += w * credit;
   }
   out.total = wsum > 0 ? 100 * score / wsum : 0;
-  out.sites_read = read;
-  out.sites_charted = charted;
-  out.within_1mm_pct = charted ? 100.0 * within1 / charted : 0;
-  out.exact_pct = charted ? 100.0 * exact / charted : 0;
-  out.bias_mm = charted ? bias / charted : 0;
-  out.bias_proximal_mm = proximal ? bias_prox / proximal : 0;
-  out.force_in_band_pct = read ? 100.0 * in_band / read : 0;
   return out;
 }
 

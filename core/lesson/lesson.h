@@ -24,13 +24,12 @@
 #include <vector>
 
 #include "core/lesson/chart.h"
+#include "core/lesson/inspection.h"
 #include "core/lesson/lesson_spec.h"
 #include "core/session/session.h"
 
 namespace sulcus {
 
-/// "Entered after the last reading at that site" (resolved by Finish()).
-inline constexpr std::uint64_t kAfterReading = ~std::uint64_t{0};
 
 /// What the student entered for one site, as a clinician calls it out.
 struct ChartEntry {
@@ -90,10 +89,33 @@ struct SurfaceCoverage {
 struct StepResult {
   std::string id, instruction;
   bool completed = false, timed_out = false;
+  bool skipped = false;             // inspection: left for a later step before it was done
+  std::vector<std::string> missed{};  // inspection: what it had not examined when it ended
   std::uint64_t started_tick = 0, ended_tick = 0;
 };
 
+/// Sensitivity and specificity of one kind of finding against the truth.
+struct FindingScore {
+  std::string kind;  // caries (per tooth surface), calculus, inflamed gingiva (per tooth), lesion (per region), status (per tooth)
+  int tp = 0, fn = 0, fp = 0, tn = 0;
+  double sensitivity() const { return tp + fn > 0 ? static_cast<double>(tp) / (tp + fn) : 1.0; }
+  double specificity() const { return fp + tn > 0 ? static_cast<double>(tn) / (fp + tn) : 1.0; }
+};
+
+/// What an inspection lesson adds to the result.
+struct InspectionResult {
+  std::vector<std::string> regions;
+  std::vector<int> teeth;
+  std::vector<InspectionUnit> units;  // regions, then five surfaces per tooth
+  Odontogram truth, recorded;
+  std::vector<Finding> findings;      // as entered, ticks resolved
+  std::optional<std::uint64_t> submitted_tick;
+  std::vector<FindingScore> scores;   // caries, calculus, inflamed gingiva, lesion, status
+  std::vector<LesionPress> presses;   // lesions pressed harder than the rubric's limit
+};
+
 struct LessonResult {
+  std::string kind = "probing";  // or inspection
   std::string lesson_name, lesson_file, scene_file, mode, student;
   std::uint64_t case_seed = 0;
   bool generated_case = false;
@@ -125,6 +147,7 @@ struct LessonResult {
     std::uint64_t lost_tick = 0, back_tick = 0;
   };
   std::vector<Interruption> interruptions;
+  InspectionResult inspection;  // inspection lessons
   static constexpr int kTraceEvery = 5;
 };
 
@@ -155,6 +178,10 @@ class LessonRun final : public TickConsumer {
   // The student's inputs (kAfterReading ticks are resolved in Finish()).
   void Enter(const ChartEntry& e);
   void Declare(const DeclaredDiagnosis& d);
+  // Inspection lessons: a finding recorded on the odontogram, and the
+  // odontogram submitted as complete (kAfterReading: at the end).
+  void Record(const Finding& f);
+  void Submit(std::uint64_t tick);
 
   // Live state.
   int current_step() const { return step_; }  // == steps().size() when all are done
@@ -173,6 +200,14 @@ class LessonRun final : public TickConsumer {
   const LessonSpec& spec() const { return spec_; }
   const std::vector<ChartEntry>& entries() const { return entries_; }
   const std::optional<DeclaredDiagnosis>& declared() const { return declared_; }
+  const std::vector<Finding>& findings() const { return findings_; }
+  std::optional<std::uint64_t> submitted() const { return submitted_; }
+  /// The odontogram as recorded so far (inspection lessons).
+  const Odontogram& odontogram() const { return odontogram_; }
+  /// Inspection lessons: the tracker (null for probing lessons).
+  const InspectionTracker* inspection() const { return inspection_ ? &*inspection_ : nullptr; }
+  /// Inspection lessons: the current step's regions and surfaces not yet examined.
+  std::vector<std::string> pending() const;
 
   /// The device is not answering now (a kDeviceLost without its kDeviceBack).
   bool device_lost() const { return !interruptions_.empty() && interruptions_.back().back_tick == 0; }
@@ -183,6 +218,9 @@ class LessonRun final : public TickConsumer {
   LessonResult Finish() const;
 
  private:
+  void ScoreProbing(LessonResult& out) const;
+  void ScoreInspection(LessonResult& out) const;
+  void FollowInspection(const TickRecord& r);
   struct ToothTrack;
   void Track(const TickRecord& r);
   void Advance(std::uint64_t tick);
@@ -219,6 +257,12 @@ class LessonRun final : public TickConsumer {
   };
   std::vector<std::array<SurfaceTrack, 2>> surfaces_;  // per geometry tooth: buccal, lingual
   std::vector<std::pair<RubricLine, int>> damage_;     // tissue_damage events (line, site index or -1)
+  // Inspection lessons.
+  std::optional<InspectionTracker> inspection_;
+  std::vector<std::vector<int>> step_units_;  // per step, its units
+  std::vector<Finding> findings_;
+  std::optional<std::uint64_t> submitted_;
+  Odontogram odontogram_;
 };
 
 }  // namespace sulcus

@@ -7,6 +7,7 @@
 
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/tooth.h"
+#include "core/lesson/inspection.h"
 #include "core/lesson/lesson_spec.h"
 #include "core/scene/yaml_reader.h"
 #include "core/scene/scene.h"
@@ -43,18 +44,19 @@ std::vector<int> ReadTeeth(YamlReader& r, const YAML::Node& n, const std::string
 void ReadRubric(YamlReader& r, const YAML::Node& n, RubricSpec* p) {
   if (!r.IsMap(n, "'rubric'")) return;
   r.CheckKeys(n, {"weights", "technique_full_mm", "technique_partial_mm", "force_band_n", "force_damage_n",
-                  "angle_full_deg", "angle_pass_deg", "col_reach_mm", "coverage_min"},
+                  "angle_full_deg", "angle_pass_deg", "col_reach_mm", "coverage_min", "lesion_force_n", "touch_dwell_s"},
               "'rubric'");
   if (const YAML::Node w = n["weights"]; w && r.IsMap(w, "'weights'")) {
     const std::vector<std::pair<std::string, double*>> weights = {
         {"technique", &p->technique}, {"reading", &p->reading},       {"charting", &p->charting},
         {"force", &p->force},         {"angulation", &p->angulation}, {"coverage", &p->coverage},
-        {"bleeding", &p->bleeding},   {"completeness", &p->completeness}, {"diagnosis", &p->diagnosis}};
+        {"bleeding", &p->bleeding},   {"completeness", &p->completeness}, {"diagnosis", &p->diagnosis},
+        {"findings", &p->findings},   {"sequence", &p->sequence},     {"damage", &p->damage}};
     std::vector<std::string> names;
     for (const auto& [k, v] : weights) names.push_back(k);
     r.CheckKeys(w, names, "'weights'");
     for (const auto& [k, v] : weights)
-      if (w[k]) *v = r.Number(w[k], k, 0, 1000, *v, "points");
+      if (w[k]) *v = r.Number(w[k], k, 0, 1000, std::max(0.0, *v), "points");
   }
   if (n["technique_full_mm"]) p->technique_full_mm = r.Number(n["technique_full_mm"], "technique_full_mm", 0, 5, 0.5, "mm");
   if (n["technique_partial_mm"])
@@ -75,29 +77,68 @@ void ReadRubric(YamlReader& r, const YAML::Node& n, RubricSpec* p) {
   if (n["angle_pass_deg"]) p->angle_pass_deg = r.Number(n["angle_pass_deg"], "angle_pass_deg", 0, 90, 10, "degrees");
   if (n["col_reach_mm"]) p->col_reach_mm = r.Number(n["col_reach_mm"], "col_reach_mm", 0.1, 10, 2.5, "mm");
   if (n["coverage_min"]) p->coverage_min = r.Number(n["coverage_min"], "coverage_min", 0, 1, 0.8, "share");
+  if (n["lesion_force_n"]) p->lesion_force_n = r.Number(n["lesion_force_n"], "lesion_force_n", 0.01, 10, 0.5, "N");
+  if (n["touch_dwell_s"]) p->touch_dwell_s = r.Number(n["touch_dwell_s"], "touch_dwell_s", 0.001, 5, 0.1, "s");
+}
+
+std::vector<std::string> ReadRegions(YamlReader& r, const YAML::Node& n, const std::string& key) {
+  std::vector<std::string> out;
+  if (!n.IsSequence()) {
+    r.Error(n, "'" + key + "' must be a list of regions, e.g. [lip_upper, lip_lower]");
+    return out;
+  }
+  const auto& names = InspectionRegionNames();
+  for (const YAML::Node& item : n) {
+    const std::string v = item.IsScalar() ? item.Scalar() : "";
+    if (std::find(names.begin(), names.end(), v) == names.end()) r.Error(item, "unknown region '" + v + "'" + Suggest(v, names));
+    else out.push_back(v);
+  }
+  return out;
 }
 
 void ReadStep(YamlReader& r, const YAML::Node& n, std::size_t index, LessonSpec* spec) {
   StepSpec s;
   s.line = n.Mark().line + 1;
   if (!r.IsMap(n, "a step")) return;
-  r.CheckKeys(n, {"id", "instruction", "complete", "teeth", "surface", "time_limit_s"}, "a step");
+  const bool inspection = spec->inspection();
+  if (inspection) r.CheckKeys(n, {"id", "instruction", "complete", "teeth", "regions", "surfaces", "time_limit_s"}, "a step");
+  else r.CheckKeys(n, {"id", "instruction", "complete", "teeth", "surface", "time_limit_s"}, "a step");
   s.id = n["id"] ? r.Text(n["id"], "id") : "step " + std::to_string(index + 1);
   if (n["instruction"]) {
     s.instruction = r.Text(n["instruction"], "instruction");
   } else {
     r.Error(n, "a step needs an 'instruction' (what the student is asked to do, one or two sentences)");
   }
-  const std::vector<std::string> kinds = {"read", "charted", "diagnosis"};
+  const std::vector<std::string> kinds = inspection ? std::vector<std::string>{"touched", "recorded"}
+                                                     : std::vector<std::string>{"read", "charted", "diagnosis"};
   if (n["complete"]) {
     const std::string c = r.Text(n["complete"], "complete");
-    if (c == "read") s.complete = StepSpec::Complete::kRead;
+    if (std::find(kinds.begin(), kinds.end(), c) == kinds.end())
+      r.Error(n["complete"], "unknown completion '" + c + "' for " + (inspection ? "an inspection" : "a probing") +
+                                 " lesson" + Suggest(c, kinds));
+    else if (c == "read") s.complete = StepSpec::Complete::kRead;
     else if (c == "charted") s.complete = StepSpec::Complete::kCharted;
     else if (c == "diagnosis") s.complete = StepSpec::Complete::kDiagnosis;
-    else r.Error(n["complete"], "unknown completion '" + c + "'" + Suggest(c, kinds));
+    else if (c == "touched") s.complete = StepSpec::Complete::kTouched;
+    else s.complete = StepSpec::Complete::kRecorded;
+  } else if (inspection) {
+    r.Error(n, "a step needs 'complete': touched (its regions and surfaces examined) or recorded (findings submitted)");
   } else {
     r.Error(n, "a step needs 'complete': read (its sites probed), charted (entered) or diagnosis (declared)");
   }
+  if (n["regions"]) s.regions = ReadRegions(r, n["regions"], "regions");
+  if (const YAML::Node sf = n["surfaces"]) {
+    s.surfaces = 0;
+    if (!sf.IsSequence()) r.Error(sf, "'surfaces' must be a list of tooth surfaces, e.g. [B, L, O] (M, D, B, L, O)");
+    else
+      for (const YAML::Node& item : sf) {
+        const auto surface = SurfaceFromCode(item.IsScalar() ? item.Scalar() : "");
+        if (!surface) r.Error(item, "unknown surface '" + (item.IsScalar() ? item.Scalar() : "") + "' (M, D, B, L, O)");
+        else s.surfaces |= 1u << static_cast<int>(*surface);
+      }
+  }
+  if (inspection && s.complete == StepSpec::Complete::kTouched && !n["regions"] && !n["teeth"])
+    r.Error(n, "a 'touched' step names what it examines: 'regions', 'teeth' or both");
   if (n["teeth"]) s.teeth = ReadTeeth(r, n["teeth"], "teeth");
   if (n["surface"]) {
     const std::string v = r.Text(n["surface"], "surface");
@@ -132,11 +173,14 @@ const char* ToString(StepSpec::Complete c) {
     case StepSpec::Complete::kRead: return "read";
     case StepSpec::Complete::kCharted: return "charted";
     case StepSpec::Complete::kDiagnosis: return "diagnosis";
+    case StepSpec::Complete::kTouched: return "touched";
+    case StepSpec::Complete::kRecorded: return "recorded";
   }
   return "?";
 }
 
 const char* ToString(LessonSpec::Mode m) { return m == LessonSpec::Mode::kPractice ? "practice" : "assessment"; }
+const char* ToString(LessonSpec::Kind k) { return k == LessonSpec::Kind::kProbing ? "probing" : "inspection"; }
 
 std::vector<SiteRef> StandardPath(std::vector<int> teeth) {
   std::sort(teeth.begin(), teeth.end(), [](int a, int b) { return PathRank(a) < PathRank(b); });
@@ -321,9 +365,19 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   LessonSpec spec;
   spec.file = file;
   const YAML::Node root = LoadYamlMap(r, "lesson file", "a lesson is a map with at least 'scene:' and 'steps:'");
-  r.CheckKeys(root, {"name", "description", "scene", "mode", "probe", "teeth", "path", "steps", "rubric",
-                     "time_limit_s", "case"},
-              "the lesson");
+  if (const YAML::Node k = root["kind"]) {
+    const std::string v = r.Text(k, "kind");
+    if (v == "inspection") spec.kind = LessonSpec::Kind::kInspection;
+    else if (v != "probing") r.Error(k, "unknown kind '" + v + "'" + Suggest(v, {"probing", "inspection"}));
+  }
+  if (spec.inspection())
+    r.CheckKeys(root, {"kind", "name", "description", "scene", "mode", "probe", "teeth", "regions", "steps", "rubric",
+                       "time_limit_s"},
+                "an inspection lesson");
+  else
+    r.CheckKeys(root, {"kind", "name", "description", "scene", "mode", "probe", "teeth", "path", "steps", "rubric",
+                       "time_limit_s", "case"},
+                "the lesson");
   if (root["name"]) spec.name = r.Text(root["name"], "name");
   if (root["description"]) spec.description = r.Text(root["description"], "description");
   if (root["mode"]) {
@@ -380,7 +434,7 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   if (scene_ok) {
     for (const ObjectSpec& o : scene.objects)
       if (o.kind == ObjectSpec::Kind::kTooth) scene_teeth.push_back(o.fdi);
-    if (!scene.gingiva || !scene.HasEffect(Effect::kProbingDepth))
+    if (!spec.inspection() && (!scene.gingiva || !scene.HasEffect(Effect::kProbingDepth)))
       r.Error(root["scene"], "a probing lesson needs a scene with 'gingiva: true' and the probing_depth effect");
   }
   auto in_scene = [&](int fdi) { return std::find(scene_teeth.begin(), scene_teeth.end(), fdi) != scene_teeth.end(); };
@@ -400,7 +454,18 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   } else {
     spec.teeth = scene_teeth;
   }
-  if (const YAML::Node p = root["path"]) {
+  if (spec.inspection()) {
+    const std::vector<std::string> have = scene_ok ? SceneRegions(scene) : std::vector<std::string>{};
+    if (root["regions"]) {
+      spec.regions = ReadRegions(r, root["regions"], "regions");
+      for (std::size_t i = 0; i < spec.regions.size(); ++i)
+        if (scene_ok && std::find(have.begin(), have.end(), spec.regions[i]) == have.end())
+          r.Error(root["regions"][i], "the scene " + spec.scene.filename().string() + " has no " +
+                                          RegionLabel(spec.regions[i]) + " (" + spec.regions[i] + ")");
+    } else {
+      spec.regions = have;
+    }
+  } else if (const YAML::Node p = root["path"]) {
     if (p.IsScalar() && p.Scalar() == "standard") {
       spec.path = StandardPath(spec.teeth);
     } else if (!p.IsSequence()) {
@@ -428,11 +493,15 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
       r.Error(steps, "'steps' must be a list of at least one step");
     } else {
       for (std::size_t i = 0; i < steps.size(); ++i) ReadStep(r, steps[i], i, &spec);
-      for (std::size_t i = 0; i < spec.steps.size(); ++i)
+      for (std::size_t i = 0; i < spec.steps.size(); ++i) {
         for (int t : spec.steps[i].teeth)
           if (std::find(spec.teeth.begin(), spec.teeth.end(), t) == spec.teeth.end())
             r.Error(spec.steps[i].line, 1, "step '" + spec.steps[i].id + "': tooth " + std::to_string(t) +
                                                 " is not one of the lesson's teeth");
+        for (const std::string& g : spec.steps[i].regions)
+          if (std::find(spec.regions.begin(), spec.regions.end(), g) == spec.regions.end())
+            r.Error(spec.steps[i].line, 1, "step '" + spec.steps[i].id + "': " + g + " is not one of the lesson's regions");
+      }
     }
   } else {
     r.Error(root, "a lesson needs 'steps:', a list of what the student does in order");

@@ -13,6 +13,10 @@
 
 namespace sulcus {
 
+/// An entry's tick "after the last reading at that site" (a chart entry) or "at
+/// the end" (a finding, a declaration): resolved by LessonRun::Finish().
+inline constexpr std::uint64_t kAfterReading = ~std::uint64_t{0};
+
 struct SiteRef {
   int fdi = 0;
   int site = 0;  // 0..5: MB, B, DB, ML, L, DL
@@ -32,16 +36,28 @@ struct RubricSpec {
   double angle_full_deg = 5, angle_pass_deg = 10;  // facial and oral mid-sites
   double col_reach_mm = 2.5;  // interproximal: the tip within this of the contact's line, along the sulcus
   double coverage_min = 0.80;                      // share of a surface's sulcus arc swept
+  // Inspection lessons.
+  double findings = 40, sequence = 10;
+  double damage = -1;            // < 0: as much as force
+  double lesion_force_n = 0.5;   // pressing a lesion harder than this is damage (it cavitates)
+  double touch_dwell_s = 0.1;    // the tip resting on a region or surface this long counts as examining it
+  double DamageWeight() const { return damage >= 0 ? damage : force; }
 };
 
 struct StepSpec {
-  enum class Complete { kRead, kCharted, kDiagnosis };
+  // Probing: read, charted, diagnosis. Inspection: touched (every region and
+  // surface of the step examined by the tip), recorded (the findings submitted).
+  enum class Complete { kRead, kCharted, kDiagnosis, kTouched, kRecorded };
   std::string id;
   std::string instruction;
   Complete complete = Complete::kRead;
   std::vector<int> teeth;  // empty: all the lesson's teeth
   enum class Surface { kAll, kBuccal, kLingual } surface = Surface::kAll;
   double time_limit_s = 0;  // 0: none
+  // Inspection: the regions (InspectionRegionNames) and the teeth's surfaces
+  // (bits 1 << ToothSurface) the step examines.
+  std::vector<std::string> regions;
+  unsigned surfaces = 0x1f;
   int line = 0;
 };
 const char* ToString(StepSpec::Complete c);
@@ -57,6 +73,9 @@ struct CaseSpec {
 };
 
 struct LessonSpec {
+  /// A probing lesson (sites read and charted, a diagnosis) or an inspection
+  /// (regions and tooth surfaces examined, findings recorded on an odontogram).
+  enum class Kind { kProbing, kInspection } kind = Kind::kProbing;
   std::filesystem::path file;
   std::string name, description;
   std::filesystem::path scene;  // resolved against the lesson's folder
@@ -68,9 +87,12 @@ struct LessonSpec {
   RubricSpec rubric;
   double time_limit_s = 0;      // 0: none
   CaseSpec case_spec;
+  std::vector<std::string> regions;  // inspection: the regions examined (default: every one the scene has)
+  bool inspection() const { return kind == Kind::kInspection; }
   bool practice() const { return mode == Mode::kPractice; }
 };
 const char* ToString(LessonSpec::Mode m);
+const char* ToString(LessonSpec::Kind k);
 
 /// Reads and checks a lesson file and the scene it names (the teeth must be in
 /// it with sites, the probe must be the scene's). Throws SceneLoadError with every

@@ -190,7 +190,7 @@ class StudentDevice final : public Device {
   // What the hand feels of a stroke: the force against its way down (the
   // floor), not the gingiva's and the tooth's sideways push.
   void Write(const Vector3& force_W, const Vector3&) noexcept override {
-    force_n_ = i_ < moves_.size() ? force_W.dot(moves_[i_].X_WH.rotation() * Vector3::UnitZ()) : 0.0;
+    force_n_ = i_ < moves_.size() ? -force_W.dot(Down(moves_[i_])) : 0.0;
   }
   bool Read(double t_s, DeviceSample* out) noexcept override {
     const double dt = started_ ? t_s - last_t_ : 0;
@@ -208,10 +208,10 @@ class StudentDevice final : public Device {
         Next();
         break;
       }
-      // A stroke: down at 12 mm/s until the force is felt, 0.1 s at the floor, up at 20 mm/s.
-      const Vector3 down = -(m.X_WH.rotation() * Vector3::UnitZ());
+      // A stroke: in at its speed until the force is felt, a rest at the bottom, back at 20 mm/s.
+      const Vector3 down = Down(m);
       if (phase_ == 0) {
-        depth_ += 12.0 * dt;
+        depth_ += m.speed_mm_s * dt;
         if (force_n_ >= m.target_force_n || depth_ >= m.max_depth_mm) {
           depth_ = std::min(depth_, m.max_depth_mm);
           phase_ = 1;
@@ -219,7 +219,7 @@ class StudentDevice final : public Device {
         }
       } else if (phase_ == 1) {
         phase_t_ += dt;
-        if (phase_t_ >= 0.1) phase_ = 2;
+        if (phase_t_ >= m.hold_s) phase_ = 2;
       } else {
         depth_ -= 20.0 * dt;
         if (depth_ <= 0) {
@@ -239,6 +239,9 @@ class StudentDevice final : public Device {
   }
 
  private:
+  static Vector3 Down(const ScriptedStudent::Move& m) {
+    return m.direction_W.squaredNorm() > 0 ? m.direction_W.normalized() : Vector3(-(m.X_WH.rotation() * Vector3::UnitZ()));
+  }
   void Next() {
     ++i_;
     phase_ = 0;
@@ -256,9 +259,11 @@ class StudentDevice final : public Device {
 
 }  // namespace
 
-std::unique_ptr<Device> ScriptedStudent::MakeDevice() const {
-  return std::make_unique<StudentDevice>(moves_, "student:" + name_);
+std::unique_ptr<Device> MakeHandDevice(std::vector<ScriptedStudent::Move> moves, std::string name) {
+  return std::make_unique<StudentDevice>(std::move(moves), std::move(name));
 }
+
+std::unique_ptr<Device> ScriptedStudent::MakeDevice() const { return MakeHandDevice(moves_, "student:" + name_); }
 
 void ScriptedStudent::OnTick(const TickRecord& r) {
   last_tick_ = r.tick;

@@ -43,6 +43,8 @@ class ScriptedStudent final : public TickConsumer {
     double duration_s = 0;          // a move's
     double max_depth_mm = 0;        // a stroke's: from its top along the axis
     double target_force_n = 0.22;   // a stroke stops going down at this force
+    Vector3 direction_W = Vector3::Zero();  // a stroke's way in (zero: down the tool's axis)
+    double speed_mm_s = 12, hold_s = 0.1;   // a stroke's speed in and how long it rests at the bottom
   };
   /// The sites whose entry this student gets wrong on purpose (misreading).
   const std::vector<SiteRef>& misread_sites() const { return misread_; }
@@ -71,5 +73,9 @@ class ScriptedStudent final : public TickConsumer {
   std::vector<Seen> seen_;
   std::uint64_t last_tick_ = 0;
 };
+
+/// A device that plays a list of moves (ScriptedStudent::Move) by loop time,
+/// feeling the force written back (a stroke stops when it feels its force).
+std::unique_ptr<Device> MakeHandDevice(std::vector<ScriptedStudent::Move> moves, std::string name);
 
 }  // namespace sulcus

@@ -107,6 +107,28 @@ void WriteCachedMesh(const TriangleMesh& m, const std::filesystem::path& file) {
   std::filesystem::rename(tmp, file, ec);
 }
 
+}  // namespace
+
+std::vector<CariesLesion> SceneCariesLesions(const SceneSpec& spec) {
+  std::vector<CariesLesion> out;
+  const auto& objs = spec.objects;
+  for (int i = 0; i < static_cast<int>(objs.size()); ++i) {
+    const ObjectSpec& o = objs[i];
+    if (o.kind != ObjectSpec::Kind::kTooth) continue;
+    std::optional<ToothModel> tooth;
+    for (int s = 0; s < 5; ++s) {
+      if (o.caries_mm[s] <= 0) continue;
+      if (!tooth) tooth = GenerateTooth(o.fdi);
+      const SurfacePoint p = CariesSpot(*tooth, static_cast<ToothSurface>(s));
+      out.push_back({i, o.X_WO * ArchMirror(o.mirrored, p.point), o.X_WO.rotation() * ArchMirror(o.mirrored, p.normal),
+                     o.caries_mm[s], s});
+    }
+  }
+  return out;
+}
+
+namespace {
+
 // What the scene's effects need: damage limits, probing sites, soft objects.
 void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<CollisionWorld::Object>& soft_objects) {
   EffectsModel& m = scene->effects;
@@ -129,20 +151,9 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
       m.X_OW.push_back(o.X_WO.inverse());
     }
   }
-  if (m.on.caries_catch) {
-    for (int i = 0; i < static_cast<int>(objs.size()); ++i) {
-      const ObjectSpec& o = objs[i];
-      if (o.kind != ObjectSpec::Kind::kTooth || i >= soft_first) continue;
-      std::optional<ToothModel> tooth;
-      for (int s = 0; s < 5; ++s) {
-        if (o.caries_mm[s] <= 0) continue;
-        if (!tooth) tooth = GenerateTooth(o.fdi);
-        const SurfacePoint p = CariesSpot(*tooth, static_cast<ToothSurface>(s));
-        m.lesions.push_back({i, o.X_WO * ArchMirror(o.mirrored, p.point),
-                             o.X_WO.rotation() * ArchMirror(o.mirrored, p.normal), o.caries_mm[s]});
-      }
-    }
-  }
+  if (m.on.caries_catch)
+    for (const CariesLesion& c : SceneCariesLesions(spec))
+      if (c.tooth < soft_first) m.lesions.push_back(c);
   for (const ObjectSpec& o : objs) m.damage_limit_n.push_back(o.material.damage_limit_n);
   m.soft_first = soft_first;
   const bool sites = spec.gingiva && (m.on.probing_depth || m.on.bleeding_on_probing);

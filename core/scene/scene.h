@@ -177,6 +177,10 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
 /// axis, and the others at the top of the crown; for other objects, their top.
 ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& script, int object = -1);
 
+/// The caries lesions of the scene's teeth in the world (object: the tooth's
+/// index), where caries_catch feels them and lessons score pressing them.
+std::vector<CariesLesion> SceneCariesLesions(const SceneSpec& spec);
+
 /// An object's name, or "object N" for an index the scene does not have.
 std::string ObjectName(const SceneSpec& spec, int object);
 

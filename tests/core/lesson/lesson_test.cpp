@@ -102,7 +102,7 @@ TEST(LessonFile, EveryErrorAtOnceWithItsPlace) {
                    f + ":6:1: unknown key 'stepz' in the lesson; did you mean 'steps'?",
                    f + ":3:7: unknown mode 'practise'; did you mean 'practice'?",
                    f + ":9:13: unknown key 'technik' in 'weights' (expected one of: technique, reading, charting, force, angulation, "
-                       "coverage, bleeding, completeness, diagnosis)",
+                       "coverage, bleeding, completeness, diagnosis, findings, sequence, damage)",
                    f + ":8:17: 'force_band_n' must be [low, high] with low < high",
                    f + ":4:13: tooth 36 is not in the scene periodontal_probing.yaml",
                    f + ":5:17: a path entry is a tooth and a site, such as \"46 DB\" (sites MB, B, DB, ML, L, DL)",

@@ -1,0 +1,267 @@
+// The oral inspection lesson: its file, the odontogram and its answers, the
+// scene's truth, and scripted inspectors with known answers taking it on the
+// full mouth.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "core/lesson/attempt.h"
+#include "core/lesson/inspection.h"
+#include "core/lesson/report.h"
+#include "core/lesson/scripted_inspector.h"
+#include "core/spheretree/cache.h"
+
+namespace sulcus {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Lesson() { return fs::path(SULCUS_SOURCE_DIR) / "lessons" / "oral_inspection.yaml"; }
+fs::path Out(const std::string& name) {
+  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "inspection";
+  fs::create_directories(dir);
+  return dir / name;
+}
+fs::path Write(const std::string& name, const std::string& text) {
+  const fs::path p = Out(name);
+  std::ofstream(p) << text;
+  return p;
+}
+
+std::vector<std::string> Errors(const fs::path& file, bool answers = false) {
+  try {
+    if (answers) LoadAnswers(file);
+    else LoadLessonSpec(file);
+  } catch (const SceneLoadError& e) {
+    std::vector<std::string> v;
+    for (const SceneError& x : e.errors()) v.push_back(x.ToString());
+    return v;
+  }
+  return {};
+}
+
+bool AnyContains(const std::vector<std::string>& v, const std::string& what) {
+  return std::any_of(v.begin(), v.end(), [&](const std::string& s) { return s.find(what) != std::string::npos; });
+}
+
+TEST(InspectionLesson, TheShippedLessonIsValid) {
+  const LessonSpec spec = LoadLessonSpec(Lesson());
+  EXPECT_TRUE(spec.inspection());
+  EXPECT_EQ(spec.teeth.size(), 28u);
+  EXPECT_EQ(spec.regions.size(), InspectionRegionNames().size()) << "the scene has every region";
+  ASSERT_EQ(spec.steps.size(), 11u);
+  EXPECT_EQ(spec.steps[1].regions, (std::vector<std::string>{"cheek_right", "cheek_left"}));
+  EXPECT_EQ(spec.steps.back().complete, StepSpec::Complete::kRecorded);
+  EXPECT_TRUE(spec.path.empty()) << "an inspection has no probing path";
+}
+
+TEST(InspectionLesson, EveryErrorAtOnceWithItsPlace) {
+  const fs::path f = Write("bad_inspection.yaml",
+                           "kind: inspection\n"
+                           "scene: " + (fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml").string() + "\n"
+                           "path: standard\n"
+                           "steps:\n"
+                           "  - instruction: lips\n"
+                           "    complete: read\n"
+                           "    regions: [lip_uper]\n"
+                           "  - instruction: teeth\n"
+                           "    complete: touched\n"
+                           "    teeth: [36]\n"
+                           "    surfaces: [B, X]\n"
+                           "  - instruction: nothing named\n"
+                           "    complete: touched\n");
+  const auto e = Errors(f);
+  EXPECT_TRUE(AnyContains(e, ":3:1: unknown key 'path'")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":6:15: unknown completion 'read' for an inspection lesson")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":7:15: unknown region 'lip_uper'; did you mean 'lip_upper'?")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":11:19: unknown surface 'X'")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":12:5: a 'touched' step names what it examines")) << ::testing::PrintToString(e);
+}
+
+TEST(Odontogram, FindingsReadAndWriteBackAndBadOnesAreNamed) {
+  const fs::path f = Write("findings.yaml",
+                           "findings:\n"
+                           "  - {tooth: 36, caries: [O, B], tick: 10}\n"
+                           "  - {tooth: 16, calculus: true}\n"
+                           "  - {tooth: 31, inflamed: true, tick: 20}\n"
+                           "  - {tooth: 24, status: 3}\n"
+                           "  - {region: tongue_lateral_border_left, lesion: ulcer, tick: 30}\n"
+                           "  - {tooth: 36, caries: B, present: false, tick: 40}\n"
+                           "submitted: 50\n");
+  const Answers a = LoadAnswers(f);
+  ASSERT_EQ(a.findings.size(), 7u);
+  EXPECT_EQ(a.findings[1].surface, ToothSurface::kBuccal);
+  EXPECT_EQ(a.findings[1].tick, 10u);
+  EXPECT_EQ(a.findings[2].tick, kAfterReading);
+  EXPECT_FALSE(a.findings[6].present);
+  ASSERT_TRUE(a.submitted);
+  EXPECT_EQ(*a.submitted, 50u);
+  Odontogram o = EmptyOdontogram({16, 24, 31, 36});
+  for (const Finding& x : a.findings) o.Apply(x);
+  EXPECT_TRUE(o.Find(36)->caries[static_cast<int>(ToothSurface::kOcclusal)]);
+  EXPECT_FALSE(o.Find(36)->caries[static_cast<int>(ToothSurface::kBuccal)]) << "withdrawn";
+  EXPECT_EQ(o.Find(36)->Status(), 1) << "decayed, from its caries";
+  EXPECT_EQ(o.Find(24)->Status(), 3);
+  EXPECT_EQ(o.lesions.at("tongue_lateral_border_left"), "ulcer");
+  // Written and read back: the same findings.
+  const fs::path back = Out("findings_back.yaml");
+  SaveAnswers(a, back);
+  const Answers b = LoadAnswers(back);
+  ASSERT_EQ(b.findings.size(), a.findings.size());
+  for (std::size_t i = 0; i < a.findings.size(); ++i) EXPECT_EQ(b.findings[i].ToString(), a.findings[i].ToString()) << i;
+  EXPECT_EQ(b.submitted, a.submitted);
+
+  const auto e = Errors(Write("bad_findings.yaml",
+                              "findings:\n"
+                              "  - {tooth: 36, caries: Q}\n"
+                              "  - {region: tonge_dorsum, lesion: ulcer}\n"
+                              "  - {tooth: 36}\n"
+                              "  - {region: palate, lesion: wart}\n"),
+                        true);
+  EXPECT_TRUE(AnyContains(e, ":2:25: unknown surface 'Q'")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":3:14: unknown region 'tonge_dorsum'")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":4:5: a finding is one of")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":5:30: unknown lesion 'wart'")) << ::testing::PrintToString(e);
+}
+
+TEST(Odontogram, TheScenesTruth) {
+  const LessonSpec spec = LoadLessonSpec(Lesson());
+  const SceneSpec scene = LoadSceneSpec(spec.scene);
+  const Odontogram t = TrueOdontogram(scene, spec.teeth, spec.regions);
+  std::set<std::string> caries, calculus, inflamed;
+  for (const ToothRecord& r : t.teeth) {
+    for (int s = 0; s < 5; ++s)
+      if (r.caries[static_cast<std::size_t>(s)])
+        caries.insert(std::to_string(r.fdi) + " " + SurfaceCode(static_cast<ToothSurface>(s)));
+    if (r.calculus) calculus.insert(std::to_string(r.fdi));
+    if (r.inflamed) inflamed.insert(std::to_string(r.fdi));
+  }
+  EXPECT_EQ(caries, (std::set<std::string>{"16 O", "26 M", "36 B", "36 O", "45 D"}));
+  EXPECT_EQ(calculus, (std::set<std::string>{"16", "31", "41", "46"}));
+  EXPECT_EQ(inflamed, (std::set<std::string>{"31", "32", "46"}));
+  EXPECT_EQ(t.lesions, (std::map<std::string, std::string>{{"tongue_lateral_border_left", "ulcer"}}));
+}
+
+// One attempt per scripted inspector, taken once and shared.
+const AttemptOutcome& Take(const std::string& who) {
+  static std::map<std::string, AttemptOutcome> done;
+  auto it = done.find(who);
+  if (it == done.end()) {
+    AttemptOptions o;
+    o.student = who;
+    o.device = "student:" + who;
+    o.cache_dir = DefaultCacheDir();  // the full mouth, shared with the window and the probing tests
+    it = done.emplace(who, RunAttempt(Lesson(), o)).first;
+    WriteReport(it->second.result, {}, Out("report-" + who));
+  }
+  return it->second;
+}
+
+std::set<std::string> NotExamined(const LessonResult& r) {
+  std::set<std::string> s;
+  for (const InspectionUnit& u : r.inspection.units)
+    if (!u.touched) s.insert(u.Name());
+  return s;
+}
+
+const FindingScore& Score(const LessonResult& r, const std::string& kind) {
+  for (const FindingScore& s : r.inspection.scores)
+    if (s.kind == kind) return s;
+  throw std::runtime_error("no score for " + kind);
+}
+
+std::vector<std::string> Messages(const LessonResult& r, const std::string& category, RubricLine::Status st) {
+  std::vector<std::string> v;
+  for (const RubricLine& l : r.lines)
+    if (l.category == category && l.status == st) v.push_back(l.message);
+  return v;
+}
+
+TEST(Inspectors, TheThoroughOneFindsEverythingItExamines) {
+  const LessonResult& r = Take("thorough").result;
+  EXPECT_EQ(r.kind, "inspection");
+  std::size_t examined = 0;
+  for (const InspectionUnit& u : r.inspection.units) examined += u.touched;
+  EXPECT_GE(examined, r.inspection.units.size() * 3 / 4) << "most regions and surfaces: " << examined << " of "
+                                                         << r.inspection.units.size();
+  // Every finding it recorded is true (specificity 1 for every kind), and it
+  // found every finding on a surface or region it examined.
+  for (const FindingScore& s : r.inspection.scores) EXPECT_EQ(s.fp, 0) << s.kind;
+  EXPECT_EQ(Score(r, "lesion").tp, 1) << "the ulcer on the tongue's left lateral border";
+  EXPECT_EQ(Score(r, "calculus").fn, 0);
+  EXPECT_EQ(Score(r, "inflamed gingiva").fn, 0);
+  EXPECT_TRUE(r.inspection.submitted_tick.has_value());
+  EXPECT_TRUE(r.inspection.presses.empty()) << "no lesion pressed hard: " << r.inspection.presses.size();
+  // Every coverage line names its moment and the truth is in the result.
+  for (const RubricLine& l : r.lines) EXPECT_LE(l.tick, r.last_tick) << l.message;
+  EXPECT_FALSE(r.inspection.truth.teeth.empty());
+}
+
+TEST(Inspectors, TheSkippingOneIsToldWhatItLeftOut) {
+  const LessonResult& r = Take("skipping").result;
+  const std::set<std::string> missed = NotExamined(r);
+  for (const char* u : {"cheek_left", "36 L", "37 L", "46 L", "47 L"})
+    EXPECT_TRUE(missed.count(u)) << u << " was skipped and must be named as not examined";
+  const auto lines = Messages(r, "coverage", RubricLine::Status::kFail);
+  const auto partial = Messages(r, "coverage", RubricLine::Status::kPartial);
+  EXPECT_TRUE(AnyContains(lines, "the left buccal mucosa: not examined")) << ::testing::PrintToString(lines);
+  for (const char* tooth : {"36: ", "37: ", "46: ", "47: "}) {
+    bool named = false;
+    for (const auto& m : partial) named |= m.rfind(tooth, 0) == 0 && m.find("L") != std::string::npos;
+    EXPECT_TRUE(named) << tooth << "L not named: " << ::testing::PrintToString(partial);
+  }
+  // The buccal mucosa step was left before it was done, with the left cheek missed.
+  bool left = false;
+  for (const StepResult& st : r.steps) left |= st.id == "buccal mucosa" && !st.completed &&
+                                               std::count(st.missed.begin(), st.missed.end(), "cheek_left") == 1;
+  EXPECT_TRUE(left);
+  // The thorough one examined the left cheek.
+  EXPECT_FALSE(NotExamined(Take("thorough").result).count("cheek_left"));
+}
+
+TEST(Inspectors, TheMistakenOneHasBothErrorsNamed) {
+  const LessonResult& r = Take("mistaken").result;
+  const LessonResult& t = Take("thorough").result;
+  ScriptedInspector who("mistaken", LoadLessonSpec(Lesson()), *Take("mistaken").scene);
+  ASSERT_EQ(who.false_findings().size(), 1u);
+  ASSERT_EQ(who.missed_findings().size(), 1u);
+  const Finding& wrong = who.false_findings()[0];
+  const Finding& missed = who.missed_findings()[0];
+  const std::string wrong_name = std::to_string(wrong.fdi) + " " + SurfaceCode(wrong.surface);
+  const std::string missed_name = std::to_string(missed.fdi) + " " + SurfaceCode(missed.surface);
+  const auto fails = Messages(r, "findings", RubricLine::Status::kFail);
+  EXPECT_TRUE(AnyContains(fails, wrong_name + ": caries recorded on a sound surface")) << ::testing::PrintToString(fails);
+  EXPECT_TRUE(AnyContains(fails, missed_name + ": caries missed")) << ::testing::PrintToString(fails);
+  EXPECT_EQ(Score(r, "caries").fp, 1);
+  if (!NotExamined(t).count(missed_name)) {
+    EXPECT_EQ(Score(r, "caries").fn, Score(t, "caries").fn + 1);
+  }
+  EXPECT_LT(Score(r, "caries").specificity(), 1.0);
+  EXPECT_LT(Score(r, "caries").sensitivity(), Score(t, "caries").sensitivity());
+}
+
+TEST(Inspectors, TheRoughOneIsScoredForDamageWithItsMoments) {
+  const LessonResult& r = Take("rough").result;
+  const auto damage = Messages(r, "damage", RubricLine::Status::kFail);
+  bool tongue = false;
+  for (const RubricLine& l : r.lines)
+    if (l.category == "damage" && l.status == RubricLine::Status::kFail && l.message.find("on tongue") != std::string::npos) {
+      tongue = true;
+      EXPECT_GT(l.tick, r.first_tick);
+    }
+  EXPECT_TRUE(tongue) << ::testing::PrintToString(damage);
+  ASSERT_FALSE(r.inspection.presses.empty()) << "the tip forced into a carious lesion";
+  const LesionPress& p = r.inspection.presses.front();
+  EXPECT_GT(p.force_n, r.rubric.lesion_force_n);
+  EXPECT_TRUE(AnyContains(damage, p.where + ": ")) << ::testing::PrintToString(damage);
+  EXPECT_TRUE(AnyContains(damage, "into the lesion")) << ::testing::PrintToString(damage);
+  EXPECT_LT(r.category_credit.at("damage"), Take("thorough").result.category_credit.at("damage"));
+}
+
+}  // namespace
+}  // namespace sulcus
