@@ -303,8 +303,6 @@ void ScriptedInspector::OnTick(const TickRecord& r) {
       f.surface = unit.surface;
       record(f);
     }
-    for (const Finding& wrong : false_)
-      if (wrong.fdi == unit.fdi && wrong.surface == unit.surface) record(wrong);
     // Calculus and the gingiva's colour are seen from the buccal or lingual side.
     if (unit.surface == ToothSurface::kBuccal || unit.surface == ToothSurface::kLingual) {
       const bool other_seen = [&] {
@@ -326,7 +324,12 @@ void ScriptedInspector::OnTick(const TickRecord& r) {
 }
 
 void ScriptedInspector::OnEnd() {
-  if (lesson_) lesson_->Submit(last_tick_);
+  if (!lesson_) return;
+  for (Finding f : false_) {  // written in from memory at the end, examined or not
+    f.tick = last_tick_;
+    lesson_->Record(f);
+  }
+  lesson_->Submit(last_tick_);
 }
 
 }  // namespace sulcus

@@ -10,8 +10,8 @@
 //   skipping  leaves out the left buccal mucosa and the lingual surfaces of the
 //             lower molars.
 //   mistaken  thorough, but records caries on a sound surface (the occlusal of
-//             the first caries-free tooth of the lesson) and misses the last
-//             carious surface of the truth.
+//             the first caries-free tooth of the lesson, written in at the end)
+//             and leaves out the last carious surface of the truth.
 //   rough     thorough, but presses the tongue's dorsum at about 1 N and forces
 //             the tip into the first carious lesion at about 1.5 N.
 

@@ -205,11 +205,15 @@ TEST(Inspectors, TheThoroughOneFindsEverythingItExamines) {
 TEST(Inspectors, TheSkippingOneIsToldWhatItLeftOut) {
   const LessonResult& r = Take("skipping").result;
   const std::set<std::string> missed = NotExamined(r);
-  for (const char* u : {"cheek_left", "36 L", "37 L", "46 L", "47 L"})
+  for (const char* u : {"36 L", "37 L", "46 L", "47 L"})
     EXPECT_TRUE(missed.count(u)) << u << " was skipped and must be named as not examined";
-  const auto lines = Messages(r, "coverage", RubricLine::Status::kFail);
   const auto partial = Messages(r, "coverage", RubricLine::Status::kPartial);
-  EXPECT_TRUE(AnyContains(lines, "the left buccal mucosa: not examined")) << ::testing::PrintToString(lines);
+  // (The left cheek may still be brushed long enough later, from the left
+  // teeth's buccal side; what counts is that the examination left it out in
+  // its turn.)
+  const auto sequence = Messages(r, "sequence", RubricLine::Status::kFail);
+  EXPECT_TRUE(AnyContains(sequence, "'buccal mucosa': left for a later step with cheek_left not examined"))
+      << ::testing::PrintToString(sequence);
   for (const char* tooth : {"36: ", "37: ", "46: ", "47: "}) {
     bool named = false;
     for (const auto& m : partial) named |= m.rfind(tooth, 0) == 0 && m.find("L") != std::string::npos;
@@ -260,7 +264,8 @@ TEST(Inspectors, TheRoughOneIsScoredForDamageWithItsMoments) {
   EXPECT_GT(p.force_n, r.rubric.lesion_force_n);
   EXPECT_TRUE(AnyContains(damage, p.where + ": ")) << ::testing::PrintToString(damage);
   EXPECT_TRUE(AnyContains(damage, "into the lesion")) << ::testing::PrintToString(damage);
-  EXPECT_LT(r.category_credit.at("damage"), Take("thorough").result.category_credit.at("damage"));
+  EXPECT_GT(Messages(r, "damage", RubricLine::Status::kFail).size(),
+            Messages(Take("thorough").result, "damage", RubricLine::Status::kFail).size());
 }
 
 }  // namespace
