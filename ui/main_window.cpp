@@ -518,6 +518,7 @@ void MainWindow::BeginSession() {
     }
     feedback_->clear();
     feedback_shown_ = 0;
+    shown_findings_ = 0;
     looked_at_ = 0;
     lesson_dock_->show();
   }
@@ -990,6 +991,10 @@ void MainWindow::UpdateLessonPanel() {
     for (const InspectionUnit& u : in.units())
       if (u.touched) examined.push_back(u.Name());
     odontogram_->SetExamined(examined);
+    if (l.findings().size() != shown_findings_) {
+      shown_findings_ = l.findings().size();
+      odontogram_->Show(l.odontogram());
+    }
     odontogram_->SetTouching(touching);
     // The camera to the first tooth the step still asks for.
     for (const std::string& u : left)

@@ -217,6 +217,7 @@ class MainWindow : public QMainWindow {
   QListWidget* feedback_ = nullptr;
   ChartWidget* chart_ = nullptr;
   OdontogramWidget* odontogram_ = nullptr;
+  std::size_t shown_findings_ = 0;
   QPushButton *diagnose_button_ = nullptr, *finish_button_ = nullptr;
   std::size_t feedback_shown_ = 0;
   int looked_at_ = 0;

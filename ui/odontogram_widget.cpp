@@ -65,18 +65,25 @@ void OdontogramWidget::SetExamined(const std::vector<std::string>& units) {
   update();
 }
 
+int OdontogramWidget::SideColumns() const {
+  int n = 1;
+  for (int fdi : teeth_) n = std::max(n, fdi % 10);
+  return n;
+}
+
 QSize OdontogramWidget::sizeHint() const {
   const int rows_h = kTop + 2 * (kBox + kRowGap) + 8;
   const int regions_h = static_cast<int>((regions_.size() + 1) / 2) * kRegionRow + 24;
-  return {kLeft * 2 + 16 * kColumn + kMidGap, rows_h + regions_h};
+  return {kLeft * 2 + 2 * SideColumns() * kColumn + kMidGap, rows_h + regions_h};
 }
 
 void OdontogramWidget::Layout() {
   cells_.clear();
   for (int fdi : teeth_) {
-    const int r = Rank(fdi);  // 1..8 right of the patient, 11..18 left
-    const int col = r <= 8 ? r - 1 : r - 11 + 8;
-    const int x = kLeft + col * kColumn + (col >= 8 ? kMidGap : 0);
+    const int side = SideColumns(), pos = fdi % 10;
+    const bool right = fdi / 10 == 1 || fdi / 10 == 4;  // the patient's right: the chart's left
+    const int col = right ? side - pos : side + pos - 1;
+    const int x = kLeft + col * kColumn + (col >= side ? kMidGap : 0);
     const int y = Upper(fdi) ? kTop : kTop + kBox + kRowGap + 14;
     Cell c{fdi, QRect(x, y, kBox, kBox), {}, {}, {}};
     const int below = Upper(fdi) ? y + kBox + 2 : y - 14;
@@ -221,14 +228,16 @@ void OdontogramWidget::paintEvent(QPaintEvent*) {
   small.setPointSizeF(std::max(6.5, font().pointSizeF() * 0.8));
   p.setFont(small);
   p.setPen(QColor("#666"));
-  p.drawText(QRect(kLeft, 0, 8 * kColumn, kTop - 2), Qt::AlignLeft | Qt::AlignVCenter, "Upper right");
-  p.drawText(QRect(kLeft + 8 * kColumn + kMidGap, 0, 8 * kColumn, kTop - 2), Qt::AlignRight | Qt::AlignVCenter,
-             "Upper left");
-  const int mid_x = kLeft + 8 * kColumn + kMidGap / 2 - 2;
+  const int side = SideColumns();
+  const int mid_x = kLeft + side * kColumn + kMidGap / 2 - 2;
   p.setPen(QPen(QColor("#999"), 1, Qt::DashLine));
   p.drawLine(mid_x, kTop, mid_x, kTop + 2 * (kBox + kRowGap) + 4);
   const int occlusal_y = kTop + kBox + kRowGap / 2 + 7;
-  p.drawLine(kLeft, occlusal_y, kLeft + 16 * kColumn + kMidGap, occlusal_y);
+  p.drawLine(kLeft, occlusal_y, kLeft + 2 * side * kColumn + kMidGap, occlusal_y);
+  p.setPen(QColor("#888"));
+  const int span = side * kColumn;
+  p.drawText(QRect(kLeft, occlusal_y - 1, span, 12), Qt::AlignLeft | Qt::AlignTop, "right");
+  p.drawText(QRect(kLeft + span + kMidGap, occlusal_y - 1, span, 12), Qt::AlignRight | Qt::AlignTop, "left");
   auto examined = [&](const std::string& u) { return std::find(examined_.begin(), examined_.end(), u) != examined_.end(); };
   for (const Cell& c : cells_) {
     const ToothRecord* t = odontogram_.Find(c.fdi);

@@ -39,6 +39,12 @@ class OdontogramWidget : public QWidget {
     enabled_ = on;
     update();
   }
+  /// Shows what the lesson holds as recorded (findings may come from elsewhere:
+  /// a scripted inspector, an answers file).
+  void Show(const Odontogram& o) {
+    odontogram_ = o;
+    update();
+  }
   /// Records a finding as if the student had clicked it (also from the keyboard).
   void Apply(const Finding& f);
 
@@ -62,6 +68,7 @@ class OdontogramWidget : public QWidget {
     QRect ca, g, status;
   };
   void Layout();
+  int SideColumns() const;  // teeth a quadrant shows: 8 with third molars, else 7
   // The surface of a tooth's diagram at a point, -1 outside.
   int SurfaceAt(const Cell& c, const QPoint& p) const;
   void Toggle(int fdi, Finding::Kind kind, ToothSurface s = ToothSurface::kOcclusal);

@@ -43,6 +43,17 @@ void PrintResult(const LessonResult& r) {
   std::printf("  (%d more lines passed; the report lists every line)\n", passed);
   std::printf("categories:");
   for (const auto& [cat, credit] : r.category_credit) std::printf(" %s %.0f%%", cat.c_str(), 100 * credit);
+  if (r.kind == "inspection") {
+    std::size_t examined = 0;
+    for (const InspectionUnit& u : r.inspection.units) examined += u.touched;
+    std::printf("\nscore %.1f / 100; %zu of %zu regions and tooth surfaces examined; %.1f s\nfindings:", r.total, examined,
+                r.inspection.units.size(), r.duration_s);
+    for (const FindingScore& f : r.inspection.scores)
+      if (f.kind != "status")
+        std::printf(" %s %d of %d found, %d false;", f.kind.c_str(), f.tp, f.tp + f.fn, f.fp);
+    std::printf("\n");
+    return;
+  }
   std::printf("\nscore %.1f / 100; %d of %d sites probed, %d charted; within 1 mm %.0f %%, exact %.0f %%, bias %+.2f mm "
               "(interdental %+.2f mm); force in band %.0f %%; %.1f s\n",
               r.total, r.sites_read, r.sites_total, r.sites_charted, r.within_1mm_pct, r.exact_pct, r.bias_mm,

@@ -254,7 +254,40 @@ std::string CoverageArc(const SurfaceCoverage& c) {
 std::string ReportJson(const LessonResult& r, const ReportInfo& info) {
   std::ostringstream o;
   o << "{\n  \"format\": \"sulcus-lesson-report 1\",\n";
+  o << "  \"kind\": " << J(r.kind) << ",\n";
   o << "  \"lesson\": " << J(r.lesson_name) << ",\n  \"lesson_file\": " << J(r.lesson_file) << ",\n";
+  if (r.kind == "inspection") {
+    const InspectionResult& in = r.inspection;
+    o << "  \"inspection\": {\"examined\": [";
+    bool first = true;
+    for (const InspectionUnit& u : in.units) {
+      if (!u.touched) continue;
+      o << (first ? "" : ", ") << "{\"unit\": " << J(u.Name()) << ", \"tick\": " << u.first_tick << "}";
+      first = false;
+    }
+    o << "],\n    \"not_examined\": [";
+    first = true;
+    for (const InspectionUnit& u : in.units) {
+      if (u.touched) continue;
+      o << (first ? "" : ", ") << J(u.Name());
+      first = false;
+    }
+    o << "],\n    \"scores\": [";
+    for (std::size_t i = 0; i < in.scores.size(); ++i) {
+      const FindingScore& f = in.scores[i];
+      o << (i ? ", " : "") << "{\"kind\": " << J(f.kind) << ", \"tp\": " << f.tp << ", \"fn\": " << f.fn
+        << ", \"fp\": " << f.fp << ", \"tn\": " << f.tn << ", \"sensitivity\": " << Num(f.sensitivity(), 4)
+        << ", \"specificity\": " << Num(f.specificity(), 4) << "}";
+    }
+    o << "],\n    \"findings\": [";
+    for (std::size_t i = 0; i < in.findings.size(); ++i)
+      o << (i ? ", " : "") << "{\"finding\": " << J(in.findings[i].ToString()) << ", \"tick\": " << in.findings[i].tick << "}";
+    o << "],\n    \"lesion_presses\": [";
+    for (std::size_t i = 0; i < in.presses.size(); ++i)
+      o << (i ? ", " : "") << "{\"where\": " << J(in.presses[i].where) << ", \"force_n\": " << Num(in.presses[i].force_n, 3)
+        << ", \"tick\": " << in.presses[i].tick << "}";
+    o << "]},\n";
+  }
   o << "  \"scene_file\": " << J(r.scene_file) << ",\n  \"mode\": " << J(r.mode) << ",\n";
   o << "  \"student\": " << J(r.student) << ",\n  \"started\": " << J(info.started) << ",\n";
   o << "  \"attempt_id\": " << info.attempt_id << ",\n  \"recording\": " << J(info.recording) << ",\n";
@@ -327,6 +360,87 @@ std::string ReportJson(const LessonResult& r, const ReportInfo& info) {
   return o.str();
 }
 
+namespace {
+
+std::string Categories(const LessonResult& r) {
+  std::ostringstream o;
+  o << "<table class=cats><tr>";
+  for (const auto& [cat, credit] : r.category_credit) o << "<th>" << H(cat) << "</th>";
+  o << "</tr><tr>";
+  for (const auto& [cat, credit] : r.category_credit)
+    o << "<td>" << Num(100 * credit, 0) << " %<br><span class=bar style=\"width:" << Num(60 * credit, 0)
+      << "px\"></span><br><small>weight " << Num(r.category_weight.at(cat), 0) << "</small></td>";
+  o << "</tr></table>\n";
+  return o.str();
+}
+
+// An inspection: the odontogram, truth beside what was recorded, surface by
+// surface; what was examined; sensitivity and specificity per kind of finding.
+std::string InspectionHtml(const LessonResult& r) {
+  const InspectionResult& in = r.inspection;
+  std::ostringstream o;
+  o << "<h2>Findings</h2>\n<table><tr><th>kind</th><th>found</th><th>missed</th><th>false</th><th>sensitivity</th>"
+       "<th>specificity</th></tr>";
+  for (const FindingScore& s : in.scores)
+    o << "<tr><th>" << H(s.kind) << "</th><td>" << s.tp << "</td><td>" << s.fn << "</td><td>" << s.fp << "</td><td>"
+      << Num(100 * s.sensitivity(), 0) << " %</td><td>" << Num(100 * s.specificity(), 0) << " %</td></tr>";
+  o << "</table>\n<h2>Odontogram</h2>\n<p class=legend>Each tooth's surfaces M D B L O: <span style=\"background:"
+       "#9c2a1a\"></span>caries recorded and true<span style=\"background:#e0a020\"></span>caries missed"
+       "<span style=\"background:#7a4fb0\"></span>recorded, not there<span style=\"background:#cfe3f5\"></span>"
+       "examined<span style=\"background:#fff;border:1px solid #ccc\"></span>not examined; Ca calculus, G inflamed "
+       "gingiva (recorded / true), the WHO status.</p>\n<table>";
+  auto examined = [&](const std::string& name) {
+    for (const InspectionUnit& u : in.units)
+      if (u.Name() == name) return u.touched;
+    return false;
+  };
+  auto row = [&](bool upper) {
+    o << "<tr>";
+    for (const ToothRecord& t : in.truth.teeth) {
+      if ((t.fdi / 10 <= 2) != upper) continue;
+      const ToothRecord* rec = in.recorded.Find(t.fdi);
+      o << "<td><b>" << t.fdi << "</b><br>";
+      for (int s = 0; s < 5; ++s) {
+        const std::string code = SurfaceCode(static_cast<ToothSurface>(s));
+        const bool truth = t.caries[static_cast<std::size_t>(s)], said = rec && rec->caries[static_cast<std::size_t>(s)];
+        const char* bg = truth && said ? "#9c2a1a" : truth ? "#e0a020" : said ? "#7a4fb0"
+                         : examined(std::to_string(t.fdi) + " " + code) ? "#cfe3f5" : "#fff";
+        o << "<span title=\"" << t.fdi << " " << code << "\" style=\"display:inline-block;width:13px;font-size:10px;"
+          << "background:" << bg << ";color:" << (truth || said ? "#fff" : "#444") << "\">" << code << "</span>";
+      }
+      auto flag = [&](const char* name, bool truth, bool said) {
+        if (!truth && !said) return;
+        o << "<br><small style=\"color:" << (truth == said ? "#2a7a3a" : "#c02020") << "\">" << name << " "
+          << (said ? "&#10003;" : "-") << "/" << (truth ? "&#10003;" : "-") << "</small>";
+      };
+      flag("Ca", t.calculus, rec && rec->calculus);
+      flag("G", t.inflamed, rec && rec->inflamed);
+      o << "<br><small>" << (rec ? rec->Status() : 0) << "/" << t.Status() << "</small></td>";
+    }
+    o << "</tr>";
+  };
+  row(true);
+  row(false);
+  o << "</table>\n<h2>Soft tissues</h2>\n<table><tr><th>region</th><th>examined</th><th>recorded</th><th>truth</th></tr>";
+  for (const std::string& g : in.regions) {
+    const auto t = in.truth.lesions.find(g), s = in.recorded.lesions.find(g);
+    o << "<tr><td style=\"text-align:left\">" << H(RegionLabel(g)) << "</td><td>" << (examined(g) ? "&#10003;" : "-")
+      << "</td><td>" << H(s != in.recorded.lesions.end() ? s->second : "-") << "</td><td>"
+      << H(t != in.truth.lesions.end() ? t->second : "-") << "</td></tr>";
+  }
+  o << "</table>\n";
+  if (!in.presses.empty()) {
+    o << "<h2>Lesions pressed too hard</h2>\n<ul>";
+    for (const LesionPress& p : in.presses)
+      o << "<li><a href=\"#t" << p.tick << "\">" << Seconds(r, p.tick) << " s</a>: " << H(p.where) << ", "
+        << Num(p.force_n, 2) << " N</li>";
+    o << "</ul>\n";
+  }
+  return o.str();
+}
+
+}  // namespace
+
 std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
   const RubricSpec& band = r.rubric;  // the band the lesson scored against
   std::ostringstream o;
@@ -351,18 +465,15 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
   if (!r.complete)
     o << "<p style=\"background:#fbeacc;padding:6px 10px;border-left:4px solid #d08a00\"><b>Incomplete attempt</b>: "
       << H(r.ended) << ". It is kept and scored as far as it went.</p>\n";
+  if (r.kind == "inspection") {
+    o << "<p><span class=score>" << Num(r.total, 1) << "</span> / 100</p>\n" << Categories(r) << InspectionHtml(r);
+  } else {
   o << "<p><span class=score>" << Num(r.total, 1) << "</span> / 100 &nbsp; " << r.sites_read << " of " << r.sites_total
     << " sites probed, " << r.sites_charted << " charted; within 1 mm of the truth " << Num(r.within_1mm_pct, 0)
     << " %, exact " << Num(r.exact_pct, 0) << " %; signed bias " << F("%+.2f", r.bias_mm) << " mm (interdental "
     << F("%+.2f", r.bias_proximal_mm) << " mm); force in the band at " << Num(r.force_in_band_pct, 0)
     << " % of sites.</p>\n";
-  o << "<table class=cats><tr>";
-  for (const auto& [cat, credit] : r.category_credit) o << "<th>" << H(cat) << "</th>";
-  o << "</tr><tr>";
-  for (const auto& [cat, credit] : r.category_credit)
-    o << "<td>" << Num(100 * credit, 0) << " %<br><span class=bar style=\"width:" << Num(60 * credit, 0)
-      << "px\"></span><br><small>weight " << Num(r.category_weight.at(cat), 0) << "</small></td>";
-  o << "</tr></table>\n";
+  o << Categories(r);
 
   o << "<h2>Diagnosis (2017 classification)</h2>\n<table><tr><th></th><th>diagnosis</th><th>how</th></tr>";
   auto dx_row = [&](const char* who, const std::string& summary, const std::vector<std::string>& path) {
@@ -402,6 +513,7 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
     o << "<div class=site><b>" << c.fdi << " " << (c.buccal ? "buccal" : "lingual") << "</b> " << Num(100 * c.swept, 0)
       << " %<br>" << CoverageArc(c) << "<br>" << c.strokes << " strokes of " << Num(c.stroke_mm, 1) << " mm</div>";
   o << "</div>\n";
+  }
 
   o << "<h2>Every line of the score</h2>\n<table class=lines><tr><th>status</th><th>category</th><th>moment (s)</th>"
        "<th>tick</th><th>what</th></tr>\n";

@@ -31,6 +31,7 @@
 #include "core/lesson/results.h"
 #include "tests/common/output.h"
 #include "ui/chart_widget.h"
+#include "ui/odontogram_widget.h"
 #include "ui/main_window.h"
 #include "ui/instructor_dialog.h"
 #include "ui/progress_dialog.h"
@@ -216,6 +217,67 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   EXPECT_TRUE(Save(&w, "demonstration_ghost.png"));
   ASSERT_TRUE(w.SetDemonstration({}));
   EXPECT_FALSE(w.ghost_pose().has_value());
+}
+
+// The inspection lesson in the window: the thorough scripted inspector drives
+// the device through every step while the odontogram fills; the student adds
+// a status code and takes back a finding with the keyboard, submits the
+// findings, and the report shows the odontogram against the truth.
+TEST(InspectionWindow, TheInspectionLessonFromItsStartToTheReport) {
+  MainWindow w;
+  w.resize(1600, 1000);
+  w.show();
+  MainWindow::LessonStart s;
+  s.lesson = Lessons() / "oral_inspection.yaml";
+  s.student = "Inspection Student";
+  s.device = "student:thorough";
+  s.free_run = true;
+  s.results_dir = Out("results-inspection");
+  ASSERT_TRUE(w.StartLesson(s));
+  ASSERT_NE(w.lesson(), nullptr);
+  ASSERT_NE(w.odontogram(), nullptr);
+  EXPECT_TRUE(w.odontogram()->isVisible());
+  EXPECT_FALSE(w.chart()->isVisible()) << "no periodontal chart in an inspection";
+  EXPECT_TRUE(WaitFor([&] { return w.lesson_text().contains("Step 1 of 11"); })) << w.lesson_text().toStdString();
+  ASSERT_TRUE(WaitFor([&] { return w.lesson()->current_step() >= 7; }, 600000)) << w.lesson_text().toStdString();
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(&w, "inspection_in_progress.png"));
+  // The hand has finished (the scripted moves take about 190 s of lesson time).
+  ASSERT_TRUE(WaitFor([&] { return w.lesson()->last_tick() > 200000; }, 900000));
+  EXPECT_FALSE(w.lesson()->findings().empty()) << "the inspector recorded what it found";
+  QApplication::processEvents();
+  OdontogramWidget* o = w.odontogram();
+  o->setFocus();
+  const int first = o->selected();
+  Key(o, Qt::Key_0, "0");  // its status: sound
+  Key(o, Qt::Key_G, "g");  // inflamed gingiva...
+  Key(o, Qt::Key_G, "g");  // ...no: taken back
+  const auto& f = w.lesson()->findings();
+  ASSERT_GE(f.size(), 3u);
+  EXPECT_EQ(f[f.size() - 3].ToString(), "status 0 (sound) at " + std::to_string(first));
+  EXPECT_EQ(f.back().ToString(), "withdrawn: inflamed gingiva " + std::to_string(first));
+  EXPECT_FALSE(w.lesson()->odontogram().Find(first)->inflamed);
+  ASSERT_TRUE(w.SubmitFindings());
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(&w, "inspection_odontogram.png"));
+  ASSERT_TRUE(w.FinishLesson());
+  ASSERT_TRUE(w.last_result());
+  const LessonResult& r = *w.last_result();
+  EXPECT_EQ(r.kind, "inspection");
+  ASSERT_TRUE(r.inspection.submitted_tick.has_value());
+  for (const FindingScore& sc : r.inspection.scores) EXPECT_EQ(sc.fp, 0) << sc.kind;
+  for (const RubricLine& l : r.lines)
+    EXPECT_EQ(l.message.find("status"), std::string::npos) << "the status entered is right: " << l.message;
+  ASSERT_NE(w.report_dialog(), nullptr);
+  const QString text = w.report_dialog()->findChild<QTextBrowser*>("report")->toPlainText();
+  EXPECT_TRUE(text.contains("Odontogram")) << text.left(400).toStdString();
+  EXPECT_TRUE(text.contains("sensitivity"));
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(w.report_dialog(), "inspection_report.png"));
+  ResultsDb db(Out("results-inspection") / "results.db");
+  const auto rows = db.Attempts("Inspection Student");
+  ASSERT_FALSE(rows.empty());
+  EXPECT_NEAR(rows.back().total, r.total, 1e-9);
 }
 
 TEST(LessonWindow, ProgressOverAttempts) {
