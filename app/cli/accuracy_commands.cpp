@@ -226,18 +226,18 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
   }
   std::ofstream csv(dir / "effects.csv");
   csv << "config,tick_mean_us,tick_p50_us,tick_p99_us,readings,reading_mm,max_force_n,soft_contacts,bleeding,damage,"
-         "caries_catches,stuck_ticks,sliding_ticks\n";
+         "caries_catches,calculus_touches,stuck_ticks,sliding_ticks\n";
   std::printf("effects on %s: the scripted insert, 8000 ticks offline (each tick timed 3 times, averaged)\n",
               scene_file.c_str());
-  std::printf("  %-36s %8s %8s %8s  %8s %8s %9s %5s %5s %5s %5s %6s %6s\n", "effects", "mean us", "p50 us", "p99 us",
-              "readings", "reading", "max F (N)", "soft", "bleed", "harm", "catch", "stuck", "slide");
+  std::printf("  %-36s %8s %8s %8s  %8s %8s %9s %5s %5s %5s %5s %5s %6s %6s\n", "effects", "mean us", "p50 us",
+              "p99 us", "readings", "reading", "max F (N)", "soft", "bleed", "harm", "catch", "calc", "stuck", "slide");
   for (const Config& c : configs) {
     SceneSpec spec = base;
     spec.effects = c.effects;
     const auto scene = CompileScene(spec, DefaultCacheDir());
     const ScriptTarget target = FindScriptTarget(*scene, "insert");
     std::vector<double> tick_us;
-    int readings = 0, soft = 0, bleeding = 0, damage = 0, catches = 0, stuck = 0, sliding = 0;
+    int readings = 0, soft = 0, bleeding = 0, damage = 0, catches = 0, calculus = 0, stuck = 0, sliding = 0;
     double reading = 0, max_force = 0;
     for (int run = 0; run < 3; ++run) {
       // Counts the effects' events of the first run.
@@ -252,11 +252,12 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
               case EventKind::kBleeding: ++bleeding; break;
               case EventKind::kTissueDamage: ++damage; break;
               case EventKind::kCariesCatch: ++catches; break;
+              case EventKind::kCalculusTouched: ++calculus; break;
               default: break;
             }
           }
         }
-        int readings = 0, soft = 0, bleeding = 0, damage = 0, catches = 0;
+        int readings = 0, soft = 0, bleeding = 0, damage = 0, catches = 0, calculus = 0;
         double reading = 0, max_force = 0;
       } counter;
       DeviceSpec d;
@@ -277,6 +278,7 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
       if (run == 0) {
         readings = counter.readings, soft = counter.soft, bleeding = counter.bleeding, damage = counter.damage;
         catches = counter.catches;
+        calculus = counter.calculus;
         reading = counter.reading, max_force = counter.max_force;
         stuck = run_stuck, sliding = run_sliding;
       }
@@ -288,11 +290,11 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
     double mean = 0;
     for (double v : sorted) mean += v / sorted.size();
     const double p50 = sorted[sorted.size() / 2], p99 = sorted[sorted.size() * 99 / 100];
-    std::printf("  %-36s %8.2f %8.2f %8.2f  %8d %8.2f %9.3f %5d %5d %5d %5d %6d %6d\n", c.label.c_str(), mean, p50,
-                p99, readings, reading, max_force, soft, bleeding, damage, catches, stuck, sliding);
+    std::printf("  %-36s %8.2f %8.2f %8.2f  %8d %8.2f %9.3f %5d %5d %5d %5d %5d %6d %6d\n", c.label.c_str(), mean, p50,
+                p99, readings, reading, max_force, soft, bleeding, damage, catches, calculus, stuck, sliding);
     csv << '"' << c.label << '"' << ',' << mean << ',' << p50 << ',' << p99 << ',' << readings << ',' << reading << ','
-        << max_force << ',' << soft << ',' << bleeding << ',' << damage << ',' << catches << ',' << stuck << ','
-        << sliding << '\n';
+        << max_force << ',' << soft << ',' << bleeding << ',' << damage << ',' << catches << ',' << calculus << ','
+        << stuck << ',' << sliding << '\n';
   }
   csv.close();
   const fs::path gp = dir / "effects.gp";

@@ -301,11 +301,14 @@ double LingualHalfWidth(const ArchTeeth& lower, double y) {
 }
 
 TriangleMesh Tongue(const ArchTeeth& lower, const Levels& lv) {
-  // From the tip, 3 mm behind the lower incisors' lingual surfaces, back 45 mm.
+  // From the tip, 5.5 mm behind the lower incisors' lingual surfaces (3 mm
+  // behind their lingual gingiva: the tongue at rest as a patient holds it with
+  // the mouth open, the floor of the mouth and the ventral surface within reach
+  // of an instrument), back 45 mm.
   double front = -1e9;  // the central incisors' lingual extent
   for (std::size_t k = 0; k < lower.placed.size(); ++k)
     if (lower.placed[k].tooth.position == 1) front = std::max(front, lower.meshes[k].Bounds().min.y());
-  const double tip = front - 3.0, back = tip - 45.0;
+  const double tip = front - 5.5, back = tip - 45.0;
   const int stations = 46;
   std::vector<std::vector<Vector3>> rings;
   const double lower_z = lv.lower_crest - 8.0;  // where it joins the floor of the mouth

@@ -7,6 +7,13 @@
 namespace sulcus {
 namespace {
 
+// Whether a pair's tool leaf is on the working end (every leaf when the model does not say).
+bool WorkingEnd(const EffectsModel& m, std::uint64_t key) {
+  const auto leaf = static_cast<std::size_t>(key & 0xffffffu);
+  return m.tool_working_end.empty() || (leaf < m.tool_working_end.size() && m.tool_working_end[leaf]);
+}
+
+
 // Soft tissue as springs: the graphic tool's leaf spheres pressing into soft
 // leaves push back along the pair's normal with the leaf's stiffness; the
 // deepest pair sets the magnitude, the penetration-weighted normals the direction.
@@ -163,7 +170,8 @@ class TissueDamage final : public LoopEffect {
       if (!first) continue;
       double share = 0;
       for (int j = i; j < data.num_active_keys; ++j)
-        if (ContactPair::ObjectOfKey(data.active_keys[j]) == static_cast<int>(object)) share += data.active_share[j];
+        if (ContactPair::ObjectOfKey(data.active_keys[j]) == static_cast<int>(object) && WorkingEnd(m_, data.active_keys[j]))
+          share += data.active_share[j];
       const double on = f * share;
       const bool over = on > m_.damage_limit_n[object];
       if (over && !over_[object]) {
@@ -250,6 +258,33 @@ class CariesCatch final : public LoopEffect {
   Vector3 anchor_ = Vector3::Zero();
 };
 
+// A deposit met by the working end: an event once per contact episode.
+class CalculusTouch final : public LoopEffect {
+ public:
+  explicit CalculusTouch(const EffectsModel& m) : m_(m), touching_(m.deposits.size(), 0), now_(m.deposits.size(), 0) {}
+  const char* name() const override { return "calculus"; }
+  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
+    std::fill(now_.begin(), now_.end(), 0);
+    const double f = force_W->norm();
+    for (int i = 0; i < data.num_active_keys; ++i) {
+      const auto o = static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
+      if (o >= m_.deposits.size() || m_.deposits[o].fdi == 0 || !WorkingEnd(m_, data.active_keys[i])) continue;
+      now_[o] = 1;
+      if (touching_[o]) continue;
+      touching_[o] = 1;
+      HapticEvent e = HapticEvent::Of(EventKind::kCalculusTouched, static_cast<int>(o));
+      e.payload.calculus = {m_.deposits[o].fdi, m_.deposits[o].site, f * data.active_share[i]};
+      loop->Emit(e);
+    }
+    for (std::size_t o = 0; o < now_.size(); ++o) touching_[o] = touching_[o] && now_[o];
+  }
+  void Reset() noexcept override { std::fill(touching_.begin(), touching_.end(), 0); }
+
+ private:
+  const EffectsModel& m_;
+  std::vector<std::uint8_t> touching_, now_;
+};
+
 class SurfaceTexture final : public LoopEffect {
  public:
   explicit SurfaceTexture(const EffectsModel& m) : m_(m) {}
@@ -306,6 +341,8 @@ std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& m) {
   if ((depth || bleeding) && !m.sites.empty()) out.push_back(std::make_unique<ProbingDepth>(m, depth, bleeding));
   if (m.on.caries_catch && !m.lesions.empty()) out.push_back(std::make_unique<CariesCatch>(m));
   if (m.on.surface_texture) out.push_back(std::make_unique<SurfaceTexture>(m));
+  const bool deposits = std::any_of(m.deposits.begin(), m.deposits.end(), [](const auto& d) { return d.fdi != 0; });
+  if (m.on.calculus && deposits) out.push_back(std::make_unique<CalculusTouch>(m));
   if (m.on.tissue_damage) out.push_back(std::make_unique<TissueDamage>(m));
   return out;
 }

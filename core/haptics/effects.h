@@ -11,11 +11,17 @@
 //   probing_depth       the tip's depth below the margin at the nearest site; a
 //                       reading (the deepest point of one insertion) when it leaves.
 //   bleeding_on_probing a bleeding site bleeds when probed to its floor.
-//   tissue_damage       the force on an object above its tissue's damage limit.
+//   tissue_damage       the force the working end puts on an object above its
+//                       tissue's damage limit (the shank resting on a lip or a
+//                       cheek holds it aside, as a clinician's instrument does).
 //   caries_catch        a carious lesion is softer than enamel (the normal force
 //                       there is scaled down) and catches a tip pressed into it
 //                       (a tangential spring to where it caught, slipping past a
 //                       cap), with an event when it catches.
+//   calculus            a calculus deposit (a hard object of the scene, standing
+//                       proud of the tooth: felt as a raised edge) announces
+//                       itself when the working end meets it, with its share
+//                       of the contact force (kCalculusTouched).
 //   surface_texture     enamel, root cementum and calculus feel different
 //                       under a sliding tip: a small force along the contact
 //                       normal, periodic in the distance slid.
@@ -44,7 +50,7 @@ struct ProbingSite {
 /// the engine's, EngineModel::friction).
 struct EffectsOn {
   bool gingiva_compliance = false, probing_depth = false, bleeding_on_probing = false, tissue_damage = false;
-  bool caries_catch = false, surface_texture = false;
+  bool caries_catch = false, surface_texture = false, calculus = false;
 };
 
 /// surface_texture: what a sliding tip feels of each surface, a force along
@@ -84,12 +90,21 @@ struct CariesFeel {
 struct EffectsModel {
   EffectsOn on;
   std::vector<double> damage_limit_n;       // per object
+  // tissue_damage: per node of the tool's tree, 1 for the working end's leaves
+  // (within kWorkingEndMm of the tip); empty: every leaf counts.
+  std::vector<std::uint8_t> tool_working_end;
+  static constexpr double kWorkingEndMm = 4.0;
   std::vector<ProbingSite> sites;
   // gingiva_compliance: the soft objects, their own collision world (object i of
   // it is scene object soft_first + i), and per leaf node a stiffness (N/mm).
   std::unique_ptr<CollisionWorld> soft_world;
   int soft_first = 0;
   std::vector<std::vector<float>> soft_leaf_stiffness;
+  // calculus: per object, the deposit's tooth and site (fdi 0: not a deposit)
+  struct Deposit {
+    int fdi = 0, site = 0;
+  };
+  std::vector<Deposit> deposits;
   // caries_catch
   std::vector<CariesLesion> lesions;
   CariesFeel caries;

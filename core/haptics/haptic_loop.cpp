@@ -28,6 +28,7 @@ const char* ToString(EventKind kind) {
     case EventKind::kTissueDamage: return "tissue_damage";
     case EventKind::kSoftContact: return "soft_contact";
     case EventKind::kCariesCatch: return "caries_catch";
+    case EventKind::kCalculusTouched: return "calculus";
   }
   return "?";
 }

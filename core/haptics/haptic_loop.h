@@ -35,8 +35,9 @@ enum class EventKind : std::uint8_t {
   kTissueDamage,    // tissue_damage: the force on an object rose above its limit; damage
   kSoftContact,     // gingiva_compliance: the probe began pressing soft tissue; soft
   kCariesCatch,     // caries_catch: the tip caught in a carious lesion; object (the tooth), damage (force, 0)
+  kCalculusTouched, // calculus: the working end met a calculus deposit; object (the deposit), calculus
 };
-inline constexpr int kNumEventKinds = 13;
+inline constexpr int kNumEventKinds = 14;
 const char* ToString(EventKind kind);
 
 /// A probing reading: the deepest point of one insertion into a site's sulcus.
@@ -52,6 +53,10 @@ struct ReadingPayload {
 struct BleedingPayload {
   std::int32_t fdi = 0, site = 0;
   double depth_mm = 0, force_n = 0;  // at the moment the site bled
+};
+struct CalculusPayload {
+  std::int32_t fdi = 0, site = 0;  // the deposit's tooth and probing site
+  double force_n = 0;              // the deposit's share of the contact force when met
 };
 struct DamagePayload {
   double force_n = 0, limit_n = 0;
@@ -77,6 +82,7 @@ struct HapticEvent {
     DamagePayload damage;
     ForcePayload force;
     CommandPayload command;
+    CalculusPayload calculus;
     Payload() : reading() {}
   } payload;
   static HapticEvent Of(EventKind kind, int object = -1) {

@@ -261,6 +261,9 @@ void ExportCsv(const Recording& rec, std::ostream& out) {
           break;
         }
         case EventKind::kBleeding: out << ':' << e.payload.bleeding.fdi << ':' << e.payload.bleeding.site; break;
+        case EventKind::kCalculusTouched:
+          out << ':' << e.payload.calculus.fdi << ':' << e.payload.calculus.site << ':' << e.payload.calculus.force_n;
+          break;
         case EventKind::kTissueDamage:
         case EventKind::kCariesCatch: out << ':' << e.object << ':' << e.payload.damage.force_n; break;
         default:

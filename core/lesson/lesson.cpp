@@ -358,6 +358,14 @@ void LessonRun::OnTick(const TickRecord& r) {
       case EventKind::kDeviceBack:
         if (device_lost()) interruptions_.back().back_tick = r.tick;
         break;
+      case EventKind::kCalculusTouched: {
+        const CalculusPayload& c = e.payload.calculus;
+        const std::string where = std::to_string(c.fdi) + " " + SiteCode(c.site);
+        if (std::none_of(felt_.begin(), felt_.end(), [&](const RubricLine& l) { return l.fdi == c.fdi && l.message.find(where) != std::string::npos; }))
+          felt_.push_back(Line("findings", nullptr, c.fdi, S::kInfo, 0,
+                               Format("calculus felt at %s (%.2f N)", where.c_str(), c.force_n), e.tick));
+        break;
+      }
       case EventKind::kTissueDamage:
         damage_.push_back({Line("damage", nullptr, 0, S::kFail, 0,
                                 Format("%.2f N on %s, above its limit of %.2f N",
@@ -376,9 +384,9 @@ void LessonRun::OnTick(const TickRecord& r) {
 
 void LessonRun::FollowInspection(const TickRecord& r) {
   inspection_->OnTick(r, in_contact_);
-  // The student has moved on when half the units of a later step (at least
-  // one) are examined: the steps between end as skipped, with what they
-  // missed. (A tooth touched on the way to a cheek does not move the lesson on.)
+  // The student has moved on when half the units of the next step (at least
+  // one) are examined: this step ends as skipped, with what it missed. (A
+  // tooth touched on the way to a cheek does not move the lesson on.)
   const int u = inspection_->tip_unit();
   if (u < 0 || done()) return;
   const auto& units = inspection_->units();
@@ -390,16 +398,14 @@ void LessonRun::FollowInspection(const TickRecord& r) {
   };
   for (int k = 0; k <= step_; ++k)
     if (in_step(k, u)) return;
-  int later = -1;
-  for (int k = step_ + 1; k < n && later < 0; ++k) {
-    if (!in_step(k, u)) continue;
-    int examined = 0;
-    for (int m : step_units_[static_cast<std::size_t>(k)]) examined += units[static_cast<std::size_t>(m)].touched;
-    const auto size = static_cast<int>(step_units_[static_cast<std::size_t>(k)].size());
-    if (2 * examined >= size) later = k;
-    else return;
-  }
-  if (later < 0) return;
+  // Only the next step: a region brushed on the way to another does not carry
+  // the lesson past several steps.
+  const int next = step_ + 1;
+  if (next >= n || !in_step(next, u)) return;
+  int examined = 0;
+  for (int m : step_units_[static_cast<std::size_t>(next)]) examined += units[static_cast<std::size_t>(m)].touched;
+  if (2 * examined < static_cast<int>(step_units_[static_cast<std::size_t>(next)].size())) return;
+  const int later = next;
   while (step_ < later) {
     StepResult& res = step_results_[static_cast<std::size_t>(step_)];
     res.skipped = true;
@@ -827,6 +833,7 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
   }
   if (!submitted_)
     L.push_back(Line("findings", nullptr, 0, S::kInfo, 0, "the findings were not submitted as complete", last_tick_));
+  L.insert(L.end(), felt_.begin(), felt_.end());
 
   // Damage: force on tissue above its limit, force into a lesion above the gentle limit.
   bool damaged = false;

@@ -257,6 +257,7 @@ class LessonRun final : public TickConsumer {
   };
   std::vector<std::array<SurfaceTrack, 2>> surfaces_;  // per geometry tooth: buccal, lingual
   std::vector<std::pair<RubricLine, int>> damage_;     // tissue_damage events (line, site index or -1)
+  std::vector<RubricLine> felt_;                       // calculus deposits met (info), the first time each
   // Inspection lessons.
   std::optional<InspectionTracker> inspection_;
   std::vector<std::vector<int>> step_units_;  // per step, its units

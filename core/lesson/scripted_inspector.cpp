@@ -92,11 +92,12 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
     for (int fdi : upper ? std::vector<int>{11, 21, 12, 22} : std::vector<int>{41, 31, 42, 32}) {
       const int i = FindObject(scene.spec, ObjectSpec::Kind::kGingiva, fdi);
       if (i < 0 || (!teeth.empty() && std::find(teeth.begin(), teeth.end(), fdi) == teeth.end())) continue;
-      if (!SideSpot(scene, i, kPi / 2, 0.3, &t.p, &t.n)) continue;
+      // The attached gingiva, 1.5 mm below the CEJ, the working end leaning
+      // out past the crown's bulge.
+      if (!SideSpot(scene, i, kPi / 2, -1.5, &t.p, &t.n)) continue;
       const Vector3 occlusal = OcclusalOf(scene.spec.objects[static_cast<std::size_t>(i)]);
-      t.axis = (occlusal + 0.3 * t.n).normalized();
+      t.axis = (occlusal + 0.35 * t.n).normalized();
       t.shank = kAnterior;
-      t.pre = t.p + 1.2 * t.n + 8.0 * t.axis;
       t.region = true;
       return t;
     }
@@ -110,7 +111,71 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
   const int i = FindObject(scene.spec, ObjectSpec::Kind::kAnatomy, 0, anatomy);
   if (i < 0) return std::nullopt;
   const ObjectSpec& o = scene.spec.objects[static_cast<std::size_t>(i)];
-  const SurfacePoint sp = RegionSpot(anatomy, part, scene.meshes[static_cast<std::size_t>(i)]);
+  SurfacePoint sp = RegionSpot(anatomy, part, scene.meshes[static_cast<std::size_t>(i)]);
+  // The lips at the height of the incisors' crowns (their centre may face the
+  // alveolar mucosa above the vestibule's fold); the cheeks between the arches
+  // by the first molars.
+  auto crown_mid = [&](int fdi) -> std::optional<Vector3> {
+    const int k = FindObject(scene.spec, ObjectSpec::Kind::kTooth, fdi);
+    if (k < 0) return std::nullopt;
+    const ObjectSpec& tooth = scene.spec.objects[static_cast<std::size_t>(k)];
+    const double top = scene.meshes[static_cast<std::size_t>(k)].Bounds().max.z();
+    return tooth.X_WO * Vector3(0, 0, 0.55 * top);
+  };
+  std::optional<Vector3> aim;
+  Vector3 facing = Vector3::Zero();
+  if (anatomy == "lip_upper" || anatomy == "lip_lower") {
+    aim = crown_mid(anatomy == "lip_upper" ? 11 : 41);
+    if (aim) aim->x() = 0;
+    facing = -kAnterior;
+  } else if (anatomy == "cheek_left" || anatomy == "cheek_right") {
+    const bool left = anatomy == "cheek_left";
+    const auto up = crown_mid(left ? 26 : 16), down = crown_mid(left ? 36 : 46);
+    if (up && down) aim = 0.5 * (*up + *down);
+    facing = left ? Vector3(-Vector3::UnitX()) : Vector3(Vector3::UnitX());
+  } else if (anatomy == "floor_of_mouth" || part == "ventral") {
+    // Behind the central incisors' lingual gingiva (the gap in front of the
+    // tongue's tip): the floor's top there, the tongue's underside just behind.
+    const int g = FindObject(scene.spec, ObjectSpec::Kind::kGingiva, 41);
+    const int k = g >= 0 ? g : FindObject(scene.spec, ObjectSpec::Kind::kTooth, 41);
+    const int tongue = FindObject(scene.spec, ObjectSpec::Kind::kAnatomy, 0, "tongue");
+    if (k >= 0 && tongue >= 0) {
+      const auto world_bounds = [&](int obj) {
+        Aabb b;
+        const ObjectSpec& oo = scene.spec.objects[static_cast<std::size_t>(obj)];
+        for (const Vector3& v : scene.meshes[static_cast<std::size_t>(obj)].vertices()) b.Extend(oo.X_WO * v);
+        return b;
+      };
+      const Aabb gum = world_bounds(k), tg = world_bounds(tongue);
+      const double gap_y = 0.5 * (gum.min.y() + tg.max.y());
+      aim = anatomy == "floor_of_mouth" ? Vector3(0, gap_y, -1e3) : Vector3(0, tg.max.y() - 1.0, -1e3);
+      facing = anatomy == "floor_of_mouth" ? kUp : Vector3(-kUp);
+    }
+  }
+  if (aim) {
+    const TriangleMesh& mesh = scene.meshes[static_cast<std::size_t>(i)];
+    std::vector<Vector3> normals(mesh.num_vertices(), Vector3::Zero());
+    for (const auto& f : mesh.faces()) {
+      const Vector3 nf = (mesh.vertices()[f[1]] - mesh.vertices()[f[0]]).cross(mesh.vertices()[f[2]] - mesh.vertices()[f[0]]);
+      for (int k = 0; k < 3; ++k) normals[f[k]] += nf;
+    }
+    double best = 1e18;
+    for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
+      if (normals[v].norm() == 0) continue;
+      const Vector3 nW = (o.X_WO.rotation() * normals[v]).normalized();
+      if (nW.dot(facing) < 0.7) continue;
+      const Vector3 pW = o.X_WO * mesh.vertices()[v];
+      // Nearest in height and along the arch; across it the surface decides.
+      const Vector3 d = pW - *aim;
+      const double cost = anatomy.rfind("lip", 0) == 0 ? d.x() * d.x() + d.z() * d.z()
+                          : aim->z() < -100         ? d.x() * d.x() + d.y() * d.y() - 1e-3 * nW.dot(facing)
+                                                    : d.y() * d.y() + d.z() * d.z();
+      if (cost < best) {
+        best = cost;
+        sp = {mesh.vertices()[v], normals[v].normalized()};
+      }
+    }
+  }
   t.p = o.X_WO * sp.point;
   t.n = (o.X_WO.rotation() * sp.normal).normalized();
   t.shank = kAnterior;
@@ -118,7 +183,6 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
   if (anatomy == "lip_lower" || anatomy == "lip_upper") {
     // Down (up) the vestibule between the lip and the incisors.
     t.axis = anatomy == "lip_lower" ? kUp : Vector3(-kUp);
-    t.pre = t.p + 1.2 * t.n + 8.0 * t.axis;
   } else if (anatomy == "cheek_left" || anatomy == "cheek_right") {
     t.axis = (kAnterior + t.n).normalized();
     t.pre = t.p + 6.0 * t.n;
@@ -128,14 +192,15 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
   } else if (part == "lateral_border_left" || part == "lateral_border_right") {
     // Down between the tongue and the lower teeth.
     t.axis = kUp;
-    t.pre = t.p + 1.0 * t.n + 8.0 * t.axis;
     t.shank = t.n;
-  } else if (part == "ventral") {
-    t.axis = (kAnterior + kUp).normalized();
-    t.pre = t.p + 2.0 * t.n;
-  } else {  // the dorsum, the floor of the mouth
+  } else if (part == "ventral" || anatomy == "floor_of_mouth") {
+    // Down the gap between the lower incisors' lingual gingiva and the tongue's
+    // tip, leaning forward so that the working end clears the tip: the floor
+    // just behind the incisors, the ventral surface under the tongue's tip.
+    t.axis = (kUp + 0.36 * kAnterior).normalized();
+  } else {  // the dorsum
     t.axis = (kUp + 0.5 * kAnterior).normalized();
-    t.pre = t.p + (anatomy == "floor_of_mouth" ? 3.0 : 5.0) * t.n;
+    t.pre = t.p + 5.0 * t.n;
   }
   return t;
 }
@@ -236,8 +301,11 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
     st.tool_axis_W = t->axis;
     st.shank_W = t->shank;
     const Quaternion q = ScriptOrientation(st);
-    const Vector3 above = t->pre.squaredNorm() > 0 ? t->pre : Vector3(t->p + 1.5 * t->n + 8.0 * t->axis);
-    const Vector3 in = t->p - 0.5 * t->n;
+    // Off the surface before going in (clear of the cusps around an occlusal
+    // fossa), coming to it down the tool's axis.
+    const double clear = unit.surface == ToothSurface::kOcclusal && unit.region.empty() ? 2.5 : 1.0;
+    const Vector3 off = t->p + clear * t->n, in = t->p - 0.5 * t->n;
+    const Vector3 above = t->pre.squaredNorm() > 0 ? t->pre : Vector3(off + 8.0 * t->axis);
     if (first) {
       move(above + 10.0 * t->axis, q, 0.0);
       move(above + 10.0 * t->axis, q, 0.6);  // the ramp-in, away from everything
@@ -250,17 +318,19 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
     last_region = t->region;
     const double travel = (above - moves_.back().X_WH.translation()).norm();
     move(above, q, std::max(0.25, travel / 60.0));
-    // In toward the surface until the hand feels the press (or half a
-    // millimetre past the surface), resting there, then back out.
+    move(off, q, std::max(0.2, (off - above).norm() / 40.0));
+    // In along the normal until the hand feels the press (or half a
+    // millimetre past the surface), resting there, then back out and up.
     ScriptedStudent::Move stroke;
     stroke.stroke = true;
     stroke.X_WH = moves_.back().X_WH;
-    stroke.direction_W = in - above;
+    stroke.direction_W = in - off;
     stroke.max_depth_mm = stroke.direction_W.norm() + 1.5;
     stroke.target_force_n = t->press_n;
     stroke.speed_mm_s = 25;
     stroke.hold_s = 0.3;
     moves_.push_back(stroke);
+    move(above, q, std::max(0.2, (off - above).norm() / 40.0));
   }
   if (moves_.empty()) throw std::invalid_argument("the lesson has nothing this inspector can reach");
   move(moves_.back().X_WH.translation(), Quaternion(moves_.back().X_WH.rotation()), 0.3);

@@ -140,6 +140,12 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
   m.on.tissue_damage = spec.HasEffect(Effect::kTissueDamage);
   m.on.caries_catch = spec.HasEffect(Effect::kCariesCatch);
   m.on.surface_texture = spec.HasEffect(Effect::kSurfaceTexture);
+  m.on.calculus = spec.HasEffect(Effect::kCalculus);
+  if (m.on.calculus)
+    for (int i = 0; i < static_cast<int>(objs.size()); ++i)
+      m.deposits.push_back(objs[i].kind == ObjectSpec::Kind::kCalculus && i < soft_first
+                               ? EffectsModel::Deposit{objs[i].fdi, objs[i].calculus_site}
+                               : EffectsModel::Deposit{});
   if (m.on.surface_texture) {
     for (int i = 0; i < static_cast<int>(objs.size()); ++i) {
       const ObjectSpec& o = objs[i];
@@ -155,6 +161,10 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
     for (const CariesLesion& c : SceneCariesLesions(spec))
       if (c.tooth < soft_first) m.lesions.push_back(c);
   for (const ObjectSpec& o : objs) m.damage_limit_n.push_back(o.material.damage_limit_n);
+  const SphereTree& tool = scene->tool_tree;
+  m.tool_working_end.assign(tool.size(), 0);
+  for (std::size_t i = 0; i < tool.size(); ++i)
+    m.tool_working_end[i] = tool.IsLeaf(i) && tool.center(i).norm() <= EffectsModel::kWorkingEndMm;
   m.soft_first = soft_first;
   const bool sites = spec.gingiva && (m.on.probing_depth || m.on.bleeding_on_probing);
   // Every collar's model, once: a collar's leaves that reach into a neighbour's

@@ -50,6 +50,10 @@ std::string DescribeEvent(const SceneSpec& spec, const HapticEvent& e) {
                     name.c_str(), e.payload.damage.limit_n);
       break;
     case EventKind::kSoftContact: std::snprintf(text, sizeof text, "pressing %s", name.c_str()); break;
+    case EventKind::kCalculusTouched:
+      std::snprintf(text, sizeof text, "the tip met calculus at %d %s (%.2f N)", e.payload.calculus.fdi,
+                    site(e.payload.calculus.site), e.payload.calculus.force_n);
+      break;
     case EventKind::kCariesCatch:
       std::snprintf(text, sizeof text, "the tip caught in a carious lesion on %s (%.2f N)", name.c_str(),
                     e.payload.damage.force_n);

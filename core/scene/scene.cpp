@@ -40,7 +40,8 @@ constexpr EffectName kEffects[] = {{"contact", Effect::kContact},
                                    {"probing_depth", Effect::kProbingDepth},
                                    {"bleeding_on_probing", Effect::kBleedingOnProbing},
                                    {"tissue_damage", Effect::kTissueDamage},
-                                   {"caries_catch", Effect::kCariesCatch}};
+                                   {"caries_catch", Effect::kCariesCatch},
+                                   {"calculus", Effect::kCalculus}};
 const std::vector<std::string> kProbes = {"williams", "unc15", "who", "explorer23", "explorer1112"};
 
 using Reader = YamlReader;

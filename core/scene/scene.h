@@ -53,7 +53,7 @@ Material DefaultMaterial(Tissue t);
 
 /// The effects a scene may ask for (docs/architecture.md, "Effects on demand").
 enum class Effect { kContact, kGingivaCompliance, kFriction, kSurfaceTexture, kProbingDepth,
-                    kBleedingOnProbing, kTissueDamage, kCariesCatch };
+                    kBleedingOnProbing, kTissueDamage, kCariesCatch, kCalculus };
 const char* ToString(Effect e);
 
 /// Probing sites in charting order.

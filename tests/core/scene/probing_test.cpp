@@ -497,3 +497,71 @@ TEST(Probing, EnamelAndRootFeelDifferentUnderASlidingTip) {
 
 }  // namespace
 }  // namespace sulcus
+
+namespace sulcus {
+namespace {
+
+// calculus: the working end drawn against a supragingival deposit on 46 B
+// announces it (tooth, site, force) once per contact; the same scene without
+// the effect has nothing in its loop for it and no such event.
+TEST(Probing, ACalculusDepositIsAnnouncedOnlyWhenTheSceneNamesIt) {
+  const fs::path dir = test::FreshOutputPath("calculus", "touch");
+  auto write = [&](const std::string& name, bool effect) {
+    std::ofstream(dir / name) << "tool:\n  probe: who\ngingiva: true\neffects: [contact"
+                              << (effect ? ", calculus" : "") << "]\nobjects:\n"
+                              << "  - tooth: 46\n    calculus: {supra: [B]}\n";
+    return dir / name;
+  };
+  const auto with = CompileScene(LoadSceneSpec(write("with.yaml", true)), Cache());
+  const auto without = CompileScene(LoadSceneSpec(write("without.yaml", false)), Cache());
+  int deposit = -1, tooth = -1;
+  for (int i = 0; i < static_cast<int>(with->spec.objects.size()); ++i) {
+    if (with->spec.objects[i].kind == ObjectSpec::Kind::kCalculus) deposit = i;
+    if (with->spec.objects[i].kind == ObjectSpec::Kind::kTooth) tooth = i;
+  }
+  ASSERT_GE(deposit, 0);
+  for (const auto& e : MakeEffects(without->effects)) EXPECT_STRNE(e->name(), "calculus") << "not named: not in the loop";
+  // The deposit's centre in the world, and the way out from the tooth's axis there.
+  Aabb b;
+  for (const Vector3& v : with->meshes[deposit].vertices()) b.Extend(with->spec.objects[deposit].X_WO * v);
+  const Vector3 c = 0.5 * (b.min + b.max);
+  const RigidTransform& X_WT = with->spec.objects[tooth].X_WO;
+  const Vector3 up = X_WT.rotation().col(2);
+  Vector3 out = c - X_WT.translation();
+  out -= out.dot(up) * up;
+  out.normalize();
+  const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), (up + 0.2 * out).normalized());
+  // From 3 mm out to 0.3 mm into the deposit in 0.6 s, held, back out, and in again.
+  std::vector<Keyframe> keys;
+  for (int i = 0; i <= 2000; i += 10) {
+    const double s = i * 0.001, phase = std::fmod(s, 1.0);
+    const double gap = phase < 0.6 ? 3.0 - 3.3 * phase / 0.6 : phase < 0.8 ? -0.3 : -0.3 + 3.3 * (phase - 0.8) / 0.2;
+    keys.push_back({s, Vector3(c + (gap + 0.6) * out), q, 0});
+  }
+  auto run = [&](const CompiledScene& scene) {
+    DeviceSpec d;
+    d.device = std::make_unique<ScriptedDevice>(Trajectory(keys), "to the deposit and back, twice");
+    SessionOptions so;
+    so.max_ticks = 2000;
+    Session session(scene, std::move(d), so);
+    struct Count final : TickConsumer {
+      std::vector<CalculusPayload> met;
+      void OnTick(const TickRecord& r) override {
+        for (int i = 0; i < r.num_events; ++i)
+          if (r.events[i].kind == EventKind::kCalculusTouched) met.push_back(r.events[i].payload.calculus);
+      }
+    } count;
+    session.AddConsumer(&count);
+    session.RunOffline();
+    return count.met;
+  };
+  const auto met = run(*with), none = run(*without);
+  ASSERT_EQ(met.size(), 2u) << "once per contact, two contacts";
+  EXPECT_EQ(met[0].fdi, 46);
+  EXPECT_EQ(met[0].site, 1) << "B";
+  EXPECT_GT(met[0].force_n, 0.0);
+  EXPECT_TRUE(none.empty());
+}
+
+}  // namespace
+}  // namespace sulcus
