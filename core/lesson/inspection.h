@@ -96,6 +96,18 @@ struct InspectionUnit {
   double dwell_s = 0;
 };
 
+/// Where an instrument examines a unit from (world frame): a point on its
+/// surface and the surface's outward normal there, the tool's axis while there
+/// (the way out of the mouth), where its shank leans, and where the tip starts
+/// its way in (zero: off the surface and up the axis). Empty when the scene
+/// lacks the unit's object.
+struct UnitApproach {
+  Vector3 p = Vector3::Zero(), n = Vector3::UnitZ(), axis = Vector3::UnitZ(), shank = Vector3::Zero();
+  Vector3 pre = Vector3::Zero();
+  bool region = false;
+};
+std::optional<UnitApproach> ApproachOf(const CompiledScene& scene, const InspectionUnit& unit, const std::vector<int>& teeth);
+
 /// A lesion pressed harder than the lesson's limit: one episode, at its peak.
 struct LesionPress {
   std::string where;  // "36 O", "tongue_lateral_border_left"
