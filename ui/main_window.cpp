@@ -519,6 +519,7 @@ void MainWindow::BeginSession() {
     feedback_->clear();
     feedback_shown_ = 0;
     shown_findings_ = 0;
+    views_sent_ = 0;
     looked_at_ = 0;
     lesson_dock_->show();
   }
@@ -990,6 +991,24 @@ void MainWindow::UpdateLessonPanel() {
     tip_label_->setText(on);
     for (const InspectionUnit& u : in.units())
       if (u.touched) examined.push_back(u.Name());
+    // What the view shows: the camera, each time it has moved (at most ten times a second).
+    const SceneView::CameraPose cam = view_->Camera();
+    if (views_sent_ == 0 || (cam.eye - last_view_.eye).norm() > 0.5 || (cam.focal - last_view_.focal).norm() > 0.5 ||
+        std::abs(cam.view_angle_deg - last_view_.view_angle_deg) > 0.5) {
+      if (views_sent_ == 0 || l.last_tick() >= last_view_.tick + 100) {
+        ViewSample v;
+        v.tick = l.last_tick();
+        v.eye = cam.eye;
+        v.focal = cam.focal;
+        v.up = cam.up;
+        v.view_angle_deg = cam.view_angle_deg;
+        l.View(v);
+        last_view_ = v;
+        if (++views_sent_ % 20 == 0) SaveEntriesSoFar();  // the views are kept as the attempt goes too
+      }
+    }
+    for (const InspectionUnit& u : in.units())
+      if (u.seen && !u.touched) examined.push_back("seen:" + u.Name());
     odontogram_->SetExamined(examined);
     if (l.findings().size() != shown_findings_) {
       shown_findings_ = l.findings().size();
@@ -1060,6 +1079,7 @@ void MainWindow::SaveEntriesSoFar() {
   a.diagnosis = lesson_->declared();
   a.findings = lesson_->findings();
   a.submitted = lesson_->submitted();
+  a.views = lesson_->views();
   try {
     SaveAnswers(a, attempt_.answers());
   } catch (const std::exception& e) {

@@ -217,7 +217,8 @@ class MainWindow : public QMainWindow {
   QListWidget* feedback_ = nullptr;
   ChartWidget* chart_ = nullptr;
   OdontogramWidget* odontogram_ = nullptr;
-  std::size_t shown_findings_ = 0;
+  std::size_t shown_findings_ = 0, views_sent_ = 0;
+  ViewSample last_view_;
   QPushButton *diagnose_button_ = nullptr, *finish_button_ = nullptr;
   std::size_t feedback_shown_ = 0;
   int looked_at_ = 0;

@@ -262,7 +262,10 @@ void OdontogramWidget::paintEvent(QPaintEvent*) {
     for (const Poly& poly : polys) {
       const bool caries = t && t->caries[static_cast<std::size_t>(poly.surface)];
       const std::string unit = std::to_string(c.fdi) + " " + SurfaceCode(static_cast<ToothSurface>(poly.surface));
-      p.setBrush(caries ? QColor("#9c2a1a") : examined(unit) ? QColor("#cfe3f5") : QColor("#ffffff"));
+      p.setBrush(caries            ? QColor("#9c2a1a")
+                 : examined(unit)  ? QColor("#cfe3f5")
+                 : examined("seen:" + unit) ? QColor("#eef1f4")
+                                            : QColor("#ffffff"));
       p.setPen(QPen(QColor("#8a8a8a"), 1));
       p.drawPolygon(poly.poly);
     }

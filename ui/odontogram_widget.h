@@ -28,7 +28,8 @@ class OdontogramWidget : public QWidget {
 
   /// The lesson's teeth and regions; clears what was recorded.
   void SetLesson(const std::vector<int>& teeth, const std::vector<std::string>& regions);
-  /// What the tip has examined (InspectionUnit::Name: "36 B", "cheek_left").
+  /// What the tip has examined (InspectionUnit::Name: "36 B", "cheek_left"), and
+  /// prefixed "seen:" what the view has shown but the tip has not examined.
   void SetExamined(const std::vector<std::string>& units);
   /// The tooth the tip is on, highlighted (0: none).
   void SetTouching(int fdi) {

@@ -399,6 +399,15 @@ void SceneView::View(Side side) {
   }
 }
 
+SceneView::CameraPose SceneView::Camera() const {
+  vtkCamera* c = renderer_->GetActiveCamera();
+  double e[3], f[3], u[3];
+  c->GetPosition(e);
+  c->GetFocalPoint(f);
+  c->GetViewUp(u);
+  return {Vector3(e[0], e[1], e[2]), Vector3(f[0], f[1], f[2]), Vector3(u[0], u[1], u[2]), c->GetViewAngle()};
+}
+
 bool SceneView::LookAtTooth(int fdi) {
   if (!scene_) return false;
   for (const ObjectSpec& o : scene_->spec.objects) {

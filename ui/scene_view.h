@@ -53,6 +53,12 @@ class SceneView {
   bool LookAtTooth(int fdi);
 
   const RigidTransform& graphic_pose() const { return X_WG_; }
+  /// The camera now: position, focal point, up and vertical view angle (degrees).
+  struct CameraPose {
+    Vector3 eye, focal, up;
+    double view_angle_deg = 30;
+  };
+  CameraPose Camera() const;
   /// How many soft tissues the current view looks through (shown see-through).
   int see_through() const { return see_through_; }
 

@@ -195,8 +195,13 @@ void AddLessonCommands(CLI::App& app) {
   validate->callback([file] {
     try {
       const LessonSpec s = LoadLessonSpec(*file);
-      std::printf("%s: valid: '%s', %s, scene %s, %zu teeth, %zu sites, %zu steps\n", file->c_str(), s.name.c_str(),
-                  ToString(s.mode), s.scene.string().c_str(), s.teeth.size(), s.path.size(), s.steps.size());
+      if (s.inspection())
+        std::printf("%s: valid: '%s', inspection, %s, scene %s, %zu teeth, %zu regions, %zu steps\n", file->c_str(),
+                    s.name.c_str(), ToString(s.mode), s.scene.string().c_str(), s.teeth.size(), s.regions.size(),
+                    s.steps.size());
+      else
+        std::printf("%s: valid: '%s', %s, scene %s, %zu teeth, %zu sites, %zu steps\n", file->c_str(), s.name.c_str(),
+                    ToString(s.mode), s.scene.string().c_str(), s.teeth.size(), s.path.size(), s.steps.size());
     } catch (const SceneLoadError& e) {
       std::fprintf(stderr, "%s\n", e.what());
       ExitStatus() = 1;

@@ -1,6 +1,7 @@
 #include "core/lesson/answers.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -116,7 +117,32 @@ Answers LoadAnswers(const fs::path& file) {
   YamlReader r(file);
   Answers a;
   const YAML::Node root = LoadYamlMap(r, "answers file", "an answers file is a map with 'chart:' or 'entries:', and 'diagnosis:'");
-  r.CheckKeys(root, {"chart", "entries", "diagnosis", "findings", "submitted"}, "the answers");
+  r.CheckKeys(root, {"chart", "entries", "diagnosis", "findings", "submitted", "views"}, "the answers");
+  if (const YAML::Node vs = root["views"]) {
+    if (!vs.IsSequence()) {
+      r.Error(vs, "'views' must be a list of {tick: N, eye: [x, y, z], at: [x, y, z], up: [x, y, z], angle: deg}");
+    } else {
+      for (const YAML::Node& n : vs) {
+        if (!r.IsMap(n, "a view")) continue;
+        r.CheckKeys(n, {"tick", "eye", "at", "up", "angle"}, "a view");
+        ViewSample v;
+        bool ok = true;
+        for (const char* k : {"tick", "eye", "at"})
+          if (!n[k]) {
+            r.Error(n, std::string("a view needs '") + k + "'");
+            ok = false;
+          }
+        if (!ok) continue;
+        v.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
+        double xyz[3] = {0, 0, 0};
+        if (r.Numbers(n["eye"], "eye", 3, -1e4, 1e4, xyz, "mm", "x, y, z")) v.eye = Vector3(xyz[0], xyz[1], xyz[2]);
+        if (r.Numbers(n["at"], "at", 3, -1e4, 1e4, xyz, "mm", "x, y, z")) v.focal = Vector3(xyz[0], xyz[1], xyz[2]);
+        if (n["up"] && r.Numbers(n["up"], "up", 3, -1, 1, xyz, "", "x, y, z")) v.up = Vector3(xyz[0], xyz[1], xyz[2]);
+        if (n["angle"]) v.view_angle_deg = r.Number(n["angle"], "angle", 1, 170, 30, "degrees");
+        a.views.push_back(v);
+      }
+    }
+  }
   if (const YAML::Node fs = root["findings"]) {
     if (!fs.IsSequence()) r.Error(fs, "'findings' must be a list, e.g. [{tooth: 36, caries: [O]}, {region: tongue_dorsum, lesion: ulcer}]");
     else
@@ -231,6 +257,15 @@ void SaveAnswers(const Answers& a, const fs::path& file) {
   if (a.submitted) {
     if (*a.submitted == kAfterReading) o << "submitted: true\n";
     else o << "submitted: " << *a.submitted << "\n";
+  }
+  if (!a.views.empty()) o << "views:\n";
+  char line[256];
+  for (const ViewSample& v : a.views) {
+    std::snprintf(line, sizeof line,
+                  "  - {tick: %llu, eye: [%.3f, %.3f, %.3f], at: [%.3f, %.3f, %.3f], up: [%.4f, %.4f, %.4f], angle: %.2f}\n",
+                  static_cast<unsigned long long>(v.tick), v.eye.x(), v.eye.y(), v.eye.z(), v.focal.x(), v.focal.y(),
+                  v.focal.z(), v.up.x(), v.up.y(), v.up.z(), v.view_angle_deg);
+    o << line;
   }
   const fs::path tmp = file.string() + ".tmp";
   {

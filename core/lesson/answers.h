@@ -21,6 +21,7 @@ struct Answers {
   // (kAfterReading: at the end).
   std::vector<Finding> findings;
   std::optional<std::uint64_t> submitted;
+  std::vector<ViewSample> views;  // the window's camera as it moved
 };
 
 /// Throws SceneLoadError with every error as `file:line:column: message`.

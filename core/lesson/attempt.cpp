@@ -41,6 +41,7 @@ Answers AnswersOf(const LessonResult& r) {
   if (a.diagnosis && a.diagnosis->tick == kAfterReading) a.diagnosis->tick = r.last_tick;
   a.findings = r.inspection.findings;
   a.submitted = r.inspection.submitted_tick;
+  a.views = r.inspection.views;
   return a;
 }
 
@@ -155,17 +156,20 @@ class EntrySaver final : public TickConsumer {
  private:
   void SaveIfNew() {
     if (lesson_.entries().size() == saved_ && lesson_.declared().has_value() == declared_ &&
-        lesson_.findings().size() == findings_ && lesson_.submitted().has_value() == submitted_)
+        lesson_.findings().size() == findings_ && lesson_.submitted().has_value() == submitted_ &&
+        lesson_.views().size() == views_)
       return;
     saved_ = lesson_.entries().size();
     declared_ = lesson_.declared().has_value();
     findings_ = lesson_.findings().size();
+    views_ = lesson_.views().size();
     submitted_ = lesson_.submitted().has_value();
     Answers a;
     a.entries = lesson_.entries();
     a.diagnosis = lesson_.declared();
     a.findings = lesson_.findings();
     a.submitted = lesson_.submitted();
+    a.views = lesson_.views();
     try {
       SaveAnswers(a, file_);
     } catch (const std::exception& e) {
@@ -177,7 +181,7 @@ class EntrySaver final : public TickConsumer {
   const LessonRun& lesson_;
   fs::path file_;
   std::vector<std::string>* notes_;
-  std::size_t saved_ = 0, findings_ = 0;
+  std::size_t saved_ = 0, findings_ = 0, views_ = 0;
   bool declared_ = false, submitted_ = false, failed_ = false;
 };
 
@@ -254,6 +258,7 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
     if (a.diagnosis) lesson.Declare(*a.diagnosis);
     for (const Finding& f : a.findings) lesson.Record(f);
     if (a.submitted) lesson.Submit(*a.submitted);
+    for (const ViewSample& v : a.views) lesson.View(v);
   }
   lesson.SetEnding(o.ending);
   out.result = lesson.Finish();

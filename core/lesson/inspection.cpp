@@ -242,6 +242,8 @@ InspectionTracker::InspectionTracker(const LessonSpec& spec, const CompiledScene
       }
     }
   }
+  // Where each unit is, for the views (made here, once: not in the window's first frame with a view).
+  for (const InspectionUnit& u : units_) spots_.push_back(ApproachOf(scene_, u, teeth_));
   for (const CariesLesion& c : SceneCariesLesions(scene.spec))
     lesions_.push_back({std::to_string(objs[static_cast<std::size_t>(c.tooth)].fdi) + " " +
                             SurfaceCode(static_cast<ToothSurface>(c.surface)),
@@ -346,6 +348,23 @@ void InspectionTracker::OnTick(const TickRecord& r, const std::vector<std::uint8
       l.pressing = false;
       l.peak = 0;
     }
+  }
+}
+
+void InspectionTracker::OnView(const ViewSample& v) {
+  const Vector3 ahead = v.focal - v.eye;
+  if (ahead.norm() < 1e-9) return;
+  const double half = 0.5 * v.view_angle_deg * 3.14159265358979323846 / 180;
+  for (std::size_t i = 0; i < units_.size(); ++i) {
+    if (units_[i].seen || !spots_[i]) continue;
+    const Vector3 to = spots_[i]->p - v.eye;
+    const double d = to.norm();
+    if (d < 1e-9 || d > 150) continue;
+    // Inside the cone (the window is wider than tall: the vertical angle is the narrower), facing the camera.
+    if (std::acos(std::clamp(to.dot(ahead) / (d * ahead.norm()), -1.0, 1.0)) > half) continue;
+    if (spots_[i]->n.dot(-to) <= 0) continue;
+    units_[i].seen = true;
+    units_[i].seen_tick = v.tick;
   }
 }
 

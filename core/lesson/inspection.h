@@ -94,6 +94,18 @@ struct InspectionUnit {
   bool touched = false;
   std::uint64_t first_tick = 0;  // when the tip had dwelt on it long enough
   double dwell_s = 0;
+  bool seen = false;             // in a recorded view (window attempts)
+  std::uint64_t seen_tick = 0;
+};
+
+/// The window's camera at a tick: where it is, what it looks at, its up and its
+/// vertical view angle. A unit is seen when its surface point lies inside the
+/// view's cone (the vertical angle, and the same across), within 150 mm, and
+/// faces the camera. What might hide it (a lip, the tongue) is not checked.
+struct ViewSample {
+  std::uint64_t tick = 0;
+  Vector3 eye = Vector3::Zero(), focal = -Vector3::UnitY(), up = Vector3::UnitZ();
+  double view_angle_deg = 30;
 };
 
 /// Where an instrument examines a unit from (world frame): a point on its
@@ -126,6 +138,8 @@ class InspectionTracker {
   InspectionTracker(const LessonSpec& spec, const CompiledScene& scene);
   /// `in_contact` per scene object, as the contact events left it.
   void OnTick(const TickRecord& r, const std::vector<std::uint8_t>& in_contact);
+  /// A view of the window's camera: the units it shows are seen (from its tick on).
+  void OnView(const ViewSample& v);
   const std::vector<InspectionUnit>& units() const { return units_; }
   /// The unit index of a region or tooth surface, -1 when the lesson does not cover it.
   int UnitOf(const std::string& region) const;
@@ -158,6 +172,7 @@ class InspectionTracker {
   const LessonSpec& spec_;
   const CompiledScene& scene_;
   std::vector<InspectionUnit> units_;
+  std::vector<std::optional<UnitApproach>> spots_;  // per unit, where it is (for views)
   std::vector<int> teeth_;  // the lesson's, in units_ order (5 units each after the regions)
   int first_tooth_unit_ = 0;
   std::vector<ObjectRole> roles_;

@@ -30,8 +30,8 @@ int FindObject(const SceneSpec& s, ObjectSpec::Kind kind, int fdi, const std::st
 // frame, 0 mesial, 90 degrees buccal) and height z, with its horizontal normal, in the world.
 bool SideSpot(const CompiledScene& scene, int object, double phi, double z, Vector3* p_W, Vector3* n_W) {
   const ObjectSpec& o = scene.spec.objects[static_cast<std::size_t>(object)];
-  const TriangleMesh mesh = ArchMirror(o.mirrored, scene.meshes[static_cast<std::size_t>(object)]);
-  const double r = OuterRadius(mesh, phi, z);
+  // A mirrored object's mesh is the tooth frame's mirrored in x: the angle mirrors instead.
+  const double r = OuterRadius(scene.meshes[static_cast<std::size_t>(object)], o.mirrored ? kPi - phi : phi, z);
   if (r <= 0) return false;
   const Vector3 dir(std::cos(phi), std::sin(phi), 0);
   *p_W = o.X_WO * ArchMirror(o.mirrored, Vector3(r * dir.x(), r * dir.y(), z));
@@ -46,10 +46,10 @@ std::optional<Target> ToothTarget(const CompiledScene& scene, int fdi, ToothSurf
   if (i < 0) return std::nullopt;
   const ObjectSpec& o = scene.spec.objects[static_cast<std::size_t>(i)];
   const Vector3 occlusal = OcclusalOf(o);
-  const ToothModel tooth = GenerateTooth(fdi);
-  const double top = tooth.mesh.Bounds().max.z();
+  const double top = scene.meshes[static_cast<std::size_t>(i)].Bounds().max.z();
   Target t;
   if (s == ToothSurface::kOcclusal) {
+    const ToothModel tooth = GenerateTooth(fdi);
     SurfacePoint sp = CariesSpot(tooth, s);
     if (fdi % 10 <= 3) {  // incisors and canines: on the incisal edge (the cusp tip)
       for (const Vector3& v : tooth.mesh.vertices())

@@ -425,6 +425,11 @@ void LessonRun::Record(const Finding& f) {
   Advance(f.tick == kAfterReading ? last_tick_ : f.tick);
 }
 
+void LessonRun::View(const ViewSample& v) {
+  views_.push_back(v);
+  if (inspection_) inspection_->OnView(v);
+}
+
 void LessonRun::Submit(std::uint64_t tick) {
   submitted_ = tick == kAfterReading ? last_tick_ : tick;
   Advance(*submitted_);
@@ -697,6 +702,8 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
     if (f.tick == kAfterReading) f.tick = last_tick_;
   in.submitted_tick = submitted_;
   in.presses = inspection_->presses();
+  in.views = views_;
+  const bool viewed = !views_.empty();
   auto seconds = [&](std::uint64_t tick) { return static_cast<double>(tick - std::min(tick, first_tick_)) / rate_hz_; };
 
   // Coverage: the units the steps name (all of them when no step names any).
@@ -708,13 +715,14 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
   for (const InspectionUnit& u : in.units) {
     if (!u.region.empty() && scored[static_cast<std::size_t>(&u - in.units.data())])
       L.push_back(Line("coverage", nullptr, 0, u.touched ? S::kPass : S::kFail, u.touched ? 1 : 0,
-                       u.touched ? Format("%s: examined at %.1f s (%.1f s on it)", RegionLabel(u.region).c_str(),
-                                          seconds(u.first_tick), u.dwell_s)
-                                 : RegionLabel(u.region) + ": not examined",
+                       (u.touched ? Format("%s: examined at %.1f s (%.1f s on it)", RegionLabel(u.region).c_str(),
+                                           seconds(u.first_tick), u.dwell_s)
+                                  : RegionLabel(u.region) + ": not examined") +
+                           (!viewed ? "" : u.seen ? Format("; in view at %.1f s", seconds(u.seen_tick)) : "; never in view"),
                        u.touched ? u.first_tick : last_tick_));
   }
   for (int fdi : spec_.teeth) {
-    int asked = 0, done = 0;
+    int asked = 0, done = 0, unseen = 0;
     std::string missed;
     std::uint64_t last = 0;
     for (int s = 0; s < 5; ++s) {
@@ -722,6 +730,7 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
       if (u < 0 || !scored[static_cast<std::size_t>(u)]) continue;
       ++asked;
       const InspectionUnit& unit = in.units[static_cast<std::size_t>(u)];
+      unseen += !unit.seen;
       if (unit.touched) {
         ++done;
         last = std::max(last, unit.first_tick);
@@ -732,10 +741,17 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
     if (asked == 0) continue;
     L.push_back(Line("coverage", nullptr, fdi, done == asked ? S::kPass : done > 0 ? S::kPartial : S::kFail,
                      static_cast<double>(done) / asked,
-                     done == asked ? Format("%d: every surface examined (%d)", fdi, asked)
-                                   : Format("%d: %s not examined (%d of %d surfaces)", fdi, missed.c_str(), done, asked),
+                     (done == asked ? Format("%d: every surface examined (%d)", fdi, asked)
+                                    : Format("%d: %s not examined (%d of %d surfaces)", fdi, missed.c_str(), done, asked)) +
+                         (!viewed        ? ""
+                          : unseen == 0 ? "; every surface in view"
+                                        : Format("; %d surface%s never in view", unseen, unseen == 1 ? "" : "s")),
                      done == asked ? last : last_tick_));
   }
+
+  if (!viewed)
+    L.push_back(Line("coverage", nullptr, 0, S::kInfo, 0,
+                     "no view was recorded (a headless attempt): what the view showed is not scored", last_tick_));
 
   // Sequence: each step examined in its turn.
   for (std::size_t k = 0; k < out.steps.size(); ++k) {

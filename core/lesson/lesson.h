@@ -112,6 +112,7 @@ struct InspectionResult {
   std::optional<std::uint64_t> submitted_tick;
   std::vector<FindingScore> scores;   // caries, calculus, inflamed gingiva, lesion, status
   std::vector<LesionPress> presses;   // lesions pressed harder than the rubric's limit
+  std::vector<ViewSample> views;      // the window's camera as it moved (empty: headless)
 };
 
 struct LessonResult {
@@ -182,6 +183,9 @@ class LessonRun final : public TickConsumer {
   // odontogram submitted as complete (kAfterReading: at the end).
   void Record(const Finding& f);
   void Submit(std::uint64_t tick);
+  /// The window's camera (inspection lessons: what the view showed).
+  void View(const ViewSample& v);
+  const std::vector<ViewSample>& views() const { return views_; }
 
   // Live state.
   int current_step() const { return step_; }  // == steps().size() when all are done
@@ -264,6 +268,7 @@ class LessonRun final : public TickConsumer {
   std::vector<Finding> findings_;
   std::optional<std::uint64_t> submitted_;
   Odontogram odontogram_;
+  std::vector<ViewSample> views_;
 };
 
 }  // namespace sulcus

@@ -421,11 +421,17 @@ std::string InspectionHtml(const LessonResult& r) {
   };
   row(true);
   row(false);
-  o << "</table>\n<h2>Soft tissues</h2>\n<table><tr><th>region</th><th>examined</th><th>recorded</th><th>truth</th></tr>";
+  auto seen = [&](const std::string& name) {
+    for (const InspectionUnit& u : in.units)
+      if (u.Name() == name) return u.seen;
+    return false;
+  };
+  o << "</table>\n<h2>Soft tissues</h2>\n<table><tr><th>region</th><th>examined</th><th>in view</th><th>recorded</th>"
+       "<th>truth</th></tr>";
   for (const std::string& g : in.regions) {
     const auto t = in.truth.lesions.find(g), s = in.recorded.lesions.find(g);
     o << "<tr><td style=\"text-align:left\">" << H(RegionLabel(g)) << "</td><td>" << (examined(g) ? "&#10003;" : "-")
-      << "</td><td>" << H(s != in.recorded.lesions.end() ? s->second : "-") << "</td><td>"
+      << "</td><td>" << (in.views.empty() ? "not recorded" : seen(g) ? "&#10003;" : "-") << "</td><td>" << H(s != in.recorded.lesions.end() ? s->second : "-") << "</td><td>"
       << H(t != in.truth.lesions.end() ? t->second : "-") << "</td></tr>";
   }
   o << "</table>\n";

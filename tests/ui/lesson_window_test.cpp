@@ -265,6 +265,10 @@ TEST(InspectionWindow, TheInspectionLessonFromItsStartToTheReport) {
   const LessonResult& r = *w.last_result();
   EXPECT_EQ(r.kind, "inspection");
   ASSERT_TRUE(r.inspection.submitted_tick.has_value());
+  EXPECT_FALSE(r.inspection.views.empty()) << "the window records its camera";
+  int seen = 0;
+  for (const InspectionUnit& u : r.inspection.units) seen += u.seen;
+  EXPECT_GT(seen, 10) << "the camera followed the teeth the lesson asked for";
   for (const FindingScore& sc : r.inspection.scores) EXPECT_EQ(sc.fp, 0) << sc.kind;
   for (const RubricLine& l : r.lines)
     EXPECT_EQ(l.message.find("status"), std::string::npos) << "the status entered is right: " << l.message;

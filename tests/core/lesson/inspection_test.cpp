@@ -92,7 +92,9 @@ TEST(Odontogram, FindingsReadAndWriteBackAndBadOnesAreNamed) {
                            "  - {tooth: 24, status: 3}\n"
                            "  - {region: tongue_lateral_border_left, lesion: ulcer, tick: 30}\n"
                            "  - {tooth: 36, caries: B, present: false, tick: 40}\n"
-                           "submitted: 50\n");
+                           "submitted: 50\n"
+                           "views:\n"
+                           "  - {tick: 12, eye: [0, 60, 10], at: [0, -20, 10], up: [0, 0, 1], angle: 30}\n");
   const Answers a = LoadAnswers(f);
   ASSERT_EQ(a.findings.size(), 7u);
   EXPECT_EQ(a.findings[1].surface, ToothSurface::kBuccal);
@@ -115,6 +117,10 @@ TEST(Odontogram, FindingsReadAndWriteBackAndBadOnesAreNamed) {
   ASSERT_EQ(b.findings.size(), a.findings.size());
   for (std::size_t i = 0; i < a.findings.size(); ++i) EXPECT_EQ(b.findings[i].ToString(), a.findings[i].ToString()) << i;
   EXPECT_EQ(b.submitted, a.submitted);
+  ASSERT_EQ(b.views.size(), 1u);
+  EXPECT_EQ(b.views[0].tick, 12u);
+  EXPECT_EQ(b.views[0].eye, Vector3(0, 60, 10));
+  EXPECT_EQ(b.views[0].focal, Vector3(0, -20, 10));
 
   const auto e = Errors(Write("bad_findings.yaml",
                               "findings:\n"
@@ -200,6 +206,35 @@ TEST(Inspectors, TheThoroughOneFindsEverythingItExamines) {
   // Every coverage line names its moment and the truth is in the result.
   for (const RubricLine& l : r.lines) EXPECT_LE(l.tick, r.last_tick) << l.message;
   EXPECT_FALSE(r.inspection.truth.teeth.empty());
+}
+
+// What the view showed: a camera in front of 36's buccal surface looking at it
+// shows that surface and not its lingual one; the report says which surfaces
+// and regions were never in view once views are recorded.
+TEST(Inspectors, TheViewShowsWhatFacesTheCamera) {
+  const AttemptOutcome& t = Take("thorough");
+  const CompiledScene& scene = *t.scene;
+  LessonRun run(t.spec, scene, "viewer");
+  const InspectionTracker& tracker = *run.inspection();
+  const int b = tracker.UnitOf(36, ToothSurface::kBuccal), l = tracker.UnitOf(36, ToothSurface::kLingual);
+  ASSERT_GE(b, 0);
+  const auto spot = ApproachOf(scene, tracker.units()[static_cast<std::size_t>(b)], t.spec.teeth);
+  ASSERT_TRUE(spot);
+  ViewSample v;
+  v.tick = 5;
+  v.focal = spot->p;
+  v.eye = spot->p + 40.0 * spot->n;
+  v.view_angle_deg = 30;
+  run.View(v);
+  EXPECT_TRUE(tracker.units()[static_cast<std::size_t>(b)].seen);
+  EXPECT_EQ(tracker.units()[static_cast<std::size_t>(b)].seen_tick, 5u);
+  EXPECT_FALSE(tracker.units()[static_cast<std::size_t>(l)].seen) << "it faces away";
+  EXPECT_FALSE(tracker.units()[static_cast<std::size_t>(tracker.UnitOf("palate"))].seen) << "outside the view";
+  const LessonResult r = run.Finish();
+  const auto lines = Messages(r, "coverage", RubricLine::Status::kFail);
+  EXPECT_TRUE(AnyContains(lines, "the hard palate: not examined; never in view")) << ::testing::PrintToString(lines);
+  EXPECT_FALSE(AnyContains(Messages(r, "coverage", RubricLine::Status::kInfo), "no view was recorded"));
+  EXPECT_TRUE(AnyContains(Messages(Take("thorough").result, "coverage", RubricLine::Status::kInfo), "no view was recorded"));
 }
 
 TEST(Inspectors, TheSkippingOneIsToldWhatItLeftOut) {
