@@ -77,14 +77,15 @@ std::optional<Target> ToothTarget(const CompiledScene& scene, int fdi, ToothSurf
 std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string& region, const std::vector<int>& teeth) {
   Target t;
   if (region == "gingiva_upper" || region == "gingiva_lower") {
-    // The attached gingiva labial of the first incisor of the arch the lesson has.
+    // The attached gingiva: palatal of the upper first molars (open to the
+    // middle of the mouth), labial of the lower central incisors.
     const bool upper = region == "gingiva_upper";
-    for (int fdi : upper ? std::vector<int>{11, 21, 12, 22} : std::vector<int>{41, 31, 42, 32}) {
+    for (int fdi : upper ? std::vector<int>{16, 26, 15, 25} : std::vector<int>{41, 31, 42, 32}) {
       const int i = FindObject(scene.spec, ObjectSpec::Kind::kGingiva, fdi);
       if (i < 0 || (!teeth.empty() && std::find(teeth.begin(), teeth.end(), fdi) == teeth.end())) continue;
       // The attached gingiva, 1.5 mm below the CEJ, the working end leaning
       // out past the crown's bulge.
-      if (!SideSpot(scene, i, kPi / 2, -1.5, &t.p, &t.n)) continue;
+      if (!SideSpot(scene, i, upper ? 3 * kPi / 2 : kPi / 2, -1.5, &t.p, &t.n)) continue;
       const Vector3 occlusal = OcclusalOf(scene.spec.objects[static_cast<std::size_t>(i)]);
       t.axis = (occlusal + 0.35 * t.n).normalized();
       t.shank = kAnterior;
