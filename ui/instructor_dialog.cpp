@@ -228,9 +228,13 @@ void InstructorDialog::Refresh() {
   attempts_->setRowCount(static_cast<int>(attempts.size()));
   for (int r = 0; r < static_cast<int>(attempts.size()); ++r) {
     const AttemptRow& a = attempts[static_cast<std::size_t>(r)];
+    // An inspection has no sites and no diagnosis: those cells say so.
+    const bool sites = a.sites_total > 0;
     const QStringList cells = {QString::number(a.id), Q(a.student), Q(a.lesson_name), Q(a.started), Q(a.mode),
-                               QString::number(a.total, 'f', 1), QString("%1 %").arg(a.within_1mm_pct, 0, 'f', 0),
-                               QString("%1 %").arg(a.force_in_band_pct, 0, 'f', 0), Q(a.declared_dx), Q(a.true_dx)};
+                               QString::number(a.total, 'f', 1),
+                               sites ? QString("%1 %").arg(a.within_1mm_pct, 0, 'f', 0) : QString("-"),
+                               sites ? QString("%1 %").arg(a.force_in_band_pct, 0, 'f', 0) : QString("-"),
+                               sites ? Q(a.declared_dx) : QString("-"), sites ? Q(a.true_dx) : QString("-")};
     for (int c = 0; c < cells.size(); ++c) attempts_->setItem(r, c, new QTableWidgetItem(cells[c]));
   }
   // Sites across the cohort, worst first.

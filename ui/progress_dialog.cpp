@@ -1,5 +1,6 @@
 #include "ui/progress_dialog.h"
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 
@@ -112,7 +113,9 @@ void ProgressDialog::ShowLesson(const std::string& lesson_file) {
   table_->Modified();
   chart_->ClearPlots();
   const unsigned char colours[3][3] = {{31, 95, 168}, {58, 157, 74}, {224, 160, 32}};
-  for (int c = 1; c <= 3; ++c) {
+  // An inspection has no sites: only its score is plotted.
+  const bool probing = std::any_of(attempts_.begin(), attempts_.end(), [](const AttemptRow& a) { return a.sites_total > 0; });
+  for (int c = 1; c <= (probing ? 3 : 1); ++c) {
     vtkPlot* p = chart_->AddPlot(n > 1 ? vtkChart::LINE : vtkChart::POINTS);
     p->SetInputData(table_, 0, c);
     p->SetColor(colours[c - 1][0], colours[c - 1][1], colours[c - 1][2], 255);

@@ -279,10 +279,15 @@ void AddLessonCommands(CLI::App& app) {
     ResultsDb db(ResultsDir((*q)[3]) / "results.db");
     const auto rows = db.Attempts((*q)[0], (*q)[1]);
     std::printf("%6s  %-20s  %-16s  %-36s  %6s  %8s  %s\n", "id", "started", "student", "lesson", "score", "within1", "diagnosis declared");
-    for (const AttemptRow& a : rows)
-      std::printf("%6lld  %-20s  %-16s  %-36s  %6.1f  %7.0f%%  %s\n", static_cast<long long>(a.id), a.started.c_str(),
-                  a.student.c_str(), a.lesson_name.substr(0, 36).c_str(), a.total, a.within_1mm_pct,
-                  (a.declared_dx + (a.complete ? "" : "  [incomplete: " + a.ended + "]")).c_str());
+    for (const AttemptRow& a : rows) {
+      // An inspection has no sites and no diagnosis: its columns say so.
+      const bool sites = a.sites_total > 0;
+      char within[16];
+      std::snprintf(within, sizeof within, "%.0f%%", a.within_1mm_pct);
+      std::printf("%6lld  %-20s  %-16s  %-36s  %6.1f  %8s  %s\n", static_cast<long long>(a.id), a.started.c_str(),
+                  a.student.c_str(), a.lesson_name.substr(0, 36).c_str(), a.total, sites ? within : "-",
+                  ((sites ? a.declared_dx : std::string("-")) + (a.complete ? "" : "  [incomplete: " + a.ended + "]")).c_str());
+    }
     std::printf("%zu attempts in %s\n", rows.size(), db.file().c_str());
   });
   show->callback([q, id] {
