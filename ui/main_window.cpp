@@ -505,6 +505,11 @@ void MainWindow::BeginSession() {
     diagnose_button_->setToolTip(inspection ? "Says your odontogram is complete (you may still change it until you finish)"
                                             : "Stage and extent of periodontitis from your chart (2017 classification)");
     if (inspection) odontogram_->SetLesson(lesson_spec_->teeth, lesson_spec_->regions);
+    // The odontogram is shorter than the chart: what the dock has to spare goes
+    // to the list of what the lesson says, not between the labels.
+    feedback_->setMaximumHeight(inspection ? QWIDGETSIZE_MAX : 110);
+    if (auto* box = qobject_cast<QBoxLayout*>(feedback_->parentWidget()->layout()))
+      box->setStretchFactor(feedback_, inspection ? 1 : 0);
     std::map<std::pair<int, int>, double> recession;
     for (const SiteRef& site : lesson_spec_->path) recession[{site.fdi, site.site}] = lesson_->recession_mm(site);
     chart_->SetLesson(lesson_spec_->teeth, lesson_spec_->path, recession);

@@ -234,10 +234,7 @@ void OdontogramWidget::paintEvent(QPaintEvent*) {
   p.drawLine(mid_x, kTop, mid_x, kTop + 2 * (kBox + kRowGap) + 4);
   const int occlusal_y = kTop + kBox + kRowGap / 2 + 7;
   p.drawLine(kLeft, occlusal_y, kLeft + 2 * side * kColumn + kMidGap, occlusal_y);
-  p.setPen(QColor("#888"));
-  const int span = side * kColumn;
-  p.drawText(QRect(kLeft, occlusal_y - 1, span, 12), Qt::AlignLeft | Qt::AlignTop, "right");
-  p.drawText(QRect(kLeft + span + kMidGap, occlusal_y - 1, span, 12), Qt::AlignRight | Qt::AlignTop, "left");
+
   auto examined = [&](const std::string& u) { return std::find(examined_.begin(), examined_.end(), u) != examined_.end(); };
   for (const Cell& c : cells_) {
     const ToothRecord* t = odontogram_.Find(c.fdi);

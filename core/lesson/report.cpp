@@ -384,11 +384,17 @@ std::string InspectionHtml(const LessonResult& r) {
   for (const FindingScore& s : in.scores)
     o << "<tr><th>" << H(s.kind) << "</th><td>" << s.tp << "</td><td>" << s.fn << "</td><td>" << s.fp << "</td><td>"
       << Num(100 * s.sensitivity(), 0) << " %</td><td>" << Num(100 * s.specificity(), 0) << " %</td></tr>";
-  o << "</table>\n<h2>Odontogram</h2>\n<p class=legend>Each tooth's surfaces M D B L O: <span style=\"background:"
-       "#9c2a1a\"></span>caries recorded and true<span style=\"background:#e0a020\"></span>caries missed"
-       "<span style=\"background:#7a4fb0\"></span>recorded, not there<span style=\"background:#cfe3f5\"></span>"
-       "examined<span style=\"background:#fff;border:1px solid #ccc\"></span>not examined; Ca calculus, G inflamed "
-       "gingiva (recorded / true), the WHO status.</p>\n<table>";
+  // Swatches with a text inside, so that they show in the window's report view too.
+  auto swatch = [&](const char* colour, const char* what) {
+    o << "<span style=\"background:" << colour << "\">&nbsp;&nbsp;&nbsp;</span>&nbsp;" << what << " &nbsp; ";
+  };
+  o << "</table>\n<h2>Odontogram</h2>\n<p>Each tooth's surfaces M D B L O: ";
+  swatch("#9c2a1a", "caries recorded and true");
+  swatch("#e0a020", "caries missed");
+  swatch("#7a4fb0", "recorded, not there");
+  swatch("#cfe3f5", "examined");
+  o << "white: not examined. Ca calculus and G inflamed gingiva (recorded / true), then the WHO status (recorded / "
+       "true).</p>\n<table>";
   auto examined = [&](const std::string& name) {
     for (const InspectionUnit& u : in.units)
       if (u.Name() == name) return u.touched;
