@@ -33,6 +33,11 @@ echo "The same lesson by a student who presses 2 N at the pocket floor:"
 echo "  \$ $cli lesson run lessons/periodontal_probing.yaml --student 'demo student' --device student:rough --quiet"
 "$cli" lesson run lessons/periodontal_probing.yaml --student "demo student" --device student:rough --quiet
 echo
+echo "The oral inspection of the full mouth by a thorough scripted inspector (the first"
+echo "run builds the full mouth's sphere-trees, about a minute):"
+echo "  \$ $cli lesson run lessons/oral_inspection.yaml --student 'demo student' --device student:thorough --quiet"
+"$cli" lesson run lessons/oral_inspection.yaml --student "demo student" --device student:thorough --quiet
+echo
 echo "Every stored attempt (open a report.html in any browser):"
 echo "  \$ $cli results list"
 exec "$cli" results list

@@ -405,17 +405,22 @@ void LessonRun::FollowInspection(const TickRecord& r) {
   int examined = 0;
   for (int m : step_units_[static_cast<std::size_t>(next)]) examined += units[static_cast<std::size_t>(m)].touched;
   if (2 * examined < static_cast<int>(step_units_[static_cast<std::size_t>(next)].size())) return;
-  const int later = next;
-  while (step_ < later) {
+  LeaveStepsUntil(next, r.tick);
+}
+
+void LessonRun::LeaveStepsUntil(int later, std::uint64_t tick) {
+  const auto& units = inspection_->units();
+  while (step_ < later && step_ < static_cast<int>(spec_.steps.size())) {
     StepResult& res = step_results_[static_cast<std::size_t>(step_)];
     res.skipped = true;
-    res.ended_tick = r.tick;
+    res.ended_tick = std::max(tick, res.started_tick);
     for (int m : step_units_[static_cast<std::size_t>(step_)])
       if (!units[static_cast<std::size_t>(m)].touched) res.missed.push_back(units[static_cast<std::size_t>(m)].Name());
-    feedback_.push_back("step '" + res.id + "' left for '" + spec_.steps[static_cast<std::size_t>(later)].id +
-                        "' before it was done");
+    if (later < static_cast<int>(spec_.steps.size()))
+      feedback_.push_back("step '" + res.id + "' left for '" + spec_.steps[static_cast<std::size_t>(later)].id +
+                          "' before it was done");
     ++step_;
-    step_results_[static_cast<std::size_t>(step_)].started_tick = r.tick;
+    if (step_ < static_cast<int>(spec_.steps.size())) step_results_[static_cast<std::size_t>(step_)].started_tick = tick;
   }
 }
 
@@ -432,6 +437,14 @@ void LessonRun::View(const ViewSample& v) {
 
 void LessonRun::Submit(std::uint64_t tick) {
   submitted_ = tick == kAfterReading ? last_tick_ : tick;
+  // Submitting says the examination is over: the steps still open before the
+  // recording step are left, with what they missed.
+  if (inspection_ && !done()) {
+    int record = -1;
+    for (int k = step_; k < static_cast<int>(spec_.steps.size()) && record < 0; ++k)
+      if (spec_.steps[static_cast<std::size_t>(k)].complete == StepSpec::Complete::kRecorded) record = k;
+    if (record > step_ && !StepComplete(spec_.steps[static_cast<std::size_t>(step_)])) LeaveStepsUntil(record, *submitted_);
+  }
   Advance(*submitted_);
 }
 
@@ -914,7 +927,7 @@ LessonResult LessonRun::Finish() const {
   for (const StepResult& st : out.steps)
     L.push_back(Line("time", nullptr, 0, S::kInfo, 0,
                      Format("step '%s': %s in %.1f s", st.id.c_str(),
-                            st.completed ? "done" : st.timed_out ? "timed out" : "not finished",
+                            st.completed ? "done" : st.timed_out ? "timed out" : st.skipped ? "left unfinished" : "not finished",
                             static_cast<double>((st.ended_tick ? st.ended_tick : last_tick_) - st.started_tick) /
                                 rate_hz_),
                      st.ended_tick ? st.ended_tick : last_tick_));

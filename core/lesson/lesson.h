@@ -225,6 +225,7 @@ class LessonRun final : public TickConsumer {
   void ScoreProbing(LessonResult& out) const;
   void ScoreInspection(LessonResult& out) const;
   void FollowInspection(const TickRecord& r);
+  void LeaveStepsUntil(int later, std::uint64_t tick);
   struct ToothTrack;
   void Track(const TickRecord& r);
   void Advance(std::uint64_t tick);

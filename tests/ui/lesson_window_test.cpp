@@ -258,6 +258,7 @@ TEST(InspectionWindow, TheInspectionLessonFromItsStartToTheReport) {
   EXPECT_EQ(f.back().ToString(), "withdrawn: inflamed gingiva " + std::to_string(first));
   EXPECT_FALSE(w.lesson()->odontogram().Find(first)->inflamed);
   ASSERT_TRUE(w.SubmitFindings());
+  EXPECT_TRUE(w.lesson()->done()) << "submitted: the examination is over";
   QApplication::processEvents();
   EXPECT_TRUE(Save(&w, "inspection_odontogram.png"));
   ASSERT_TRUE(w.FinishLesson());

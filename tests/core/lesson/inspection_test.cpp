@@ -202,6 +202,7 @@ TEST(Inspectors, TheThoroughOneFindsEverythingItExamines) {
   EXPECT_EQ(Score(r, "calculus").fn, 0);
   EXPECT_EQ(Score(r, "inflamed gingiva").fn, 0);
   EXPECT_TRUE(r.inspection.submitted_tick.has_value());
+  EXPECT_TRUE(r.complete) << "submitting ends the examination: the steps still open are left, with what they missed";
   EXPECT_EQ(Score(r, "caries").fn, 0) << "every carious surface examined and found";
   // Every coverage line names its moment and the truth is in the result.
   for (const RubricLine& l : r.lines) EXPECT_LE(l.tick, r.last_tick) << l.message;
