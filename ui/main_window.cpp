@@ -833,7 +833,8 @@ void MainWindow::BuildLessonDock() {
   layout->addWidget(odontogram_);
   feedback_ = new QListWidget;
   feedback_->setMaximumHeight(110);
-  feedback_->setToolTip("What the lesson tells you as you go (the truth after each site in practice mode)");
+  feedback_->setToolTip("What the lesson tells you as you go (in practice mode the truth after each site, or at each "
+                        "surface and region you examine)");
   layout->addWidget(feedback_);
   auto* buttons = new QHBoxLayout;
   diagnose_button_ = new QPushButton("Declare the diagnosis...");

@@ -29,7 +29,7 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs, std::fi
   setWindowTitle("Sulcus: start a lesson");
   resize(760, 520);
   auto* layout = new QVBoxLayout(this);
-  auto* title = new QLabel("<h2>Sulcus</h2>Haptic periodontal training. Say who you are, pick a lesson and start.");
+  auto* title = new QLabel("<h2>Sulcus</h2>Haptic dental training: periodontal probing and oral inspection. Say who you are, pick a lesson and start.");
   layout->addWidget(title);
   auto* form = new QFormLayout;
   student_ = new QComboBox;
@@ -48,7 +48,7 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs, std::fi
   auto* modes = new QGroupBox("Mode");
   auto* mode_row = new QHBoxLayout(modes);
   own_mode_ = new QRadioButton("as the lesson says");
-  practice_ = new QRadioButton("practice (the truth after each site, aids allowed)");
+  practice_ = new QRadioButton("practice (the truth as you go, aids allowed)");
   assessment_ = new QRadioButton("assessment (no aids, the truth only in the report)");
   own_mode_->setChecked(true);
   for (QRadioButton* b : {own_mode_, practice_, assessment_}) mode_row->addWidget(b);

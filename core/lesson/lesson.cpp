@@ -143,6 +143,7 @@ LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene, std::st
     inspection_.emplace(spec_, scene);
     for (const StepSpec& st : spec_.steps) step_units_.push_back(inspection_->StepUnits(st));
     odontogram_ = EmptyOdontogram(spec_.teeth);
+    truth_ = TrueOdontogram(scene.spec, spec_.teeth, spec_.regions);
   }
 }
 
@@ -384,6 +385,23 @@ void LessonRun::OnTick(const TickRecord& r) {
 
 void LessonRun::FollowInspection(const TickRecord& r) {
   inspection_->OnTick(r, in_contact_);
+  // Practice: the truth of a surface or region when it is first examined (only
+  // where there is something to find; assessment says nothing).
+  if (spec_.practice() && inspection_->tip_unit() >= 0) {
+    const InspectionUnit& unit = inspection_->units()[static_cast<std::size_t>(inspection_->tip_unit())];
+    if (unit.touched && unit.first_tick == r.tick) {
+      if (!unit.region.empty()) {
+        const auto it = truth_.lesions.find(unit.region);
+        if (it != truth_.lesions.end()) feedback_.push_back(RegionLabel(unit.region) + ": there is " + it->second + " here");
+      } else if (const ToothRecord* t = truth_.Find(unit.fdi)) {
+        if (t->caries[static_cast<std::size_t>(unit.surface)])
+          feedback_.push_back(unit.Name() + ": a carious lesion here (softer, it may catch the tip)");
+        const bool side = unit.surface == ToothSurface::kBuccal || unit.surface == ToothSurface::kLingual;
+        if (side && t->calculus) feedback_.push_back(std::to_string(unit.fdi) + ": calculus on this tooth");
+        if (side && t->inflamed) feedback_.push_back(std::to_string(unit.fdi) + ": its gingiva is inflamed");
+      }
+    }
+  }
   // The student has moved on when half the units of the next step (at least
   // one) are examined: this step ends as skipped, with what it missed. (A
   // tooth touched on the way to a cheek does not move the lesson on.)

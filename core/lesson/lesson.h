@@ -268,7 +268,7 @@ class LessonRun final : public TickConsumer {
   std::vector<std::vector<int>> step_units_;  // per step, its units
   std::vector<Finding> findings_;
   std::optional<std::uint64_t> submitted_;
-  Odontogram odontogram_;
+  Odontogram odontogram_, truth_;
   std::vector<ViewSample> views_;
 };
 

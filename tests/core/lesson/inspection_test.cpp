@@ -203,6 +203,9 @@ TEST(Inspectors, TheThoroughOneFindsEverythingItExamines) {
   EXPECT_EQ(Score(r, "inflamed gingiva").fn, 0);
   EXPECT_TRUE(r.inspection.submitted_tick.has_value());
   EXPECT_TRUE(r.complete) << "submitting ends the examination: the steps still open are left, with what they missed";
+  bool told = false;
+  for (const std::string& f : r.feedback) told |= f.find("36 O: a carious lesion here") != std::string::npos;
+  EXPECT_TRUE(told) << "practice: the truth as each surface is examined";
   EXPECT_EQ(Score(r, "caries").fn, 0) << "every carious surface examined and found";
   // Every coverage line names its moment and the truth is in the result.
   for (const RubricLine& l : r.lines) EXPECT_LE(l.tick, r.last_tick) << l.message;
