@@ -241,6 +241,43 @@ TEST(Inspectors, TheViewShowsWhatFacesTheCamera) {
   EXPECT_TRUE(AnyContains(Messages(Take("thorough").result, "coverage", RubricLine::Status::kInfo), "no view was recorded"));
 }
 
+// An inspection is rebuilt from its recording and its answers (findings,
+// submission, views) to the same result, line for line: nothing is lost.
+TEST(Inspectors, ARecordedInspectionRebuildsToTheSameResult) {
+  AttemptOptions o;
+  o.student = "recorded";
+  o.device = "student:mistaken";
+  o.cache_dir = DefaultCacheDir();
+  o.record = Out("mistaken.rec");
+  const AttemptOutcome first = RunAttempt(Lesson(), o);
+  Answers answers = first.answers;
+  ViewSample v;  // as the window would add
+  v.tick = 100;
+  v.eye = Vector3(0, 80, 12);
+  v.focal = Vector3(0, -20, 12);
+  answers.views.push_back(v);
+  SaveAnswers(answers, Out("mistaken_answers.yaml"));
+  AttemptOptions again;
+  again.student = "recorded";
+  again.device = "replay:" + Out("mistaken.rec").string();
+  again.answers = Out("mistaken_answers.yaml");
+  again.cache_dir = DefaultCacheDir();
+  const AttemptOutcome second = RunAttempt(Lesson(), again);
+  const LessonResult &a = first.result, &b = second.result;
+  EXPECT_EQ(b.inspection.findings.size(), a.inspection.findings.size());
+  EXPECT_EQ(b.inspection.submitted_tick, a.inspection.submitted_tick);
+  ASSERT_EQ(b.inspection.units.size(), a.inspection.units.size());
+  for (std::size_t i = 0; i < a.inspection.units.size(); ++i) {
+    EXPECT_EQ(b.inspection.units[i].touched, a.inspection.units[i].touched) << a.inspection.units[i].Name();
+    EXPECT_EQ(b.inspection.units[i].first_tick, a.inspection.units[i].first_tick) << a.inspection.units[i].Name();
+  }
+  EXPECT_EQ(Score(b, "caries").fp, Score(a, "caries").fp);
+  EXPECT_EQ(b.inspection.views.size(), 1u);
+  std::size_t seen = 0;
+  for (const InspectionUnit& u : b.inspection.units) seen += u.seen;
+  EXPECT_GT(seen, 0u) << "the view from the front shows the labial surfaces";
+}
+
 TEST(Inspectors, TheSkippingOneIsToldWhatItLeftOut) {
   const LessonResult& r = Take("skipping").result;
   const std::set<std::string> missed = NotExamined(r);
