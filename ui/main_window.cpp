@@ -57,7 +57,6 @@
 #include "core/lesson/results.h"
 #include "ui/chart_widget.h"
 #include "ui/odontogram_widget.h"
-#include "core/lesson/scripted_inspector.h"
 #include "core/haptics/scripted_device.h"
 #include "core/spheretree/cache.h"
 #include "ui/force_gauge.h"
@@ -447,14 +446,8 @@ void MainWindow::BeginSession() {
   DeviceSpec device;
   if (lesson_spec_ && device_name_.rfind("student:", 0) == 0) {
     try {
-      if (lesson_spec_->inspection()) {
-        auto inspector = std::make_unique<ScriptedInspector>(device_name_.substr(8), *lesson_spec_, *scene_);
-        device.device = inspector->MakeDevice();
-        scripted_inspector_ = std::move(inspector);
-      } else {
-        scripted_student_ = std::make_unique<ScriptedStudent>(device_name_.substr(8), *lesson_spec_, *scene_);
-        device.device = scripted_student_->MakeDevice();
-      }
+      scripted_student_ = MakeScriptedHand(device_name_.substr(8), *lesson_spec_, *scene_);
+      device.device = scripted_student_->MakeDevice();
       device.name = device_name_;
     } catch (const std::exception& e) {
       device_error_ = e.what();
@@ -529,10 +522,11 @@ void MainWindow::BeginSession() {
     lesson_dock_->show();
   }
   if (lesson_) session_->AddConsumer(lesson_.get());
-  if (lesson_ && scripted_inspector_) {
-    // A scripted inspector records what it examines, as a student would.
-    static_cast<ScriptedInspector*>(scripted_inspector_.get())->Attach(lesson_.get());
-    session_->AddConsumer(scripted_inspector_.get());
+  if (lesson_ && scripted_student_ && lesson_spec_->inspection()) {
+    // A scripted inspector records what it examines as it goes, as a student
+    // would (a scripted prober's chart is the window's to enter).
+    scripted_student_->Attach(lesson_.get());
+    session_->AddConsumer(scripted_student_.get());
   }
   try {
     session_->Start();
@@ -1182,7 +1176,6 @@ bool MainWindow::FinishLesson(bool show_report) {
   lesson_.reset();
   lesson_spec_.reset();
   scripted_student_.reset();
-  scripted_inspector_.reset();
   recording_file_.clear();
   SetAidsLocked(false);
   lesson_dock_->hide();

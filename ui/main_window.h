@@ -201,8 +201,7 @@ class MainWindow : public QMainWindow {
   // The lesson in progress.
   std::optional<LessonSpec> lesson_spec_;
   std::unique_ptr<LessonRun> lesson_;
-  std::unique_ptr<ScriptedStudent> scripted_student_;
-  std::unique_ptr<TickConsumer> scripted_inspector_;  // a ScriptedInspector playing the hand (inspection lessons)
+  std::unique_ptr<ScriptedHand> scripted_student_;  // a scripted student or inspector playing the hand
   LessonStart lesson_start_;
   std::uint64_t lesson_seed_ = 0;
   AttemptFolder attempt_;

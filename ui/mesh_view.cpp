@@ -33,14 +33,11 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh) {
   }
   // Area-weighted vertex normals: smooth shading without VTK's normal filter,
   // which would split vertices at sharp edges.
-  std::vector<Vector3> normals(mesh.num_vertices(), Vector3::Zero());
+  const std::vector<Vector3> normals = mesh.VertexNormalSums();
   auto cells = vtkSmartPointer<vtkCellArray>::New();
   for (const auto& f : mesh.faces()) {
     const vtkIdType ids[3] = {f[0], f[1], f[2]};
     cells->InsertNextCell(3, ids);
-    const Vector3 n = (mesh.vertices()[f[1]] - mesh.vertices()[f[0]])
-                          .cross(mesh.vertices()[f[2]] - mesh.vertices()[f[0]]);
-    for (int k = 0; k < 3; ++k) normals[f[k]] += n;
   }
   auto normal_array = vtkSmartPointer<vtkDoubleArray>::New();
   normal_array->SetNumberOfComponents(3);

@@ -485,12 +485,7 @@ SurfacePoint RegionSpot(const std::string& anatomy, const std::string& region, c
   const auto regions = LesionRegions(anatomy);
   if (std::find(regions.begin(), regions.end(), region) == regions.end())
     throw std::invalid_argument("'" + anatomy + "' has no region '" + region + "' for a lesion");
-  // Area-weighted vertex normals.
-  std::vector<Vector3> normals(mesh.num_vertices(), Vector3::Zero());
-  for (const auto& f : mesh.faces()) {
-    const Vector3 n = (mesh.vertices()[f[1]] - mesh.vertices()[f[0]]).cross(mesh.vertices()[f[2]] - mesh.vertices()[f[0]]);
-    for (int k = 0; k < 3; ++k) normals[f[k]] += n;
-  }
+  const std::vector<Vector3> normals = mesh.VertexNormalSums();
   const Aabb b = mesh.Bounds();
   const Vector3 mid = 0.5 * (b.min + b.max);
   const double length = b.max.y() - b.min.y();

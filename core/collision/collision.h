@@ -33,6 +33,8 @@ struct ContactPair {
   }
   /// The object of a pair from its key.
   static int ObjectOfKey(std::uint64_t key) { return static_cast<int>(key >> 48); }
+  /// The tool's leaf of a pair from its key.
+  static int ToolLeafOfKey(std::uint64_t key) { return static_cast<int>(key & 0xffffffu); }
 };
 
 struct CollisionScratch;

@@ -95,6 +95,15 @@ double TriangleMesh::SurfaceArea() const {
   return twice / 2.0;
 }
 
+std::vector<Vector3> TriangleMesh::VertexNormalSums() const {
+  std::vector<Vector3> n(vertices_.size(), Vector3::Zero());
+  for (const Face& f : faces_) {
+    const Vector3 a = (vertices_[f[1]] - vertices_[f[0]]).cross(vertices_[f[2]] - vertices_[f[0]]);
+    for (int k = 0; k < 3; ++k) n[f[k]] += a;
+  }
+  return n;
+}
+
 Vector3 TriangleMesh::FaceNormal(std::size_t i) const {
   const Face& f = faces_[i];
   const Vector3 n = (vertices_[f[1]] - vertices_[f[0]]).cross(vertices_[f[2]] - vertices_[f[0]]);

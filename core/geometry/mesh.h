@@ -78,6 +78,9 @@ class TriangleMesh {
   double SurfaceArea() const;
   /// Unit normal of face f (zero for a degenerate face).
   Vector3 FaceNormal(std::size_t f) const;
+  /// Per vertex, the area-weighted sum of its faces' normals, not normalised
+  /// (zero for a vertex no face uses).
+  std::vector<Vector3> VertexNormalSums() const;
   /// Every structural check; O(F log F).
   MeshReport Check() const;
 

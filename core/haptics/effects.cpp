@@ -9,7 +9,7 @@ namespace {
 
 // Whether a pair's tool leaf is on the working end (every leaf when the model does not say).
 bool WorkingEnd(const EffectsModel& m, std::uint64_t key) {
-  const auto leaf = static_cast<std::size_t>(key & 0xffffffu);
+  const auto leaf = static_cast<std::size_t>(ContactPair::ToolLeafOfKey(key));
   return m.tool_working_end.empty() || (leaf < m.tool_working_end.size() && m.tool_working_end[leaf]);
 }
 
@@ -161,18 +161,25 @@ class TissueDamage final : public LoopEffect {
   void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
     // Each object bears its share of the contact force (its pairs' multipliers):
     // a tool pressed on a tooth while brushing the lip does not hurt the lip.
-    const double f = force_W->norm();
+    std::array<std::size_t, kQpMaxActive> objects;
+    std::array<double, kQpMaxActive> share;
+    int n = 0;
     for (int i = 0; i < data.num_active_keys; ++i) {
       const auto object = static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
       if (object >= over_.size()) continue;
-      bool first = true;
-      for (int j = 0; j < i && first; ++j) first = ContactPair::ObjectOfKey(data.active_keys[j]) != static_cast<int>(object);
-      if (!first) continue;
-      double share = 0;
-      for (int j = i; j < data.num_active_keys; ++j)
-        if (ContactPair::ObjectOfKey(data.active_keys[j]) == static_cast<int>(object) && WorkingEnd(m_, data.active_keys[j]))
-          share += data.active_share[j];
-      const double on = f * share;
+      int k = 0;
+      while (k < n && objects[k] != object) ++k;
+      if (k == n) {
+        objects[k] = object;
+        share[k] = 0;
+        ++n;
+      }
+      if (WorkingEnd(m_, data.active_keys[i])) share[k] += data.active_share[i];
+    }
+    const double f = force_W->norm();
+    for (int k = 0; k < n; ++k) {
+      const std::size_t object = objects[k];
+      const double on = f * share[k];
       const bool over = on > m_.damage_limit_n[object];
       if (over && !over_[object]) {
         HapticEvent e = HapticEvent::Of(EventKind::kTissueDamage, static_cast<int>(object));

@@ -17,12 +17,7 @@ std::optional<DeclaredDiagnosis> ReadDiagnosis(YamlReader& r, const YAML::Node& 
   if (!r.IsMap(n, "'diagnosis'")) return std::nullopt;
   r.CheckKeys(n, {"periodontitis", "stage", "extent", "tick"}, "'diagnosis'");
   DeclaredDiagnosis d;
-  if (n["periodontitis"]) {
-    bool v = true;
-    if (!n["periodontitis"].IsScalar() || !YAML::convert<bool>::decode(n["periodontitis"], v))
-      r.Error(n["periodontitis"], "'periodontitis' must be true or false");
-    d.periodontitis = v;
-  }
+  if (n["periodontitis"]) d.periodontitis = r.Bool(n["periodontitis"], "periodontitis", true);
   if (d.periodontitis) {
     if (!n["stage"] || !n["extent"]) {
       r.Error(n, "a periodontitis diagnosis needs 'stage' (I, II, III, IV) and 'extent' (localized, generalized)");
@@ -41,19 +36,13 @@ std::optional<DeclaredDiagnosis> ReadDiagnosis(YamlReader& r, const YAML::Node& 
   return d;
 }
 
-bool ReadBool(YamlReader& r, const YAML::Node& n, const char* key) {
-  bool v = false;
-  if (!n.IsScalar() || !YAML::convert<bool>::decode(n, v)) r.Error(n, std::string("'") + key + "' must be true or false");
-  return v;
-}
-
 // One line of `findings:`; a caries list gives one finding per surface.
 void ReadFinding(YamlReader& r, const YAML::Node& n, std::vector<Finding>* out) {
   if (!r.IsMap(n, "a finding")) return;
   r.CheckKeys(n, {"tooth", "caries", "calculus", "inflamed", "status", "region", "lesion", "present", "tick"}, "a finding");
   Finding f;
   if (n["tick"]) f.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
-  if (n["present"]) f.present = ReadBool(r, n["present"], "present");
+  if (n["present"]) f.present = r.Bool(n["present"], "present", true);
   int kinds = 0;
   for (const char* k : {"caries", "calculus", "inflamed", "status", "lesion"}) kinds += n[k] ? 1 : 0;
   if (kinds != 1) {
@@ -87,7 +76,7 @@ void ReadFinding(YamlReader& r, const YAML::Node& n, std::vector<Finding>* out) 
   if (n["calculus"] || n["inflamed"]) {
     const char* key = n["calculus"] ? "calculus" : "inflamed";
     f.kind = n["calculus"] ? Finding::Kind::kCalculus : Finding::Kind::kInflamed;
-    if (!ReadBool(r, n[key], key)) f.present = false;
+    if (!r.Bool(n[key], key, true)) f.present = false;
     out->push_back(f);
   } else if (n["status"]) {
     f.kind = Finding::Kind::kStatus;
@@ -111,6 +100,25 @@ void ReadFinding(YamlReader& r, const YAML::Node& n, std::vector<Finding>* out) 
   }
 }
 
+// One line of `views:`.
+void ReadView(YamlReader& r, const YAML::Node& n, std::vector<ViewSample>* out) {
+  if (!r.IsMap(n, "a view")) return;
+  r.CheckKeys(n, {"tick", "eye", "at", "up", "angle"}, "a view");
+  for (const char* k : {"tick", "eye", "at"})
+    if (!n[k]) {
+      r.Error(n, std::string("a view needs '") + k + "'");
+      return;
+    }
+  ViewSample v;
+  v.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
+  double xyz[3] = {0, 0, 0};
+  if (r.Numbers(n["eye"], "eye", 3, -1e4, 1e4, xyz, "mm", "x, y, z")) v.eye = Vector3(xyz[0], xyz[1], xyz[2]);
+  if (r.Numbers(n["at"], "at", 3, -1e4, 1e4, xyz, "mm", "x, y, z")) v.focal = Vector3(xyz[0], xyz[1], xyz[2]);
+  if (n["up"] && r.Numbers(n["up"], "up", 3, -1, 1, xyz, "", "x, y, z")) v.up = Vector3(xyz[0], xyz[1], xyz[2]);
+  if (n["angle"]) v.view_angle_deg = r.Number(n["angle"], "angle", 1, 170, 30, "degrees");
+  out->push_back(v);
+}
+
 }  // namespace
 
 Answers LoadAnswers(const fs::path& file) {
@@ -119,29 +127,10 @@ Answers LoadAnswers(const fs::path& file) {
   const YAML::Node root = LoadYamlMap(r, "answers file", "an answers file is a map with 'chart:' or 'entries:', and 'diagnosis:'");
   r.CheckKeys(root, {"chart", "entries", "diagnosis", "findings", "submitted", "views"}, "the answers");
   if (const YAML::Node vs = root["views"]) {
-    if (!vs.IsSequence()) {
+    if (!vs.IsSequence())
       r.Error(vs, "'views' must be a list of {tick: N, eye: [x, y, z], at: [x, y, z], up: [x, y, z], angle: deg}");
-    } else {
-      for (const YAML::Node& n : vs) {
-        if (!r.IsMap(n, "a view")) continue;
-        r.CheckKeys(n, {"tick", "eye", "at", "up", "angle"}, "a view");
-        ViewSample v;
-        bool ok = true;
-        for (const char* k : {"tick", "eye", "at"})
-          if (!n[k]) {
-            r.Error(n, std::string("a view needs '") + k + "'");
-            ok = false;
-          }
-        if (!ok) continue;
-        v.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
-        double xyz[3] = {0, 0, 0};
-        if (r.Numbers(n["eye"], "eye", 3, -1e4, 1e4, xyz, "mm", "x, y, z")) v.eye = Vector3(xyz[0], xyz[1], xyz[2]);
-        if (r.Numbers(n["at"], "at", 3, -1e4, 1e4, xyz, "mm", "x, y, z")) v.focal = Vector3(xyz[0], xyz[1], xyz[2]);
-        if (n["up"] && r.Numbers(n["up"], "up", 3, -1, 1, xyz, "", "x, y, z")) v.up = Vector3(xyz[0], xyz[1], xyz[2]);
-        if (n["angle"]) v.view_angle_deg = r.Number(n["angle"], "angle", 1, 170, 30, "degrees");
-        a.views.push_back(v);
-      }
-    }
+    else
+      for (const YAML::Node& n : vs) ReadView(r, n, &a.views);
   }
   if (const YAML::Node fs = root["findings"]) {
     if (!fs.IsSequence()) r.Error(fs, "'findings' must be a list, e.g. [{tooth: 36, caries: [O]}, {region: tongue_dorsum, lesion: ulcer}]");
@@ -206,12 +195,7 @@ Answers LoadAnswers(const fs::path& file) {
         }
         e.site.site = SiteFromCode(code);
         if (n["pd"]) e.pd_mm = r.Integer(n["pd"], "pd", 0, 15, 0);
-        if (n["bleeding"]) {
-          bool v = false;
-          if (!n["bleeding"].IsScalar() || !YAML::convert<bool>::decode(n["bleeding"], v))
-            r.Error(n["bleeding"], "'bleeding' must be true or false");
-          e.bleeding = v;
-        }
+        if (n["bleeding"]) e.bleeding = r.Bool(n["bleeding"], "bleeding", false);
         if (n["tick"]) e.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
         a.entries.push_back(e);
       }

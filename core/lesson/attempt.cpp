@@ -13,7 +13,6 @@
 
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
-#include "core/lesson/scripted_inspector.h"
 #include "core/lesson/scripted_student.h"
 
 namespace sulcus {
@@ -213,15 +212,10 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
   if (o.mode) out.spec.mode = *o.mode;
   if (o.keep_in) WriteAttemptMarker(*o.keep_in, {lesson_file, o.student, ToString(spec.mode), out.seed, o.keep_in->started});
   LessonRun lesson(spec, scene, o.student, spec.case_spec.generated ? out.seed : 0);
-  std::unique_ptr<ScriptedStudent> student;
-  std::unique_ptr<ScriptedInspector> inspector;
+  std::unique_ptr<ScriptedHand> student;
   DeviceSpec device;
-  if (o.device.rfind("student:", 0) == 0 && spec.inspection()) {
-    inspector = std::make_unique<ScriptedInspector>(o.device.substr(8), spec, scene);
-    device.device = inspector->MakeDevice();
-    device.name = o.device;
-  } else if (o.device.rfind("student:", 0) == 0) {
-    student = std::make_unique<ScriptedStudent>(o.device.substr(8), spec, scene);
+  if (o.device.rfind("student:", 0) == 0) {
+    student = MakeScriptedHand(o.device.substr(8), spec, scene);
     device.device = student->MakeDevice();
     device.name = o.device;
   } else {
@@ -237,10 +231,6 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
   if (student && o.answers.empty()) {
     student->Attach(&lesson);
     session.AddConsumer(student.get());
-  }
-  if (inspector && o.answers.empty()) {
-    inspector->Attach(&lesson);
-    session.AddConsumer(inspector.get());
   }
   std::unique_ptr<EntrySaver> saver;
   if (o.keep_in) {

@@ -145,11 +145,7 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
   }
   if (aim) {
     const TriangleMesh& mesh = scene.meshes[static_cast<std::size_t>(i)];
-    std::vector<Vector3> normals(mesh.num_vertices(), Vector3::Zero());
-    for (const auto& f : mesh.faces()) {
-      const Vector3 nf = (mesh.vertices()[f[1]] - mesh.vertices()[f[0]]).cross(mesh.vertices()[f[2]] - mesh.vertices()[f[0]]);
-      for (int k = 0; k < 3; ++k) normals[f[k]] += nf;
-    }
+    const std::vector<Vector3> normals = mesh.VertexNormalSums();
     double best = 1e18;
     for (std::size_t v = 0; v < mesh.num_vertices(); ++v) {
       if (normals[v].norm() == 0) continue;

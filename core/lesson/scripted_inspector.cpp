@@ -144,6 +144,11 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
   move(moves_.back().X_WH.translation(), Quaternion(moves_.back().X_WH.rotation()), 0.3);
 }
 
+std::unique_ptr<ScriptedHand> MakeScriptedHand(const std::string& name, const LessonSpec& spec, const CompiledScene& scene) {
+  if (spec.inspection()) return std::make_unique<ScriptedInspector>(name, spec, scene);
+  return std::make_unique<ScriptedStudent>(name, spec, scene);
+}
+
 std::unique_ptr<Device> ScriptedInspector::MakeDevice() const { return MakeHandDevice(moves_, "student:" + name_); }
 
 void ScriptedInspector::OnTick(const TickRecord& r) {

@@ -26,12 +26,12 @@ namespace sulcus {
 
 const std::vector<std::string>& ScriptedInspectorNames();
 
-class ScriptedInspector final : public TickConsumer {
+class ScriptedInspector final : public ScriptedHand {
  public:
   /// Throws std::invalid_argument for an unknown name or a lesson that is not an inspection.
   ScriptedInspector(const std::string& name, const LessonSpec& spec, const CompiledScene& scene);
   const std::string& name() const { return name_; }
-  std::unique_ptr<Device> MakeDevice() const;
+  std::unique_ptr<Device> MakeDevice() const override;
   /// The units (InspectionUnit::Name) this inspector leaves out on purpose.
   const std::vector<std::string>& skipped() const { return skipped_; }
   /// The findings it gets wrong on purpose: recorded where there is none, left out.
@@ -39,7 +39,7 @@ class ScriptedInspector final : public TickConsumer {
   const std::vector<Finding>& missed_findings() const { return missed_; }
 
   /// Records findings into `lesson` as it examines, and submits at the end.
-  void Attach(LessonRun* lesson) { lesson_ = lesson; }
+  void Attach(LessonRun* lesson) override { lesson_ = lesson; }
   void OnTick(const TickRecord& r) override;
   void OnEnd() override;
 

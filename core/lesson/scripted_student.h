@@ -27,14 +27,26 @@ namespace sulcus {
 
 const std::vector<std::string>& ScriptedStudentNames();
 
-class ScriptedStudent final : public TickConsumer {
+/// A scripted hand that takes a lesson: the device it plays and, attached to
+/// the lesson, what it enters as it goes (a consumer of the tick stream).
+class ScriptedHand : public TickConsumer {
+ public:
+  virtual std::unique_ptr<Device> MakeDevice() const = 0;
+  virtual void Attach(LessonRun* lesson) = 0;
+};
+
+/// The scripted student (probing lessons) or inspector (inspection lessons)
+/// called `name`. Throws std::invalid_argument for a name the kind does not have.
+std::unique_ptr<ScriptedHand> MakeScriptedHand(const std::string& name, const LessonSpec& spec, const CompiledScene& scene);
+
+class ScriptedStudent final : public ScriptedHand {
  public:
   /// Throws std::invalid_argument for an unknown name.
   ScriptedStudent(const std::string& name, const LessonSpec& spec, const CompiledScene& scene);
   const std::string& name() const { return name_; }
   /// A fresh device that plays this student's hand (it reacts to the force
   /// written to it, so it is deterministic for a given scene and build).
-  std::unique_ptr<Device> MakeDevice() const;
+  std::unique_ptr<Device> MakeDevice() const override;
   /// One move of the hand: to a pose in a time, or a probing stroke along the
   /// tool's axis until a force is felt (or a depth is reached), then back.
   struct Move {
@@ -53,7 +65,7 @@ class ScriptedStudent final : public TickConsumer {
   /// Chart entries follow the stream: after each site's reading the student
   /// enters it into `lesson` (attach before the lesson's own OnTick is not needed:
   /// entries carry their tick). At the end it declares its chart's diagnosis.
-  void Attach(LessonRun* lesson) { lesson_ = lesson; }
+  void Attach(LessonRun* lesson) override { lesson_ = lesson; }
   void OnTick(const TickRecord& r) override;
   void OnEnd() override;
 

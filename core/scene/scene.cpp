@@ -441,13 +441,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
               "the scene");
   if (root["mouth_open_mm"]) spec.mouth_open_mm = r.Number(root["mouth_open_mm"], "mouth_open_mm", 0, 50, 0, "mm");
   for (const char* key : {"arch", "gingiva"}) {
-    if (const YAML::Node b = root[key]) {
-      bool v = false;
-      if (!b.IsScalar() || !YAML::convert<bool>::decode(b, v)) {
-        r.Error(b, std::string("'") + key + "' must be true or false");
-      }
-      (std::string(key) == "arch" ? spec.arch : spec.gingiva) = v;
-    }
+    if (const YAML::Node b = root[key]) (std::string(key) == "arch" ? spec.arch : spec.gingiva) = r.Bool(b, key, false);
   }
   if (root["name"]) spec.name = r.Text(root["name"], "name");
   if (root["description"]) spec.description = r.Text(root["description"], "description");

@@ -116,6 +116,15 @@ class YamlReader {
     return static_cast<int>(v);
   }
 
+  bool Bool(const YAML::Node& n, const std::string& key, bool fallback) {
+    bool v = fallback;
+    if (!n.IsScalar() || !YAML::convert<bool>::decode(n, v)) {
+      Error(n, "'" + key + "' must be true or false");
+      return fallback;
+    }
+    return v;
+  }
+
   std::string Text(const YAML::Node& n, const std::string& key) {
     if (!n.IsScalar()) {
       Error(n, "'" + key + "' must be text");
