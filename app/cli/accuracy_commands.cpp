@@ -52,6 +52,7 @@ std::string FaultKinds(const EngineFaults& f) {
   add("solver", f.solver);
   add("penetration", f.penetration);
   add("sweep", f.sweep);
+  add("held, brought to free space", f.held);
   add("inside, brought out", f.inside);
   return out;
 }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
 #include <memory>
 #include <string>
 #include <thread>
@@ -34,7 +35,37 @@ struct RunArgs {
   std::uint64_t seed = 1;
   bool no_realtime = false;
   bool offline = false;
+  std::vector<double> trace;  // offline: print the engine's state each tick from trace[0] to trace[1] s
 };
+
+// One tick of the engine, for --trace: the device and rendered tool, the force,
+// the contact query and the solve, and the fault counters.
+void TraceTick(const HapticLoop& l, const SceneSpec& spec, double rate_hz) {
+  const EngineData& d = l.data();
+  const TickRecord& r = l.last_record();
+  const Vector3 h = d.X_WH.translation(), g = d.X_WG.translation();
+  std::printf("trace %" PRIu64 " %.4f s: device (%.3f %.3f %.3f) tool (%.3f %.3f %.3f) |g-h| %.3f mm force %.3f N "
+              "(engine %.3f) pairs %d active %d pen %.4f mm margin %.3f sweeps %d tests %d%s qp %d it %d lin %d%s%s "
+              "faults overflow %" PRIu64 " solver %" PRIu64 " pen %" PRIu64 " sweep %" PRIu64 " held %" PRIu64 " inside %" PRIu64 "\n",
+              r.tick, static_cast<double>(r.tick) / rate_hz, h.x(), h.y(), h.z(), g.x(), g.y(), g.z(), (g - h).norm(),
+              r.force_W.norm(), d.force_W.norm(), d.num_pairs, d.active_contacts, d.max_penetration_mm, d.margin_mm,
+              d.sweeps, d.node_tests, d.node_budget_hit ? " (budget hit)" : "", static_cast<int>(d.qp_status),
+              d.qp_iterations, d.linearizations, d.pair_overflow ? " overflow" : "", d.inside ? " INSIDE" : "",
+              d.faults.pair_overflow, d.faults.solver, d.faults.penetration, d.faults.sweep, d.faults.held, d.faults.inside);
+  // Which objects the pairs are with, and how many distinct tool leaves they use.
+  std::map<int, std::pair<int, std::set<int>>> by_object;
+  for (int i = 0; i < d.num_pairs; ++i) {
+    auto& e = by_object[d.pairs[static_cast<std::size_t>(i)].object];
+    ++e.first;
+    e.second.insert(d.pairs[static_cast<std::size_t>(i)].tool_leaf);
+  }
+  if (!by_object.empty()) {
+    std::printf("  pairs by object:");
+    for (const auto& [object, e] : by_object)
+      std::printf(" %s %d (tool leaves %zu)", ObjectName(spec, object).c_str(), e.first, e.second.size());
+    std::printf("\n");
+  }
+}
 
 // Counts what the run did, from the tick stream.
 class RunSummary final : public TickConsumer {
@@ -86,7 +117,11 @@ int Run(const RunArgs& a) {
   if (a.offline) {
     node_tests.reserve(so.max_ticks);
     // As fast as possible, on this thread: the same ticks, no clock.
-    session.RunOffline([&](const HapticLoop& l) { node_tests.push_back(l.data().node_tests); });
+    session.RunOffline([&](const HapticLoop& l) {
+      node_tests.push_back(l.data().node_tests);
+      const double t = static_cast<double>(l.tick()) / so.rate_hz;
+      if (a.trace.size() == 2 && t >= a.trace[0] && t <= a.trace[1]) TraceTick(l, scene->spec, so.rate_hz);
+    });
   } else {
     session.Start();
     while (session.running()) {
@@ -163,7 +198,14 @@ void AddRunCommands(CLI::App& app) {
   run->add_option("--seed", a->seed, "Seed of the random trajectory")->capture_default_str();
   run->add_flag("--no-realtime", a->no_realtime, "Do not ask for real-time priority and a pinned core");
   run->add_flag("--offline", a->offline, "No thread and no clock: tick as fast as possible (timing figures are then empty)");
-  run->callback([a] { ExitStatus() = Run(*a); });
+  run->add_option("--trace", a->trace,
+                  "With --offline: print the engine's state at every tick from FROM to TO seconds (FROM TO)")
+      ->expected(2);
+  run->callback([a] {
+    if (!a->trace.empty() && (!a->offline || a->trace[0] > a->trace[1]))
+      throw CLI::ValidationError("--trace", "takes FROM TO in seconds (FROM <= TO) and needs --offline");
+    ExitStatus() = Run(*a);
+  });
 
   auto watch = std::make_shared<double>(0);
   CLI::App* devices = app.add_subcommand("devices", "List the haptic and 6-DoF devices plugged in (USB)");

@@ -261,6 +261,7 @@ void ResetTool(const RigidTransform& X_WG, EngineData* d) {
   d->initialized = true;
   d->inside = false;
   d->free_search_next = 0;
+  d->held_frames = 0;
 }
 
 void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) noexcept {
@@ -423,6 +424,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     d->kkt_residual = sol->kkt_residual;
   }
   if (accepted) {
+    d->held_frames = 0;
     // The accepted sweep's pairs and solution belong together: commit both.
     if (!model.friction.empty()) {
       ApplyFriction(model, X_WH, *sol, &X, d);
@@ -454,6 +456,14 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     d->last_move_mm = 0;
     d->active_contacts = 0;
     d->num_active_keys = 0;
+    if (++d->held_frames > p.max_held_frames) {
+      // Held frame after frame: the next would meet the same wall. Free space
+      // next to the device instead of a frozen tool.
+      ++d->faults.held;
+      d->held_frames = 0;
+      EnterInside(d);
+      return InsideFrame(model, X_WH, t0, d);
+    }
   }
   SpringWrench(p, X_WH, d);
   d->timings.total_us = Micros(t0, Clock::now());

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 
 #include "tests/common/alloc_guard.h"
@@ -99,6 +100,50 @@ TEST(Engine, TimingsAreReported) {
   EXPECT_GE(d.timings.solve_us, 0);
   EXPECT_GE(d.timings.total_us, d.timings.collide_us);
   EXPECT_GE(d.linearizations, 1);
+}
+
+// A contact with more pairs than the set holds, even at the shortest step (as a
+// probe laid along a finely fitted tooth): each such frame holds the rendered
+// tool, and the next starts from the same pose. It must not stay held: after a
+// few frames it is brought to free space next to the device, and once the hand
+// pulls out the tool follows it again with no force.
+TEST(Engine, AContactWithMorePairsThanTheSetHoldsNeverFreezesTheTool) {
+  const test::Scene scene = ProbeOverBlock();
+  // Resting on the block at the base margin, the probe meets this many pairs;
+  // a set of that size holds them at rest but not at the wider margin of a
+  // frame that moves the tool.
+  int at_rest = 0;
+  {
+    const auto model = scene.Model();
+    EngineData d(*model);
+    ResetTool(At(0, 0, 2), &d);
+    for (int i = 0; i <= 250; ++i) Step(*model, At(0, 0, 2 - 0.02 * i), &d);
+    for (int i = 0; i < 5; ++i) Step(*model, At(0, 0, -3), &d);
+    at_rest = d.num_pairs;
+  }
+  ASSERT_GT(at_rest, 0);
+  EngineParams p;
+  p.max_pairs = at_rest;
+  const auto model = scene.Model(p);
+  EngineData d(*model);
+  ResetTool(At(0, 0, 2), &d);
+  int held_in_a_row = 0, most_held_in_a_row = 0;
+  for (int i = 0; i <= 400; ++i) {
+    // Down to 3 mm inside, then dragged along the surface.
+    const std::uint64_t holds = d.faults.sweep + d.faults.solver;
+    const RigidTransform before = d.X_WG;
+    Step(*model, i <= 250 ? At(0, 0, 2 - 0.02 * i) : At(0.01 * (i - 250), 0, -3), &d);
+    // This frame held the rendered tool where it was.
+    const bool held = d.faults.sweep + d.faults.solver > holds && d.X_WG.ToMatrix4() == before.ToMatrix4();
+    held_in_a_row = held ? held_in_a_row + 1 : 0;
+    most_held_in_a_row = std::max(most_held_in_a_row, held_in_a_row);
+  }
+  EXPECT_GT(d.faults.sweep, 0u) << "frames must be held for this test to mean anything";
+  EXPECT_GE(d.faults.held, 1u);
+  EXPECT_LE(most_held_in_a_row, p.max_held_frames + 1);
+  for (int i = 0; i <= 140; ++i) Step(*model, At(1.5, 0, -3 + 0.05 * i), &d);  // out, to 4 mm above
+  EXPECT_TRUE(CompareMatrices(d.X_WG.ToMatrix4(), At(1.5, 0, 4).ToMatrix4(), 1e-9));
+  EXPECT_EQ(d.force_W.norm(), 0.0);
 }
 
 }  // namespace
