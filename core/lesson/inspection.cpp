@@ -11,6 +11,38 @@
 namespace sulcus {
 namespace {
 
+// Whether the segment from the eye a to b passes through a leaf sphere of the
+// tree (object frame). Spheres cover the surface from outside: a conservative
+// line of sight. A leaf around the eye itself does not hide (a free camera put
+// inside a tissue sees past it: what is that near is clipped).
+bool SegmentMeetsTree(const SphereTree& tree, const Vector3& a, const Vector3& b) {
+  if (tree.empty()) return false;
+  const Vector3 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  auto meets = [&](std::size_t i) {
+    const Vector3 c = tree.center(i);
+    const double s = len2 > 0 ? std::clamp((c - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    return (a + s * ab - c).squaredNorm() < tree.r[i] * tree.r[i];
+  };
+  std::int32_t stack[512];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const auto i = static_cast<std::size_t>(stack[--top]);
+    if (!meets(i)) continue;
+    if (tree.IsLeaf(i)) {
+      if ((a - tree.center(i)).squaredNorm() >= tree.r[i] * tree.r[i]) return true;
+      continue;
+    }
+    for (int k = 0; k < tree.child_count[i]; ++k) {
+      if (top == 512) return true;  // deeper than any tree Sulcus builds: call it hidden
+      stack[top++] = tree.first_child[i] + k;
+    }
+  }
+  return false;
+}
+
+
 constexpr std::array<const char*, 5> kSurfaceCodes = {"M", "D", "B", "L", "O"};
 
 // The tip's distance to the union of a tree's leaf spheres (negative inside),
@@ -351,6 +383,25 @@ void InspectionTracker::OnTick(const TickRecord& r, const std::vector<std::uint8
   }
 }
 
+bool InspectionTracker::Hidden(int fdi, const Vector3& eye_W, const Vector3& spot_W) const {
+  const bool upper = fdi / 10 == 1 || fdi / 10 == 2;
+  for (std::size_t i = 0; i < scene_.spec.objects.size() && i < scene_.trees.size(); ++i) {
+    const ObjectSpec& o = scene_.spec.objects[i];
+    // The arch's teeth, deposits, gingiva and jaw; the lips, cheeks and tongue
+    // do not hide (retracted, as the window shows them see-through when in
+    // the way), nor does the other arch (faded in the window's occlusal views).
+    bool hides = false;
+    if (o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva || o.kind == ObjectSpec::Kind::kCalculus)
+      hides = (o.fdi / 10 == 1 || o.fdi / 10 == 2) == upper;
+    else if (o.kind == ObjectSpec::Kind::kAnatomy)
+      hides = o.anatomy == (upper ? "jaw_upper" : "jaw_lower");
+    if (!hides) continue;
+    const RigidTransform X_OW = o.X_WO.inverse();
+    if (SegmentMeetsTree(scene_.trees[i], X_OW * eye_W, X_OW * spot_W)) return true;
+  }
+  return false;
+}
+
 void InspectionTracker::OnView(const ViewSample& v) {
   const Vector3 ahead = v.focal - v.eye;
   if (ahead.norm() < 1e-9) return;
@@ -363,6 +414,7 @@ void InspectionTracker::OnView(const ViewSample& v) {
     // Inside the cone (the window is wider than tall: the vertical angle is the narrower), facing the camera.
     if (std::acos(std::clamp(to.dot(ahead) / (d * ahead.norm()), -1.0, 1.0)) > half) continue;
     if (spots_[i]->n.dot(-to) <= 0) continue;
+    if (units_[i].region.empty() && Hidden(units_[i].fdi, v.eye, spots_[i]->p + kViewClearMm * spots_[i]->n)) continue;
     units_[i].seen = true;
     units_[i].seen_tick = v.tick;
   }

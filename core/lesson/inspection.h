@@ -100,8 +100,13 @@ struct InspectionUnit {
 
 /// The window's camera at a tick: where it is, what it looks at, its up and its
 /// vertical view angle. A unit is seen when its surface point lies inside the
-/// view's cone (the vertical angle, and the same across), within 150 mm, and
-/// faces the camera. What might hide it (a lip, the tongue) is not checked.
+/// view's cone (the vertical angle, and the same across), within 150 mm, faces
+/// the camera, and, for a tooth's surface, nothing of its arch lies between (a
+/// neighbour, the tooth itself, the gingiva, the jaw: the line of sight, up to
+/// kViewClearMm off the surface, meets no sphere of their trees). The lips,
+/// cheeks and tongue do not hide: the window shows them see-through when they
+/// are in the way, as a mirror retracts them; nor does the other arch, which
+/// the window's occlusal views fade.
 struct ViewSample {
   std::uint64_t tick = 0;
   Vector3 eye = Vector3::Zero(), focal = -Vector3::UnitY(), up = Vector3::UnitZ();
@@ -152,7 +157,13 @@ class InspectionTracker {
   std::vector<LesionPress> presses() const;
   double tip_radius_mm() const { return tip_radius_; }
 
+ /// How far off a unit's surface its line of sight is checked from (the
+  /// spheres of its own object and its neighbours cover the surface from outside).
+  static constexpr double kViewClearMm = 1.0;
+
  private:
+  // Whether anything of tooth fdi's arch lies between the eye and the spot (world).
+  bool Hidden(int fdi, const Vector3& eye_W, const Vector3& spot_W) const;
   struct Lesion {
     std::string where;
     int object = -1;

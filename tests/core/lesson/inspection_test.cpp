@@ -212,28 +212,51 @@ TEST(Inspectors, TheThoroughOneFindsEverythingItExamines) {
   EXPECT_FALSE(r.inspection.truth.teeth.empty());
 }
 
-// What the view showed: a camera in front of 36's buccal surface looking at it
-// shows that surface and not its lingual one; the report says which surfaces
-// and regions were never in view once views are recorded.
-TEST(Inspectors, TheViewShowsWhatFacesTheCamera) {
+// What the view showed: a camera in front of 36's buccal surface shows that
+// surface (the cheek between is retracted, as the window draws it) and not its
+// lingual one (it faces away); seen along the arch from behind 37, 36's distal
+// surface is hidden by 37 until the camera comes round it. The report says
+// which surfaces and regions were never in view once views are recorded.
+TEST(Inspectors, TheViewShowsWhatFacesTheCameraAndNoNeighbourHides) {
   const AttemptOutcome& t = Take("thorough");
   const CompiledScene& scene = *t.scene;
   LessonRun run(t.spec, scene, "viewer");
   const InspectionTracker& tracker = *run.inspection();
-  const int b = tracker.UnitOf(36, ToothSurface::kBuccal), l = tracker.UnitOf(36, ToothSurface::kLingual);
+  const int b = tracker.UnitOf(36, ToothSurface::kBuccal), l = tracker.UnitOf(36, ToothSurface::kLingual),
+            d = tracker.UnitOf(36, ToothSurface::kDistal);
   ASSERT_GE(b, 0);
-  const auto spot = ApproachOf(scene, tracker.units()[static_cast<std::size_t>(b)], t.spec.teeth);
+  ASSERT_GE(l, 0);
+  ASSERT_GE(d, 0);
+  const auto& unit = [&](int u) -> const InspectionUnit& { return tracker.units()[static_cast<std::size_t>(u)]; };
+  const auto spot = ApproachOf(scene, unit(b), t.spec.teeth), distal = ApproachOf(scene, unit(d), t.spec.teeth);
   ASSERT_TRUE(spot);
-  ViewSample v;
-  v.tick = 5;
-  v.focal = spot->p;
-  v.eye = spot->p + 40.0 * spot->n;
-  v.view_angle_deg = 30;
-  run.View(v);
-  EXPECT_TRUE(tracker.units()[static_cast<std::size_t>(b)].seen);
-  EXPECT_EQ(tracker.units()[static_cast<std::size_t>(b)].seen_tick, 5u);
-  EXPECT_FALSE(tracker.units()[static_cast<std::size_t>(l)].seen) << "it faces away";
-  EXPECT_FALSE(tracker.units()[static_cast<std::size_t>(tracker.UnitOf("palate"))].seen) << "outside the view";
+  ASSERT_TRUE(distal);
+  auto look = [&](std::uint64_t tick, const Vector3& focal, const Vector3& eye) {
+    ViewSample v;
+    v.tick = tick;
+    v.focal = focal;
+    v.eye = eye;
+    v.view_angle_deg = 30;
+    run.View(v);
+  };
+  // Behind 37, looking forward along the arch at 36's distal spot.
+  auto centre = [&](int fdi) {
+    for (const ObjectSpec& o : scene.spec.objects)
+      if (o.kind == ObjectSpec::Kind::kTooth && o.fdi == fdi) return Vector3(o.X_WO.translation());
+    return Vector3(Vector3::Zero());
+  };
+  Vector3 from_behind = centre(37) + (centre(37) - centre(36));  // one tooth behind 37, on the arch
+  from_behind.z() = distal->p.z();
+  ASSERT_GT(distal->n.dot(from_behind - distal->p), 0) << "the spot faces that way";
+  look(3, distal->p, from_behind);
+  EXPECT_FALSE(unit(d).seen) << "37 lies between";
+  look(4, distal->p, distal->p + 3.0 * distal->n);  // beside it
+  EXPECT_TRUE(unit(d).seen);
+  EXPECT_EQ(unit(d).seen_tick, 4u);
+  look(5, spot->p, spot->p + 40.0 * spot->n);  // from outside the cheek
+  EXPECT_TRUE(unit(b).seen) << "the cheek is retracted";
+  EXPECT_FALSE(unit(l).seen) << "it faces away";
+  EXPECT_FALSE(unit(tracker.UnitOf("palate")).seen) << "outside the view";
   const LessonResult r = run.Finish();
   const auto lines = Messages(r, "coverage", RubricLine::Status::kFail);
   EXPECT_TRUE(AnyContains(lines, "the hard palate: not examined; never in view")) << ::testing::PrintToString(lines);
