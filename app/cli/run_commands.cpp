@@ -119,7 +119,7 @@ int Run(const RunArgs& a) {
     // As fast as possible, on this thread: the same ticks, no clock.
     session.RunOffline([&](const HapticLoop& l) {
       node_tests.push_back(l.data().node_tests);
-      const double t = static_cast<double>(l.tick()) / so.rate_hz;
+      const double t = static_cast<double>(l.last_record().tick) / so.rate_hz;
       if (a.trace.size() == 2 && t >= a.trace[0] && t <= a.trace[1]) TraceTick(l, scene->spec, so.rate_hz);
     });
   } else {
