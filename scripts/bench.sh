@@ -2,7 +2,8 @@
 # Reproduces every performance and accuracy figure in the README, in one run, on
 # this machine: sphere-tree builds against the octree reference, collision against
 # the reference Algorithm 1, the whole frame, the QP on generated contact sets
-# (warm and cold side by side), and what accuracy costs (CSV + plots).
+# (warm and cold side by side, and DAQP on the same frames), and what accuracy
+# costs (CSV + plots).
 # Numbers only: nothing here passes or fails on time. Takes about 5 minutes.
 # Usage: scripts/bench.sh [output folder, default build/release/bench-report]
 set -euo pipefail
@@ -25,12 +26,21 @@ build/release/tests/spheretree_public_test --gtest_filter='Cgal/*' | grep -E '^[
 echo "== collision and frame"
 "$bench/engine_bench" --benchmark_counters_tabular=true | tee "$out/engine_bench.txt"
 
-echo "== QP: generated contact sets, warm (and cold) starts"
+echo "== QP: generated contact sets, warm (and cold) starts, and DAQP on the same frames"
+# DAQP (a dual active-set solver, on PyPI) in a virtual environment of the build tree.
+venv=build/release/daqp-venv
+[[ -x $venv/bin/python ]] || python3 -m venv "$venv"
+"$venv/bin/pip" install -q numpy "daqp==0.11.0"
 for kind in slot wedge plane cluster random; do
   for m in 4 64 512; do
     "$bin" qp-gen "$kind" --m "$m" --sequences 20 --frames 200 -o "$out/qp-$kind-$m.bin" >/dev/null
     printf '%-8s m=%-4s ' "$kind" "$m"
-    "$bin" qp-bench "$out/qp-$kind-$m.bin" --compare-cold | tail -1
+    ours=$("$bin" qp-bench "$out/qp-$kind-$m.bin" --compare-cold --solutions "$out/qp-$kind-$m.sol" | tail -1)
+    echo "$ours"
+    median=$(sed 's/.*median_us=\([0-9.]*\).*/\1/' <<<"$ours")
+    p99=$(sed 's/.*p99_us=\([0-9.]*\).*/\1/' <<<"$ours")
+    printf '%-16s' ''
+    "$venv/bin/python" scripts/daqp_bench.py "$out/qp-$kind-$m.bin" "$out/qp-$kind-$m.sol" "$median" "$p99"
   done
 done | tee "$out/qp_bench.txt"
 

@@ -16,8 +16,9 @@ packages=(
   qtbase5-dev libvtk9-dev libvtk9-qt-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
-  # plots of the accuracy/cost figures
-  gnuplot-nox
+  # plots of the accuracy/cost figures; the virtual environment in which
+  # scripts/bench.sh installs DAQP to compare the QP with
+  gnuplot-nox python3-venv
   # public test meshes (CGAL's data set: elephant, fandisk, knot, ...), read by tests
   libcgal-demo
 )

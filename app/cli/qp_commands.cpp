@@ -16,6 +16,7 @@ namespace {
 
 struct BenchResult {
   std::vector<double> us;
+  std::vector<double> q;  // every frame's solution, n per frame, in the file's order
   long iterations = 0;
   int max_iterations = 0;
   int failures = 0;
@@ -60,6 +61,7 @@ BenchResult Run(const QpInstances& qp, bool warm) {
   BenchResult r;
   QpSolver solver(qp.m);
   r.us.reserve(static_cast<std::size_t>(qp.sequences) * qp.frames);
+  r.q.reserve(static_cast<std::size_t>(qp.sequences) * qp.frames * kQpVars);
   std::vector<std::int32_t> active(kQpMaxActive);
   Vector6 g;
   for (int k = 0; k < 6; ++k) g[k] = qp.g[k];
@@ -73,6 +75,7 @@ BenchResult Run(const QpInstances& qp, bool warm) {
       r.us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
       num_active = sol.num_active;
       std::copy_n(sol.active.begin(), num_active, active.begin());
+      for (int k = 0; k < kQpVars; ++k) r.q.push_back(sol.q[k]);
       r.iterations += sol.iterations;
       r.max_iterations = std::max(r.max_iterations, sol.iterations);
       double violation, kkt;
@@ -93,10 +96,14 @@ double Pct(const std::vector<double>& v, double q) { return v[std::min(v.size() 
 void AddQpCommands(CLI::App& app) {
   auto file = std::make_shared<std::string>();
   auto cold = std::make_shared<bool>(false);
+  auto solutions = std::make_shared<std::string>();
   CLI::App* bench = app.add_subcommand(
       "qp-bench", "Solve every QP of a file in order, warm-starting along each sequence, and time it");
   bench->add_option("FILE", *file, "QP instances (see `qp-gen --help` for the format)")->required();
   bench->add_flag("--compare-cold", *cold, "Also solve every frame cold (no warm start), side by side");
+  bench->add_option("--solutions", *solutions,
+                    "Write every frame's warm-started solution here (float64 q[n] per frame, little-endian, in the "
+                    "file's order), to compare with another solver");
   bench->callback([=] {
     const QpInstances qp = ReadQpInstances(*file);
     if (qp.n != kQpVars) {
@@ -113,6 +120,12 @@ void AddQpCommands(CLI::App& app) {
     if (*cold) report("cold", Run(qp, false));
     const BenchResult warm = Run(qp, true);
     report("warm", warm);
+    if (!solutions->empty()) {
+      std::FILE* f = std::fopen(solutions->c_str(), "wb");
+      const bool ok = f && std::fwrite(warm.q.data(), sizeof(double), warm.q.size(), f) == warm.q.size();
+      if (f) std::fclose(f);
+      if (!ok) throw QpFileError(*solutions + ": cannot write the solutions");
+    }
     std::printf("qp-bench frames=%zu median_us=%.3f p99_us=%.3f max_us=%.3f mean_iters=%.3f max_iters=%d failures=%d\n",
                 warm.us.size(), Pct(warm.us, 0.5), Pct(warm.us, 0.99), warm.us.back(),
                 static_cast<double>(warm.iterations) / warm.us.size(), warm.max_iterations, warm.failures);

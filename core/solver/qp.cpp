@@ -31,18 +31,35 @@ class Nnls {
   bool Run(const std::int32_t* warm, int num_warm, int max_iterations) {
     for (int j = 0; j < m_; ++j) in_set_[j] = blocked_[j] = 0;
     k_ = 0;
-    // Warm start: take the previous active rows that are independent, then drop
-    // those whose least-squares weight is not positive until all are.
+    // Warm start: take the previous active rows, then drop those whose
+    // least-squares weight is not positive until all are. One factorisation
+    // when the rows are independent (the usual case: last frame's set); only
+    // when they are not, are they taken one at a time, each kept if the set
+    // stays independent.
     for (int i = 0; i < num_warm && k_ < R; ++i) {
       const std::int32_t j = warm[i];
       if (j < 0 || j >= m_ || in_set_[j]) continue;
       passive_[k_++] = j;
       in_set_[j] = 1;
-      if (!LeastSquares(z_)) Remove(k_ - 1);
+    }
+    bool solved = k_ == 0 || LeastSquares(z_);
+    if (!solved) {
+      const int taken = k_;
+      std::int32_t rows[R];
+      std::copy_n(passive_, taken, rows);
+      for (int i = 0; i < taken; ++i) in_set_[rows[i]] = 0;
+      k_ = 0;
+      for (int i = 0; i < taken; ++i) {
+        passive_[k_++] = rows[i];
+        in_set_[rows[i]] = 1;
+        if (!LeastSquares(z_)) Remove(k_ - 1);
+      }
+      solved = k_ == 0 || LeastSquares(z_);
     }
     while (k_ > 0) {
-      if (!LeastSquares(z_)) {
+      if (!solved) {
         Remove(k_ - 1);
+        solved = k_ == 0 || LeastSquares(z_);
         continue;
       }
       int worst = -1;
@@ -51,6 +68,7 @@ class Nnls {
       }
       if (worst < 0) break;
       Remove(worst);
+      solved = k_ == 0 || LeastSquares(z_);
     }
     for (int i = 0; i < k_; ++i) u_[i] = z_[i];
     UpdateResidual();
@@ -199,22 +217,23 @@ const QpSolution& QpSolver::Solve(const double* A, const double* b, int m, const
   // Dual columns of the LDP, [e_i; f_i] with e_i = a_i G^-1/2 / s_i and
   // f_i = (b_i - a_i q0) / s_i; rows with a zero gradient are skipped (always
   // satisfied or never satisfiable: the latter is reported as a violation).
+  bool finite = true;
   for (int i = 0; i < m; ++i) {
     const Eigen::Map<const Vector6> a(A + 6 * i);
     const Vector6 e = a.cwiseProduct(inv_sqrt_g);
-    const double norm = e.norm();
+    const double norm = std::sqrt(e.squaredNorm());
     double* col = columns_.data() + static_cast<std::size_t>(i) * 7;
-    if (!std::isfinite(norm) || !std::isfinite(b[i])) {
-      s.status = QpStatus::kBadInput;
-      return s;
-    }
     scale_[i] = norm;
-    if (norm < 1e-300) {
-      for (int k = 0; k < 7; ++k) col[k] = 0;
-      continue;
-    }
-    for (int k = 0; k < 6; ++k) col[k] = e[k] / norm;
-    col[6] = (b[i] - a.dot(q0)) / norm;
+    // (A NaN or infinite norm or b fails the test below, checked once after the loop.)
+    finite = finite && norm < std::numeric_limits<double>::infinity() && std::abs(b[i]) < std::numeric_limits<double>::infinity();
+    const double inv = norm >= 1e-300 ? 1.0 / norm : 0.0;
+    Eigen::Map<Vector6> column(col);
+    column = e * inv;
+    col[6] = (b[i] - a.dot(q0)) * inv;
+  }
+  if (!finite) {
+    s.status = QpStatus::kBadInput;
+    return s;
   }
 
   const int max_iterations = 3 * m + 30;
