@@ -49,9 +49,12 @@ Look LookOf(Tissue t) {
 
 // Per-vertex colours: `base` blended toward the finding's colours by weight
 // (0: untouched, 1: the finding's centre).
-enum class Paint { kCaries, kInflamed, kUlcer, kWhite, kRed };
+enum class Paint { kCaries, kCavity, kInflamed, kUlcer, kWhite, kRed };
 
-void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Look& base, Paint paint) {
+// `cavity` (caries only): per vertex, the weight of the cavitated lesions among
+// `weight`; where it is the larger, the vertex takes the cavity's colours.
+void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Look& base, Paint paint,
+                   const std::vector<double>* cavity = nullptr) {
   auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
   colours->SetNumberOfComponents(3);
   colours->SetName("finding");
@@ -60,14 +63,23 @@ void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Loo
   // Caries: a chalky white rim (demineralised enamel) around a brown centre.
   // Inflamed gingiva, erythroplakia: deep red. An ulcer: a yellow-grey fibrin
   // floor in a red halo. Leukoplakia: a white patch.
-  const Vector3 rim(0.99, 0.98, 0.95), centre(0.36, 0.22, 0.12), red(0.80, 0.16, 0.20);
+  // A cavitated lesion: the chalky rim, brown walls, a dark floor.
+  const Vector3 rim(0.99, 0.98, 0.95), centre(0.36, 0.22, 0.12), floor(0.16, 0.09, 0.05), red(0.80, 0.16, 0.20);
   const Vector3 fibrin(0.90, 0.86, 0.66), white(0.96, 0.95, 0.92);
   auto blend = [](const Vector3& a, const Vector3& b, double t) { return Vector3(a + (b - a) * std::clamp(t, 0.0, 1.0)); };
   for (std::size_t i = 0; i < weight.size(); ++i) {
-    const double w = weight[i];
+    double w = weight[i];
+    Paint p = paint;
+    if (cavity && i < cavity->size() && (*cavity)[i] > 0 && (*cavity)[i] >= w) {
+      w = (*cavity)[i];
+      p = Paint::kCavity;
+    }
     Vector3 c = from;
-    switch (paint) {
+    switch (p) {
       case Paint::kCaries: c = w < 0.3 ? blend(from, rim, w / 0.3) : blend(rim, centre, (w - 0.3) / 0.7); break;
+      case Paint::kCavity:
+        c = w < 0.2 ? blend(from, rim, w / 0.2) : w < 0.5 ? blend(rim, centre, (w - 0.2) / 0.3) : blend(centre, floor, (w - 0.5) / 0.3);
+        break;
       case Paint::kInflamed:
       case Paint::kRed: c = blend(from, red, w); break;
       case Paint::kUlcer: c = w < 0.35 ? blend(from, red, w / 0.35) : blend(red, fibrin, (w - 0.35) / 0.25); break;
@@ -182,7 +194,13 @@ void SceneView::Load(const CompiledScene& scene) {
     const bool carious = std::any_of(o.caries_mm.begin(), o.caries_mm.end(), [](double r) { return r > 0; });
     const bool inflamed = std::any_of(o.inflamed.begin(), o.inflamed.end(), [](bool b) { return b; });
     if (o.kind == ObjectSpec::Kind::kTooth && carious) {
-      PaintVertices(actor, CariesCoverage(GenerateTooth(o.fdi), o.caries_mm), look, Paint::kCaries);
+      // The lesions whose surface is intact, and the cavitated ones (darker, a floor).
+      std::array<double, 5> intact = o.caries_mm, cavitated{};
+      for (std::size_t k = 0; k < 5; ++k)
+        if (o.cavity_mm[k] > 0) std::swap(intact[k], cavitated[k]);
+      const ToothModel tooth = GenerateTooth(o.fdi);
+      const std::vector<double> cavities = CariesCoverage(tooth, cavitated);
+      PaintVertices(actor, CariesCoverage(tooth, intact), look, Paint::kCaries, &cavities);
     } else if (o.kind == ObjectSpec::Kind::kGingiva && inflamed) {
       std::vector<Vector3> in_tooth_frame;
       for (const Vector3& v : scene.meshes[i].vertices()) in_tooth_frame.push_back(ArchMirror(o.mirrored, v));

@@ -65,6 +65,39 @@ SurfacePoint CariesSpot(const ToothModel& tooth, ToothSurface surface) {
   return out;
 }
 
+void CarveCavities(ToothModel* tooth, const std::array<double, 5>& caries_mm, const std::array<double, 5>& cavity_mm) {
+  // Where each cavity is and which way, from the intact surface, before any moves.
+  struct Cavity {
+    SurfacePoint at;
+    double radius, depth;
+  };
+  std::vector<Cavity> cavities;
+  for (int s = 0; s < 5; ++s)
+    if (cavity_mm[s] > 0 && caries_mm[s] > 0)
+      cavities.push_back({CariesSpot(*tooth, static_cast<ToothSurface>(s)), caries_mm[s], std::min(cavity_mm[s], kMaxCavityMm)});
+  if (cavities.empty()) return;
+  const std::vector<Vector3> normals = tooth->mesh.VertexNormalSums();
+  std::vector<Vector3> moved = tooth->mesh.vertices();
+  for (std::size_t i = 0; i < moved.size(); ++i) {
+    const Vector3 v = tooth->mesh.vertices()[i];
+    double sink = 0;
+    Vector3 along = Vector3::Zero();
+    for (const Cavity& c : cavities) {
+      const double d = (v - c.at.point).norm();
+      if (d >= c.radius || normals[i].norm() == 0 || normals[i].normalized().dot(c.at.normal) < std::cos(70 * std::numbers::pi / 180))
+        continue;
+      // A flat floor over the inner half, walls rising smoothly to the rim.
+      const double t = std::clamp((d / c.radius - 0.5) / 0.5, 0.0, 1.0), u = 1 - t * t * (3 - 2 * t);
+      if (c.depth * u > sink) {
+        sink = c.depth * u;
+        along = c.at.normal;
+      }
+    }
+    moved[i] = v - sink * along;
+  }
+  tooth->mesh = TriangleMesh(std::move(moved), tooth->mesh.faces());
+}
+
 std::vector<double> CariesCoverage(const ToothModel& tooth, const std::array<double, 5>& caries_mm) {
   std::vector<double> out(tooth.mesh.num_vertices(), 0.0);
   for (int s = 0; s < 5; ++s) {

@@ -29,6 +29,19 @@ struct SurfacePoint {
 /// normals of the faces around it).
 SurfacePoint CariesSpot(const ToothModel& tooth, ToothSurface surface);
 
+/// The deepest cavity a scene may ask for (enamel and the dentine under it).
+inline constexpr double kMaxCavityMm = 2.0;
+
+/// Cavitates the lesions that `cavity_mm` names (depth at the centre, 0: none;
+/// `caries_mm` their radii): the surface inside each lesion sinks along the
+/// surface's normal at its centre: `depth` over the inner half of the lesion
+/// (the cavity's floor), then smoothly less to nothing at the rim (its walls).
+/// Only vertices facing the same way (normal within 70 degrees) move, so a thin
+/// crown's other side stays where it is; the mesh's vertices and faces are
+/// otherwise unchanged (it stays closed, the lesions' colouring per vertex
+/// still applies).
+void CarveCavities(ToothModel* tooth, const std::array<double, 5>& caries_mm, const std::array<double, 5>& cavity_mm);
+
 /// Per vertex of the tooth's mesh: how far inside a lesion it lies, 1 at a
 /// lesion's centre falling to 0 at its rim (radius: the lesion's size), the
 /// largest over the five surfaces. `caries_mm` as in the scene (0: none).

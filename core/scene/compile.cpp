@@ -42,7 +42,11 @@ std::string GeneratorKey(const ObjectSpec& o) {
   k.precision(17);
   k << "sulcus-generated-mesh v3|";
   switch (o.kind) {
-    case ObjectSpec::Kind::kTooth: k << "tooth|" << o.fdi << '|' << o.mirrored; break;
+    case ObjectSpec::Kind::kTooth:
+      k << "tooth|" << o.fdi << '|' << o.mirrored;
+      for (int s = 0; s < 5; ++s)
+        if (o.cavity_mm[s] > 0) k << "|cavity " << s << ':' << o.caries_mm[s] << ':' << o.cavity_mm[s];
+      break;
     case ObjectSpec::Kind::kGingiva:
       k << "gingiva|" << o.fdi << '|' << o.mirrored;
       for (int i = 0; i < 6; ++i) k << '|' << o.pocket_mm[i] << '|' << o.recession_mm[i];
@@ -247,7 +251,11 @@ TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::pa
 
 TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
   switch (o.kind) {
-    case ObjectSpec::Kind::kTooth: return ArchMirror(o.mirrored, GenerateTooth(o.fdi).mesh);
+    case ObjectSpec::Kind::kTooth: {
+      ToothModel tooth = GenerateTooth(o.fdi);
+      CarveCavities(&tooth, o.caries_mm, o.cavity_mm);
+      return ArchMirror(o.mirrored, tooth.mesh);
+    }
     case ObjectSpec::Kind::kGingiva: return ArchMirror(o.mirrored, GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o)).mesh);
     case ObjectSpec::Kind::kCalculus: {
       const ToothModel tooth = GenerateTooth(o.fdi);

@@ -1,5 +1,9 @@
 #include "core/scene/scene.h"
 
+#include <cstdio>
+
+#include "core/anatomy/findings.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -83,7 +87,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (!r.IsMap(n, "an object")) return;
   r.CheckKeys(n, {"name", "tooth", "mesh", "box", "sphere", "cylinder", "anatomy", "height_mm", "at", "turn_deg", "tissue",
                   "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding",
-                  "inflamed", "caries_mm", "calculus", "furcation", "lesion", "spheretree"},
+                  "inflamed", "caries_mm", "cavity_mm", "calculus", "furcation", "lesion", "spheretree"},
               "an object");
   if (n["spheretree"]) ReadTreeParams(r, n["spheretree"], "an object's 'spheretree'", false, &o.trees);
   std::vector<std::string> kinds;
@@ -258,7 +262,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
       }
     }
   }
-  for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm", "calculus", "furcation"}) {
+  for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm", "cavity_mm", "calculus", "furcation"}) {
     if (n[key] && kind != "tooth") r.Error(n[key], std::string("'") + key + "' is for teeth only");
   }
   if (kind == "tooth") {
@@ -311,6 +315,32 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
             r.Error(it->first, "unknown surface '" + surface + "'" + Suggest(surface, surfaces) + " (" + Join(surfaces) + ")");
           } else {
             o.caries_mm[at - surfaces.begin()] = r.Number(it->second, "caries_mm", 0.1, 8, 1, "mm");
+          }
+        }
+      }
+    }
+    if (const YAML::Node& c = n["cavity_mm"]) {
+      // cavity_mm: {occlusal: 0.8}: the lesion there is cavitated, this deep.
+      if (!c.IsMap()) {
+        r.Error(c, "'cavity_mm' must map surfaces to cavity depths, e.g. {occlusal: 0.8}");
+      } else {
+        const std::vector<std::string> surfaces(kSurfaces.begin(), kSurfaces.end());
+        for (auto it = c.begin(); it != c.end(); ++it) {
+          const std::string surface = it->first.Scalar();
+          const auto at = std::find(surfaces.begin(), surfaces.end(), surface);
+          if (at == surfaces.end()) {
+            r.Error(it->first, "unknown surface '" + surface + "'" + Suggest(surface, surfaces) + " (" + Join(surfaces) + ")");
+            continue;
+          }
+          const auto s = static_cast<std::size_t>(at - surfaces.begin());
+          o.cavity_mm[s] = r.Number(it->second, "cavity_mm", 0.1, kMaxCavityMm, 0.5, "mm");
+          if (o.caries_mm[s] <= 0) {
+            r.Error(it->first, "a cavity is in a carious lesion: give 'caries_mm' a " + surface + " lesion first");
+          } else if (o.cavity_mm[s] > o.caries_mm[s]) {
+            char m[160];
+            std::snprintf(m, sizeof m, "a cavity %.1f mm deep in a lesion of %.1f mm: the depth is at most the lesion's size",
+                          o.cavity_mm[s], o.caries_mm[s]);
+            r.Error(it->second, m);
           }
         }
       }

@@ -84,6 +84,9 @@ struct ObjectSpec {
   std::array<bool, 6> inflamed{};    // gingiva inflamed at the site
   // Caries by surface (mesial, distal, buccal, lingual, occlusal): lesion size in mm, 0 for none.
   std::array<double, 5> caries_mm{};
+  // Cavitated lesions by surface: the cavity's depth in mm at its centre, 0 for
+  // a lesion whose surface is intact (every cavity is in a lesion of caries_mm).
+  std::array<double, 5> cavity_mm{};
   // Calculus by site: 0 none, 1 supragingival, 2 subgingival. The scene adds one
   // kCalculus object per deposit (its `calculus_site` the site, `fdi` the tooth).
   std::array<int, 6> calculus{};

@@ -351,6 +351,9 @@ TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
 
 #include <fstream>
 
+#include "core/anatomy/findings.h"
+#include "core/anatomy/tooth.h"
+
 #include "tests/common/output.h"
 
 namespace sulcus {
@@ -425,6 +428,58 @@ TEST(Probing, ACariousLesionFeelsSofterAndCatchesTheExplorer) {
 
 namespace sulcus {
 namespace {
+
+// A cavitated lesion (cavity_mm) is a pit in the tooth's mesh: its floor 1 mm
+// below the intact surface at the centre. An explorer pressed down the lesion's
+// normal at its centre stops on the intact surface of a lesion that is not
+// cavitated, and goes down into the cavity of one that is.
+TEST(Probing, ACavitatedLesionIsAPitTheExplorerGoesInto) {
+  const fs::path dir = test::FreshOutputPath("caries", "cavity");
+  auto compile = [&](const std::string& name, bool cavity) {
+    std::ofstream(dir / name) << "tool:\n  probe: explorer23\neffects: [contact]\nobjects:\n"
+                              << "  - tooth: 36\n    caries_mm: {occlusal: 2.5}\n"
+                              << (cavity ? "    cavity_mm: {occlusal: 1.0}\n" : "");
+    return CompileScene(LoadSceneSpec(dir / name), Cache());
+  };
+  const auto pit = compile("cavitated.yaml", true), intact = compile("intact.yaml", false);
+  ASSERT_EQ(intact->effects.lesions.size(), 0u);  // (no caries_catch named)
+  const SurfacePoint spot = CariesSpot(GenerateTooth(36), ToothSurface::kOcclusal);  // the tooth frame is the world here
+  // The mesh: still a valid solid, its surface at the centre 1 mm in, unchanged outside the lesion.
+  const MeshReport report = pit->meshes[0].Check();
+  EXPECT_TRUE(report.IsSolid());
+  double deepest = 0;
+  std::size_t moved_outside = 0;
+  for (std::size_t i = 0; i < pit->meshes[0].num_vertices(); ++i) {
+    const Vector3 v = pit->meshes[0].vertices()[i], was = intact->meshes[0].vertices()[i];
+    if ((was - spot.point).norm() >= 2.5) moved_outside += (v - was).norm() > 0;
+    deepest = std::max(deepest, (was - v).dot(spot.normal));
+  }
+  EXPECT_NEAR(deepest, 1.0, 1e-9);
+  EXPECT_EQ(moved_outside, 0u);
+  // Down the normal at the centre to 2 mm past the intact surface in 0.6 s, held 0.4 s.
+  const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), spot.normal);
+  std::vector<Keyframe> keys;
+  for (int i = 0; i <= 1000; i += 10) {
+    const double s = i * 0.001, depth = s < 0.6 ? -3.0 + 5.0 * s / 0.6 : 2.0;
+    keys.push_back({s, Vector3(spot.point - depth * spot.normal), q, 0});
+  }
+  auto rest = [&](const CompiledScene& scene) {
+    DeviceSpec d;
+    d.device = std::make_unique<ScriptedDevice>(Trajectory(keys), "press");
+    SessionOptions so;
+    so.max_ticks = 1000;
+    Session session(scene, std::move(d), so);
+    session.RunOffline();
+    EXPECT_EQ(session.loop().faults().total(), 0u);
+    // How far below the intact surface the tip rests.
+    return (spot.point - session.loop().data().X_WG.translation()).dot(spot.normal);
+  };
+  const double in_pit = rest(*pit), on_intact = rest(*intact);
+  std::printf("the explorer's tip rests %.2f mm below the intact surface in the cavity, %.2f mm on the intact lesion\n",
+              in_pit, on_intact);
+  EXPECT_LT(on_intact, 0.2);
+  EXPECT_GT(in_pit, on_intact + 0.5) << "into the pit";
+}
 
 // surface_texture: the same slide along tooth 46's buccal surface with and
 // without the effect; the difference is the texture's force, along the contact

@@ -261,6 +261,15 @@ TEST(SceneFile, ArchGingivaAnatomyCariesAndInflammation) {
             (Lines{"3:20: unknown site 'XL'; did you mean 'ML'?"}));
   EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    caries_mm: {occlusal: 1}\n"),
             (Lines{"4:16: 'caries_mm' is for teeth only"}));
+  // A cavity is in a lesion, no deeper than the lesion is wide, and no deeper than 2 mm.
+  EXPECT_EQ(Errors("objects:\n  - tooth: 36\n    caries_mm: {occlusal: 1.0}\n"
+                   "    cavity_mm: {occlusal: 1.5, buccal: 0.5, ocllusal: 0.3}\n"),
+            (Lines{"4:27: a cavity 1.5 mm deep in a lesion of 1.0 mm: the depth is at most the lesion's size",
+                   "4:32: a cavity is in a carious lesion: give 'caries_mm' a buccal lesion first",
+                   "4:45: unknown surface 'ocllusal'; did you mean 'occlusal'? (mesial, distal, buccal, lingual, "
+                   "occlusal)"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 36\n    caries_mm: {occlusal: 4}\n    cavity_mm: {occlusal: 3}\n").size(), 1u)
+      << "deeper than 2 mm";
   EXPECT_EQ(Errors("gingiva: true\nobjects:\n  - tooth: 31\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
                    "    recession_mm: [0, 10, 0, 0, 0, 0]\n"),
             (Lines{"3:5: tooth 31: pocket plus recession at site B leaves less than 1 mm of attached root for the "
@@ -270,7 +279,8 @@ TEST(SceneFile, ArchGingivaAnatomyCariesAndInflammation) {
   // carrying the tooth's truth, soft tissue with its own tissue type.
   const fs::path p = Write("arch_ok.yaml",
                            "arch: true\ngingiva: true\nobjects:\n  - tooth: 46\n    pockets_mm: [5, 4, 7, 5, 4, 6]\n"
-                           "    inflamed: [MB]\n    caries_mm: {occlusal: 2.5}\n  - tooth: 36\n  - anatomy: tongue\n");
+                           "    inflamed: [MB]\n    caries_mm: {occlusal: 2.5}\n    cavity_mm: {occlusal: 0.8}\n"
+                           "  - tooth: 36\n  - anatomy: tongue\n");
   const SceneSpec s = LoadSceneSpec(p);
   ASSERT_EQ(s.objects.size(), 5u);
   EXPECT_FALSE(s.objects[0].mirrored);
@@ -283,6 +293,8 @@ TEST(SceneFile, ArchGingivaAnatomyCariesAndInflammation) {
   EXPECT_EQ(s.objects[4].pocket_mm[0], 2.0) << "a tooth without truth gets healthy 2 mm sulci";
   EXPECT_TRUE(s.objects[0].inflamed[0]);
   EXPECT_EQ(s.objects[0].caries_mm[4], 2.5);
+  EXPECT_EQ(s.objects[0].cavity_mm[4], 0.8);
+  EXPECT_EQ(s.objects[0].cavity_mm[2], 0.0);
 }
 
 TEST(SceneFile, AnUpperToothPlacedByHandStandsCrownDown) {
