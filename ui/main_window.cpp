@@ -284,18 +284,12 @@ void MainWindow::BuildUi() {
     if (!f.isEmpty()) OpenReplay(f.toStdString());
   });
   auto* help_menu = menuBar()->addMenu("&Help");
-  help_menu->addAction("&How to probe and chart", this, [this] {
-    QMessageBox::information(
-        this, "Sulcus help",
-        "<b>Moving the probe</b> (mouse and keyboard): W/S, A/D, Q/E move it 0.1 mm a press; with Shift they turn "
-        "it; hold Alt for fine steps (0.02 mm, to hold the force band). Ctrl + drag moves it with the mouse, Ctrl + "
-        "wheel pushes it (with Alt, finely).<br><br><b>Probing</b>: walk the probe around each tooth in short up-and-down strokes "
-        "with the tip on the tooth, parallel to the long axis; at the contacts tilt it into the col. Press the pocket "
-        "floor lightly: the gauge's green band is 0.20-0.25 N.<br><br><b>Charting</b>: click the chart (or press Tab "
-        "to it), type the depth you read at each site in whole millimetres; it moves to the next site along the path. "
-        "B or Space marks bleeding on the site you just entered; Backspace goes back.<br><br><b>Diagnosis</b>: at the "
-        "end, Lesson &gt; Declare the diagnosis; then Lesson &gt; Finish shows your report.");
-  }, QKeySequence::HelpContents);
+  help_menu->addAction("&Help for this lesson", this, [this] { QMessageBox::information(this, "Sulcus help", HelpHtml()); },
+                       QKeySequence::HelpContents);
+  help_menu->addAction("How to &probe and chart", this,
+                       [this] { QMessageBox::information(this, "Sulcus help", HelpHtml(HelpTopic::kProbing)); });
+  help_menu->addAction("How to &examine the mouth", this,
+                       [this] { QMessageBox::information(this, "Sulcus help", HelpHtml(HelpTopic::kInspection)); });
   statusBar()->showMessage("Start a lesson (Lesson > Start, Ctrl+L) or open a scene (File > Open scene).");
 }
 
@@ -1060,6 +1054,34 @@ bool MainWindow::DeclareDiagnosis(const DeclaredDiagnosis& d) {
   SaveEntriesSoFar();
   feedback_->insertItem(0, Q("declared: " + d.Summary()));
   return true;
+}
+
+QString MainWindow::HelpHtml(std::optional<HelpTopic> topic) const {
+  if (!topic) topic = lesson_spec_ && lesson_spec_->inspection() ? HelpTopic::kInspection : HelpTopic::kProbing;
+  const QString moving =
+      "<b>Moving the instrument</b> (mouse and keyboard): W/S, A/D, Q/E move it 0.1 mm a press; with Shift they turn "
+      "it; hold Alt for fine steps (0.02 mm, to hold the force band). Ctrl + drag moves it with the mouse, Ctrl + "
+      "wheel pushes it (with Alt, finely). Drag without Ctrl turns the camera, the wheel zooms; the View buttons and "
+      "Look at tooth place it.";
+  if (*topic == HelpTopic::kInspection)
+    return moving +
+           "<br><br><b>The examination</b>: follow the steps in their order (lips, cheeks, gingiva, tongue, floor of "
+           "the mouth, palate, then tooth by tooth). A region or surface counts as examined when the tip rests on it "
+           "for a moment; a tooth surface counts as seen when the camera has shown it (a neighbouring tooth can hide "
+           "it: turn the camera round). Touch gently: soft tissue pressed above its limit, or a carious lesion "
+           "pressed above 0.5 N, is scored as damage.<br><br><b>Recording findings</b> on the odontogram: click a "
+           "tooth's surface for caries, <i>Ca</i> for calculus, <i>G</i> for inflamed gingiva; right-click a tooth "
+           "for its WHO status; click a soft-tissue region to record a lesion there. Keys: arrows choose the tooth, "
+           "M D B L O mark caries on a surface, C calculus, G inflamed gingiva, 0-9 the WHO status. Press a key "
+           "again to take the finding back.<br><br><b>Finishing</b>: Submit the findings ends the examination (you "
+           "may still correct a finding); Lesson &gt; Finish shows your report.";
+  return moving +
+         "<br><br><b>Probing</b>: walk the probe around each tooth in short up-and-down strokes with the tip on the "
+         "tooth, parallel to the long axis; at the contacts tilt it into the col. Press the pocket floor lightly: the "
+         "gauge's green band is 0.20-0.25 N.<br><br><b>Charting</b>: click the chart (or press Tab to it), type the "
+         "depth you read at each site in whole millimetres; it moves to the next site along the path. B or Space "
+         "marks bleeding on the site you just entered; Backspace goes back.<br><br><b>Diagnosis</b>: at the end, "
+         "Lesson &gt; Declare the diagnosis; then Lesson &gt; Finish shows your report.";
 }
 
 bool MainWindow::SubmitFindings() {

@@ -120,6 +120,10 @@ class MainWindow : public QMainWindow {
   OdontogramWidget* odontogram() const { return odontogram_; }
   /// Inspection lessons: the odontogram submitted as complete (the button does this).
   bool SubmitFindings();
+  /// The help (F1): for the lesson being taken (probing and charting, or the
+  /// oral examination and its odontogram), or the topic asked for.
+  enum class HelpTopic { kProbing, kInspection };
+  QString HelpHtml(std::optional<HelpTopic> topic = std::nullopt) const;
   const std::optional<LessonResult>& last_result() const { return last_result_; }
   const std::filesystem::path& last_report() const { return last_report_; }
   QString lesson_text() const;

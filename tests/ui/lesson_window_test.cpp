@@ -133,6 +133,9 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
     ASSERT_TRUE(w.FinishLesson(false));
   }
   ASSERT_TRUE(w.StartLesson(CarefulStudent()));
+  // F1 helps with the lesson being taken: probing and charting here.
+  EXPECT_TRUE(w.HelpHtml().contains("<b>Charting</b>"));
+  EXPECT_FALSE(w.HelpHtml().contains("odontogram"));
   ASSERT_NE(w.lesson(), nullptr);
   EXPECT_FALSE(w.aids_locked());
   EXPECT_TRUE(WaitFor([&] { return w.lesson_text().contains("Step 1 of 4"); })) << w.lesson_text().toStdString();
@@ -237,6 +240,10 @@ TEST(InspectionWindow, TheInspectionLessonFromItsStartToTheReport) {
   ASSERT_NE(w.lesson(), nullptr);
   ASSERT_NE(w.odontogram(), nullptr);
   EXPECT_TRUE(w.odontogram()->isVisible());
+  // F1 helps with the examination: the order, gentle touch, the odontogram's keys, submitting.
+  for (const char* about : {"tooth by tooth", "0.5 N", "odontogram", "M D B L O", "Submit the findings"})
+    EXPECT_TRUE(w.HelpHtml().contains(about)) << about;
+  EXPECT_FALSE(w.HelpHtml().contains("<b>Charting</b>"));
   EXPECT_FALSE(w.chart()->isVisible()) << "no periodontal chart in an inspection";
   EXPECT_TRUE(WaitFor([&] { return w.lesson_text().contains("Step 1 of 11"); })) << w.lesson_text().toStdString();
   ASSERT_TRUE(WaitFor([&] { return w.lesson()->current_step() >= 7; }, 600000)) << w.lesson_text().toStdString();
