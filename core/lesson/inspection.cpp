@@ -42,7 +42,6 @@ bool SegmentMeetsTree(const SphereTree& tree, const Vector3& a, const Vector3& b
   return false;
 }
 
-
 constexpr std::array<const char*, 5> kSurfaceCodes = {"M", "D", "B", "L", "O"};
 
 // The tip's distance to the union of a tree's leaf spheres (negative inside),
