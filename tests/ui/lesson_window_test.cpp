@@ -290,6 +290,22 @@ TEST(InspectionWindow, TheInspectionLessonFromItsStartToTheReport) {
   const auto rows = db.Attempts("Inspection Student");
   ASSERT_FALSE(rows.empty());
   EXPECT_NEAR(rows.back().total, r.total, 1e-9);
+
+  // A damage line's moment opens the replay there, as a probing line's does.
+  const RubricLine* line = nullptr;
+  for (const RubricLine& l : r.lines)
+    if (l.category == "damage" && l.status == RubricLine::Status::kFail && !line) line = &l;
+  ASSERT_NE(line, nullptr) << "the scripted inspector brushes tissue on its way";
+  emit w.report_dialog()->findChild<QTextBrowser*>("report")->anchorClicked(QUrl(QString("#t%1").arg(line->tick)));
+  ASSERT_TRUE(w.replaying());
+  EXPECT_EQ(w.replay_tick(), line->tick);
+  const Recording rec = ReadRecording(rows.back().recording);
+  ASSERT_NE(w.replay_frame(), nullptr);
+  EXPECT_EQ(w.replay_frame()->X_WG.translation(), rec.frames[line->tick].X_WG.translation());
+  w.report_dialog()->hide();
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(&w, "inspection_replay_at_damage.png"));
+  w.CloseReplay();
 }
 
 TEST(LessonWindow, ProgressOverAttempts) {
