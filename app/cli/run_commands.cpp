@@ -72,6 +72,21 @@ class RunSummary final : public TickConsumer {
  public:
   RunSummary(const SceneSpec& spec, double rate_hz) : spec_(spec), rate_hz_(rate_hz) {}
   void OnTick(const TickRecord& r) override {
+    // A pop: the force sent changes within a tick by more than the device's own
+    // move explains (k_t times how far it moved) plus kPopN: a click the hand feels.
+    const Vector3 at = r.sample.X_WH.translation();
+    if (ticks_++ > 0) {
+      const double unexplained = (r.force_W - last_force_).norm() - spec_.haptics.k_t * (at - last_at_).norm();
+      if (unexplained > kPopN) {
+        ++pops;
+        if (unexplained > worst_pop_n) {
+          worst_pop_n = unexplained;
+          worst_pop_tick = r.tick;
+        }
+      }
+    }
+    last_force_ = r.force_W;
+    last_at_ = at;
     events += static_cast<std::uint64_t>(r.num_events);
     for (int i = 0; i < r.num_events; ++i) {
       const HapticEvent& e = r.events[i];
@@ -87,10 +102,15 @@ class RunSummary final : public TickConsumer {
   std::map<int, int> began;
   std::uint64_t events = 0;
   std::vector<std::string> lines;
+  static constexpr double kPopN = 0.05;
+  std::uint64_t pops = 0, worst_pop_tick = 0;
+  double worst_pop_n = 0;
 
  private:
   const SceneSpec& spec_;
   double rate_hz_;
+  std::uint64_t ticks_ = 0;
+  Vector3 last_force_ = Vector3::Zero(), last_at_ = Vector3::Zero();
 };
 
 int Run(const RunArgs& a) {
@@ -163,6 +183,11 @@ int Run(const RunArgs& a) {
     std::printf("; %s touched %d times", ObjectName(scene->spec, object).c_str(), n);
   std::printf("\nforce: max %.3f N, mean in contact %.3f N, saturated %" PRIu64 " ticks\n", s.max_force_n,
               s.contact_ticks ? s.contact_force_sum_n / s.contact_ticks : 0.0, s.saturated_ticks);
+  std::printf("pops: %" PRIu64 " ticks whose force changed by more than %.2f N beyond the device's own move",
+              summary.pops, RunSummary::kPopN);
+  if (summary.pops > 0)
+    std::printf(" (worst %.3f N at %.3f s)", summary.worst_pop_n, static_cast<double>(summary.worst_pop_tick) / so.rate_hz);
+  std::printf("\n");
   std::printf("faults: %" PRIu64 " (engine %" PRIu64 ", overruns %" PRIu64 ", device stalls %" PRIu64
               ", non-finite output %" PRIu64 "); events %" PRIu64 ", dropped %" PRIu64 "; ticks not delivered %" PRIu64
               "\n",
@@ -173,10 +198,10 @@ int Run(const RunArgs& a) {
                 w->dropped());
   std::printf("run rate_hz=%.0f ticks=%" PRIu64 " misses=%" PRIu64
               " period_p50_us=%.1f period_p99_us=%.1f period_p999_us=%.1f worst_us=%.1f step_p50_us=%.1f "
-              "step_p99_us=%.1f step_p999_us=%.1f max_force_n=%.3f faults=%" PRIu64 "\n",
+              "step_p99_us=%.1f step_p999_us=%.1f max_force_n=%.3f faults=%" PRIu64 " pops=%" PRIu64 "\n",
               so.rate_hz, ticks, st.misses.load(), st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
               st.period_us.Percentile(0.999), st.worst_period_us.load(), step_hist.Percentile(0.5),
-              step_hist.Percentile(0.99), step_hist.Percentile(0.999), s.max_force_n, s.faults.total());
+              step_hist.Percentile(0.99), step_hist.Percentile(0.999), s.max_force_n, s.faults.total(), summary.pops);
   return 0;
 }
 

@@ -60,6 +60,7 @@ HapticLoop::HapticLoop(const EngineModel& model, Device* device, const LoopOptio
 void HapticLoop::Reset(const RigidTransform& X_WG) {
   ResetTool(X_WG, &data_);
   ramp_start_tick_ = tick_;
+  contact_force_valid_ = false;
   for (LoopEffect* e : effects_) e->Reset();
 }
 
@@ -133,6 +134,19 @@ void HapticLoop::Tick(bool overrun) noexcept {
   const std::uint64_t engine_faults_before = data_.faults.total();
   if (!paused_) Step(model_, sample_.X_WH, &data_);
   Vector3 F = data_.force_W, T = data_.torque_W;
+  // Slip limit (SafetyParams::slip_n_per_s): the change not explained by the
+  // device's move is spread over ticks.
+  if (options_.safety.slip_n_per_s > 0 && F.allFinite()) {
+    const Vector3 at = sample_.X_WH.translation();
+    if (contact_force_valid_ && at.allFinite()) {
+      const double allowed = options_.safety.slip_n_per_s / rate + model_.params.k_t * (at - contact_device_W_).norm();
+      const Vector3 change = F - contact_force_W_;
+      if (change.norm() > allowed) F = contact_force_W_ + change * (allowed / change.norm());
+    }
+    contact_force_W_ = F;
+    contact_device_W_ = at;
+    contact_force_valid_ = at.allFinite();
+  }
   for (LoopEffect* e : effects_) e->Apply(model_, data_, &F, &T, this);
   faults_.engine = data_.faults.total();
   if (faults_.engine != engine_faults_before) ramp_start_tick_ = tick_;

@@ -19,6 +19,13 @@ namespace sulcus {
 struct SafetyParams {
   double ramp_s = 0.5;              // output rises linearly over this after a start or a fault
   double device_timeout_s = 0.010;  // no fresh reading for this long: zero force
+  // The contact force changes within a tick by at most what the device's own
+  // move explains (k_t times how far it moved) plus this rate times the tick:
+  // a rendered tool that slips over a sphere bump or off an edge in one tick
+  // (up to 2 mm) would otherwise be felt as a click; its force now follows in
+  // a few ticks (a 2 N slip over 50 ms at 1 kHz). 0: no limit. Faults, pauses and a
+  // lost device still cut the force at once.
+  double slip_n_per_s = 40.0;
 };
 
 enum class EventKind : std::uint8_t {
@@ -240,6 +247,9 @@ class HapticLoop {
   double force_limit_n_, torque_limit_nmm_;
   DeviceSample sample_;
   Vector3 force_W_ = Vector3::Zero(), torque_W_ = Vector3::Zero();
+  // The engine's contact force after the slip limit, and the device position it followed.
+  Vector3 contact_force_W_ = Vector3::Zero(), contact_device_W_ = Vector3::Zero();
+  bool contact_force_valid_ = false;
   std::array<std::uint64_t, HapticSnapshot::kMaxObjects / 64> in_contact_{};
   LoopFaults faults_;
   double max_force_n_ = 0, contact_force_sum_n_ = 0;

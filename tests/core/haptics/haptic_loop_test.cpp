@@ -79,7 +79,9 @@ bool Has(const std::vector<HapticEvent>& events, EventKind kind, int object = -2
 }
 
 TEST(HapticLoop, RampsInLinearlyFromZeroAtStart) {
-  Rig rig;  // 1 kHz, ramp 0.5 s = 500 ticks
+  LoopOptions options;
+  options.safety.slip_n_per_s = 0;  // the ramp alone (the slip limit has its own test)
+  Rig rig(options);  // 1 kHz, ramp 0.5 s = 500 ticks
   rig.device.pose = At(0, 0, -0.5);  // pressing 0.75 mm below the rest pose: 0.75 N
   for (int i = 0; i < 700; ++i) {
     rig.Tick(false);
@@ -151,8 +153,9 @@ TEST(HapticLoop, AStartDeepInsideAnObjectRampsTheForceInFromFreeSpaceWithoutAJum
     }
     last = f;
   }
-  // The ramp (0.5 s to the device's 2 N) bounds each tick's change: 2 N / 500 ticks.
-  EXPECT_LE(worst_step, 2.0 / 500 + 1e-9);
+  // The ramp (0.5 s to the device's 2 N: 2 N / 500 ticks) and the slip limit
+  // (the force found in free space comes in at 40 N/s) bound each tick's change.
+  EXPECT_LE(worst_step, 2.0 / 500 + SafetyParams{}.slip_n_per_s / 1000 + 1e-9);
   EXPECT_LE(most, 2.0 + 1e-9);
   EXPECT_GT(last, 1.0) << "the spring pulls the hand out of the block";
   EXPECT_GE(rig.loop.data().faults.inside, 1u);
@@ -259,14 +262,50 @@ TEST(HapticLoop, ForceEventsWithHysteresis) {
   options.force_event_n = 0.5;
   options.safety.ramp_s = 0;
   Rig rig(options);
-  rig.device.pose = At(0, 0, -0.5);  // 0.75 N
-  rig.Tick(false);
-  rig.Tick(false);
+  rig.device.pose = At(0, 0, -0.5);  // 0.75 N, reached within the slip limit (40 N/s)
+  for (int i = 0; i < 40; ++i) rig.Tick(false);
   auto events = rig.Events();
   EXPECT_TRUE(Has(events, EventKind::kForceAbove));
   rig.device.pose = At(0, 0, 0.22);  // 0.03 N
   for (int i = 0; i < 5; ++i) rig.Tick(false);
   EXPECT_TRUE(Has(rig.Events(), EventKind::kForceBelow));
+}
+
+// Pressed 1.5 mm into the block's top near its edge, then drawn sideways off
+// the edge: the rendered tool slips off within a tick or two and the engine's
+// force falls by more than 0.5 N at once. The force sent falls at the slip
+// limit (40 N/s beyond what the device's own move explains: no click) and is
+// the engine's again within 200 ticks; a press that the device's move explains
+// (straight down onto the top) is not slowed at all.
+TEST(HapticLoop, AToolSlippingOffAnEdgeIsFeltAsAQuickFallNotAClick) {
+  LoopOptions options;
+  options.safety.ramp_s = 0;
+  Rig rig(options);
+  rig.loop.Reset(At(0.5, 0, 2));
+  for (int i = 0; i <= 350; ++i) {  // straight down to 1.5 mm below the top: every change explained
+    rig.device.pose = At(0.5, 0, 2 - 0.01 * i);
+    rig.Tick(false);
+    EXPECT_NEAR(rig.device.force.norm(), rig.loop.data().force_W.norm(), 1e-9) << "tick " << i;
+  }
+  ASSERT_GT(rig.device.force.norm(), 1.0);
+  double worst_unexplained = 0, biggest_engine_fall = 0;
+  int settled_after = -1;
+  Vector3 last_force = rig.device.force, last_at = rig.device.pose.translation(), last_engine = rig.loop.data().force_W;
+  for (int i = 0; i < 300; ++i) {
+    rig.device.pose = At(0.5 + std::min(3.0, 0.02 * i), 0, -1.5);  // sideways, off the block (its edge at x = 1.5 + r)
+    rig.Tick(false);
+    const Vector3 f = rig.device.force, engine = rig.loop.data().force_W;
+    worst_unexplained = std::max(worst_unexplained, (f - last_force).norm() - (rig.device.pose.translation() - last_at).norm());
+    biggest_engine_fall = std::max(biggest_engine_fall, last_engine.norm() - engine.norm());
+    if (biggest_engine_fall > 0.5 && settled_after < 0 && (f - engine).norm() < 1e-9) settled_after = i;
+    last_force = f;
+    last_at = rig.device.pose.translation();
+    last_engine = engine;
+  }
+  EXPECT_GT(biggest_engine_fall, 0.5) << "the engine's force falls at once when the tool slips off: the case this limits";
+  EXPECT_LE(worst_unexplained, 0.04 + 1e-9) << "no click";
+  ASSERT_GE(settled_after, 0);
+  EXPECT_LE(settled_after, 200) << "the force sent is the engine's again within a fraction of a second";
 }
 
 TEST(HapticLoop, TickAllocatesNothing) {
