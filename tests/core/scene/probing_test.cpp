@@ -23,6 +23,20 @@ namespace fs = std::filesystem;
 
 fs::path Cache() { return fs::path(SULCUS_TEST_OUTPUT) / "probing-cache"; }
 
+// Plays `keys` on `scene` offline for `ticks` ticks; `consumer`, if given, sees
+// every tick. The session is returned for its loop's state after the run.
+std::unique_ptr<Session> PlayOffline(const CompiledScene& scene, std::vector<Keyframe> keys, std::uint64_t ticks,
+                                     const std::string& name, TickConsumer* consumer = nullptr) {
+  DeviceSpec d;
+  d.device = std::make_unique<ScriptedDevice>(Trajectory(std::move(keys)), name);
+  SessionOptions so;
+  so.max_ticks = ticks;
+  auto session = std::make_unique<Session>(scene, std::move(d), so);
+  if (consumer) session->AddConsumer(consumer);
+  session->RunOffline();
+  return session;
+}
+
 TEST(Probing, InsertReadsThePocketDepthAtTooth46Buccal) {
   const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
   const auto scene = CompileScene(spec, Cache());
@@ -163,17 +177,11 @@ TEST(Probing, UnderTheContactBetween45And46TheTipReachesTheFloor) {
   const int ticks = static_cast<int>(travel / speed * 1000);
   for (int i = 0; i <= ticks; i += 10)
     keys.push_back({i * 0.001, world(end_T + (travel - speed * i * 0.001) * up_T), q, 0});
-  DeviceSpec d;
-  d.device = std::make_unique<ScriptedDevice>(Trajectory(std::move(keys)), "interproximal");
-  SessionOptions so;
-  so.max_ticks = static_cast<std::uint64_t>(ticks + 400);
-  Session session(*scene, std::move(d), so);
   struct Deepest final : TickConsumer {
     void OnTick(const TickRecord& rec) override { last = rec; }
     TickRecord last;
   } consumer;
-  session.AddConsumer(&consumer);
-  session.RunOffline();
+  const auto session = PlayOffline(*scene, std::move(keys), static_cast<std::uint64_t>(ticks + 400), "interproximal", &consumer);
   // Where the rendered tip ended, in 46's frame.
   const Vector3 tip_T = ArchMirror(tooth->mirrored, tooth->X_WO.inverse() * consumer.last.X_WG.translation());
   std::printf("tip %.2f %.2f %.2f, floor %.2f at r %.2f, margin %.2f, force %.3f N\n", tip_T.x(), tip_T.y(), tip_T.z(),
@@ -184,7 +192,7 @@ TEST(Probing, UnderTheContactBetween45And46TheTipReachesTheFloor) {
   EXPECT_LT(std::abs(tip_T.y()), 1.0) << "under the contact, between buccal and lingual";
   EXPECT_GT(consumer.last.force_W.norm(), 0.1) << "pressing the floor";
   EXPECT_LT(consumer.last.force_W.norm(), 1.5);
-  EXPECT_EQ(session.loop().faults().total(), 0u);
+  EXPECT_EQ(session->loop().faults().total(), 0u);
 }
 
 }  // namespace
@@ -392,11 +400,6 @@ TEST(Probing, ACariousLesionFeelsSofterAndCatchesTheExplorer) {
     int catches = 0;
   };
   auto run = [&](const CompiledScene& scene) {
-    DeviceSpec d;
-    d.device = std::make_unique<ScriptedDevice>(Trajectory(keys), "press and draw");
-    SessionOptions so;
-    so.max_ticks = 1500;
-    Session session(scene, std::move(d), so);
     struct Probe final : TickConsumer {
       Vector3 n, t;
       Run out;
@@ -408,9 +411,7 @@ TEST(Probing, ACariousLesionFeelsSofterAndCatchesTheExplorer) {
     } probe;
     probe.n = n;
     probe.t = t;
-    session.AddConsumer(&probe);
-    session.RunOffline();
-    EXPECT_EQ(session.loop().faults().total(), 0u);
+    EXPECT_EQ(PlayOffline(scene, keys, 1500, "press and draw", &probe)->loop().faults().total(), 0u);
     return probe.out;
   };
   const Run on = run(*carious), off = run(*sound);
@@ -464,15 +465,10 @@ TEST(Probing, ACavitatedLesionIsAPitTheExplorerGoesInto) {
     keys.push_back({s, Vector3(spot.point - depth * spot.normal), q, 0});
   }
   auto rest = [&](const CompiledScene& scene) {
-    DeviceSpec d;
-    d.device = std::make_unique<ScriptedDevice>(Trajectory(keys), "press");
-    SessionOptions so;
-    so.max_ticks = 1000;
-    Session session(scene, std::move(d), so);
-    session.RunOffline();
-    EXPECT_EQ(session.loop().faults().total(), 0u);
+    const auto session = PlayOffline(scene, keys, 1000, "press");
+    EXPECT_EQ(session->loop().faults().total(), 0u);
     // How far below the intact surface the tip rests.
-    return (spot.point - session.loop().data().X_WG.translation()).dot(spot.normal);
+    return (spot.point - session->loop().data().X_WG.translation()).dot(spot.normal);
   };
   const double in_pit = rest(*pit), on_intact = rest(*intact);
   std::printf("the explorer's tip rests %.2f mm below the intact surface in the cavity, %.2f mm on the intact lesion\n",
@@ -509,17 +505,11 @@ TEST(Probing, EnamelAndRootFeelDifferentUnderASlidingTip) {
       keys.push_back({i * 0.001, Vector3(-2 + 4 * s, y_surface - 0.4, z), q, 0});
     }
     auto forces = [&](const CompiledScene& scene) {
-      DeviceSpec d;
-      d.device = std::make_unique<ScriptedDevice>(Trajectory(keys), "slide");
-      SessionOptions so;
-      so.max_ticks = 1200;
-      Session session(scene, std::move(d), so);
       struct Trace final : TickConsumer {
         std::vector<Vector3> f;
         void OnTick(const TickRecord& r) override { f.push_back(r.force_W); }
       } trace;
-      session.AddConsumer(&trace);
-      session.RunOffline();
+      PlayOffline(scene, keys, 1200, "slide", &trace);
       return trace.f;
     };
     const std::vector<Vector3> with = forces(*on), without = forces(*off);
@@ -594,11 +584,6 @@ TEST(Probing, ACalculusDepositIsAnnouncedOnlyWhenTheSceneNamesIt) {
     keys.push_back({s, Vector3(c + (gap + 0.6) * out), q, 0});
   }
   auto run = [&](const CompiledScene& scene) {
-    DeviceSpec d;
-    d.device = std::make_unique<ScriptedDevice>(Trajectory(keys), "to the deposit and back, twice");
-    SessionOptions so;
-    so.max_ticks = 2000;
-    Session session(scene, std::move(d), so);
     struct Count final : TickConsumer {
       std::vector<CalculusPayload> met;
       void OnTick(const TickRecord& r) override {
@@ -606,8 +591,7 @@ TEST(Probing, ACalculusDepositIsAnnouncedOnlyWhenTheSceneNamesIt) {
           if (r.events[i].kind == EventKind::kCalculusTouched) met.push_back(r.events[i].payload.calculus);
       }
     } count;
-    session.AddConsumer(&count);
-    session.RunOffline();
+    PlayOffline(scene, keys, 2000, "to the deposit and back, twice", &count);
     return count.met;
   };
   const auto met = run(*with), none = run(*without);
