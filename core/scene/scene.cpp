@@ -56,6 +56,28 @@ std::vector<std::string> Names(const auto& table) {
   return v;
 }
 
+// A map from tooth surfaces to values (`caries_mm: {occlusal: 2.0}`): calls
+// each(surface index, key, value) for every known surface; a node that is not
+// a map gets `not_a_map`, an unknown surface an error with a suggestion.
+template <class Each>
+void ForEachSurface(Reader& r, const YAML::Node& c, const std::string& not_a_map, Each each) {
+  if (!c) return;
+  if (!c.IsMap()) {
+    r.Error(c, not_a_map);
+    return;
+  }
+  const std::vector<std::string> surfaces(kSurfaces.begin(), kSurfaces.end());
+  for (auto it = c.begin(); it != c.end(); ++it) {
+    const std::string surface = it->first.Scalar();
+    const auto at = std::find(surfaces.begin(), surfaces.end(), surface);
+    if (at == surfaces.end()) {
+      r.Error(it->first, "unknown surface '" + surface + "'" + Suggest(surface, surfaces) + " (" + Join(surfaces) + ")");
+      continue;
+    }
+    each(static_cast<std::size_t>(at - surfaces.begin()), it->first, it->second);
+  }
+}
+
 // A `spheretree` map over the values in *p (the scene's, for an object's own).
 // `gingiva` (the collars' sub-map) is read by the caller where it is allowed.
 void ReadTreeParams(Reader& r, const YAML::Node& t, const std::string& where, bool gingiva_allowed,
@@ -303,48 +325,24 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
         }
       }
     }
-    if (const YAML::Node& c = n["caries_mm"]) {
-      if (!c.IsMap()) {
-        r.Error(c, "'caries_mm' must map surfaces to lesion sizes, e.g. {occlusal: 2.0}");
-      } else {
-        const std::vector<std::string> surfaces(kSurfaces.begin(), kSurfaces.end());
-        for (auto it = c.begin(); it != c.end(); ++it) {
-          const std::string surface = it->first.Scalar();
-          const auto at = std::find(surfaces.begin(), surfaces.end(), surface);
-          if (at == surfaces.end()) {
-            r.Error(it->first, "unknown surface '" + surface + "'" + Suggest(surface, surfaces) + " (" + Join(surfaces) + ")");
-          } else {
-            o.caries_mm[at - surfaces.begin()] = r.Number(it->second, "caries_mm", 0.1, 8, 1, "mm");
-          }
-        }
-      }
-    }
-    if (const YAML::Node& c = n["cavity_mm"]) {
-      // cavity_mm: {occlusal: 0.8}: the lesion there is cavitated, this deep.
-      if (!c.IsMap()) {
-        r.Error(c, "'cavity_mm' must map surfaces to cavity depths, e.g. {occlusal: 0.8}");
-      } else {
-        const std::vector<std::string> surfaces(kSurfaces.begin(), kSurfaces.end());
-        for (auto it = c.begin(); it != c.end(); ++it) {
-          const std::string surface = it->first.Scalar();
-          const auto at = std::find(surfaces.begin(), surfaces.end(), surface);
-          if (at == surfaces.end()) {
-            r.Error(it->first, "unknown surface '" + surface + "'" + Suggest(surface, surfaces) + " (" + Join(surfaces) + ")");
-            continue;
-          }
-          const auto s = static_cast<std::size_t>(at - surfaces.begin());
-          o.cavity_mm[s] = r.Number(it->second, "cavity_mm", 0.1, kMaxCavityMm, 0.5, "mm");
-          if (o.caries_mm[s] <= 0) {
-            r.Error(it->first, "a cavity is in a carious lesion: give 'caries_mm' a " + surface + " lesion first");
-          } else if (o.cavity_mm[s] > o.caries_mm[s]) {
-            char m[160];
-            std::snprintf(m, sizeof m, "a cavity %.1f mm deep in a lesion of %.1f mm: the depth is at most the lesion's size",
-                          o.cavity_mm[s], o.caries_mm[s]);
-            r.Error(it->second, m);
-          }
-        }
-      }
-    }
+    ForEachSurface(r, n["caries_mm"], "'caries_mm' must map surfaces to lesion sizes, e.g. {occlusal: 2.0}",
+                   [&](std::size_t s, const YAML::Node&, const YAML::Node& value) {
+                     o.caries_mm[s] = r.Number(value, "caries_mm", 0.1, 8, 1, "mm");
+                   });
+    // cavity_mm: {occlusal: 0.8}: the lesion there is cavitated, this deep.
+    ForEachSurface(r, n["cavity_mm"], "'cavity_mm' must map surfaces to cavity depths, e.g. {occlusal: 0.8}",
+                   [&](std::size_t s, const YAML::Node& key, const YAML::Node& value) {
+                     o.cavity_mm[s] = r.Number(value, "cavity_mm", 0.1, kMaxCavityMm, 0.5, "mm");
+                     if (o.caries_mm[s] <= 0) {
+                       r.Error(key, "a cavity is in a carious lesion: give 'caries_mm' a " + key.Scalar() + " lesion first");
+                     } else if (o.cavity_mm[s] > o.caries_mm[s]) {
+                       char m[160];
+                       std::snprintf(m, sizeof m,
+                                     "a cavity %.1f mm deep in a lesion of %.1f mm: the depth is at most the lesion's size",
+                                     o.cavity_mm[s], o.caries_mm[s]);
+                       r.Error(value, m);
+                     }
+                   });
     if (const YAML::Node& c = n["calculus"]) {
       // calculus: {supra: [L, DL], sub: [MB]}
       if (!c.IsMap()) {
