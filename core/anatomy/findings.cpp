@@ -76,16 +76,17 @@ void CarveCavities(ToothModel* tooth, const std::array<double, 5>& caries_mm, co
     if (cavity_mm[s] > 0 && caries_mm[s] > 0)
       cavities.push_back({CariesSpot(*tooth, static_cast<ToothSurface>(s)), caries_mm[s], std::min(cavity_mm[s], kMaxCavityMm)});
   if (cavities.empty()) return;
+  const double facing = std::cos(70 * std::numbers::pi / 180);  // a vertex moves when its normal is within 70 degrees
   const std::vector<Vector3> normals = tooth->mesh.VertexNormalSums();
   std::vector<Vector3> moved = tooth->mesh.vertices();
   for (std::size_t i = 0; i < moved.size(); ++i) {
-    const Vector3 v = tooth->mesh.vertices()[i];
+    if (normals[i].norm() == 0) continue;
+    const Vector3 v = moved[i], n = normals[i].normalized();
     double sink = 0;
     Vector3 along = Vector3::Zero();
     for (const Cavity& c : cavities) {
       const double d = (v - c.at.point).norm();
-      if (d >= c.radius || normals[i].norm() == 0 || normals[i].normalized().dot(c.at.normal) < std::cos(70 * std::numbers::pi / 180))
-        continue;
+      if (d >= c.radius || n.dot(c.at.normal) < facing) continue;
       // A flat floor over the inner half, walls rising smoothly to the rim.
       const double t = std::clamp((d / c.radius - 0.5) / 0.5, 0.0, 1.0), u = 1 - t * t * (3 - 2 * t);
       if (c.depth * u > sink) {

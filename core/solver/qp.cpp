@@ -42,7 +42,8 @@ class Nnls {
       passive_[k_++] = j;
       in_set_[j] = 1;
     }
-    bool solved = k_ == 0 || LeastSquares(z_);
+    auto factor = [&] { return k_ == 0 || LeastSquares(z_); };
+    bool solved = factor();
     if (!solved) {
       const int taken = k_;
       std::int32_t rows[R];
@@ -54,12 +55,12 @@ class Nnls {
         in_set_[rows[i]] = 1;
         if (!LeastSquares(z_)) Remove(k_ - 1);
       }
-      solved = k_ == 0 || LeastSquares(z_);
+      solved = factor();
     }
     while (k_ > 0) {
       if (!solved) {
         Remove(k_ - 1);
-        solved = k_ == 0 || LeastSquares(z_);
+        solved = factor();
         continue;
       }
       int worst = -1;
@@ -68,7 +69,7 @@ class Nnls {
       }
       if (worst < 0) break;
       Remove(worst);
-      solved = k_ == 0 || LeastSquares(z_);
+      solved = factor();
     }
     for (int i = 0; i < k_; ++i) u_[i] = z_[i];
     UpdateResidual();
