@@ -143,8 +143,8 @@ RippleStats RunFlatSlide(const SphereTree& probe, double probe_bottom, const Sph
       const double gap = d.X_WG.translation().z() + probe_bottom - top;
       r.gap_mean_mm += gap / frames;
       r.gap_max_mm = std::max(r.gap_max_mm, gap);
-      const double unexplained = (d.force_W - last_f).norm() - params.k_t * (X.translation() - last_h).norm();
-      if (unexplained > 0.05) ++r.pops;
+      const double unexplained = UnexplainedForceChange(last_f, d.force_W, last_h, X.translation(), params.k_t);
+      if (unexplained > kPopN) ++r.pops;
       r.worst_pop_n = std::max(r.worst_pop_n, unexplained);
     }
     last_f = d.force_W;

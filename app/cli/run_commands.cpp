@@ -72,11 +72,10 @@ class RunSummary final : public TickConsumer {
  public:
   RunSummary(const SceneSpec& spec, double rate_hz) : spec_(spec), rate_hz_(rate_hz) {}
   void OnTick(const TickRecord& r) override {
-    // A pop: the force sent changes within a tick by more than the device's own
-    // move explains (k_t times how far it moved) plus kPopN: a click the hand feels.
+    // Pops of the force sent (UnexplainedForceChange).
     const Vector3 at = r.sample.X_WH.translation();
     if (ticks_++ > 0) {
-      const double unexplained = (r.force_W - last_force_).norm() - spec_.haptics.k_t * (at - last_at_).norm();
+      const double unexplained = UnexplainedForceChange(last_force_, r.force_W, last_at_, at, spec_.haptics.k_t);
       if (unexplained > kPopN) {
         ++pops;
         if (unexplained > worst_pop_n) {
@@ -102,7 +101,6 @@ class RunSummary final : public TickConsumer {
   std::map<int, int> began;
   std::uint64_t events = 0;
   std::vector<std::string> lines;
-  static constexpr double kPopN = 0.05;
   std::uint64_t pops = 0, worst_pop_tick = 0;
   double worst_pop_n = 0;
 
@@ -184,7 +182,7 @@ int Run(const RunArgs& a) {
   std::printf("\nforce: max %.3f N, mean in contact %.3f N, saturated %" PRIu64 " ticks\n", s.max_force_n,
               s.contact_ticks ? s.contact_force_sum_n / s.contact_ticks : 0.0, s.saturated_ticks);
   std::printf("pops: %" PRIu64 " ticks whose force changed by more than %.2f N beyond the device's own move",
-              summary.pops, RunSummary::kPopN);
+              summary.pops, kPopN);
   if (summary.pops > 0)
     std::printf(" (worst %.3f N at %.3f s)", summary.worst_pop_n, static_cast<double>(summary.worst_pop_tick) / so.rate_hz);
   std::printf("\n");

@@ -28,6 +28,16 @@ struct SafetyParams {
   double slip_n_per_s = 40.0;
 };
 
+/// How much a force's change over a tick exceeds what the device's own move
+/// explains (k_t times how far it moved), N. Above kPopN it is a pop: a click
+/// the hand feels. The slip limit (SafetyParams::slip_n_per_s) keeps it at most
+/// slip_n_per_s over the rate for the contact force.
+inline double UnexplainedForceChange(const Vector3& force_before, const Vector3& force_after,
+                                     const Vector3& device_before, const Vector3& device_after, double k_t) {
+  return (force_after - force_before).norm() - k_t * (device_after - device_before).norm();
+}
+inline constexpr double kPopN = 0.05;
+
 enum class EventKind : std::uint8_t {
   kContactBegan,    // object: which object (engine index)
   kContactEnded,

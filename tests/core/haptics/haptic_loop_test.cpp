@@ -295,7 +295,8 @@ TEST(HapticLoop, AToolSlippingOffAnEdgeIsFeltAsAQuickFallNotAClick) {
     rig.device.pose = At(0.5 + std::min(3.0, 0.02 * i), 0, -1.5);  // sideways, off the block (its edge at x = 1.5 + r)
     rig.Tick(false);
     const Vector3 f = rig.device.force, engine = rig.loop.data().force_W;
-    worst_unexplained = std::max(worst_unexplained, (f - last_force).norm() - (rig.device.pose.translation() - last_at).norm());
+    worst_unexplained = std::max(worst_unexplained, UnexplainedForceChange(last_force, f, last_at, rig.device.pose.translation(),
+                                                                            rig.model->params.k_t));
     biggest_engine_fall = std::max(biggest_engine_fall, last_engine.norm() - engine.norm());
     if (biggest_engine_fall > 0.5 && settled_after < 0 && (f - engine).norm() < 1e-9) settled_after = i;
     last_force = f;
