@@ -156,7 +156,8 @@ class ProbingDepth final : public LoopEffect {
 // The force on each object in contact above its damage limit (once per episode).
 class TissueDamage final : public LoopEffect {
  public:
-  explicit TissueDamage(const EffectsModel& m) : m_(m), over_(m.damage_limit_n.size(), 0) {}
+  explicit TissueDamage(const EffectsModel& m)
+      : m_(m), over_(m.damage_limit_n.size(), 0), below_(m.damage_limit_n.size(), 0) {}
   const char* name() const override { return "tissue_damage"; }
   void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
     // Each object bears its share of the contact force (its pairs' multipliers):
@@ -176,24 +177,42 @@ class TissueDamage final : public LoopEffect {
       }
       if (WorkingEnd(m_, data.active_keys[i])) share[k] += data.active_share[i];
     }
+    // An episode starts when the force on an object passes its limit and ends
+    // once the force has stayed below kEpisodeEnd of the limit (or off the
+    // object) for kEpisodeGapS: a press that hovers about the limit, or whose
+    // contact flickers, is one episode, not one per ripple.
     const double f = force_W->norm();
+    const auto gap_ticks = static_cast<std::uint32_t>(std::max(1.0, kEpisodeGapS * loop->options().rate_hz));
+    for (std::size_t object = 0; object < over_.size(); ++object) {
+      if (!over_[object]) continue;
+      int k = 0;
+      while (k < n && objects[k] != object) ++k;
+      const bool below = k == n || f * share[k] < kEpisodeEnd * m_.damage_limit_n[object];
+      below_[object] = below ? below_[object] + 1 : 0;
+      if (below_[object] >= gap_ticks) over_[object] = 0;
+    }
     for (int k = 0; k < n; ++k) {
       const std::size_t object = objects[k];
       const double on = f * share[k];
-      const bool over = on > m_.damage_limit_n[object];
-      if (over && !over_[object]) {
+      if (on > m_.damage_limit_n[object] && !over_[object]) {
         HapticEvent e = HapticEvent::Of(EventKind::kTissueDamage, static_cast<int>(object));
         e.payload.damage = {on, m_.damage_limit_n[object]};
         loop->Emit(e);
+        over_[object] = 1;
+        below_[object] = 0;
       }
-      over_[object] = over;
     }
   }
-  void Reset() noexcept override { std::fill(over_.begin(), over_.end(), 0); }
+  static constexpr double kEpisodeEnd = 0.8, kEpisodeGapS = 0.1;
+  void Reset() noexcept override {
+    std::fill(over_.begin(), over_.end(), 0);
+    std::fill(below_.begin(), below_.end(), 0);
+  }
 
  private:
   const EffectsModel& m_;
   std::vector<std::uint8_t> over_;
+  std::vector<std::uint32_t> below_;  // ticks in a row below the episode's end
 };
 
 class CariesCatch final : public LoopEffect {

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 
+#include "core/anatomy/soft_tissue.h"
 #include "core/haptics/effects.h"
 #include "core/haptics/scripted_device.h"
 #include "core/scene/scene.h"
@@ -600,6 +601,90 @@ TEST(Probing, ACalculusDepositIsAnnouncedOnlyWhenTheSceneNamesIt) {
   EXPECT_EQ(met[0].site, 1) << "B";
   EXPECT_GT(met[0].force_n, 0.0);
   EXPECT_TRUE(none.empty());
+}
+
+}  // namespace
+}  // namespace sulcus
+
+namespace sulcus {
+namespace {
+
+// Tissue damage is counted once per press: the probe rests on the tongue's
+// dorsum about its 0.5 N limit, the force rippling across the limit again and
+// again, then lifts off and presses once more. Two presses, two damage events;
+// an episode ends only when the force falls well below the limit or the tongue
+// is left.
+TEST(Probing, APressHoveringAboutTheDamageLimitIsOneDamageEpisode) {
+  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
+  ASSERT_TRUE(spec.HasEffect(Effect::kTissueDamage));
+  const auto scene = CompileScene(spec, DefaultCacheDir());
+  int tongue = -1;
+  for (std::size_t i = 0; i < scene->spec.objects.size(); ++i)
+    if (scene->spec.objects[i].anatomy == "tongue") tongue = static_cast<int>(i);
+  ASSERT_GE(tongue, 0);
+  const ObjectSpec& o = scene->spec.objects[static_cast<std::size_t>(tongue)];
+  const SurfacePoint sp = RegionSpot("tongue", "dorsum", scene->meshes[static_cast<std::size_t>(tongue)]);
+  const Vector3 p = o.X_WO * sp.point, n = (o.X_WO.rotation() * sp.normal).normalized();
+  ScriptTarget st;
+  st.n_W = n;
+  st.tool_axis_W = (n + 0.5 * Vector3::UnitY()).normalized();
+  st.shank_W = Vector3::UnitY();
+  const Quaternion q = ScriptOrientation(st);
+  // First where the force reaches the limit: the device lowered slowly (1 mm/s).
+  struct Force final : TickConsumer {
+    void OnTick(const TickRecord& r) override {
+      if (!at_limit && r.force_W.norm() > 0.5) at_limit = r.tick;
+    }
+    std::optional<std::uint64_t> at_limit;
+  } probe;
+  std::vector<Keyframe> down;
+  for (double t = 0; t <= 8.0 + 1e-9; t += 0.005) down.push_back({t, p - (-6.0 + t) * n, q, 0});
+  PlayOffline(*scene, std::move(down), 8000, "tongue probe", &probe);
+  ASSERT_TRUE(probe.at_limit) << "the probe never pressed the tongue at 0.5 N";
+  const double d0 = -6.0 + static_cast<double>(*probe.at_limit) / 1000.0;
+  // Then the presses: device depth below the surface point over time.
+  auto depth = [d0](double t) {
+    if (t < 1.0) return -6.0 + (d0 + 5.0) * t;                  // down to 1 mm above the press
+    if (t < 2.0) return d0 - 1.0 + (t - 1.0);                   // into the press
+    if (t < 4.0) return d0 + 0.09 * std::sin(2 * std::numbers::pi * 5 * (t - 2.0));  // hovering about the limit
+    if (t < 4.5) return d0 - 5.0 * (t - 4.0);                   // lifted 2.5 mm off
+    if (t < 5.5) return d0 - 2.5 + 2.7 * (t - 4.5);             // pressed again, a little harder
+    if (t < 6.5) return d0 + 0.2;
+    return d0 + 0.2 - 5.0 * (t - 6.5);
+  };
+  std::vector<Keyframe> keys;
+  for (double t = 0; t <= 7.0 + 1e-9; t += 0.005) keys.push_back({t, p - depth(t) * n, q, 0});
+  struct Damage final : TickConsumer {
+    explicit Damage(int object) : object(object) {}
+    void OnTick(const TickRecord& r) override {
+      for (int i = 0; i < r.num_events; ++i)
+        if (r.events[i].kind == EventKind::kTissueDamage && r.events[i].object == object) ticks.push_back(r.tick);
+      // Crossings of the limit by the whole force while hovering (the tongue bears it all).
+      const bool above = r.force_W.norm() > 0.5;
+      if (r.tick > 2000 && r.tick < 4000 && above != was_above) ++crossings;
+      if (r.tick > 2000 && r.tick < 4000) {
+        lo = std::min(lo, r.force_W.norm());
+        hi = std::max(hi, r.force_W.norm());
+      }
+      was_above = above;
+    }
+    int object;
+    std::vector<std::uint64_t> ticks;
+    int crossings = 0;
+    bool was_above = false;
+    double lo = 1e9, hi = 0;
+  } consumer(tongue);
+  const auto session = PlayOffline(*scene, std::move(keys), 7600, "tongue press", &consumer);
+  std::printf("force while hovering %.3f to %.3f N, %d crossings of the limit; damage events at", consumer.lo,
+              consumer.hi, consumer.crossings);
+  for (std::uint64_t t : consumer.ticks) std::printf(" %llu", static_cast<unsigned long long>(t));
+  std::printf("\n");
+  EXPECT_GE(consumer.crossings, 6) << "the hovering press crosses the limit again and again";
+  ASSERT_EQ(consumer.ticks.size(), 2u) << "one damage episode per press";
+  EXPECT_GT(consumer.ticks[0], 1000u);
+  EXPECT_LT(consumer.ticks[0], 4000u);
+  EXPECT_GT(consumer.ticks[1], 4500u) << "the second press, after the tip left the tongue";
+  EXPECT_EQ(session->loop().faults().total(), 0u);
 }
 
 }  // namespace
