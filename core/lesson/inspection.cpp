@@ -306,7 +306,7 @@ std::vector<int> InspectionTracker::StepUnits(const StepSpec& step) const {
 
 void InspectionTracker::OnTick(const TickRecord& r, const std::vector<std::uint8_t>& in_contact) {
   const Vector3 tip_W = r.X_WG.translation();
-  const double reach = tip_radius_ + 0.15;
+  const double reach = tip_radius_ + 0.5;
   tip_unit_ = -1;
   double best = reach;
   for (std::size_t i = 0; i < roles_.size() && i < in_contact.size(); ++i) {

@@ -124,6 +124,10 @@ struct UnitApproach {
   bool region = false;
 };
 std::optional<UnitApproach> ApproachOf(const CompiledScene& scene, const InspectionUnit& unit, const std::vector<int>& teeth);
+/// Other spots on a tooth's mesial or distal surface than ApproachOf's (nearer
+/// the buccal, nearer the contact, and from the lingual side), for a hand whose
+/// way to the first is blocked by the neighbour. Empty for other surfaces.
+std::vector<UnitApproach> ProximalSpots(const CompiledScene& scene, int fdi, ToothSurface s);
 
 /// A lesion pressed harder than the lesson's limit: one episode, at its peak.
 struct LesionPress {
@@ -133,8 +137,10 @@ struct LesionPress {
 };
 
 /// Follows the tip over the tick stream: a region or surface is examined when
-/// the tip rests on it (its object in contact, the tip within its radius and
-/// 0.15 mm of the object's sphere-tree) for the rubric's dwell without a break;
+/// the tip rests on it (its object in contact, the tip's centre within its
+/// radius and 0.5 mm of the object's sphere-tree: the point or the side of its
+/// last half millimetre, as an explorer is laid on a surface) for the rubric's
+/// dwell without a break;
 /// the surface of a tooth from the side the tip is on (occlusal where the
 /// surface faces the crown's top or within 1 mm of it); the tongue's part from
 /// the way its surface faces there.

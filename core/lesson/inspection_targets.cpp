@@ -41,7 +41,7 @@ bool SideSpot(const CompiledScene& scene, int object, double phi, double z, Vect
 
 Vector3 OcclusalOf(const ObjectSpec& o) { return (o.X_WO.rotation() * Vector3::UnitZ()).normalized(); }
 
-std::optional<Target> ToothTarget(const CompiledScene& scene, int fdi, ToothSurface s) {
+std::optional<Target> ToothTarget(const CompiledScene& scene, int fdi, ToothSurface s, double phi_deg = -1) {
   const int i = FindObject(scene.spec, ObjectSpec::Kind::kTooth, fdi);
   if (i < 0) return std::nullopt;
   const ObjectSpec& o = scene.spec.objects[static_cast<std::size_t>(i)];
@@ -62,7 +62,8 @@ std::optional<Target> ToothTarget(const CompiledScene& scene, int fdi, ToothSurf
     t.shank = -(o.X_WO.rotation() * ArchMirror(o.mirrored, Vector3::UnitY()));  // lingually
     return t;
   }
-  const double phi = s == ToothSurface::kBuccal    ? kPi / 2
+  const double phi = phi_deg >= 0                   ? phi_deg * kPi / 180
+                     : s == ToothSurface::kBuccal  ? kPi / 2
                      : s == ToothSurface::kLingual ? 3 * kPi / 2
                      : s == ToothSurface::kMesial  ? 35 * kPi / 180
                                                    : 145 * kPi / 180;
@@ -70,6 +71,7 @@ std::optional<Target> ToothTarget(const CompiledScene& scene, int fdi, ToothSurf
   // Up past the crown's bulge; on the buccal side no farther out than the
   // vestibule allows.
   t.axis = (occlusal + (s == ToothSurface::kBuccal ? 0.1 : 0.3) * t.n + 0.4 * kAnterior).normalized();
+  if (std::sin(phi) < 0 && s != ToothSurface::kLingual) t.axis = (occlusal + 0.3 * t.n + 0.4 * kAnterior).normalized();
   t.shank = -t.n;
   return t;
 }
@@ -193,6 +195,17 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
 }
 
 }  // namespace
+
+std::vector<UnitApproach> ProximalSpots(const CompiledScene& scene, int fdi, ToothSurface s) {
+  std::vector<UnitApproach> out;
+  if (s != ToothSurface::kMesial && s != ToothSurface::kDistal) return out;
+  // Toward the buccal, toward the contact, then the same from the lingual side
+  // (inside the proximal sector, within 45 degrees of the mesial or distal).
+  const std::vector<double> mesial = {28, 42, 325, 332, 318}, distal = {152, 138, 215, 208, 222};
+  for (double phi : s == ToothSurface::kMesial ? mesial : distal)
+    if (auto t = ToothTarget(scene, fdi, s, phi)) out.push_back(*t);
+  return out;
+}
 
 std::optional<UnitApproach> ApproachOf(const CompiledScene& scene, const InspectionUnit& unit, const std::vector<int>& teeth) {
   return unit.region.empty() ? ToothTarget(scene, unit.fdi, unit.surface) : RegionTarget(scene, unit.region, teeth);

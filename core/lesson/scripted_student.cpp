@@ -190,7 +190,8 @@ class StudentDevice final : public Device {
   // What the hand feels of a stroke: the force against its way down (the
   // floor), not the gingiva's and the tooth's sideways push.
   void Write(const Vector3& force_W, const Vector3&) noexcept override {
-    force_n_ = i_ < moves_.size() ? -force_W.dot(Down(moves_[i_])) : 0.0;
+    force_n_ = i_ < moves_.size() ? -force_W.dot(top_set_ ? down_ : Down(moves_[i_])) : 0.0;
+    force_W_ = force_W;
   }
   bool Read(double t_s, DeviceSample* out) noexcept override {
     const double dt = started_ ? t_s - last_t_ : 0;
@@ -204,16 +205,30 @@ class StudentDevice final : public Device {
         const double s = m.duration_s > 0 ? std::min(1.0, phase_t_ / m.duration_s) : 1.0;
         const Quaternion q = Quaternion(from_.rotation()).slerp(s, Quaternion(m.X_WH.rotation()));
         pose_ = RigidTransform(q, from_.translation() + s * (m.X_WH.translation() - from_.translation()));
-        if (s < 1.0) break;
+        if (s < 1.0 && !(m.stop_force_n > 0 && force_W_.norm() >= m.stop_force_n)) break;
         Next();
         break;
       }
       // A stroke: in at its speed until the force is felt, a rest at the bottom, back at 20 mm/s.
-      const Vector3 down = Down(m);
+      if (!top_set_) {
+        top_ = m.from_here ? pose_ : m.X_WH;
+        down_ = Down(m);
+        max_depth_ = m.max_depth_mm;
+        if (m.from_here && m.aim_W.squaredNorm() > 0) {
+          // Toward the spot it aims at, from wherever the hand stopped, and as far past it.
+          const Vector3 to = m.aim_W - top_.translation();
+          if (to.norm() > 1e-6) {
+            down_ = to.normalized();
+            max_depth_ = to.norm() + m.max_depth_mm;
+          }
+        }
+        top_set_ = true;
+      }
+      const Vector3 down = down_;
       if (phase_ == 0) {
         depth_ += m.speed_mm_s * dt;
-        if (force_n_ >= m.target_force_n || depth_ >= m.max_depth_mm) {
-          depth_ = std::min(depth_, m.max_depth_mm);
+        if (force_n_ >= m.target_force_n || depth_ >= max_depth_) {
+          depth_ = std::min(depth_, max_depth_);
           phase_ = 1;
           phase_t_ = 0;
         }
@@ -224,12 +239,12 @@ class StudentDevice final : public Device {
         depth_ -= 20.0 * dt;
         if (depth_ <= 0) {
           depth_ = 0;
-          pose_ = m.X_WH;
+          pose_ = top_;
           Next();
           break;
         }
       }
-      pose_ = RigidTransform(m.X_WH.rotation(), m.X_WH.translation() + depth_ * down);
+      pose_ = RigidTransform(top_.rotation(), top_.translation() + depth_ * down);
       break;
     }
     out->X_WH = pose_;
@@ -247,14 +262,19 @@ class StudentDevice final : public Device {
     phase_ = 0;
     phase_t_ = 0;
     depth_ = 0;
+    top_set_ = false;
   }
   std::vector<ScriptedStudent::Move> moves_;
   DeviceCaps caps_;
   std::size_t i_ = 0;
   int phase_ = 0;
   double phase_t_ = 0, depth_ = 0, last_t_ = 0, force_n_ = 0;
+  Vector3 force_W_ = Vector3::Zero();
   bool started_ = false;
-  RigidTransform pose_, from_;
+  bool top_set_ = false;
+  Vector3 down_ = Vector3::UnitZ();
+  double max_depth_ = 0;
+  RigidTransform pose_, from_, top_;
 };
 
 }  // namespace

@@ -57,6 +57,14 @@ class ScriptedStudent final : public ScriptedHand {
     double target_force_n = 0.22;   // a stroke stops going down at this force
     Vector3 direction_W = Vector3::Zero();  // a stroke's way in (zero: down the tool's axis)
     double speed_mm_s = 12, hold_s = 0.1;   // a stroke's speed in and how long it rests at the bottom
+    /// A move's: the hand stops it where it feels this much force (0: never),
+    /// as a hand coming down to a surface stops when it meets it.
+    double stop_force_n = 0;
+    /// A stroke's: from wherever the hand is (a move stopped short) rather than X_WH.
+    bool from_here = false;
+    /// With from_here: the stroke goes toward this point (zero: along
+    /// direction_W), max_depth_mm past it.
+    Vector3 aim_W = Vector3::Zero();
   };
   /// The sites whose entry this student gets wrong on purpose (misreading).
   const std::vector<SiteRef>& misread_sites() const { return misread_; }
