@@ -71,7 +71,6 @@ std::optional<Target> ToothTarget(const CompiledScene& scene, int fdi, ToothSurf
   // Up past the crown's bulge; on the buccal side no farther out than the
   // vestibule allows.
   t.axis = (occlusal + (s == ToothSurface::kBuccal ? 0.1 : 0.3) * t.n + 0.4 * kAnterior).normalized();
-  if (std::sin(phi) < 0 && s != ToothSurface::kLingual) t.axis = (occlusal + 0.3 * t.n + 0.4 * kAnterior).normalized();
   t.shank = -t.n;
   return t;
 }

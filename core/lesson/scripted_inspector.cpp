@@ -360,7 +360,6 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
     stroke.speed_mm_s = 25;
     stroke.hold_s = 0.3;
     if (t->region) {
-      stroke.from_here = true;
       stroke.aim_W = t->p;
       stroke.max_depth_mm = 1.0;
     }

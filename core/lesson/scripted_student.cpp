@@ -211,16 +211,14 @@ class StudentDevice final : public Device {
       }
       // A stroke: in at its speed until the force is felt, a rest at the bottom, back at 20 mm/s.
       if (!top_set_) {
-        top_ = m.from_here ? pose_ : m.X_WH;
+        const bool aimed = m.aim_W.squaredNorm() > 0;
+        top_ = aimed ? pose_ : m.X_WH;
         down_ = Down(m);
         max_depth_ = m.max_depth_mm;
-        if (m.from_here && m.aim_W.squaredNorm() > 0) {
-          // Toward the spot it aims at, from wherever the hand stopped, and as far past it.
-          const Vector3 to = m.aim_W - top_.translation();
-          if (to.norm() > 1e-6) {
-            down_ = to.normalized();
-            max_depth_ = to.norm() + m.max_depth_mm;
-          }
+        // Toward the spot it aims at, from wherever the hand stopped, and as far past it.
+        if (const Vector3 to = m.aim_W - top_.translation(); aimed && to.norm() > 1e-6) {
+          down_ = to.normalized();
+          max_depth_ = to.norm() + m.max_depth_mm;
         }
         top_set_ = true;
       }

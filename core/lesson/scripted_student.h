@@ -60,10 +60,9 @@ class ScriptedStudent final : public ScriptedHand {
     /// A move's: the hand stops it where it feels this much force (0: never),
     /// as a hand coming down to a surface stops when it meets it.
     double stop_force_n = 0;
-    /// A stroke's: from wherever the hand is (a move stopped short) rather than X_WH.
-    bool from_here = false;
-    /// With from_here: the stroke goes toward this point (zero: along
-    /// direction_W), max_depth_mm past it.
+    /// A stroke's, when not zero: it starts wherever the hand is (a move
+    /// stopped short) rather than at X_WH, and goes toward this point,
+    /// max_depth_mm past it.
     Vector3 aim_W = Vector3::Zero();
   };
   /// The sites whose entry this student gets wrong on purpose (misreading).

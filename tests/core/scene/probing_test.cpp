@@ -603,12 +603,6 @@ TEST(Probing, ACalculusDepositIsAnnouncedOnlyWhenTheSceneNamesIt) {
   EXPECT_TRUE(none.empty());
 }
 
-}  // namespace
-}  // namespace sulcus
-
-namespace sulcus {
-namespace {
-
 // Tissue damage is counted once per press: the probe rests on the tongue's
 // dorsum about its 0.5 N limit, the force rippling across the limit again and
 // again, then lifts off and presses once more. Two presses, two damage events;
