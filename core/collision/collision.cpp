@@ -19,6 +19,7 @@ CollisionWorld::CollisionWorld(const SphereTree& tool, const std::vector<Object>
   orad_.reserve(total);
   ofirst_.reserve(total);
   ocount_.reserve(total);
+  planes_.reserve(total * kPlaneStride);
   for (const Object& o : objects_) {
     const SphereTree& t = *o.tree;
     for (std::size_t n = 0; n < t.size(); ++n) {
@@ -29,11 +30,117 @@ CollisionWorld::CollisionWorld(const SphereTree& tool, const std::vector<Object>
       orad_.push_back(t.r[n]);
       ofirst_.push_back(t.first_child[n]);
       ocount_.push_back(t.child_count[n]);
+      for (int j = 0; j < LeafPlanes::kMaxPlanes; ++j) {
+        const bool used = o.planes != nullptr && n < o.planes->d.size() && o.planes->d[n][j] < LeafPlanes::kNone;
+        const Vector3 pn = used ? Vector3(o.X_WO.rotation() * o.planes->n[n][j]) : Vector3::Zero();
+        planes_.insert(planes_.end(), {pn.x(), pn.y(), pn.z(),
+                                       used ? o.planes->d[n][j] + pn.dot(o.X_WO.translation()) : LeafPlanes::kNone});
+      }
     }
   }
   for (std::size_t n = 0; n < tool.size(); ++n) {
     if (tool.IsLeaf(n)) tool_reach_ = std::max(tool_reach_, tool.center(n).norm() + tool.r[n]);
   }
+}
+
+double CollisionWorld::PolyhedronDistance(const double* pl, const Vector3& q, Vector3* dir) {
+  constexpr int K = LeafPlanes::kMaxPlanes;
+  Vector3 n[K];
+  double d[K], s[K];
+  int m = 0;
+  for (; m < K && pl[4 * m + 3] < LeafPlanes::kNone; ++m) {
+    n[m] = Vector3(pl[4 * m], pl[4 * m + 1], pl[4 * m + 2]);
+    d[m] = pl[4 * m + 3];
+    s[m] = n[m].dot(q) - d[m];
+  }
+  int top = 0;
+  for (int j = 1; j < m; ++j)
+    if (s[j] > s[top]) top = j;
+  // Inside every half space: the depth below the nearest face.
+  if (s[top] <= 0) {
+    *dir = n[top];
+    return s[top];
+  }
+  constexpr double kSlack = 1e-9;
+  auto feasible = [&](const Vector3& p) {
+    for (int j = 0; j < m; ++j)
+      if (n[j].dot(p) - d[j] > kSlack) return false;
+    return true;
+  };
+  // The face furthest out: its foot, when inside the others, is the nearest
+  // point (no point of the polyhedron is nearer than that face's distance).
+  if (feasible(q - s[top] * n[top])) {
+    *dir = n[top];
+    return s[top];
+  }
+  // Else an edge where two faces meet, or the corner of three: the nearest
+  // feasible foot.
+  double best = -1;
+  Vector3 best_foot = q;
+  for (int a = 0; a < m; ++a) {
+    for (int b = a + 1; b < m; ++b) {
+      // q - x n_a - y n_b on both planes: [1 c; c 1] [x; y] = [s_a; s_b].
+      const double c = n[a].dot(n[b]), det = 1 - c * c;
+      if (det < 1e-9) continue;
+      const double x = (s[a] - c * s[b]) / det, y = (s[b] - c * s[a]) / det;
+      const Vector3 foot = q - x * n[a] - y * n[b];
+      const double dist = (q - foot).norm();
+      if ((best < 0 || dist < best) && feasible(foot)) best = dist, best_foot = foot;
+    }
+  }
+  if (m == 3) {
+    Matrix3 N;
+    N.row(0) = n[0].transpose();
+    N.row(1) = n[1].transpose();
+    N.row(2) = n[2].transpose();
+    if (std::abs(N.determinant()) > 1e-9) {
+      const Vector3 corner = N.inverse() * Vector3(d[0], d[1], d[2]);
+      const double dist = (q - corner).norm();
+      if (best < 0 || dist < best) best = dist, best_foot = corner;
+    }
+  }
+  if (best <= 1e-12) {
+    // Numerically on an edge (or no foot found): the face furthest out, a lower bound.
+    *dir = n[top];
+    return s[top];
+  }
+  *dir = (q - best_foot) / best;
+  return best;
+}
+
+double CollisionWorld::BallHalfSpaceDistance(const Vector3& c, double R, const double* pl, const Vector3& q,
+                                             Vector3* dir) {
+  const Vector3 n(pl[0], pl[1], pl[2]);
+  const double s = n.dot(q) - pl[3];
+  const Vector3 away = q - c;
+  const double dist = away.norm();
+  const Vector3 radial = dist > 1e-12 ? Vector3(away / dist) : Vector3::Zero();
+  if (dist <= R && s <= 0) {
+    // Inside both: the shallower way out.
+    if (dist - R > s) {
+      *dir = radial;
+      return dist - R;
+    }
+    *dir = n;
+    return s;
+  }
+  // Outside the ball with its nearest point below the plane: that point.
+  if (dist > R && n.dot(c + R * radial) - pl[3] <= 0) {
+    *dir = radial;
+    return dist - R;
+  }
+  // Else the nearest point of the disc the plane cuts from the ball.
+  const double h = n.dot(c) - pl[3];
+  const double a = std::sqrt(std::max(0.0, R * R - h * h));
+  const Vector3 centre = c - h * n;
+  const Vector3 foot = q - s * n;
+  const Vector3 out = foot - centre;
+  const double o = out.norm();
+  const Vector3 nearest = o <= a || o < 1e-12 ? foot : Vector3(centre + (a / o) * out);
+  const Vector3 to_q = q - nearest;
+  const double len = to_q.norm();
+  *dir = len > 1e-12 ? Vector3(to_q / len) : n;
+  return len;
 }
 
 CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X_WT, double margin,
@@ -51,6 +158,8 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
   const double* oy = world.oy_.data();
   const double* oz = world.oz_.data();
   const double* orad = world.orad_.data();
+  const double* planes = world.planes_.data();
+  constexpr int kStride = CollisionWorld::kPlaneStride;
   double d2[256];  // a node has at most 255 children
 
   // Tests `count` spheres (contiguous in x, y, z, r from `first`) against the
@@ -76,14 +185,21 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
     const double* by = oy + base;
     const double* bz = oz + base;
     const double* br = orad + base;
+    const double* bplanes = planes + base * kStride;
     const std::int32_t* ofirst = world.ofirst_.data() + base;
     const std::uint8_t* ocount = world.ocount_.data() + base;
     int top = 0;
     // A pair that overlaps: emitted when both are leaves, else pushed to be split.
     auto hit = [&](std::int32_t a, std::int32_t b, double dist2) {
       if (tool.child_count[a] == 0 && ocount[b] == 0) {
+        double gap = std::sqrt(dist2) - tr[a] - br[b];
+        if (bplanes[static_cast<std::size_t>(b) * kStride + 3] < LeafPlanes::kNone) {
+          // A clipped leaf: its gap as LeafGap gives it; a pair only within the margin.
+          gap = world.LeafGap(obj, b, R * Vector3(tx[a], ty[a], tz[a]) + p, tr[a]);
+          if (!(gap < margin)) return;
+        }
         if (stats.pairs < capacity) {
-          out[stats.pairs++] = {obj, b, a, std::sqrt(dist2) - tr[a] - br[b]};
+          out[stats.pairs++] = {obj, b, a, gap};
         } else {
           stats.overflow = true;
           if (limits.stop_when_full) stats.cut_short = true;
@@ -138,7 +254,8 @@ std::vector<ContactPair> FindContactsReference(const CollisionWorld& world, cons
       const double gap = (ca - cb).norm() - tool.r[a] - ot.r[b];
       if (!(gap < margin)) return;
       if (tool.IsLeaf(a) && ot.IsLeaf(b)) {
-        out.push_back({obj, b, a, gap});
+        const double leaf_gap = world.LeafGap(obj, b, ca, tool.r[a]);
+        if (leaf_gap < margin) out.push_back({obj, b, a, leaf_gap});
         return;
       }
       if (tool.IsLeaf(a)) {

@@ -13,13 +13,15 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/collision/leaf_planes.h"
 #include "core/geometry/transform.h"
 #include "core/spheretree/sphere_tree.h"
 
 namespace sulcus {
 
 /// One leaf pair. gap = |c_T - c_O| - r_T - r_O at the query pose (negative when
-/// the spheres overlap).
+/// the spheres overlap), or, when the object's leaf is clipped by planes, as
+/// CollisionWorld::LeafGap gives it.
 struct ContactPair {
   std::int32_t object = 0;       // index of the object in the world
   std::int32_t object_leaf = 0;  // node index in that object's tree
@@ -48,6 +50,7 @@ class CollisionWorld {
   struct Object {
     const SphereTree* tree;  // not owned; must outlive the world
     RigidTransform X_WO;
+    const LeafPlanes* planes = nullptr;  // the leaves' clipping planes (none: spheres); copied
   };
   /// Precondition: every tree is valid (SphereTree::Validate). Up to 65,535
   /// objects and 2^24 nodes per tree.
@@ -62,10 +65,54 @@ class CollisionWorld {
     return {ox_[k], oy_[k], oz_[k]};
   }
   double ObjectRadius(int i, std::int32_t n) const { return orad_[offset_[i] + n]; }
+  /// Gap of a tool sphere (centre c_W, radius r) to object i's leaf n. For a
+  /// plain leaf, the sphere gap. For a leaf clipped by planes (leaf_planes.h),
+  /// the larger of two lower bounds of the distance to the clipped leaf, less
+  /// r: the exact distance to the polyhedron of its planes (to a face, to an
+  /// edge where two meet, to the corner of three; inside, minus the depth below
+  /// the nearest face), and for each plane the exact distance to the part of the
+  /// sphere below it (to the sphere, or to the rim of the disc the plane cuts).
+  /// `normal`, when given, receives the unit direction in which that gap grows
+  /// for the tool sphere (zero when the centres coincide).
+  ///
+  /// Why both: the polyhedron alone reaches beyond the leaf; the sphere pieces
+  /// alone bulge at an edge (a tapered tool pushed between two walls would stop
+  /// on the bulges, as on plain spheres). Why the rim and not the sphere gap:
+  /// a tool sliding on the face toward the leaf meets the sphere's cap (cut away
+  /// by the plane) before the rim, and a constraint on the cap would hold it
+  /// back at every leaf.
+  double LeafGap(int i, std::int32_t n, const Vector3& c_W, double r, Vector3* normal = nullptr) const {
+    const std::size_t k = offset_[i] + n;
+    const Vector3 c(ox_[k], oy_[k], oz_[k]);
+    const double* pl = &planes_[k * kPlaneStride];
+    if (pl[3] >= LeafPlanes::kNone) {
+      const Vector3 away = c_W - c;
+      const double dist = away.norm();
+      if (normal) *normal = dist > 1e-12 ? Vector3(away / dist) : Vector3::Zero();
+      return dist - r - orad_[k];
+    }
+    Vector3 dir;
+    double gap = PolyhedronDistance(pl, c_W, &dir);
+    for (int j = 0; j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone; ++j) {
+      Vector3 d;
+      const double g = BallHalfSpaceDistance(c, orad_[k], &pl[4 * j], c_W, &d);
+      if (g > gap) gap = g, dir = d;
+    }
+    if (normal) *normal = dir;
+    return gap - r;
+  }
+  /// Whether object i's leaf n is clipped by a plane.
+  bool LeafClipped(int i, std::int32_t n) const { return planes_[(offset_[i] + n) * kPlaneStride + 3] < LeafPlanes::kNone; }
   /// Largest distance from the tool origin to a point of a tool leaf sphere.
   double tool_reach() const { return tool_reach_; }
 
  private:
+  // Signed distance from q to {x : n_j . x <= d_j} for a leaf's used planes
+  // (kPlaneStride doubles at pl), and the unit direction in which it grows.
+  static double PolyhedronDistance(const double* pl, const Vector3& q, Vector3* dir);
+  // Signed distance from q to the ball (c, R) cut by the plane (nx, ny, nz, d)
+  // at pl, and the unit direction in which it grows (zero when undefined).
+  static double BallHalfSpaceDistance(const Vector3& c, double R, const double* pl, const Vector3& q, Vector3* dir);
   friend CollisionStats FindContacts(const CollisionWorld&, const RigidTransform&, double,
                                      CollisionScratch*, ContactPair*, int, const QueryLimits&) noexcept;
   const SphereTree* tool_;
@@ -73,6 +120,10 @@ class CollisionWorld {
   // All object nodes in W, flat (structure of arrays); object i starts at offset_[i].
   std::vector<std::size_t> offset_;
   std::vector<double> ox_, oy_, oz_, orad_;
+  // Leaf clipping planes in W, kPlaneStride per node: (nx, ny, nz, d) for each
+  // of kMaxPlanes, the used ones first (n zero, d kNone: none).
+  static constexpr int kPlaneStride = 4 * LeafPlanes::kMaxPlanes;
+  std::vector<double> planes_;
   std::vector<std::int32_t> ofirst_;
   std::vector<std::uint8_t> ocount_;
   double tool_reach_ = 0;

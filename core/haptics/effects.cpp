@@ -36,10 +36,9 @@ class GingivaCompliance final : public LoopEffect {
       const ContactPair& c = pairs_[i];
       const double depth = -c.gap;
       if (depth <= 0) continue;
-      const Vector3 d = data.X_WG * tool.center(c.tool_leaf) - w.ObjectCenter(c.object, c.object_leaf);
-      const double len = d.norm();
-      if (!(len > 0)) continue;  // coincident centres: no direction to push
-      const Vector3 n = d / len;
+      Vector3 n;
+      w.LeafGap(c.object, c.object_leaf, data.X_WG * tool.center(c.tool_leaf), tool.r[c.tool_leaf], &n);
+      if (n.squaredNorm() == 0) continue;  // coincident centres: no direction to push
       const double k = m_.soft_leaf_stiffness[c.object][c.object_leaf];
       dir += depth * k * n;
       if (k * depth > force) {

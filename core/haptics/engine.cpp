@@ -24,9 +24,7 @@ RigidTransform Orthonormalised(const RigidTransform& X) {
 // Exact gap of a pair with the tool at X_WT.
 double Gap(const CollisionWorld& world, const RigidTransform& X_WT, const ContactPair& c) {
   const SphereTree& tool = world.tool();
-  const Vector3 cT = X_WT * tool.center(c.tool_leaf);
-  return (cT - world.ObjectCenter(c.object, c.object_leaf)).norm() - tool.r[c.tool_leaf] -
-         world.ObjectRadius(c.object, c.object_leaf);
+  return world.LeafGap(c.object, c.object_leaf, X_WT * tool.center(c.tool_leaf), tool.r[c.tool_leaf]);
 }
 
 // A solve whose pose can be used: optimal, or the least violation of an
@@ -161,11 +159,11 @@ void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH, const Q
   double mu = 0, weight = 0;
   for (int i = 0; i < d->num_pairs && nearest < kNear; ++i) {
     const ContactPair& c = d->pairs[i];
-    const Vector3 away = X_last * tool.center(c.tool_leaf) - model.world.ObjectCenter(c.object, c.object_leaf);
-    const double dist = away.norm();
-    if (dist < 1e-12 || dist - tool.r[c.tool_leaf] - model.world.ObjectRadius(c.object, c.object_leaf) > nearest + kTouching)
-      continue;
-    n += away / dist;
+    Vector3 away;
+    const double gap =
+        model.world.LeafGap(c.object, c.object_leaf, X_last * tool.center(c.tool_leaf), tool.r[c.tool_leaf], &away);
+    if (away.squaredNorm() == 0 || gap > nearest + kTouching) continue;
+    n += away;
     mu += model.friction[c.object];
     weight += 1;
   }
@@ -347,20 +345,19 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     const int m = d->num_pairs;
     for (int pass = 0; pass < std::max(1, p.max_linearizations); ++pass) {
       const auto t_build = Clock::now();
-      // Constraint i: n^T dp + ((c_T - p) x n)^T dtheta >= -(|c_T - c_O| - r_T - r_O),
-      // the distance form linearised at X (docs/architecture.md step 3).
+      // Constraint i: n^T dp + ((c_T - p) x n)^T dtheta >= -gap, the distance
+      // form linearised at X (docs/architecture.md step 3); n is the direction
+      // from the object sphere's centre, or a clipped leaf's plane normal when
+      // the plane decides the gap.
       for (int i = 0; i < m; ++i) {
         const ContactPair& c = d->pairs[i];
         const Vector3 cT = X * tool.center(c.tool_leaf);
-        const Vector3 cO = world.ObjectCenter(c.object, c.object_leaf);
-        Vector3 n = cT - cO;
-        const double dist = n.norm();
-        if (dist > 1e-9) {
-          n /= dist;
-        } else {
+        Vector3 n;
+        const double gap = world.LeafGap(c.object, c.object_leaf, cT, tool.r[c.tool_leaf], &n);
+        if (n.squaredNorm() == 0) {
           // Coincident centres: no direction is defined; push along the line from
           // the object sphere to the tool origin (or +z when that too is degenerate).
-          n = X.translation() - cO;
+          n = X.translation() - world.ObjectCenter(c.object, c.object_leaf);
           n = n.norm() > 1e-9 ? Vector3(n.normalized()) : Vector3::UnitZ();
         }
         const Vector3 lever = cT - X.translation();
@@ -368,7 +365,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
         Eigen::Map<Vector3> normal_part(row), moment_part(row + 3);
         normal_part = n;
         moment_part = lever.cross(n);
-        d->b[i] = -(dist - tool.r[c.tool_leaf] - world.ObjectRadius(c.object, c.object_leaf));
+        d->b[i] = -gap;
       }
       const Vector6 target = X.DifferenceTo(X_target);
       const auto t_solve = Clock::now();

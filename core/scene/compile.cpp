@@ -310,6 +310,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   // Trees: one worker per core, jobs handed out in order; progress from the
   // workers is serialised, and a cancel or an error stops them all.
   scene->trees.resize(n);
+  scene->planes.resize(n);
   scene->tool_mesh = MakeProbe(spec.probe).collision_mesh;
   // Job 0 is the tool's tree, then the objects in order (the soft, quick ones
   // last), so that no core is left alone with a long job at the end. done[j]
@@ -338,6 +339,8 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
           // The partitioned list's own settings: spec.objects is in the file's order.
           scene->trees[job - 1] = LoadOrBuildSphereTree(scene->meshes[job - 1], scene->spec.objects[job - 1].trees,
                                                          cache_dir, inner);
+          if (scene->spec.leaf_planes)
+            scene->planes[job - 1] = FitLeafPlanes(scene->meshes[job - 1], scene->trees[job - 1]);
           inner(scene->spec.objects[job - 1].name, 1.0);
         }
       } catch (...) {
@@ -358,7 +361,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   int soft_first = n;
   while (soft_first > 0 && soft(objs[soft_first - 1])) --soft_first;
   std::vector<CollisionWorld::Object> hard, soft_objects;
-  for (int i = 0; i < n; ++i) (i < soft_first ? hard : soft_objects).push_back({&scene->trees[i], objs[i].X_WO});
+  for (int i = 0; i < n; ++i) (i < soft_first ? hard : soft_objects).push_back({&scene->trees[i], objs[i].X_WO, &scene->planes[i]});
   scene->model = std::make_unique<EngineModel>(scene->tool_tree, hard, spec.haptics);
   // Friction on the hard objects (soft gingiva is springs, not constraints).
   if (spec.HasEffect(Effect::kFriction))

@@ -112,6 +112,9 @@ struct SceneSpec {
   RigidTransform X_TG;  // grip frame in the tool frame
   EngineParams haptics;
   double rate_hz = 1000;
+  // The surface the tool feels: leaf spheres clipped by planes fitted to the
+  // mesh (true), or the leaf spheres alone (`haptics: {surface: spheres}`).
+  bool leaf_planes = true;
   std::vector<Effect> effects = {Effect::kContact};
   bool HasEffect(Effect e) const { return std::find(effects.begin(), effects.end(), e) != effects.end(); }
   SphereTreeParams trees;  // the scene's `spheretree`: every object's unless it names its own
@@ -160,6 +163,7 @@ struct CompiledScene {
   SceneSpec spec;
   std::vector<TriangleMesh> meshes;       // per object, in the object frame
   std::vector<SphereTree> trees;          // per object
+  std::vector<LeafPlanes> planes;         // per object: its leaves' clipping planes (empty: spheres)
   TriangleMesh tool_mesh;  // the probe's collision part (anatomy/probe.h), tip frame
   SphereTree tool_tree;
   std::unique_ptr<EngineModel> model;  // the hard objects: spec.objects[0 .. effects.soft_first)

@@ -284,10 +284,12 @@ namespace {
 // the working end wedges between the walls' top edges. Its taper is shallow
 // (0.019 mm of radius per mm), so every 0.01 mm the spheres stand out of the
 // walls or the probe lifts the wedge by 0.5 mm: a fit error e costs e / taper
-// of depth. Measured: with the default 512-leaf walls the tip stops 4.9 mm
-// short of where the exact meshes let it go; with the walls fitted to 0.05 mm
-// (6 levels) it goes down to within what the measured protrusions of walls and
-// probe allow, and never below the true limit.
+// of depth. Measured: felt as plain spheres (`surface: spheres`), the default
+// 512-leaf walls stop the tip 4.9 mm short of where the exact meshes let it go;
+// walls fitted to 0.05 mm (6 levels) let it down to within what the measured
+// protrusions of walls and probe allow. Felt as the default clipped leaves, the
+// walls' faces and top edges are their true planes: the same 512-leaf walls let
+// it down to within the probe's own protrusion. Never below the true limit.
 TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
   SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard/narrow_slot.yaml");
   auto depth_reached = [&](const CompiledScene& scene) {
@@ -297,6 +299,7 @@ TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
     EXPECT_EQ(d.faults.total(), 0u);
     return d.X_WG.translation().z();
   };
+  spec.leaf_planes = false;
   const auto coarse = CompileScene(spec, Cache());
   // The true limit: the lowest tip height at which the probe's exact mesh meets
   // neither wall (bisection on exact triangle intersection).
@@ -330,6 +333,9 @@ TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
     o.trees.target_error_mm = 0.05;
   }
   const double fitted = depth_reached(*CompileScene(spec, Cache()));  // built here, then from the cache
+  SceneSpec clipped_spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard/narrow_slot.yaml");
+  ASSERT_TRUE(clipped_spec.leaf_planes) << "the default";
+  const double clipped = depth_reached(*CompileScene(clipped_spec, Cache()));
   // What the fits allow: the worst protrusion of the fitted walls and of the
   // probe, over the working end's taper.
   const auto fine = CompileScene(spec, Cache());
@@ -345,9 +351,13 @@ TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
   const ProbeModel probe = MakeProbe(spec.probe);
   const double taper = (0.5 - probe.tip_radius_mm) / probe.working_length_mm;
   const double allowed = (wall_err + tool_err) / taper;
-  std::printf("narrow slot: the exact meshes let the tip down to z = %.2f mm; 512-leaf walls stop it at %.2f; "
-              "walls fitted to 0.05 mm (worst %.3f mm, probe %.3f mm: %.2f mm of depth) at %.2f\n",
-              truth, with_512, wall_err, tool_err, allowed, fitted);
+  std::printf("narrow slot: the exact meshes let the tip down to z = %.2f mm; 512-leaf walls as spheres stop it at "
+              "%.2f; walls fitted to 0.05 mm (worst %.3f mm, probe %.3f mm: %.2f mm of depth) at %.2f; 512-leaf "
+              "walls as clipped leaves (the default) at %.2f (the probe's own protrusion: %.2f mm of depth)\n",
+              truth, with_512, wall_err, tool_err, allowed, fitted, clipped, tool_err / taper);
+  EXPECT_LT(clipped, with_512 - 3.0) << "clipped leaves open the slot at the default fit";
+  EXPECT_LT(clipped, truth + tool_err / taper + 0.05) << "as far down as the probe's own tree allows";
+  EXPECT_GT(clipped, truth - 0.01) << "and never below the true limit";
   EXPECT_GT(with_512, truth + 3.0) << "the default fit closes the slot";
   EXPECT_LT(fitted, with_512 - 2.0) << "the fine fit opens it";
   EXPECT_LE(wall_err, 0.05 + 1e-6) << "the fit asked for";

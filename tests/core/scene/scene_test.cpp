@@ -56,7 +56,10 @@ TEST(SceneFile, UnknownKeysSuggestTheNearestOne) {
             (Lines{"3:5: unknown key 'pocket_mm' in an object; did you mean 'pockets_mm'?"}));
   EXPECT_EQ(Errors("haptics:\n  wobble: 3\nobjects: []\n"),
             (Lines{"2:3: unknown key 'wobble' in 'haptics' (expected one of: k_t_n_per_mm, k_r_nmm_per_rad, "
-                   "max_force_n, max_torque_nmm, rate_hz)"}));
+                   "max_force_n, max_torque_nmm, rate_hz, surface)"}));
+  EXPECT_EQ(Errors("haptics:\n  surface: smooth\nobjects: []\n"),
+            (Lines{"2:12: 'surface' must be 'planes' (leaf spheres clipped by planes fitted to the mesh, the default) "
+                   "or 'spheres' (the leaf spheres alone)"}));
 }
 
 TEST(SceneFile, WrongTypesAndRanges) {
