@@ -44,7 +44,7 @@ struct LeafPlaneParams {
   /// plane; a leaf whose faces need more than kMaxPlanes such groups gets the
   /// kMaxPlanes largest (any normal gives a conservative plane; these are the
   /// tight ones).
-  double group_angle_deg = 25.0;
+  double group_angle_deg = 60.0;
 };
 
 /// Fits each leaf's planes to the mesh's faces inside its sphere: the faces are
