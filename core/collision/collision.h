@@ -91,6 +91,25 @@ class CollisionWorld {
       if (normal) *normal = dist > 1e-12 ? Vector3(away / dist) : Vector3::Zero();
       return dist - r - orad_[k];
     }
+    // The common case, a tool over a face: the foot on the face furthest out is
+    // inside the sphere and under the other planes, so it is the nearest point.
+    int top = 0;
+    double s_top = -LeafPlanes::kNone;
+    for (int j = 0; j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone; ++j) {
+      const double s = pl[4 * j] * c_W.x() + pl[4 * j + 1] * c_W.y() + pl[4 * j + 2] * c_W.z() - pl[4 * j + 3];
+      if (s > s_top) s_top = s, top = j;
+    }
+    if (s_top > 0) {
+      const Vector3 nt(pl[4 * top], pl[4 * top + 1], pl[4 * top + 2]);
+      const Vector3 foot = c_W - s_top * nt;
+      bool nearest = (foot - c).squaredNorm() <= orad_[k] * orad_[k];
+      for (int j = 0; nearest && j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone; ++j)
+        nearest = j == top || pl[4 * j] * foot.x() + pl[4 * j + 1] * foot.y() + pl[4 * j + 2] * foot.z() - pl[4 * j + 3] <= 1e-9;
+      if (nearest) {
+        if (normal) *normal = nt;
+        return s_top - r;
+      }
+    }
     Vector3 dir;
     double gap = PolyhedronDistance(pl, c_W, &dir);
     for (int j = 0; j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone; ++j) {
