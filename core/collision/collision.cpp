@@ -194,8 +194,8 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
       if (tool.child_count[a] == 0 && ocount[b] == 0) {
         double gap = std::sqrt(dist2) - tr[a] - br[b];
         if (bplanes[static_cast<std::size_t>(b) * kStride + 3] < LeafPlanes::kNone) {
-          // A clipped leaf: its gap as LeafGap gives it; a pair only within the margin.
-          gap = world.LeafGap(obj, b, R * Vector3(tx[a], ty[a], tz[a]) + p, tr[a]);
+          // A clipped leaf: its gap as LeafGapNear gives it; a pair only within the margin.
+          gap = world.LeafGapNear(obj, b, R * Vector3(tx[a], ty[a], tz[a]) + p, tr[a], CollisionWorld::kPlanesWithinMm);
           if (!(gap < margin)) return;
         }
         if (stats.pairs < capacity) {
@@ -254,7 +254,7 @@ std::vector<ContactPair> FindContactsReference(const CollisionWorld& world, cons
       const double gap = (ca - cb).norm() - tool.r[a] - ot.r[b];
       if (!(gap < margin)) return;
       if (tool.IsLeaf(a) && ot.IsLeaf(b)) {
-        const double leaf_gap = world.LeafGap(obj, b, ca, tool.r[a]);
+        const double leaf_gap = world.LeafGapNear(obj, b, ca, tool.r[a], CollisionWorld::kPlanesWithinMm);
         if (leaf_gap < margin) out.push_back({obj, b, a, leaf_gap});
         return;
       }

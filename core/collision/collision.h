@@ -21,7 +21,7 @@ namespace sulcus {
 
 /// One leaf pair. gap = |c_T - c_O| - r_T - r_O at the query pose (negative when
 /// the spheres overlap), or, when the object's leaf is clipped by planes, as
-/// CollisionWorld::LeafGap gives it.
+/// CollisionWorld::LeafGapNear gives it with kPlanesWithinMm.
 struct ContactPair {
   std::int32_t object = 0;       // index of the object in the world
   std::int32_t object_leaf = 0;  // node index in that object's tree
@@ -119,6 +119,22 @@ class CollisionWorld {
     }
     if (normal) *normal = dir;
     return gap - r;
+  }
+  /// LeafGap where the sphere gap is below `near`, else the sphere gap: the
+  /// same penetration (a pair with a sphere gap of at least `near` > 0 does not
+  /// penetrate either way), never above LeafGap, and a pair far from the tool
+  /// costs one distance. A pair's gap (ContactPair::gap, and the engine's) is
+  /// this with kPlanesWithinMm: touching pairs are measured on the leaf's
+  /// planes, and a fast move's wide margin costs one distance per far pair.
+  static constexpr double kPlanesWithinMm = 0.1;
+  double LeafGapNear(int i, std::int32_t n, const Vector3& c_W, double r, double near, Vector3* normal = nullptr) const {
+    const std::size_t k = offset_[i] + n;
+    const Vector3 away(c_W.x() - ox_[k], c_W.y() - oy_[k], c_W.z() - oz_[k]);
+    const double dist = away.norm();
+    const double sphere = dist - r - orad_[k];
+    if (sphere < near && planes_[k * kPlaneStride + 3] < LeafPlanes::kNone) return LeafGap(i, n, c_W, r, normal);
+    if (normal) *normal = dist > 1e-12 ? Vector3(away / dist) : Vector3::Zero();
+    return sphere;
   }
   /// Whether object i's leaf n is clipped by a plane.
   bool LeafClipped(int i, std::int32_t n) const { return planes_[(offset_[i] + n) * kPlaneStride + 3] < LeafPlanes::kNone; }

@@ -21,10 +21,13 @@ RigidTransform Orthonormalised(const RigidTransform& X) {
   return RigidTransform(Quaternion(X.rotation()).normalized().toRotationMatrix(), X.translation());
 }
 
-// Exact gap of a pair with the tool at X_WT.
+constexpr double kPlanesWithinMm = CollisionWorld::kPlanesWithinMm;
+
+// Exact gap of a pair with the tool at X_WT (as the query measures it).
 double Gap(const CollisionWorld& world, const RigidTransform& X_WT, const ContactPair& c) {
   const SphereTree& tool = world.tool();
-  return world.LeafGap(c.object, c.object_leaf, X_WT * tool.center(c.tool_leaf), tool.r[c.tool_leaf]);
+  return world.LeafGapNear(c.object, c.object_leaf, X_WT * tool.center(c.tool_leaf), tool.r[c.tool_leaf],
+                           kPlanesWithinMm);
 }
 
 // A solve whose pose can be used: optimal, or the least violation of an
@@ -353,7 +356,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
         const ContactPair& c = d->pairs[i];
         const Vector3 cT = X * tool.center(c.tool_leaf);
         Vector3 n;
-        const double gap = world.LeafGap(c.object, c.object_leaf, cT, tool.r[c.tool_leaf], &n);
+        const double gap = world.LeafGapNear(c.object, c.object_leaf, cT, tool.r[c.tool_leaf], kPlanesWithinMm, &n);
         if (n.squaredNorm() == 0) {
           // Coincident centres: no direction is defined; push along the line from
           // the object sphere to the tool origin (or +z when that too is degenerate).
@@ -385,7 +388,12 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       for (int i = 0; i < sol->num_active; ++i) slack = std::max(slack, Gap(world, X, d->pairs[sol->active[i]]));
       d->max_penetration_mm = worst;
       if (sol->status == QpStatus::kInfeasibleRelaxed) break;
-      if (worst <= p.penetration_tolerance_mm && slack <= p.penetration_tolerance_mm) break;
+      // A tool that stopped short of a long move by a hundredth of it (a tool
+      // sliding fast round a curved or edged surface) is not held back for that:
+      // another linearisation would cost more than the hand can feel.
+      const double slack_allowed =
+          std::max(p.penetration_tolerance_mm, 0.01 * MoveBound(d->X_WG.DifferenceTo(X), reach));
+      if (worst <= p.penetration_tolerance_mm && slack <= slack_allowed) break;
       // Re-linearise from the new pose, keeping this pass's active set as the guess.
       num_warm = 0;
       for (int i = 0; i < sol->num_active; ++i) d->warm_rows[num_warm++] = sol->active[i];
