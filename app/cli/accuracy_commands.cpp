@@ -190,7 +190,7 @@ void Plot(const fs::path& dir) {
       << " '' skip 1 using 1:($4*10) with linespoints lw 2 title 'mean linearisations x 10'\n"
       << "unset logscale\nset logscale x 2\nset format x '%g'\nset y2tics\n"
       << "set output '" << (dir / "ripple.png").string() << "'\n"
-      << "set title 'Sliding on a flat plate: what the hand feels of the sphere bumps'\n"
+      << "set title 'Sliding on a flat plate: what the hand feels of the sphere bumps'\nset key right center\n"
       << "set xlabel 'leaf spheres of the plate'\nset ylabel 'normal force ripple, % (peak to peak / mean)'\n"
       << "set y2label 'rendered tool height ripple (mm)'\nset logscale y\nset logscale y2\n"
       << "plot '" << (dir / "ripple.csv").string() << "' skip 1 using 1:2 with linespoints lw 2 title 'force ripple %, spheres',"

@@ -23,3 +23,16 @@ set xlabel 'penetration tolerance (mm)'
 set ylabel 'us per frame / linearisations x 10'
 set logscale y
 plot 'docs/accuracy-cost/tolerance.csv' skip 1 using 1:2 with linespoints lw 2 title 'frame p50 (us)', '' skip 1 using 1:3 with linespoints lw 2 title 'frame p99 (us)', '' skip 1 using 1:($4*10) with linespoints lw 2 title 'mean linearisations x 10'
+unset logscale
+set logscale x 2
+set format x '%g'
+set y2tics
+set output 'docs/accuracy-cost/ripple.png'
+set title 'Sliding on a flat plate: what the hand feels of the sphere bumps'
+set key right center
+set xlabel 'leaf spheres of the plate'
+set ylabel 'normal force ripple, % (peak to peak / mean)'
+set y2label 'rendered tool height ripple (mm)'
+set logscale y
+set logscale y2
+plot 'docs/accuracy-cost/ripple.csv' skip 1 using 1:2 with linespoints lw 2 title 'force ripple %, spheres', '' skip 1 using 1:($11 > 0.01 ? $11 : 0.01) with linespoints lw 2 title 'force ripple %, clipped leaves (0.01 = none)', 7 with lines dt 2 lw 1 title 'Weber fraction for force (7 %)', '' skip 1 using 1:3 axes x1y2 with linespoints dt 3 lw 2 title 'height ripple (mm), spheres', '' skip 1 using 1:($12 > 1e-5 ? $12 : 1e-5) axes x1y2 with linespoints dt 3 lw 2 title 'height ripple (mm), clipped leaves'
