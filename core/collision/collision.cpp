@@ -43,7 +43,25 @@ CollisionWorld::CollisionWorld(const SphereTree& tool, const std::vector<Object>
   }
 }
 
-double CollisionWorld::PolyhedronDistance(const double* pl, const Vector3& q, Vector3* dir) {
+double CollisionWorld::ClippedGap(std::size_t k, const Vector3& c_W, double r, Vector3* normal) const {
+  const Vector3 c(ox_[k], oy_[k], oz_[k]);
+  const double* pl = &planes_[k * kPlaneStride];
+  Vector3 dir, nearest;
+  double gap = PolyhedronDistance(pl, c_W, &dir, &nearest);
+  // Outside, with the polyhedron's nearest point in the sphere: that is the
+  // cut sphere's nearest point too (the common case, a tool over a face).
+  if (!(gap > 0 && (nearest - c).squaredNorm() <= orad_[k] * orad_[k])) {
+    for (int j = 0; j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone; ++j) {
+      Vector3 d;
+      const double g = BallHalfSpaceDistance(c, orad_[k], &pl[4 * j], c_W, &d);
+      if (g > gap) gap = g, dir = d;
+    }
+  }
+  if (normal) *normal = dir;
+  return gap - r;
+}
+
+double CollisionWorld::PolyhedronDistance(const double* pl, const Vector3& q, Vector3* dir, Vector3* nearest) {
   constexpr int K = LeafPlanes::kMaxPlanes;
   Vector3 n[K];
   double d[K], s[K];
@@ -57,6 +75,7 @@ double CollisionWorld::PolyhedronDistance(const double* pl, const Vector3& q, Ve
   for (int j = 1; j < m; ++j)
     if (s[j] > s[top]) top = j;
   // Inside every half space: the depth below the nearest face.
+  *nearest = q;
   if (s[top] <= 0) {
     *dir = n[top];
     return s[top];
@@ -69,7 +88,8 @@ double CollisionWorld::PolyhedronDistance(const double* pl, const Vector3& q, Ve
   };
   // The face furthest out: its foot, when inside the others, is the nearest
   // point (no point of the polyhedron is nearer than that face's distance).
-  if (feasible(q - s[top] * n[top])) {
+  *nearest = q - s[top] * n[top];
+  if (feasible(*nearest)) {
     *dir = n[top];
     return s[top];
   }
@@ -104,6 +124,7 @@ double CollisionWorld::PolyhedronDistance(const double* pl, const Vector3& q, Ve
     *dir = n[top];
     return s[top];
   }
+  *nearest = best_foot;
   *dir = (q - best_foot) / best;
   return best;
 }
@@ -158,8 +179,6 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
   const double* oy = world.oy_.data();
   const double* oz = world.oz_.data();
   const double* orad = world.orad_.data();
-  const double* planes = world.planes_.data();
-  constexpr int kStride = CollisionWorld::kPlaneStride;
   double d2[256];  // a node has at most 255 children
 
   // Tests `count` spheres (contiguous in x, y, z, r from `first`) against the
@@ -185,7 +204,6 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
     const double* by = oy + base;
     const double* bz = oz + base;
     const double* br = orad + base;
-    const double* bplanes = planes + base * kStride;
     const std::int32_t* ofirst = world.ofirst_.data() + base;
     const std::uint8_t* ocount = world.ocount_.data() + base;
     int top = 0;
@@ -193,9 +211,9 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
     auto hit = [&](std::int32_t a, std::int32_t b, double dist2) {
       if (tool.child_count[a] == 0 && ocount[b] == 0) {
         double gap = std::sqrt(dist2) - tr[a] - br[b];
-        if (bplanes[static_cast<std::size_t>(b) * kStride + 3] < LeafPlanes::kNone) {
-          // A clipped leaf: its gap as LeafGapNear gives it; a pair only within the margin.
-          gap = world.LeafGapNear(obj, b, R * Vector3(tx[a], ty[a], tz[a]) + p, tr[a], CollisionWorld::kPlanesWithinMm);
+        if (gap < CollisionWorld::kPlanesWithinMm && world.Clipped(base + b)) {
+          // A clipped leaf: its gap as LeafGap gives it; a pair only within the margin.
+          gap = world.ClippedGap(base + b, R * Vector3(tx[a], ty[a], tz[a]) + p, tr[a], nullptr);
           if (!(gap < margin)) return;
         }
         if (stats.pairs < capacity) {
@@ -254,7 +272,7 @@ std::vector<ContactPair> FindContactsReference(const CollisionWorld& world, cons
       const double gap = (ca - cb).norm() - tool.r[a] - ot.r[b];
       if (!(gap < margin)) return;
       if (tool.IsLeaf(a) && ot.IsLeaf(b)) {
-        const double leaf_gap = world.LeafGapNear(obj, b, ca, tool.r[a], CollisionWorld::kPlanesWithinMm);
+        const double leaf_gap = world.LeafGap(obj, b, ca, tool.r[a]);
         if (leaf_gap < margin) out.push_back({obj, b, a, leaf_gap});
         return;
       }

@@ -21,7 +21,7 @@ namespace sulcus {
 
 /// One leaf pair. gap = |c_T - c_O| - r_T - r_O at the query pose (negative when
 /// the spheres overlap), or, when the object's leaf is clipped by planes, as
-/// CollisionWorld::LeafGapNear gives it with kPlanesWithinMm.
+/// CollisionWorld::LeafGap gives it.
 struct ContactPair {
   std::int32_t object = 0;       // index of the object in the world
   std::int32_t object_leaf = 0;  // node index in that object's tree
@@ -65,13 +65,19 @@ class CollisionWorld {
     return {ox_[k], oy_[k], oz_[k]};
   }
   double ObjectRadius(int i, std::int32_t n) const { return orad_[offset_[i] + n]; }
-  /// Gap of a tool sphere (centre c_W, radius r) to object i's leaf n. For a
-  /// plain leaf, the sphere gap. For a leaf clipped by planes (leaf_planes.h),
+  /// Within this sphere gap a pair on a clipped leaf is measured on the leaf's
+  /// planes; beyond it, as spheres (the same penetration: neither is negative
+  /// there), so a fast move's wide margin costs one distance per far pair.
+  static constexpr double kPlanesWithinMm = 0.1;
+  /// Gap of a tool sphere (centre c_W, radius r) to object i's leaf n, as a
+  /// pair's gap is measured (ContactPair::gap). For a plain leaf, or a clipped
+  /// one (leaf_planes.h) further than kPlanesWithinMm, the sphere gap. Else
   /// the larger of two lower bounds of the distance to the clipped leaf, less
   /// r: the exact distance to the polyhedron of its planes (to a face, to an
   /// edge where two meet, to the corner of three; inside, minus the depth below
   /// the nearest face), and for each plane the exact distance to the part of the
-  /// sphere below it (to the sphere, or to the rim of the disc the plane cuts).
+  /// sphere below it (to the sphere, or to the rim of the disc the plane cuts);
+  /// when the polyhedron's nearest point lies in the sphere it is exact alone.
   /// `normal`, when given, receives the unit direction in which that gap grows
   /// for the tool sphere (zero when the centres coincide).
   ///
@@ -83,68 +89,28 @@ class CollisionWorld {
   /// back at every leaf.
   double LeafGap(int i, std::int32_t n, const Vector3& c_W, double r, Vector3* normal = nullptr) const {
     const std::size_t k = offset_[i] + n;
-    const Vector3 c(ox_[k], oy_[k], oz_[k]);
-    const double* pl = &planes_[k * kPlaneStride];
-    if (pl[3] >= LeafPlanes::kNone) {
-      const Vector3 away = c_W - c;
-      const double dist = away.norm();
-      if (normal) *normal = dist > 1e-12 ? Vector3(away / dist) : Vector3::Zero();
-      return dist - r - orad_[k];
-    }
-    // The common case, a tool over a face: the foot on the face furthest out is
-    // inside the sphere and under the other planes, so it is the nearest point.
-    int top = 0;
-    double s_top = -LeafPlanes::kNone;
-    for (int j = 0; j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone; ++j) {
-      const double s = pl[4 * j] * c_W.x() + pl[4 * j + 1] * c_W.y() + pl[4 * j + 2] * c_W.z() - pl[4 * j + 3];
-      if (s > s_top) s_top = s, top = j;
-    }
-    if (s_top > 0) {
-      const Vector3 nt(pl[4 * top], pl[4 * top + 1], pl[4 * top + 2]);
-      const Vector3 foot = c_W - s_top * nt;
-      bool nearest = (foot - c).squaredNorm() <= orad_[k] * orad_[k];
-      for (int j = 0; nearest && j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone; ++j)
-        nearest = j == top || pl[4 * j] * foot.x() + pl[4 * j + 1] * foot.y() + pl[4 * j + 2] * foot.z() - pl[4 * j + 3] <= 1e-9;
-      if (nearest) {
-        if (normal) *normal = nt;
-        return s_top - r;
-      }
-    }
-    Vector3 dir;
-    double gap = PolyhedronDistance(pl, c_W, &dir);
-    for (int j = 0; j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone; ++j) {
-      Vector3 d;
-      const double g = BallHalfSpaceDistance(c, orad_[k], &pl[4 * j], c_W, &d);
-      if (g > gap) gap = g, dir = d;
-    }
-    if (normal) *normal = dir;
-    return gap - r;
-  }
-  /// LeafGap where the sphere gap is below `near`, else the sphere gap: the
-  /// same penetration (a pair with a sphere gap of at least `near` > 0 does not
-  /// penetrate either way), never above LeafGap, and a pair far from the tool
-  /// costs one distance. A pair's gap (ContactPair::gap, and the engine's) is
-  /// this with kPlanesWithinMm: touching pairs are measured on the leaf's
-  /// planes, and a fast move's wide margin costs one distance per far pair.
-  static constexpr double kPlanesWithinMm = 0.1;
-  double LeafGapNear(int i, std::int32_t n, const Vector3& c_W, double r, double near, Vector3* normal = nullptr) const {
-    const std::size_t k = offset_[i] + n;
     const Vector3 away(c_W.x() - ox_[k], c_W.y() - oy_[k], c_W.z() - oz_[k]);
     const double dist = away.norm();
     const double sphere = dist - r - orad_[k];
-    if (sphere < near && planes_[k * kPlaneStride + 3] < LeafPlanes::kNone) return LeafGap(i, n, c_W, r, normal);
+    if (sphere < kPlanesWithinMm && Clipped(k)) return ClippedGap(k, c_W, r, normal);
     if (normal) *normal = dist > 1e-12 ? Vector3(away / dist) : Vector3::Zero();
     return sphere;
   }
-  /// Whether object i's leaf n is clipped by a plane.
-  bool LeafClipped(int i, std::int32_t n) const { return planes_[(offset_[i] + n) * kPlaneStride + 3] < LeafPlanes::kNone; }
+  /// A pair's gap with the tool at X_WT (LeafGap of its two leaves).
+  double PairGap(const RigidTransform& X_WT, const ContactPair& c, Vector3* normal = nullptr) const {
+    return LeafGap(c.object, c.object_leaf, X_WT * tool_->center(c.tool_leaf), tool_->r[c.tool_leaf], normal);
+  }
   /// Largest distance from the tool origin to a point of a tool leaf sphere.
   double tool_reach() const { return tool_reach_; }
 
  private:
+  bool Clipped(std::size_t k) const { return planes_[k * kPlaneStride + 3] < LeafPlanes::kNone; }
+  // LeafGap of a clipped leaf (flat index k), within kPlanesWithinMm.
+  double ClippedGap(std::size_t k, const Vector3& c_W, double r, Vector3* normal) const;
   // Signed distance from q to {x : n_j . x <= d_j} for a leaf's used planes
-  // (kPlaneStride doubles at pl), and the unit direction in which it grows.
-  static double PolyhedronDistance(const double* pl, const Vector3& q, Vector3* dir);
+  // (kPlaneStride doubles at pl), the unit direction in which it grows, and
+  // the nearest point (q itself inside).
+  static double PolyhedronDistance(const double* pl, const Vector3& q, Vector3* dir, Vector3* nearest);
   // Signed distance from q to the ball (c, R) cut by the plane (nx, ny, nz, d)
   // at pl, and the unit direction in which it grows (zero when undefined).
   static double BallHalfSpaceDistance(const Vector3& c, double R, const double* pl, const Vector3& q, Vector3* dir);

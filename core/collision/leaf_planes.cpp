@@ -63,13 +63,6 @@ int LeafPlanes::count() const {
   return static_cast<int>(std::count_if(d.begin(), d.end(), [](const auto& x) { return x[0] < kNone; }));
 }
 
-int LeafPlanes::planes() const {
-  int total = 0;
-  for (const auto& x : d)
-    for (double v : x) total += v < kNone;
-  return total;
-}
-
 LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree, const LeafPlaneParams& params) {
   constexpr int K = LeafPlanes::kMaxPlanes;
   LeafPlanes out;

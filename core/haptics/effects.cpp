@@ -31,13 +31,12 @@ class GingivaCompliance final : public LoopEffect {
     Vector3 dir = Vector3::Zero();
     double force = 0;
     int object = -1;
-    const SphereTree& tool = w.tool();
     for (int i = 0; i < cs.pairs; ++i) {
       const ContactPair& c = pairs_[i];
       const double depth = -c.gap;
       if (depth <= 0) continue;
       Vector3 n;
-      w.LeafGap(c.object, c.object_leaf, data.X_WG * tool.center(c.tool_leaf), tool.r[c.tool_leaf], &n);
+      w.PairGap(data.X_WG, c, &n);
       if (n.squaredNorm() == 0) continue;  // coincident centres: no direction to push
       const double k = m_.soft_leaf_stiffness[c.object][c.object_leaf];
       dir += depth * k * n;

@@ -21,15 +21,6 @@ RigidTransform Orthonormalised(const RigidTransform& X) {
   return RigidTransform(Quaternion(X.rotation()).normalized().toRotationMatrix(), X.translation());
 }
 
-constexpr double kPlanesWithinMm = CollisionWorld::kPlanesWithinMm;
-
-// Exact gap of a pair with the tool at X_WT (as the query measures it).
-double Gap(const CollisionWorld& world, const RigidTransform& X_WT, const ContactPair& c) {
-  const SphereTree& tool = world.tool();
-  return world.LeafGapNear(c.object, c.object_leaf, X_WT * tool.center(c.tool_leaf), tool.r[c.tool_leaf],
-                           kPlanesWithinMm);
-}
-
 // A solve whose pose can be used: optimal, or the least violation of an
 // infeasible set.
 bool Usable(QpStatus s) { return s == QpStatus::kSolved || s == QpStatus::kInfeasibleRelaxed; }
@@ -120,7 +111,7 @@ void FindFreeSpace(const EngineModel& model, const RigidTransform& X_WH, EngineD
 // Largest penetration of this frame's pairs with the tool at X.
 double WorstPenetration(const CollisionWorld& world, const RigidTransform& X, const EngineData& d) {
   double worst = 0;
-  for (int i = 0; i < d.num_pairs; ++i) worst = std::max(worst, -Gap(world, X, d.pairs[i]));
+  for (int i = 0; i < d.num_pairs; ++i) worst = std::max(worst, -world.PairGap(X, d.pairs[i]));
   return worst;
 }
 
@@ -154,17 +145,15 @@ void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH, const Q
   // (this frame's pairs were found at that pose).
   const Vector3 p_H = X_WH.translation(), p_last = d->X_WG.translation();
   const RigidTransform X_last(X->rotation(), p_last);
-  const SphereTree& tool = model.world.tool();
   constexpr double kTouching = 1e-3, kNear = 0.05;  // mm: touching the nearest; near enough to touch at all
   double nearest = kNear;
-  for (int i = 0; i < d->num_pairs; ++i) nearest = std::min(nearest, Gap(model.world, X_last, d->pairs[i]));
+  for (int i = 0; i < d->num_pairs; ++i) nearest = std::min(nearest, model.world.PairGap(X_last, d->pairs[i]));
   Vector3 n = Vector3::Zero();
   double mu = 0, weight = 0;
   for (int i = 0; i < d->num_pairs && nearest < kNear; ++i) {
     const ContactPair& c = d->pairs[i];
     Vector3 away;
-    const double gap =
-        model.world.LeafGap(c.object, c.object_leaf, X_last * tool.center(c.tool_leaf), tool.r[c.tool_leaf], &away);
+    const double gap = model.world.PairGap(X_last, c, &away);
     if (away.squaredNorm() == 0 || gap > nearest + kTouching) continue;
     n += away;
     mu += model.friction[c.object];
@@ -356,7 +345,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
         const ContactPair& c = d->pairs[i];
         const Vector3 cT = X * tool.center(c.tool_leaf);
         Vector3 n;
-        const double gap = world.LeafGapNear(c.object, c.object_leaf, cT, tool.r[c.tool_leaf], kPlanesWithinMm, &n);
+        const double gap = world.LeafGap(c.object, c.object_leaf, cT, tool.r[c.tool_leaf], &n);
         if (n.squaredNorm() == 0) {
           // Coincident centres: no direction is defined; push along the line from
           // the object sphere to the tool origin (or +z when that too is degenerate).
@@ -383,9 +372,9 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       // tight (a linearisation is conservative on curved spheres: when it stopped
       // the tool short, solve again from the new pose, like an SQP step).
       double worst = 0;
-      for (int i = 0; i < m; ++i) worst = std::max(worst, -Gap(world, X, d->pairs[i]));
+      for (int i = 0; i < m; ++i) worst = std::max(worst, -world.PairGap(X, d->pairs[i]));
       double slack = 0;
-      for (int i = 0; i < sol->num_active; ++i) slack = std::max(slack, Gap(world, X, d->pairs[sol->active[i]]));
+      for (int i = 0; i < sol->num_active; ++i) slack = std::max(slack, world.PairGap(X, d->pairs[sol->active[i]]));
       d->max_penetration_mm = worst;
       if (sol->status == QpStatus::kInfeasibleRelaxed) break;
       // A tool that stopped short of a long move by a hundredth of it (a tool
