@@ -45,10 +45,11 @@ void TraceTick(const HapticLoop& l, const SceneSpec& spec, double rate_hz) {
   const TickRecord& r = l.last_record();
   const Vector3 h = d.X_WH.translation(), g = d.X_WG.translation();
   std::printf("trace %" PRIu64 " %.4f s: device (%.3f %.3f %.3f) tool (%.3f %.3f %.3f) |g-h| %.3f mm force %.3f N "
-              "(engine %.3f) pairs %d active %d pen %.4f mm margin %.3f sweeps %d tests %d%s qp %d it %d lin %d%s%s "
+              "(engine %.3f) step %.1f us (collide %.1f rows %.1f qp %.1f) pairs %d active %d pen %.4f mm margin %.3f sweeps %d tests %d%s qp %d it %d lin %d%s%s "
               "faults overflow %" PRIu64 " solver %" PRIu64 " pen %" PRIu64 " sweep %" PRIu64 " held %" PRIu64 " inside %" PRIu64 "\n",
               r.tick, static_cast<double>(r.tick) / rate_hz, h.x(), h.y(), h.z(), g.x(), g.y(), g.z(), (g - h).norm(),
-              r.force_W.norm(), d.force_W.norm(), d.num_pairs, d.active_contacts, d.max_penetration_mm, d.margin_mm,
+              r.force_W.norm(), d.force_W.norm(), d.timings.total_us, d.timings.collide_us, d.timings.constraints_us,
+              d.timings.solve_us, d.num_pairs, d.active_contacts, d.max_penetration_mm, d.margin_mm,
               d.sweeps, d.node_tests, d.node_budget_hit ? " (budget hit)" : "", static_cast<int>(d.qp_status),
               d.qp_iterations, d.linearizations, d.pair_overflow ? " overflow" : "", d.inside ? " INSIDE" : "",
               d.faults.pair_overflow, d.faults.solver, d.faults.penetration, d.faults.sweep, d.faults.held, d.faults.inside);

@@ -221,6 +221,10 @@ void InsideFrame(const EngineModel& model, const RigidTransform& X_WH, Clock::ti
   d->timings.total_us = Micros(t0, Clock::now());
 }
 
+// Highest margin cap: above the margin of the longest step (max_step_mm), so
+// that a free tool is never capped.
+constexpr double kMarginCapMaxMm = 1e3;
+
 void EnterInside(EngineData* d) {
   d->inside = true;
   d->free_search_next = 0;
@@ -241,6 +245,7 @@ EngineData::EngineData(const EngineModel& model)
       qp(model.params.max_pairs) {}
 
 void ResetTool(const RigidTransform& X_WG, EngineData* d) {
+  d->margin_cap_mm = kMarginCapMaxMm;
   d->X_WG = X_WG;
   d->X_WH = X_WG;
   d->num_pairs = 0;
@@ -279,7 +284,11 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   // that covers the actual move and solve again (at most a few times).
   const Vector6 g = (Vector6() << p.k_t, p.k_t, p.k_t, p.k_r, p.k_r, p.k_r).finished();
   const double reach = world.tool_reach();
-  double margin = p.base_margin_mm + 2.0 * d->last_move_mm;
+  // A crowded place (more than solve_pairs within the margin) caps the margin,
+  // and with it the step, for this frame and the next ones (margin_cap_mm).
+  const double lowest_cap = p.base_margin_mm + 1.25 * p.min_crowded_step_mm;
+  double cap = std::max(d->margin_cap_mm, lowest_cap);
+  double margin = std::min(p.base_margin_mm + 2.0 * d->last_move_mm, cap);
   RigidTransform X = d->X_WG;
   const QpSolution* sol = nullptr;
   d->linearizations = 0;
@@ -289,8 +298,15 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   const Vector6 to_device = d->X_WG.DifferenceTo(X_WH);
   const double device_move = MoveBound(to_device, reach);
   double step_scale = device_move > p.max_step_mm ? p.max_step_mm / device_move : 1.0;
+  // A step is kept within what the cap covers (a move of (cap - base) / 1.25).
+  const auto fit_step = [&] {
+    const double allowed = (cap - p.base_margin_mm) / 1.25;
+    if (step_scale * device_move > allowed) step_scale = allowed / device_move;
+  };
+  fit_step();
   d->node_tests = 0;
   d->node_budget_hit = false;
+  d->shortened = 0;
   bool accepted = false, deep = false;
   double overlap = 0;  // deepest overlap of the rendered tool at the frame's start
   d->sweeps = 0;
@@ -302,18 +318,31 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
         step_scale < 1.0 ? d->X_WG.Perturbed(step_scale * to_device.head<3>(), step_scale * to_device.tail<3>())
                          : X_WH;
     const auto t_collide = Clock::now();
-    // Past max_pairs the set is not used: the query stops there.
-    const CollisionStats cs =
-        FindContacts(world, d->X_WG, margin, &d->scratch, d->pairs.data(), p.max_pairs,
-                     QueryLimits{true, p.max_node_tests});
+    // Past the capacity the set is not used: the query stops there. Every try
+    // but the last keeps to solve_pairs.
+    const bool whole_set = p.solve_pairs <= 0 || sweep == EngineData::kMaxSweeps - 1 || margin <= lowest_cap ||
+                           margin > cap;
+    const int capacity = whole_set ? p.max_pairs : std::min(p.max_pairs, p.solve_pairs);
+    const CollisionStats cs = FindContacts(world, d->X_WG, margin, &d->scratch, d->pairs.data(), capacity,
+                                           QueryLimits{true, p.max_node_tests});
     d->num_pairs = cs.pairs;
     d->node_tests += cs.node_tests;
     d->timings.collide_us += Micros(t_collide, Clock::now());
     const bool over_budget = cs.cut_short && !cs.overflow;
+    const bool crowded = cs.overflow && capacity < p.max_pairs;  // past solve_pairs only
     d->node_budget_hit = d->node_budget_hit || over_budget;
-    d->pair_overflow = cs.overflow || cs.stack_overflow || over_budget;
-    if (sweep == 0 && !d->pair_overflow)
+    d->pair_overflow = (cs.overflow && !crowded) || cs.stack_overflow || over_budget;
+    if (crowded) ++d->shortened;
+    if (sweep == 0 && !d->pair_overflow && !crowded)
       for (int i = 0; i < cs.pairs; ++i) overlap = std::max(overlap, -d->pairs[i].gap);
+    if (crowded) {
+      // More pairs than a frame solves with: a smaller margin (the cap, from
+      // now on) and a step within it.
+      cap = std::max(lowest_cap, p.base_margin_mm + 0.5 * (margin - p.base_margin_mm));
+      margin = cap;
+      fit_step();
+      continue;
+    }
     if (d->pair_overflow) {
       // Too many pairs to trust the set: try a shorter step with a smaller margin.
       step_scale *= 0.5;
@@ -400,9 +429,27 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       accepted = true;
       break;
     }
-    margin = p.base_margin_mm + 1.25 * move;  // cover the actual move, with headroom
+    // Cover the actual move, with headroom; within the cap, a shorter step. A
+    // move well beyond the step (the tool pushed out of an overlap, as when a
+    // session starts with the device in tissue) is not shortened by a shorter
+    // step: its margin is not capped, and its set is solved whole.
+    const double wanted = p.base_margin_mm + 1.25 * move;
+    if (wanted > cap && move < 2.0 * step_scale * device_move) {
+      if (margin >= cap) step_scale *= 0.5;  // the set at the cap did not hold the move: shorter
+      margin = cap;
+      fit_step();
+    } else {
+      margin = wanted;
+    }
   }
   d->margin_mm = margin;
+  // The cap grows back where the margin it allowed found few pairs.
+  // With no pair at all, it is lifted.
+  if (accepted && d->num_pairs == 0) cap = kMarginCapMaxMm;
+  if (accepted && margin >= 0.8 * cap && d->num_pairs < p.solve_pairs / 4)
+    cap = p.base_margin_mm + 1.25 * (cap - p.base_margin_mm);
+  d->margin_cap_mm = std::min(cap, kMarginCapMaxMm);
+  if (d->shortened > 0) ++d->shortened_frames;
   if (deep || (!accepted && ((d->pair_overflow && sol == nullptr) || overlap > 10 * p.penetration_tolerance_mm))) {
     // Inside an object, overlapping it by more pairs than a set holds even at
     // the shortest step, or overlapping it in a frame that could not move (the

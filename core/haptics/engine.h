@@ -34,6 +34,18 @@ struct EngineParams {
   // 80 of its leaves per tool leaf within a fraction of a millimetre: 4,000 pairs
   // (the oral inspection at 10 kHz); the set holds four times that.
   int max_pairs = 16384;
+  // Pairs a frame solves with when it can choose. A fast slide through a
+  // crowded place (a probe between closed arches, lips and cheeks) with the
+  // margin its move needs meets thousands of pairs, and the frame's cost grows
+  // with them; past this many the frame takes a shorter step with a smaller
+  // margin instead (the rendered tool lags the device a little for a tick or
+  // two), and only its last try may use the whole set (max_pairs). 0: no
+  // limit, every frame solves with all the pairs its move's margin holds.
+  int solve_pairs = 512;
+  // A crowded place never shortens a frame's step below this (0.1 mm: 100 mm/s
+  // at 1 kHz, faster than a probe walks a pocket): at the margin this step
+  // needs, the frame solves with every pair it finds, up to max_pairs.
+  double min_crowded_step_mm = 0.1;
   // A rendered tool that the solve cannot take out of an object (its least
   // violation leaves it this far in), that overlaps it by more pairs than
   // max_pairs, or that overlaps it in a frame that could not move it is inside
@@ -112,6 +124,9 @@ struct EngineData {
   double last_move_mm = 0;   // how far a tool point moved last frame (margin guess)
   int held_frames = 0;       // frames in a row that held the rendered tool (could not move it)
   bool pair_overflow = false;
+  double margin_cap_mm = 1e3;  // largest margin (and step) the last crowded place allowed; grows back
+  int shortened = 0;         // queries of this frame past solve_pairs (a shorter step followed)
+  std::uint64_t shortened_frames = 0;  // frames that took a shorter step for solve_pairs (all frames)
 
   // Solver report of the last pass.
   QpStatus qp_status = QpStatus::kSolved;

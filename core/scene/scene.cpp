@@ -484,12 +484,19 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     spec.X_TG = r.Pose(tool, "grip_at", "grip_turn_deg");
   }
   if (const YAML::Node h = root["haptics"]; h && r.IsMap(h, "'haptics'")) {
-    r.CheckKeys(h, {"k_t_n_per_mm", "k_r_nmm_per_rad", "max_force_n", "max_torque_nmm", "rate_hz", "surface"}, "'haptics'");
+    r.CheckKeys(h, {"k_t_n_per_mm", "k_r_nmm_per_rad", "max_force_n", "max_torque_nmm", "rate_hz", "surface", "solve_pairs"}, "'haptics'");
     EngineParams& p = spec.haptics;
     if (h["k_t_n_per_mm"]) p.k_t = r.Number(h["k_t_n_per_mm"], "k_t_n_per_mm", 1e-3, 100, p.k_t, "N/mm");
     if (h["k_r_nmm_per_rad"]) p.k_r = r.Number(h["k_r_nmm_per_rad"], "k_r_nmm_per_rad", 1e-3, 1e6, p.k_r, "N*mm/rad");
     if (h["max_force_n"]) p.max_force_n = r.Number(h["max_force_n"], "max_force_n", 0, 50, p.max_force_n, "N");
     if (h["max_torque_nmm"]) p.max_torque_nmm = r.Number(h["max_torque_nmm"], "max_torque_nmm", 0, 5000, p.max_torque_nmm, "N*mm");
+    if (h["solve_pairs"]) {
+      p.solve_pairs = r.Integer(h["solve_pairs"], "solve_pairs", 0, p.max_pairs, p.solve_pairs);
+      if (p.solve_pairs > 0 && p.solve_pairs < 16) {
+        r.Error(h["solve_pairs"], "'solve_pairs' must be 0 (no limit) or at least 16 (a probe resting on a tooth "
+                                  "alone meets a dozen pairs)");
+      }
+    }
     if (h["rate_hz"]) spec.rate_hz = r.Number(h["rate_hz"], "rate_hz", 100, 10000, spec.rate_hz, "Hz");
     if (const YAML::Node s = h["surface"]) {
       const std::string v = s.IsScalar() ? s.Scalar() : "";

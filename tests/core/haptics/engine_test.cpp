@@ -146,5 +146,64 @@ TEST(Engine, AContactWithMorePairsThanTheSetHoldsNeverFreezesTheTool) {
   EXPECT_EQ(d.force_W.norm(), 0.0);
 }
 
+// A flat face dragged fast over a finely packed block meets thousands of pairs
+// at the margin its move needs. With a pair budget (solve_pairs) the frame
+// takes a shorter step with a smaller margin instead: it never solves with
+// more than the budget (except at the margin of the shortest step it allows),
+// the face still slides on, out of the block, without a fault; and once in free
+// space the tool follows the device at full speed again, with no force.
+struct Drag {
+  int most_pairs = 0, over_budget = 0;
+  std::uint64_t shortened = 0, faults = 0;
+  double worst_penetration = 0, end_x = 0, free_force = 0;
+};
+Drag DragAFaceOverAFineBlock(int solve_pairs) {
+  test::Scene s;
+  s.tool = std::make_unique<SphereTree>(test::MakeFlatFace(8, 8, 0.3, 0.2));
+  s.Add(test::MakeBlock(12, 4, -1.0, -0.2, 0.2, 0.15), RigidTransform::Identity());  // top at z = -0.05
+  EngineParams p;
+  p.solve_pairs = solve_pairs;
+  const auto model = s.Model(p);
+  EngineData d(*model);
+  ResetTool(At(-8, 0, 1), &d);
+  const double lowest_cap = p.base_margin_mm + 1.25 * p.min_crowded_step_mm;
+  Drag out;
+  auto step = [&](const RigidTransform& X) {
+    Step(*model, X, &d);
+    out.most_pairs = std::max(out.most_pairs, d.num_pairs);
+    if (d.num_pairs > solve_pairs && d.margin_mm > lowest_cap + 1e-12) ++out.over_budget;
+    out.worst_penetration = std::max(out.worst_penetration, d.max_penetration_mm);
+  };
+  for (int i = 0; i <= 100; ++i) step(At(-8, 0, 1 - 0.015 * i));      // pressed 0.45 mm into the top
+  for (int i = 1; i <= 30; ++i) step(At(-8 + 0.5 * i, 0, -0.5));      // 15 mm at 0.5 mm a frame
+  for (int i = 0; i < 200; ++i) step(At(7, 0, -0.5));                  // held there
+  out.end_x = d.X_WG.translation().x();
+  for (int i = 1; i <= 40; ++i) step(At(7, 0, -0.5 + 0.5 * i));       // lifted, 20 mm at 0.5 mm a frame
+  out.free_force = d.force_W.norm();
+  out.shortened = d.shortened_frames;
+  out.faults = d.faults.total();
+  return out;
+}
+
+TEST(Engine, ACrowdedPlaceShortensTheStepInsteadOfSolvingThousandsOfPairs) {
+  const Drag whole = DragAFaceOverAFineBlock(0);
+  const Drag budget = DragAFaceOverAFineBlock(512);
+  std::printf("whole set: most pairs %d; budget 512: most pairs %d, frames shortened %llu, end x %.3f, "
+              "penetration %.2g\n", whole.most_pairs, budget.most_pairs,
+              static_cast<unsigned long long>(budget.shortened), budget.end_x, budget.worst_penetration);
+  EXPECT_GT(whole.most_pairs, 2000) << "the drag must be crowded for this test to mean anything";
+  EXPECT_EQ(whole.shortened, 0u);
+  EXPECT_GT(budget.shortened, 0u);
+  EXPECT_EQ(budget.over_budget, 0);
+  EXPECT_EQ(budget.faults, 0u);
+  EXPECT_EQ(whole.faults, 0u);
+  EXPECT_LE(budget.worst_penetration, EngineParams{}.penetration_tolerance_mm);
+  // The face reached the device's x (it slides on) in both.
+  EXPECT_NEAR(budget.end_x, 7.0, 1e-6);
+  EXPECT_NEAR(whole.end_x, 7.0, 1e-6);
+  // Free again: no lag, no force.
+  EXPECT_EQ(budget.free_force, 0.0);
+}
+
 }  // namespace
 }  // namespace sulcus

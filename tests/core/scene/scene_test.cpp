@@ -56,10 +56,18 @@ TEST(SceneFile, UnknownKeysSuggestTheNearestOne) {
             (Lines{"3:5: unknown key 'pocket_mm' in an object; did you mean 'pockets_mm'?"}));
   EXPECT_EQ(Errors("haptics:\n  wobble: 3\nobjects: []\n"),
             (Lines{"2:3: unknown key 'wobble' in 'haptics' (expected one of: k_t_n_per_mm, k_r_nmm_per_rad, "
-                   "max_force_n, max_torque_nmm, rate_hz, surface)"}));
+                   "max_force_n, max_torque_nmm, rate_hz, surface, solve_pairs)"}));
   EXPECT_EQ(Errors("haptics:\n  surface: smooth\nobjects: []\n"),
             (Lines{"2:12: 'surface' must be 'planes' (leaf spheres clipped by planes fitted to the mesh, the default) "
                    "or 'spheres' (the leaf spheres alone)"}));
+  EXPECT_EQ(Errors("haptics:\n  solve_pairs: 8\nobjects: []\n"),
+            (Lines{"2:16: 'solve_pairs' must be 0 (no limit) or at least 16 (a probe resting on a tooth alone meets "
+                   "a dozen pairs)"}));
+  EXPECT_EQ(Errors("haptics:\n  solve_pairs: 100000\nobjects: []\n"),
+            (Lines{"2:16: 'solve_pairs' is 100000, expected 0 to 16384"}));
+  EXPECT_EQ(LoadSceneSpec(Write("solve_pairs.yaml", "haptics:\n  solve_pairs: 0\nobjects: []\n")).haptics.solve_pairs, 0);
+  EXPECT_EQ(LoadSceneSpec(Write("solve_pairs_64.yaml", "haptics:\n  solve_pairs: 64\nobjects: []\n")).haptics.solve_pairs,
+            64);
 }
 
 TEST(SceneFile, WrongTypesAndRanges) {
