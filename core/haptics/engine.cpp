@@ -396,12 +396,18 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       d->timings.solve_us += Micros(t_solve, t_solved);
       ++d->linearizations;
       if (!Usable(sol->status)) break;
+      const RigidTransform X_pass = X;
       X = Orthonormalised(X.Perturbed(sol->q.head<3>(), sol->q.tail<3>()));
       // Exact re-check at the new pose: no penetration, and the active constraints
       // tight (a linearisation is conservative on curved spheres: when it stopped
-      // the tool short, solve again from the new pose, like an SQP step).
+      // the tool short, solve again from the new pose, like an SQP step). A
+      // pair's gap shrinks by at most the move of its tool sphere (each gap is
+      // a distance, or at least the sphere distance where it is measured so),
+      // so a pair further than this pass's move cannot penetrate: skipped.
+      const double pass_move = MoveBound(X_pass.DifferenceTo(X), reach);
       double worst = 0;
-      for (int i = 0; i < m; ++i) worst = std::max(worst, -world.PairGap(X, d->pairs[i]));
+      for (int i = 0; i < m; ++i)
+        if (-d->b[i] <= pass_move) worst = std::max(worst, -world.PairGap(X, d->pairs[i]));
       double slack = 0;
       for (int i = 0; i < sol->num_active; ++i) slack = std::max(slack, world.PairGap(X, d->pairs[sol->active[i]]));
       d->max_penetration_mm = worst;

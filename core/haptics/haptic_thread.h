@@ -20,6 +20,12 @@ struct ThreadOptions {
   int cpu = -1;              // the core to pin to; -1: the last one
   bool free_run = false;     // no sleeping: as fast as possible (replays)
   double stall_periods = 3;  // a tick this many periods late trips the watchdog
+  // The last part of each wait is spent polling the clock instead of sleeping,
+  // so that the tick starts on time rather than when the kernel wakes the
+  // thread (tens of microseconds late, sometimes a period: a missed deadline
+  // at 10 kHz). Microseconds; negative: the default, 40 % of the period and at
+  // most 60 us; 0: sleep the whole wait.
+  double spin_us = -1;
   std::uint64_t max_ticks = 0;    // stop after this many ticks (0: until Stop())
   bool stop_when_device_finished = true;
   TickSink* sink = nullptr;  // gets every tick's record (a Session, a RecordingWriter); not owned

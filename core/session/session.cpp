@@ -44,6 +44,7 @@ void Session::Start() {
   device_->Start();
   ThreadOptions topt;
   topt.realtime = options_.realtime;
+  topt.spin_us = options_.spin_us;
   topt.max_ticks = options_.max_ticks;
   topt.sink = this;
   topt.stop_when_device_finished = options_.stop_when_device_finished;

@@ -40,6 +40,7 @@ struct SessionOptions {
   double rate_hz = 0;                 // 0: the scene's (a replay: the recording's)
   std::uint64_t max_ticks = 0;        // 0: until Stop() or the device has no more input
   bool realtime = true;               // ask for real-time priority (live)
+  double spin_us = -1;                // the haptic thread's polled end of each wait (ThreadOptions::spin_us)
   bool stop_when_device_finished = true;  // live: end when a script or replay ends (the window keeps going)
   bool free_run = false;              // live: no sleeping between ticks (a scripted student or replay as fast as possible)
   std::filesystem::path record;       // record every tick here (empty: no recording)
