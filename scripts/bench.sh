@@ -4,7 +4,7 @@
 # the reference Algorithm 1, the whole frame, the QP on generated contact sets
 # (warm and cold side by side, and DAQP on the same frames), and what accuracy
 # costs (CSV + plots).
-# Numbers only: nothing here passes or fails on time. Takes about 5 minutes.
+# Numbers only: nothing here passes or fails on time. Takes about 7 minutes.
 # Usage: scripts/bench.sh [output folder, default build/release/bench-report]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -51,4 +51,24 @@ echo "== what accuracy costs"
 echo "== the haptic thread on the full mouth (1 kHz for 60 s, 10 kHz for 10 s)"
 "$bin" run --scene scenes/oral_inspection.yaml --device scripted:random --seconds 60 | tee "$out/oral_run.txt"
 "$bin" run --scene scenes/oral_inspection.yaml --device scripted:random --seconds 10 --rate 10000 | tee -a "$out/oral_run.txt"
+
+echo "== 10 kHz: the thread's own floor (a step of about 1 us: a line that touches nothing) and the full mouth,"
+echo "   the end of each wait polled (default) and slept (--spin-us 0), side by side"
+printf 'name: floor\nobjects:\n  - tooth: 46\n    at: [500, 0, 0]\n' > "$out/floor.yaml"
+for spin in default 0; do
+  opt=(); [[ $spin == default ]] || opt=(--spin-us "$spin")
+  printf 'floor      spin %-8s' "$spin"; "$bin" run --scene "$out/floor.yaml" --device scripted:line --seconds 10 --rate 10000 "${opt[@]}" 2>/dev/null | grep '^timing'
+  printf 'full mouth spin %-8s' "$spin"; "$bin" run --scene scenes/oral_inspection.yaml --device scripted:random --seconds 10 --rate 10000 "${opt[@]}" 2>/dev/null | grep '^timing'
+done | tee "$out/rate10k.txt"
+
+echo "== the closed mouth (the oral scene with mouth_open_mm: 0), a saturated random hand, 1 kHz, seeds 1-3:"
+echo "   the pair budget (solve_pairs 512, the default) beside the whole set every frame (solve_pairs 0)"
+for budget in 512 0; do
+  sed -e 's/^mouth_open_mm: .*/mouth_open_mm: 0/' -e "s/^objects:/haptics:\n  solve_pairs: $budget\nobjects:/" \
+    scenes/oral_inspection.yaml > "$out/closed_mouth_$budget.yaml"
+  for seed in 1 2 3; do
+    printf 'solve_pairs %-4s seed %s  ' "$budget" "$seed"
+    "$bin" run --scene "$out/closed_mouth_$budget.yaml" --device scripted:random --seconds 5 --seed "$seed" 2>/dev/null | grep '^run'
+  done
+done | tee "$out/closed_mouth.txt"
 echo "report in $out"
