@@ -75,17 +75,20 @@ class Nnls {
     UpdateResidual();
 
     for (iterations_ = 0; iterations_ < max_iterations; ++iterations_) {
-      // The column most correlated with the residual enters.
+      // The column most correlated with the residual enters. The same products
+      // over every column (passive and blocked ones too) are, at the end, the
+      // rows' violations (largest_product()).
       int t = -1;
-      double best = 0;
+      double best = 0, largest = 0;
       for (int j = 0; j < m_; ++j) {
-        if (in_set_[j] || blocked_[j]) continue;
         const double w = Column(j).dot(r_);
-        if (w > best) {
+        largest = std::max(largest, w);
+        if (w > best && !in_set_[j] && !blocked_[j]) {
           best = w;
           t = j;
         }
       }
+      largest_product_ = largest;
       if (t < 0 || best <= 1e-12 * (1.0 + Column(t).norm()) || k_ == R) return true;
       passive_[k_] = t;
       u_[k_] = 0;
@@ -126,23 +129,54 @@ class Nnls {
   std::int32_t passive(int i) const { return passive_[i]; }
   double weight(int i) const { return u_[i]; }
   int iterations() const { return iterations_; }
+  // The largest product of a column with the final residual (>= 0), after a
+  // Run that returned true: with the LDP's x = -r[0..R-2] / r[R-1], a column's
+  // slack is -product / r[R-1], so this over r[R-1] is the largest violation.
+  double largest_product() const { return largest_product_; }
 
  private:
   Eigen::Map<const Col> Column(int j) const { return Eigen::Map<const Col>(cols_ + static_cast<std::size_t>(j) * R); }
 
-  // z = argmin |e - C_P z| by Householder QR; false when C_P is rank deficient.
+  // z = argmin |e - C_P z| (e the last unit vector) by a QR of C_P made with
+  // classical Gram-Schmidt applied twice (as stable as Householder's for these
+  // at most R columns of R rows, and with fixed-size storage and no blocking,
+  // several times cheaper); false when C_P is rank deficient.
   bool LeastSquares(double* z) const {
-    using Mat = Eigen::Matrix<double, R, Eigen::Dynamic, 0, R, R>;
-    Mat M(R, k_);
-    for (int i = 0; i < k_; ++i) M.col(i) = Column(passive_[i]);
-    const Eigen::HouseholderQR<Mat> qr(M);
-    const auto& T = qr.matrixQR();
+    double q[R][R];      // orthonormal columns q[i][0..R)
+    double rr[R][R];     // upper triangle: rr[j][i], j <= i
     for (int i = 0; i < k_; ++i) {
-      if (!(std::abs(T(i, i)) > 1e-10 * M.col(i).norm())) return false;
+      const double* c = cols_ + static_cast<std::size_t>(passive_[i]) * R;
+      double v[R];
+      double cn = 0;
+      for (int t = 0; t < R; ++t) {
+        v[t] = c[t];
+        cn += c[t] * c[t];
+      }
+      for (int j = 0; j < i; ++j) rr[j][i] = 0;
+      for (int pass = 0; pass < 2; ++pass) {
+        for (int j = 0; j < i; ++j) {
+          double h = 0;
+          for (int t = 0; t < R; ++t) h += q[j][t] * v[t];
+          for (int t = 0; t < R; ++t) v[t] -= h * q[j][t];
+          rr[j][i] += h;
+        }
+      }
+      double vn = 0;
+      for (int t = 0; t < R; ++t) vn += v[t] * v[t];
+      vn = std::sqrt(vn);
+      if (!(vn > 1e-10 * std::sqrt(cn))) return false;
+      rr[i][i] = vn;
+      const double inv = 1.0 / vn;
+      for (int t = 0; t < R; ++t) q[i][t] = v[t] * inv;
     }
-    const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, R, 1> sol = qr.solve(e_);
-    for (int i = 0; i < k_; ++i) z[i] = sol[i];
-    return sol.allFinite();
+    // R z = Q^T e, whose entries are the last components of the q's.
+    for (int i = k_ - 1; i >= 0; --i) {
+      double acc = q[i][R - 1];
+      for (int j = i + 1; j < k_; ++j) acc -= rr[i][j] * z[j];
+      z[i] = acc / rr[i][i];
+      if (!std::isfinite(z[i])) return false;
+    }
+    return true;
   }
 
   void UpdateResidual() {
@@ -179,6 +213,7 @@ class Nnls {
   double u_[R], z_[R];
   int k_ = 0;
   int iterations_ = 0;
+  double largest_product_ = 0;
 };
 
 }  // namespace
@@ -219,6 +254,7 @@ const QpSolution& QpSolver::Solve(const double* A, const double* b, int m, const
   // f_i = (b_i - a_i q0) / s_i; rows with a zero gradient are skipped (always
   // satisfied or never satisfiable: the latter is reported as a violation).
   bool finite = true;
+  double zero_rows = 0;  // the most a row of zeros asks (0 >= b_i), when positive
   for (int i = 0; i < m; ++i) {
     const Eigen::Map<const Vector6> a(A + 6 * i);
     const Vector6 e = a.cwiseProduct(inv_sqrt_g);
@@ -228,6 +264,7 @@ const QpSolution& QpSolver::Solve(const double* A, const double* b, int m, const
     // (A NaN or infinite norm or b fails the test below, checked once after the loop.)
     finite = finite && norm < std::numeric_limits<double>::infinity() && std::abs(b[i]) < std::numeric_limits<double>::infinity();
     const double inv = norm >= 1e-300 ? 1.0 / norm : 0.0;
+    if (norm < 1e-300) zero_rows = std::max(zero_rows, b[i]);
     Eigen::Map<Vector6> column(col);
     column = e * inv;
     col[6] = (b[i] - a.dot(q0)) * inv;
@@ -243,7 +280,13 @@ const QpSolution& QpSolver::Solve(const double* A, const double* b, int m, const
   s.iterations = nnls.iterations();
   Vector6 x = Vector6::Zero();
   const double r_last = nnls.residual()[6];
+  bool violation_known = false;  // from the last scan of the columns
+  double violation = 0;
   if (r_last > kInfeasibleResidual) {
+    if (converged) {
+      violation = std::max(zero_rows, nnls.largest_product() / r_last);
+      violation_known = true;
+    }
     x = -nnls.residual().head<6>() / r_last;
     s.num_active = nnls.size();
     for (int i = 0; i < nnls.size(); ++i) {
@@ -302,8 +345,7 @@ const QpSolution& QpSolver::Solve(const double* A, const double* b, int m, const
     stationarity -= s.lambda[i] * e;
     complementarity = std::max(complementarity, std::abs(s.lambda[i] * (e.dot(x) - col[6])));
   }
-  double violation = 0;
-  for (int i = 0; i < m; ++i) {
+  for (int i = 0; i < m && !violation_known; ++i) {
     const double* col = columns_.data() + static_cast<std::size_t>(i) * 7;
     const double slack = Eigen::Map<const Vector6>(col).dot(x) - col[6];
     if (scale_[i] < 1e-300) {  // a row of zeros: 0 >= b_i or never

@@ -11,7 +11,7 @@ foreach(kind slot wedge plane cluster random)
   file(REMOVE ${OUT}/${kind}.sol)
   execute_process(COMMAND ${CLI} qp-bench ${OUT}/${kind}.qp --solutions ${OUT}/${kind}.sol
                   RESULT_VARIABLE s OUTPUT_VARIABLE o ERROR_VARIABLE e)
-  if(NOT s EQUAL 0 OR NOT o MATCHES "qp-bench frames=120 median_us=[0-9.]+ p99_us=[0-9.]+ max_us=[0-9.]+ mean_iters=[0-9.]+ max_iters=[0-9]+ failures=0\n")
+  if(NOT s EQUAL 0 OR NOT o MATCHES "qp-bench frames=120 median_us=[0-9.]+ p99_us=[0-9.]+ max_us=[0-9.]+ mean_iters=[0-9.]+ max_iters=[0-9]+ failures=0 mean_active=[0-9.]+\n")
     message(FATAL_ERROR "qp-bench ${kind} (${s}): ${o}${e}")
   endif()
   file(SIZE ${OUT}/${kind}.sol size)
