@@ -11,10 +11,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <string>
 
 #include "app/cli/commands.h"
+#include "core/anatomy/gingiva.h"
+#include "core/anatomy/tooth.h"
 #include "core/geometry/mesh_io.h"
 #include "core/geometry/primitives.h"
 #include "core/haptics/effects.h"
@@ -163,6 +166,135 @@ RippleStats RunFlatSlide(const SphereTree& probe, double probe_bottom, const Sph
   return r;
 }
 
+// The nearest point of triangle (a, b, c) to p (Ericson's region tests).
+Vector3 ClosestOnTriangle(const Vector3& p, const Vector3& a, const Vector3& b, const Vector3& c) {
+  const Vector3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Vector3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Vector3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// Signed distance from p to a closed mesh (negative inside), by its nearest face.
+double SignedDistance(const TriangleMesh& mesh, const Vector3& p) {
+  double best = std::numeric_limits<double>::infinity();
+  int face = -1;
+  Vector3 nearest;
+  for (int f = 0; f < static_cast<int>(mesh.num_faces()); ++f) {
+    const auto& t = mesh.faces()[static_cast<std::size_t>(f)];
+    const Vector3 q = ClosestOnTriangle(p, mesh.vertices()[t[0]], mesh.vertices()[t[1]], mesh.vertices()[t[2]]);
+    const double d = (p - q).squaredNorm();
+    if (d < best) best = d, face = f, nearest = q;
+  }
+  if (face < 0) return best;
+  const auto& t = mesh.faces()[static_cast<std::size_t>(face)];
+  const Vector3 n = (mesh.vertices()[t[1]] - mesh.vertices()[t[0]]).cross(mesh.vertices()[t[2]] - mesh.vertices()[t[0]]);
+  const double d = std::sqrt(best);
+  // At an edge or vertex the face's normal can mislead; the nearest point's
+  // direction from p agrees with the outward side for points this close.
+  return (p - nearest).dot(n) >= 0 ? d : -d;
+}
+
+// Slides the flat end of the probe over a tooth's buccal surface at a constant
+// device depth: the device is held 0.3 mm inside the true surface along the
+// outward radial direction at 1.5 mm above the CEJ (where a probe works),
+// swept from 60 to 120 degrees around the tooth (its buccal face, +-30 degrees),
+// the probe's axis along that direction. On a curved surface the true force
+// turns and changes slowly; the sphere bumps add a fast ripple, measured as the
+// peak to peak of |F| less its moving mean over 0.5 mm of travel, over the mean.
+// The air gap is the end face's true distance to the tooth's mesh (every tenth
+// frame; the probe is the 0.4 mm cylinder, its end face at probe_bottom).
+RippleStats RunBuccalSlide(const SphereTree& probe, double probe_bottom, const TriangleMesh& tooth,
+                           const SphereTree& tree, const LeafPlanes* planes, EngineParams params) {
+  const EngineModel model(probe, {{&tree, RigidTransform::Identity(), planes}}, params);
+  EngineData d(model);
+  constexpr double kZ = 1.5, kDepth = 0.3, kPi = 3.14159265358979323846, kEndRadius = 0.4;
+  auto pose = [&](double th, double depth) {
+    const Vector3 u(std::cos(th), std::sin(th), 0);
+    const Vector3 surface = OuterRadius(tooth, th, kZ) * u + Vector3(0, 0, kZ);
+    Matrix3 R;
+    R.col(2) = u;
+    R.col(0) = Vector3::UnitZ().cross(u).normalized();
+    R.col(1) = R.col(2).cross(R.col(0));
+    // The end face's centre (probe_bottom along the axis from the origin) at `depth` inside.
+    return RigidTransform(R, surface - depth * u - probe_bottom * u);
+  };
+  const double th0 = kPi / 3, th1 = 2 * kPi / 3;
+  ResetTool(pose(th0, -1.0), &d);
+  RippleStats r;
+  std::vector<double> us, f, travel, gaps;
+  Vector3 last_f = Vector3::Zero(), last_h = pose(th0, kDepth).translation();
+  const int warmup = 300, frames = 3000;
+  double path = 0;
+  Vector3 last_end = Vector3::Zero();
+  for (int i = 0; i < warmup + frames; ++i) {
+    const double th = th0 + (th1 - th0) * std::max(0, i - warmup) / frames;
+    const RigidTransform X = pose(th, kDepth);
+    const auto t0 = Clock::now();
+    Step(model, X, &d);
+    const double dt = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+    const Vector3 end = d.X_WG * Vector3(0, 0, probe_bottom);
+    if (i >= warmup) {
+      if (i > warmup) path += (end - last_end).norm();
+      us.push_back(dt);
+      f.push_back(d.force_W.norm());
+      travel.push_back(path);
+      if ((i - warmup) % 10 == 0) {
+        // The end face's true distance: its centre and 24 points of its rim (the
+        // face meets a surface that tilts under it at the rim first).
+        double gap = SignedDistance(tooth, end);
+        for (int k = 0; k < 24; ++k) {
+          const double a = 2 * kPi * k / 24;
+          gap = std::min(gap, SignedDistance(tooth, d.X_WG * Vector3(kEndRadius * std::cos(a), kEndRadius * std::sin(a),
+                                                                     probe_bottom)));
+        }
+        gaps.push_back(gap);
+      }
+      const double unexplained = UnexplainedForceChange(last_f, d.force_W, last_h, X.translation(), params.k_t);
+      if (unexplained > kPopN) ++r.pops;
+      r.worst_pop_n = std::max(r.worst_pop_n, unexplained);
+    }
+    last_end = end;
+    last_f = d.force_W;
+    last_h = X.translation();
+  }
+  // The fast part of |F|: less its mean over +-0.25 mm of travel.
+  double lo = 1e300, hi = -1e300, mean = 0, hlo = 1e300, hhi = -1e300;
+  std::size_t a = 0, b = 0;
+  double window_sum = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    while (b < f.size() && travel[b] <= travel[i] + 0.25) window_sum += f[b++];
+    while (travel[a] < travel[i] - 0.25) window_sum -= f[a++];
+    const double fast = f[i] - window_sum / static_cast<double>(b - a);
+    lo = std::min(lo, fast), hi = std::max(hi, fast);
+    mean += f[i] / static_cast<double>(f.size());
+  }
+  for (double g : gaps) {
+    hlo = std::min(hlo, g), hhi = std::max(hhi, g);
+    r.gap_mean_mm += g / static_cast<double>(gaps.size());
+  }
+  r.force_ripple_pct = mean > 0 ? 100 * (hi - lo) / mean : 0;
+  r.height_ripple_mm = hhi - hlo;  // here: the spread of the air gap along the sweep
+  r.gap_max_mm = hhi;
+  std::sort(us.begin(), us.end());
+  r.p50_us = us[us.size() / 2];
+  r.p99_us = us[us.size() * 99 / 100];
+  r.faults = d.faults.total();
+  return r;
+}
+
 void Plot(const fs::path& dir) {
   if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
     std::printf("gnuplot not found: CSV written, no plots (scripts/install-deps.sh installs gnuplot-nox)\n");
@@ -197,11 +329,22 @@ void Plot(const fs::path& dir) {
       << " '' skip 1 using 1:($11 > 0.01 ? $11 : 0.01) with linespoints lw 2 title 'force ripple %, clipped leaves (0.01 = none)',"
       << " 7 with lines dt 2 lw 1 title 'Weber fraction for force (7 %)',"
       << " '' skip 1 using 1:3 axes x1y2 with linespoints dt 3 lw 2 title 'height ripple (mm), spheres',"
-      << " '' skip 1 using 1:($12 > 1e-5 ? $12 : 1e-5) axes x1y2 with linespoints dt 3 lw 2 title 'height ripple (mm), clipped leaves'\n";
+      << " '' skip 1 using 1:($12 > 1e-5 ? $12 : 1e-5) axes x1y2 with linespoints dt 3 lw 2 title 'height ripple (mm), clipped leaves'\n"
+      << "unset logscale\nset logscale x 2\n"
+      << "set output '" << (dir / "buccal_ripple.png").string() << "'\n"
+      << "set title 'Sliding along a molar''s buccal surface: force ripple and the air gap felt'\nset key right top\n"
+      << "set xlabel 'leaf spheres of the tooth'\nset ylabel 'fast force ripple, % (peak to peak / mean)'\n"
+      << "set y2label 'air gap felt, mean (mm)'\nset yrange [0:*]\nset y2range [0:*]\n"
+      << "plot '" << (dir / "buccal_ripple.csv").string()
+      << "' skip 1 every 2::0 using 1:3 with linespoints lw 2 lc rgb '#1f77b4' title 'force ripple %, spheres',"
+      << " '' skip 1 every 2::1 using 1:3 with linespoints lw 2 lc rgb '#d62728' title 'force ripple %, clipped leaves',"
+      << " 7 with lines dt 2 lw 1 lc rgb '#555555' title 'Weber fraction for force (7 %)',"
+      << " '' skip 1 every 2::0 using 1:5 axes x1y2 with linespoints dt 3 lw 2 lc rgb '#1f77b4' title 'air gap (mm), spheres',"
+      << " '' skip 1 every 2::1 using 1:5 axes x1y2 with linespoints dt 3 lw 2 lc rgb '#d62728' title 'air gap (mm), clipped leaves'\n";
   out.close();
   if (std::system(("gnuplot '" + gp.string() + "'").c_str()) == 0) {
-    std::printf("plots: %s, %s, %s\n", (dir / "resolution.png").c_str(), (dir / "tolerance.png").c_str(),
-                (dir / "ripple.png").c_str());
+    std::printf("plots: %s, %s, %s, %s\n", (dir / "resolution.png").c_str(), (dir / "tolerance.png").c_str(),
+                (dir / "ripple.png").c_str(), (dir / "buccal_ripple.png").c_str());
   } else {
     std::printf("gnuplot failed on %s\n", gp.c_str());
   }
@@ -424,6 +567,37 @@ void AddAccuracyCommands(CLI::App& app) {
       }
     }
 
+    // Sliding along a tooth's buccal surface (46) at constant depth, per leaf count.
+    {
+      const ToothModel tooth = GenerateTooth(46);
+      std::ofstream bc(dir / "buccal_ripple.csv");
+      bc << "leaves,surface,force_ripple_pct,gap_spread_mm,gap_mean_mm,gap_max_mm,pops,worst_pop_n,frame_p50_us,"
+            "frame_p99_us,faults\n";
+      std::printf("\nsliding along tooth 46's buccal surface at constant depth (0.3 mm, 1.5 mm above the CEJ, 60 degrees "
+                  "of arc): fast force ripple (|F| less its mean over 0.5 mm of travel, peak to peak over the mean), "
+                  "the air gap felt (the probe's end face to the tooth's mesh) and its spread, pops\n");
+      std::printf("  budget leaves  surface  force ripple %%  gap mean mm  gap spread mm  gap max mm  pops  worst pop N"
+                  "  frame p50 us  p99 us  faults\n");
+      for (int budget : {128, 512, 2048}) {
+        SphereTreeParams p;
+        p.leaves = budget;
+        p.levels = budget > 512 ? 5 : 4;
+        const SphereTree tree = LoadOrBuildSphereTree(tooth.mesh, p, cache);
+        const LeafPlanes planes = FitLeafPlanes(tooth.mesh, tree);
+        for (const LeafPlanes* lp : {static_cast<const LeafPlanes*>(nullptr), &planes}) {
+          const RippleStats r = RunBuccalSlide(probe, probe_bottom, tooth.mesh, tree, lp, EngineParams{});
+          std::printf("  %6d %6zu  %7s  %14.2f  %11.4f  %13.4f  %10.4f  %4d  %11.3f  %12.2f  %6.2f  %6llu\n", budget,
+                      tree.NumLeaves(), lp ? "planes" : "spheres", r.force_ripple_pct, r.gap_mean_mm,
+                      r.height_ripple_mm, r.gap_max_mm, r.pops, r.worst_pop_n, r.p50_us, r.p99_us,
+                      static_cast<unsigned long long>(r.faults));
+          bc << tree.NumLeaves() << ',' << (lp ? "planes" : "spheres") << ',' << r.force_ripple_pct << ','
+             << r.height_ripple_mm << ',' << r.gap_mean_mm << ',' << r.gap_max_mm << ',' << r.pops << ','
+             << r.worst_pop_n << ',' << r.p50_us << ',' << r.p99_us << ',' << r.faults << '\n';
+          std::fflush(stdout);
+        }
+      }
+    }
+
     // What the budget is spent on, at 512 leaves: the mean (default) or the worst.
     std::printf("\nspend (512 leaves): what the leaves are traded for after the min-max cover\n");
     std::printf("  spend  worst %%   mean %%   overlap  build s  frame p50 us  p99 us  pairs  faults\n");
@@ -460,8 +634,8 @@ void AddAccuracyCommands(CLI::App& app) {
           << ',' << f.faults << '\n';
     }
     tol.close();
-    std::printf("\nCSV: %s, %s, %s\n", (dir / "resolution.csv").c_str(), (dir / "tolerance.csv").c_str(),
-                (dir / "ripple.csv").c_str());
+    std::printf("\nCSV: %s, %s, %s, %s\n", (dir / "resolution.csv").c_str(), (dir / "tolerance.csv").c_str(),
+                (dir / "ripple.csv").c_str(), (dir / "buccal_ripple.csv").c_str());
     Plot(dir);
   });
 }
