@@ -202,14 +202,33 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   while (last >= 0 && !ext[last].any) --last;
   for (int i = 0; i < first; ++i) ext[i] = ext[first];
   for (int i = last + 1; i < stations; ++i) ext[i] = ext[last];
-  // Smooth the section along the arch (the bone does not follow each root's bulge).
-  std::vector<Extent> smooth = ext;
+  // Smooth the section along the arch (the bone does not follow each root's
+  // bulge): the widest extent within 4 stations (3 mm), then the mean of that
+  // over the same 4 stations. The mean of widest extents taken over windows
+  // that all contain a station is at least that station's own, so every root
+  // stays inside, and the outer surface ramps between teeth instead of
+  // stepping where one root's extent gives way to the next.
+  constexpr int kSmooth = 4;
+  std::vector<Extent> widest = ext;
   for (int i = 0; i < stations; ++i) {
-    for (int j = std::max(0, i - 4); j <= std::min(stations - 1, i + 4); ++j) {
-      smooth[i].n_min = std::min(smooth[i].n_min, ext[j].n_min);
-      smooth[i].n_max = std::max(smooth[i].n_max, ext[j].n_max);
-      smooth[i].far = std::max(smooth[i].far, ext[j].far);
+    for (int j = std::max(0, i - kSmooth); j <= std::min(stations - 1, i + kSmooth); ++j) {
+      widest[i].n_min = std::min(widest[i].n_min, ext[j].n_min);
+      widest[i].n_max = std::max(widest[i].n_max, ext[j].n_max);
+      widest[i].far = std::max(widest[i].far, ext[j].far);
     }
+  }
+  std::vector<Extent> smooth = widest;
+  for (int i = 0; i < stations; ++i) {
+    double n_min = 0, n_max = 0, far = 0;
+    int count = 0;
+    for (int j = std::max(0, i - kSmooth); j <= std::min(stations - 1, i + kSmooth); ++j, ++count) {
+      n_min += widest[j].n_min;
+      n_max += widest[j].n_max;
+      far += widest[j].far;
+    }
+    smooth[i].n_min = n_min / count;
+    smooth[i].n_max = n_max / count;
+    smooth[i].far = far / count;
   }
   std::vector<std::vector<Vector3>> rings;
   for (int i = 0; i < stations; ++i) {
