@@ -178,6 +178,11 @@ int Run(const RunArgs& a) {
     std::printf("collision: sphere tests a tick p50 %d, p99 %d, p99.9 %d, max %d\n", node_tests[node_tests.size() / 2],
                 node_tests[node_tests.size() * 99 / 100], node_tests[node_tests.size() * 999 / 1000], node_tests.back());
   }
+  // Read after the thread has stopped (joined): the engine's own counters.
+  if (const int budget = loop.model().params.solve_pairs; budget > 0)
+    std::printf("crowded: %" PRIu64 " ticks met more than %d pairs (haptics: solve_pairs) and %" PRIu64
+                " had the step toward the device limited by the margin cap (never below 0.1 mm a tick)\n",
+                loop.data().shortened_frames, budget, loop.data().capped_frames);
   std::printf("contact: %" PRIu64 " ticks in contact (%.1f %%)", s.contact_ticks,
               ticks ? 100.0 * s.contact_ticks / ticks : 0.0);
   for (const auto& [object, n] : summary.began)

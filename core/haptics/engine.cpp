@@ -299,9 +299,13 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   const double device_move = MoveBound(to_device, reach);
   double step_scale = device_move > p.max_step_mm ? p.max_step_mm / device_move : 1.0;
   // A step is kept within what the cap covers (a move of (cap - base) / 1.25).
+  bool capped = false;  // this frame's step was shortened to fit the cap
   const auto fit_step = [&] {
     const double allowed = (cap - p.base_margin_mm) / 1.25;
-    if (step_scale * device_move > allowed) step_scale = allowed / device_move;
+    if (step_scale * device_move > allowed) {
+      step_scale = allowed / device_move;
+      capped = true;
+    }
   };
   fit_step();
   d->node_tests = 0;
@@ -456,6 +460,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     cap = p.base_margin_mm + 1.25 * (cap - p.base_margin_mm);
   d->margin_cap_mm = std::min(cap, kMarginCapMaxMm);
   if (d->shortened > 0) ++d->shortened_frames;
+  if (capped) ++d->capped_frames;
   if (deep || (!accepted && ((d->pair_overflow && sol == nullptr) || overlap > 10 * p.penetration_tolerance_mm))) {
     // Inside an object, overlapping it by more pairs than a set holds even at
     // the shortest step, or overlapping it in a frame that could not move (the

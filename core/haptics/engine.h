@@ -127,6 +127,7 @@ struct EngineData {
   double margin_cap_mm = 1e3;  // largest margin (and step) the last crowded place allowed; grows back
   int shortened = 0;         // queries of this frame past solve_pairs (a shorter step followed)
   std::uint64_t shortened_frames = 0;  // frames that took a shorter step for solve_pairs (all frames)
+  std::uint64_t capped_frames = 0;     // frames whose step the margin cap shortened (all frames)
 
   // Solver report of the last pass.
   QpStatus qp_status = QpStatus::kSolved;
