@@ -221,10 +221,6 @@ void InsideFrame(const EngineModel& model, const RigidTransform& X_WH, Clock::ti
   d->timings.total_us = Micros(t0, Clock::now());
 }
 
-// Highest margin cap: above the margin of the longest step (max_step_mm), so
-// that a free tool is never capped.
-constexpr double kMarginCapMaxMm = 1e3;
-
 void EnterInside(EngineData* d) {
   d->inside = true;
   d->free_search_next = 0;
@@ -245,7 +241,7 @@ EngineData::EngineData(const EngineModel& model)
       qp(model.params.max_pairs) {}
 
 void ResetTool(const RigidTransform& X_WG, EngineData* d) {
-  d->margin_cap_mm = kMarginCapMaxMm;
+  d->margin_cap_mm = EngineData::kMarginCapMaxMm;
   d->X_WG = X_WG;
   d->X_WH = X_WG;
   d->num_pairs = 0;
@@ -310,7 +306,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   fit_step();
   d->node_tests = 0;
   d->node_budget_hit = false;
-  d->shortened = 0;
+  bool crowded_frame = false;  // a query of this frame met more than solve_pairs
   bool accepted = false, deep = false;
   double overlap = 0;  // deepest overlap of the rendered tool at the frame's start
   d->sweeps = 0;
@@ -336,7 +332,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     const bool crowded = cs.overflow && capacity < p.max_pairs;  // past solve_pairs only
     d->node_budget_hit = d->node_budget_hit || over_budget;
     d->pair_overflow = (cs.overflow && !crowded) || cs.stack_overflow || over_budget;
-    if (crowded) ++d->shortened;
+    crowded_frame = crowded_frame || crowded;
     if (sweep == 0 && !d->pair_overflow && !crowded)
       for (int i = 0; i < cs.pairs; ++i) overlap = std::max(overlap, -d->pairs[i].gap);
     if (crowded) {
@@ -455,11 +451,11 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   d->margin_mm = margin;
   // The cap grows back where the margin it allowed found few pairs.
   // With no pair at all, it is lifted.
-  if (accepted && d->num_pairs == 0) cap = kMarginCapMaxMm;
+  if (accepted && d->num_pairs == 0) cap = EngineData::kMarginCapMaxMm;
   if (accepted && margin >= 0.8 * cap && d->num_pairs < p.solve_pairs / 4)
     cap = p.base_margin_mm + 1.25 * (cap - p.base_margin_mm);
-  d->margin_cap_mm = std::min(cap, kMarginCapMaxMm);
-  if (d->shortened > 0) ++d->shortened_frames;
+  d->margin_cap_mm = std::min(cap, EngineData::kMarginCapMaxMm);
+  if (crowded_frame) ++d->shortened_frames;
   if (capped) ++d->capped_frames;
   if (deep || (!accepted && ((d->pair_overflow && sol == nullptr) || overlap > 10 * p.penetration_tolerance_mm))) {
     // Inside an object, overlapping it by more pairs than a set holds even at

@@ -124,8 +124,8 @@ struct EngineData {
   double last_move_mm = 0;   // how far a tool point moved last frame (margin guess)
   int held_frames = 0;       // frames in a row that held the rendered tool (could not move it)
   bool pair_overflow = false;
-  double margin_cap_mm = 1e3;  // largest margin (and step) the last crowded place allowed; grows back
-  int shortened = 0;         // queries of this frame past solve_pairs (a shorter step followed)
+  static constexpr double kMarginCapMaxMm = 1e3;  // no cap: above any step's margin
+  double margin_cap_mm = kMarginCapMaxMm;  // largest margin (and step) the last crowded place allowed; grows back
   std::uint64_t shortened_frames = 0;  // frames that took a shorter step for solve_pairs (all frames)
   std::uint64_t capped_frames = 0;     // frames whose step the margin cap shortened (all frames)
 

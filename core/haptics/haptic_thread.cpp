@@ -31,8 +31,8 @@ void SleepUntil(std::int64_t ns) {
 
 // Sleeps until `spin` ns before `ns`, then polls the clock until `ns`.
 void WaitUntil(std::int64_t ns, std::int64_t spin) {
-  if (spin > 0 && ns - NowNs() > spin) SleepUntil(ns - spin);
   if (spin <= 0) return SleepUntil(ns);
+  if (ns - NowNs() > spin) SleepUntil(ns - spin);
   while (NowNs() < ns) {
   }
 }
@@ -86,8 +86,10 @@ void HapticThread::Run() noexcept {
 
   const double rate = loop_->options().rate_hz > 0 ? loop_->options().rate_hz : 1000.0;
   const auto period = static_cast<std::int64_t>(kNsPerS / rate);
-  const auto spin = static_cast<std::int64_t>(
-      1e3 * (options_.spin_us >= 0 ? options_.spin_us : std::min(0.4 * 1e-3 * static_cast<double>(period), 60.0)));
+  // The polled end of each wait (ThreadOptions::spin_us), at most half a period.
+  const auto spin = std::min(period / 2, static_cast<std::int64_t>(1e3 * (options_.spin_us >= 0
+                                                                             ? options_.spin_us
+                                                                             : std::min(0.4e-3 * period, 60.0))));
   std::int64_t deadline = NowNs();  // the scheduled start of the current tick
   std::int64_t last_start = deadline;
   std::uint64_t n = 0;
@@ -125,7 +127,7 @@ void HapticThread::Run() noexcept {
       SleepUntil(NowNs() + std::max<std::int64_t>(period / 10, 20'000));
       continue;
     }
-    WaitUntil(deadline, std::min(spin, period / 2));
+    WaitUntil(deadline, spin);
   }
   running_.store(false, std::memory_order_release);
 }

@@ -1,6 +1,6 @@
 #include "core/solver/qp.h"
 
-#include <Eigen/QR>
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <limits>
