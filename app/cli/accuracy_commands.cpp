@@ -27,6 +27,7 @@
 #include "core/scene/scene.h"
 #include "core/session/session.h"
 #include "core/spheretree/cache.h"
+#include "core/spheretree/mesh_oracle.h"
 #include "core/spheretree/metrics.h"
 
 namespace sulcus::cli {
@@ -166,47 +167,6 @@ RippleStats RunFlatSlide(const SphereTree& probe, double probe_bottom, const Sph
   return r;
 }
 
-// The nearest point of triangle (a, b, c) to p (Ericson's region tests).
-Vector3 ClosestOnTriangle(const Vector3& p, const Vector3& a, const Vector3& b, const Vector3& c) {
-  const Vector3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vector3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-  const Vector3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-// Signed distance from p to a closed mesh (negative inside), by its nearest face.
-double SignedDistance(const TriangleMesh& mesh, const Vector3& p) {
-  double best = std::numeric_limits<double>::infinity();
-  int face = -1;
-  Vector3 nearest;
-  for (int f = 0; f < static_cast<int>(mesh.num_faces()); ++f) {
-    const auto& t = mesh.faces()[static_cast<std::size_t>(f)];
-    const Vector3 q = ClosestOnTriangle(p, mesh.vertices()[t[0]], mesh.vertices()[t[1]], mesh.vertices()[t[2]]);
-    const double d = (p - q).squaredNorm();
-    if (d < best) best = d, face = f, nearest = q;
-  }
-  if (face < 0) return best;
-  const auto& t = mesh.faces()[static_cast<std::size_t>(face)];
-  const Vector3 n = (mesh.vertices()[t[1]] - mesh.vertices()[t[0]]).cross(mesh.vertices()[t[2]] - mesh.vertices()[t[0]]);
-  const double d = std::sqrt(best);
-  // At an edge or vertex the face's normal can mislead; the nearest point's
-  // direction from p agrees with the outward side for points this close.
-  return (p - nearest).dot(n) >= 0 ? d : -d;
-}
-
 // Slides the flat end of the probe over a tooth's buccal surface at a constant
 // device depth: the device is held 0.3 mm inside the true surface along the
 // outward radial direction at 1.5 mm above the CEJ (where a probe works),
@@ -220,6 +180,10 @@ RippleStats RunBuccalSlide(const SphereTree& probe, double probe_bottom, const T
                            const SphereTree& tree, const LeafPlanes* planes, EngineParams params) {
   const EngineModel model(probe, {{&tree, RigidTransform::Identity(), planes}}, params);
   EngineData d(model);
+  const MeshOracle oracle(tooth);  // signed distance: negative inside the tooth
+  const auto SignedDistance = [&oracle](const TriangleMesh&, const Vector3& p) {
+    return oracle.Inside(p) ? -oracle.Distance(p) : oracle.Distance(p);
+  };
   constexpr double kZ = 1.5, kDepth = 0.3, kPi = 3.14159265358979323846, kEndRadius = 0.4;
   auto pose = [&](double th, double depth) {
     const Vector3 u(std::cos(th), std::sin(th), 0);
