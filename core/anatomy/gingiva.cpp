@@ -1,5 +1,7 @@
 #include "core/anatomy/gingiva.h"
 
+#include "core/geometry/isosurface.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -80,7 +82,7 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
   std::vector<std::array<Vector3, 7 + wall_levels>> rings(n);  // (r, z) points as Vector3(r, z, 0)
   GingivaModel out;
   out.site_angle = SiteAngles();
-  std::vector<double> r_in_at(n), z_m_at(n), z_f_at(n);
+  std::vector<double> r_in_at(n), z_m_at(n), z_f_at(n), r_floor_at(n), r_out_at(n);
   for (int k = 0; k < n; ++k) {
     const double th = 2 * kPi * k / n;
     // The CEJ height at this angle (the tooth's CEJ curve has 72 points, evenly spaced).
@@ -106,6 +108,8 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
     ring[i++] = Vector3(r_in + 0.75 * thickness, z_m - 0.25, 0);  // G
     ring[i++] = Vector3(r_in + 0.35 * thickness, z_m - 0.03, 0);  // rounded top
     r_in_at[k] = r_in;
+    r_floor_at[k] = r_floor;
+    r_out_at[k] = r_out;
     z_m_at[k] = z_m;
     z_f_at[k] = z_f;
   }
@@ -129,6 +133,9 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
   out.mesh = TriangleMesh(std::move(vertices), std::move(faces));
   out.floor_z = z_f_at;
   out.margin_z = z_m_at;
+  out.wall_r = r_in_at;
+  out.floor_r = r_floor_at;
+  out.outer_r = r_out_at;
   out.sulcus_r.resize(n);
   for (int k = 0; k < n; ++k) out.sulcus_r[k] = r_in_at[k] - 0.5 * p.gap_mm;
   if (out.mesh.Volume() < 0) out.mesh.FlipOrientation();
@@ -139,6 +146,202 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
     out.margin[s] = Vector3(r * std::cos(th), r * std::sin(th), z_m_at[k]);
     out.floor[s] = Vector3(r * std::cos(th), r * std::sin(th), z_f_at[k]);
   }
+  return out;
+}
+
+namespace {
+
+// A table around the tooth (one value per segment, from +x) at angle th,
+// linearly interpolated.
+double Around(const std::vector<double>& table, double th) {
+  const int n = static_cast<int>(table.size());
+  double x = th / (2 * kPi) * n;
+  x -= n * std::floor(x / n);
+  const int i = static_cast<int>(x) % n;
+  const double t = x - std::floor(x);
+  return table[i] + t * (table[(i + 1) % n] - table[i]);
+}
+
+// One tooth's collar as fields, at a point in that tooth's frame.
+struct CollarAt {
+  // In the sulcus or above it: inside > 0 and above > 0; in the root below the
+  // floor: root > 0.
+  double inside, above, root;
+  double from_root;  // outward from the root's widest line (r less the wall less the sulcus' width)
+  double band;    // < 0 within the collar's outer wall, above its base
+  double top;     // the gingiva's top: the margin at the wall, falling outward
+  double bottom;  // its base, rising beyond the outer wall
+};
+
+CollarAt Collar(const GingivaModel& g, const Vector3& q) {
+  const double r = std::hypot(q.x(), q.y());
+  const double th = std::atan2(q.y(), q.x());
+  const double wall = Around(g.wall_r, th), z_f = Around(g.floor_z, th), z_m = Around(g.margin_z, th);
+  const double r_floor = Around(g.floor_r, th), r_out = Around(g.outer_r, th);
+  CollarAt c;
+  c.inside = wall - r;
+  c.from_root = r - (2 * Around(g.sulcus_r, th) - wall);
+  c.above = q.z() - z_f;
+  c.root = r_floor - r;
+  c.band = std::max(r - r_out, z_f - 1.0 - q.z());
+  // (beyond the outer wall it falls away, so that a collar two teeth away
+  // never shapes the gingiva between these two)
+  c.top = z_m - 0.4 * std::max(0.0, r - wall) - 2.0 * std::max(0.0, r - r_out);
+  c.bottom = z_f - 1.0 + 2.0 * std::max(0.0, r - r_out);
+  return c;
+}
+
+// The tooth's widest point along the horizontal direction th, over its crown:
+// where it meets the neighbour that lies that way.
+Vector3 ContactPoint(const ToothModel& tooth, double th) {
+  double best = 0, at = 0;
+  for (int j = 0; j <= 24; ++j) {
+    const double z = tooth.dimensions.crown_height * j / 24.0, r = OuterRadius(tooth.mesh, th, z);
+    if (r > best) best = r, at = z;
+  }
+  return Vector3(best * std::cos(th), best * std::sin(th), at);
+}
+
+// max(a, b) with the crease rounded over k (a polynomial smooth maximum): the
+// gingiva's edges are rounded, and the grid does not alias a sharp one.
+double SmoothMax(double a, double b, double k) {
+  const double h = std::max(0.0, 1.0 - std::abs(a - b) / k);
+  return std::max(a, b) + 0.25 * k * h * h;
+}
+
+}  // namespace
+
+GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel& own,
+                                     const std::vector<GingivaNeighbour>& neighbours)
+    : own_(&own) {
+  double reach = 0;
+  for (const double r : own.outer_r) reach = std::max(reach, r);
+  for (const GingivaNeighbour& n : neighbours) {
+    if (!n.tooth || !n.gingiva || n.gingiva->outer_r.empty())
+      throw std::invalid_argument("gingiva neighbour without its tooth or collar model");
+    const Matrix3 At = n.A.transpose();  // the neighbour's frame to this one (A is orthogonal)
+    const Vector3 c = -(At * n.b);       // its axis' origin here
+    Link l{};
+    l.n = &n;
+    l.e = Eigen::Vector2d(c.x(), c.y());
+    l.L = l.e.norm();
+    if (l.L < 1e-6) throw std::invalid_argument("gingiva neighbour on the tooth's own axis");
+    l.e /= l.L;
+    const double th_e = std::atan2(l.e.y(), l.e.x());
+    // Toward this tooth, horizontal in the neighbour's frame (this origin is at b there).
+    const double th_back = std::atan2(n.b.y(), n.b.x());
+    // The plane halfway between the two contact points, its normal halfway
+    // between the two horizontal directions: both shares compute the same one.
+    const Vector3 p_i = ContactPoint(tooth, th_e);
+    const Vector3 p_j = At * (ContactPoint(*n.tooth, th_back) - n.b);
+    l.q = 0.5 * (p_i + p_j);
+    const Vector3 e_j = At * Vector3(std::cos(th_back), std::sin(th_back), 0);
+    l.normal = (Vector3(l.e.x(), l.e.y(), 0) - e_j).normalized();
+    // The interdental band's buccal and lingual faces: vertical planes (the
+    // two axes' mean vertical) through each tooth's outer extent square to the
+    // line between them, each point taken in its own tooth's frame.
+    l.up = (Vector3::UnitZ() + At * Vector3::UnitZ()).normalized();
+    const Vector3& up = l.up;
+    for (int side = 0; side < 2; ++side) {
+      const double sign = side == 0 ? 1.0 : -1.0;
+      const double th_i = th_e + sign * kPi / 2;
+      const Vector3 b_i = Around(own.outer_r, th_i) * Vector3(std::cos(th_i), std::sin(th_i), 0);
+      // The same side seen from the neighbour: its angle toward this tooth turned the other way.
+      const double th_j = th_back - sign * kPi / 2;
+      const Vector3 b_j = At * (Around(n.gingiva->outer_r, th_j) * Vector3(std::cos(th_j), std::sin(th_j), 0) - n.b);
+      Vector3 normal = (b_j - b_i).cross(up).normalized();
+      if (normal.dot(b_i) < 0) normal = -normal;  // outward, away from the axes
+      l.face_point[side] = b_i;
+      l.face_normal[side] = normal;
+    }
+    l.across_dir = l.normal.cross(up).normalized();
+    // The two margins where they face each other (each raised into the
+    // papilla), in this frame.
+    const double r_j = Around(n.gingiva->wall_r, th_back);
+    const Vector3 m_j =
+        At * (Vector3(r_j * std::cos(th_back), r_j * std::sin(th_back), Around(n.gingiva->margin_z, th_back)) - n.b);
+    const double r_i = Around(own.wall_r, th_e);
+    const Vector3 dir_e(std::cos(th_e), std::sin(th_e), 0);
+    l.papilla = 0.5 * (r_i * dir_e + Vector3(0, 0, Around(own.margin_z, th_e)) + m_j);
+    const Vector3 f_j =
+        At * (Vector3(r_j * std::cos(th_back), r_j * std::sin(th_back), Around(n.gingiva->floor_z, th_back)) - n.b);
+    l.base = 0.5 * (r_i * dir_e + Vector3(0, 0, Around(own.floor_z, th_e)) + f_j) - l.up;
+    const double d = l.q.head<2>().dot(l.e);
+    for (const Vector3& b : l.face_point) reach = std::max(reach, std::hypot(d, b.head<2>().norm()) + 0.5);
+    reach = std::max(reach, d + 0.5);
+    links_.push_back(l);
+  }
+  double z_lo = 1e9, z_hi = -1e9;
+  for (std::size_t k = 0; k < own.floor_z.size(); ++k) {
+    z_lo = std::min(z_lo, own.floor_z[k] - 1.0);
+    z_hi = std::max(z_hi, own.margin_z[k]);
+  }
+  box_.Extend(Vector3(-reach, -reach, z_lo - 2.0));
+  box_.Extend(Vector3(reach, reach, z_hi + 2.0));
+}
+
+double GingivaShareField::Uncut(const Vector3& p) const {
+  constexpr double kRound = 0.35;  // edges rounded over this (mm), about a grid cell
+  // Each collar's heights are in its own tooth's frame, so each is compared
+  // with the point there: above = how far above the highest top, below = how
+  // far below the lowest base.
+  const CollarAt own = Collar(*own_, p);
+  double band = own.band, above = p.z() - own.top, below = own.bottom - p.z();
+  // Under a contact the two sulci meet. By each root its floor is that
+  // tooth's own (within 0.5 mm of it: the sulcus' middle, where a probe tip
+  // walks), and away from both roots the col is the shallower of the two
+  // floors, the same from both sides: a probe tip under the contact rests on
+  // the col and never drops to the other tooth's deeper floor.
+  const auto own_weight = [](const CollarAt& c) { return std::clamp(1.0 - (c.from_root - 0.5) / 0.2, 0.0, 1.0); };
+  double own_above = own.above, cavity = -1e9;
+  for (const Link& l : links_) {
+    const Vector3 q = l.n->A * p + l.n->b;
+    const CollarAt other = Collar(*l.n->gingiva, q);
+    band = std::min(band, other.band);
+    above = std::min(above, q.z() - other.top);
+    below = std::min(below, other.bottom - q.z());
+    const double across_signed = (p - l.q).dot(l.normal);
+    // (only where the two sulci overlap)
+    const double overlap = std::clamp(std::min(own.inside, other.inside) / 0.2, 0.0, 1.0);
+    const double col = std::min(own.above, other.above);  // above the shallower floor
+    const double t_own = 1 - overlap * (1 - own_weight(own)), t_other = 1 - overlap * (1 - own_weight(other));
+    own_above = std::min(own_above, t_own * own.above + (1 - t_own) * col);
+    const double other_above = t_other * other.above + (1 - t_other) * col;
+    cavity = std::max(cavity, std::max(std::min(other.inside, other_above), other.root));
+    const double u = l.e.x() * p.x() + l.e.y() * p.y();
+    double faces = std::max(-u, u - l.L);
+    for (int side = 0; side < 2; ++side) faces = std::max(faces, (p - l.face_point[side]).dot(l.face_normal[side]));
+    band = std::min(band, faces);
+    // The papilla: highest by the contact, falling away from the cut and,
+    // more gently, buccally and lingually; heights along the two teeth's mean vertical.
+    const double across = std::abs(across_signed), aside = std::abs((p - l.q).dot(l.across_dir));
+    above = std::min(above, (p - l.papilla).dot(l.up) + 0.8 * across + 0.3 * std::max(0.0, aside - 1.0));
+    below = std::min(below, (l.base - p).dot(l.up) + 0.5 * across);
+  }
+  cavity = std::max(cavity, std::max(std::min(own.inside, own_above), own.root));
+  double f = SmoothMax(band, above, kRound);
+  f = SmoothMax(f, below, kRound);
+  return SmoothMax(f, cavity, kRound);
+}
+
+double GingivaShareField::Cut(const Vector3& p) const {
+  double cut = -1e9;
+  for (const Link& l : links_) cut = std::max(cut, (p - l.q).dot(l.normal));
+  return cut;
+}
+
+double GingivaShareField::operator()(const Vector3& p) const {
+  return std::max(Uncut(p), Cut(p) - kOverlapMm);
+}
+
+GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params,
+                             const std::vector<GingivaNeighbour>& neighbours, double cell_mm) {
+  GingivaModel out = GenerateGingiva(tooth, params);
+  if (neighbours.empty()) return out;
+  const GingivaShareField field(tooth, out, neighbours);
+  TriangleMesh mesh = Simplify(Isosurface(field, field.box(), cell_mm), 0.02);
+  if (mesh.num_faces() == 0) throw std::invalid_argument("the gingiva of tooth " + std::to_string(tooth.tooth.fdi) + " is empty");
+  out.mesh = std::move(mesh);
   return out;
 }
 

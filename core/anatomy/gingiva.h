@@ -12,6 +12,7 @@
 // Soft-tissue behaviour (displacing the gingiva) is an effect, not geometry.
 
 #include <array>
+#include <vector>
 
 #include "core/anatomy/tooth.h"
 
@@ -36,8 +37,54 @@ struct GingivaModel {
   // the margin height and the radius of the sulcus' middle (where a probe tip
   // walks; lessons measure coverage of the walking stroke with them).
   std::vector<double> floor_z, margin_z, sulcus_r;
+  // Per segment too: the sulcus wall's radius, where the floor meets the root
+  // (inside it, so the attachment overlaps the tooth) and the outer surface.
+  std::vector<double> wall_r, floor_r, outer_r;
   /// The floor height at angle th (radians from +x), nearest segment.
   double FloorAt(double th) const;
+};
+
+/// Changes whenever the share's geometry does (its meshes are cached by it).
+inline constexpr int kGingivaShareVersion = 8;
+
+/// A neighbouring tooth on the arch, for the gingiva between the two.
+struct GingivaNeighbour {
+  const ToothModel* tooth = nullptr;
+  const GingivaModel* gingiva = nullptr;  // its collar's model (its tables; the mesh is not used)
+  Matrix3 A = Matrix3::Identity();        // this tooth's frame to the neighbour's: p_n = A p + b
+  Vector3 b = Vector3::Zero();            // (A may hold the arch's mirror)
+};
+
+/// The field whose zero set is a tooth's share of the gingiva (negative
+/// inside), in the tooth's frame; GenerateGingiva samples it. `Uncut` is the
+/// gingiva before the cuts toward the neighbours: two neighbours' shares
+/// compute the same value at the same point. `Cut` is the signed distance past
+/// the nearest cut plane (positive on a neighbour's side). Holds pointers to its
+/// arguments, which must outlive it.
+class GingivaShareField {
+ public:
+  GingivaShareField(const ToothModel& tooth, const GingivaModel& own, const std::vector<GingivaNeighbour>& neighbours);
+  double operator()(const Vector3& p) const;
+  double Uncut(const Vector3& p) const;
+  double Cut(const Vector3& p) const;
+  const Aabb& box() const { return box_; }
+  static constexpr double kOverlapMm = 0.05;  // the shares overlap at the cut, so no crack shows
+
+ private:
+  struct Link {
+    const GingivaNeighbour* n;
+    Eigen::Vector2d e;     // toward the neighbour's axis, horizontal here
+    double L;              // to its axis
+    Vector3 q, normal;     // the cut: through q, normal toward the neighbour (the same plane from both sides)
+    Vector3 face_point[2], face_normal[2];  // the interdental band's buccal and lingual faces
+    Vector3 across_dir;    // in the cut, square to the mean vertical
+    Vector3 up;            // the two teeth's mean vertical
+    Vector3 papilla;       // the papilla's top, by the contact
+    Vector3 base;          // the interdental gingiva's base
+  };
+  const GingivaModel* own_;
+  std::vector<Link> links_;
+  Aabb box_;
 };
 
 /// The most attachment a site can lose (pocket plus recession, mm) and keep at
@@ -55,5 +102,18 @@ const std::array<double, 6>& SiteAngles();
 /// The collar around `tooth`. Throws std::invalid_argument for a pocket deeper
 /// than the root or a bad parameter.
 GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params = {});
+
+/// The tooth's share of its arch's gingiva: the collar above, joined to its
+/// neighbours' by the interdental gingiva (a papilla buccal and lingual of each
+/// contact, rising toward it), and cut at the plane halfway between the two
+/// teeth's contact surfaces, so that the shares of an arch meet face to face
+/// and make one gingiva. The sulci of both teeth are kept open: under a
+/// contact they meet, and the tissue beneath them (the col) is the floor, so a
+/// probe walks around a tooth and under its contacts. The site truth (margin,
+/// floor, tables) is the collar's; only the mesh differs. Sampled as the zero
+/// set of a field on a grid of `cell_mm` (isosurface.h). With no neighbours it
+/// is the collar.
+GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params,
+                             const std::vector<GingivaNeighbour>& neighbours, double cell_mm = 0.3);
 
 }  // namespace sulcus

@@ -40,7 +40,7 @@ GingivaParams GingivaOf(const ObjectSpec& o) {
 std::string GeneratorKey(const ObjectSpec& o) {
   std::ostringstream k;
   k.precision(17);
-  k << "sulcus-generated-mesh v3|";
+  k << "sulcus-generated-mesh v4|";
   switch (o.kind) {
     case ObjectSpec::Kind::kTooth:
       k << "tooth|" << o.fdi << '|' << o.mirrored;
@@ -48,8 +48,17 @@ std::string GeneratorKey(const ObjectSpec& o) {
         if (o.cavity_mm[s] > 0) k << "|cavity " << s << ':' << o.caries_mm[s] << ':' << o.cavity_mm[s];
       break;
     case ObjectSpec::Kind::kGingiva:
-      k << "gingiva|" << o.fdi << '|' << o.mirrored;
+      k << "gingiva " << kGingivaShareVersion << '|' << o.fdi << '|' << o.mirrored;
       for (int i = 0; i < 6; ++i) k << '|' << o.pocket_mm[i] << '|' << o.recession_mm[i];
+      for (const GingivaNeighbourSpec& n : o.gingiva_neighbours) {
+        // Where the neighbour stands relative to this tooth decides the share.
+        const RigidTransform X = o.X_WO.inverse() * n.X_WO;
+        k << "|next " << n.fdi << '|' << n.mirrored;
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) k << '|' << X.rotation()(r, c);
+        for (int r = 0; r < 3; ++r) k << '|' << X.translation()[r];
+        for (int i = 0; i < 6; ++i) k << '|' << n.pocket_mm[i] << '|' << n.recession_mm[i];
+      }
       break;
     case ObjectSpec::Kind::kCalculus:
       k << "calculus|" << o.fdi << '|' << o.mirrored << '|' << o.calculus_site << '|' << o.calculus[o.calculus_site]
@@ -93,7 +102,8 @@ std::optional<TriangleMesh> ReadCachedMesh(const std::filesystem::path& file) {
 void WriteCachedMesh(const TriangleMesh& m, const std::filesystem::path& file) {
   std::error_code ec;
   std::filesystem::create_directories(file.parent_path(), ec);
-  const std::filesystem::path tmp = file.string() + ".tmp" + std::to_string(::getpid());
+  const std::filesystem::path tmp = file.string() + ".tmp" + std::to_string(::getpid()) + "-" +
+                                    std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id()));
   {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) return;  // an unwritable cache only costs time
@@ -171,10 +181,10 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
     m.tool_working_end[i] = tool.IsLeaf(i) && tool.center(i).norm() <= EffectsModel::kWorkingEndMm;
   m.soft_first = soft_first;
   const bool sites = spec.gingiva && (m.on.probing_depth || m.on.bleeding_on_probing);
-  // Every collar's model, once: a collar's leaves that reach into a neighbour's
-  // sulcus are left out of the compliance (the collars are rings that overlap
-  // between teeth; the sulcus belongs to its own tooth, so a probe walking
-  // around a tooth meets that tooth's floor, not the neighbour's).
+  // Every collar's model, once: a lone collar's leaves that reach into a
+  // neighbour's sulcus are left out of the compliance (lone collars are rings
+  // that may overlap between teeth; the sulcus belongs to its own tooth, so a
+  // probe walking around a tooth meets that tooth's floor, not the neighbour's).
   std::vector<std::optional<GingivaModel>> models(objs.size());
   for (int i = 0; i < static_cast<int>(objs.size()); ++i)
     if (objs[i].kind == ObjectSpec::Kind::kGingiva && (sites || i >= soft_first))
@@ -227,7 +237,8 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
       for (std::size_t n = 0; n < t.size(); ++n) {
         const Vector3 c = ArchMirror(o.mirrored, t.center(n));
         if (c.z() + t.r[n] <= g.FloorAt(std::atan2(c.y(), c.x())) + 0.25) k[n] = static_cast<float>(kPocketFloorStiffness);
-        if (in_other_sulcus(i, o.X_WO * t.center(n), t.r[n])) k[n] = 0;
+        // (a share of the arch's gingiva has every neighbour's sulcus carved out already)
+        if (o.gingiva_neighbours.empty() && in_other_sulcus(i, o.X_WO * t.center(n), t.r[n])) k[n] = 0;
       }
       m.soft_leaf_stiffness.push_back(std::move(k));
     }
@@ -256,7 +267,36 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
       CarveCavities(&tooth, o.caries_mm, o.cavity_mm);
       return ArchMirror(o.mirrored, tooth.mesh);
     }
-    case ObjectSpec::Kind::kGingiva: return ArchMirror(o.mirrored, GenerateGingiva(GenerateTooth(o.fdi), GingivaOf(o)).mesh);
+    case ObjectSpec::Kind::kGingiva: {
+      const ToothModel tooth = GenerateTooth(o.fdi);
+      if (o.gingiva_neighbours.empty()) return ArchMirror(o.mirrored, GenerateGingiva(tooth, GingivaOf(o)).mesh);
+      // The neighbours' teeth and collars, and the map from this tooth's
+      // (unmirrored) frame to each of theirs.
+      const std::size_t n = o.gingiva_neighbours.size();
+      std::vector<ToothModel> teeth;
+      std::vector<GingivaModel> collars;
+      teeth.reserve(n);
+      collars.reserve(n);
+      std::vector<GingivaNeighbour> next(n);
+      const Matrix3 mirror_self = Vector3(o.mirrored ? -1 : 1, 1, 1).asDiagonal();
+      for (std::size_t i = 0; i < n; ++i) {
+        const GingivaNeighbourSpec& s = o.gingiva_neighbours[i];
+        teeth.push_back(GenerateTooth(s.fdi));
+        GingivaParams p;
+        p.pocket_mm = s.pocket_mm;
+        p.recession_mm = s.recession_mm;
+        collars.push_back(GenerateGingiva(teeth.back(), p));
+        const Matrix3 mirror = Vector3(s.mirrored ? -1 : 1, 1, 1).asDiagonal();
+        const Matrix3 Rt = s.X_WO.rotation().transpose();
+        next[i].A = mirror * Rt * o.X_WO.rotation() * mirror_self;
+        next[i].b = mirror * Rt * (o.X_WO.translation() - s.X_WO.translation());
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        next[i].tooth = &teeth[i];
+        next[i].gingiva = &collars[i];
+      }
+      return ArchMirror(o.mirrored, GenerateGingiva(tooth, GingivaOf(o), next).mesh);
+    }
     case ObjectSpec::Kind::kCalculus: {
       const ToothModel tooth = GenerateTooth(o.fdi);
       std::optional<GingivaModel> g;
@@ -293,6 +333,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   auto scene = std::make_unique<CompiledScene>();
   scene->spec = spec;
   FollowAttachmentLoss(&scene->spec);  // the pockets may have changed since loading
+  LinkGingivaNeighbours(&scene->spec);
   const bool compliance = spec.HasEffect(Effect::kGingivaCompliance);
   // Soft objects (gingiva, under gingiva_compliance) go last: the engine's hard
   // world is the objects before them, with the same indices as the scene's.
@@ -303,9 +344,34 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   auto report = [&](int i, std::string_view stage, double f) {
     if (progress && !progress(stage, (i + f) / (n + 1))) throw BuildCancelled();
   };
-  for (int i = 0; i < n; ++i) {
-    scene->meshes.push_back(MakeObjectMeshCached(scene->spec.objects[i], cache_dir));
-    report(i, scene->spec.objects[i].name, 0.1);
+  // Meshes: one worker per core too (a gingiva's share of its arch takes a
+  // fraction of a second to sample); progress in order of completion.
+  scene->meshes.resize(n);
+  {
+    std::atomic<int> next_mesh{0};
+    std::atomic<bool> halt{false};
+    std::mutex mesh_mutex;
+    std::exception_ptr mesh_failure;
+    int made = 0;
+    auto mesher = [&] {
+      for (int i = next_mesh++; i < n && !halt; i = next_mesh++) {
+        try {
+          scene->meshes[i] = MakeObjectMeshCached(scene->spec.objects[i], cache_dir);
+          std::lock_guard lock(mesh_mutex);
+          report(made++, scene->spec.objects[i].name, 0.1);
+        } catch (...) {
+          std::lock_guard lock(mesh_mutex);
+          if (!mesh_failure) mesh_failure = std::current_exception();
+          halt = true;
+        }
+      }
+    };
+    const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(n, 1));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(mesher);
+    mesher();
+    for (std::thread& t : pool) t.join();
+    if (mesh_failure) std::rethrow_exception(mesh_failure);
   }
   // Trees: one worker per core, jobs handed out in order; progress from the
   // workers is serialised, and a cancel or an error stops them all.

@@ -418,6 +418,33 @@ void FollowAttachmentLoss(SceneSpec* spec) {
   }
 }
 
+void LinkGingivaNeighbours(SceneSpec* spec) {
+  auto adjacent = [](int a, int b) {
+    const int qa = a / 10, pa = a % 10, qb = b / 10, pb = b % 10;
+    if (qa == qb) return std::abs(pa - pb) == 1;
+    const bool same_jaw = (qa <= 2) == (qb <= 2) && qa >= 1 && qa <= 4 && qb >= 1 && qb <= 4;
+    return same_jaw && pa == 1 && pb == 1;
+  };
+  auto width = [](int fdi) {
+    try {
+      return Dimensions(FdiTooth::Parse(fdi)).md_crown;
+    } catch (const std::invalid_argument&) {
+      return 0.0;
+    }
+  };
+  for (ObjectSpec& g : spec->objects) {
+    if (g.kind != ObjectSpec::Kind::kGingiva) continue;
+    g.gingiva_neighbours.clear();
+    if (!spec->gingiva_joined) continue;
+    for (const ObjectSpec& n : spec->objects) {
+      if (n.kind != ObjectSpec::Kind::kGingiva || !adjacent(g.fdi, n.fdi)) continue;
+      const double apart = (n.X_WO.translation() - g.X_WO.translation()).norm();
+      if (apart > 0.5 * (width(g.fdi) + width(n.fdi)) + 2.0) continue;
+      g.gingiva_neighbours.push_back({n.fdi, n.mirrored, n.X_WO, n.pocket_mm, n.recession_mm});
+    }
+  }
+}
+
 std::string SceneError::ToString() const {
   return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message;
 }
@@ -468,8 +495,17 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
                      "objects"},
               "the scene");
   if (root["mouth_open_mm"]) spec.mouth_open_mm = r.Number(root["mouth_open_mm"], "mouth_open_mm", 0, 50, 0, "mm");
-  for (const char* key : {"arch", "gingiva"}) {
-    if (const YAML::Node b = root[key]) (std::string(key) == "arch" ? spec.arch : spec.gingiva) = r.Bool(b, key, false);
+  if (const YAML::Node b = root["arch"]) spec.arch = r.Bool(b, "arch", false);
+  if (const YAML::Node g = root["gingiva"]) {
+    bool v = false;
+    if (g.IsScalar() && g.Scalar() == "arch") {
+      spec.gingiva = spec.gingiva_joined = true;
+    } else if (g.IsScalar() && YAML::convert<bool>::decode(g, v)) {
+      spec.gingiva = v;
+    } else {
+      r.Error(g, "'gingiva' must be true (a collar around every tooth), arch (one gingiva per arch, joined "
+                 "between neighbouring teeth) or false");
+    }
   }
   if (root["name"]) spec.name = r.Text(root["name"], "name");
   if (root["description"]) spec.description = r.Text(root["description"], "description");
@@ -573,6 +609,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
       }
       spec.objects.push_back(std::move(g));
     }
+    if (spec.gingiva_joined) LinkGingivaNeighbours(&spec);
   }
   // A deposit object per calculus site, on its tooth (sized in mm, so a few
   // levels of a small tree fit it).

@@ -61,6 +61,15 @@ inline constexpr std::array<const char*, 6> kSiteCodes = {"MB", "B", "DB", "ML",
 /// Tooth surfaces for caries.
 inline constexpr std::array<const char*, 5> kSurfaces = {"mesial", "distal", "buccal", "lingual", "occlusal"};
 
+/// A gingiva's neighbour on the arch (LinkGingivaNeighbours): what its share
+/// of the gingiva needs of the next tooth's.
+struct GingivaNeighbourSpec {
+  int fdi = 0;
+  bool mirrored = false;
+  RigidTransform X_WO;
+  std::array<double, 6> pocket_mm{}, recession_mm{};
+};
+
 struct ObjectSpec {
   enum class Kind { kTooth, kMesh, kBox, kSphere, kCylinder, kGingiva, kAnatomy, kCalculus } kind = Kind::kTooth;
   std::string name;
@@ -93,6 +102,8 @@ struct ObjectSpec {
   // Furcation involvement by entrance (Hamp class 0-3): lower molars B, L;
   // upper molars B, M, D; the upper first premolar M, D (FurcationEntrances).
   std::map<std::string, int> furcation;
+  // kGingiva: the neighbouring teeth's gingiva it joins (empty: a collar alone).
+  std::vector<GingivaNeighbourSpec> gingiva_neighbours;
   int calculus_site = -1;
   bool with_gingiva = false;
   // kAnatomy: a soft-tissue lesion (soft_tissue.h), empty kind for none.
@@ -120,6 +131,9 @@ struct SceneSpec {
   SphereTreeParams trees;  // the scene's `spheretree`: every object's unless it names its own
   bool arch = false;     // teeth without `at` stand on the dental arches
   bool gingiva = false;  // a gingival collar around every tooth, with its sites' truth
+  // `gingiva: arch`: the collars joined into one gingiva per arch (papillae,
+  // col; LinkGingivaNeighbours) instead of a collar each.
+  bool gingiva_joined = false;
   double mouth_open_mm = 0;  // raises the upper arch (and palate) so instruments fit between the arches
   std::vector<ObjectSpec> objects;
 };
@@ -148,6 +162,15 @@ double FurcationDepthMm(int fdi);
 /// scene whose pockets were changed after loading (a generated case) gets the
 /// bone that goes with them.
 void FollowAttachmentLoss(SceneSpec* spec);
+
+/// For a scene with `gingiva: arch` (none else), joins the gingiva of
+/// neighbouring teeth into one per arch: each gingiva
+/// object's `gingiva_neighbours` are the teeth next to it in the arch (same
+/// quadrant and next position, or the two central incisors across the
+/// midline) whose gingiva the scene has and that stand within 2 mm of touching
+/// (a hand-placed row of teeth apart keeps a collar each). LoadSceneSpec and
+/// CompileScene call it, after FollowAttachmentLoss.
+void LinkGingivaNeighbours(SceneSpec* spec);
 
 /// An object's mesh in its own frame (before X_WO): a generated tooth, gingiva
 /// or soft tissue, the mesh file, or the solid. Throws MeshError for an

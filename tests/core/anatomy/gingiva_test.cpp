@@ -178,3 +178,111 @@ TEST(Findings, CalculusSitsOnTheToothAboveOrInTheSulcus) {
 
 }  // namespace
 }  // namespace sulcus
+
+#include <random>
+
+#include "core/anatomy/arch.h"
+
+namespace sulcus {
+namespace {
+
+// The lower arch's teeth 44, 45, 46 and 47 with their collars, and the map
+// between neighbours' frames as the scene builds it.
+struct ArchRun {
+  std::vector<PlacedTooth> placed;
+  std::vector<ToothModel> teeth;
+  std::vector<GingivaModel> collars;
+  ArchRun() {
+    for (const PlacedTooth& p : PlaceArch(false))
+      if (p.tooth.fdi >= 44 && p.tooth.fdi <= 47) placed.push_back(p);
+    for (const PlacedTooth& p : placed) {
+      teeth.push_back(GenerateTooth(p.tooth.fdi));
+      collars.push_back(GenerateGingiva(teeth.back()));
+    }
+  }
+  GingivaNeighbour Link(std::size_t i, std::size_t j) const {
+    auto mirror = [&](std::size_t k) { return Matrix3(Vector3(placed[k].mirrored ? -1 : 1, 1, 1).asDiagonal()); };
+    GingivaNeighbour n;
+    n.tooth = &teeth[j];
+    n.gingiva = &collars[j];
+    const Matrix3 Rt = placed[j].X_WT.rotation().transpose();
+    n.A = mirror(j) * Rt * placed[i].X_WT.rotation() * mirror(i);
+    n.b = mirror(j) * Rt * (placed[i].X_WT.translation() - placed[j].X_WT.translation());
+    return n;
+  }
+  std::vector<GingivaNeighbour> Links(std::size_t i) const {
+    std::vector<GingivaNeighbour> v;
+    if (i > 0) v.push_back(Link(i, i - 1));
+    if (i + 1 < placed.size()) v.push_back(Link(i, i + 1));
+    return v;
+  }
+};
+
+TEST(Gingiva, ArchSharesAreSolidsThatMeetFaceToFace) {
+  const ArchRun arch;
+  ASSERT_EQ(arch.placed.size(), 4u);
+  for (std::size_t i = 0; i < arch.placed.size(); ++i) {
+    const GingivaModel g = GenerateGingiva(arch.teeth[i], {}, arch.Links(i));
+    EXPECT_TRUE(g.mesh.Check().IsSolid()) << arch.placed[i].tooth.fdi;
+    EXPECT_GT(g.mesh.num_faces(), 1000u);
+    // The site truth is the collar's.
+    for (int s = 0; s < 6; ++s) EXPECT_EQ(g.floor[s], arch.collars[i].floor[s]);
+  }
+  // Near each cut the two shares' fields agree at the same point: the
+  // gingiva is one tissue across it, with no step or crack.
+  std::mt19937 rng(7);
+  for (std::size_t i = 0; i + 1 < arch.placed.size(); ++i) {
+    const std::vector<GingivaNeighbour> li = arch.Links(i), lj = arch.Links(i + 1);
+    const GingivaShareField fi(arch.teeth[i], arch.collars[i], li), fj(arch.teeth[i + 1], arch.collars[i + 1], lj);
+    const GingivaNeighbour to_j = arch.Link(i, i + 1);
+    const std::vector<GingivaNeighbour> only{to_j};
+    const GingivaShareField cut_ij(arch.teeth[i], arch.collars[i], only);
+    std::uniform_real_distribution<double> u(0, 1);
+    int near = 0, tissue = 0;
+    double worst = 0;
+    for (int k = 0; k < 40000; ++k) {
+      const Aabb& b = fi.box();
+      const Vector3 p = b.min + Vector3(u(rng), u(rng), u(rng)).cwiseProduct(b.max - b.min);
+      if (std::abs(cut_ij.Cut(p)) > 0.3) continue;
+      ++near;
+      const double a = fi.Uncut(p), c = fj.Uncut(to_j.A * p + to_j.b);
+      tissue += a < 0;
+      worst = std::max(worst, std::abs(a - c));
+    }
+    EXPECT_GT(near, 500);
+    EXPECT_GT(tissue, 20) << "the gingiva reaches the cut";
+    EXPECT_LT(worst, 0.02) << arch.placed[i].tooth.fdi << "|" << arch.placed[i + 1].tooth.fdi;
+  }
+}
+
+TEST(Gingiva, UnderAContactTheSulciMeetAboveTheCol) {
+  // 45 and 46: halfway between 45's distal sulcus and 46's mesial one (under
+  // their contact) the gingiva is open from above down to the col, and tissue
+  // below it.
+  const ArchRun arch;
+  std::size_t i45 = 0, i46 = 0;
+  for (std::size_t k = 0; k < arch.placed.size(); ++k) {
+    if (arch.placed[k].tooth.fdi == 45) i45 = k;
+    if (arch.placed[k].tooth.fdi == 46) i46 = k;
+  }
+  const std::vector<GingivaNeighbour> links = arch.Links(i45);
+  const GingivaShareField f(arch.teeth[i45], arch.collars[i45], links);
+  const GingivaNeighbour to46 = arch.Link(i45, i46);
+  const Matrix3 back = to46.A.transpose();  // 46's frame to 45's
+  const GingivaModel& g45 = arch.collars[i45];
+  const GingivaModel& g46 = arch.collars[i46];
+  const std::size_t distal = g45.sulcus_r.size() / 2;  // 45's distal is -x, 46's mesial +x
+  const Vector3 d45(-g45.sulcus_r[distal], 0, g45.floor_z[distal]);
+  const Vector3 m46 = back * (Vector3(g46.sulcus_r[0], 0, g46.floor_z[0]) - to46.b);
+  Vector3 mid = 0.5 * (d45 + m46);
+  const double col = std::max(d45.z(), m46.z()), deeper = std::min(d45.z(), m46.z());
+  for (double above : {0.4, 1.0, 2.0}) {
+    mid.z() = col + above;
+    EXPECT_GT(f.Uncut(mid), 0) << "open " << above << " mm above the col";
+  }
+  mid.z() = deeper - 0.4;
+  EXPECT_LT(f.Uncut(mid), 0) << "tissue below the col";
+}
+
+}  // namespace
+}  // namespace sulcus

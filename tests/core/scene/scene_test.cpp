@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "tests/common/meshes.h"
 
 #include <array>
@@ -77,6 +79,9 @@ TEST(SceneFile, WrongTypesAndRanges) {
             (Lines{"3:21: 'pockets_mm' is -1 mm, expected 0 to 15"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    pockets_mm: [3, 3, 3]\n"),
             (Lines{"3:17: 'pockets_mm' must be a list of 6 numbers (depths at MB, B, DB, ML, L, DL in mm), found 3"}));
+  EXPECT_EQ(Errors("gingiva: joined\nobjects: []\n"),
+            (Lines{"1:10: 'gingiva' must be true (a collar around every tooth), arch (one gingiva per arch, joined "
+                   "between neighbouring teeth) or false"}));
   EXPECT_EQ(Errors("objects:\n  - box: [1, 2]\n    tissue: bone\n"),
             (Lines{"2:10: 'box' must be a list of 3 numbers (sizes along x, y, z in mm), found 2"}));
 }
@@ -422,6 +427,30 @@ TEST(SceneEvents, DescribedWithTheScenesNames) {
   e.payload.reading = {.fdi = 46, .site = 2, .depth_mm = 7.4, .peak_force_n = 1.66, .axis_angle_deg = 3};
   EXPECT_EQ(DescribeEvent(spec, e),
             "reading 7.4 mm at 46 DB (1.66 N, 3 deg): too hard, the tip went into the attachment (tissue damage)");
+}
+
+}  // namespace
+}  // namespace sulcus
+
+namespace sulcus {
+namespace {
+
+TEST(SceneFile, GingivaArchJoinsNeighboursOnly) {
+  const std::string teeth = "arch: true\nobjects:\n  - tooth: 44\n  - tooth: 45\n  - tooth: 46\n  - tooth: 41\n";
+  auto neighbours = [&](const std::string& gingiva) {
+    const SceneSpec s = LoadSceneSpec(Write("GingivaArch_" + gingiva, "gingiva: " + gingiva + "\n" + teeth));
+    std::map<int, std::vector<int>> out;
+    for (const ObjectSpec& o : s.objects)
+      if (o.kind == ObjectSpec::Kind::kGingiva)
+        for (const GingivaNeighbourSpec& n : o.gingiva_neighbours) out[o.fdi].push_back(n.fdi);
+    return out;
+  };
+  const auto joined = neighbours("arch");
+  EXPECT_EQ(joined.at(44), std::vector<int>{45});
+  EXPECT_EQ(joined.at(45), (std::vector<int>{44, 46}));
+  EXPECT_EQ(joined.at(46), std::vector<int>{45});
+  EXPECT_EQ(joined.count(41), 0u) << "41 has no neighbour in the scene";
+  EXPECT_TRUE(neighbours("true").empty()) << "collars stay collars";
 }
 
 }  // namespace
