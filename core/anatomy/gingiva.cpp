@@ -1,6 +1,7 @@
 #include "core/anatomy/gingiva.h"
 
 #include "core/geometry/isosurface.h"
+#include "core/geometry/simplify.h"
 
 #include <algorithm>
 #include <cmath>

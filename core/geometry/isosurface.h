@@ -23,13 +23,3 @@ namespace sulcus {
 TriangleMesh Isosurface(const std::function<double(const Vector3&)>& f, const Aabb& box, double cell_mm);
 
 }  // namespace sulcus
-
-namespace sulcus {
-
-/// The mesh with fewer faces: edges collapsed while every moved vertex stays
-/// within `max_error_mm` of the planes of the faces it came from (quadric
-/// error), no face flips and no face becomes a sliver. A closed mesh stays
-/// closed. Meant for isosurfaces, whose flat parts carry many small faces.
-TriangleMesh Simplify(const TriangleMesh& mesh, double max_error_mm);
-
-}  // namespace sulcus

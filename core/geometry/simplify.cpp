@@ -4,7 +4,7 @@
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
-#include "core/geometry/isosurface.h"
+#include "core/geometry/simplify.h"
 
 namespace sulcus {
 namespace {
