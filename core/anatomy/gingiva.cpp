@@ -256,6 +256,13 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
       l.face_normal[side] = normal;
     }
     l.across_dir = l.normal.cross(up).normalized();
+    for (int side = 0; side < 2; ++side) l.own_site_gap[side] = l.other_site_gap[side] = 1e9;
+    for (int s = 0; s < 6; ++s) {
+      const Vector3 mine = own.floor[s] - l.q, theirs = At * (n.gingiva->floor[s] - n.b) - l.q;
+      const int side_mine = mine.dot(l.across_dir) >= 0 ? 0 : 1, side_theirs = theirs.dot(l.across_dir) >= 0 ? 0 : 1;
+      l.own_site_gap[side_mine] = std::min(l.own_site_gap[side_mine], std::max(0.0, -mine.dot(l.normal)));
+      l.other_site_gap[side_theirs] = std::min(l.other_site_gap[side_theirs], std::max(0.0, theirs.dot(l.normal)));
+    }
     // The two margins where they face each other (each raised into the
     // papilla), in this frame.
     const double r_j = Around(n.gingiva->wall_r, th_back);
@@ -288,12 +295,14 @@ double GingivaShareField::Uncut(const Vector3& p) const {
   // far below the lowest base.
   const CollarAt own = Collar(*own_, p);
   double band = own.band, above = p.z() - own.top, below = own.bottom - p.z();
-  // Under a contact the two sulci meet. By each root its floor is that
-  // tooth's own (within 0.5 mm of it: the sulcus' middle, where a probe tip
-  // walks), and away from both roots the col is the shallower of the two
-  // floors, the same from both sides: a probe tip under the contact rests on
-  // the col and never drops to the other tooth's deeper floor.
-  const auto own_weight = [](const CollarAt& c) { return std::clamp(1.0 - (c.from_root - 0.5) / 0.2, 0.0, 1.0); };
+  // Under a contact the two sulci meet. The floor there (the col) is the
+  // shallower tooth's floor up to the cut and falls to the deeper tooth's
+  // floor beyond it, reaching it where that tooth's interproximal site lies
+  // (a few tenths of a millimetre from the cut; the sulci are wider than the
+  // space between the roots, so nearness to a root cannot decide): a probe
+  // reads each tooth's own floor at its line angles and, walking under the
+  // contact from the shallower side, meets the shallower floor first. The
+  // same from both sides.
   double own_above = own.above, cavity = -1e9;
   for (const Link& l : links_) {
     const Vector3 q = l.n->A * p + l.n->b;
@@ -302,12 +311,18 @@ double GingivaShareField::Uncut(const Vector3& p) const {
     above = std::min(above, q.z() - other.top);
     below = std::min(below, other.bottom - q.z());
     const double across_signed = (p - l.q).dot(l.normal);
-    // (only where the two sulci overlap)
-    const double overlap = std::clamp(std::min(own.inside, other.inside) / 0.2, 0.0, 1.0);
-    const double col = std::min(own.above, other.above);  // above the shallower floor
-    const double t_own = 1 - overlap * (1 - own_weight(own)), t_other = 1 - overlap * (1 - own_weight(other));
-    own_above = std::min(own_above, t_own * own.above + (1 - t_own) * col);
-    const double other_above = t_other * other.above + (1 - t_other) * col;
+    // (the two floors meet in this, whichever sulcus holds the point: a
+    // sliver of one sulcus reaching past the other's wall would otherwise
+    // carry its floor with it)
+    const bool other_deeper = other.above > own.above;
+    const double into_deeper = other_deeper ? across_signed : -across_signed;
+    const double t_side = std::clamp(0.5 + (p - l.q).dot(l.across_dir) / 2.0, 0.0, 1.0);  // 1 on the across_dir side
+    const double* gap = other_deeper ? l.other_site_gap : l.own_site_gap;
+    const double step = std::max(0.1, t_side * gap[0] + (1 - t_side) * gap[1] - 0.05);
+    const double col = std::min(own.above, other.above) +
+                       std::clamp(into_deeper / step, 0.0, 1.0) * std::abs(own.above - other.above);
+    own_above += col - own.above;  // (own.above itself away from this cut)
+    const double other_above = col;
     cavity = std::max(cavity, std::max(std::min(other.inside, other_above), other.root));
     const double u = l.e.x() * p.x() + l.e.y() * p.y();
     double faces = std::max(-u, u - l.L);
@@ -329,6 +344,12 @@ double GingivaShareField::Cut(const Vector3& p) const {
   double cut = -1e9;
   for (const Link& l : links_) cut = std::max(cut, (p - l.q).dot(l.normal));
   return cut;
+}
+
+std::vector<GingivaShareField::CutPlane> GingivaShareField::cuts() const {
+  std::vector<CutPlane> out;
+  for (const Link& l : links_) out.push_back({l.q, l.normal});
+  return out;
 }
 
 double GingivaShareField::operator()(const Vector3& p) const {

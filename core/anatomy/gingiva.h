@@ -45,7 +45,7 @@ struct GingivaModel {
 };
 
 /// Changes whenever the share's geometry does (its meshes are cached by it).
-inline constexpr int kGingivaShareVersion = 8;
+inline constexpr int kGingivaShareVersion = 13;
 
 /// A neighbouring tooth on the arch, for the gingiva between the two.
 struct GingivaNeighbour {
@@ -68,6 +68,12 @@ class GingivaShareField {
   double Uncut(const Vector3& p) const;
   double Cut(const Vector3& p) const;
   const Aabb& box() const { return box_; }
+  /// The cut toward each neighbour, in this tooth's frame: a point q on it and
+  /// its unit normal toward the neighbour (the same plane from both sides).
+  struct CutPlane {
+    Vector3 q, normal;
+  };
+  std::vector<CutPlane> cuts() const;
   static constexpr double kOverlapMm = 0.05;  // the shares overlap at the cut, so no crack shows
 
  private:
@@ -81,6 +87,10 @@ class GingivaShareField {
     Vector3 up;            // the two teeth's mean vertical
     Vector3 papilla;       // the papilla's top, by the contact
     Vector3 base;          // the interdental gingiva's base
+    // How far each tooth's interproximal site facing the other lies from the
+    // cut, [0] with across_dir, [1] against it: the col reaches the deeper
+    // tooth's floor there.
+    double own_site_gap[2], other_site_gap[2];
   };
   const GingivaModel* own_;
   std::vector<Link> links_;

@@ -82,18 +82,31 @@ class ProbingDepth final : public LoopEffect {
   }
   void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
     const Vector3 tip = data.X_WG.translation();
+    // (the nearest: under a contact two teeth's interproximal sites lie
+    // within a millimetre of each other; a tip there reads for the tooth in
+    // whose sulcus it is: on its side of the cut between the two teeth's
+    // shares of the gingiva, or with collars the one whose sulcus' middle
+    // runs nearer; and for that tooth's site whose line it is nearer)
     int found = -1;
-    double depth = 0;
+    double depth = 0, best = 1e9;
     for (std::size_t i = 0; i < m_.sites.size(); ++i) {
       const ProbingSite& s = m_.sites[i];
       const auto& [u, len] = lines_[i];
       if (len <= 0) continue;
       const double along = (tip - s.margin_W).dot(u);
       if (along < -0.5 || along > len + 0.5) continue;
-      if ((tip - s.margin_W - along * u).norm() > kRadius) continue;
+      const double off = (tip - s.margin_W - along * u).norm();
+      if (off > kRadius) continue;
+      bool beyond = false;
+      for (int c = 0; c < s.num_cuts; ++c) beyond = beyond || (tip - s.cut_q_W[c]).dot(s.cut_n_W[c]) > 0;
+      if (beyond) continue;
+      const Vector3 from_axis = tip - s.origin_W;
+      const double radial = (from_axis - from_axis.dot(s.axis_W) * s.axis_W).norm();
+      const double score = std::abs(radial - s.sulcus_r_mm) + 0.25 * off;
+      if (score >= best) continue;
+      best = score;
       found = static_cast<int>(i);
       depth = along;
-      break;
     }
     if (found != site_) {
       Finish(loop);

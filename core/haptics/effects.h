@@ -42,6 +42,13 @@ struct ProbingSite {
   int site = 0;    // 0..5: MB, B, DB, ML, L, DL
   Vector3 margin_W = Vector3::Zero(), floor_W = Vector3::Zero();
   Vector3 axis_W = Vector3::UnitZ();  // the tooth's long axis (unit, toward the crown)
+  Vector3 origin_W = Vector3::Zero();  // a point on that axis (the tooth frame's origin)
+  double sulcus_r_mm = 0;              // the site's line from the axis (the sulcus' middle)
+  // In one gingiva per arch, the cuts between this tooth's share and its
+  // neighbours' (a point and the normal toward the neighbour): a tip beyond
+  // one is in the neighbour's sulcus, not this tooth's.
+  std::array<Vector3, 2> cut_q_W{}, cut_n_W{};
+  int num_cuts = 0;
   double pocket_mm = 0;
   bool bleeding = false;
 };

@@ -29,6 +29,37 @@ namespace sulcus {
 
 namespace {
 
+// A share of the arch's gingiva's neighbours: their teeth and collars, and
+// the map from this tooth's (unmirrored) frame to each of theirs.
+struct ShareNeighbours {
+  explicit ShareNeighbours(const ObjectSpec& o) {
+    const std::size_t n = o.gingiva_neighbours.size();
+    teeth.reserve(n);
+    collars.reserve(n);
+    next.resize(n);
+    const Matrix3 mirror_self = Vector3(o.mirrored ? -1 : 1, 1, 1).asDiagonal();
+    for (std::size_t i = 0; i < n; ++i) {
+      const GingivaNeighbourSpec& s = o.gingiva_neighbours[i];
+      teeth.push_back(GenerateTooth(s.fdi));
+      GingivaParams p;
+      p.pocket_mm = s.pocket_mm;
+      p.recession_mm = s.recession_mm;
+      collars.push_back(GenerateGingiva(teeth.back(), p));
+      const Matrix3 mirror = Vector3(s.mirrored ? -1 : 1, 1, 1).asDiagonal();
+      const Matrix3 Rt = s.X_WO.rotation().transpose();
+      next[i].A = mirror * Rt * o.X_WO.rotation() * mirror_self;
+      next[i].b = mirror * Rt * (o.X_WO.translation() - s.X_WO.translation());
+      next[i].tooth = &teeth[i];
+      next[i].gingiva = &collars[i];
+    }
+  }
+  ShareNeighbours(const ShareNeighbours&) = delete;
+  ShareNeighbours& operator=(const ShareNeighbours&) = delete;
+  std::vector<ToothModel> teeth;
+  std::vector<GingivaModel> collars;
+  std::vector<GingivaNeighbour> next;
+};
+
 GingivaParams GingivaOf(const ObjectSpec& o) {
   GingivaParams p;
   p.pocket_mm = o.pocket_mm;
@@ -199,6 +230,17 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
     const double r_in = g.sulcus_r[k] + 0.5 * GingivaParams{}.gap_mm;
     return std::hypot(c.x(), c.y()) - r < r_in && c.z() - r < g.margin_z[k] && c.z() + r > g.floor_z[k];
   };
+  // Under a neighbour's part of the col: within its sulcus' outer wall and
+  // at or below its floor (a share of the arch's gingiva meets the
+  // shallower tooth's floor under a contact, which is firm as its own is).
+  auto under_floor = [&](int j, const Vector3& c_W, double r) {
+    const GingivaModel& g = *models[j];
+    const Vector3 c = ArchMirror(objs[j].mirrored, objs[j].X_WO.inverse() * c_W);
+    const double th = std::atan2(c.y(), c.x());
+    const int n = static_cast<int>(g.wall_r.size());
+    const int k = static_cast<int>(std::lround((th < 0 ? th + 2 * std::numbers::pi : th) / (2 * std::numbers::pi) * n)) % n;
+    return std::hypot(c.x(), c.y()) - r < g.wall_r[k] && c.z() + r <= g.FloorAt(th) + 0.25;
+  };
   // In a neighbour's sulcus and not in its own (where the two sulci meet, at
   // the col, both floors stay).
   auto in_other_sulcus = [&](int self, const Vector3& c_W, double r) {
@@ -217,12 +259,25 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
     for (int t = 0; t < static_cast<int>(objs.size()); ++t)
       if (objs[t].kind == ObjectSpec::Kind::kTooth && objs[t].fdi == o.fdi) tooth = t;
     if (sites) {
+      std::vector<GingivaShareField::CutPlane> cuts;
+      if (!o.gingiva_neighbours.empty()) {
+        const ShareNeighbours nb(o);
+        cuts = GingivaShareField(GenerateTooth(o.fdi), g, nb.next).cuts();
+      }
       for (int s = 0; s < 6; ++s) {
         ProbingSite site;
         site.tooth = tooth;
         site.fdi = o.fdi;
         site.site = s;
         site.axis_W = (tooth >= 0 ? objs[tooth].X_WO : o.X_WO).rotation().col(2);
+        site.origin_W = o.X_WO.translation();
+        site.sulcus_r_mm = std::hypot(g.margin[s].x(), g.margin[s].y());
+        for (const GingivaShareField::CutPlane& c : cuts) {
+          if (site.num_cuts == static_cast<int>(site.cut_q_W.size())) break;
+          site.cut_q_W[site.num_cuts] = o.X_WO * ArchMirror(o.mirrored, c.q);
+          site.cut_n_W[site.num_cuts] = o.X_WO.rotation() * ArchMirror(o.mirrored, c.normal);
+          ++site.num_cuts;
+        }
         site.margin_W = o.X_WO * ArchMirror(o.mirrored, g.margin[s]);
         site.floor_W = o.X_WO * ArchMirror(o.mirrored, g.floor[s]);
         site.pocket_mm = o.pocket_mm[s];
@@ -233,10 +288,17 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
     if (soft) {
       // Leaves near or below the pocket floor are firm (the attachment), the rest soft.
       const SphereTree& t = scene->trees[i];
+      std::vector<int> neighbours;
+      for (const GingivaNeighbourSpec& nb : o.gingiva_neighbours)
+        for (int j = 0; j < static_cast<int>(objs.size()); ++j)
+          if (objs[j].kind == ObjectSpec::Kind::kGingiva && objs[j].fdi == nb.fdi && models[j]) neighbours.push_back(j);
       std::vector<float> k(t.size(), static_cast<float>(kGingivaWallStiffness));
       for (std::size_t n = 0; n < t.size(); ++n) {
         const Vector3 c = ArchMirror(o.mirrored, t.center(n));
-        if (c.z() + t.r[n] <= g.FloorAt(std::atan2(c.y(), c.x())) + 0.25) k[n] = static_cast<float>(kPocketFloorStiffness);
+        const double r = t.r[n];
+        if (c.z() + r <= g.FloorAt(std::atan2(c.y(), c.x())) + 0.25) k[n] = static_cast<float>(kPocketFloorStiffness);
+        for (const int j : neighbours)
+          if (under_floor(j, o.X_WO * t.center(n), r)) k[n] = static_cast<float>(kPocketFloorStiffness);
         // (a share of the arch's gingiva has every neighbour's sulcus carved out already)
         if (o.gingiva_neighbours.empty() && in_other_sulcus(i, o.X_WO * t.center(n), t.r[n])) k[n] = 0;
       }
@@ -270,32 +332,8 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
     case ObjectSpec::Kind::kGingiva: {
       const ToothModel tooth = GenerateTooth(o.fdi);
       if (o.gingiva_neighbours.empty()) return ArchMirror(o.mirrored, GenerateGingiva(tooth, GingivaOf(o)).mesh);
-      // The neighbours' teeth and collars, and the map from this tooth's
-      // (unmirrored) frame to each of theirs.
-      const std::size_t n = o.gingiva_neighbours.size();
-      std::vector<ToothModel> teeth;
-      std::vector<GingivaModel> collars;
-      teeth.reserve(n);
-      collars.reserve(n);
-      std::vector<GingivaNeighbour> next(n);
-      const Matrix3 mirror_self = Vector3(o.mirrored ? -1 : 1, 1, 1).asDiagonal();
-      for (std::size_t i = 0; i < n; ++i) {
-        const GingivaNeighbourSpec& s = o.gingiva_neighbours[i];
-        teeth.push_back(GenerateTooth(s.fdi));
-        GingivaParams p;
-        p.pocket_mm = s.pocket_mm;
-        p.recession_mm = s.recession_mm;
-        collars.push_back(GenerateGingiva(teeth.back(), p));
-        const Matrix3 mirror = Vector3(s.mirrored ? -1 : 1, 1, 1).asDiagonal();
-        const Matrix3 Rt = s.X_WO.rotation().transpose();
-        next[i].A = mirror * Rt * o.X_WO.rotation() * mirror_self;
-        next[i].b = mirror * Rt * (o.X_WO.translation() - s.X_WO.translation());
-      }
-      for (std::size_t i = 0; i < n; ++i) {
-        next[i].tooth = &teeth[i];
-        next[i].gingiva = &collars[i];
-      }
-      return ArchMirror(o.mirrored, GenerateGingiva(tooth, GingivaOf(o), next).mesh);
+      const ShareNeighbours nb(o);
+      return ArchMirror(o.mirrored, GenerateGingiva(tooth, GingivaOf(o), nb.next).mesh);
     }
     case ObjectSpec::Kind::kCalculus: {
       const ToothModel tooth = GenerateTooth(o.fdi);
