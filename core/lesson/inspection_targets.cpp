@@ -84,9 +84,13 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
     for (int fdi : upper ? std::vector<int>{16, 26, 15, 25} : std::vector<int>{41, 31, 42, 32}) {
       const int i = FindObject(scene.spec, ObjectSpec::Kind::kGingiva, fdi);
       if (i < 0 || (!teeth.empty() && std::find(teeth.begin(), teeth.end(), fdi) == teeth.end())) continue;
-      // The attached gingiva, 1.5 mm below the CEJ, the working end leaning
-      // out past the crown's bulge.
-      if (!SideSpot(scene, i, upper ? 3 * kPi / 2 : kPi / 2, -1.5, &t.p, &t.n)) continue;
+      // The attached gingiva, 1.5 mm below the CEJ (or as far below as the
+      // gingiva reaches there, when the floor is shallower), the working end
+      // leaning out past the crown's bulge.
+      bool found = false;
+      for (const double z : {-1.5, -1.0, -0.5})
+        if (!found) found = SideSpot(scene, i, upper ? 3 * kPi / 2 : kPi / 2, z, &t.p, &t.n);
+      if (!found) continue;
       const Vector3 occlusal = OcclusalOf(scene.spec.objects[static_cast<std::size_t>(i)]);
       t.axis = (occlusal + 0.35 * t.n).normalized();
       t.shank = kAnterior;

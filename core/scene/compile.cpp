@@ -419,6 +419,13 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   // Job 0 is the tool's tree, then the objects in order (the soft, quick ones
   // last), so that no core is left alone with a long job at the end. done[j]
   // is job j's fraction; the meshes above were the first 0.1 of each object.
+  // A mirrored object (a tooth on the left of the arch, its gingiva) gets
+  // the tree of its unmirrored mesh, mirrored: the same tooth on the right
+  // has that mesh, so the two share one build (through the cache). The
+  // mirrored ones go after all the others, so that their twin is built first.
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::stable_partition(order.begin(), order.end(), [&](int i) { return !scene->spec.objects[i].mirrored; });
   std::vector<double> done(n + 1, 0.0);
   std::mutex progress_mutex;
   std::atomic<int> next{0};
@@ -441,11 +448,17 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
           inner("tool", 1.0);
         } else {
           // The partitioned list's own settings: spec.objects is in the file's order.
-          scene->trees[job - 1] = LoadOrBuildSphereTree(scene->meshes[job - 1], scene->spec.objects[job - 1].trees,
-                                                         cache_dir, inner);
-          if (scene->spec.leaf_planes)
-            scene->planes[job - 1] = FitLeafPlanes(scene->meshes[job - 1], scene->trees[job - 1]);
-          inner(scene->spec.objects[job - 1].name, 1.0);
+          const int i = order[job - 1];
+          const ObjectSpec& o = scene->spec.objects[i];
+          if (o.mirrored) {
+            SphereTree t = LoadOrBuildSphereTree(ArchMirror(true, scene->meshes[i]), o.trees, cache_dir, inner);
+            for (double& x : t.x) x = -x;
+            scene->trees[i] = std::move(t);
+          } else {
+            scene->trees[i] = LoadOrBuildSphereTree(scene->meshes[i], o.trees, cache_dir, inner);
+          }
+          if (scene->spec.leaf_planes) scene->planes[i] = FitLeafPlanes(scene->meshes[i], scene->trees[i]);
+          inner(o.name, 1.0);
         }
       } catch (...) {
         std::lock_guard lock(progress_mutex);

@@ -201,6 +201,12 @@ TEST(Inspectors, TheThoroughOneFindsEverythingItExamines) {
   EXPECT_TRUE(Messages(r, "damage", RubricLine::Status::kFail).empty())
       << ::testing::PrintToString(Messages(r, "damage", RubricLine::Status::kFail));
   EXPECT_GE(r.total, 90.0);
+  // Every region: the gingiva and ridge of both arches too (their targets lie
+  // on the arch's gingiva, which ends above where a collar did).
+  const std::set<std::string> missed = NotExamined(r);
+  for (const char* region : {"gingiva_upper", "gingiva_lower", "lip_upper", "lip_lower", "cheek_right", "cheek_left",
+                             "tongue_dorsum", "floor_of_mouth", "palate", "soft_palate"})
+    EXPECT_FALSE(missed.count(region)) << region;
   // Every finding it recorded is true (specificity 1 for every kind), and it
   // found every finding on a surface or region it examined.
   for (const FindingScore& s : r.inspection.scores) EXPECT_EQ(s.fp, 0) << s.kind;
