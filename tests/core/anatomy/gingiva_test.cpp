@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -15,8 +16,9 @@
 namespace sulcus {
 namespace {
 
-// The highest crossing of the vertical line through (x, y) with the mesh.
-std::optional<double> TopHit(const TriangleMesh& mesh, double x, double y) {
+// The highest crossing of the vertical line through (x, y) with the mesh
+// (below `below`).
+std::optional<double> TopHit(const TriangleMesh& mesh, double x, double y, double below = 1e9) {
   std::optional<double> best;
   const auto& v = mesh.vertices();
   for (const auto& f : mesh.faces()) {
@@ -27,7 +29,7 @@ std::optional<double> TopHit(const TriangleMesh& mesh, double x, double y) {
     const double w = ((b.x() - a.x()) * (y - a.y()) - (x - a.x()) * (b.y() - a.y())) / d;
     if (u < -1e-9 || w < -1e-9 || u + w > 1 + 1e-9) continue;  // an edge belongs to both faces
     const double z = a.z() + u * (b.z() - a.z()) + w * (c.z() - a.z());
-    if (!best || z > *best) best = z;
+    if (z < below && (!best || z > *best)) best = z;
   }
   return best;
 }
@@ -192,12 +194,15 @@ struct ArchRun {
   std::vector<PlacedTooth> placed;
   std::vector<ToothModel> teeth;
   std::vector<GingivaModel> collars;
-  ArchRun() {
+  std::vector<GingivaParams> params;
+  // 44 to 47, with these sites' pockets and recession (44's first), or the defaults.
+  explicit ArchRun(const std::vector<GingivaParams>& given = {}) {
     for (const PlacedTooth& p : PlaceArch(false))
       if (p.tooth.fdi >= 44 && p.tooth.fdi <= 47) placed.push_back(p);
-    for (const PlacedTooth& p : placed) {
-      teeth.push_back(GenerateTooth(p.tooth.fdi));
-      collars.push_back(GenerateGingiva(teeth.back()));
+    for (std::size_t k = 0; k < placed.size(); ++k) {
+      teeth.push_back(GenerateTooth(placed[k].tooth.fdi));
+      params.push_back(k < given.size() ? given[k] : GingivaParams{});
+      collars.push_back(GenerateGingiva(teeth.back(), params.back()));
     }
   }
   GingivaNeighbour Link(std::size_t i, std::size_t j) const {
@@ -282,6 +287,74 @@ TEST(Gingiva, UnderAContactTheSulciMeetAboveTheCol) {
   }
   mid.z() = deeper - 0.4;
   EXPECT_LT(f.Uncut(mid), 0) << "tissue below the col";
+}
+
+TEST(Gingiva, OnTheArchEverySiteReadsItsOwnDepthBesideADeeperNeighbour) {
+  // The probing scene's sextant: interproximal pockets that differ across
+  // each contact (44 D 2 mm next to 45 M 3 mm, 45 D 4 next to 46 M 5, 46 D 7
+  // next to 47 M 6). At every site point, the first surface below the margin
+  // on the shares (this tooth's and its neighbours', which hold the far side
+  // of each cut) is the site's own floor; and where a probe walks under the
+  // contact from a site toward the cut, the floor never falls past the
+  // deeper of the two floors.
+  auto params = [](std::array<double, 6> pocket, std::array<double, 6> recession) {
+    GingivaParams p;
+    p.pocket_mm = pocket;
+    p.recession_mm = recession;
+    return p;
+  };
+  const ArchRun arch({params({2, 1, 2, 2, 2, 2}, {}), params({3, 2, 4, 3, 2, 3}, {}),
+                      params({5, 4, 7, 5, 4, 6}, {1, 1, 1, 0, 0, 0}), params({6, 4, 5, 4, 3, 5}, {})});
+  std::vector<TriangleMesh> shares;
+  for (std::size_t i = 0; i < arch.placed.size(); ++i)
+    shares.push_back(GenerateGingiva(arch.teeth[i], arch.params[i], arch.Links(i)).mesh);
+  for (std::size_t i = 0; i < arch.placed.size(); ++i) {
+    // This tooth's share and its neighbours', in this tooth's frame.
+    std::vector<TriangleMesh> here{shares[i]};
+    for (std::size_t j : {i - 1, i + 1}) {
+      if (j >= arch.placed.size()) continue;
+      const GingivaNeighbour to = arch.Link(i, j);  // this frame to j's
+      TriangleMesh m = shares[j];
+      m.Transform(to.A.transpose(), -(to.A.transpose() * to.b));
+      here.push_back(std::move(m));
+    }
+    const GingivaModel& g = arch.collars[i];
+    for (int s = 0; s < 6; ++s) {
+      std::optional<double> floor;
+      for (const TriangleMesh& m : here) {
+        const auto h = TopHit(m, g.margin[s].x(), g.margin[s].y(), g.margin[s].z() - 0.3);
+        if (h && (!floor || *h > *floor)) floor = h;
+      }
+      ASSERT_TRUE(floor) << arch.placed[i].tooth.fdi << " site " << s;
+      EXPECT_NEAR(g.margin[s].z() - *floor, g.margin[s].z() - g.floor[s].z(), 0.15)
+          << "tooth " << arch.placed[i].tooth.fdi << " site " << s;
+    }
+    // Under each contact (from the line angles' sites to the contact, along
+    // the sulcus' middle): a floor everywhere, never below the deeper
+    // tooth's deepest floor.
+    double deepest = 1e9;
+    for (int s = 0; s < 6; ++s) deepest = std::min(deepest, g.floor[s].z());
+    for (std::size_t j : {i - 1, i + 1}) {
+      if (j >= arch.placed.size()) continue;
+      const GingivaNeighbour to = arch.Link(i, j);
+      for (int s = 0; s < 6; ++s)
+        deepest = std::min(deepest, (to.A.transpose() * (arch.collars[j].floor[s] - to.b)).z());
+    }
+    const int n = static_cast<int>(g.sulcus_r.size());
+    for (int k = 0; k < n; ++k) {
+      const double th = 2 * std::numbers::pi * k / n, c = std::cos(th);
+      if (std::abs(c) < std::cos(std::numbers::pi / 4) - 1e-9) continue;  // buccal and lingual: above
+      if ((c > 0 && i == 0) || (c < 0 && i + 1 == arch.placed.size())) continue;  // no neighbour that way
+      const double r = g.sulcus_r[k];
+      std::optional<double> floor;
+      for (const TriangleMesh& m : here) {
+        const auto h = TopHit(m, r * c, r * std::sin(th), g.margin_z[k] - 0.3);
+        if (h && (!floor || *h > *floor)) floor = h;
+      }
+      ASSERT_TRUE(floor) << arch.placed[i].tooth.fdi << " at " << th * 180 / std::numbers::pi << " degrees";
+      EXPECT_GE(*floor, deepest - 0.15) << arch.placed[i].tooth.fdi << " at " << th * 180 / std::numbers::pi << " degrees";
+    }
+  }
 }
 
 }  // namespace

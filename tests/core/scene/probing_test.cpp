@@ -693,3 +693,82 @@ TEST(Probing, APressHoveringAboutTheDamageLimitIsOneDamageEpisode) {
 
 }  // namespace
 }  // namespace sulcus
+
+namespace sulcus {
+namespace {
+
+// One gingiva per arch: under each contact the two teeth's interproximal
+// sites lie within a millimetre of each other, and the floor falls from the
+// shallower tooth's to the deeper's across the cut between their shares. A
+// stroke down each interproximal site's own line of the probing scene (in from
+// above and outside, 1 mm below the margin, then down the tooth's axis tilted
+// 4 degrees outward, as the scripted students hold it) reads for that site;
+// stopped 0.3 mm above the site's floor it feels only the soft gingiva, pushed
+// 0.4 mm past it it presses the firm floor.
+TEST(Probing, EveryInterproximalSiteOnTheArchReadsItselfAtItsDepth) {
+  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
+  ASSERT_TRUE(spec.gingiva_joined) << "the probing scene has one gingiva for its sextant";
+  const auto scene = CompileScene(spec, Cache());
+  int checked = 0;
+  for (const ObjectSpec& o : scene->spec.objects) {
+    if (o.kind != ObjectSpec::Kind::kGingiva) continue;
+    GingivaParams gp;
+    gp.pocket_mm = o.pocket_mm;
+    gp.recession_mm = o.recession_mm;
+    const GingivaModel g = GenerateGingiva(GenerateTooth(o.fdi), gp);
+    auto world = [&](const Vector3& p_T) { return Vector3(o.X_WO * ArchMirror(o.mirrored, p_T)); };
+    const Matrix3 R = o.X_WO.rotation() * (o.mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1)).asDiagonal();
+    for (const int s : {0, 2, 3, 5}) {  // MB, DB, ML, DL
+      const double th = g.site_angle[s];
+      const Vector3 out(std::cos(th), std::sin(th), 0);
+      const double tilt = 4 * std::numbers::pi / 180;
+      const Vector3 up_T = std::cos(tilt) * Vector3::UnitZ() + std::sin(tilt) * out;
+      const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), (R * up_T).normalized());
+      const Vector3 top = g.margin[s] - 1.0 * Vector3::UnitZ();
+      const double pocket = g.margin[s].z() - g.floor[s].z();
+      const std::string where = std::to_string(o.fdi) + " site " + std::to_string(s);
+      // The reading of one stroke `past` mm past the floor (below it when positive).
+      auto stroke = [&](double past) -> std::optional<HapticEvent> {
+        std::vector<Keyframe> keys;
+        keys.push_back({0.0, world(top + 12.0 * Vector3::UnitZ() + 2.5 * out), q, 0});
+        keys.push_back({0.6, world(top + 12.0 * Vector3::UnitZ() + 2.5 * out), q, 0});
+        keys.push_back({1.4, world(top), q, 0});
+        keys.push_back({1.6, world(top), q, 0});
+        const double down = (pocket - 1.0 + past) / std::cos(tilt);
+        keys.push_back({1.6 + down / 4.0, world(top - down * up_T), q, 0});
+        keys.push_back({2.1 + down / 4.0, world(top - down * up_T), q, 0});
+        keys.push_back({3.0 + down / 4.0, world(top + 2.0 * up_T), q, 0});  // out of the sulcus: the reading ends
+        struct Readings final : TickConsumer {
+          void OnTick(const TickRecord& r) override {
+            for (int i = 0; i < r.num_events; ++i)
+              if (r.events[i].kind == EventKind::kProbeReading) events.push_back(r.events[i]);
+          }
+          std::vector<HapticEvent> events;
+        } consumer;
+        const auto ticks = static_cast<std::uint64_t>((3.2 + down / 4.0) * 1000);
+        const auto session = PlayOffline(*scene, std::move(keys), ticks, "site", &consumer);
+        EXPECT_EQ(session->loop().faults().total(), 0u) << where;
+        std::optional<HapticEvent> deepest;
+        for (const HapticEvent& e : consumer.events)
+          if (!deepest || e.payload.reading.depth_mm > deepest->payload.reading.depth_mm) deepest = e;
+        return deepest;
+      };
+      for (const double past : {-0.3, 0.4}) {
+        const std::optional<HapticEvent> e = stroke(past);
+        ASSERT_TRUE(e) << where;
+        EXPECT_EQ(e->payload.reading.fdi, o.fdi) << where;
+        EXPECT_EQ(e->payload.reading.site, s) << where;
+        EXPECT_NEAR(e->payload.reading.depth_mm, o.pocket_mm[s] + past, 0.15) << where;
+        if (past < 0)
+          EXPECT_LT(e->payload.reading.peak_force_n, 0.15) << where << ": above the floor, only the soft gingiva";
+        else
+          EXPECT_GT(e->payload.reading.peak_force_n, 0.3) << where << ": pressing the firm floor";
+      }
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 16);
+}
+
+}  // namespace
+}  // namespace sulcus

@@ -453,5 +453,47 @@ TEST(SceneFile, GingivaArchJoinsNeighboursOnly) {
   EXPECT_TRUE(neighbours("true").empty()) << "collars stay collars";
 }
 
+// A tooth on the patient's left is its twin on the right, mirrored: its tree
+// is the twin's, mirrored (one build for the two, through the cache), and it
+// covers its own mesh.
+TEST(SceneCompile, AMirroredToothGetsItsTwinsTreeMirrored) {
+  const fs::path cache = Dir() / "cache-mirror";
+  fs::remove_all(cache);
+  const SceneSpec spec = LoadSceneSpec(Write("mirror_twins.yaml", "arch: true\nobjects:\n  - tooth: 44\n  - tooth: 34\n"));
+  const auto scene = CompileScene(spec, cache);
+  int right = -1, left = -1;
+  for (int i = 0; i < static_cast<int>(scene->spec.objects.size()); ++i) {
+    const ObjectSpec& o = scene->spec.objects[i];
+    if (o.kind != ObjectSpec::Kind::kTooth) continue;
+    (o.fdi == 44 ? right : left) = i;
+  }
+  ASSERT_GE(right, 0);
+  ASSERT_GE(left, 0);
+  ASSERT_NE(scene->spec.objects[right].mirrored, scene->spec.objects[left].mirrored);
+  const SphereTree& a = scene->trees[right];
+  const SphereTree& b = scene->trees[left];
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t n = 0; n < a.size(); ++n) {
+    EXPECT_EQ(a.x[n], -b.x[n]);
+    EXPECT_EQ(a.y[n], b.y[n]);
+    EXPECT_EQ(a.z[n], b.z[n]);
+    EXPECT_EQ(a.r[n], b.r[n]);
+  }
+  // Every vertex of each tooth's own (mirrored or not) mesh lies in a leaf.
+  for (const int i : {right, left}) {
+    const SphereTree& t = scene->trees[i];
+    for (const Vector3& v : scene->meshes[i].vertices()) {
+      bool inside = false;
+      for (std::size_t n = 0; n < t.size() && !inside; ++n)
+        inside = t.IsLeaf(n) && (v - t.center(n)).norm() <= t.r[n] + 1e-6;
+      ASSERT_TRUE(inside) << scene->spec.objects[i].name << " vertex " << v.transpose();
+    }
+  }
+  // One build: the cache holds the tool's tree and one tooth tree, not two.
+  int trees = 0;
+  for (const auto& f : fs::directory_iterator(cache)) trees += f.path().filename().string().rfind("tree-", 0) == 0;
+  EXPECT_EQ(trees, 2);
+}
+
 }  // namespace
 }  // namespace sulcus
