@@ -195,13 +195,14 @@ struct ArchRun {
   std::vector<ToothModel> teeth;
   std::vector<GingivaModel> collars;
   std::vector<GingivaParams> params;
-  // 44 to 47, with these sites' pockets and recession (44's first), or the defaults.
+  // 44 to 47, with these sites' pockets and recession (44's, 45's, 46's, 47's), or the defaults.
   explicit ArchRun(const std::vector<GingivaParams>& given = {}) {
     for (const PlacedTooth& p : PlaceArch(false))
       if (p.tooth.fdi >= 44 && p.tooth.fdi <= 47) placed.push_back(p);
     for (std::size_t k = 0; k < placed.size(); ++k) {
       teeth.push_back(GenerateTooth(placed[k].tooth.fdi));
-      params.push_back(k < given.size() ? given[k] : GingivaParams{});
+      const auto at = static_cast<std::size_t>(placed[k].tooth.fdi - 44);
+      params.push_back(at < given.size() ? given[at] : GingivaParams{});
       collars.push_back(GenerateGingiva(teeth.back(), params.back()));
     }
   }
@@ -326,7 +327,9 @@ TEST(Gingiva, OnTheArchEverySiteReadsItsOwnDepthBesideADeeperNeighbour) {
         if (h && (!floor || *h > *floor)) floor = h;
       }
       ASSERT_TRUE(floor) << arch.placed[i].tooth.fdi << " site " << s;
-      EXPECT_NEAR(g.margin[s].z() - *floor, g.margin[s].z() - g.floor[s].z(), 0.15)
+      // (0.2 mm: the shares are sampled on a 0.3 mm grid with their edges
+      // rounded, and the floor falls steeply from the cut to a deeper site)
+      EXPECT_NEAR(g.margin[s].z() - *floor, g.margin[s].z() - g.floor[s].z(), 0.2)
           << "tooth " << arch.placed[i].tooth.fdi << " site " << s;
     }
     // Under each contact (from the line angles' sites to the contact, along
