@@ -54,13 +54,15 @@ double OuterRadius(const TriangleMesh& mesh, double th, double z) {
   return best;
 }
 
-double GingivaModel::FloorAt(double th) const {
+int GingivaModel::SegmentAt(double th) const {
   const int n = static_cast<int>(floor_z.size());
   if (n == 0) return 0;
   double a = std::fmod(th, 2 * kPi);
   if (a < 0) a += 2 * kPi;
-  return floor_z[static_cast<int>(std::lround(a / (2 * kPi) * n)) % n];
+  return static_cast<int>(std::lround(a / (2 * kPi) * n)) % n;
 }
+
+double GingivaModel::FloorAt(double th) const { return floor_z.empty() ? 0 : floor_z[SegmentAt(th)]; }
 
 const std::array<double, 6>& SiteAngles() {
   static const std::array<double, 6> a = {kPi / 4, kPi / 2, 3 * kPi / 4, 7 * kPi / 4, 3 * kPi / 2, 5 * kPi / 4};

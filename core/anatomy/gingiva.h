@@ -42,6 +42,8 @@ struct GingivaModel {
   std::vector<double> wall_r, floor_r, outer_r;
   /// The floor height at angle th (radians from +x), nearest segment.
   double FloorAt(double th) const;
+  /// The segment of the tables around the tooth nearest angle th (radians from +x).
+  int SegmentAt(double th) const;
 };
 
 /// Changes whenever the share's geometry does (its meshes are cached by it).

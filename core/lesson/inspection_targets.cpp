@@ -87,10 +87,8 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
       // The attached gingiva, 1.5 mm below the CEJ (or as far below as the
       // gingiva reaches there, when the floor is shallower), the working end
       // leaning out past the crown's bulge.
-      bool found = false;
-      for (const double z : {-1.5, -1.0, -0.5})
-        if (!found) found = SideSpot(scene, i, upper ? 3 * kPi / 2 : kPi / 2, z, &t.p, &t.n);
-      if (!found) continue;
+      const auto spot = [&](double z) { return SideSpot(scene, i, upper ? 3 * kPi / 2 : kPi / 2, z, &t.p, &t.n); };
+      if (!spot(-1.5) && !spot(-1.0) && !spot(-0.5)) continue;
       const Vector3 occlusal = OcclusalOf(scene.spec.objects[static_cast<std::size_t>(i)]);
       t.axis = (occlusal + 0.35 * t.n).normalized();
       t.shank = kAnterior;

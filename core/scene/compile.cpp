@@ -3,7 +3,6 @@
 #include <cstring>
 #include <exception>
 #include <mutex>
-#include <numbers>
 #include <optional>
 #include <sstream>
 #include <thread>
@@ -223,10 +222,7 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
   auto in_sulcus = [&](int j, const Vector3& c_W, double r) {
     const GingivaModel& g = *models[j];
     const Vector3 c = ArchMirror(objs[j].mirrored, objs[j].X_WO.inverse() * c_W);
-    const int n = static_cast<int>(g.sulcus_r.size());
-    double th = std::atan2(c.y(), c.x());
-    if (th < 0) th += 2 * std::numbers::pi;
-    const int k = static_cast<int>(std::lround(th / (2 * std::numbers::pi) * n)) % n;
+    const int k = g.SegmentAt(std::atan2(c.y(), c.x()));
     const double r_in = g.sulcus_r[k] + 0.5 * GingivaParams{}.gap_mm;
     return std::hypot(c.x(), c.y()) - r < r_in && c.z() - r < g.margin_z[k] && c.z() + r > g.floor_z[k];
   };
@@ -236,10 +232,8 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
   auto under_floor = [&](int j, const Vector3& c_W, double r) {
     const GingivaModel& g = *models[j];
     const Vector3 c = ArchMirror(objs[j].mirrored, objs[j].X_WO.inverse() * c_W);
-    const double th = std::atan2(c.y(), c.x());
-    const int n = static_cast<int>(g.wall_r.size());
-    const int k = static_cast<int>(std::lround((th < 0 ? th + 2 * std::numbers::pi : th) / (2 * std::numbers::pi) * n)) % n;
-    return std::hypot(c.x(), c.y()) - r < g.wall_r[k] && c.z() + r <= g.FloorAt(th) + 0.25;
+    const int k = g.SegmentAt(std::atan2(c.y(), c.x()));
+    return std::hypot(c.x(), c.y()) - r < g.wall_r[k] && c.z() + r <= g.floor_z[k] + 0.25;
   };
   // In a neighbour's sulcus and not in its own (where the two sulci meet, at
   // the col, both floors stay).
@@ -300,7 +294,7 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
         for (const int j : neighbours)
           if (under_floor(j, o.X_WO * t.center(n), r)) k[n] = static_cast<float>(kPocketFloorStiffness);
         // (a share of the arch's gingiva has every neighbour's sulcus carved out already)
-        if (o.gingiva_neighbours.empty() && in_other_sulcus(i, o.X_WO * t.center(n), t.r[n])) k[n] = 0;
+        if (o.gingiva_neighbours.empty() && in_other_sulcus(i, o.X_WO * t.center(n), r)) k[n] = 0;
       }
       m.soft_leaf_stiffness.push_back(std::move(k));
     }
