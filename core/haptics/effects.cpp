@@ -94,7 +94,13 @@ class ProbingDepth final : public LoopEffect {
       const auto& [u, len] = lines_[i];
       if (len <= 0) continue;
       const double along = (tip - s.margin_W).dot(u);
-      if (along < -0.5 || along > len + 0.5) continue;
+      // A tip enters a site's line at most kEnterPastFloorMm past its floor;
+      // pushed on through the floor it stays with the site it came down, to
+      // kHoldPastFloorMm: a heavy push reads deeper than the floor, and its
+      // force is that reading's (as a probe forced through the junctional
+      // epithelium over-reads).
+      const double past = static_cast<int>(i) == site_ ? kHoldPastFloorMm : kEnterPastFloorMm;
+      if (along < -0.5 || along > len + past) continue;
       const double off = (tip - s.margin_W - along * u).norm();
       if (off > kRadius) continue;
       bool beyond = false;
@@ -150,6 +156,7 @@ class ProbingDepth final : public LoopEffect {
     loop->Emit(e);
   }
   static constexpr double kRadius = 1.2;  // mm from the site's line
+  static constexpr double kEnterPastFloorMm = 0.5, kHoldPastFloorMm = 3.0;
   static constexpr double kDwellMm = 0.2;
   struct Line {
     Vector3 u;

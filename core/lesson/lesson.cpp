@@ -515,7 +515,10 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
       const S st = a <= rb.technique_full_mm ? S::kPass : a <= rb.technique_partial_mm ? S::kPartial : S::kFail;
       L.push_back(Line("technique", &site, 0, st, st == S::kPass ? 1 : st == S::kPartial ? 0.5 : 0,
                        Format("%s: the tip reached %.1f mm, the true depth is %d mm (%+.1f mm)%s", name.c_str(), reached,
-                              s.truth_mm, err, err < -rb.technique_full_mm ? ": stopped short of the floor" : ""),
+                              s.truth_mm, err,
+                              err < -rb.technique_full_mm  ? ": stopped short of the floor"
+                              : err > rb.technique_full_mm ? ": pushed through the floor"
+                                                           : ""),
                        s.reading_tick));
       // Force at the floor.
       const double f = s.peak_force_n;

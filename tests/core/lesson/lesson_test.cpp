@@ -211,7 +211,14 @@ TEST(Students, TheRoughOneFailsForceAndDamageAndBleedingIsFlagged) {
   const LessonResult r = Take("rough").result;
   EXPECT_EQ(Lines(r, "force", RubricLine::Status::kFail).size(), 24u) << "2 N at every floor";
   EXPECT_EQ(Lines(r, "damage", RubricLine::Status::kFail).size(), 24u);
-  EXPECT_TRUE(Lines(r, "technique", RubricLine::Status::kFail).empty()) << "the floor is still reached";
+  // The floor is reached everywhere, and 2 N pushes the tip on through it:
+  // every site reads deeper than its truth, as a forced probe over-reads.
+  for (const SiteResult& s : r.sites) {
+    ASSERT_TRUE(s.reached_mm) << s.site.ToString();
+    EXPECT_GT(*s.reached_mm, s.truth_mm + 0.5) << s.site.ToString();
+  }
+  for (const RubricLine* l : Lines(r, "technique", RubricLine::Status::kFail))
+    EXPECT_NE(l->message.find("pushed through the floor"), std::string::npos) << l->message;
   std::set<std::string> bled;
   for (const SiteResult& s : r.sites)
     if (s.bled) bled.insert(s.site.ToString());
