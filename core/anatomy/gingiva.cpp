@@ -72,6 +72,8 @@ const std::array<double, 6>& SiteAngles() {
 GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
   if (p.segments < 8 || p.segments % 8 != 0)
     throw std::invalid_argument("gingiva segments must be a multiple of 8, at least 8");
+  if (!(p.crest_drop_mm >= 0) || !(p.crest_up.z() > 0.5) || std::abs(p.crest_up.norm() - 1) > 1e-6)
+    throw std::invalid_argument("the gingiva's bone crest needs a drop of at least 0 and a unit 'up' within 60 degrees of the tooth's axis");
   if (!(p.gap_mm >= 0.55)) throw std::invalid_argument("the sulcus must be at least 0.55 mm wide for a 0.5 mm probe tip");
   for (int i = 0; i < 6; ++i) {
     if (p.pocket_mm[i] < 0 || p.pocket_mm[i] + p.recession_mm[i] > MaxAttachmentLoss(tooth.dimensions))
@@ -139,6 +141,8 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
   out.wall_r = r_in_at;
   out.floor_r = r_floor_at;
   out.outer_r = r_out_at;
+  out.crest_drop_mm = p.crest_drop_mm;
+  out.crest_up = p.crest_up;
   out.sulcus_r.resize(n);
   for (int k = 0; k < n; ++k) out.sulcus_r[k] = r_in_at[k] - 0.5 * p.gap_mm;
   if (out.mesh.Volume() < 0) out.mesh.FlipOrientation();
@@ -165,6 +169,14 @@ double Around(const std::vector<double>& table, double th) {
   return table[i] + t * (table[(i + 1) % n] - table[i]);
 }
 
+constexpr double kIntoBoneMm = 1.0;  // how far a share reaches past the crest, into the jaw
+
+// The bone crest's height (tooth frame z) above (x, y).
+double CrestZ(const GingivaModel& g, double x, double y) {
+  const Vector3& u = g.crest_up;
+  return (-g.crest_drop_mm - u.x() * x - u.y() * y) / u.z();
+}
+
 // One tooth's collar as fields, at a point in that tooth's frame.
 struct CollarAt {
   // In the sulcus or above it: inside > 0 and above > 0; in the root below the
@@ -186,11 +198,20 @@ CollarAt Collar(const GingivaModel& g, const Vector3& q) {
   c.from_root = r - (2 * Around(g.sulcus_r, th) - wall);
   c.above = q.z() - z_f;
   c.root = r_floor - r;
-  c.band = std::max(r - r_out, z_f - 1.0 - q.z());
+  double base = z_f - 1.0, outer = r_out;
+  if (g.crest_drop_mm > 0) {
+    // Down over the alveolar process to the crest and into the jaw, the outer
+    // wall drawing in 2 mm per mm below the crest (so the share ends inside
+    // the jaw, whose top the jaw makes as wide as the gingiva).
+    const double z_crest = CrestZ(g, q.x(), q.y());
+    base = std::min(base, z_crest - kIntoBoneMm);
+    outer -= 2.0 * std::max(0.0, z_crest - q.z());
+  }
+  c.band = std::max(r - outer, base - q.z());
   // (beyond the outer wall it falls away, so that a collar two teeth away
   // never shapes the gingiva between these two)
   c.top = z_m - 0.4 * std::max(0.0, r - wall) - 2.0 * std::max(0.0, r - r_out);
-  c.bottom = z_f - 1.0 + 2.0 * std::max(0.0, r - r_out);
+  c.bottom = base + 2.0 * std::max(0.0, r - r_out);
   return c;
 }
 
@@ -276,6 +297,15 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
     const Vector3 f_j =
         At * (Vector3(r_j * std::cos(th_back), r_j * std::sin(th_back), Around(n.gingiva->floor_z, th_back)) - n.b);
     l.base = 0.5 * (r_i * dir_e + Vector3(0, 0, Around(own.floor_z, th_e)) + f_j) - l.up;
+    if (own.crest_drop_mm > 0 && n.gingiva->crest_drop_mm > 0) {
+      // Down to the crest between the two as well (each tooth's crest in its
+      // own frame, the mean of the two points).
+      const Vector3 c_i = r_i * dir_e + Vector3(0, 0, CrestZ(own, r_i * std::cos(th_e), r_i * std::sin(th_e)));
+      const Vector3 at_j(r_j * std::cos(th_back), r_j * std::sin(th_back), 0);
+      const Vector3 c_j = At * (Vector3(at_j.x(), at_j.y(), CrestZ(*n.gingiva, at_j.x(), at_j.y())) - n.b);
+      const Vector3 crest_base = 0.5 * (c_i + c_j) - kIntoBoneMm * l.up;
+      if (crest_base.dot(l.up) < l.base.dot(l.up)) l.base = crest_base;
+    }
     const double d = l.q.head<2>().dot(l.e);
     for (const Vector3& b : l.face_point) reach = std::max(reach, std::hypot(d, b.head<2>().norm()) + 0.5);
     reach = std::max(reach, d + 0.5);
@@ -286,6 +316,8 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
     z_lo = std::min(z_lo, own.floor_z[k] - 1.0);
     z_hi = std::max(z_hi, own.margin_z[k]);
   }
+  if (own.crest_drop_mm > 0)
+    z_lo = std::min(z_lo, (-own.crest_drop_mm - own.crest_up.head<2>().norm() * reach) / own.crest_up.z() - kIntoBoneMm);
   box_.Extend(Vector3(-reach, -reach, z_lo - 2.0));
   box_.Extend(Vector3(reach, reach, z_hi + 2.0));
 }

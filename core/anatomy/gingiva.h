@@ -26,6 +26,13 @@ struct GingivaParams {
   double thickness_mm = 2.0;     // buccal and lingual; thinner between teeth
   double papilla_mm = 1.5;       // how far the margin rises between teeth
   int segments = 72;             // around the tooth (a multiple of 8 puts a ring at every site)
+  // A share of the arch's gingiva (not a collar) covers the alveolar process
+  // down to the bone crest, `crest_drop_mm` below the CEJ's centre along the
+  // world's vertical (`crest_up`: toward the crown, in the tooth frame), and
+  // 1 mm past it into the jaw, narrowing there so that it ends inside the
+  // jaw. 0: the share ends 1 mm below the floor, as a collar does.
+  double crest_drop_mm = 0;
+  Vector3 crest_up = Vector3::UnitZ();
 };
 
 struct GingivaModel {
@@ -40,6 +47,10 @@ struct GingivaModel {
   // Per segment too: the sulcus wall's radius, where the floor meets the root
   // (inside it, so the attachment overlaps the tooth) and the outer surface.
   std::vector<double> wall_r, floor_r, outer_r;
+  // The bone crest for a share (GingivaParams::crest_drop_mm; 0: none): the
+  // plane of points q with q . crest_up = -crest_drop_mm.
+  double crest_drop_mm = 0;
+  Vector3 crest_up = Vector3::UnitZ();
   /// The floor height at angle th (radians from +x), nearest segment.
   double FloorAt(double th) const;
   /// The segment of the tables around the tooth nearest angle th (radians from +x).
@@ -47,7 +58,7 @@ struct GingivaModel {
 };
 
 /// Changes whenever the share's geometry does (its meshes are cached by it).
-inline constexpr int kGingivaShareVersion = 13;
+inline constexpr int kGingivaShareVersion = 14;
 
 /// A neighbouring tooth on the arch, for the gingiva between the two.
 struct GingivaNeighbour {

@@ -230,6 +230,46 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     smooth[i].n_max = n_max / count;
     smooth[i].far = far / count;
   }
+  // The gingiva over the alveolar process: at the crest the jaw is as wide as
+  // a share of the arch's gingiva (gingiva.h: the cervical crown, the 1 mm
+  // sulcus and 2 mm of gingiva, buccal and lingual), so the gingiva, which
+  // reaches 1 mm past the crest, meets the jaw's mucosa flush there (the
+  // mucogingival junction); below, the mucosa falls back to the bone's width
+  // over 4 mm. Where no tooth stands (the ends), no flare.
+  constexpr double kGingivaOut = 2.7, kFlareMm = 4.0;
+  std::vector<double> gum_in(stations, 0), gum_out(stations, 0);
+  {
+    std::vector<double> in(stations, 1e9), out(stations, -1e9);
+    for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
+      const RigidTransform X_TW = teeth.placed[k].X_WT.inverse();
+      for (const Vector3& v : teeth.meshes[k].vertices()) {
+        const double z_T = (X_TW * v).z();
+        if (z_T < 0 || z_T > 2.5) continue;  // the cervical crown, where the sulcus is
+        const double s = curve.Project(v, teeth.s[k]);
+        const int i = static_cast<int>(std::lround((s + end) / (2 * end) * (stations - 1)));
+        for (int j = std::max(0, i - 1); j <= std::min(stations - 1, i + 1); ++j) {
+          const double n = (v - curve.Point(station_s(j))).dot(curve.Normal(station_s(j)));
+          in[j] = std::min(in[j], n);
+          out[j] = std::max(out[j], n);
+        }
+      }
+    }
+    for (int i = 0; i < stations; ++i) {
+      double a = 0, b = 0, w = 0;
+      for (int j = std::max(0, i - 2); j <= std::min(stations - 1, i + 2); ++j) {
+        if (out[j] < -1e8) continue;
+        a += in[j] - kGingivaOut;
+        b += out[j] + kGingivaOut;
+        w += 1;
+      }
+      if (w == 0) continue;
+      // How much wider than the bone (smoothed section) on each side; fading
+      // out where the stations near it hold no tooth.
+      const double have = w / (std::min(stations - 1, i + 2) - std::max(0, i - 2) + 1);
+      gum_in[i] = have * std::max(0.0, smooth[i].n_min - 1.5 - a / w);
+      gum_out[i] = have * std::max(0.0, b / w - smooth[i].n_max - 1.5);
+    }
+  }
   std::vector<std::vector<Vector3>> rings;
   for (int i = 0; i < stations; ++i) {
     const double s = station_s(i);
@@ -241,9 +281,26 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     origin.z() = 0;
     // Tapered and rounded at both ends of the arch.
     const double taper = std::min(1.0, std::sqrt(std::max(0.05, (end - std::abs(s)) / 4.0)));
-    const double mid = 0.5 * (e.n_min + e.n_max), half = 0.5 * (e.n_max - e.n_min) + 1.5;
-    rings.push_back(Section(origin, curve.Normal(s), mid - half * taper, mid + half * taper, std::min(top, far),
-                            std::max(top, far), 32, 6.0));
+    const double mid = 0.5 * (e.n_min + e.n_max), half = (0.5 * (e.n_max - e.n_min) + 1.5) * taper;
+    // The section: down the outer (buccal) side from the crest to the far
+    // edge, rounded there, and up the inner side; the flat top at the crest.
+    const Vector3 u = curve.Normal(s);
+    const double depth = std::abs(far - top), round = std::min({3.0, half, 0.5 * depth});
+    constexpr int kSide = 20;
+    std::vector<Vector3> ring;
+    for (int side = 0; side < 2; ++side) {
+      for (int j = 0; j < kSide; ++j) {
+        const int jj = side == 0 ? j : kSide - 1 - j;  // outer: crest to far; inner: far to crest
+        const double h = depth * std::pow(jj / (kSide - 1.0), 1.6);
+        const double f = h < kFlareMm ? (1 - h / kFlareMm) * (1 - h / kFlareMm) : 0.0;
+        const double below_round = h - (depth - round);
+        const double shrink = below_round > 0 ? std::sqrt(std::max(0.0, 1 - std::pow(below_round / round, 2))) : 1.0;
+        const double w = half * (0.15 + 0.85 * shrink);
+        const double a = side == 0 ? mid + w + taper * gum_out[i] * f : mid - w - taper * gum_in[i] * f;
+        ring.push_back(origin + a * u + Vector3(0, 0, top + sign * h));
+      }
+    }
+    rings.push_back(std::move(ring));
   }
   return Loft(rings);
 }

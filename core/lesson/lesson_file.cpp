@@ -17,7 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kHealthyMarginAboveCejMm = GingivaParams{}.margin_above_cej_mm;
+const double kHealthyMarginAboveCejMm = GingivaParams{}.margin_above_cej_mm;
 
 // "46 DB" -> {46, 2}; false when it is not a tooth and a site.
 bool ParseSite(const std::string& text, SiteRef* out) {

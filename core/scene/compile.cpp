@@ -28,6 +28,26 @@ namespace sulcus {
 
 namespace {
 
+// A tooth's gingiva parameters: its sites and, for a share (crest_drop_mm >
+// 0), the bone crest it reaches, along the world's vertical toward the crown
+// in its (unmirrored) tooth frame placed at X_WO.
+GingivaParams GingivaParamsOf(int fdi, bool mirrored, const RigidTransform& X_WO, const std::array<double, 6>& pocket_mm,
+                              const std::array<double, 6>& recession_mm, double crest_drop_mm) {
+  GingivaParams p;
+  p.pocket_mm = pocket_mm;
+  p.recession_mm = recession_mm;
+  if (crest_drop_mm > 0) {
+    const Vector3 v(0, 0, FdiTooth::Parse(fdi).upper() ? -1.0 : 1.0);
+    p.crest_drop_mm = crest_drop_mm;
+    p.crest_up = (Vector3(mirrored ? -1 : 1, 1, 1).asDiagonal() * (X_WO.rotation().transpose() * v)).normalized();
+  }
+  return p;
+}
+
+GingivaParams GingivaOf(const ObjectSpec& o) {
+  return GingivaParamsOf(o.fdi, o.mirrored, o.X_WO, o.pocket_mm, o.recession_mm, o.share_crest_drop_mm);
+}
+
 // A share of the arch's gingiva's neighbours: their teeth and collars, and
 // the map from this tooth's (unmirrored) frame to each of theirs.
 struct ShareNeighbours {
@@ -40,10 +60,9 @@ struct ShareNeighbours {
     for (std::size_t i = 0; i < n; ++i) {
       const GingivaNeighbourSpec& s = o.gingiva_neighbours[i];
       teeth.push_back(GenerateTooth(s.fdi));
-      GingivaParams p;
-      p.pocket_mm = s.pocket_mm;
-      p.recession_mm = s.recession_mm;
-      collars.push_back(GenerateGingiva(teeth.back(), p));
+      collars.push_back(GenerateGingiva(
+          teeth.back(), GingivaParamsOf(s.fdi, s.mirrored, s.X_WO, s.pocket_mm, s.recession_mm,
+                                        o.share_crest_drop_mm > 0 ? s.crest_drop_mm : 0)));
       const Matrix3 mirror = Vector3(s.mirrored ? -1 : 1, 1, 1).asDiagonal();
       const Matrix3 Rt = s.X_WO.rotation().transpose();
       next[i].A = mirror * Rt * o.X_WO.rotation() * mirror_self;
@@ -59,13 +78,6 @@ struct ShareNeighbours {
   std::vector<GingivaNeighbour> next;
 };
 
-GingivaParams GingivaOf(const ObjectSpec& o) {
-  GingivaParams p;
-  p.pocket_mm = o.pocket_mm;
-  p.recession_mm = o.recession_mm;
-  return p;
-}
-
 // What generates an object's mesh, as text; empty for meshes not generated.
 std::string GeneratorKey(const ObjectSpec& o) {
   std::ostringstream k;
@@ -80,6 +92,10 @@ std::string GeneratorKey(const ObjectSpec& o) {
     case ObjectSpec::Kind::kGingiva:
       k << "gingiva " << kGingivaShareVersion << '|' << o.fdi << '|' << o.mirrored;
       for (int i = 0; i < 6; ++i) k << '|' << o.pocket_mm[i] << '|' << o.recession_mm[i];
+      if (o.share_crest_drop_mm > 0) {
+        const Vector3 up = GingivaOf(o).crest_up;
+        k << "|crest " << o.share_crest_drop_mm << '|' << up.x() << '|' << up.y() << '|' << up.z();
+      }
       for (const GingivaNeighbourSpec& n : o.gingiva_neighbours) {
         // Where the neighbour stands relative to this tooth decides the share.
         const RigidTransform X = o.X_WO.inverse() * n.X_WO;
@@ -88,6 +104,7 @@ std::string GeneratorKey(const ObjectSpec& o) {
           for (int c = 0; c < 3; ++c) k << '|' << X.rotation()(r, c);
         for (int r = 0; r < 3; ++r) k << '|' << X.translation()[r];
         for (int i = 0; i < 6; ++i) k << '|' << n.pocket_mm[i] << '|' << n.recession_mm[i];
+        k << '|' << n.crest_drop_mm;
       }
       break;
     case ObjectSpec::Kind::kCalculus:

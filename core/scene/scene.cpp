@@ -395,26 +395,38 @@ double FurcationDepthMm(int fdi) {
   return 0;
 }
 
+namespace {
+
+// Each tooth's bone crest below its CEJ (mm) where the scene's attachment loss
+// or furcation puts it deeper than health (FollowAttachmentLoss's rule).
+std::map<int, double> CrestDrops(const SceneSpec& spec) {
+  std::map<int, double> drops;
+  for (const ObjectSpec& t : spec.objects) {
+    if (t.kind != ObjectSpec::Kind::kTooth) continue;
+    double drop = 0;
+    if (t.has_sites) {
+      double loss = 0;
+      for (int s = 0; s < 6; ++s) loss = std::max(loss, t.pocket_mm[s] + t.recession_mm[s]);
+      drop = CrestDropMm(loss);
+    }
+    int worst = 0;
+    for (const auto& [entrance, hamp] : t.furcation) worst = std::max(worst, hamp);
+    if (worst > 0) {
+      static constexpr double kBelowEntrance[4] = {0, 0.5, 1.5, 3.0};
+      drop = std::max({drop, CrestDropMm(0), FurcationDepthMm(t.fdi) + kBelowEntrance[worst]});
+    }
+    if (drop > 0) drops[t.fdi] = drop;
+  }
+  return drops;
+}
+
+}  // namespace
+
 void FollowAttachmentLoss(SceneSpec* spec) {
+  const std::map<int, double> drops = CrestDrops(*spec);
   for (ObjectSpec& jaw : spec->objects) {
     if (jaw.kind != ObjectSpec::Kind::kAnatomy || jaw.anatomy.rfind("jaw", 0) != 0) continue;
-    jaw.crest_drop_mm.clear();
-    for (const ObjectSpec& t : spec->objects) {
-      if (t.kind != ObjectSpec::Kind::kTooth) continue;
-      double drop = 0;
-      if (t.has_sites) {
-        double loss = 0;
-        for (int s = 0; s < 6; ++s) loss = std::max(loss, t.pocket_mm[s] + t.recession_mm[s]);
-        drop = CrestDropMm(loss);
-      }
-      int worst = 0;
-      for (const auto& [entrance, hamp] : t.furcation) worst = std::max(worst, hamp);
-      if (worst > 0) {
-        static constexpr double kBelowEntrance[4] = {0, 0.5, 1.5, 3.0};
-        drop = std::max({drop, CrestDropMm(0), FurcationDepthMm(t.fdi) + kBelowEntrance[worst]});
-      }
-      if (drop > 0) jaw.crest_drop_mm[t.fdi] = drop;
-    }
+    jaw.crest_drop_mm = drops;
   }
 }
 
@@ -432,16 +444,23 @@ void LinkGingivaNeighbours(SceneSpec* spec) {
       return 0.0;
     }
   };
+  const std::map<int, double> drops = CrestDrops(*spec);
+  auto crest = [&](int fdi) {
+    const auto it = drops.find(fdi);
+    return it == drops.end() ? CrestDropMm(0) : it->second;
+  };
   for (ObjectSpec& g : spec->objects) {
     if (g.kind != ObjectSpec::Kind::kGingiva) continue;
     g.gingiva_neighbours.clear();
+    g.share_crest_drop_mm = 0;
     if (!spec->gingiva_joined) continue;
     for (const ObjectSpec& n : spec->objects) {
       if (n.kind != ObjectSpec::Kind::kGingiva || !adjacent(g.fdi, n.fdi)) continue;
       const double apart = (n.X_WO.translation() - g.X_WO.translation()).norm();
       if (apart > 0.5 * (width(g.fdi) + width(n.fdi)) + 2.0) continue;
-      g.gingiva_neighbours.push_back({n.fdi, n.mirrored, n.X_WO, n.pocket_mm, n.recession_mm});
+      g.gingiva_neighbours.push_back({n.fdi, n.mirrored, n.X_WO, n.pocket_mm, n.recession_mm, crest(n.fdi)});
     }
+    if (!g.gingiva_neighbours.empty()) g.share_crest_drop_mm = crest(g.fdi);
   }
 }
 

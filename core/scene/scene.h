@@ -68,6 +68,7 @@ struct GingivaNeighbourSpec {
   bool mirrored = false;
   RigidTransform X_WO;
   std::array<double, 6> pocket_mm{}, recession_mm{};
+  double crest_drop_mm = 0;  // its bone crest below its CEJ (as its share's)
 };
 
 struct ObjectSpec {
@@ -104,6 +105,9 @@ struct ObjectSpec {
   std::map<std::string, int> furcation;
   // kGingiva: the neighbouring teeth's gingiva it joins (empty: a collar alone).
   std::vector<GingivaNeighbourSpec> gingiva_neighbours;
+  // kGingiva shares (gingiva_neighbours not empty): the bone crest below the
+  // tooth's CEJ, as the jaw has it; the share reaches 1 mm past it.
+  double share_crest_drop_mm = 0;
   int calculus_site = -1;
   bool with_gingiva = false;
   // kAnatomy: a soft-tissue lesion (soft_tissue.h), empty kind for none.
@@ -168,8 +172,9 @@ void FollowAttachmentLoss(SceneSpec* spec);
 /// object's `gingiva_neighbours` are the teeth next to it in the arch (same
 /// quadrant and next position, or the two central incisors across the
 /// midline) whose gingiva the scene has and that stand within 2 mm of touching
-/// (a hand-placed row of teeth apart keeps a collar each). LoadSceneSpec and
-/// CompileScene call it, after FollowAttachmentLoss.
+/// (a hand-placed row of teeth apart keeps a collar each), and each share's
+/// bone crest (`share_crest_drop_mm`, the jaw's, from FollowAttachmentLoss's
+/// rule). LoadSceneSpec and CompileScene call it, after FollowAttachmentLoss.
 void LinkGingivaNeighbours(SceneSpec* spec);
 
 /// An object's mesh in its own frame (before X_WO): a generated tooth, gingiva
