@@ -79,16 +79,18 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
   Target t;
   if (region == "gingiva_upper" || region == "gingiva_lower") {
     // The attached gingiva: palatal of the upper first molars (open to the
-    // middle of the mouth), labial of the lower central incisors.
+    // middle of the mouth), lingual of the lower central incisors (the lower
+    // lip lies over their labial gingiva: a probe reaching it presses the lip).
     const bool upper = region == "gingiva_upper";
     for (int fdi : upper ? std::vector<int>{16, 26, 15, 25} : std::vector<int>{41, 31, 42, 32}) {
       const int i = FindObject(scene.spec, ObjectSpec::Kind::kGingiva, fdi);
       if (i < 0 || (!teeth.empty() && std::find(teeth.begin(), teeth.end(), fdi) == teeth.end())) continue;
-      // The attached gingiva, 1.5 mm below the CEJ (or as far below as the
-      // gingiva reaches there, when the floor is shallower), the working end
-      // leaning out past the crown's bulge.
-      const auto spot = [&](double z) { return SideSpot(scene, i, upper ? 3 * kPi / 2 : kPi / 2, z, &t.p, &t.n); };
-      if (!spot(-1.5) && !spot(-1.0) && !spot(-0.5)) continue;
+      // The attached gingiva, 1 mm below the CEJ (above the bone crest, 1.5 mm
+      // below it in health, where the gingiva's wall draws into the jaw; or
+      // as far below as the gingiva reaches there, when the floor is
+      // shallower), the working end leaning out past the crown's bulge.
+      const auto spot = [&](double z) { return SideSpot(scene, i, 3 * kPi / 2, z, &t.p, &t.n); };
+      if (!spot(-1.0) && !spot(-0.5)) continue;
       const Vector3 occlusal = OcclusalOf(scene.spec.objects[static_cast<std::size_t>(i)]);
       t.axis = (occlusal + 0.35 * t.n).normalized();
       t.shank = kAnterior;
