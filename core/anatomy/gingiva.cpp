@@ -171,7 +171,11 @@ double Around(const std::vector<double>& table, double th) {
 }
 
 constexpr double kIntoBoneMm = 1.0;  // how far a share reaches past the crest, into the jaw
-constexpr double kDrawInPerMm = 2.0;  // how fast its outer wall draws in below the crest
+
+// How far a share's outer wall has drawn in at height z below the crest: 2 mm
+// per mm, so that the share ends inside the jaw (whose top, soft_tissue.cpp,
+// stays inside the gingiva).
+double DrawnIn(double crest, double z) { return 2.0 * std::max(0.0, crest - z); }
 
 // The bone crest's height (tooth frame z) above (x, y).
 double CrestZ(const GingivaModel& g, double x, double y) {
@@ -203,11 +207,10 @@ CollarAt Collar(const GingivaModel& g, const Vector3& q) {
   double base = z_f - 1.0, outer = r_out;
   if (g.crest_drop_mm > 0) {
     // Down over the alveolar process to the crest and into the jaw, the outer
-    // wall drawing in 2 mm per mm below the crest (so the share ends inside
-    // the jaw, whose top stays inside the gingiva: soft_tissue.cpp's flare).
+    // wall drawing in below the crest.
     const double z_crest = CrestZ(g, q.x(), q.y());
     base = std::min(base, z_crest - kIntoBoneMm);
-    outer -= kDrawInPerMm * std::max(0.0, z_crest - q.z());
+    outer -= DrawnIn(z_crest, q.z());
   }
   c.band = std::max(r - outer, base - q.z());
   // (beyond the outer wall it falls away, so that a collar two teeth away
@@ -299,7 +302,7 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
     const Vector3 f_j =
         At * (Vector3(r_j * std::cos(th_back), r_j * std::sin(th_back), Around(n.gingiva->floor_z, th_back)) - n.b);
     l.base = 0.5 * (r_i * dir_e + Vector3(0, 0, Around(own.floor_z, th_e)) + f_j) - l.up;
-    l.crest_up = -std::numeric_limits<double>::infinity();
+    l.crest_height = -std::numeric_limits<double>::infinity();
     if (own.crest_drop_mm > 0 && n.gingiva->crest_drop_mm > 0) {
       // Down to the crest between the two as well (each tooth's crest in its
       // own frame, the mean of the two points).
@@ -307,7 +310,7 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
       const Vector3 at_j(r_j * std::cos(th_back), r_j * std::sin(th_back), 0);
       const Vector3 c_j = At * (Vector3(at_j.x(), at_j.y(), CrestZ(*n.gingiva, at_j.x(), at_j.y())) - n.b);
       const Vector3 crest_base = 0.5 * (c_i + c_j) - kIntoBoneMm * l.up;
-      l.crest_up = 0.5 * (c_i + c_j).dot(l.up);
+      l.crest_height = 0.5 * (c_i + c_j).dot(l.up);
       if (crest_base.dot(l.up) < l.base.dot(l.up)) l.base = crest_base;
     }
     const double d = l.q.head<2>().dot(l.e);
@@ -364,9 +367,8 @@ double GingivaShareField::Uncut(const Vector3& p) const {
     cavity = std::max(cavity, std::max(std::min(other.inside, other_above), other.root));
     const double u = l.e.x() * p.x() + l.e.y() * p.y();
     double faces = std::max(-u, u - l.L);
-    // (below the crest the faces draw in as the collar's wall does, so the
-    // band ends inside the jaw along the same line)
-    const double drawn_in = kDrawInPerMm * std::max(0.0, l.crest_up - p.dot(l.up));
+    // (below the crest the faces draw in as each collar's wall does)
+    const double drawn_in = DrawnIn(l.crest_height, p.dot(l.up));
     for (int side = 0; side < 2; ++side)
       faces = std::max(faces, (p - l.face_point[side]).dot(l.face_normal[side]) + drawn_in);
     band = std::min(band, faces);

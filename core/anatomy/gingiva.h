@@ -100,7 +100,7 @@ class GingivaShareField {
     Vector3 up;            // the two teeth's mean vertical
     Vector3 papilla;       // the papilla's top, by the contact
     Vector3 base;          // the interdental gingiva's base
-    double crest_up;       // the bone crest between the two, along up (-inf: no attached gingiva)
+    double crest_height;   // the bone crest between the two, along up (-inf: no attached gingiva)
     // How far each tooth's interproximal site facing the other lies from the
     // cut, [0] with across_dir, [1] against it: the col reaches the deeper
     // tooth's floor there.

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/anatomy/gingiva.h"
 #include "core/anatomy/tooth.h"
 
 namespace sulcus {
@@ -230,15 +231,15 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     smooth[i].n_max = n_max / count;
     smooth[i].far = far / count;
   }
-  // The gingiva over the alveolar process: at the crest the jaw is about 0.5 mm
-  // narrower than a share of the arch's gingiva (gingiva.h: the cervical
-  // crown, the 1 mm sulcus and 2 mm of gingiva, buccal and lingual), so its
-  // top edge stays hidden in the gingiva, which reaches 1 mm past the crest
-  // with its wall drawing in; the jaw's mucosa comes out of the gingiva just
-  // below the crest along one line (the mucogingival junction); below, the
-  // mucosa falls back to the bone's width over 4 mm. Where no tooth stands
-  // (the ends), no flare.
-  constexpr double kGingivaOut = 2.5, kFlareMm = 4.0;
+  // The gingiva over the alveolar process: a share of the arch's gingiva is
+  // the tooth about its CEJ, the sulcus and the gingiva's thickness wide
+  // (buccal and lingual). At the crest the jaw is 0.5 mm narrower, so its top
+  // edge stays hidden in the gingiva, whose wall draws in below the crest; the
+  // jaw's mucosa comes out of the gingiva just below the crest along one line
+  // (the mucogingival junction) and falls back to the bone's width over 4 mm.
+  // Where no tooth stands (the ends), no flare.
+  const double gingiva_out = GingivaParams{}.gap_mm + GingivaParams{}.thickness_mm - 0.5;
+  constexpr double kFlareMm = 4.0;
   std::vector<double> gum_in(stations, 0), gum_out(stations, 0);
   {
     std::vector<double> in(stations, 1e9), out(stations, -1e9);
@@ -246,7 +247,7 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
       const RigidTransform X_TW = teeth.placed[k].X_WT.inverse();
       for (const Vector3& v : teeth.meshes[k].vertices()) {
         const double z_T = (X_TW * v).z();
-        if (z_T < -0.5 || z_T > 1.5) continue;  // about the CEJ, where the sulcus is (gingiva.h: its widest)
+        if (z_T < -0.5 || z_T > 1.5) continue;  // about the CEJ, where a share takes its width
         const double s = curve.Project(v, teeth.s[k]);
         const int i = static_cast<int>(std::lround((s + end) / (2 * end) * (stations - 1)));
         for (int j = std::max(0, i - 1); j <= std::min(stations - 1, i + 1); ++j) {
@@ -260,8 +261,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
       double a = 0, b = 0, w = 0;
       for (int j = std::max(0, i - 2); j <= std::min(stations - 1, i + 2); ++j) {
         if (out[j] < -1e8) continue;
-        a += in[j] - kGingivaOut;
-        b += out[j] + kGingivaOut;
+        a += in[j] - gingiva_out;
+        b += out[j] + gingiva_out;
         w += 1;
       }
       if (w == 0) continue;

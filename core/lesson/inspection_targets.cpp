@@ -85,10 +85,9 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
     for (int fdi : upper ? std::vector<int>{16, 26, 15, 25} : std::vector<int>{41, 31, 42, 32}) {
       const int i = FindObject(scene.spec, ObjectSpec::Kind::kGingiva, fdi);
       if (i < 0 || (!teeth.empty() && std::find(teeth.begin(), teeth.end(), fdi) == teeth.end())) continue;
-      // The attached gingiva, 1 mm below the CEJ (above the bone crest, 1.5 mm
-      // below it in health, where the gingiva's wall draws into the jaw; or
-      // as far below as the gingiva reaches there, when the floor is
-      // shallower), the working end leaning out past the crown's bulge.
+      // The attached gingiva 1 mm below the CEJ, above the bone crest (below
+      // it the gingiva draws into the jaw), or 0.5 mm below where the floor is
+      // shallower; the working end leaning out past the crown's bulge.
       const auto spot = [&](double z) { return SideSpot(scene, i, 3 * kPi / 2, z, &t.p, &t.n); };
       if (!spot(-1.0) && !spot(-0.5)) continue;
       const Vector3 occlusal = OcclusalOf(scene.spec.objects[static_cast<std::size_t>(i)]);
