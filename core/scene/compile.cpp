@@ -1,7 +1,10 @@
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -48,6 +51,21 @@ GingivaParams GingivaOf(const ObjectSpec& o) {
   return GingivaParamsOf(o.fdi, o.mirrored, o.X_WO, o.pocket_mm, o.recession_mm, o.share_crest_drop_mm);
 }
 
+// A share's neighbour `s` as its generator sees it: its collar's parameters,
+// and the map from the share's tooth's (unmirrored) frame to the neighbour's.
+GingivaParams NeighbourParams(const ObjectSpec& o, const GingivaNeighbourSpec& s) {
+  return GingivaParamsOf(s.fdi, s.mirrored, s.X_WO, s.pocket_mm, s.recession_mm,
+                         o.share_crest_drop_mm > 0 ? s.crest_drop_mm : 0);
+}
+
+void NeighbourFrame(const ObjectSpec& o, const GingivaNeighbourSpec& s, Matrix3* A, Vector3* b) {
+  const Matrix3 mirror_self = Vector3(o.mirrored ? -1 : 1, 1, 1).asDiagonal();
+  const Matrix3 mirror = Vector3(s.mirrored ? -1 : 1, 1, 1).asDiagonal();
+  const Matrix3 Rt = s.X_WO.rotation().transpose();
+  *A = mirror * Rt * o.X_WO.rotation() * mirror_self;
+  *b = mirror * Rt * (o.X_WO.translation() - s.X_WO.translation());
+}
+
 // A share of the arch's gingiva's neighbours: their teeth and collars, and
 // the map from this tooth's (unmirrored) frame to each of theirs.
 struct ShareNeighbours {
@@ -56,17 +74,11 @@ struct ShareNeighbours {
     teeth.reserve(n);
     collars.reserve(n);
     next.resize(n);
-    const Matrix3 mirror_self = Vector3(o.mirrored ? -1 : 1, 1, 1).asDiagonal();
     for (std::size_t i = 0; i < n; ++i) {
       const GingivaNeighbourSpec& s = o.gingiva_neighbours[i];
       teeth.push_back(GenerateTooth(s.fdi));
-      collars.push_back(GenerateGingiva(
-          teeth.back(), GingivaParamsOf(s.fdi, s.mirrored, s.X_WO, s.pocket_mm, s.recession_mm,
-                                        o.share_crest_drop_mm > 0 ? s.crest_drop_mm : 0)));
-      const Matrix3 mirror = Vector3(s.mirrored ? -1 : 1, 1, 1).asDiagonal();
-      const Matrix3 Rt = s.X_WO.rotation().transpose();
-      next[i].A = mirror * Rt * o.X_WO.rotation() * mirror_self;
-      next[i].b = mirror * Rt * (o.X_WO.translation() - s.X_WO.translation());
+      collars.push_back(GenerateGingiva(teeth.back(), NeighbourParams(o, s)));
+      NeighbourFrame(o, s, &next[i].A, &next[i].b);
       next[i].tooth = &teeth[i];
       next[i].gingiva = &collars[i];
     }
@@ -77,6 +89,17 @@ struct ShareNeighbours {
   std::vector<GingivaModel> collars;
   std::vector<GingivaNeighbour> next;
 };
+
+// A generated tooth's shape depends on its arch and position only: 11 and 21
+// are one shape (21's placed mirrored).
+std::string ToothShapeKey(int fdi) {
+  const FdiTooth t = FdiTooth::Parse(fdi);
+  return std::string(t.upper() ? "upper " : "lower ") + std::to_string(t.position);
+}
+
+// A placement's number to 1e-9 mm (or of a unit vector): the two sides of the
+// arch are placed by separate arithmetic and differ in the last bits.
+double Placed(double v) { return std::round(v * 1e9) * 1e-9 + 0.0; }  // (+ 0.0: no -0)
 
 // What generates an object's mesh, as text; empty for meshes not generated.
 std::string GeneratorKey(const ObjectSpec& o) {
@@ -89,24 +112,37 @@ std::string GeneratorKey(const ObjectSpec& o) {
       for (int s = 0; s < 5; ++s)
         if (o.cavity_mm[s] > 0) k << "|cavity " << s << ':' << o.caries_mm[s] << ':' << o.cavity_mm[s];
       break;
-    case ObjectSpec::Kind::kGingiva:
-      k << "gingiva " << kGingivaShareVersion << '|' << o.fdi << '|' << o.mirrored;
-      for (int i = 0; i < 6; ++i) k << '|' << o.pocket_mm[i] << '|' << o.recession_mm[i];
-      if (o.share_crest_drop_mm > 0) {
-        const Vector3 up = GingivaOf(o).crest_up;
-        k << "|crest " << o.share_crest_drop_mm << '|' << up.x() << '|' << up.y() << '|' << up.z();
-      }
+    case ObjectSpec::Kind::kGingiva: {
+      // What the generator sees, in the tooth's unmirrored frame (the cache
+      // holds the share unmirrored): a share and its mirrored twin on the
+      // other side of the arch have one key, and one build.
+      const GingivaParams g = GingivaOf(o);
+      k << "gingiva " << kGingivaShareVersion << "|unmirrored|" << ToothShapeKey(o.fdi);
+      for (int i = 0; i < 6; ++i) k << '|' << g.pocket_mm[i] << '|' << g.recession_mm[i];
+      if (g.crest_drop_mm > 0)
+        k << "|crest " << g.crest_drop_mm << '|' << Placed(g.crest_up.x()) << '|' << Placed(g.crest_up.y()) << '|'
+          << Placed(g.crest_up.z());
+      std::vector<std::string> next;
       for (const GingivaNeighbourSpec& n : o.gingiva_neighbours) {
-        // Where the neighbour stands relative to this tooth decides the share.
-        const RigidTransform X = o.X_WO.inverse() * n.X_WO;
-        k << "|next " << n.fdi << '|' << n.mirrored;
+        std::ostringstream e;
+        e.precision(17);
+        const GingivaParams p = NeighbourParams(o, n);
+        Matrix3 A;
+        Vector3 b;
+        NeighbourFrame(o, n, &A, &b);
+        e << "|next " << ToothShapeKey(n.fdi);
         for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) k << '|' << X.rotation()(r, c);
-        for (int r = 0; r < 3; ++r) k << '|' << X.translation()[r];
-        for (int i = 0; i < 6; ++i) k << '|' << n.pocket_mm[i] << '|' << n.recession_mm[i];
-        k << '|' << n.crest_drop_mm;
+          for (int c = 0; c < 3; ++c) e << '|' << Placed(A(r, c));
+        for (int r = 0; r < 3; ++r) e << '|' << Placed(b[r]);
+        for (int i = 0; i < 6; ++i) e << '|' << p.pocket_mm[i] << '|' << p.recession_mm[i];
+        e << '|' << p.crest_drop_mm << '|' << Placed(p.crest_up.x()) << '|' << Placed(p.crest_up.y()) << '|'
+          << Placed(p.crest_up.z());
+        next.push_back(e.str());
       }
+      std::sort(next.begin(), next.end());  // (the order of the neighbours does not shape the share)
+      for (const std::string& e : next) k << e;
       break;
+    }
     case ObjectSpec::Kind::kCalculus:
       k << "calculus|" << o.fdi << '|' << o.mirrored << '|' << o.calculus_site << '|' << o.calculus[o.calculus_site]
         << '|' << o.with_gingiva;
@@ -324,12 +360,18 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
 TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::path& cache_dir) {
   const std::string key = GeneratorKey(o);
   if (key.empty() || cache_dir.empty()) return MakeObjectMesh(o);
+  // A gingiva is cached unmirrored (its key is in that frame) and mirrored here.
+  const bool mirror_here = o.kind == ObjectSpec::Kind::kGingiva && o.mirrored;
   char name[32];
   std::snprintf(name, sizeof name, "%016llx.mesh", static_cast<unsigned long long>(Fnv1a(key.data(), key.size())));
   const std::filesystem::path file = cache_dir / "meshes" / name;
-  if (auto cached = ReadCachedMesh(file)) return std::move(*cached);
+  if (auto cached = ReadCachedMesh(file)) return mirror_here ? ArchMirror(true, *cached) : std::move(*cached);
   TriangleMesh m = MakeObjectMesh(o);
-  WriteCachedMesh(m, file);
+  if (mirror_here) {
+    WriteCachedMesh(ArchMirror(true, m), file);
+  } else {
+    WriteCachedMesh(m, file);
+  }
   return m;
 }
 
@@ -393,17 +435,37 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   auto report = [&](int i, std::string_view stage, double f) {
     if (progress && !progress(stage, (i + f) / (n + 1))) throw BuildCancelled();
   };
-  // Meshes: one worker per core too (a gingiva's share of its arch takes a
-  // fraction of a second to sample); progress in order of completion.
+  using Clock = std::chrono::steady_clock;
+  const auto t_meshes = Clock::now();
+  // Meshes: one worker per core too (a gingiva's share of its arch takes about
+  // a second to sample and simplify); progress in order of completion. A
+  // share whose generator sees what an earlier one's sees (its twin on the
+  // other side of the arch, the key in the unmirrored frame) is not built: it
+  // is its twin's mesh, mirrored.
   scene->meshes.resize(n);
+  std::vector<int> twin(n, -1);
   {
+    std::map<std::string, int> first;
+    for (int i = 0; i < n; ++i) {
+      const ObjectSpec& o = scene->spec.objects[i];
+      if (o.kind != ObjectSpec::Kind::kGingiva) continue;
+      const auto [it, added] = first.try_emplace(GeneratorKey(o), i);
+      if (!added) twin[i] = it->second;
+    }
+  }
+  {
+    std::vector<int> mesh_order;
+    for (int i = 0; i < n; ++i)
+      if (twin[i] < 0) mesh_order.push_back(i);
+    const int jobs = static_cast<int>(mesh_order.size());
     std::atomic<int> next_mesh{0};
     std::atomic<bool> halt{false};
     std::mutex mesh_mutex;
     std::exception_ptr mesh_failure;
     int made = 0;
     auto mesher = [&] {
-      for (int i = next_mesh++; i < n && !halt; i = next_mesh++) {
+      for (int job = next_mesh++; job < jobs && !halt; job = next_mesh++) {
+        const int i = mesh_order[job];
         try {
           scene->meshes[i] = MakeObjectMeshCached(scene->spec.objects[i], cache_dir);
           std::lock_guard lock(mesh_mutex);
@@ -415,13 +477,21 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
         }
       }
     };
-    const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(n, 1));
+    const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(jobs, 1));
     std::vector<std::thread> pool;
     for (int t = 1; t < threads; ++t) pool.emplace_back(mesher);
     mesher();
     for (std::thread& t : pool) t.join();
     if (mesh_failure) std::rethrow_exception(mesh_failure);
+    for (int i = 0; i < n; ++i) {
+      if (twin[i] < 0) continue;
+      const int j = twin[i];
+      scene->meshes[i] = ArchMirror(scene->spec.objects[i].mirrored != scene->spec.objects[j].mirrored, scene->meshes[j]);
+      report(made++, scene->spec.objects[i].name, 0.1);
+    }
   }
+  const auto t_trees = Clock::now();
+  scene->mesh_seconds = std::chrono::duration<double>(t_trees - t_meshes).count();
   // Trees: one worker per core, jobs handed out in order; progress from the
   // workers is serialised, and a cancel or an error stops them all.
   scene->trees.resize(n);
@@ -495,6 +565,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   if (spec.HasEffect(Effect::kFriction))
     for (int i = 0; i < soft_first; ++i) scene->model->friction.push_back(objs[i].material.friction);
   BuildEffectsModel(scene.get(), soft_first, soft_objects);
+  scene->tree_seconds = std::chrono::duration<double>(Clock::now() - t_trees).count();
   return scene;
 }
 

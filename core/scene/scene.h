@@ -196,6 +196,8 @@ struct CompiledScene {
   SphereTree tool_tree;
   std::unique_ptr<EngineModel> model;  // the hard objects: spec.objects[0 .. effects.soft_first)
   EffectsModel effects;                // what the scene's effects need (soft objects last)
+  // Wall time of the two stages of CompileScene, each on all cores (cache hits included).
+  double mesh_seconds = 0, tree_seconds = 0;
 };
 
 /// Stiffness of soft gingiva and of the pocket floor under gingiva_compliance (N/mm).

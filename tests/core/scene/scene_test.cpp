@@ -495,5 +495,47 @@ TEST(SceneCompile, AMirroredToothGetsItsTwinsTreeMirrored) {
   EXPECT_EQ(trees, 2);
 }
 
+// A share of the arch's gingiva on the patient's left is its twin's on the
+// right, mirrored, when the two are the same (one build through the cache,
+// and the two sides are exact mirror images); a pocket on one side makes it
+// its own.
+TEST(SceneCompile, AMirroredGingivaShareIsItsTwinsMirrored) {
+  const std::string teeth = "arch: true\ngingiva: arch\nobjects:\n  - tooth: 11\n  - tooth: 12\n  - tooth: 21\n  - tooth: 22\n";
+  auto gingiva = [](const CompiledScene& scene, int fdi) -> const TriangleMesh& {
+    for (std::size_t i = 0; i < scene.spec.objects.size(); ++i)
+      if (scene.spec.objects[i].kind == ObjectSpec::Kind::kGingiva && scene.spec.objects[i].fdi == fdi) return scene.meshes[i];
+    throw std::runtime_error("no gingiva " + std::to_string(fdi));
+  };
+  auto mesh_files = [](const fs::path& cache) {
+    int n = 0;
+    for (const auto& f : fs::directory_iterator(cache / "meshes")) n += f.path().extension() == ".mesh";
+    return n;
+  };
+  auto mirrored = [](const TriangleMesh& a, const TriangleMesh& b) {
+    if (a.num_vertices() != b.num_vertices() || a.num_faces() != b.num_faces()) return false;
+    for (std::size_t v = 0; v < a.num_vertices(); ++v)
+      if (a.vertices()[v] != Vector3(-b.vertices()[v].x(), b.vertices()[v].y(), b.vertices()[v].z())) return false;
+    return true;
+  };
+  {
+    const fs::path cache = Dir() / "cache-gingiva-twins";
+    fs::remove_all(cache);
+    const auto scene = CompileScene(LoadSceneSpec(Write("gingiva_twins.yaml", teeth)), cache);
+    EXPECT_TRUE(mirrored(gingiva(*scene, 21), gingiva(*scene, 11)));
+    EXPECT_TRUE(mirrored(gingiva(*scene, 22), gingiva(*scene, 12)));
+    EXPECT_GT(gingiva(*scene, 11).num_faces(), 1000u);
+    EXPECT_EQ(mesh_files(cache), 4 + 2) << "four teeth and two shares";
+  }
+  {
+    const fs::path cache = Dir() / "cache-gingiva-not-twins";
+    fs::remove_all(cache);
+    const std::string pocket = teeth + "    pockets_mm: [5, 3, 3, 3, 3, 3]\n";  // on 22
+    const auto scene = CompileScene(LoadSceneSpec(Write("gingiva_not_twins.yaml", pocket)), cache);
+    EXPECT_FALSE(mirrored(gingiva(*scene, 22), gingiva(*scene, 12))) << "22 has a pocket 12 does not";
+    EXPECT_FALSE(mirrored(gingiva(*scene, 21), gingiva(*scene, 11))) << "21's neighbour 22 has a pocket 11's neighbour 12 does not";
+    EXPECT_EQ(mesh_files(cache), 4 + 4);
+  }
+}
+
 }  // namespace
 }  // namespace sulcus
