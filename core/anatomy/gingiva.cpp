@@ -302,7 +302,7 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
     const Vector3 f_j =
         At * (Vector3(r_j * std::cos(th_back), r_j * std::sin(th_back), Around(n.gingiva->floor_z, th_back)) - n.b);
     l.base = 0.5 * (r_i * dir_e + Vector3(0, 0, Around(own.floor_z, th_e)) + f_j) - l.up;
-    l.crest_height = -std::numeric_limits<double>::infinity();
+    l.crest_own = l.crest_other = -std::numeric_limits<double>::infinity();
     if (own.crest_drop_mm > 0 && n.gingiva->crest_drop_mm > 0) {
       // Down to the crest between the two as well (each tooth's crest in its
       // own frame, the mean of the two points).
@@ -310,7 +310,11 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
       const Vector3 at_j(r_j * std::cos(th_back), r_j * std::sin(th_back), 0);
       const Vector3 c_j = At * (Vector3(at_j.x(), at_j.y(), CrestZ(*n.gingiva, at_j.x(), at_j.y())) - n.b);
       const Vector3 crest_base = 0.5 * (c_i + c_j) - kIntoBoneMm * l.up;
-      l.crest_height = 0.5 * (c_i + c_j).dot(l.up);
+      // (heights for the draw-in along the world's vertical, as the crest and
+      // the jaw are level: along the teeth's axes, tipped as lower molars and
+      // incisors are, one face would draw in a millimetre or more too low)
+      l.crest_own = c_i.dot(own.crest_up);
+      l.crest_other = c_j.dot(own.crest_up);
       if (crest_base.dot(l.up) < l.base.dot(l.up)) l.base = crest_base;
     }
     const double d = l.q.head<2>().dot(l.e);
@@ -367,8 +371,13 @@ double GingivaShareField::Uncut(const Vector3& p) const {
     cavity = std::max(cavity, std::max(std::min(other.inside, other_above), other.root));
     const double u = l.e.x() * p.x() + l.e.y() * p.y();
     double faces = std::max(-u, u - l.L);
-    // (below the crest the faces draw in as each collar's wall does)
-    const double drawn_in = DrawnIn(l.crest_height, p.dot(l.up));
+    // (below the crest the faces draw in as each collar's wall does; the
+    // crest runs straight from one tooth's to the other's)
+    double drawn_in = 0;
+    if (std::isfinite(l.crest_own)) {
+      const double t_along = std::clamp(u / l.L, 0.0, 1.0);
+      drawn_in = DrawnIn(l.crest_own + t_along * (l.crest_other - l.crest_own), p.dot(own_->crest_up));
+    }
     for (int side = 0; side < 2; ++side)
       faces = std::max(faces, (p - l.face_point[side]).dot(l.face_normal[side]) + drawn_in);
     band = std::min(band, faces);

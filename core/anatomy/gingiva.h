@@ -58,7 +58,7 @@ struct GingivaModel {
 };
 
 /// Changes whenever the share's geometry does (its meshes are cached by it).
-inline constexpr int kGingivaShareVersion = 17;
+inline constexpr int kGingivaShareVersion = 18;
 
 /// A neighbouring tooth on the arch, for the gingiva between the two.
 struct GingivaNeighbour {
@@ -100,7 +100,10 @@ class GingivaShareField {
     Vector3 up;            // the two teeth's mean vertical
     Vector3 papilla;       // the papilla's top, by the contact
     Vector3 base;          // the interdental gingiva's base
-    double crest_height;   // the bone crest between the two, along up (-inf: no attached gingiva)
+    // The bone crest at this tooth's axis and at the neighbour's, heights
+    // along the world's vertical (crest_up; -inf: no attached gingiva); between
+    // the two it runs straight, as the jaw's does.
+    double crest_own, crest_other;
     // How far each tooth's interproximal site facing the other lies from the
     // cut, [0] with across_dir, [1] against it: the col reaches the deeper
     // tooth's floor there.

@@ -149,36 +149,40 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   const int stations = static_cast<int>(2 * end / 0.75) + 1;
   std::vector<Extent> ext(stations);
   // The crest: each tooth's own (its CEJ's centre, the tooth frame's origin,
-  // `drop` beyond it) across its cervix; where two cervices' ranges meet, the
-  // more occlusal of the two, so every root has at least its own crest; between
-  // them, interpolated.
-  std::vector<double> crest(stations, std::numeric_limits<double>::quiet_NaN());
+  // `drop` beyond it) at its centre, running straight from one tooth's centre
+  // to the next's (as a share of the gingiva's interdental crest does), level
+  // beyond the last teeth.
+  std::vector<double> crest(stations, 0.0);
   auto station_s = [&](int i) { return -end + 2 * end * i / (stations - 1); };
   std::vector<double> crest_of(teeth.placed.size());
+  std::vector<std::pair<double, double>> crest_at;  // (s, crest) at each tooth's centre
   for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
     const PlacedTooth& p = teeth.placed[k];
     const auto it = drops.find(p.tooth.fdi);
     const double drop = it == drops.end() ? 1.5 : it->second;
     crest_of[k] = p.X_WT.translation().z() + sign * drop;
-    const double half = Dimensions(p.tooth).md_cervix / 2 + 0.5;
-    for (int i = 0; i < stations; ++i) {
-      if (std::abs(station_s(i) - teeth.s[k]) > half) continue;
-      crest[i] = std::isnan(crest[i]) ? crest_of[k] : (upper ? std::min(crest[i], crest_of[k]) : std::max(crest[i], crest_of[k]));
+    crest_at.emplace_back(teeth.s[k], crest_of[k]);
+  }
+  std::sort(crest_at.begin(), crest_at.end());
+  for (int i = 0; i < stations && !crest_at.empty(); ++i) {
+    const double s = station_s(i);
+    const auto next = std::lower_bound(crest_at.begin(), crest_at.end(), std::pair(s, -1e300));
+    if (next == crest_at.begin()) {
+      crest[i] = next->second;
+    } else if (next == crest_at.end()) {
+      crest[i] = crest_at.back().second;
+    } else {
+      const auto prev = next - 1;
+      crest[i] = prev->second + (next->second - prev->second) * (s - prev->first) / (next->first - prev->first);
     }
   }
-  for (int i = 0; i < stations; ++i) {
-    if (!std::isnan(crest[i])) continue;
-    int a = i, b = i;
-    while (a >= 0 && std::isnan(crest[a])) --a;
-    while (b < stations && std::isnan(crest[b])) ++b;
-    if (a < 0 && b >= stations) continue;
-    if (a < 0) {
-      crest[i] = crest[b];
-    } else if (b >= stations) {
-      crest[i] = crest[a];
-    } else {
-      crest[i] = crest[a] + (crest[b] - crest[a]) * (i - a) / static_cast<double>(b - a);
-    }
+  // Across each tooth's cervix no more than 0.4 mm beyond its own crest: a
+  // deep defect at one tooth does not bare its neighbours' roots.
+  for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
+    const double half = Dimensions(teeth.placed[k].tooth).md_cervix / 2 + 0.5;
+    for (int i = 0; i < stations; ++i)
+      if (std::abs(station_s(i) - teeth.s[k]) <= half && sign * (crest[i] - crest_of[k]) > 0.4)
+        crest[i] = crest_of[k] + sign * 0.4;
   }
   for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
     const double crest_z = crest_of[k];
@@ -257,12 +261,47 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
         }
       }
     }
+    // Between two teeth the gingiva's buccal and lingual faces run straight
+    // from one tooth's outer extent to the next's (square to the line between
+    // the two), wider than either tooth near its contact: the jaw's top
+    // follows those lines too, 0.5 mm inside them.
+    std::vector<double> face_in(stations, 1e9), face_out(stations, -1e9);
+    std::vector<std::size_t> by_s(teeth.placed.size());
+    for (std::size_t k = 0; k < by_s.size(); ++k) by_s[k] = k;
+    std::sort(by_s.begin(), by_s.end(), [&](std::size_t a, std::size_t b) { return teeth.s[a] < teeth.s[b]; });
+    for (std::size_t m = 0; m + 1 < by_s.size(); ++m) {
+      const std::size_t k = by_s[m], l = by_s[m + 1];
+      const Vector3 ck = teeth.placed[k].X_WT.translation(), cl = teeth.placed[l].X_WT.translation();
+      const Eigen::Vector2d e = (cl - ck).head<2>().normalized();
+      for (const double side : {1.0, -1.0}) {
+        const Vector3 perp = side * Vector3(-e.y(), e.x(), 0);
+        auto extent = [&](std::size_t t, const Vector3& c) {
+          const RigidTransform X_TW = teeth.placed[t].X_WT.inverse();
+          double most = -1e9;
+          for (const Vector3& v : teeth.meshes[t].vertices()) {
+            const double z_T = (X_TW * v).z();
+            if (z_T >= -0.5 && z_T <= 1.5) most = std::max(most, (v - c).dot(perp));
+          }
+          return c + (most + gingiva_out) * perp;
+        };
+        const Vector3 pk = extent(k, ck), pl = extent(l, cl);
+        for (int q = 0; q <= 20; ++q) {
+          const Vector3 p = pk + (pl - pk) * (q / 20.0);
+          const double s = curve.Project(p, 0.5 * (teeth.s[k] + teeth.s[l]));
+          const int i = static_cast<int>(std::lround((s + end) / (2 * end) * (stations - 1)));
+          if (i < 0 || i >= stations) continue;
+          const double n = (p - curve.Point(station_s(i))).dot(curve.Normal(station_s(i)));
+          face_in[i] = std::min(face_in[i], n);
+          face_out[i] = std::max(face_out[i], n);
+        }
+      }
+    }
     for (int i = 0; i < stations; ++i) {
       double a = 0, b = 0, w = 0;
       for (int j = std::max(0, i - 2); j <= std::min(stations - 1, i + 2); ++j) {
-        if (out[j] < -1e8) continue;
-        a += in[j] - gingiva_out;
-        b += out[j] + gingiva_out;
+        if (out[j] < -1e8 && face_out[j] < -1e8) continue;
+        a += std::min(in[j] - gingiva_out, face_in[j]);
+        b += std::max(out[j] + gingiva_out, face_out[j]);
         w += 1;
       }
       if (w == 0) continue;
