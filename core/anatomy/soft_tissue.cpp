@@ -154,26 +154,27 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   // beyond the last teeth.
   std::vector<double> crest(stations, 0.0);
   auto station_s = [&](int i) { return -end + 2 * end * i / (stations - 1); };
+  auto station_of = [&](double s) { return static_cast<int>(std::lround((s + end) / (2 * end) * (stations - 1))); };
+  std::vector<std::size_t> by_s(teeth.placed.size());  // the teeth in arch order
+  for (std::size_t k = 0; k < by_s.size(); ++k) by_s[k] = k;
+  std::sort(by_s.begin(), by_s.end(), [&](std::size_t a, std::size_t b) { return teeth.s[a] < teeth.s[b]; });
   std::vector<double> crest_of(teeth.placed.size());
-  std::vector<std::pair<double, double>> crest_at;  // (s, crest) at each tooth's centre
   for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
     const PlacedTooth& p = teeth.placed[k];
     const auto it = drops.find(p.tooth.fdi);
     const double drop = it == drops.end() ? 1.5 : it->second;
     crest_of[k] = p.X_WT.translation().z() + sign * drop;
-    crest_at.emplace_back(teeth.s[k], crest_of[k]);
   }
-  std::sort(crest_at.begin(), crest_at.end());
-  for (int i = 0; i < stations && !crest_at.empty(); ++i) {
+  for (int i = 0; i < stations && !by_s.empty(); ++i) {
     const double s = station_s(i);
-    const auto next = std::lower_bound(crest_at.begin(), crest_at.end(), std::pair(s, -1e300));
-    if (next == crest_at.begin()) {
-      crest[i] = next->second;
-    } else if (next == crest_at.end()) {
-      crest[i] = crest_at.back().second;
+    const auto next = std::partition_point(by_s.begin(), by_s.end(), [&](std::size_t k) { return teeth.s[k] < s; });
+    if (next == by_s.begin()) {
+      crest[i] = crest_of[by_s.front()];
+    } else if (next == by_s.end()) {
+      crest[i] = crest_of[by_s.back()];
     } else {
-      const auto prev = next - 1;
-      crest[i] = prev->second + (next->second - prev->second) * (s - prev->first) / (next->first - prev->first);
+      const std::size_t a = *(next - 1), b = *next;
+      crest[i] = crest_of[a] + (crest_of[b] - crest_of[a]) * (s - teeth.s[a]) / (teeth.s[b] - teeth.s[a]);
     }
   }
   // Across each tooth's cervix no more than 0.4 mm beyond its own crest: a
@@ -187,8 +188,7 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
     const double crest_z = crest_of[k];
     for (const Vector3& v : teeth.meshes[k].vertices()) {
-      const double s = curve.Project(v, teeth.s[k]);
-      const int i = static_cast<int>(std::lround((s + end) / (2 * end) * (stations - 1)));
+      const int i = station_of(curve.Project(v, teeth.s[k]));
       const double along = sign * (v.z() - crest_z);  // > 0: in the bone
       if (along < 0 || i < 0 || i >= stations) continue;
       for (int j = std::max(0, i - 2); j <= std::min(stations - 1, i + 2); ++j) {
@@ -246,14 +246,19 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   constexpr double kFlareMm = 4.0;
   std::vector<double> gum_in(stations, 0), gum_out(stations, 0);
   {
-    std::vector<double> in(stations, 1e9), out(stations, -1e9);
+    // Each tooth's points about its CEJ, where a share takes its width.
+    std::vector<std::vector<Vector3>> cervix(teeth.placed.size());
     for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
       const RigidTransform X_TW = teeth.placed[k].X_WT.inverse();
       for (const Vector3& v : teeth.meshes[k].vertices()) {
         const double z_T = (X_TW * v).z();
-        if (z_T < -0.5 || z_T > 1.5) continue;  // about the CEJ, where a share takes its width
-        const double s = curve.Project(v, teeth.s[k]);
-        const int i = static_cast<int>(std::lround((s + end) / (2 * end) * (stations - 1)));
+        if (z_T >= -0.5 && z_T <= 1.5) cervix[k].push_back(v);
+      }
+    }
+    std::vector<double> in(stations, 1e9), out(stations, -1e9);
+    for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
+      for (const Vector3& v : cervix[k]) {
+        const int i = station_of(curve.Project(v, teeth.s[k]));
         for (int j = std::max(0, i - 1); j <= std::min(stations - 1, i + 1); ++j) {
           const double n = (v - curve.Point(station_s(j))).dot(curve.Normal(station_s(j)));
           in[j] = std::min(in[j], n);
@@ -266,9 +271,6 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     // the two), wider than either tooth near its contact: the jaw's top
     // follows those lines too, 0.5 mm inside them.
     std::vector<double> face_in(stations, 1e9), face_out(stations, -1e9);
-    std::vector<std::size_t> by_s(teeth.placed.size());
-    for (std::size_t k = 0; k < by_s.size(); ++k) by_s[k] = k;
-    std::sort(by_s.begin(), by_s.end(), [&](std::size_t a, std::size_t b) { return teeth.s[a] < teeth.s[b]; });
     for (std::size_t m = 0; m + 1 < by_s.size(); ++m) {
       const std::size_t k = by_s[m], l = by_s[m + 1];
       const Vector3 ck = teeth.placed[k].X_WT.translation(), cl = teeth.placed[l].X_WT.translation();
@@ -276,19 +278,14 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
       for (const double side : {1.0, -1.0}) {
         const Vector3 perp = side * Vector3(-e.y(), e.x(), 0);
         auto extent = [&](std::size_t t, const Vector3& c) {
-          const RigidTransform X_TW = teeth.placed[t].X_WT.inverse();
           double most = -1e9;
-          for (const Vector3& v : teeth.meshes[t].vertices()) {
-            const double z_T = (X_TW * v).z();
-            if (z_T >= -0.5 && z_T <= 1.5) most = std::max(most, (v - c).dot(perp));
-          }
+          for (const Vector3& v : cervix[t]) most = std::max(most, (v - c).dot(perp));
           return c + (most + gingiva_out) * perp;
         };
         const Vector3 pk = extent(k, ck), pl = extent(l, cl);
         for (int q = 0; q <= 20; ++q) {
           const Vector3 p = pk + (pl - pk) * (q / 20.0);
-          const double s = curve.Project(p, 0.5 * (teeth.s[k] + teeth.s[l]));
-          const int i = static_cast<int>(std::lround((s + end) / (2 * end) * (stations - 1)));
+          const int i = station_of(curve.Project(p, 0.5 * (teeth.s[k] + teeth.s[l])));
           if (i < 0 || i >= stations) continue;
           const double n = (p - curve.Point(station_s(i))).dot(curve.Normal(station_s(i)));
           face_in[i] = std::min(face_in[i], n);
