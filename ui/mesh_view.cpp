@@ -16,40 +16,96 @@
 #include <vtkTextProperty.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
+#include <vtkIdTypeArray.h>
 #include <vtkImageData.h>
+
+#include <array>
+#include <cmath>
+#include <utility>
 
 #include <cstdlib>
 #include <stdexcept>
 
 namespace sulcus::ui {
 
-vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh) {
+vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_deg) {
+  // Area-weighted vertex normals for smooth shading. With a crease angle,
+  // each corner of a face takes the normals of only those faces around its
+  // vertex that lie within the angle of its own, and a vertex whose corners
+  // disagree is split: a sharp edge (where a gingiva share is cut flat
+  // against its neighbour's) stays sharp instead of bending the shading of
+  // the surface beside it into a dark or bright line.
+  const auto& verts = mesh.vertices();
+  const auto& faces = mesh.faces();
+  std::vector<Vector3> face_area_normal(faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    face_area_normal[f] = (verts[faces[f][1]] - verts[faces[f][0]]).cross(verts[faces[f][2]] - verts[faces[f][0]]);
+  std::vector<Vector3> out_points;
+  std::vector<Vector3> out_normals;
+  std::vector<vtkIdType> source;  // the mesh vertex each point was made from
+  std::vector<std::array<vtkIdType, 3>> out_faces(faces.size());
+  if (crease_deg <= 0) {
+    const std::vector<Vector3> sums = mesh.VertexNormalSums();
+    out_points = verts;
+    out_normals = sums;
+    source.resize(verts.size());
+    for (std::size_t i = 0; i < verts.size(); ++i) source[i] = static_cast<vtkIdType>(i);
+    for (std::size_t f = 0; f < faces.size(); ++f) out_faces[f] = {faces[f][0], faces[f][1], faces[f][2]};
+  } else {
+    const double cos_crease = std::cos(crease_deg * 3.14159265358979323846 / 180.0);
+    std::vector<std::vector<int>> around(verts.size());
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      for (int k = 0; k < 3; ++k) around[faces[f][k]].push_back(static_cast<int>(f));
+    // Per vertex, the distinct normals its corners take (few: usually one).
+    std::vector<std::vector<std::pair<Vector3, vtkIdType>>> made(verts.size());
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const Vector3 nf = face_area_normal[f].normalized();
+      for (int k = 0; k < 3; ++k) {
+        const int v = faces[f][k];
+        Vector3 n = Vector3::Zero();
+        for (const int g : around[v]) {
+          const Vector3& ng = face_area_normal[g];
+          if (ng.norm() > 0 && ng.normalized().dot(nf) >= cos_crease) n += ng;
+        }
+        if (n.norm() == 0) n = face_area_normal[f];
+        n.normalize();
+        vtkIdType id = -1;
+        for (const auto& [known, at] : made[v])
+          if (known.dot(n) > 0.9999) id = at;
+        if (id < 0) {
+          id = static_cast<vtkIdType>(out_points.size());
+          out_points.push_back(verts[v]);
+          out_normals.push_back(n);
+          source.push_back(v);
+          made[v].emplace_back(n, id);
+        }
+        out_faces[f][k] = id;
+      }
+    }
+  }
   auto points = vtkSmartPointer<vtkPoints>::New();
   points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(static_cast<vtkIdType>(mesh.num_vertices()));
-  for (std::size_t i = 0; i < mesh.num_vertices(); ++i) {
-    const Vector3& v = mesh.vertices()[i];
-    points->SetPoint(static_cast<vtkIdType>(i), v.x(), v.y(), v.z());
-  }
-  // Area-weighted vertex normals: smooth shading without VTK's normal filter,
-  // which would split vertices at sharp edges.
-  const std::vector<Vector3> normals = mesh.VertexNormalSums();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(out_points.size()));
+  for (std::size_t i = 0; i < out_points.size(); ++i)
+    points->SetPoint(static_cast<vtkIdType>(i), out_points[i].x(), out_points[i].y(), out_points[i].z());
   auto cells = vtkSmartPointer<vtkCellArray>::New();
-  for (const auto& f : mesh.faces()) {
-    const vtkIdType ids[3] = {f[0], f[1], f[2]};
-    cells->InsertNextCell(3, ids);
-  }
+  for (const auto& f : out_faces) cells->InsertNextCell(3, f.data());
   auto normal_array = vtkSmartPointer<vtkDoubleArray>::New();
   normal_array->SetNumberOfComponents(3);
-  normal_array->SetNumberOfTuples(static_cast<vtkIdType>(normals.size()));
-  for (std::size_t i = 0; i < normals.size(); ++i) {
-    const Vector3 n = normals[i].norm() > 0 ? Vector3(normals[i].normalized()) : Vector3::UnitZ();
+  normal_array->SetNumberOfTuples(static_cast<vtkIdType>(out_normals.size()));
+  for (std::size_t i = 0; i < out_normals.size(); ++i) {
+    const Vector3 n = out_normals[i].norm() > 0 ? Vector3(out_normals[i].normalized()) : Vector3::UnitZ();
     normal_array->SetTuple3(static_cast<vtkIdType>(i), n.x(), n.y(), n.z());
   }
+  auto vertex_array = vtkSmartPointer<vtkIdTypeArray>::New();
+  vertex_array->SetName(kSourceVertexArray);
+  vertex_array->SetNumberOfTuples(static_cast<vtkIdType>(source.size()));
+  for (std::size_t i = 0; i < source.size(); ++i) vertex_array->SetValue(static_cast<vtkIdType>(i), source[i]);
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   poly->SetPoints(points);
   poly->SetPolys(cells);
   poly->GetPointData()->SetNormals(normal_array);
+  poly->GetPointData()->AddArray(vertex_array);
   return poly;
 }
 

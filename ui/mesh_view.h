@@ -13,7 +13,11 @@
 namespace sulcus::ui {
 
 /// Copies a mesh into polydata with per-point normals for smooth shading.
-vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh);
+/// With `crease_deg` > 0, edges sharper than that keep their crease (their
+/// vertices are split); the point array kSourceVertexArray names the mesh
+/// vertex each point came from.
+vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_deg = 0);
+inline constexpr const char* kSourceVertexArray = "source_vertex";
 
 /// One mesh in a picture, with an RGB colour in [0, 1] and an opacity.
 struct ShadedMesh {

@@ -17,6 +17,7 @@
 #include <vtkTransformPolyDataFilter.h>
 
 #include <vtkUnsignedCharArray.h>
+#include <vtkIdTypeArray.h>
 
 #include "core/anatomy/arch.h"
 #include "core/anatomy/findings.h"
@@ -55,10 +56,14 @@ enum class Paint { kCaries, kCavity, kInflamed, kUlcer, kWhite, kRed };
 // `weight`; where it is the larger, the vertex takes the cavity's colours.
 void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Look& base, Paint paint,
                    const std::vector<double>* cavity = nullptr) {
+  auto* mapper = vtkPolyDataMapper::SafeDownCast(actor->GetMapper());
+  auto* poly = vtkPolyData::SafeDownCast(mapper->GetInput());
+  // (a point of the polydata may be one of several made from a mesh vertex)
+  auto* source = vtkIdTypeArray::SafeDownCast(poly->GetPointData()->GetArray(kSourceVertexArray));
   auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
   colours->SetNumberOfComponents(3);
   colours->SetName("finding");
-  colours->SetNumberOfTuples(static_cast<vtkIdType>(weight.size()));
+  colours->SetNumberOfTuples(poly->GetNumberOfPoints());
   const Vector3 from(base.r, base.g, base.b);
   // Caries: a chalky white rim (demineralised enamel) around a brown centre.
   // Inflamed gingiva, erythroplakia: deep red. An ulcer: a yellow-grey fibrin
@@ -67,6 +72,7 @@ void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Loo
   const Vector3 rim(0.99, 0.98, 0.95), centre(0.36, 0.22, 0.12), floor(0.16, 0.09, 0.05), red(0.80, 0.16, 0.20);
   const Vector3 fibrin(0.90, 0.86, 0.66), white(0.96, 0.95, 0.92);
   auto blend = [](const Vector3& a, const Vector3& b, double t) { return Vector3(a + (b - a) * std::clamp(t, 0.0, 1.0)); };
+  std::vector<Vector3> colour(weight.size(), from);
   for (std::size_t i = 0; i < weight.size(); ++i) {
     double w = weight[i];
     Paint p = paint;
@@ -85,10 +91,13 @@ void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Loo
       case Paint::kUlcer: c = w < 0.35 ? blend(from, red, w / 0.35) : blend(red, fibrin, (w - 0.35) / 0.25); break;
       case Paint::kWhite: c = blend(from, white, w / 0.3); break;
     }
-    colours->SetTuple3(static_cast<vtkIdType>(i), 255 * c.x(), 255 * c.y(), 255 * c.z());
+    colour[i] = c;
   }
-  auto* mapper = vtkPolyDataMapper::SafeDownCast(actor->GetMapper());
-  auto* poly = vtkPolyData::SafeDownCast(mapper->GetInput());
+  for (vtkIdType p = 0; p < poly->GetNumberOfPoints(); ++p) {
+    const vtkIdType v = source ? source->GetValue(p) : p;
+    const Vector3 c = v < static_cast<vtkIdType>(colour.size()) ? colour[static_cast<std::size_t>(v)] : from;
+    colours->SetTuple3(p, 255 * c.x(), 255 * c.y(), 255 * c.z());
+  }
   poly->GetPointData()->SetScalars(colours);
   mapper->SetColorModeToDirectScalars();
   mapper->ScalarVisibilityOn();
@@ -102,9 +111,13 @@ vtkSmartPointer<vtkMatrix4x4> ToVtk(const RigidTransform& X) {
   return m;
 }
 
+// Edges sharper than this are drawn sharp (a share of the gingiva cut flat
+// against its neighbour's, a jaw's cut end); gentler ones are shaded smooth.
+constexpr double kCreaseDeg = 60;
+
 vtkSmartPointer<vtkActor> MeshActor(const TriangleMesh& mesh, const Look& look) {
   auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-  mapper->SetInputData(ToPolyData(mesh));
+  mapper->SetInputData(ToPolyData(mesh, kCreaseDeg));
   auto actor = vtkSmartPointer<vtkActor>::New();
   actor->SetMapper(mapper);
   actor->GetProperty()->SetColor(look.r, look.g, look.b);

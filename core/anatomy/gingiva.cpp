@@ -4,6 +4,7 @@
 #include "core/geometry/simplify.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -170,7 +171,13 @@ double Around(const std::vector<double>& table, double th) {
   return table[i] + t * (table[(i + 1) % n] - table[i]);
 }
 
-constexpr double kIntoBoneMm = 1.0;  // how far a share reaches past the crest, into the jaw
+constexpr double kIntoBoneMm = 1.0;
+constexpr double kPapillaTip = 0.6;    // the papilla's ridge rounded over this (mm)
+constexpr double kPapillaSlope = 0.8;  // its least fall from the ridge toward each tooth (mm per mm)
+constexpr double kPapillaSteepest = 2.0;
+constexpr double kBelowSiteMarginMm = 0.15;  // how far below a line-angle site's margin the papilla's top passes
+constexpr double kPastCutFall = 2.0;  // how fast a collar's top falls past its cut (mm per mm)
+constexpr double kFaceInsetMm = 0.5;  // the interdental band's faces inside the collars' outer extents  // how far a share reaches past the crest, into the jaw
 
 // How far a share's outer wall has drawn in at height z below the crest: 2 mm
 // per mm, so that the share ends inside the jaw (whose top, soft_tissue.cpp,
@@ -182,6 +189,13 @@ double CrestZ(const GingivaModel& g, double x, double y) {
   const Vector3& u = g.crest_up;
   return (-g.crest_drop_mm - u.x() * x - u.y() * y) / u.z();
 }
+
+// max(0, x) with its corner rounded over [0, r] (a parabola there; 0 below
+// it, r / 2 below x above it): bends rounded without moving what lies before them.
+double SmoothRamp(double x, double r) { return x <= 0 ? 0.0 : x < r ? x * x / (2 * r) : x - 0.5 * r; }
+
+// |x| with its corner rounded over [-r, r] the same way.
+double SmoothAbs(double x, double r) { return SmoothRamp(std::abs(x), r); }
 
 // One tooth's collar as fields, at a point in that tooth's frame.
 struct CollarAt {
@@ -215,7 +229,12 @@ CollarAt Collar(const GingivaModel& g, const Vector3& q) {
   c.band = std::max(r - outer, base - q.z());
   // (beyond the outer wall it falls away, so that a collar two teeth away
   // never shapes the gingiva between these two)
-  c.top = z_m - 0.4 * std::max(0.0, r - wall) - 2.0 * std::max(0.0, r - r_out);
+  // The free gingiva thins toward its margin: its top falls gently from the
+  // margin for a few tenths of a millimetre, then rolls over into the outer
+  // face (from a millimetre inside it), so the margin is a rounded edge close
+  // to the tooth and not a ledge (the bends rounded).
+  const double lip = std::max(wall + 0.6, r_out - 1.0);
+  c.top = z_m - 0.4 * SmoothRamp(r - wall, 0.5) - 1.5 * SmoothRamp(r - lip, 0.8) - 2.0 * SmoothRamp(r - r_out, 1.0);
   c.bottom = base + 2.0 * std::max(0.0, r - r_out);
   return c;
 }
@@ -238,11 +257,30 @@ double SmoothMax(double a, double b, double k) {
   return std::max(a, b) + 0.25 * k * h * h;
 }
 
+// The union of up to kMaxTerms fields with its creases filleted over k: the
+// smooth minimum folded in ascending order, so that two shares holding the
+// same terms near their cut (and others far above these) compute the same
+// value whatever order their links come in.
+constexpr int kMaxTerms = 8;
+struct Union {
+  std::array<double, kMaxTerms> v{};
+  int n = 0;
+  void Add(double x) { v[n++] = x; }  // (the constructor allows at most 3 neighbours: 7 terms)
+  double Smooth(double k) {
+    std::sort(v.begin(), v.begin() + n);
+    double m = v[0];
+    for (int i = 1; i < n; ++i) m = -SmoothMax(-m, -v[i], k);
+    return m;
+  }
+};
+
+
 }  // namespace
 
 GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel& own,
                                      const std::vector<GingivaNeighbour>& neighbours)
     : own_(&own) {
+  if (neighbours.size() > 3) throw std::invalid_argument("a gingiva share has at most 3 neighbours");
   double reach = 0;
   for (const double r : own.outer_r) reach = std::max(reach, r);
   for (const GingivaNeighbour& n : neighbours) {
@@ -280,7 +318,10 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
       const Vector3 b_j = At * (Around(n.gingiva->outer_r, th_j) * Vector3(std::cos(th_j), std::sin(th_j), 0) - n.b);
       Vector3 normal = (b_j - b_i).cross(up).normalized();
       if (normal.dot(b_i) < 0) normal = -normal;  // outward, away from the axes
-      l.face_point[side] = b_i;
+      // (set in a little from the two collars' outer extents: the gingiva
+      // bulges over each root and dips between them, the fillet making the
+      // dip a shallow groove)
+      l.face_point[side] = b_i - kFaceInsetMm * normal;
       l.face_normal[side] = normal;
     }
     l.across_dir = l.normal.cross(up).normalized();
@@ -299,6 +340,22 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
     const double r_i = Around(own.wall_r, th_e);
     const Vector3 dir_e(std::cos(th_e), std::sin(th_e), 0);
     l.papilla = 0.5 * (r_i * dir_e + Vector3(0, 0, Around(own.margin_z, th_e)) + m_j);
+    // The papilla's slopes down to each tooth: steep enough that its top
+    // passes just below the margin at that tooth's line-angle sites facing
+    // the cut, beside the probe there, unless a site lies under the contact
+    // (within kUnderContactMm of the cut), where the margin beside it is
+    // the papilla's; and never steeper than kPapillaSteepest, so that a
+    // papilla stays a papilla.
+    l.slope[0] = l.slope[1] = kPapillaSlope;
+    for (int s = 0; s < 6; ++s) {
+      const Vector3 points[2] = {own.margin[s], At * (n.gingiva->margin[s] - n.b)};
+      for (int t = 0; t < 2; ++t) {
+        const double a = (points[t] - l.q).dot(l.normal);  // negative on this tooth's side
+        if ((t == 0) != (a < 0) || std::abs(a) < kUnderContactMm) continue;
+        const double h = (points[t] - l.papilla).dot(l.up);
+        l.slope[t] = std::clamp((kBelowSiteMarginMm - h) / SmoothAbs(a, kPapillaTip), l.slope[t], kPapillaSteepest);
+      }
+    }
     const Vector3 f_j =
         At * (Vector3(r_j * std::cos(th_back), r_j * std::sin(th_back), Around(n.gingiva->floor_z, th_back)) - n.b);
     l.base = 0.5 * (r_i * dir_e + Vector3(0, 0, Around(own.floor_z, th_e)) + f_j) - l.up;
@@ -335,11 +392,24 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
 
 double GingivaShareField::Uncut(const Vector3& p) const {
   constexpr double kRound = 0.35;  // edges rounded over this (mm), about a grid cell
+  // Where two pieces of the gingiva meet (a collar and the band between two
+  // teeth, the papilla and the margin over a tooth) the crease is filleted
+  // over these, as tissue is: the margin runs in a scallop from papilla to
+  // papilla, and the attached gingiva has no edges.
+  constexpr double kFilletSides = 0.8, kFilletTop = 1.0;
+  // How far past the cut a tooth's sulcus still opens the gingiva: the two
+  // sulci meet under the contact, but neither hollows out the other tooth's
+  // side of it (at a line angle beside a contact the neighbour's exaggerated
+  // sulcus would otherwise take the gingiva from under the margin).
+  constexpr double kSulcusPastCut = 0.3;
   // Each collar's heights are in its own tooth's frame, so each is compared
   // with the point there: above = how far above the highest top, below = how
   // far below the lowest base.
   const CollarAt own = Collar(*own_, p);
-  double band = own.band, above = p.z() - own.top, below = own.bottom - p.z();
+  Union band, above, below;
+  band.Add(own.band);
+  double own_top_past_cuts = 0;  // (each collar's top falls away past the cut: see the loop)
+  below.Add(own.bottom - p.z());
   // Under a contact the two sulci meet. The floor there (the col) is the
   // shallower tooth's floor up to the cut and falls to the deeper tooth's
   // floor beyond it, reaching it where that tooth's interproximal site lies
@@ -348,14 +418,24 @@ double GingivaShareField::Uncut(const Vector3& p) const {
   // reads each tooth's own floor at its line angles and, walking under the
   // contact from the shallower side, meets the shallower floor first. The
   // same from both sides.
-  double own_above = own.above, cavity = -1e9;
+  double own_above = own.above, cavity = -1e9, own_side = 1e9;
   for (const Link& l : links_) {
     const Vector3 q = l.n->A * p + l.n->b;
     const CollarAt other = Collar(*l.n->gingiva, q);
-    band = std::min(band, other.band);
-    above = std::min(above, q.z() - other.top);
-    below = std::min(below, other.bottom - q.z());
+    // (each link's terms kept to its neighbour's side of this tooth's axis:
+    // by the cut toward the other neighbour, where that neighbour's share
+    // does not hold them, they lie far above the fillets' reach)
+    const double u = l.e.x() * p.x() + l.e.y() * p.y(), behind = 2.0 * std::max(0.0, -u);
+    band.Add(other.band + behind);
     const double across_signed = (p - l.q).dot(l.normal);
+    // Each collar's margin holds on its own side of the cut and falls away
+    // past it (the papilla joins the two there): a collar raised into its
+    // papilla beside the contact does not lift its neighbour's margin at the
+    // line angle.
+    above.Add(q.z() - other.top + behind + kPastCutFall * SmoothRamp(-across_signed, 0.3));
+    own_top_past_cuts += kPastCutFall * SmoothRamp(across_signed, 0.3);
+    below.Add(other.bottom - q.z() + behind);
+    own_side = std::min(own_side, kSulcusPastCut - across_signed);
     // (the two floors meet in this, whichever sulcus holds the point: a
     // sliver of one sulcus reaching past the other's wall would otherwise
     // carry its floor with it)
@@ -368,8 +448,8 @@ double GingivaShareField::Uncut(const Vector3& p) const {
                        std::clamp(into_deeper / step, 0.0, 1.0) * std::abs(own.above - other.above);
     own_above += col - own.above;  // (own.above itself away from this cut)
     const double other_above = col;
-    cavity = std::max(cavity, std::max(std::min(other.inside, other_above), other.root));
-    const double u = l.e.x() * p.x() + l.e.y() * p.y();
+    const double other_cavity = std::max(std::min(other.inside, other_above), other.root);
+    cavity = std::max(cavity, std::min(other_cavity, kSulcusPastCut + across_signed));
     double faces = std::max(-u, u - l.L);
     // (below the crest the faces draw in as each collar's wall does; the
     // crest runs straight from one tooth's to the other's)
@@ -378,18 +458,23 @@ double GingivaShareField::Uncut(const Vector3& p) const {
       const double t_along = std::clamp(u / l.L, 0.0, 1.0);
       drawn_in = DrawnIn(l.crest_own + t_along * (l.crest_other - l.crest_own), p.dot(own_->crest_up));
     }
-    for (int side = 0; side < 2; ++side)
-      faces = std::max(faces, (p - l.face_point[side]).dot(l.face_normal[side]) + drawn_in);
-    band = std::min(band, faces);
+    double to_face = -1e9;  // (negative inside the band's buccal and lingual faces)
+    for (int side = 0; side < 2; ++side) to_face = std::max(to_face, (p - l.face_point[side]).dot(l.face_normal[side]));
+    faces = std::max(faces, to_face + drawn_in);
+    band.Add(faces);
     // The papilla: highest by the contact, falling away from the cut and,
     // more gently, buccally and lingually; heights along the two teeth's mean vertical.
-    const double across = std::abs(across_signed), aside = std::abs((p - l.q).dot(l.across_dir));
-    above = std::min(above, (p - l.papilla).dot(l.up) + 0.8 * across + 0.3 * std::max(0.0, aside - 1.0));
-    below = std::min(below, (l.base - p).dot(l.up) + 0.5 * across);
+    const double across = SmoothAbs(across_signed, kPapillaTip), aside = std::abs((p - l.q).dot(l.across_dir));
+    // (its top rolls over into the faces as the collars' does)
+    above.Add((p - l.papilla).dot(l.up) + l.slope[across_signed < 0 ? 0 : 1] * across + 0.3 * SmoothRamp(aside - 1.0, 1.5) +
+              1.5 * SmoothRamp(to_face + 1.0, 0.8) + behind);
+    below.Add((l.base - p).dot(l.up) + 0.5 * std::abs(across_signed) + behind);
   }
-  cavity = std::max(cavity, std::max(std::min(own.inside, own_above), own.root));
-  double f = SmoothMax(band, above, kRound);
-  f = SmoothMax(f, below, kRound);
+  above.Add(p.z() - own.top + own_top_past_cuts);
+  const double own_cavity = std::max(std::min(own.inside, own_above), own.root);
+  cavity = std::max(cavity, std::min(own_cavity, own_side));
+  double f = SmoothMax(band.Smooth(kFilletSides), above.Smooth(kFilletTop), kRound);
+  f = SmoothMax(f, below.Smooth(kRound), kRound);
   return SmoothMax(f, cavity, kRound);
 }
 
@@ -406,7 +491,10 @@ std::vector<GingivaShareField::CutPlane> GingivaShareField::cuts() const {
 }
 
 double GingivaShareField::operator()(const Vector3& p) const {
-  return std::max(Uncut(p), Cut(p) - kOverlapMm);
+  // Past the cut the share's edge is rounded over the overlap: from the cut
+  // on, its surface draws in under its neighbour's (which is true there), so
+  // that the grid has no sharp edge to alias into a saw-tooth seam.
+  return SmoothMax(Uncut(p), Cut(p) - kOverlapMm, kOverlapMm);
 }
 
 GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params,

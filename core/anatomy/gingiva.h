@@ -58,7 +58,7 @@ struct GingivaModel {
 };
 
 /// Changes whenever the share's geometry does (its meshes are cached by it).
-inline constexpr int kGingivaShareVersion = 18;
+inline constexpr int kGingivaShareVersion = 22;
 
 /// A neighbouring tooth on the arch, for the gingiva between the two.
 struct GingivaNeighbour {
@@ -87,7 +87,10 @@ class GingivaShareField {
     Vector3 q, normal;
   };
   std::vector<CutPlane> cuts() const;
-  static constexpr double kOverlapMm = 0.05;  // the shares overlap at the cut, so no crack shows
+  static constexpr double kOverlapMm = 0.12;  // the shares overlap past the cut, so no crack shows
+  // A site this close to a cut lies under the contact: the margin beside it
+  // is the papilla's, which rises above the site's own.
+  static constexpr double kUnderContactMm = 0.5;
 
  private:
   struct Link {
@@ -99,6 +102,7 @@ class GingivaShareField {
     Vector3 across_dir;    // in the cut, square to the mean vertical
     Vector3 up;            // the two teeth's mean vertical
     Vector3 papilla;       // the papilla's top, by the contact
+    double slope[2];       // its fall per mm from the cut toward this tooth [0] and the neighbour [1]
     Vector3 base;          // the interdental gingiva's base
     // The bone crest at this tooth's axis and at the neighbour's, heights
     // along the world's vertical (crest_up; -inf: no attached gingiva); between

@@ -615,7 +615,9 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
     t.insert_offset_mm = 0;
     // How deep to go: press the probe down this path, tick by tick through the
     // engine and the scene's effects, until it feels the clinical probing force
-    // (0.22 N): the depth where the sphere-trees' floor pushes back that hard.
+    // (0.22 N) along its axis, as the reading measures it: the depth where the
+    // sphere-trees' floor pushes back that hard (the sulcus' wall pushing
+    // sideways on the shank is not the floor).
     t.insert_depth_mm = o.pocket_mm[1] + 0.22 / scene.spec.haptics.k_t;
     {
       const Quaternion q = ScriptOrientation(t);
@@ -632,7 +634,8 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
       for (int i = 0; from + i * step <= to; ++i) {
         loop.Tick(false);
         const double depth = from + i * step;  // a touch above the floor's last millimetre is not the floor
-        if (depth >= o.pocket_mm[1] - 1.0 && loop.last_record().force_W.norm() >= 0.22) {
+        const TickRecord& r = loop.last_record();
+        if (depth >= o.pocket_mm[1] - 1.0 && r.force_W.dot(r.X_WG.rotation().col(2)) >= 0.22) {
           t.insert_depth_mm = depth;
           break;
         }
