@@ -598,15 +598,14 @@ void MainWindow::Tick() {
     const std::size_t i = std::min<std::size_t>(snapshot_.tick, demonstration_->frames.size() - 1);
     view_->ShowGhost(demonstration_->frames[i].X_WG);
   }
-  if (lesson_) {
-    // In a lesson the gauge shows what the lesson scores: the force along the
-    // probe (pressing on the pocket floor), not the side force of the tip on the tooth.
+  {
+    // The gauge shows what a lesson scores and its band is for: the force
+    // along the probe (pressing on the pocket floor), not the side force of
+    // the tip on the tooth or of the sulcus' soft wall on the shank. The
+    // plot below it holds the whole force.
     const double along = snapshot_.force_W.dot(snapshot_.X_WG.rotation().col(2));
     gauge_->SetLabel("Probing force");
     gauge_->SetForce(std::max(0.0, along));
-  } else {
-    gauge_->SetLabel("Force");
-    gauge_->SetForce(snapshot_.force_W.norm());
   }
   plot_->Push(snapshot_.time_s, snapshot_.force_W.norm(), snapshot_.torque_W.norm());
   session_->Pump();
