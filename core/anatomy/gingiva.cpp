@@ -171,13 +171,13 @@ double Around(const std::vector<double>& table, double th) {
   return table[i] + t * (table[(i + 1) % n] - table[i]);
 }
 
-constexpr double kIntoBoneMm = 1.0;
+constexpr double kIntoBoneMm = 1.0;  // how far a share reaches past the crest, into the jaw
 constexpr double kPapillaTip = 0.6;    // the papilla's ridge rounded over this (mm)
 constexpr double kPapillaSlope = 0.8;  // its least fall from the ridge toward each tooth (mm per mm)
-constexpr double kPapillaSteepest = 2.0;
+constexpr double kPapillaSteepest = 2.0;  // its steepest (mm per mm)
 constexpr double kBelowSiteMarginMm = 0.15;  // how far below a line-angle site's margin the papilla's top passes
 constexpr double kPastCutFall = 2.0;  // how fast a collar's top falls past its cut (mm per mm)
-constexpr double kFaceInsetMm = 0.5;  // the interdental band's faces inside the collars' outer extents  // how far a share reaches past the crest, into the jaw
+constexpr double kFaceInsetMm = 0.5;  // the interdental band's faces inside the collars' outer extents
 
 // How far a share's outer wall has drawn in at height z below the crest: 2 mm
 // per mm, so that the share ends inside the jaw (whose top, soft_tissue.cpp,
@@ -273,7 +273,6 @@ struct Union {
     return m;
   }
 };
-
 
 }  // namespace
 

@@ -324,6 +324,7 @@ TEST(Gingiva, OnTheArchEverySiteReadsItsOwnDepthBesideADeeperNeighbour) {
     }
     const GingivaModel& g = arch.collars[i];
     const std::vector<GingivaNeighbour> links = arch.Links(i);
+    const GingivaShareField field(arch.teeth[i], arch.collars[i], links);  // (for its cuts)
     for (int s = 0; s < 6; ++s) {
       std::optional<double> floor;
       for (const TriangleMesh& m : here) {
@@ -355,7 +356,6 @@ TEST(Gingiva, OnTheArchEverySiteReadsItsOwnDepthBesideADeeperNeighbour) {
       const double expected = g.margin[s].z() - 0.4 * beyond;
       // A site within half a millimetre of a cut lies under the contact,
       // where the margin beside it is the papilla's, up to a millimetre higher.
-      const GingivaShareField field(arch.teeth[i], arch.collars[i], links);
       const bool under_contact = field.Cut(g.margin[s]) > -GingivaShareField::kUnderContactMm;
       std::printf("margin %d site %d: mesh %.2f expected %.2f%s (truth %.2f, %.2f mm beyond the wall)\n",
                   arch.placed[i].tooth.fdi, s, *top, expected, under_contact ? " to +1" : "", g.margin[s].z(), beyond);
