@@ -1,5 +1,6 @@
 #include "core/anatomy/gingiva.h"
 
+#include "core/anatomy/mesh_clip.h"
 #include "core/geometry/isosurface.h"
 #include "core/geometry/simplify.h"
 
@@ -410,13 +411,15 @@ double GingivaShareField::Uncut(const Vector3& p) const {
   double own_top_past_cuts = 0;  // (each collar's top falls away past the cut: see the loop)
   below.Add(own.bottom - p.z());
   // Under a contact the two sulci meet. The floor there (the col) is the
-  // shallower tooth's floor up to the cut and falls to the deeper tooth's
-  // floor beyond it, reaching it where that tooth's interproximal site lies
-  // (a few tenths of a millimetre from the cut; the sulci are wider than the
-  // space between the roots, so nearness to a root cannot decide): a probe
-  // reads each tooth's own floor at its line angles and, walking under the
-  // contact from the shallower side, meets the shallower floor first. The
-  // same from both sides.
+  // shallower tooth's floor at its interproximal site and falls to the
+  // deeper tooth's floor at that tooth's site (the two sites lie a few tenths
+  // of a millimetre either side of the cut; the sulci are wider than the space
+  // between the roots, so nearness to a root cannot decide): a probe reads
+  // each tooth's own floor at its line angles and, walking under the contact
+  // from the shallower side, meets the shallower floor first. The slope runs
+  // over the whole space between the two sites, so that the 0.3 mm grid does
+  // not round a cliff at one site into a floor too high there. The same from
+  // both sides.
   double own_above = own.above, cavity = -1e9, own_side = 1e9;
   for (const Link& l : links_) {
     const Vector3 q = l.n->A * p + l.n->b;
@@ -441,10 +444,13 @@ double GingivaShareField::Uncut(const Vector3& p) const {
     const bool other_deeper = other.above > own.above;
     const double into_deeper = other_deeper ? across_signed : -across_signed;
     const double t_side = std::clamp(0.5 + (p - l.q).dot(l.across_dir) / 2.0, 0.0, 1.0);  // 1 on the across_dir side
-    const double* gap = other_deeper ? l.other_site_gap : l.own_site_gap;
-    const double step = std::max(0.1, t_side * gap[0] + (1 - t_side) * gap[1] - 0.05);
+    const double* deep_gap = other_deeper ? l.other_site_gap : l.own_site_gap;
+    const double* shallow_gap = other_deeper ? l.own_site_gap : l.other_site_gap;
+    // (reached 0.05 mm before the deeper site, left 0.15 mm after the shallower)
+    const double deep = std::max(0.1, t_side * deep_gap[0] + (1 - t_side) * deep_gap[1] - 0.05);
+    const double shallow = std::clamp(t_side * shallow_gap[0] + (1 - t_side) * shallow_gap[1] - 0.15, 0.0, 1.0);
     const double col = std::min(own.above, other.above) +
-                       std::clamp(into_deeper / step, 0.0, 1.0) * std::abs(own.above - other.above);
+                       std::clamp((into_deeper + shallow) / (deep + shallow), 0.0, 1.0) * std::abs(own.above - other.above);
     own_above += col - own.above;  // (own.above itself away from this cut)
     const double other_above = col;
     const double other_cavity = std::max(std::min(other.inside, other_above), other.root);
@@ -489,19 +495,59 @@ std::vector<GingivaShareField::CutPlane> GingivaShareField::cuts() const {
   return out;
 }
 
-double GingivaShareField::operator()(const Vector3& p) const {
-  // Past the cut the share's edge is rounded over the overlap: from the cut
-  // on, its surface draws in under its neighbour's (which is true there), so
-  // that the grid has no sharp edge to alias into a saw-tooth seam.
-  return SmoothMax(Uncut(p), Cut(p) - kOverlapMm, kOverlapMm);
-}
-
 GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params,
                              const std::vector<GingivaNeighbour>& neighbours, double cell_mm) {
   GingivaModel out = GenerateGingiva(tooth, params);
   if (neighbours.empty()) return out;
   const GingivaShareField field(tooth, out, neighbours);
-  TriangleMesh mesh = Simplify(Isosurface(field, field.box(), cell_mm), 0.02);
+  // Sampled whole and cut exactly at the planes toward the neighbours: the
+  // neighbours' shares, each sampled on its own grid, meet on the plane in the
+  // same rim (up to the sampling's error) and without a saw-tooth.
+  std::vector<ClipPlane> planes;
+  for (const GingivaShareField::CutPlane& c : field.cuts()) planes.push_back({c.q, c.normal});
+  const auto uncut = [&field](const Vector3& p) { return field.Uncut(p); };
+  TriangleMesh mesh = ClipByPlanes(Simplify(Isosurface(uncut, field.box(), cell_mm), 0.02), planes);
+  // The rim on each plane is where that sampling cut it; both neighbours' rims
+  // are brought onto the field's zero set in the plane (where the two fields
+  // agree), so that neither share's cap shows past the other's surface as a
+  // dark hairline. Each rim vertex moves within its plane, at most a tenth of
+  // a cell per step.
+  // A move that would flip a face or flatten it to a sliver (a cap
+  // triangle between three rim vertices) is taken back.
+  const std::vector<Vector3>& before = mesh.vertices();
+  std::vector<Vector3> vertices = before;
+  for (Vector3& v : vertices) {
+    const ClipPlane* on = nullptr;
+    int count = 0;
+    for (const ClipPlane& c : planes)
+      if (std::abs((v - c.q).dot(c.normal)) < 1e-9) on = &c, ++count;
+    if (count != 1) continue;  // (on no plane, or where two planes meet)
+    for (int it = 0; it < 4; ++it) {
+      constexpr double h = 1e-3;
+      const double f = uncut(v);
+      Vector3 g;
+      for (int a = 0; a < 3; ++a) g[a] = (uncut(v + h * Vector3::Unit(a)) - f) / h;
+      g -= g.dot(on->normal) * on->normal;
+      if (g.squaredNorm() < 1e-12) break;
+      Vector3 step = -f * g / g.squaredNorm();
+      if (step.norm() > 0.1 * cell_mm) step *= 0.1 * cell_mm / step.norm();
+      v += step;
+      if (std::abs(f) < 1e-5) break;
+    }
+    v -= (v - on->q).dot(on->normal) * on->normal;  // (exactly on it again)
+  }
+  for (bool undone = true; undone;) {
+    undone = false;
+    for (const TriangleMesh::Face& f : mesh.faces()) {
+      if (vertices[f[0]] == before[f[0]] && vertices[f[1]] == before[f[1]] && vertices[f[2]] == before[f[2]]) continue;
+      const Vector3 n0 = (before[f[1]] - before[f[0]]).cross(before[f[2]] - before[f[0]]);
+      const Vector3 n1 = (vertices[f[1]] - vertices[f[0]]).cross(vertices[f[2]] - vertices[f[0]]);
+      if (n1.dot(n0) > 0.25 * n0.squaredNorm() && n1.norm() > 1e-6) continue;
+      for (int k = 0; k < 3; ++k) vertices[f[k]] = before[f[k]];
+      undone = true;
+    }
+  }
+  mesh = TriangleMesh(std::move(vertices), mesh.faces());
   if (mesh.num_faces() == 0) throw std::invalid_argument("the gingiva of tooth " + std::to_string(tooth.tooth.fdi) + " is empty");
   out.mesh = std::move(mesh);
   return out;

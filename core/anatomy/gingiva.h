@@ -58,7 +58,7 @@ struct GingivaModel {
 };
 
 /// Changes whenever the share's geometry does (its meshes are cached by it).
-inline constexpr int kGingivaShareVersion = 22;
+inline constexpr int kGingivaShareVersion = 25;
 
 /// A neighbouring tooth on the arch, for the gingiva between the two.
 struct GingivaNeighbour {
@@ -68,16 +68,16 @@ struct GingivaNeighbour {
   Vector3 b = Vector3::Zero();            // (A may hold the arch's mirror)
 };
 
-/// The field whose zero set is a tooth's share of the gingiva (negative
-/// inside), in the tooth's frame; GenerateGingiva samples it. `Uncut` is the
-/// gingiva before the cuts toward the neighbours: two neighbours' shares
-/// compute the same value at the same point. `Cut` is the signed distance past
-/// the nearest cut plane (positive on a neighbour's side). Holds pointers to its
-/// arguments, which must outlive it.
+/// The field of a tooth's share of the gingiva (negative inside), in the
+/// tooth's frame. `Uncut` is the gingiva before the cuts toward the
+/// neighbours: two neighbours' shares compute the same value at the same point
+/// of their cut. `Cut` is the signed distance past the nearest cut plane
+/// (positive on a neighbour's side). GenerateGingiva samples `Uncut` and clips
+/// the surface exactly at the `cuts()`. Holds pointers to its arguments, which
+/// must outlive it.
 class GingivaShareField {
  public:
   GingivaShareField(const ToothModel& tooth, const GingivaModel& own, const std::vector<GingivaNeighbour>& neighbours);
-  double operator()(const Vector3& p) const;
   double Uncut(const Vector3& p) const;
   double Cut(const Vector3& p) const;
   const Aabb& box() const { return box_; }
@@ -87,7 +87,6 @@ class GingivaShareField {
     Vector3 q, normal;
   };
   std::vector<CutPlane> cuts() const;
-  static constexpr double kOverlapMm = 0.12;  // the shares overlap past the cut, so no crack shows
   // A site this close to a cut lies under the contact: the margin beside it
   // is the papilla's, which rises above the site's own.
   static constexpr double kUnderContactMm = 0.5;
@@ -142,8 +141,8 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& param
 /// contact they meet, and the tissue beneath them (the col) is the floor, so a
 /// probe walks around a tooth and under its contacts. The site truth (margin,
 /// floor, tables) is the collar's; only the mesh differs. Sampled as the zero
-/// set of a field on a grid of `cell_mm` (isosurface.h). With no neighbours it
-/// is the collar.
+/// set of a field on a grid of `cell_mm` (isosurface.h), then clipped at the
+/// cut planes with flat caps (mesh_clip.h). With no neighbours it is the collar.
 GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params,
                              const std::vector<GingivaNeighbour>& neighbours, double cell_mm = 0.3);
 

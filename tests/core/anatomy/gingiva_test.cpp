@@ -228,8 +228,10 @@ struct ArchRun {
 TEST(Gingiva, ArchSharesAreSolidsThatMeetFaceToFace) {
   const ArchRun arch;
   ASSERT_EQ(arch.placed.size(), 4u);
+  std::vector<TriangleMesh> shares;
   for (std::size_t i = 0; i < arch.placed.size(); ++i) {
     const GingivaModel g = GenerateGingiva(arch.teeth[i], {}, arch.Links(i));
+    shares.push_back(g.mesh);
     EXPECT_TRUE(g.mesh.Check().IsSolid()) << arch.placed[i].tooth.fdi;
     EXPECT_GT(g.mesh.num_faces(), 1000u);
     // The site truth is the collar's.
@@ -261,6 +263,53 @@ TEST(Gingiva, ArchSharesAreSolidsThatMeetFaceToFace) {
     EXPECT_GT(near, 500);
     EXPECT_GT(tissue, 20) << "the gingiva reaches the cut";
     EXPECT_LT(worst, 0.02) << arch.placed[i].tooth.fdi << "|" << arch.placed[i + 1].tooth.fdi;
+
+    // The two meshes end on the cut in the same rim: each rim vertex of one
+    // lies on the other's rim (each is its own share's surface cut exactly by
+    // the plane and brought onto the field there; the rims differ only by
+    // the chords between their vertices).
+    const GingivaShareField::CutPlane c = cut_ij.cuts().front();
+    auto rim = [&](const TriangleMesh& m, bool other) {
+      std::vector<std::pair<Vector3, Vector3>> edges;
+      auto here = [&](const Vector3& v) { return other ? Vector3(to_j.A.transpose() * (v - to_j.b)) : v; };
+      auto on = [&](const Vector3& v) { return std::abs((v - c.q).dot(c.normal)) < 1e-6; };
+      for (const TriangleMesh::Face& f : m.faces())
+        for (int k = 0; k < 3; ++k) {
+          const Vector3 a = here(m.vertices()[f[k]]), b = here(m.vertices()[f[(k + 1) % 3]]);
+          if (on(a) && on(b) && f[k] < f[(k + 1) % 3]) edges.emplace_back(a, b);
+        }
+      return edges;
+    };
+    const auto rim_i = rim(shares[i], false), rim_j = rim(shares[i + 1], true);
+    ASSERT_GT(rim_i.size(), 20u);
+    ASSERT_GT(rim_j.size(), 20u);
+    auto to_segment = [](const Vector3& p, const std::pair<Vector3, Vector3>& e) {
+      const Vector3 d = e.second - e.first;
+      const double t = std::clamp((p - e.first).dot(d) / std::max(d.squaredNorm(), 1e-18), 0.0, 1.0);
+      return (p - e.first - t * d).norm();
+    };
+    // (every vertex on the plane is on the rim: the caps are triangulated
+    // without inner points; the cap's own edges join rim vertices too)
+    std::vector<std::array<double, 3>> ends;
+    for (const auto& e : rim_i)
+      for (const Vector3& v : {e.first, e.second}) ends.push_back({v.x(), v.y(), v.z()});
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    int close = 0;
+    double far = 0;
+    for (const auto& a : ends) {
+      const Vector3 v(a[0], a[1], a[2]);
+      double best = 1e9;
+      for (const auto& o : rim_j) best = std::min(best, to_segment(v, o));
+      close += best < 0.02;
+      far = std::max(far, best);
+    }
+    std::printf("rim %d|%d: %d of %zu vertices within 0.02 mm of the other's rim, farthest %.3f mm\n",
+                arch.placed[i].tooth.fdi, arch.placed[i + 1].tooth.fdi, close, ends.size(), far);
+    // (a few where a move was taken back, or at the papilla's rolled tip,
+    // where the field's gradient turns within a step)
+    EXPECT_GT(close, 0.8 * static_cast<double>(ends.size()));
+    EXPECT_LT(far, 0.2);
   }
 }
 
