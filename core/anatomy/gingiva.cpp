@@ -506,7 +506,10 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& param
   std::vector<ClipPlane> planes;
   for (const GingivaShareField::CutPlane& c : field.cuts()) planes.push_back({c.q, c.normal});
   const auto uncut = [&field](const Vector3& p) { return field.Uncut(p); };
-  TriangleMesh mesh = ClipByPlanes(Simplify(Isosurface(uncut, field.box(), cell_mm), 0.02), planes);
+  // (sampled only to two cells past the cut: what lies beyond is cut away,
+  // and sampling it would only cost time)
+  const auto near_side = [&field, cell_mm](const Vector3& p) { return std::max(field.Uncut(p), field.Cut(p) - 2 * cell_mm); };
+  TriangleMesh mesh = ClipByPlanes(Simplify(Isosurface(near_side, field.box(), cell_mm), 0.02), planes);
   // The rim on each plane is where that sampling cut it; both neighbours' rims
   // are brought onto the field's zero set in the plane (where the two fields
   // agree), so that neither share's cap shows past the other's surface as a

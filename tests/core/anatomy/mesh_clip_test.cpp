@@ -48,6 +48,26 @@ TEST(MeshClip, ASphereCutByTwoPlanesKeepsTheSliceBetweenThemWithFlatCaps) {
   EXPECT_NEAR(r.volume, expected, 0.03 * full);
 }
 
+TEST(MeshClip, ATorusCutAcrossItsHoleGetsARingShapedCap) {
+  // Cut through the middle of the tube, 0.05 mm above it: the cut is an
+  // annulus (a loop with a hole), and half the torus is left, plus the
+  // annulus' area times 0.05.
+  const TriangleMesh torus = MakeTorus(3.0, 1.0, 48, 24);
+  const TriangleMesh half = ClipByPlanes(torus, {{Vector3(0, 0, 0.05), Vector3::UnitZ()}});
+  const MeshReport r = half.Check();
+  EXPECT_TRUE(r.IsSolid());
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.euler_characteristic, 0);  // still a ring
+  const double annulus = std::numbers::pi * (4.0 * 4.0 - 2.0 * 2.0);
+  EXPECT_NEAR(r.volume, 0.5 * torus.Volume() + 0.05 * annulus, 0.005 * torus.Volume());
+  // Cut across the ring instead: two separate pieces, each a ball.
+  const TriangleMesh two = ClipByPlanes(torus, {{Vector3(0.1, 0, 0), Vector3::UnitX()}});
+  const MeshReport r2 = two.Check();
+  EXPECT_TRUE(r2.IsSolid());
+  EXPECT_EQ(r2.components, 1u);  // (the half ring is one piece)
+  EXPECT_EQ(r2.euler_characteristic, 2);
+}
+
 TEST(MeshClip, APlaneThatMissesKeepsOrEmptiesTheMesh) {
   const TriangleMesh box = MakeBox(Vector3(2, 2, 2));
   EXPECT_NEAR(ClipByPlanes(box, {{Vector3(5, 0, 0), Vector3::UnitX()}}).Volume(), 8.0, 1e-9);
