@@ -1,6 +1,5 @@
 #include "core/anatomy/gingiva.h"
 
-#include "core/anatomy/mesh_clip.h"
 #include "core/geometry/isosurface.h"
 #include "core/geometry/simplify.h"
 
@@ -495,28 +494,16 @@ std::vector<GingivaShareField::CutPlane> GingivaShareField::cuts() const {
   return out;
 }
 
-GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params,
-                             const std::vector<GingivaNeighbour>& neighbours, double cell_mm) {
-  GingivaModel out = GenerateGingiva(tooth, params);
-  if (neighbours.empty()) return out;
-  const GingivaShareField field(tooth, out, neighbours);
-  // Sampled whole and cut exactly at the planes toward the neighbours: the
-  // neighbours' shares, each sampled on its own grid, meet on the plane in the
-  // same rim (up to the sampling's error) and without a saw-tooth.
-  std::vector<ClipPlane> planes;
-  for (const GingivaShareField::CutPlane& c : field.cuts()) planes.push_back({c.q, c.normal});
-  const auto uncut = [&field](const Vector3& p) { return field.Uncut(p); };
-  // (sampled only to two cells past the cut: what lies beyond is cut away,
-  // and sampling it would only cost time)
-  const auto near_side = [&field, cell_mm](const Vector3& p) { return std::max(field.Uncut(p), field.Cut(p) - 2 * cell_mm); };
-  TriangleMesh mesh = ClipByPlanes(Simplify(Isosurface(near_side, field.box(), cell_mm), 0.02), planes);
-  // The rim on each plane is where that sampling cut it; both neighbours' rims
-  // are brought onto the field's zero set in the plane (where the two fields
-  // agree), so that neither share's cap shows past the other's surface as a
-  // dark hairline. Each rim vertex moves within its plane, at most a tenth of
-  // a cell per step.
-  // A move that would flip a face or flatten it to a sliver (a cap
-  // triangle between three rim vertices) is taken back.
+namespace {
+
+// The rim on each plane is where the sampling cut it; both neighbours' rims
+// are brought onto the field's zero set in the plane (where the two fields
+// agree), so that neither share's cap shows past the other's surface as a
+// dark hairline. Each rim vertex moves within its plane, at most a tenth of a
+// cell per Newton step; a move that would flip a face or flatten it to a
+// sliver (a cap triangle between three rim vertices) is taken back.
+TriangleMesh RimsOntoField(const TriangleMesh& mesh, const GingivaShareField& field, const std::vector<ClipPlane>& planes,
+                           double cell_mm) {
   const std::vector<Vector3>& before = mesh.vertices();
   std::vector<Vector3> vertices = before;
   for (Vector3& v : vertices) {
@@ -527,15 +514,15 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& param
     if (count != 1) continue;  // (on no plane, or where two planes meet)
     for (int it = 0; it < 4; ++it) {
       constexpr double h = 1e-3;
-      const double f = uncut(v);
+      const double f = field.Uncut(v);
       Vector3 g;
-      for (int a = 0; a < 3; ++a) g[a] = (uncut(v + h * Vector3::Unit(a)) - f) / h;
+      for (int a = 0; a < 3; ++a) g[a] = (field.Uncut(v + h * Vector3::Unit(a)) - f) / h;
       g -= g.dot(on->normal) * on->normal;
       if (g.squaredNorm() < 1e-12) break;
       Vector3 step = -f * g / g.squaredNorm();
       if (step.norm() > 0.1 * cell_mm) step *= 0.1 * cell_mm / step.norm();
       v += step;
-      if (std::abs(f) < 1e-5) break;
+      if (std::abs(f) < 1e-5) break;  // (this step was the last, a tiny one)
     }
     v -= (v - on->q).dot(on->normal) * on->normal;  // (exactly on it again)
   }
@@ -550,7 +537,25 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& param
       undone = true;
     }
   }
-  mesh = TriangleMesh(std::move(vertices), mesh.faces());
+  return TriangleMesh(std::move(vertices), mesh.faces());
+}
+
+}  // namespace
+
+GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params,
+                             const std::vector<GingivaNeighbour>& neighbours, double cell_mm) {
+  GingivaModel out = GenerateGingiva(tooth, params);
+  if (neighbours.empty()) return out;
+  const GingivaShareField field(tooth, out, neighbours);
+  // Sampled whole and cut exactly at the planes toward the neighbours: the
+  // neighbours' shares, each sampled on its own grid, meet on the plane in the
+  // same rim (up to the sampling's error) and without a saw-tooth.
+  const std::vector<ClipPlane> planes = field.cuts();
+  // (sampled only to two cells past the cut: what lies beyond is cut away,
+  // and sampling it would only cost time)
+  const auto near_side = [&field, cell_mm](const Vector3& p) { return std::max(field.Uncut(p), field.Cut(p) - 2 * cell_mm); };
+  TriangleMesh mesh =
+      RimsOntoField(ClipByPlanes(Simplify(Isosurface(near_side, field.box(), cell_mm), 0.02), planes), field, planes, cell_mm);
   if (mesh.num_faces() == 0) throw std::invalid_argument("the gingiva of tooth " + std::to_string(tooth.tooth.fdi) + " is empty");
   out.mesh = std::move(mesh);
   return out;

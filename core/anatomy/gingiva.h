@@ -14,6 +14,7 @@
 #include <array>
 #include <vector>
 
+#include "core/anatomy/mesh_clip.h"
 #include "core/anatomy/tooth.h"
 
 namespace sulcus {
@@ -82,10 +83,9 @@ class GingivaShareField {
   double Cut(const Vector3& p) const;
   const Aabb& box() const { return box_; }
   /// The cut toward each neighbour, in this tooth's frame: a point q on it and
-  /// its unit normal toward the neighbour (the same plane from both sides).
-  struct CutPlane {
-    Vector3 q, normal;
-  };
+  /// its unit normal toward the neighbour (the same plane from both sides); a
+  /// ClipPlane, as the share's mesh is clipped at it.
+  using CutPlane = ClipPlane;
   std::vector<CutPlane> cuts() const;
   // A site this close to a cut lies under the contact: the margin beside it
   // is the papilla's, which rises above the site's own.
