@@ -29,7 +29,7 @@ struct ArchParams {
   // the least lift at which no upper tooth's mesh intersects a lower one's with
   // the default arches (found by bisection on the exact meshes; a test checks
   // that the teeth are apart here and intersect 0.05 mm lower).
-  double occlusion_mm = 5.20;
+  double occlusion_mm = 4.75;
   bool third_molars = false;     // 28 teeth without them, 32 with
 };
 

@@ -21,6 +21,15 @@ double SMin(double a, double b, double k) {
   return b + (a - b) * h - k * h * (1 - h);
 }
 
+// Polynomial smooth maximum: intersects two solids with a rounded edge of size k.
+double SMax(double a, double b, double k) { return -SMin(-a, -b, k); }
+
+// Size of the rounding where the occlusal surface meets the crown's sides (mm).
+constexpr double kEdgeRoundingMm = 0.4;
+
+// How wide the bottom of a groove between two cusps is rounded (mm).
+constexpr double kGrooveRoundingMm = 0.25;
+
 bool Anterior(ToothType t) { return t <= ToothType::kCanine; }
 bool Molar(ToothType t) { return t >= ToothType::kFirstMolar; }
 
@@ -54,7 +63,10 @@ class ToothShape {
       for (const Root& r : roots_) fr = std::min(fr, RootDistance(r, p));
       f = SMin(f, fr, 1.0);
     }
-    return std::max(f, p.z() - Occlusal(p.x(), p.y()));
+    // The occlusal or incisal surface meets the sides in a rounded edge (the
+    // marginal ridges, the incisal angles), not a crease: a crease between two
+    // vertices of the mesh shows as a serrated edge.
+    return SMax(f, p.z() - Occlusal(p.x(), p.y()), kEdgeRoundingMm);
   }
 
  private:
@@ -103,11 +115,16 @@ class ToothShape {
       case ToothType::kCanine:
         return -2.0 * std::sqrt(x * x + 0.04) / a_c_ - 0.3 * (y / b_c_) * (y / b_c_);  // one cusp
       default: {
-        double z = 0;
+        // Cusps around a central fossa: each cusp a dome, the surface the
+        // highest dome (a smooth maximum), so that a groove runs where two
+        // cusps meet (the central groove, the buccal and lingual grooves of a
+        // molar), rounded over kGrooveRoundingMm.
+        double sum = 0;
         for (const Cusp& c : cusps_) {
-          z += c.height * std::exp(-((x - c.x) * (x - c.x) + (y - c.y) * (y - c.y)) / (c.sigma * c.sigma));
+          const double dome = c.height * std::exp(-((x - c.x) * (x - c.x) + (y - c.y) * (y - c.y)) / (c.sigma * c.sigma));
+          sum += std::exp(dome / kGrooveRoundingMm);
         }
-        return z;  // cusps around a central fossa
+        return kGrooveRoundingMm * std::log(sum);
       }
     }
   }

@@ -105,7 +105,7 @@ double Placed(double v) { return std::round(v * 1e9) * 1e-9 + 0.0; }  // (+ 0.0:
 std::string GeneratorKey(const ObjectSpec& o) {
   std::ostringstream k;
   k.precision(17);
-  k << "sulcus-generated-mesh v4|";
+  k << "sulcus-generated-mesh v4|tooth shape " << kToothShapeVersion << '|';
   switch (o.kind) {
     case ObjectSpec::Kind::kTooth:
       k << "tooth|" << o.fdi << '|' << o.mirrored;
