@@ -141,6 +141,9 @@ std::vector<double> InflammationCoverage(const std::vector<Vector3>& vertices, c
 }
 
 
+// How far a calculus deposit's lumps stand in or out, as a fraction of its size.
+constexpr double kCalculusLumps = 1.0 / 6;
+
 TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, int site, bool subgingival) {
   const double th = SiteAngles()[site];
   double margin = 1.5, floor = -0.5;
@@ -156,7 +159,20 @@ TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, 
   const double r = OuterRadius(tooth.mesh, th, z);
   // Semi-axes: 1.0 along the surface (tangent), 0.6 up the tooth, 0.45 out of
   // it; the centre 0.15 mm inside the surface, so 0.3 mm stands proud.
-  TriangleMesh m = MakeIcosphere(1.0, 3);
+  // Calculus is not smooth: the deposit's surface is lumpy, each vertex of the
+  // unit sphere moved in or out by up to a sixth along its own direction (so
+  // the solid stays star-shaped about its centre, and closed). The lumps differ
+  // from site to site.
+  TriangleMesh unit = MakeIcosphere(1.0, 3);
+  std::vector<Vector3> lumpy;
+  lumpy.reserve(unit.num_vertices());
+  const double phase = 1.3 * site + (subgingival ? 0.7 : 0.0);
+  for (const Vector3& u : unit.vertices()) {
+    const double lumps = 0.5 * std::sin(3.1 * u.x() + 2.3 * u.y() + 1.7 + phase) * std::cos(2.7 * u.z() - 1.1 * u.y()) +
+                         0.5 * std::sin(4.3 * u.y() - 3.7 * u.z() + 0.4 + 2 * phase);
+    lumpy.push_back(u * (1 + kCalculusLumps * lumps));
+  }
+  TriangleMesh m(std::move(lumpy), unit.faces());
   const Vector3 radial(std::cos(th), std::sin(th), 0), tangent(-std::sin(th), std::cos(th), 0);
   Matrix3 A;
   A.col(0) = 0.45 * radial;

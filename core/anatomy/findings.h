@@ -59,12 +59,16 @@ std::vector<double> LesionCoverage(const TriangleMesh& mesh, const Vector3& cent
 struct GingivaModel;
 
 /// A calculus deposit at probing site `site` (0..5, MB B DB ML L DL) of a tooth,
-/// in the tooth frame: a flattened ellipsoid (2 mm along the surface, 1.2 mm
-/// high) on the root or crown surface, standing 0.3 mm proud of it.
+/// in the tooth frame: a flattened, lumpy ellipsoid (about 2 mm along the
+/// surface, 1.2 mm high) on the root or crown surface, standing about 0.3 mm
+/// proud of it (the lumps move its surface in or out by up to a sixth).
 /// Supragingival: just above the gingival margin; subgingival: in the sulcus,
 /// a third of the way from the floor to the margin. Without gingiva
 /// (`gingiva` null) the margin is taken 1.5 mm above the CEJ and the floor
 /// 2 mm below that.
 TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, int site, bool subgingival);
+
+/// Changes whenever MakeCalculus's meshes change: caches of generated meshes key on it.
+inline constexpr int kCalculusVersion = 2;
 
 }  // namespace sulcus

@@ -144,7 +144,7 @@ std::string GeneratorKey(const ObjectSpec& o) {
       break;
     }
     case ObjectSpec::Kind::kCalculus:
-      k << "calculus|" << o.fdi << '|' << o.mirrored << '|' << o.calculus_site << '|' << o.calculus[o.calculus_site]
+      k << "calculus " << kCalculusVersion << '|' << o.fdi << '|' << o.mirrored << '|' << o.calculus_site << '|' << o.calculus[o.calculus_site]
         << '|' << o.with_gingiva;
       for (int i = 0; i < 6; ++i) k << '|' << o.pocket_mm[i] << '|' << o.recession_mm[i];
       break;
