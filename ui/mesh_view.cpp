@@ -28,7 +28,7 @@
 
 namespace sulcus::ui {
 
-vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_deg) {
+vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_deg, const std::vector<Vector3>* normals) {
   // Area-weighted vertex normals for smooth shading. With a crease angle,
   // each corner of a face takes the normals of only those faces around its
   // vertex that lie within the angle of its own, and a vertex whose corners
@@ -58,16 +58,21 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_
       for (int k = 0; k < 3; ++k) around[faces[f][k]].push_back(static_cast<int>(f));
     // Per vertex, the distinct normals its corners take (few: usually one).
     std::vector<std::vector<std::pair<Vector3, vtkIdType>>> made(verts.size());
+    const bool given = normals && normals->size() == verts.size();
     for (std::size_t f = 0; f < faces.size(); ++f) {
       const Vector3 nf = face_area_normal[f].normalized();
       for (int k = 0; k < 3; ++k) {
         const int v = faces[f][k];
         Vector3 n = Vector3::Zero();
-        for (const int g : around[v]) {
-          const Vector3& ng = face_area_normal[g];
-          if (ng.norm() > 0 && ng.normalized().dot(nf) >= cos_crease) n += ng;
+        if (given && (*normals)[v].squaredNorm() > 0.5 && (*normals)[v].dot(nf) >= cos_crease) {
+          n = (*normals)[v];
+        } else {
+          for (const int g : around[v]) {
+            const Vector3& ng = face_area_normal[g];
+            if (ng.norm() > 0 && ng.normalized().dot(nf) >= cos_crease) n += ng;
+          }
+          if (n.norm() == 0) n = face_area_normal[f];
         }
-        if (n.norm() == 0) n = face_area_normal[f];
         n.normalize();
         vtkIdType id = -1;
         for (const auto& [known, at] : made[v])

@@ -15,8 +15,12 @@ namespace sulcus::ui {
 /// Copies a mesh into polydata with per-point normals for smooth shading.
 /// With `crease_deg` > 0, edges sharper than that keep their crease (their
 /// vertices are split); the point array kSourceVertexArray names the mesh
-/// vertex each point came from.
-vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_deg = 0);
+/// vertex each point came from. With `normals` (one per mesh vertex, as a
+/// share of the gingiva has from its field; needs `crease_deg` > 0), a corner
+/// takes its vertex's given normal where that lies within the crease angle of
+/// its face, else the normal from the faces; a zero normal counts as none.
+vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_deg = 0,
+                                        const std::vector<Vector3>* normals = nullptr);
 inline constexpr const char* kSourceVertexArray = "source_vertex";
 
 /// One mesh in a picture, with an RGB colour in [0, 1] and an opacity.

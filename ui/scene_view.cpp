@@ -115,9 +115,10 @@ vtkSmartPointer<vtkMatrix4x4> ToVtk(const RigidTransform& X) {
 // against its neighbour's, a jaw's cut end); gentler ones are shaded smooth.
 constexpr double kCreaseDeg = 60;
 
-vtkSmartPointer<vtkActor> MeshActor(const TriangleMesh& mesh, const Look& look) {
+vtkSmartPointer<vtkActor> MeshActor(const TriangleMesh& mesh, const Look& look,
+                                    const std::vector<Vector3>* normals = nullptr) {
   auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-  mapper->SetInputData(ToPolyData(mesh, kCreaseDeg));
+  mapper->SetInputData(ToPolyData(mesh, kCreaseDeg, normals));
   auto actor = vtkSmartPointer<vtkActor>::New();
   actor->SetMapper(mapper);
   actor->GetProperty()->SetColor(look.r, look.g, look.b);
@@ -201,7 +202,7 @@ void SceneView::Load(const CompiledScene& scene) {
     // The jaws are bone under alveolar mucosa: drawn as the mucosa, a deeper
     // red than the attached gingiva.
     if (o.kind == ObjectSpec::Kind::kAnatomy && o.tissue == Tissue::kBone) look = {0.78, 0.40, 0.44, 1.0, 0.25};
-    auto actor = MeshActor(scene.meshes[i], look);
+    auto actor = MeshActor(scene.meshes[i], look, i < scene.normals.size() ? &scene.normals[i] : nullptr);
     // Findings drawn where the scene puts them: caries on its surface, inflamed
     // gingiva at its sites.
     const bool carious = std::any_of(o.caries_mm.begin(), o.caries_mm.end(), [](double r) { return r > 0; });

@@ -540,6 +540,21 @@ TriangleMesh RimsOntoField(const TriangleMesh& mesh, const GingivaShareField& fi
   return TriangleMesh(std::move(vertices), mesh.faces());
 }
 
+// Per vertex, the unit gradient of the share's uncut field (central
+// differences), zero where it is not finite or vanishes.
+std::vector<Vector3> FieldNormals(const TriangleMesh& mesh, const GingivaShareField& field) {
+  constexpr double h = 0.01;  // mm
+  std::vector<Vector3> normals;
+  normals.reserve(mesh.num_vertices());
+  for (const Vector3& v : mesh.vertices()) {
+    Vector3 g;
+    for (int a = 0; a < 3; ++a) g[a] = field.Uncut(v + h * Vector3::Unit(a)) - field.Uncut(v - h * Vector3::Unit(a));
+    const double norm = g.norm();
+    normals.push_back(std::isfinite(norm) && norm > 1e-9 ? Vector3(g / norm) : Vector3::Zero());
+  }
+  return normals;
+}
+
 }  // namespace
 
 GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params,
@@ -557,6 +572,7 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& param
   TriangleMesh mesh =
       RimsOntoField(ClipByPlanes(Simplify(Isosurface(near_side, field.box(), cell_mm), 0.02), planes), field, planes, cell_mm);
   if (mesh.num_faces() == 0) throw std::invalid_argument("the gingiva of tooth " + std::to_string(tooth.tooth.fdi) + " is empty");
+  out.normals = FieldNormals(mesh, field);
   out.mesh = std::move(mesh);
   return out;
 }

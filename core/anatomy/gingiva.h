@@ -52,6 +52,12 @@ struct GingivaModel {
   // plane of points q with q . crest_up = -crest_drop_mm.
   double crest_drop_mm = 0;
   Vector3 crest_up = Vector3::UnitZ();
+  // For drawing, a share's only (empty for a collar): per vertex of `mesh`, the
+  // unit normal of the gingiva's surface there, the gradient of the share's
+  // uncut field; zero where the field gives none. Two neighbouring shares
+  // take the same normal where their rims meet, so the seam does not show in
+  // the shading, nor the facets of the sampling.
+  std::vector<Vector3> normals;
   /// The floor height at angle th (radians from +x), nearest segment.
   double FloorAt(double th) const;
   /// The segment of the tables around the tooth nearest angle th (radians from +x).
@@ -59,7 +65,7 @@ struct GingivaModel {
 };
 
 /// Changes whenever the share's geometry does (its meshes are cached by it).
-inline constexpr int kGingivaShareVersion = 27;
+inline constexpr int kGingivaShareVersion = 28;
 
 /// A neighbouring tooth on the arch, for the gingiva between the two.
 struct GingivaNeighbour {

@@ -182,6 +182,41 @@ std::optional<TriangleMesh> ReadCachedMesh(const std::filesystem::path& file) {
   return TriangleMesh(std::move(v), std::move(f));
 }
 
+// A mesh's normals as the cache holds them: the count, the normals, their checksum.
+std::vector<Vector3> ReadCachedNormals(const std::filesystem::path& file, std::size_t expected) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return {};
+  std::uint64_t n = 0, checksum = 0;
+  in.read(reinterpret_cast<char*>(&n), 8);
+  if (!in || n != expected) return {};
+  std::vector<Vector3> v(n);
+  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(Vector3)));
+  in.read(reinterpret_cast<char*>(&checksum), 8);
+  if (!in || Fnv1a(v.data(), n * sizeof(Vector3)) != checksum) return {};
+  return v;
+}
+
+void WriteCachedNormals(const std::vector<Vector3>& normals, const std::filesystem::path& file) {
+  std::error_code ec;
+  std::filesystem::create_directories(file.parent_path(), ec);
+  const std::filesystem::path tmp = file.string() + ".tmp" + std::to_string(::getpid()) + "-" +
+                                    std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id()));
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) return;  // an unwritable cache only costs time
+    const std::uint64_t n = normals.size();
+    const std::uint64_t sum = Fnv1a(normals.data(), n * sizeof(Vector3));
+    out.write(reinterpret_cast<const char*>(&n), 8);
+    out.write(reinterpret_cast<const char*>(normals.data()), static_cast<std::streamsize>(n * sizeof(Vector3)));
+    out.write(reinterpret_cast<const char*>(&sum), 8);
+  }
+  std::filesystem::rename(tmp, file, ec);
+}
+
+void MirrorNormals(std::vector<Vector3>* normals) {
+  for (Vector3& n : *normals) n.x() = -n.x();
+}
+
 void WriteCachedMesh(const TriangleMesh& m, const std::filesystem::path& file) {
   std::error_code ec;
   std::filesystem::create_directories(file.parent_path(), ec);
@@ -357,25 +392,38 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
 
 }  // namespace
 
-TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::path& cache_dir) {
+TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::path& cache_dir,
+                                  std::vector<Vector3>* normals) {
   const std::string key = GeneratorKey(o);
-  if (key.empty() || cache_dir.empty()) return MakeObjectMesh(o);
+  if (key.empty() || cache_dir.empty()) return MakeObjectMesh(o, normals);
   // A gingiva is cached unmirrored (its key is in that frame) and mirrored here.
   const bool mirror_here = o.kind == ObjectSpec::Kind::kGingiva && o.mirrored;
   char name[32];
   std::snprintf(name, sizeof name, "%016llx.mesh", static_cast<unsigned long long>(Fnv1a(key.data(), key.size())));
   const std::filesystem::path file = cache_dir / "meshes" / name;
-  if (auto cached = ReadCachedMesh(file)) return mirror_here ? ArchMirror(true, *cached) : std::move(*cached);
-  TriangleMesh m = MakeObjectMesh(o);
-  if (mirror_here) {
-    WriteCachedMesh(ArchMirror(true, m), file);
-  } else {
-    WriteCachedMesh(m, file);
+  std::filesystem::path normals_file = file;
+  normals_file.replace_extension(".normals");
+  if (auto cached = ReadCachedMesh(file)) {
+    if (normals) {
+      // (no normals file, or one that does not fit: drawn from the faces)
+      *normals = ReadCachedNormals(normals_file, cached->num_vertices());
+      if (mirror_here) MirrorNormals(normals);
+    }
+    return mirror_here ? ArchMirror(true, *cached) : std::move(*cached);
   }
+  std::vector<Vector3> made_normals;
+  TriangleMesh m = MakeObjectMesh(o, &made_normals);
+  std::vector<Vector3> unmirrored_normals = made_normals;
+  if (mirror_here) MirrorNormals(&unmirrored_normals);
+  // (the normals first: a reader that finds the mesh finds its normals)
+  if (!unmirrored_normals.empty()) WriteCachedNormals(unmirrored_normals, normals_file);
+  WriteCachedMesh(mirror_here ? ArchMirror(true, m) : m, file);
+  if (normals) *normals = std::move(made_normals);
   return m;
 }
 
-TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
+TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals) {
+  if (normals) normals->clear();
   switch (o.kind) {
     case ObjectSpec::Kind::kTooth: {
       ToothModel tooth = GenerateTooth(o.fdi);
@@ -386,7 +434,12 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o) {
       const ToothModel tooth = GenerateTooth(o.fdi);
       if (o.gingiva_neighbours.empty()) return ArchMirror(o.mirrored, GenerateGingiva(tooth, GingivaOf(o)).mesh);
       const ShareNeighbours nb(o);
-      return ArchMirror(o.mirrored, GenerateGingiva(tooth, GingivaOf(o), nb.next).mesh);
+      GingivaModel g = GenerateGingiva(tooth, GingivaOf(o), nb.next);
+      if (normals) {
+        *normals = std::move(g.normals);
+        if (o.mirrored) MirrorNormals(normals);
+      }
+      return ArchMirror(o.mirrored, g.mesh);
     }
     case ObjectSpec::Kind::kCalculus: {
       const ToothModel tooth = GenerateTooth(o.fdi);
@@ -443,6 +496,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   // other side of the arch, the key in the unmirrored frame) is not built: it
   // is its twin's mesh, mirrored.
   scene->meshes.resize(n);
+  scene->normals.resize(n);
   std::vector<int> twin(n, -1);
   {
     std::map<std::string, int> first;
@@ -467,7 +521,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
       for (int job = next_mesh++; job < jobs && !halt; job = next_mesh++) {
         const int i = mesh_order[job];
         try {
-          scene->meshes[i] = MakeObjectMeshCached(scene->spec.objects[i], cache_dir);
+          scene->meshes[i] = MakeObjectMeshCached(scene->spec.objects[i], cache_dir, &scene->normals[i]);
           std::lock_guard lock(mesh_mutex);
           report(made++, scene->spec.objects[i].name, 0.1);
         } catch (...) {
@@ -486,7 +540,10 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
     for (int i = 0; i < n; ++i) {
       if (twin[i] < 0) continue;
       const int j = twin[i];
-      scene->meshes[i] = ArchMirror(scene->spec.objects[i].mirrored != scene->spec.objects[j].mirrored, scene->meshes[j]);
+      const bool mirror = scene->spec.objects[i].mirrored != scene->spec.objects[j].mirrored;
+      scene->meshes[i] = ArchMirror(mirror, scene->meshes[j]);
+      scene->normals[i] = scene->normals[j];
+      if (mirror) MirrorNormals(&scene->normals[i]);
       report(made++, scene->spec.objects[i].name, 0.1);
     }
   }

@@ -180,16 +180,23 @@ void LinkGingivaNeighbours(SceneSpec* spec);
 /// An object's mesh in its own frame (before X_WO): a generated tooth, gingiva
 /// or soft tissue, the mesh file, or the solid. Throws MeshError for an
 /// unreadable mesh file.
-TriangleMesh MakeObjectMesh(const ObjectSpec& object);
+/// With `normals`, also the normals to draw it with, per vertex (a share of an
+/// arch's gingiva has them: GingivaModel::normals; other objects none, and
+/// `normals` is left empty).
+TriangleMesh MakeObjectMesh(const ObjectSpec& object, std::vector<Vector3>* normals = nullptr);
 
 /// The same, with generated meshes cached in `cache_dir`/meshes keyed by a hash
 /// of what generates them (a corrupt file is regenerated, never trusted).
-TriangleMesh MakeObjectMeshCached(const ObjectSpec& object, const std::filesystem::path& cache_dir);
+TriangleMesh MakeObjectMeshCached(const ObjectSpec& object, const std::filesystem::path& cache_dir,
+                                  std::vector<Vector3>* normals = nullptr);
 
 /// A compiled scene: everything the engine needs, immutable after construction.
 struct CompiledScene {
   SceneSpec spec;
   std::vector<TriangleMesh> meshes;       // per object, in the object frame
+  // Per object: per vertex of its mesh, the normal to draw it with (object
+  // frame; empty: from its faces). Shares of an arch's gingiva have them.
+  std::vector<std::vector<Vector3>> normals;
   std::vector<SphereTree> trees;          // per object
   std::vector<LeafPlanes> planes;         // per object: its leaves' clipping planes (empty: spheres)
   TriangleMesh tool_mesh;  // the probe's collision part (anatomy/probe.h), tip frame

@@ -6,6 +6,9 @@
 
 #include "core/geometry/primitives.h"
 
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+
 namespace sulcus::ui {
 namespace {
 
@@ -19,6 +22,38 @@ TEST(MeshView, PolyDataMatchesTheMesh) {
   double p[3];
   poly->GetPoint(5, p);
   EXPECT_DOUBLE_EQ(p[0], torus.vertices()[5].x());  // copied, not computed
+}
+
+TEST(MeshView, GivenNormalsAreDrawnWhereTheyFitTheFaces) {
+  // An icosphere (coarse: its faces' normals are far from the sphere's) with
+  // the exact sphere's normals given: each point takes its vertex's given
+  // normal. Given normals that turn away from a face (more than the crease
+  // angle) are not used there; a zero normal counts as none.
+  const TriangleMesh sphere = MakeIcosphere(5, 1);
+  std::vector<Vector3> exact;
+  for (const Vector3& v : sphere.vertices()) exact.push_back(v.normalized());
+  const auto poly = ToPolyData(sphere, 60, &exact);
+  ASSERT_EQ(poly->GetNumberOfPoints(), static_cast<vtkIdType>(sphere.num_vertices()));
+  // (points are made corner by corner: the source array names each one's vertex)
+  auto source = [](vtkPolyData* p, vtkIdType i) {
+    return static_cast<std::size_t>(p->GetPointData()->GetArray(kSourceVertexArray)->GetTuple1(i));
+  };
+  double n[3];
+  for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i) {
+    poly->GetPointData()->GetNormals()->GetTuple(i, n);
+    EXPECT_NEAR(Vector3(n[0], n[1], n[2]).dot(exact[source(poly, i)]), 1.0, 1e-12) << i;
+  }
+  std::vector<Vector3> wrong(exact.size(), Vector3::Zero());
+  wrong[0] = -exact[0];  // inward: more than 60 degrees from every face around it
+  const auto fallback = ToPolyData(sphere, 60, &wrong);
+  int checked = 0;
+  for (vtkIdType i = 0; i < fallback->GetNumberOfPoints(); ++i) {
+    fallback->GetPointData()->GetNormals()->GetTuple(i, n);
+    const std::size_t v = source(fallback, i);
+    EXPECT_GT(Vector3(n[0], n[1], n[2]).dot(exact[v]), 0.9) << "drawn from its faces: " << v;
+    checked += v == 0;
+  }
+  EXPECT_EQ(checked, 1);
 }
 
 TEST(MeshView, RendersCalibrationSolidsToPng) {

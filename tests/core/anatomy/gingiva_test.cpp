@@ -313,6 +313,61 @@ TEST(Gingiva, ArchSharesAreSolidsThatMeetFaceToFace) {
   }
 }
 
+TEST(Gingiva, ShareNormalsAreTheSurfacesAndAgreeAcrossTheSeam) {
+  // A share's drawing normals (the gradient of its field) point out of its
+  // surface as its faces do, and where two shares' rims meet, both take the
+  // same normal there: the seam does not show in the shading.
+  const ArchRun arch;
+  std::vector<GingivaModel> shares;
+  for (std::size_t i = 0; i < arch.placed.size(); ++i) shares.push_back(GenerateGingiva(arch.teeth[i], {}, arch.Links(i)));
+  for (std::size_t i = 0; i < shares.size(); ++i) {
+    const GingivaModel& g = shares[i];
+    ASSERT_EQ(g.normals.size(), g.mesh.num_vertices());
+    const std::vector<Vector3> sums = g.mesh.VertexNormalSums();
+    const std::vector<ClipPlane> cuts = GingivaShareField(arch.teeth[i], arch.collars[i], arch.Links(i)).cuts();
+    int unit = 0, along = 0, off_rim = 0;
+    for (std::size_t v = 0; v < sums.size(); ++v) {
+      const Vector3& n = g.normals[v];
+      if (std::abs(n.norm() - 1) < 1e-9) ++unit;
+      // (not at a rim, whose faces' mean turns halfway into the flat cap)
+      const Vector3& p = g.mesh.vertices()[v];
+      if (std::any_of(cuts.begin(), cuts.end(), [&](const ClipPlane& c) { return std::abs((p - c.q).dot(c.normal)) < 1e-6; }))
+        continue;
+      ++off_rim;
+      if (n.dot(sums[v].normalized()) > 0.7) ++along;
+    }
+    std::printf("share %d: %d of %zu normals unit, %d of %d off the rims within 45 degrees of the faces' mean\n",
+                arch.placed[i].tooth.fdi, unit, sums.size(), along, off_rim);
+    EXPECT_GT(unit, 0.99 * static_cast<double>(sums.size()));
+    EXPECT_GT(along, 0.95 * off_rim);
+  }
+  // A collar (no neighbours) has none: it is drawn from its faces.
+  EXPECT_TRUE(arch.collars[0].normals.empty());
+  for (std::size_t i = 0; i + 1 < arch.placed.size(); ++i) {
+    const GingivaNeighbour to_j = arch.Link(i, i + 1);
+    const Matrix3 back = to_j.A.transpose();  // j's frame to i's
+    const TriangleMesh& mi = shares[i].mesh;
+    const TriangleMesh& mj = shares[i + 1].mesh;
+    int pairs = 0, agree = 0;
+    double worst_deg = 0;
+    for (std::size_t a = 0; a < mi.num_vertices(); ++a) {
+      const Vector3& p = mi.vertices()[a];
+      for (std::size_t b = 0; b < mj.num_vertices(); ++b) {
+        const Vector3 q = back * (mj.vertices()[b] - to_j.b);
+        if ((p - q).norm() > 0.02) continue;
+        ++pairs;
+        const double c = std::clamp(shares[i].normals[a].dot(back * shares[i + 1].normals[b]), -1.0, 1.0);
+        agree += c > std::cos(10 * std::numbers::pi / 180);
+        worst_deg = std::max(worst_deg, std::acos(c) * 180 / std::numbers::pi);
+      }
+    }
+    std::printf("seam %d|%d: %d vertex pairs within 0.02 mm, %d with normals within 10 degrees, worst %.1f degrees\n",
+                arch.placed[i].tooth.fdi, arch.placed[i + 1].tooth.fdi, pairs, agree, worst_deg);
+    ASSERT_GT(pairs, 20);
+    EXPECT_GT(agree, 0.9 * pairs);
+  }
+}
+
 TEST(Gingiva, UnderAContactTheSulciMeetAboveTheCol) {
   // 45 and 46: halfway between 45's distal sulcus and 46's mesial one (under
   // their contact) the gingiva is open from above down to the col, and tissue

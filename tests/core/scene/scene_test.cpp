@@ -596,6 +596,22 @@ TEST(SceneCompile, AMirroredGingivaShareIsItsTwinsMirrored) {
     EXPECT_TRUE(mirrored(gingiva(*scene, 22), gingiva(*scene, 12)));
     EXPECT_GT(gingiva(*scene, 11).num_faces(), 1000u);
     EXPECT_EQ(mesh_files(cache), 4 + 2) << "four teeth and two shares";
+    // The shares' drawing normals: one per vertex, mirrored with the mesh,
+    // and the same when read back from the cache; none for a tooth.
+    auto normals = [](const CompiledScene& scene, int fdi, ObjectSpec::Kind kind) -> const std::vector<Vector3>& {
+      for (std::size_t i = 0; i < scene.spec.objects.size(); ++i)
+        if (scene.spec.objects[i].kind == kind && scene.spec.objects[i].fdi == fdi) return scene.normals[i];
+      throw std::runtime_error("no object " + std::to_string(fdi));
+    };
+    const auto& n11 = normals(*scene, 11, ObjectSpec::Kind::kGingiva);
+    const auto& n21 = normals(*scene, 21, ObjectSpec::Kind::kGingiva);
+    ASSERT_EQ(n11.size(), gingiva(*scene, 11).num_vertices());
+    ASSERT_EQ(n21.size(), n11.size());
+    for (std::size_t v = 0; v < n11.size(); ++v) EXPECT_EQ(n21[v], Vector3(-n11[v].x(), n11[v].y(), n11[v].z())) << v;
+    EXPECT_TRUE(normals(*scene, 11, ObjectSpec::Kind::kTooth).empty());
+    const auto again = CompileScene(LoadSceneSpec(Write("gingiva_twins.yaml", teeth)), cache);
+    for (int fdi : {11, 12, 21, 22})
+      EXPECT_EQ(normals(*again, fdi, ObjectSpec::Kind::kGingiva), normals(*scene, fdi, ObjectSpec::Kind::kGingiva)) << fdi;
   }
   {
     const fs::path cache = Dir() / "cache-gingiva-not-twins";
