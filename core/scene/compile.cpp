@@ -196,7 +196,10 @@ std::vector<Vector3> ReadCachedNormals(const std::filesystem::path& file, std::s
   return v;
 }
 
-void WriteCachedNormals(const std::vector<Vector3>& normals, const std::filesystem::path& file) {
+// Writes a cache file under a name of this process and thread, then renames it
+// into place: a reader never sees half a file.
+template <typename Write>
+void WriteCacheFile(const std::filesystem::path& file, Write write) {
   std::error_code ec;
   std::filesystem::create_directories(file.parent_path(), ec);
   const std::filesystem::path tmp = file.string() + ".tmp" + std::to_string(::getpid()) + "-" +
@@ -204,13 +207,19 @@ void WriteCachedNormals(const std::vector<Vector3>& normals, const std::filesyst
   {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) return;  // an unwritable cache only costs time
+    write(out);
+  }
+  std::filesystem::rename(tmp, file, ec);
+}
+
+void WriteCachedNormals(const std::vector<Vector3>& normals, const std::filesystem::path& file) {
+  WriteCacheFile(file, [&](std::ofstream& out) {
     const std::uint64_t n = normals.size();
     const std::uint64_t sum = Fnv1a(normals.data(), n * sizeof(Vector3));
     out.write(reinterpret_cast<const char*>(&n), 8);
     out.write(reinterpret_cast<const char*>(normals.data()), static_cast<std::streamsize>(n * sizeof(Vector3)));
     out.write(reinterpret_cast<const char*>(&sum), 8);
-  }
-  std::filesystem::rename(tmp, file, ec);
+  });
 }
 
 void MirrorNormals(std::vector<Vector3>* normals) {
@@ -218,13 +227,7 @@ void MirrorNormals(std::vector<Vector3>* normals) {
 }
 
 void WriteCachedMesh(const TriangleMesh& m, const std::filesystem::path& file) {
-  std::error_code ec;
-  std::filesystem::create_directories(file.parent_path(), ec);
-  const std::filesystem::path tmp = file.string() + ".tmp" + std::to_string(::getpid()) + "-" +
-                                    std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id()));
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) return;  // an unwritable cache only costs time
+  WriteCacheFile(file, [&](std::ofstream& out) {
     const std::uint64_t nv = m.num_vertices(), nf = m.num_faces();
     out.write(kMeshMagic, 8);
     out.write(reinterpret_cast<const char*>(&nv), 8);
@@ -235,8 +238,7 @@ void WriteCachedMesh(const TriangleMesh& m, const std::filesystem::path& file) {
     const std::uint64_t sum = Fnv1a(m.faces().data(), nf * sizeof(TriangleMesh::Face),
                                     Fnv1a(m.vertices().data(), nv * sizeof(Vector3)));
     out.write(reinterpret_cast<const char*>(&sum), 8);
-  }
-  std::filesystem::rename(tmp, file, ec);
+  });
 }
 
 }  // namespace
