@@ -44,10 +44,14 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_
   std::vector<Vector3> out_normals;
   std::vector<vtkIdType> source;  // the mesh vertex each point was made from
   std::vector<std::array<vtkIdType, 3>> out_faces(faces.size());
+  // A given normal counts where it is one (a zero one is none).
+  const bool given = normals && normals->size() == verts.size();
+  auto given_at = [&](int v) { return given && (*normals)[v].squaredNorm() > 0.5; };
   if (crease_deg <= 0) {
-    const std::vector<Vector3> sums = mesh.VertexNormalSums();
     out_points = verts;
-    out_normals = sums;
+    out_normals = mesh.VertexNormalSums();
+    for (std::size_t i = 0; i < verts.size(); ++i)
+      if (given_at(static_cast<int>(i))) out_normals[i] = (*normals)[i];
     source.resize(verts.size());
     for (std::size_t i = 0; i < verts.size(); ++i) source[i] = static_cast<vtkIdType>(i);
     for (std::size_t f = 0; f < faces.size(); ++f) out_faces[f] = {faces[f][0], faces[f][1], faces[f][2]};
@@ -58,13 +62,12 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_
       for (int k = 0; k < 3; ++k) around[faces[f][k]].push_back(static_cast<int>(f));
     // Per vertex, the distinct normals its corners take (few: usually one).
     std::vector<std::vector<std::pair<Vector3, vtkIdType>>> made(verts.size());
-    const bool given = normals && normals->size() == verts.size();
     for (std::size_t f = 0; f < faces.size(); ++f) {
       const Vector3 nf = face_area_normal[f].normalized();
       for (int k = 0; k < 3; ++k) {
         const int v = faces[f][k];
         Vector3 n = Vector3::Zero();
-        if (given && (*normals)[v].squaredNorm() > 0.5 && (*normals)[v].dot(nf) >= cos_crease) {
+        if (given_at(v) && (*normals)[v].dot(nf) >= cos_crease) {
           n = (*normals)[v];
         } else {
           for (const int g : around[v]) {

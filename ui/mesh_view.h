@@ -16,9 +16,9 @@ namespace sulcus::ui {
 /// With `crease_deg` > 0, edges sharper than that keep their crease (their
 /// vertices are split); the point array kSourceVertexArray names the mesh
 /// vertex each point came from. With `normals` (one per mesh vertex, as a
-/// share of the gingiva has from its field; needs `crease_deg` > 0), a corner
-/// takes its vertex's given normal where that lies within the crease angle of
-/// its face, else the normal from the faces; a zero normal counts as none.
+/// share of the gingiva has from its field), a vertex takes its given normal;
+/// with a crease angle, only at the corners of faces within that angle of it
+/// (the others take the normal from the faces). A zero normal counts as none.
 vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_deg = 0,
                                         const std::vector<Vector3>* normals = nullptr);
 inline constexpr const char* kSourceVertexArray = "source_vertex";

@@ -127,6 +127,12 @@ TriangleMesh ArchMirror(bool mirrored, TriangleMesh mesh) {
   return mesh;
 }
 
+std::vector<Vector3> ArchMirror(bool mirrored, std::vector<Vector3> points) {
+  if (mirrored)
+    for (Vector3& p : points) p = ArchMirror(true, p);
+  return points;
+}
+
 TriangleMesh PlacedMesh(const PlacedTooth& placed, const TriangleMesh& tooth_mesh) {
   TriangleMesh m = ArchMirror(placed.mirrored, tooth_mesh);
   m.Transform(placed.X_WT.rotation(), placed.X_WT.translation());

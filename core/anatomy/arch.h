@@ -61,6 +61,8 @@ std::vector<PlacedTooth> PlaceArch(bool upper, const ArchParams& params = {});
 /// its own inverse. The mesh version also flips the faces so they stay outward.
 Vector3 ArchMirror(bool mirrored, const Vector3& p);
 TriangleMesh ArchMirror(bool mirrored, TriangleMesh mesh);
+/// Points or directions (a mesh's normals), each mirrored alike.
+std::vector<Vector3> ArchMirror(bool mirrored, std::vector<Vector3> points);
 
 /// A tooth's mesh in the world: mirrored if needed, then moved by X_WT.
 TriangleMesh PlacedMesh(const PlacedTooth& placed, const TriangleMesh& tooth_mesh);

@@ -222,10 +222,6 @@ void WriteCachedNormals(const std::vector<Vector3>& normals, const std::filesyst
   });
 }
 
-void MirrorNormals(std::vector<Vector3>* normals) {
-  for (Vector3& n : *normals) n.x() = -n.x();
-}
-
 void WriteCachedMesh(const TriangleMesh& m, const std::filesystem::path& file) {
   WriteCacheFile(file, [&](std::ofstream& out) {
     const std::uint64_t nv = m.num_vertices(), nf = m.num_faces();
@@ -406,20 +402,15 @@ TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::pa
   std::filesystem::path normals_file = file;
   normals_file.replace_extension(".normals");
   if (auto cached = ReadCachedMesh(file)) {
-    if (normals) {
-      // (no normals file, or one that does not fit: drawn from the faces)
-      *normals = ReadCachedNormals(normals_file, cached->num_vertices());
-      if (mirror_here) MirrorNormals(normals);
-    }
-    return mirror_here ? ArchMirror(true, *cached) : std::move(*cached);
+    // (no normals file, or one that does not fit: drawn from the faces)
+    if (normals) *normals = ArchMirror(mirror_here, ReadCachedNormals(normals_file, cached->num_vertices()));
+    return ArchMirror(mirror_here, std::move(*cached));
   }
   std::vector<Vector3> made_normals;
   TriangleMesh m = MakeObjectMesh(o, &made_normals);
-  std::vector<Vector3> unmirrored_normals = made_normals;
-  if (mirror_here) MirrorNormals(&unmirrored_normals);
   // (the normals first: a reader that finds the mesh finds its normals)
-  if (!unmirrored_normals.empty()) WriteCachedNormals(unmirrored_normals, normals_file);
-  WriteCachedMesh(mirror_here ? ArchMirror(true, m) : m, file);
+  if (!made_normals.empty()) WriteCachedNormals(ArchMirror(mirror_here, made_normals), normals_file);
+  WriteCachedMesh(ArchMirror(mirror_here, m), file);
   if (normals) *normals = std::move(made_normals);
   return m;
 }
@@ -437,11 +428,8 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals) 
       if (o.gingiva_neighbours.empty()) return ArchMirror(o.mirrored, GenerateGingiva(tooth, GingivaOf(o)).mesh);
       const ShareNeighbours nb(o);
       GingivaModel g = GenerateGingiva(tooth, GingivaOf(o), nb.next);
-      if (normals) {
-        *normals = std::move(g.normals);
-        if (o.mirrored) MirrorNormals(normals);
-      }
-      return ArchMirror(o.mirrored, g.mesh);
+      if (normals) *normals = ArchMirror(o.mirrored, std::move(g.normals));
+      return ArchMirror(o.mirrored, std::move(g.mesh));
     }
     case ObjectSpec::Kind::kCalculus: {
       const ToothModel tooth = GenerateTooth(o.fdi);
@@ -544,8 +532,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
       const int j = twin[i];
       const bool mirror = scene->spec.objects[i].mirrored != scene->spec.objects[j].mirrored;
       scene->meshes[i] = ArchMirror(mirror, scene->meshes[j]);
-      scene->normals[i] = scene->normals[j];
-      if (mirror) MirrorNormals(&scene->normals[i]);
+      scene->normals[i] = ArchMirror(mirror, scene->normals[j]);
       report(made++, scene->spec.objects[i].name, 0.1);
     }
   }

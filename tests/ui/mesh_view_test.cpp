@@ -54,6 +54,13 @@ TEST(MeshView, GivenNormalsAreDrawnWhereTheyFitTheFaces) {
     checked += v == 0;
   }
   EXPECT_EQ(checked, 1);
+  // Without a crease angle (one point a vertex) the given normals are used as they are.
+  const auto plain = ToPolyData(sphere, 0, &exact);
+  ASSERT_EQ(plain->GetNumberOfPoints(), static_cast<vtkIdType>(sphere.num_vertices()));
+  for (vtkIdType i = 0; i < plain->GetNumberOfPoints(); ++i) {
+    plain->GetPointData()->GetNormals()->GetTuple(i, n);
+    EXPECT_NEAR(Vector3(n[0], n[1], n[2]).dot(exact[i]), 1.0, 1e-12) << i;
+  }
 }
 
 TEST(MeshView, RendersCalibrationSolidsToPng) {
