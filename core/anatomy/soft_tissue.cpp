@@ -362,11 +362,34 @@ double BuccalExtent(const ArchCurve& curve, const std::vector<const ArchTeeth*>&
   return best;
 }
 
+// A lip's section about `origin`: its inner (mucosal) face at `inner` along
+// `u` (outward), from the vestibule's fold at `fold` to the free edge at
+// `edge` (z). The free edge is the vermilion: a rounded rim `thickness` thick
+// (a half ellipse); toward the fold the lip thins to 60 % of that and its
+// corners are squarer (a superellipse of exponent 4), where the vestibule's
+// mucosa turns. The inner face keeps to `inner` or outside it. m points.
+std::vector<Vector3> LipSection(const Vector3& origin, const Vector3& u, double inner, double thickness, double edge,
+                                double fold, int m) {
+  std::vector<Vector3> ring;
+  const double zc = 0.5 * (edge + fold), hz = 0.5 * std::abs(edge - fold), toward_edge = edge > fold ? 1 : -1;
+  for (int i = 0; i < m; ++i) {
+    const double a = 2 * kPi * i / m, c = std::cos(a), s = std::sin(a);
+    const double e = s >= 0 ? 2.0 : 4.0;  // s > 0: the edge's half
+    const double x = std::copysign(std::pow(std::abs(c), 2 / e), c), y = std::copysign(std::pow(std::abs(s), 2 / e), s);
+    const double t = 0.5 * (1 - y);  // 0 at the edge, 1 at the fold
+    const double half = 0.5 * thickness * (1 - 0.4 * t);
+    ring.push_back(origin + (inner + half * (1 + x)) * u + Vector3(0, 0, zc + toward_edge * hz * y));
+  }
+  return ring;
+}
+
 // A slab outside the teeth along `curve` from s0 to s1: its inner face a
 // vestibule's width (`gap`) outside the teeth, `thickness` thick, z from z0 to
-// z1 (tapered to its ends when `round_ends`).
+// z1 (tapered to its ends over `z_round` stations). A lip (`lip_edge` +1: its
+// free edge at z1, -1: at z0) takes LipSection's profile, a cheek (0) a
+// rounded rectangle.
 TriangleMesh OuterSlab(const ArchCurve& curve, const std::vector<const ArchTeeth*>& arches, double s0, double s1,
-                       double gap, double thickness, double z0, double z1, double z_round = 2) {
+                       double gap, double thickness, double z0, double z1, double z_round = 2, int lip_edge = 0) {
   const int stations = std::max(8, static_cast<int>((s1 - s0) / 1.0));
   std::vector<double> inner(stations + 1);
   for (int i = 0; i <= stations; ++i) inner[i] = BuccalExtent(curve, arches, s0 + (s1 - s0) * i / stations, 1.0) + gap;
@@ -382,8 +405,19 @@ TriangleMesh OuterSlab(const ArchCurve& curve, const std::vector<const ArchTeeth
     Vector3 o = curve.Point(s);
     o.z() = 0;
     const double zc = 0.5 * (z0 + z1), hz = 0.5 * (z1 - z0) * shrink;
-    rings.push_back(Section(o, curve.Normal(s), smooth[i], smooth[i] + thickness * std::max(0.5, shrink), zc - hz,
-                            zc + hz, 24, 3.0));
+    const double t_i = thickness * std::max(0.5, shrink);
+    if (lip_edge == 0) {
+      rings.push_back(Section(o, curve.Normal(s), smooth[i], smooth[i] + t_i, zc - hz, zc + hz, 24, 3.0));
+    } else {
+      // The oral fissure is an oval: toward the commissures each lip's free
+      // edge comes up to 3 mm toward the other lip's (as the fourth power of
+      // the distance from the midline); at its ends the lip's height shrinks
+      // toward that edge.
+      const double f = std::pow((s - 0.5 * (s0 + s1)) / (0.5 * (s1 - s0)), 4);
+      const double edge = (lip_edge > 0 ? z1 : z0) + lip_edge * 3.0 * f;
+      const double fold = edge + ((lip_edge > 0 ? z0 : z1) - edge) * shrink;
+      rings.push_back(LipSection(o, curve.Normal(s), smooth[i], t_i, edge, fold, 32));
+    }
   }
   return Loft(rings);
 }
@@ -415,35 +449,86 @@ double LingualHalfWidth(const ArchTeeth& lower, double y) {
   return half;
 }
 
+// A section of the tongue at `y`: `half` wide each side, its widest (the
+// lateral borders) at `mid`; above them the dorsum, convex across (a
+// superellipse of exponent 2.3, so it falls about 1.6 mm from the midline to
+// four fifths of the way out) with a median groove `groove` deep; below them
+// the sides and the underside down to `bottom`, squarer (exponent 3).
+std::vector<Vector3> TongueSection(double y, double half, double top, double mid, double bottom, double groove, int m) {
+  std::vector<Vector3> ring;
+  for (int i = 0; i < m; ++i) {
+    const double a = 2 * kPi * i / m, c = std::cos(a), s = std::sin(a);
+    const double e = s >= 0 ? 2.3 : 3.0;
+    const double x = half * std::copysign(std::pow(std::abs(c), 2 / e), c);
+    double z = s >= 0 ? mid + (top - mid) * std::pow(s, 2 / e) : mid - (mid - bottom) * std::pow(-s, 2 / e);
+    if (s > 0) z -= groove * std::exp(-std::pow(x / 2.5, 2)) * s;
+    ring.emplace_back(x, y, z);
+  }
+  return ring;
+}
+
 TriangleMesh Tongue(const ArchTeeth& lower, const Levels& lv) {
   // From the tip, 5.5 mm behind the lower incisors' lingual surfaces (3 mm
   // behind their lingual gingiva: the tongue at rest as a patient holds it with
   // the mouth open, the floor of the mouth and the ventral surface within reach
-  // of an instrument), back 45 mm.
+  // of an instrument), back 45 mm, where its base turns down into the throat.
   double front = -1e9;  // the central incisors' lingual extent
   for (std::size_t k = 0; k < lower.placed.size(); ++k)
     if (lower.placed[k].tooth.position == 1) front = std::max(front, lower.meshes[k].Bounds().min.y());
   const double tip = front - 5.5, back = tip - 45.0;
-  const int stations = 46;
+  const int stations = 72;
+  const double step = (tip - back) / stations;
+  // Half width: 2 mm inside the lower teeth, behind the last molars its widest.
+  // Each tooth's lingual bulge would print on the borders as a ridge: the
+  // room is eroded (the least within 3 mm) and then averaged over the same
+  // 3 mm, which leaves it nowhere wider than the room it came from.
+  std::vector<double> room(stations + 1);
+  double widest = 0;
+  for (int i = 0; i <= stations; ++i) {
+    const double r = LingualHalfWidth(lower, tip - i * step);
+    if (r < 100) widest = std::max(widest, r - 2.0);
+    room[i] = r < 100 ? r - 2.0 : widest;
+  }
+  const int reach = static_cast<int>(std::ceil(3.0 / step));
+  std::vector<double> eroded(stations + 1), width(stations + 1, 0.0);
+  for (int i = 0; i <= stations; ++i) {
+    eroded[i] = room[i];
+    for (int j = std::max(0, i - reach); j <= std::min(stations, i + reach); ++j) eroded[i] = std::min(eroded[i], room[j]);
+  }
+  for (int i = 0; i <= stations; ++i) {
+    int n = 0;
+    for (int j = std::max(0, i - reach); j <= std::min(stations, i + reach); ++j, ++n) width[i] += eroded[j];
+    width[i] /= n;
+  }
   std::vector<std::vector<Vector3>> rings;
   const double lower_z = lv.lower_crest - 8.0;  // where it joins the floor of the mouth
-  double widest = 0;  // behind the last molars the tongue keeps its widest
   for (int i = 0; i <= stations; ++i) {
-    const double y = tip + (back - tip) * i / stations;
+    const double y = tip - i * step;
     const double from_tip = tip - y;
-    // Half width: 2 mm inside the lower teeth, the tip rounded like a half disc.
-    const double room = LingualHalfWidth(lower, y);
-    if (room < 100) widest = std::max(widest, room - 2.0);
-    const double w = room < 100 ? room - 2.0 : widest;
+    const double w = width[i];
+    // The tip rounded like a half disc.
     const double r_tip = 0.8 * w;
     const double round = from_tip < r_tip ? std::sqrt(std::max(0.0, 1 - std::pow(1 - from_tip / r_tip, 2))) : 1.0;
-    const double half = std::max(0.8, w * std::max(0.12, round));
+    // Its base (the last 14 mm) bends down; over the last 8 mm its corners are
+    // rounded off in plan, to 55 % of its width at the end.
+    const double base = std::max(0.0, from_tip - 31.0);
+    const double t = std::clamp((base - 6.0) / 8.0, 0.0, 1.0);
+    const double half = std::max(0.8, w * std::max(0.12, round) * (0.55 + 0.45 * std::sqrt(1 - t * t)));
     // The dorsum level with the lower occlusal plane, rising toward the back and
-    // falling to the tip; the ventral surface free under the first 12 mm, then
-    // down to the floor of the mouth.
-    const double top = lv.lower_edge - 1.5 + 4.0 * std::pow(from_tip / 45.0, 1.5) - 2.5 * (1 - round);
-    const double bottom = from_tip < 12 ? top - 4.0 - (top - 4.0 - lower_z) * (from_tip / 12.0) : lower_z;
-    rings.push_back(Section(Vector3(0, y, 0), Vector3::UnitX(), -half, half, std::min(bottom, top - 2.5), top, 32, 2.6));
+    // falling to the tip; the base bends down (an arc of 20 mm radius, its
+    // whole section) toward the oropharynx. The ventral surface free under the
+    // first 12 mm, then down to the floor of the mouth.
+    const double turn = 20.0 - std::sqrt(20.0 * 20.0 - base * base);  // 5.7 mm at the end
+    const double bottom_free = from_tip < 12 ? (from_tip / 12.0) : 1.0;
+    double top = lv.lower_edge - 1.5 + 4.0 * std::pow(std::min(from_tip, 31.0) / 45.0, 1.5) - 2.5 * (1 - round);
+    const double bottom = std::min(top - 4.0 - (top - 4.0 - lower_z) * bottom_free, top - 2.5) - turn;
+    top -= turn;
+    // The lateral borders 4.5 mm below the dorsum (less where it is thin).
+    const double mid = top - std::min(4.5, 0.5 * (top - bottom));
+    // The median groove: 0.5 mm deep from 12 mm behind the tip (growing in from
+    // 4 mm), fading out over the base.
+    const double groove = 0.5 * std::clamp((from_tip - 4.0) / 8.0, 0.0, 1.0) * std::clamp(1 - base / 10.0, 0.0, 1.0);
+    rings.push_back(TongueSection(y, half, top, mid, bottom, groove, 48));
   }
   return Loft(rings);
 }
@@ -572,7 +657,8 @@ TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch, con
     // below the lower's; each up (down) to its vestibule's fold.
     const double edge = up ? lv.upper_edge + 2.0 : lv.lower_edge - 1.0;
     const double fold = up ? lv.upper_crest + 9.0 : lv.lower_crest - 9.0;
-    return OuterSlab(curve, teeth, -commissure, commissure, 2.5, 9.0, std::min(edge, fold), std::max(edge, fold), 6);
+    return OuterSlab(curve, teeth, -commissure, commissure, 2.5, 9.0, std::min(edge, fold), std::max(edge, fold), 6,
+                     up ? -1 : 1);
   }
   const bool left = name == "cheek_left";
   const ArchCurve curve(true, arch);

@@ -7,6 +7,7 @@
 
 #include "core/anatomy/arch.h"
 #include "core/anatomy/probe.h"
+#include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
 #include "ui/mesh_view.h"
 #include "tests/common/output.h"
@@ -65,6 +66,66 @@ TEST(AnatomyView, LowerArch) {
   std::vector<ShadedMesh> shaded;
   for (const TriangleMesh& t : teeth) shaded.push_back({&t, {0.93, 0.91, 0.84}, 1.0});
   const double drawn = RenderToPng(shaded, Shot("lower_arch.png"), 1200, 800, "Generated lower arch, 37 to 47");
+  EXPECT_GT(drawn, 0.1);
+}
+
+
+// The tongue in the lower arch with the floor of the mouth, from in front and
+// above (as an examiner sees it with the mouth open), and from the side.
+TEST(AnatomyView, TongueInTheLowerArch) {
+  std::vector<TriangleMesh> meshes;
+  for (const PlacedTooth& p : PlaceArch(false)) meshes.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
+  const std::size_t teeth = meshes.size();
+  meshes.push_back(MakeSoftTissue("tongue"));
+  meshes.push_back(MakeSoftTissue("floor_of_mouth"));
+  for (const char* view : {"front", "side"}) {
+    std::vector<TriangleMesh> turned = meshes;
+    // RenderToPng looks from above (+z), tilted; turn the mouth so that its
+    // front (-y is back) faces the camera, or its right side.
+    // Rows: where the image's x, y (up) and z (toward the camera) point in the
+    // mouth (+y forward, +z occlusal). From the front 50 degrees above the
+    // occlusal plane, or from the patient's left.
+    const double e = 50 * M_PI / 180;
+    Matrix3 R;
+    if (std::string(view) == "front") {
+      R << -1, 0, 0, 0, -std::sin(e), std::cos(e), 0, std::cos(e), std::sin(e);
+    } else {
+      R << 0, -1, 0, 0, 0, 1, -1, 0, 0;
+    }
+    for (TriangleMesh& m : turned) m.Transform(R, Vector3::Zero());
+    std::vector<ShadedMesh> shaded;
+    for (std::size_t i = 0; i < turned.size(); ++i)
+      shaded.push_back({&turned[i], {0.93, 0.91, 0.84}, 1.0});
+    for (std::size_t i = teeth; i < turned.size(); ++i) {
+      shaded[i].color[0] = 0.85, shaded[i].color[1] = 0.45, shaded[i].color[2] = 0.48;
+    }
+    const double drawn = RenderToPng(shaded, Shot(std::string("tongue_") + view + ".png"), 1000, 800,
+                                     std::string("Tongue and floor of the mouth in the lower arch, ") + view);
+    EXPECT_GT(drawn, 0.1);
+  }
+}
+
+// Both arches, the mouth opened 20 mm, with the lips and cheeks, from in front.
+TEST(AnatomyView, LipsAndCheeksAroundTheOpenMouth) {
+  const ArchParams open{.upper_lift_mm = 20};
+  std::vector<TriangleMesh> meshes;
+  for (bool upper : {false, true})
+    for (const PlacedTooth& p : PlaceArch(upper, open)) meshes.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
+  const std::size_t teeth = meshes.size();
+  for (const char* name : {"lip_upper", "lip_lower", "cheek_left", "cheek_right", "tongue"})
+    meshes.push_back(MakeSoftTissue(name, open));
+  // Rows: the image's x, y (up), z (toward the camera) in the mouth: from in
+  // front, 10 degrees above the occlusal plane.
+  const double e = 10 * M_PI / 180;
+  Matrix3 R;
+  R << -1, 0, 0, 0, -std::sin(e), std::cos(e), 0, std::cos(e), std::sin(e);
+  for (TriangleMesh& m : meshes) m.Transform(R, Vector3::Zero());
+  std::vector<ShadedMesh> shaded;
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    shaded.push_back({&meshes[i], {0.93, 0.91, 0.84}, 1.0});
+    if (i >= teeth) shaded.back().color[0] = 0.85, shaded.back().color[1] = 0.5, shaded.back().color[2] = 0.52;
+  }
+  const double drawn = RenderToPng(shaded, Shot("lips_front.png"), 1000, 800, "Lips, cheeks and tongue, mouth open 20 mm");
   EXPECT_GT(drawn, 0.1);
 }
 
