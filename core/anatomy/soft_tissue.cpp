@@ -213,27 +213,37 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   // that all contain a station is at least that station's own, so every root
   // stays inside, and the outer surface ramps between teeth instead of
   // stepping where one root's extent gives way to the next.
-  constexpr int kSmooth = 4;
+  // The far edge (the bone's depth) the same way over 16 stations (12 mm): it
+  // would otherwise follow each root's length, a notch at the short-rooted
+  // incisors and a peak at each long canine, where the jaw's edge is a smooth
+  // curve.
+  constexpr int kSmooth = 4, kSmoothFar = 16;
   std::vector<Extent> widest = ext;
   for (int i = 0; i < stations; ++i) {
-    for (int j = std::max(0, i - kSmooth); j <= std::min(stations - 1, i + kSmooth); ++j) {
-      widest[i].n_min = std::min(widest[i].n_min, ext[j].n_min);
-      widest[i].n_max = std::max(widest[i].n_max, ext[j].n_max);
+    for (int j = std::max(0, i - kSmoothFar); j <= std::min(stations - 1, i + kSmoothFar); ++j) {
+      if (std::abs(i - j) <= kSmooth) {
+        widest[i].n_min = std::min(widest[i].n_min, ext[j].n_min);
+        widest[i].n_max = std::max(widest[i].n_max, ext[j].n_max);
+      }
       widest[i].far = std::max(widest[i].far, ext[j].far);
     }
   }
   std::vector<Extent> smooth = widest;
   for (int i = 0; i < stations; ++i) {
     double n_min = 0, n_max = 0, far = 0;
-    int count = 0;
-    for (int j = std::max(0, i - kSmooth); j <= std::min(stations - 1, i + kSmooth); ++j, ++count) {
-      n_min += widest[j].n_min;
-      n_max += widest[j].n_max;
+    int count = 0, count_far = 0;
+    for (int j = std::max(0, i - kSmoothFar); j <= std::min(stations - 1, i + kSmoothFar); ++j) {
+      if (std::abs(i - j) <= kSmooth) {
+        n_min += widest[j].n_min;
+        n_max += widest[j].n_max;
+        ++count;
+      }
       far += widest[j].far;
+      ++count_far;
     }
     smooth[i].n_min = n_min / count;
     smooth[i].n_max = n_max / count;
-    smooth[i].far = far / count;
+    smooth[i].far = far / count_far;
   }
   // The gingiva over the alveolar process: a share of the arch's gingiva is
   // the tooth about its CEJ, the sulcus and the gingiva's thickness wide
