@@ -355,16 +355,19 @@ void SceneView::Frame(const Vector3& focus, const Vector3& from_dir, double dist
       see_through_ += in_the_way;
     }
     // The occlusal view of a full mouth looks at the lower arch: the upper one
-    // (teeth, their gingiva, jaw and palate) is faded out of the way; the upper
-    // arch's occlusal view fades the lower arch, the tongue and the floor.
+    // (teeth, their gingiva, jaw, palate and upper lip) is faded out of the way;
+    // the upper arch's occlusal view fades the lower arch, the tongue, the floor
+    // and the lower lip.
     for (std::size_t i = 0; i < objects_.size() && i < scene_->spec.objects.size(); ++i) {
       const ObjectSpec& o = scene_->spec.objects[i];
       const bool tooth_or_gingiva = o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva;
       const bool anatomy = o.kind == ObjectSpec::Kind::kAnatomy;
       const bool upper = (tooth_or_gingiva && (o.fdi / 10 == 1 || o.fdi / 10 == 2)) ||
-                         (anatomy && (o.anatomy == "jaw_upper" || o.anatomy == "palate" || o.anatomy == "soft_palate"));
+                         (anatomy && (o.anatomy == "jaw_upper" || o.anatomy == "palate" || o.anatomy == "soft_palate" ||
+                                      o.anatomy == "lip_upper"));
       const bool lower = (tooth_or_gingiva && (o.fdi / 10 == 3 || o.fdi / 10 == 4)) ||
-                         (anatomy && (o.anatomy == "jaw_lower" || o.anatomy == "tongue" || o.anatomy == "floor_of_mouth"));
+                         (anatomy && (o.anatomy == "jaw_lower" || o.anatomy == "tongue" || o.anatomy == "floor_of_mouth" ||
+                                      o.anatomy == "lip_lower"));
       const bool lip_or_cheek = anatomy && (o.tissue == Tissue::kLip || o.tissue == Tissue::kCheek);
       objects_[i]->SetVisibility(!(lips_hidden_ && lip_or_cheek));
       if (!upper && !lower) continue;
