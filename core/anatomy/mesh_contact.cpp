@@ -4,13 +4,17 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <stdexcept>
+#include <unordered_map>
 #include <vector>
 
 namespace sulcus {
@@ -47,6 +51,30 @@ double VertexGap(const TriangleMesh& from, const Tree& tree) {
 }
 
 }  // namespace
+
+TriangleMesh UniteSolids(const TriangleMesh& a, const TriangleMesh& b) {
+  Mesh ma = ToCgal(a), mb = ToCgal(b), out;
+  if (!PMP::corefine_and_compute_union(ma, mb, out)) throw std::runtime_error("the union of two meshes could not be formed");
+  std::vector<Vector3> v;
+  std::unordered_map<std::uint32_t, int> index;
+  for (const Mesh::Vertex_index i : out.vertices()) {
+    const Point& p = out.point(i);
+    index[static_cast<std::uint32_t>(i)] = static_cast<int>(v.size());
+    v.emplace_back(p.x(), p.y(), p.z());
+  }
+  std::vector<TriangleMesh::Face> f;
+  for (const Mesh::Face_index fi : out.faces()) {
+    TriangleMesh::Face face{};
+    int k = 0;
+    for (const Mesh::Vertex_index vi : CGAL::vertices_around_face(out.halfedge(fi), out)) {
+      if (k < 3) face[k] = index.at(static_cast<std::uint32_t>(vi));
+      ++k;
+    }
+    if (k != 3) throw std::runtime_error("the union of two meshes has a face that is not a triangle");
+    f.push_back(face);
+  }
+  return TriangleMesh(std::move(v), std::move(f));
+}
 
 bool MeshesIntersect(const TriangleMesh& a, const TriangleMesh& b) {
   if (BoxesApart(a, b, 0)) return false;

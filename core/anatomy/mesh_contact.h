@@ -24,6 +24,11 @@ MeshContact MeasureContact(const TriangleMesh& a, const TriangleMesh& b);
 /// Just the exact intersection test (quicker than MeasureContact).
 bool MeshesIntersect(const TriangleMesh& a, const TriangleMesh& b);
 
+/// The union of two closed, outward meshes as one closed mesh (CGAL's
+/// corefinement; exact predicates). Throws std::runtime_error when it cannot
+/// be formed (a mesh that intersects itself).
+TriangleMesh UniteSolids(const TriangleMesh& a, const TriangleMesh& b);
+
 /// For each point, whether it lies inside (or on) the closed mesh `solid`.
 std::vector<bool> InsideSolid(const TriangleMesh& solid, const std::vector<Vector3>& points);
 

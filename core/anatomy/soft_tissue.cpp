@@ -6,9 +6,11 @@
 #include <mutex>
 #include <tuple>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include "core/anatomy/gingiva.h"
+#include "core/anatomy/mesh_contact.h"
 #include "core/anatomy/tooth.h"
 
 namespace sulcus {
@@ -139,9 +141,114 @@ const ArchTeeth& Teeth(bool upper, const ArchParams& arch) {
 // The last tooth's distal end, mm along the arch.
 double ArchEnd(bool upper) { return ArchCentreMm(upper, 7) + 5.5; }
 
+// How far a furcation's bone is missing in from its entrance (Hamp: class 1
+// less than 3 mm, 2 more than 3 mm but not through; 3 through, handled by the
+// caller): 2 and 4 mm.
+using Vector2 = Eigen::Vector2d;
+
+// Where a multi-rooted tooth's roots part, below its CEJ, measured on its mesh
+// (as Teeth generates it) down the line between the roots: (0, 0) in the
+// tooth frame for two roots, the three roots' middle for an upper molar.
+double MeasureFurcationRoof(const FdiTooth& t) {
+  const double b = Dimensions(t).bl / 2 * 0.82;
+  // (the upper molar's roots at (+-0.45 a, 0.4 b) and (0, -0.45 b), tooth.cpp)
+  const Vector3 mid = t.position >= 6 && t.upper() ? Vector3(0, (0.4 + 0.4 - 0.45) / 3 * b, 0) : Vector3::Zero();
+  const TriangleMesh tooth = GenerateTooth(t.fdi, {.resolution = 3}).mesh;
+  std::vector<Vector3> line;
+  for (double z = 0; z > -Dimensions(t).root_length; z -= 0.1) line.emplace_back(mid.x(), mid.y(), z);
+  const std::vector<bool> inside = InsideSolid(tooth, line);
+  const auto out = std::find(inside.begin(), inside.end(), false);
+  return out == inside.end() ? Dimensions(t).root_length : -line[out - inside.begin()].z();
+}
+
+double FurcationDefectMm(int hamp) { return hamp == 1 ? 2.0 : hamp == 2 ? 4.0 : 0.0; }
+
+// The bone between a multi-rooted tooth's roots where its crest has dropped
+// below the furcation, in its (unmirrored) tooth frame: a prism between the
+// roots from 1 mm under the crest up to 0.3 mm short of the roof of the
+// furcation (found on the tooth's own mesh, straight above the prism's
+// middle), its faces at the entrances flush with the roots and each moved in
+// by the entrance's defect (FurcationDefectMm), never to less than 1 mm of
+// bone. None when an entrance is class 3 (through and through: no bone
+// between the roots above the crest) or no entrance is involved.
+std::optional<TriangleMesh> InterradicularBone(const FdiTooth& t, double crest_drop,
+                                               const std::map<std::string, int>& classes) {
+  int worst = 0;
+  for (const auto& [entrance, hamp] : classes) worst = std::max(worst, hamp);
+  if (worst == 0 || worst == 3) return std::nullopt;
+  const ToothDimensions d = Dimensions(t);
+  const double a = d.md_cervix / 2, b = d.bl / 2 * 0.82;  // tooth.cpp's cervical half widths
+  // Half-planes n . p <= c (n unit, in the tooth's xy), counter-clockwise,
+  // each with the entrance it faces ("" for a root's side).
+  struct Side {
+    Vector2 n;
+    double c;
+    std::string entrance;
+  };
+  std::vector<Side> sides;
+  if (t.position >= 6 && !t.upper()) {  // mesial and distal roots: B (+y) and L
+    sides = {{{1, 0}, 0.42 * a, ""}, {{0, 1}, 0.7 * b, "B"}, {{-1, 0}, 0.42 * a, ""}, {{0, -1}, 0.7 * b, "L"}};
+  } else if (t.position >= 6) {  // MB, DB and palatal roots: B, D and M
+    const Vector2 mb(0.45 * a, 0.4 * b), db(-0.45 * a, 0.4 * b), pal(0, -0.45 * b);
+    const Vector2 n_m = Vector2(mb.y() - pal.y(), -(mb.x() - pal.x())).normalized();
+    const Vector2 n_d = Vector2(-(db.y() - pal.y()), db.x() - pal.x()).normalized();
+    sides = {{n_m, n_m.dot(mb) + 0.2 * a, "M"}, {{0, 1}, 0.75 * b, "B"}, {n_d, n_d.dot(db) + 0.2 * a, "D"}};
+  } else {  // the upper first premolar: buccal and palatal roots; M (+x) and D
+    sides = {{{1, 0}, 0.5 * a, "M"}, {{0, 1}, 0.4 * b, ""}, {{-1, 0}, 0.5 * a, "D"}, {{0, -1}, 0.4 * b, ""}};
+  }
+  auto corners = [&](double scale) {
+    std::vector<Vector2> poly;
+    for (std::size_t i = 0; i < sides.size(); ++i) {
+      const Side& p = sides[i];
+      const Side& q = sides[(i + 1) % sides.size()];
+      auto c_of = [&](const Side& s) {
+        const auto it = classes.find(s.entrance);
+        return s.c - (it == classes.end() ? 0.0 : scale * FurcationDefectMm(it->second));
+      };
+      const Eigen::Matrix2d m = (Eigen::Matrix2d() << p.n.x(), p.n.y(), q.n.x(), q.n.y()).finished();
+      poly.push_back(m.inverse() * Vector2(c_of(p), c_of(q)));
+    }
+    return poly;
+  };
+  // The defects as deep as their classes say, or less where they would leave
+  // under 1 mm of bone (the inradius of what is left at least 0.5 mm).
+  auto thick_enough = [&](const std::vector<Vector2>& poly) {
+    double area = 0;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Vector2& p = poly[i];
+      const Vector2& q = poly[(i + 1) % poly.size()];
+      area += p.x() * q.y() - q.x() * p.y();
+    }
+    Vector2 mid = Vector2::Zero();
+    for (const Vector2& p : poly) mid += p / static_cast<double>(poly.size());
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Vector2 e = (poly[(i + 1) % poly.size()] - poly[i]).normalized();
+      if (e.x() * (mid - poly[i]).y() - e.y() * (mid - poly[i]).x() < 0.5) return false;
+    }
+    return area > 0;
+  };
+  double scale = 1.0;
+  while (scale > 0.05 && !thick_enough(corners(scale))) scale *= 0.8;
+  const std::vector<Vector2> poly = corners(scale);
+  Vector2 mid = Vector2::Zero();
+  for (const Vector2& p : poly) mid += p / static_cast<double>(poly.size());
+  const double roof = -FurcationRoofMm(t.fdi);
+  const double z0 = -crest_drop - 1.0, z1 = roof - 0.3;
+  if (z1 < -crest_drop + 0.1) return std::nullopt;  // the roots part below the crest: the jaw holds it all
+  std::vector<std::vector<Vector3>> rings(2);
+  for (const Vector2& p : poly) {
+    rings[0].emplace_back(p.x(), p.y(), z0);
+    rings[1].emplace_back(p.x(), p.y(), z1);
+  }
+  return Loft(rings);
+}
+
 // The jaw of one arch: a bar along the curve whose section holds every root
-// (1.5 mm of bone around it, 2.5 mm beyond the apex), its top at the crest.
-TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>& drops) {
+// (1.5 mm of bone around it, 2.5 mm beyond the apex), its top at the crest;
+// with the bone between the roots of a tooth whose furcation the scene
+// involves (InterradicularBone).
+TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>& drops,
+                 const std::map<int, std::map<std::string, int>>& furcation) {
   const ArchCurve curve(upper, arch);
   const ArchTeeth& teeth = Teeth(upper, arch);
   const double sign = upper ? 1.0 : -1.0;  // away from the occlusal plane
@@ -351,7 +458,16 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     }
     rings.push_back(std::move(ring));
   }
-  return Loft(rings);
+  TriangleMesh jaw = Loft(rings);
+  for (const PlacedTooth& p : teeth.placed) {
+    const auto it = furcation.find(p.tooth.fdi);
+    if (it == furcation.end()) continue;
+    const auto drop = drops.find(p.tooth.fdi);
+    const std::optional<TriangleMesh> bone =
+        InterradicularBone(p.tooth, drop == drops.end() ? 1.5 : drop->second, it->second);
+    if (bone) jaw = UniteSolids(jaw, PlacedMesh(p, *bone));
+  }
+  return jaw;
 }
 
 // The buccal extent of the teeth (both arches) at each station of a curve:
@@ -625,6 +741,18 @@ TriangleMesh Palate(const ArchTeeth& upper, const Levels& lv, bool soft) {
 
 }  // namespace
 
+double FurcationRoofMm(int fdi) {
+  const FdiTooth t = FdiTooth::Parse(fdi);
+  if (Dimensions(t).roots < 2) return 0;
+  static std::mutex mutex;
+  static std::map<int, double> measured;  // by tooth type: both sides alike
+  const int key = (t.upper() ? 10 : 30) + t.position;
+  std::lock_guard lock(mutex);
+  const auto it = measured.find(key);
+  if (it != measured.end()) return it->second;
+  return measured[key] = MeasureFurcationRoof(t);
+}
+
 double CrestDropMm(double pocket_plus_recession_mm) { return std::max(1.5, pocket_plus_recession_mm - 0.5); }
 
 const std::vector<std::string>& SoftTissueNames() {
@@ -639,15 +767,16 @@ std::string TongueRegion(const Vector3& n) {
   return "lateral border";
 }
 
-TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch, const std::map<int, double>& drops) {
+TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch, const std::map<int, double>& drops,
+                            const std::map<int, std::map<std::string, int>>& furcation) {
   const auto& known = SoftTissueNames();
   if (std::find(known.begin(), known.end(), name) == known.end()) {
     std::string list;
     for (const std::string& n : known) list += (list.empty() ? "" : ", ") + n;
     throw std::invalid_argument("unknown anatomy '" + name + "'; known: " + list);
   }
-  if (name == "jaw_lower") return Jaw(false, arch, drops);
-  if (name == "jaw_upper") return Jaw(true, arch, drops);
+  if (name == "jaw_lower") return Jaw(false, arch, drops, furcation);
+  if (name == "jaw_upper") return Jaw(true, arch, drops, furcation);
   const ArchTeeth& lower = Teeth(false, arch);
   const ArchTeeth& upper = Teeth(true, arch);
   const Levels lv = LevelsOf(lower, upper);

@@ -19,7 +19,7 @@ namespace sulcus {
 
 /// Changes whenever MakeSoftTissue's meshes change: caches of generated meshes
 /// key on it.
-inline constexpr int kSoftTissueVersion = 17;
+inline constexpr int kSoftTissueVersion = 18;
 
 /// The names MakeSoftTissue knows: jaw_lower, jaw_upper, lip_upper, lip_lower,
 /// cheek_left, cheek_right, tongue, floor_of_mouth, palate, soft_palate.
@@ -32,11 +32,22 @@ const std::vector<std::string>& SoftTissueNames();
 /// stands above the CEJ.
 double CrestDropMm(double pocket_plus_recession_mm);
 
+/// How far below its CEJ a multi-rooted tooth's roots part (the roof of its
+/// furcation, mm), measured on the generated tooth between its roots; 0 for a
+/// tooth with one root.
+double FurcationRoofMm(int fdi);
+
 /// A closed, outward mesh in the world frame. `crest_drop_mm` gives the crest
-/// per FDI tooth for the jaws (CrestDropMm; teeth not named: 1.5 mm). Throws
-/// std::invalid_argument for an unknown name.
+/// per FDI tooth for the jaws (CrestDropMm; teeth not named: 1.5 mm);
+/// `furcation` each multi-rooted tooth's Hamp class (0 to 3) by entrance (as a
+/// scene's `furcation`): where the crest has dropped below the furcation, the
+/// jaw keeps the bone between the roots up to 0.3 mm under the furcation's
+/// roof, missing 2 mm in from a class 1 entrance and 4 mm from a class 2 one
+/// (never leaving less than 1 mm), and none at all when an entrance is class 3.
+/// Throws std::invalid_argument for an unknown name.
 TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch = {},
-                            const std::map<int, double>& crest_drop_mm = {});
+                            const std::map<int, double>& crest_drop_mm = {},
+                            const std::map<int, std::map<std::string, int>>& furcation = {});
 
 /// The part of the tongue a point on it belongs to, from the surface's normal
 /// there: "dorsum" (facing up), "ventral surface" (facing down) or "lateral

@@ -151,6 +151,8 @@ std::string GeneratorKey(const ObjectSpec& o) {
     case ObjectSpec::Kind::kAnatomy:
       k << "anatomy " << kSoftTissueVersion << '|' << o.anatomy << '|' << o.mouth_open_mm;
       for (const auto& [fdi, drop] : o.crest_drop_mm) k << '|' << fdi << ':' << drop;
+      for (const auto& [fdi, classes] : o.furcation_of)
+        for (const auto& [entrance, hamp] : classes) k << '|' << fdi << entrance << ':' << hamp;
       break;
     default: return {};
   }
@@ -438,7 +440,7 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals) 
       return ArchMirror(o.mirrored, MakeCalculus(tooth, g ? &*g : nullptr, o.calculus_site, o.calculus[o.calculus_site] == 2));
     }
     case ObjectSpec::Kind::kAnatomy:
-      return MakeSoftTissue(o.anatomy, ArchParams{.upper_lift_mm = o.mouth_open_mm}, o.crest_drop_mm);
+      return MakeSoftTissue(o.anatomy, ArchParams{.upper_lift_mm = o.mouth_open_mm}, o.crest_drop_mm, o.furcation_of);
     case ObjectSpec::Kind::kMesh: {
       TriangleMesh m = LoadMesh(o.mesh);
       // Scene meshes are in millimetres: a mouth is about 60 mm across. A mesh of

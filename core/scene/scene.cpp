@@ -388,12 +388,7 @@ std::vector<std::string> FurcationEntrances(int fdi) {
   return {};
 }
 
-double FurcationDepthMm(int fdi) {
-  const FdiTooth t = FdiTooth::Parse(fdi);
-  if (t.position >= 6) return t.upper() ? 3.5 : 3.0;  // tooth.cpp's root trunks
-  if (t.upper() && t.position == 4) return 0.45 * Dimensions(t).root_length;
-  return 0;
-}
+double FurcationDepthMm(int fdi) { return FurcationRoofMm(fdi); }
 
 namespace {
 
@@ -427,6 +422,9 @@ void FollowAttachmentLoss(SceneSpec* spec) {
   for (ObjectSpec& jaw : spec->objects) {
     if (jaw.kind != ObjectSpec::Kind::kAnatomy || jaw.anatomy.rfind("jaw", 0) != 0) continue;
     jaw.crest_drop_mm = drops;
+    jaw.furcation_of.clear();
+    for (const ObjectSpec& t : spec->objects)
+      if (t.kind == ObjectSpec::Kind::kTooth && !t.furcation.empty()) jaw.furcation_of[t.fdi] = t.furcation;
   }
 }
 

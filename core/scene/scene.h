@@ -79,6 +79,7 @@ struct ObjectSpec {
   std::string anatomy;               // kAnatomy: tongue, palate, cheek_left, ... (soft_tissue.h)
   double mouth_open_mm = 0;          // the scene's: upper teeth and tissues raised by this
   std::map<int, double> crest_drop_mm;  // kAnatomy jaws: the bone crest below each tooth's CEJ (soft_tissue.h)
+  std::map<int, std::map<std::string, int>> furcation_of;  // kAnatomy jaws: each tooth's furcation classes (soft_tissue.h)
   std::filesystem::path mesh;        // kMesh, resolved against the scene's folder
   Vector3 size = Vector3::Zero();    // kBox, mm
   double radius_mm = 0, height_mm = 0;  // kSphere, kCylinder
@@ -155,14 +156,16 @@ SceneSpec LoadSceneSpec(const std::filesystem::path& file);
 /// "D"} for upper molars, {"M", "D"} for the upper first premolar, none else.
 std::vector<std::string> FurcationEntrances(int fdi);
 
-/// How far below the CEJ a tooth's roots part (mm), 0 for a single root.
+/// How far below the CEJ a tooth's roots part (mm), 0 for a single root:
+/// measured on the generated tooth (FurcationRoofMm).
 double FurcationDepthMm(int fdi);
 
 /// Sets each jaw's bone crest (`crest_drop_mm`) from the teeth's pockets and
 /// recession, as they are now, and below the furcation where a tooth's
 /// furcation is involved (class 1: 0.5 mm below the entrance, 2: 1.5 mm,
-/// 3: 3 mm; the bone between the roots is not modelled, so the class is the
-/// chart's truth and the bone only shows the entrance): LoadSceneSpec and CompileScene call it, so a
+/// 3: 3 mm), and gives each jaw the teeth's furcation classes
+/// (`furcation_of`: the bone between the roots as each class leaves it,
+/// MakeSoftTissue): LoadSceneSpec and CompileScene call it, so a
 /// scene whose pockets were changed after loading (a generated case) gets the
 /// bone that goes with them.
 void FollowAttachmentLoss(SceneSpec* spec);

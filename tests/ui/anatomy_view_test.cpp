@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "core/anatomy/arch.h"
+#include "core/anatomy/mesh_clip.h"
 #include "core/anatomy/probe.h"
 #include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
@@ -126,6 +127,47 @@ TEST(AnatomyView, LipsAndCheeksAroundTheOpenMouth) {
     if (i >= teeth) shaded.back().color[0] = 0.85, shaded.back().color[1] = 0.5, shaded.back().color[2] = 0.52;
   }
   const double drawn = RenderToPng(shaded, Shot("lips_front.png"), 1000, 800, "Lips, cheeks and tongue, mouth open 20 mm");
+  EXPECT_GT(drawn, 0.1);
+}
+
+// Tooth 46 in its jaw from the buccal side with its buccal furcation class 1,
+// 2 and 3 (left to right; the crest where the scene's rule puts it), the jaw
+// cut to the tooth's neighbourhood.
+TEST(AnatomyView, FurcationClasses) {
+  const std::vector<PlacedTooth> placed = PlaceArch(false);
+  const PlacedTooth p = *std::find_if(placed.begin(), placed.end(), [](const PlacedTooth& t) { return t.tooth.fdi == 46; });
+  const RigidTransform X_TW = p.X_WT.inverse();
+  const double roof = FurcationRoofMm(46);
+  const double below[4] = {0, 0.5, 1.5, 3.0};
+  // Rows: the image's x, y (up) and z (toward the camera) in the tooth frame
+  // (+y buccal, +z toward the crown).
+  Matrix3 R;
+  R << -1, 0, 0, 0, 0, 1, 0, 1, 0;
+  // RenderToPng's camera is raised 25 degrees and turned 35: turned back
+  // here, so that the camera looks straight at the buccal side.
+  R = Matrix3(Eigen::AngleAxisd(35 * M_PI / 180, Vector3::UnitY())) *
+      Matrix3(Eigen::AngleAxisd(-25 * M_PI / 180, Vector3::UnitX())) * R;
+  std::vector<TriangleMesh> meshes;
+  for (int hamp = 1; hamp <= 3; ++hamp) {
+    TriangleMesh jaw = MakeSoftTissue("jaw_lower", {}, {{46, roof + below[hamp]}}, {{46, {{"B", hamp}, {"L", 0}}}});
+    jaw.Transform(X_TW.rotation(), X_TW.translation());
+    jaw = ClipByPlanes(jaw, {{Vector3(6.5, 0, 0), Vector3::UnitX()}, {Vector3(-6.5, 0, 0), -Vector3::UnitX()},
+                             {Vector3(0, 12, 0), Vector3::UnitY()}, {Vector3(0, -12, 0), -Vector3::UnitY()},
+                             {Vector3(0, 0, -11), -Vector3::UnitZ()}});
+    TriangleMesh tooth = GenerateTooth(46).mesh;
+    for (TriangleMesh* m : {&jaw, &tooth}) {
+      m->Transform(Matrix3::Identity(), Vector3(-15.0 * (hamp - 2), 0, 0));
+      m->Transform(R, Vector3::Zero());
+      meshes.push_back(std::move(*m));
+    }
+  }
+  std::vector<ShadedMesh> shaded;
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    shaded.push_back({&meshes[i], {0.93, 0.91, 0.84}, 1.0});
+    if (i % 2 == 0) shaded.back().color[0] = 0.9, shaded.back().color[1] = 0.82, shaded.back().color[2] = 0.7;  // bone
+  }
+  const double drawn = RenderToPng(shaded, Shot("furcation_classes.png"), 1200, 600,
+                                   "46 from the buccal side: furcation class I, II, III (bone 0.5, 1.5, 3 mm below the entrance)");
   EXPECT_GT(drawn, 0.1);
 }
 

@@ -181,6 +181,47 @@ TEST(SoftTissue, LesionsSitOnTheRegionTheyName) {
   EXPECT_TRUE(LesionRegions("jaw_lower").empty());
 }
 
+// The bone between 46's roots as its buccal furcation's class leaves it (the
+// crest where the scene's rule puts it: 0.5, 1.5, 3 mm below the entrance 3 mm
+// under the CEJ), probed from the buccal entrance inward, in the tooth frame
+// (+y buccal), halfway up between the crest and the furcation's roof.
+TEST(SoftTissue, TheBoneBetweenTheRootsFollowsTheFurcationClass) {
+  const std::vector<PlacedTooth> placed = PlaceArch(false);
+  const auto p46 = std::find_if(placed.begin(), placed.end(), [](const PlacedTooth& p) { return p.tooth.fdi == 46; });
+  ASSERT_NE(p46, placed.end());
+  // The roof: where the tooth ends going down its axis between the roots.
+  const TriangleMesh tooth = GenerateTooth(46, {.resolution = 3}).mesh;
+  std::vector<Vector3> axis;
+  for (double z = 0; z > -8; z -= 0.1) axis.emplace_back(0, 0, z);
+  const std::vector<bool> in_tooth = InsideSolid(tooth, axis);
+  const double roof = axis[std::find(in_tooth.begin(), in_tooth.end(), false) - in_tooth.begin()].z();
+  EXPECT_NEAR(FurcationRoofMm(46), -roof, 1e-9);
+  EXPECT_EQ(FurcationRoofMm(45), 0.0);
+  const double entrance_y = 0.7 * Dimensions(FdiTooth::Parse(46)).bl / 2 * 0.82;
+  const std::size_t plain_faces = MakeSoftTissue("jaw_lower", {}, {{46, -roof + 0.5}}).num_faces();
+  const double drops[4] = {0, -roof + 0.5, -roof + 1.5, -roof + 3.0};
+  for (int hamp = 1; hamp <= 3; ++hamp) {
+    SCOPED_TRACE("class " + std::to_string(hamp));
+    const TriangleMesh jaw = MakeSoftTissue("jaw_lower", {}, {{46, drops[hamp]}}, {{46, {{"B", hamp}, {"L", 0}}}});
+    ASSERT_TRUE(jaw.Check().IsSolid());
+    const double z = 0.5 * (-drops[hamp] + roof - 0.3);
+    auto bone_at = [&](double y) -> bool {
+      return InsideSolid(jaw, {p46->X_WT * ArchMirror(p46->mirrored, Vector3(0, y, z))})[0];
+    };
+    if (hamp == 3) {
+      for (double y = -entrance_y; y <= entrance_y; y += 0.5) EXPECT_FALSE(bone_at(y)) << y << ": through and through";
+    } else {
+      const double defect = hamp == 1 ? 2.0 : 4.0;
+      EXPECT_FALSE(bone_at(entrance_y - 0.5 * defect)) << "in the defect";
+      EXPECT_TRUE(bone_at(entrance_y - defect - 0.5)) << "past the defect";
+      EXPECT_TRUE(bone_at(-entrance_y + 0.5)) << "at the sound lingual entrance";
+    }
+  }
+  // An entrance of class 0 leaves the jaw as it was.
+  EXPECT_EQ(MakeSoftTissue("jaw_lower", {}, {{46, -roof + 0.5}}, {{46, {{"B", 0}}}}).num_faces(), plain_faces);
+  std::printf("46: the furcation's roof %.1f mm below the CEJ\n", -roof);
+}
+
 TEST(SoftTissue, TheTonguesRegionsByTheSurfaceNormal) {
   EXPECT_EQ(TongueRegion(Vector3(0, 0, 1)), "dorsum");
   EXPECT_EQ(TongueRegion(Vector3(0, 0, -1)), "ventral surface");

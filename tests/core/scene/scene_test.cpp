@@ -363,14 +363,17 @@ TEST(SceneFile, FurcationByEntranceAndTheBoneBelowIt) {
   EXPECT_EQ(FurcationEntrances(24), (std::vector<std::string>{"M", "D"}));
   EXPECT_TRUE(FurcationEntrances(34).empty());
   // Healthy pockets, but class II at 36 B: the jaw's crest drops below the
-  // furcation (3 mm below the CEJ, then 1.5 mm more); 35 keeps the healthy 1.5 mm.
+  // furcation (where 36's roots part, then 1.5 mm more); 35 keeps the healthy 1.5 mm.
   const SceneSpec s = LoadSceneSpec(Write("furcation_ok.yaml",
                                           "arch: true\nobjects:\n  - tooth: 36\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
                                           "    furcation: {B: 2, L: 1}\n  - tooth: 35\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
                                           "  - anatomy: jaw_lower\n"));
   EXPECT_EQ(s.objects[0].furcation.at("B"), 2);
   EXPECT_EQ(s.objects[0].furcation.at("L"), 1);
-  EXPECT_DOUBLE_EQ(s.objects[2].crest_drop_mm.at(36), 4.5);
+  EXPECT_GT(FurcationDepthMm(36), 3.0);
+  EXPECT_LT(FurcationDepthMm(36), 5.0);
+  EXPECT_DOUBLE_EQ(s.objects[2].crest_drop_mm.at(36), FurcationDepthMm(36) + 1.5);
+  EXPECT_EQ(s.objects[2].furcation_of.at(36), s.objects[0].furcation);
   EXPECT_DOUBLE_EQ(s.objects[2].crest_drop_mm.at(35), 1.5);
 }
 
