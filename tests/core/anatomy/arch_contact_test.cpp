@@ -220,6 +220,19 @@ TEST(SoftTissue, TheBoneBetweenTheRootsFollowsTheFurcationClass) {
   // An entrance of class 0 leaves the jaw as it was.
   EXPECT_EQ(MakeSoftTissue("jaw_lower", {}, {{46, -roof + 0.5}}, {{46, {{"B", 0}}}}).num_faces(), plain_faces);
   std::printf("46: the furcation's roof %.1f mm below the CEJ\n", -roof);
+  // The upper first molar (three roots) and first premolar (two, buccal and
+  // palatal): their roofs where the roots part, and jaws that stay solid.
+  for (const int fdi : {16, 14}) {
+    const double r = FurcationRoofMm(fdi);
+    std::printf("%d: the furcation's roof %.1f mm below the CEJ\n", fdi, r);
+    EXPECT_GT(r, 2.5) << fdi;
+    EXPECT_LT(r, 0.8 * Dimensions(FdiTooth::Parse(fdi)).root_length) << fdi;
+    const std::map<std::string, int> classes = fdi == 16 ? std::map<std::string, int>{{"B", 2}, {"M", 1}}
+                                                         : std::map<std::string, int>{{"M", 1}};
+    const TriangleMesh jaw = MakeSoftTissue("jaw_upper", {}, {{fdi, r + 1.5}}, {{fdi, classes}});
+    EXPECT_TRUE(jaw.Check().IsSolid()) << fdi;
+    EXPECT_GT(jaw.num_faces(), MakeSoftTissue("jaw_upper", {}, {{fdi, r + 1.5}}).num_faces()) << fdi << ": its bone added";
+  }
 }
 
 TEST(SoftTissue, TheTonguesRegionsByTheSurfaceNormal) {
