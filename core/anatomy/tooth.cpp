@@ -175,8 +175,8 @@ class ToothShape {
     } else if (Molar(type_)) {
       // Mesial and distal roots, broad bucco-lingually.
       furcation_ = -3.0;
-      roots_ = {{{0.42 * a, 0, furcation_ + 1.2}, {0.5 * a, 0, -L_}, 0.24 * 2 * a, 0.75 * b},
-                {{-0.42 * a, 0, furcation_ + 1.2}, {-0.55 * a, 0, -0.95 * L_}, 0.22 * 2 * a, 0.7 * b}};
+      roots_ = {{{0.45 * a, 0, furcation_ + 1.2}, {0.62 * a, 0, -L_}, 0.20 * 2 * a, 0.75 * b},
+                {{-0.45 * a, 0, furcation_ + 1.2}, {-0.65 * a, 0, -0.95 * L_}, 0.19 * 2 * a, 0.7 * b}};
     } else {
       // Upper first premolar: buccal and palatal roots, split in the apical half.
       furcation_ = -0.45 * L_;

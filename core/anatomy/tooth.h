@@ -56,7 +56,7 @@ ToothDimensions Dimensions(const FdiTooth& tooth);
 
 /// Changes whenever GenerateTooth's meshes change: caches of generated meshes
 /// (teeth, and the gingiva and calculus shaped around them) key on it.
-inline constexpr int kToothShapeVersion = 3;
+inline constexpr int kToothShapeVersion = 5;
 
 struct ToothParams {
   int resolution = 4;  // icosahedron subdivisions: 4 gives 5,120 triangles (the paper's ~4,000), 5 gives 20,480
