@@ -141,26 +141,31 @@ const ArchTeeth& Teeth(bool upper, const ArchParams& arch) {
 // The last tooth's distal end, mm along the arch.
 double ArchEnd(bool upper) { return ArchCentreMm(upper, 7) + 5.5; }
 
+using Vector2 = Eigen::Vector2d;
+
+// The middle of a multi-rooted tooth's roots (their tops' mean) in its tooth
+// frame's xy: where the line between them runs.
+Vector2 RootsMiddle(const ToothModel& tooth) {
+  Vector2 mid = Vector2::Zero();
+  for (const Vector3& top : tooth.root_tops) mid += top.head<2>() / static_cast<double>(tooth.root_tops.size());
+  return mid;
+}
+
+// Where a multi-rooted tooth's roots part, below its CEJ, measured on its mesh
+// (as Teeth generates it) down the line through the roots' middle.
+double MeasureFurcationRoof(const FdiTooth& t) {
+  const ToothModel tooth = GenerateTooth(t.fdi, {.resolution = 3});
+  const Vector2 mid = RootsMiddle(tooth);
+  std::vector<Vector3> line;
+  for (double z = 0; z > -tooth.dimensions.root_length; z -= 0.1) line.emplace_back(mid.x(), mid.y(), z);
+  const std::vector<bool> inside = InsideSolid(tooth.mesh, line);
+  const auto out = std::find(inside.begin(), inside.end(), false);
+  return out == inside.end() ? tooth.dimensions.root_length : -line[out - inside.begin()].z();
+}
+
 // How far a furcation's bone is missing in from its entrance (Hamp: class 1
 // less than 3 mm, 2 more than 3 mm but not through; 3 through, handled by the
 // caller): 2 and 4 mm.
-using Vector2 = Eigen::Vector2d;
-
-// Where a multi-rooted tooth's roots part, below its CEJ, measured on its mesh
-// (as Teeth generates it) down the line between the roots: (0, 0) in the
-// tooth frame for two roots, the three roots' middle for an upper molar.
-double MeasureFurcationRoof(const FdiTooth& t) {
-  const double b = Dimensions(t).bl / 2 * 0.82;
-  // (the upper molar's roots at (+-0.45 a, 0.4 b) and (0, -0.45 b), tooth.cpp)
-  const Vector3 mid = t.position >= 6 && t.upper() ? Vector3(0, (0.4 + 0.4 - 0.45) / 3 * b, 0) : Vector3::Zero();
-  const TriangleMesh tooth = GenerateTooth(t.fdi, {.resolution = 3}).mesh;
-  std::vector<Vector3> line;
-  for (double z = 0; z > -Dimensions(t).root_length; z -= 0.1) line.emplace_back(mid.x(), mid.y(), z);
-  const std::vector<bool> inside = InsideSolid(tooth, line);
-  const auto out = std::find(inside.begin(), inside.end(), false);
-  return out == inside.end() ? Dimensions(t).root_length : -line[out - inside.begin()].z();
-}
-
 double FurcationDefectMm(int hamp) { return hamp == 1 ? 2.0 : hamp == 2 ? 4.0 : 0.0; }
 
 // The bone between a multi-rooted tooth's roots where its crest has dropped
@@ -178,6 +183,9 @@ std::optional<TriangleMesh> InterradicularBone(const FdiTooth& t, double crest_d
   if (worst == 0 || worst == 3) return std::nullopt;
   const ToothDimensions d = Dimensions(t);
   const double a = d.md_cervix / 2, b = d.bl / 2 * 0.82;  // tooth.cpp's cervical half widths
+  // The roots' tops (tooth.cpp): lower molar mesial, distal; upper molar
+  // mesiobuccal, distobuccal, palatal; upper premolar buccal, palatal.
+  const std::vector<Vector3> tops = GenerateTooth(t.fdi, {.resolution = 3}).root_tops;
   // Half-planes n . p <= c (n unit, in the tooth's xy), counter-clockwise,
   // each with the entrance it faces ("" for a root's side).
   struct Side {
@@ -186,15 +194,16 @@ std::optional<TriangleMesh> InterradicularBone(const FdiTooth& t, double crest_d
     std::string entrance;
   };
   std::vector<Side> sides;
-  if (t.position >= 6 && !t.upper()) {  // mesial and distal roots: B (+y) and L
-    sides = {{{1, 0}, 0.42 * a, ""}, {{0, 1}, 0.7 * b, "B"}, {{-1, 0}, 0.42 * a, ""}, {{0, -1}, 0.7 * b, "L"}};
+  if (t.position >= 6 && !t.upper()) {  // between the roots' axes; B (+y) and L
+    const double m = tops[0].x(), dist = -tops[1].x();
+    sides = {{{1, 0}, m, ""}, {{0, 1}, 0.7 * b, "B"}, {{-1, 0}, dist, ""}, {{0, -1}, 0.7 * b, "L"}};
   } else if (t.position >= 6) {  // MB, DB and palatal roots: B, D and M
-    const Vector2 mb(0.45 * a, 0.4 * b), db(-0.45 * a, 0.4 * b), pal(0, -0.45 * b);
+    const Vector2 mb = tops[0].head<2>(), db = tops[1].head<2>(), pal = tops[2].head<2>();
     const Vector2 n_m = Vector2(mb.y() - pal.y(), -(mb.x() - pal.x())).normalized();
     const Vector2 n_d = Vector2(-(db.y() - pal.y()), db.x() - pal.x()).normalized();
     sides = {{n_m, n_m.dot(mb) + 0.2 * a, "M"}, {{0, 1}, 0.75 * b, "B"}, {n_d, n_d.dot(db) + 0.2 * a, "D"}};
   } else {  // the upper first premolar: buccal and palatal roots; M (+x) and D
-    sides = {{{1, 0}, 0.5 * a, "M"}, {{0, 1}, 0.4 * b, ""}, {{-1, 0}, 0.5 * a, "D"}, {{0, -1}, 0.4 * b, ""}};
+    sides = {{{1, 0}, 0.5 * a, "M"}, {{0, 1}, tops[0].y(), ""}, {{-1, 0}, 0.5 * a, "D"}, {{0, -1}, -tops[1].y(), ""}};
   }
   auto corners = [&](double scale) {
     std::vector<Vector2> poly;

@@ -42,6 +42,7 @@ struct Root {
 
 class ToothShape {
  public:
+  const std::vector<Root>& roots() const { return roots_; }
   ToothShape(const FdiTooth& t, const ToothDimensions& d) : type_(t.type()), upper_(t.upper()), d_(d) {
     H_ = d.crown_height;
     L_ = d.root_length;
@@ -265,6 +266,7 @@ ToothModel GenerateTooth(int fdi, const ToothParams& params) {
   m.tooth = FdiTooth::Parse(fdi);
   m.dimensions = Dimensions(m.tooth);
   const ToothShape shape(m.tooth, m.dimensions);
+  for (const Root& r : shape.roots()) m.root_tops.push_back(r.top);
   const ToothDimensions& d = m.dimensions;
   // Rays from a point inside the crown, spread like the vertices of an ellipsoid of
   // the tooth's proportions so that the long root gets its share.

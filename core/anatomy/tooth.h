@@ -68,6 +68,7 @@ struct ToothModel {
   TriangleMesh mesh;                 // in the tooth frame
   std::vector<Vector3> cej;          // the CEJ as a closed curve on the surface (72 points)
   Vector3 long_axis = Vector3::UnitZ();
+  std::vector<Vector3> root_tops;    // multi-rooted teeth: where each root's axis starts, under the furcation
 };
 
 /// Generates a tooth. Deterministic: the same number and parameters give the same

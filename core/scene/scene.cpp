@@ -388,8 +388,6 @@ std::vector<std::string> FurcationEntrances(int fdi) {
   return {};
 }
 
-double FurcationDepthMm(int fdi) { return FurcationRoofMm(fdi); }
-
 namespace {
 
 // Each tooth's bone crest below its CEJ (mm) where the scene's attachment loss
@@ -408,7 +406,7 @@ std::map<int, double> CrestDrops(const SceneSpec& spec) {
     for (const auto& [entrance, hamp] : t.furcation) worst = std::max(worst, hamp);
     if (worst > 0) {
       static constexpr double kBelowEntrance[4] = {0, 0.5, 1.5, 3.0};
-      drop = std::max({drop, CrestDropMm(0), FurcationDepthMm(t.fdi) + kBelowEntrance[worst]});
+      drop = std::max({drop, CrestDropMm(0), FurcationRoofMm(t.fdi) + kBelowEntrance[worst]});
     }
     if (drop > 0) drops[t.fdi] = drop;
   }

@@ -156,10 +156,6 @@ SceneSpec LoadSceneSpec(const std::filesystem::path& file);
 /// "D"} for upper molars, {"M", "D"} for the upper first premolar, none else.
 std::vector<std::string> FurcationEntrances(int fdi);
 
-/// How far below the CEJ a tooth's roots part (mm), 0 for a single root:
-/// measured on the generated tooth (FurcationRoofMm).
-double FurcationDepthMm(int fdi);
-
 /// Sets each jaw's bone crest (`crest_drop_mm`) from the teeth's pockets and
 /// recession, as they are now, and below the furcation where a tooth's
 /// furcation is involved (class 1: 0.5 mm below the entrance, 2: 1.5 mm,

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "core/anatomy/mesh_contact.h"
+#include "core/anatomy/soft_tissue.h"
 #include "tests/common/meshes.h"
 
 #include <algorithm>
@@ -370,9 +371,9 @@ TEST(SceneFile, FurcationByEntranceAndTheBoneBelowIt) {
                                           "  - anatomy: jaw_lower\n"));
   EXPECT_EQ(s.objects[0].furcation.at("B"), 2);
   EXPECT_EQ(s.objects[0].furcation.at("L"), 1);
-  EXPECT_GT(FurcationDepthMm(36), 3.0);
-  EXPECT_LT(FurcationDepthMm(36), 5.0);
-  EXPECT_DOUBLE_EQ(s.objects[2].crest_drop_mm.at(36), FurcationDepthMm(36) + 1.5);
+  EXPECT_GT(FurcationRoofMm(36), 3.0);
+  EXPECT_LT(FurcationRoofMm(36), 5.0);
+  EXPECT_DOUBLE_EQ(s.objects[2].crest_drop_mm.at(36), FurcationRoofMm(36) + 1.5);
   EXPECT_EQ(s.objects[2].furcation_of.at(36), s.objects[0].furcation);
   EXPECT_DOUBLE_EQ(s.objects[2].crest_drop_mm.at(35), 1.5);
 }
