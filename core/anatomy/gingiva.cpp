@@ -178,6 +178,8 @@ constexpr double kPapillaSteepest = 2.0;  // its steepest (mm per mm)
 constexpr double kBelowSiteMarginMm = 0.15;  // how far below a line-angle site's margin the papilla's top passes
 constexpr double kPastCutFall = 2.0;  // how fast a collar's top falls past its cut (mm per mm)
 constexpr double kFaceInsetMm = 0.5;  // the interdental band's faces inside the collars' outer extents
+constexpr double kPapillaRoll = 1.5;  // how fast the papilla's top falls outward past kPapillaOut (mm per mm)
+constexpr double kPapillaOut = 0.0;   // ... outside the line between the two sulci's walls (mm)
 
 // How far a share's outer wall has drawn in at height z below the crest: 2 mm
 // per mm, so that the share ends inside the jaw (whose top, soft_tissue.cpp,
@@ -322,6 +324,11 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
       // dip a shallow groove)
       l.face_point[side] = b_i - kFaceInsetMm * normal;
       l.face_normal[side] = normal;
+      // (and the same face moved in to the line between the two sulci's
+      // walls on that side)
+      const Vector3 w_i = Around(own.wall_r, th_i) * Vector3(std::cos(th_i), std::sin(th_i), 0);
+      const Vector3 w_j = At * (Around(n.gingiva->wall_r, th_j) * Vector3(std::cos(th_j), std::sin(th_j), 0) - n.b);
+      l.wall_point[side] = b_i + std::max((w_i - b_i).dot(normal), (w_j - b_i).dot(normal)) * normal;
     }
     l.across_dir = l.normal.cross(up).normalized();
     for (int side = 0; side < 2; ++side) l.own_site_gap[side] = l.other_site_gap[side] = 1e9;
@@ -462,16 +469,22 @@ double GingivaShareField::Uncut(const Vector3& p) const {
       const double t_along = std::clamp(u / l.L, 0.0, 1.0);
       drawn_in = DrawnIn(l.crest_own + t_along * (l.crest_other - l.crest_own), p.dot(own_->crest_up));
     }
-    double to_face = -1e9;  // (negative inside the band's buccal and lingual faces)
-    for (int side = 0; side < 2; ++side) to_face = std::max(to_face, (p - l.face_point[side]).dot(l.face_normal[side]));
+    double to_face = -1e9, to_wall = -1e9;  // (negative inside the band's buccal and lingual faces; the walls' line)
+    for (int side = 0; side < 2; ++side) {
+      to_face = std::max(to_face, (p - l.face_point[side]).dot(l.face_normal[side]));
+      to_wall = std::max(to_wall, (p - l.wall_point[side]).dot(l.face_normal[side]));
+    }
     faces = std::max(faces, to_face + drawn_in);
     band.Add(faces);
     // The papilla: highest by the contact, falling away from the cut and,
     // more gently, buccally and lingually; heights along the two teeth's mean vertical.
     const double across = SmoothAbs(across_signed, kPapillaTip), aside = std::abs((p - l.q).dot(l.across_dir));
-    // (its top rolls over into the faces as the collars' does)
+    // (its top rolls over into the faces as the collars' does, from the
+    // line between the two sulci's walls: a papilla is a pyramid, its tip
+    // between the teeth and no further out than their margins, not a fin
+    // standing out of the embrasure)
     above.Add((p - l.papilla).dot(l.up) + l.slope[across_signed < 0 ? 0 : 1] * across + 0.3 * SmoothRamp(aside - 1.0, 1.5) +
-              1.5 * SmoothRamp(to_face + 1.0, 0.8) + behind);
+              kPapillaRoll * SmoothRamp(to_wall - kPapillaOut, 0.8) + behind);
     below.Add((l.base - p).dot(l.up) + 0.5 * std::abs(across_signed) + behind);
   }
   above.Add(p.z() - own.top + own_top_past_cuts);

@@ -23,8 +23,8 @@ struct GingivaParams {
   std::array<double, 6> pocket_mm{2, 2, 2, 2, 2, 2};   // MB, B, DB, ML, L, DL
   std::array<double, 6> recession_mm{};               // positive: the margin moves toward the root
   double margin_above_cej_mm = 1.5;
-  double gap_mm = 1.0;           // sulcus width at its narrowest: a 0.5 mm tip fits with room for the sphere-trees
-  double thickness_mm = 2.0;     // buccal and lingual; thinner between teeth
+  double gap_mm = 0.85;          // sulcus width at its narrowest: a 0.5 mm tip fits with room for the sphere-trees
+  double thickness_mm = 1.5;     // buccal and lingual; thinner between teeth
   double papilla_mm = 1.5;       // how far the margin rises between teeth
   int segments = 72;             // around the tooth (a multiple of 8 puts a ring at every site)
   // A share of the arch's gingiva (not a collar) covers the alveolar process
@@ -65,7 +65,7 @@ struct GingivaModel {
 };
 
 /// Changes whenever the share's geometry does (its meshes are cached by it).
-inline constexpr int kGingivaShareVersion = 28;
+inline constexpr int kGingivaShareVersion = 32;
 
 /// A neighbouring tooth on the arch, for the gingiva between the two.
 struct GingivaNeighbour {
@@ -95,7 +95,7 @@ class GingivaShareField {
   std::vector<CutPlane> cuts() const;
   // A site this close to a cut lies under the contact: the margin beside it
   // is the papilla's, which rises above the site's own.
-  static constexpr double kUnderContactMm = 0.5;
+  static constexpr double kUnderContactMm = 0.6;
 
  private:
   struct Link {
@@ -104,6 +104,7 @@ class GingivaShareField {
     double L;              // to its axis
     Vector3 q, normal;     // the cut: through q, normal toward the neighbour (the same plane from both sides)
     Vector3 face_point[2], face_normal[2];  // the interdental band's buccal and lingual faces
+    Vector3 wall_point[2];  // the same faces through the two sulci's walls: the papilla's tip stays within them
     Vector3 across_dir;    // in the cut, square to the mean vertical
     Vector3 up;            // the two teeth's mean vertical
     Vector3 papilla;       // the papilla's top, by the contact

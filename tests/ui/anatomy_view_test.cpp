@@ -10,6 +10,7 @@
 #include "core/anatomy/probe.h"
 #include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
+#include "core/scene/scene.h"
 #include "ui/mesh_view.h"
 #include "tests/common/output.h"
 
@@ -19,6 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path Shot(const std::string& name) { return test::OutputPath("screenshots", name); }
+using test::OutputPath;
 
 TEST(AnatomyView, LowerRightQuadrantRow) {
   std::vector<TriangleMesh> teeth;
@@ -168,6 +170,46 @@ TEST(AnatomyView, FurcationClasses) {
   }
   const double drawn = RenderToPng(shaded, Shot("furcation_classes.png"), 1200, 600,
                                    "46 from the buccal side: furcation class I, II, III (bone 0.5, 1.5, 3 mm below the entrance)");
+  EXPECT_GT(drawn, 0.1);
+}
+
+// The upper front teeth, 13 to 23, in their gingiva and jaw as the oral
+// inspection scene builds them, from in front and a little below, close: the
+// papillae between the incisors and the scalloped margin.
+TEST(AnatomyView, GingivaOfTheUpperFront) {
+  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
+  const fs::path cache = OutputPath("cache");
+  std::vector<TriangleMesh> meshes;
+  std::vector<int> kinds;  // 0 tooth, 1 gingiva or jaw
+  for (const ObjectSpec& o : spec.objects) {
+    const bool front = o.fdi == 13 || o.fdi == 12 || o.fdi == 11 || o.fdi == 21 || o.fdi == 22 || o.fdi == 23;
+    const bool tooth = o.kind == ObjectSpec::Kind::kTooth, gingiva = o.kind == ObjectSpec::Kind::kGingiva;
+    if (!((tooth || gingiva) && front) && o.anatomy != "jaw_upper") continue;
+    TriangleMesh m = MakeObjectMeshCached(o, cache);
+    m.Transform(o.X_WO.rotation(), o.X_WO.translation());
+    if (o.anatomy == "jaw_upper")  // (its front only)
+      m = ClipByPlanes(m, {{Vector3(0, -8, 0), -Vector3::UnitY()}});
+    meshes.push_back(std::move(m));
+    kinds.push_back(tooth ? 0 : 1);
+  }
+  ASSERT_EQ(meshes.size(), 13u) << "six teeth, their six shares of the gingiva and the upper jaw";
+  // Rows: the image's x, y (up) and z (toward the camera) in the mouth (+x
+  // the patient's left, +y forward, +z occlusal for the lower arch): the
+  // camera in front, 5 degrees below the occlusal plane, looking a little up
+  // at the upper teeth; RenderToPng's own tilt and turn taken back.
+  const double e = 5 * M_PI / 180;
+  Matrix3 R;
+  R << -1, 0, 0, 0, -std::sin(e), std::cos(e), 0, std::cos(e), std::sin(e);
+  R = Matrix3(Eigen::AngleAxisd(35 * M_PI / 180, Vector3::UnitY())) *
+      Matrix3(Eigen::AngleAxisd(-25 * M_PI / 180, Vector3::UnitX())) * R;
+  for (TriangleMesh& m : meshes) m.Transform(R, Vector3::Zero());
+  std::vector<ShadedMesh> shaded;
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    shaded.push_back({&meshes[i], {0.93, 0.91, 0.84}, 1.0});
+    if (kinds[i] == 1) shaded.back().color[0] = 0.85, shaded.back().color[1] = 0.5, shaded.back().color[2] = 0.52;
+  }
+  const double drawn = RenderToPng(shaded, Shot("gingiva_upper_front.png"), 1200, 800,
+                                   "Upper front teeth 13 to 23 in their gingiva, from in front");
   EXPECT_GT(drawn, 0.1);
 }
 

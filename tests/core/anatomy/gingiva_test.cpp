@@ -363,10 +363,10 @@ TEST(Gingiva, ShareNormalsAreTheSurfacesAndAgreeAcrossTheSeam) {
     }
     std::printf("seam %d|%d: %d vertex pairs within 0.02 mm, %d with normals within 10 degrees, worst %.1f degrees\n",
                 arch.placed[i].tooth.fdi, arch.placed[i + 1].tooth.fdi, pairs, agree, worst_deg);
-    // (How many rim vertices coincide depends on the two shares' tessellation:
-    // 19 to 25 per seam on today's teeth; enough for the normals' agreement to
-    // be measured.)
-    ASSERT_GE(pairs, 15);
+    // (How many rim vertices coincide depends on the two shares' tessellation
+    // and on the size of their caps: 12 to 20 per seam on today's teeth and
+    // gingiva 1.5 mm thick; enough for the normals' agreement to be measured.)
+    ASSERT_GE(pairs, 10);
     EXPECT_GT(agree, 0.9 * pairs);
   }
 }
@@ -464,8 +464,9 @@ TEST(Gingiva, OnTheArchEverySiteReadsItsOwnDepthBesideADeeperNeighbour) {
       // A site within half a millimetre of a cut lies under the contact,
       // where the margin beside it is the papilla's, up to a millimetre higher.
       const bool under_contact = field.Cut(g.margin[s]) > -GingivaShareField::kUnderContactMm;
-      std::printf("margin %d site %d: mesh %.2f expected %.2f%s (truth %.2f, %.2f mm beyond the wall)\n",
-                  arch.placed[i].tooth.fdi, s, *top, expected, under_contact ? " to +1" : "", g.margin[s].z(), beyond);
+      std::printf("margin %d site %d: mesh %.2f expected %.2f%s (truth %.2f, %.2f mm beyond the wall, %.2f mm from the cut)\n",
+                  arch.placed[i].tooth.fdi, s, *top, expected, under_contact ? " to +1" : "", g.margin[s].z(), beyond,
+                  -field.Cut(g.margin[s]));
       EXPECT_GE(*top, expected - 0.25) << "tooth " << arch.placed[i].tooth.fdi << " site " << s;
       EXPECT_LE(*top, expected + (under_contact ? 1.0 : 0.25)) << "tooth " << arch.placed[i].tooth.fdi << " site " << s;
     }
