@@ -111,7 +111,10 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
                   "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding",
                   "inflamed", "caries_mm", "cavity_mm", "calculus", "furcation", "lesion", "spheretree"},
               "an object");
-  if (n["spheretree"]) ReadTreeParams(r, n["spheretree"], "an object's 'spheretree'", false, &o.trees);
+  if (n["spheretree"]) {
+    ReadTreeParams(r, n["spheretree"], "an object's 'spheretree'", false, &o.trees);
+    o.own_trees = true;
+  }
   std::vector<std::string> kinds;
   for (const char* k : {"tooth", "mesh", "box", "sphere", "cylinder", "anatomy"}) {
     if (n[k]) kinds.push_back(k);
@@ -423,6 +426,17 @@ void FollowAttachmentLoss(SceneSpec* spec) {
     jaw.furcation_of.clear();
     for (const ObjectSpec& t : spec->objects)
       if (t.kind == ObjectSpec::Kind::kTooth && !t.furcation.empty()) jaw.furcation_of[t.fdi] = t.furcation;
+    // A jaw with a furcation defect a probe should feel, and no tree of its
+    // own: finer than the default, whose leaves (a few millimetres across the
+    // whole jaw) fill a class II defect (a ball felt it 0.9 mm deep where it
+    // is 4 mm; 3.8 mm at 2,048 leaves).
+    bool defect = false;
+    for (const auto& [fdi, classes] : jaw.furcation_of)
+      for (const auto& [entrance, hamp] : classes) defect = defect || hamp > 0;
+    if (defect && !jaw.own_trees && jaw.trees.target_error_mm == 0 && jaw.trees.leaves < kFurcationJawLeaves) {
+      jaw.trees.levels = std::max(jaw.trees.levels, 5);
+      jaw.trees.leaves = kFurcationJawLeaves;
+    }
   }
 }
 

@@ -85,6 +85,7 @@ struct ObjectSpec {
   double radius_mm = 0, height_mm = 0;  // kSphere, kCylinder
   RigidTransform X_WO;
   SphereTreeParams trees;            // the scene's, or the object's own `spheretree`
+  bool own_trees = false;            // the object named its own `spheretree`
   Tissue tissue = Tissue::kEnamel;
   Material material;
   // Clinical truth per site (teeth): pocket depth, recession, bleeding on probing.
@@ -163,8 +164,11 @@ std::vector<std::string> FurcationEntrances(int fdi);
 /// (`furcation_of`: the bone between the roots as each class leaves it,
 /// MakeSoftTissue): LoadSceneSpec and CompileScene call it, so a
 /// scene whose pockets were changed after loading (a generated case) gets the
-/// bone that goes with them.
+/// bone that goes with them. A jaw with a furcation defect (class 1 to 3) and
+/// no `spheretree` of its own gets at least kFurcationJawLeaves leaves (5
+/// levels), so that a probe feels the defect as deep as it is.
 void FollowAttachmentLoss(SceneSpec* spec);
+inline constexpr int kFurcationJawLeaves = 2048;
 
 /// For a scene with `gingiva: arch` (none else), joins the gingiva of
 /// neighbouring teeth into one per arch: each gingiva

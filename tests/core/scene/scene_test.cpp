@@ -376,6 +376,19 @@ TEST(SceneFile, FurcationByEntranceAndTheBoneBelowIt) {
   EXPECT_DOUBLE_EQ(s.objects[2].crest_drop_mm.at(36), FurcationRoofMm(36) + 1.5);
   EXPECT_EQ(s.objects[2].furcation_of.at(36), s.objects[0].furcation);
   EXPECT_DOUBLE_EQ(s.objects[2].crest_drop_mm.at(35), 1.5);
+  // That jaw gets a finer tree than the scene's default, so that a probe
+  // feels the defect; one that names its own keeps it; a jaw without a
+  // defect (class 0 only) keeps the scene's.
+  EXPECT_EQ(s.objects[2].trees.leaves, kFurcationJawLeaves);
+  EXPECT_EQ(s.objects[2].trees.levels, 5);
+  const SceneSpec own = LoadSceneSpec(Write("furcation_own_tree.yaml",
+                                            "arch: true\nobjects:\n  - tooth: 36\n    furcation: {B: 2}\n"
+                                            "  - anatomy: jaw_lower\n    spheretree: {leaves: 256}\n"));
+  EXPECT_EQ(own.objects[1].trees.leaves, 256);
+  const SceneSpec none = LoadSceneSpec(Write("furcation_none.yaml",
+                                             "arch: true\nobjects:\n  - tooth: 36\n    furcation: {B: 0}\n"
+                                             "  - anatomy: jaw_lower\n"));
+  EXPECT_EQ(none.objects[1].trees.leaves, SphereTreeParams{}.leaves);
 }
 
 TEST(SceneFile, CalculusBySiteAboveOrBelowTheMargin) {
