@@ -502,9 +502,11 @@ double BuccalExtent(const ArchCurve& curve, const std::vector<const ArchTeeth*>&
 // `edge` (z). The free edge is the vermilion: a rounded rim `thickness` thick
 // (a half ellipse); toward the fold the lip thins to 60 % of that and its
 // corners are squarer (a superellipse of exponent 4), where the vestibule's
-// mucosa turns. The inner face keeps to `inner` or outside it. m points.
+// mucosa turns. The inner face keeps to `inner` or outside it. The outer face
+// (the skin) is `groove` mm deeper from a third of the way up from the
+// vermilion to the fold (the philtrum, on the upper lip). m points.
 std::vector<Vector3> LipSection(const Vector3& origin, const Vector3& u, double inner, double thickness, double edge,
-                                double fold, int m) {
+                                double fold, int m, double groove = 0) {
   std::vector<Vector3> ring;
   const double zc = 0.5 * (edge + fold), hz = 0.5 * std::abs(edge - fold), toward_edge = edge > fold ? 1 : -1;
   for (int i = 0; i < m; ++i) {
@@ -512,7 +514,8 @@ std::vector<Vector3> LipSection(const Vector3& origin, const Vector3& u, double 
     const double e = s >= 0 ? 2.0 : 4.0;  // s > 0: the edge's half
     const double x = std::copysign(std::pow(std::abs(c), 2 / e), c), y = std::copysign(std::pow(std::abs(s), 2 / e), s);
     const double t = 0.5 * (1 - y);  // 0 at the edge, 1 at the fold
-    const double half = 0.5 * thickness * (1 - 0.4 * t);
+    double half = 0.5 * thickness * (1 - 0.4 * t);
+    if (x > 0) half -= 0.5 * groove * x * std::clamp((t - 0.2) / 0.25, 0.0, 1.0);
     ring.push_back(origin + (inner + half * (1 + x)) * u + Vector3(0, 0, zc + toward_edge * hz * y));
   }
   return ring;
@@ -524,7 +527,8 @@ std::vector<Vector3> LipSection(const Vector3& origin, const Vector3& u, double 
 // free edge at z1, -1: at z0) takes LipSection's profile, a cheek (0) a
 // rounded rectangle.
 TriangleMesh OuterSlab(const ArchCurve& curve, const std::vector<const ArchTeeth*>& arches, double s0, double s1,
-                       double gap, double thickness, double z0, double z1, double z_round = 2, int lip_edge = 0) {
+                       double gap, double thickness, double z0, double z1, double z_round = 2, int lip_edge = 0,
+                       double fissure_half = 3.0) {
   const int stations = std::max(8, static_cast<int>((s1 - s0) / 1.0));
   std::vector<double> inner(stations + 1);
   for (int i = 0; i <= stations; ++i) inner[i] = BuccalExtent(curve, arches, s0 + (s1 - s0) * i / stations, 1.0) + gap;
@@ -545,13 +549,20 @@ TriangleMesh OuterSlab(const ArchCurve& curve, const std::vector<const ArchTeeth
       rings.push_back(Section(o, curve.Normal(s), smooth[i], smooth[i] + t_i, zc - hz, zc + hz, 24, 3.0));
     } else {
       // The oral fissure is an oval: toward the commissures each lip's free
-      // edge comes up to 3 mm toward the other lip's (as the fourth power of
-      // the distance from the midline); at its ends the lip's height shrinks
-      // toward that edge.
-      const double f = std::pow((s - 0.5 * (s0 + s1)) / (0.5 * (s1 - s0)), 4);
-      const double edge = (lip_edge > 0 ? z1 : z0) + lip_edge * 3.0 * f;
+      // edge comes toward the other lip's (as the 2.5th power of the
+      // distance from the midline), `fissure_half` at the ends, where the two
+      // meet; at its ends the lip's height shrinks toward that edge. The lip is fullest at the midline and thins to
+      // 60 % toward the commissures; the upper lip's edge dips 0.8 mm at the
+      // midline (its tubercle), and its skin has the philtrum, a groove
+      // 0.8 mm deep and about 9 mm wide between two columns.
+      const double mid = s - 0.5 * (s0 + s1), w = mid / (0.5 * (s1 - s0));
+      const double f = std::pow(std::abs(w), 2.5);
+      const bool upper = lip_edge < 0;
+      const double tubercle = upper ? 0.8 * std::exp(-std::pow(mid / 3.5, 2)) : 0.0;
+      const double edge = (lip_edge > 0 ? z1 : z0) + lip_edge * (fissure_half * f + tubercle);
       const double fold = edge + ((lip_edge > 0 ? z0 : z1) - edge) * shrink;
-      rings.push_back(LipSection(o, curve.Normal(s), smooth[i], t_i, edge, fold, 32));
+      const double philtrum = upper ? 0.8 * std::exp(-std::pow(mid / 3.0, 4)) : 0.0;
+      rings.push_back(LipSection(o, curve.Normal(s), smooth[i], t_i * (1 - 0.4 * w * w), edge, fold, 32, philtrum));
     }
   }
   return Loft(rings);
@@ -803,10 +814,13 @@ TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch, con
     const std::vector<const ArchTeeth*> teeth = {up ? &upper : &lower};
     // The upper lip's edge 2 mm above the upper incisal edge, the lower's 1 mm
     // below the lower's; each up (down) to its vestibule's fold.
+    // The two edges meet at the commissures (3 mm each at the least, as
+    // when the mouth is closed and the edges pass each other).
     const double edge = up ? lv.upper_edge + 2.0 : lv.lower_edge - 1.0;
     const double fold = up ? lv.upper_crest + 9.0 : lv.lower_crest - 9.0;
+    const double meet = std::max(3.0, 0.5 * ((lv.upper_edge + 2.0) - (lv.lower_edge - 1.0)));
     return OuterSlab(curve, teeth, -commissure, commissure, 2.5, 9.0, std::min(edge, fold), std::max(edge, fold), 6,
-                     up ? -1 : 1);
+                     up ? -1 : 1, meet);
   }
   const bool left = name == "cheek_left";
   const ArchCurve curve(true, arch);

@@ -118,10 +118,13 @@ TEST(AnatomyView, LipsAndCheeksAroundTheOpenMouth) {
   for (const char* name : {"lip_upper", "lip_lower", "cheek_left", "cheek_right", "tongue"})
     meshes.push_back(MakeSoftTissue(name, open));
   // Rows: the image's x, y (up), z (toward the camera) in the mouth: from in
-  // front, 10 degrees above the occlusal plane.
-  const double e = 10 * M_PI / 180;
+  // front, 10 degrees above the occlusal plane; RenderToPng's own tilt and
+  // turn taken back.
+  const double e = -10 * M_PI / 180;
   Matrix3 R;
   R << -1, 0, 0, 0, -std::sin(e), std::cos(e), 0, std::cos(e), std::sin(e);
+  R = Matrix3(Eigen::AngleAxisd(35 * M_PI / 180, Vector3::UnitY())) *
+      Matrix3(Eigen::AngleAxisd(-25 * M_PI / 180, Vector3::UnitX())) * R;
   for (TriangleMesh& m : meshes) m.Transform(R, Vector3::Zero());
   std::vector<ShadedMesh> shaded;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
