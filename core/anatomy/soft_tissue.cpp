@@ -174,13 +174,16 @@ double FurcationDefectMm(int hamp) { return hamp == 1 ? 2.0 : hamp == 2 ? 4.0 : 
 // furcation (found on the tooth's own mesh, straight above the prism's
 // middle), its faces at the entrances flush with the roots and each moved in
 // by the entrance's defect (FurcationDefectMm), never to less than 1 mm of
-// bone. None when an entrance is class 3 (through and through: no bone
-// between the roots above the crest) or no entrance is involved.
+// bone; with no entrance involved (class 0 everywhere, or no classes given),
+// the whole prism: the bone a furcation keeps when attachment is lost around
+// the tooth but not between its roots. None when an entrance is class 3
+// (through and through: no bone between the roots above the crest), for a
+// single-rooted tooth, or where the crest lies above the prism.
 std::optional<TriangleMesh> InterradicularBone(const FdiTooth& t, double crest_drop,
                                                const std::map<std::string, int>& classes) {
   int worst = 0;
   for (const auto& [entrance, hamp] : classes) worst = std::max(worst, hamp);
-  if (worst == 0 || worst == 3) return std::nullopt;
+  if (worst == 3 || Dimensions(t).roots < 2) return std::nullopt;
   const ToothDimensions d = Dimensions(t);
   const double a = d.md_cervix / 2, b = d.bl / 2 * 0.82;  // tooth.cpp's cervical half widths
   // The roots' tops (tooth.cpp): lower molar mesial, distal; upper molar
@@ -468,12 +471,15 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     rings.push_back(std::move(ring));
   }
   TriangleMesh jaw = Loft(rings);
+  // The bone between the roots of every multi-rooted tooth whose crest has
+  // dropped below its furcation: as its classes leave it, and whole where
+  // the scene gives none (class 0: the furcation not involved).
   for (const PlacedTooth& p : teeth.placed) {
-    const auto it = furcation.find(p.tooth.fdi);
-    if (it == furcation.end()) continue;
     const auto drop = drops.find(p.tooth.fdi);
+    if (drop == drops.end() || Dimensions(p.tooth).roots < 2) continue;
+    const auto it = furcation.find(p.tooth.fdi);
     const std::optional<TriangleMesh> bone =
-        InterradicularBone(p.tooth, drop == drops.end() ? 1.5 : drop->second, it->second);
+        InterradicularBone(p.tooth, drop->second, it == furcation.end() ? std::map<std::string, int>{} : it->second);
     if (bone) jaw = UniteSolids(jaw, PlacedMesh(p, *bone));
   }
   return jaw;

@@ -19,7 +19,7 @@ namespace sulcus {
 
 /// Changes whenever MakeSoftTissue's meshes change: caches of generated meshes
 /// key on it.
-inline constexpr int kSoftTissueVersion = 20;
+inline constexpr int kSoftTissueVersion = 21;
 
 /// The names MakeSoftTissue knows: jaw_lower, jaw_upper, lip_upper, lip_lower,
 /// cheek_left, cheek_right, tongue, floor_of_mouth, palate, soft_palate.
@@ -43,7 +43,8 @@ double FurcationRoofMm(int fdi);
 /// scene's `furcation`): where the crest has dropped below the furcation, the
 /// jaw keeps the bone between the roots up to 0.3 mm under the furcation's
 /// roof, missing 2 mm in from a class 1 entrance and 4 mm from a class 2 one
-/// (never leaving less than 1 mm), and none at all when an entrance is class 3.
+/// (never leaving less than 1 mm), none at all when an entrance is class 3,
+/// and all of it for a tooth not named there (class 0: not involved).
 /// Throws std::invalid_argument for an unknown name.
 TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch = {},
                             const std::map<int, double>& crest_drop_mm = {},

@@ -164,9 +164,11 @@ std::vector<std::string> FurcationEntrances(int fdi);
 /// (`furcation_of`: the bone between the roots as each class leaves it,
 /// MakeSoftTissue): LoadSceneSpec and CompileScene call it, so a
 /// scene whose pockets were changed after loading (a generated case) gets the
-/// bone that goes with them. A jaw with a furcation defect (class 1 to 3) and
-/// no `spheretree` of its own gets at least kFurcationJawLeaves leaves (5
-/// levels), so that a probe feels the defect as deep as it is.
+/// bone that goes with them. A jaw whose crest has dropped below a tooth's
+/// furcation (so that the bone between the roots is modelled, whole or with
+/// its class's defect) and that has no `spheretree` of its own gets at least
+/// kFurcationJawLeaves leaves (5 levels), so that a probe feels that bone as
+/// it is.
 void FollowAttachmentLoss(SceneSpec* spec);
 inline constexpr int kFurcationJawLeaves = 2048;
 

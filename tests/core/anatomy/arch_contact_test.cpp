@@ -198,7 +198,6 @@ TEST(SoftTissue, TheBoneBetweenTheRootsFollowsTheFurcationClass) {
   EXPECT_NEAR(FurcationRoofMm(46), -roof, 1e-9);
   EXPECT_EQ(FurcationRoofMm(45), 0.0);
   const double entrance_y = 0.7 * Dimensions(FdiTooth::Parse(46)).bl / 2 * 0.82;
-  const std::size_t plain_faces = MakeSoftTissue("jaw_lower", {}, {{46, -roof + 0.5}}).num_faces();
   const double drops[4] = {0, -roof + 0.5, -roof + 1.5, -roof + 3.0};
   for (int hamp = 1; hamp <= 3; ++hamp) {
     SCOPED_TRACE("class " + std::to_string(hamp));
@@ -217,8 +216,16 @@ TEST(SoftTissue, TheBoneBetweenTheRootsFollowsTheFurcationClass) {
       EXPECT_TRUE(bone_at(-entrance_y + 0.5)) << "at the sound lingual entrance";
     }
   }
-  // An entrance of class 0 leaves the jaw as it was.
-  EXPECT_EQ(MakeSoftTissue("jaw_lower", {}, {{46, -roof + 0.5}}, {{46, {{"B", 0}}}}).num_faces(), plain_faces);
+  // With no class given (or class 0: the furcation not involved) the bone
+  // between the roots is whole, however far the crest has dropped around
+  // the tooth; with the crest above the furcation there is none to add.
+  const TriangleMesh whole = MakeSoftTissue("jaw_lower", {}, {{46, drops[2]}});
+  ASSERT_TRUE(whole.Check().IsSolid());
+  const double z2 = 0.5 * (-drops[2] + roof - 0.3);
+  for (double y = -entrance_y + 0.5; y <= entrance_y - 0.5; y += 0.5)
+    EXPECT_TRUE(InsideSolid(whole, {p46->X_WT * ArchMirror(p46->mirrored, Vector3(0, y, z2))})[0]) << y << ": class 0";
+  EXPECT_EQ(MakeSoftTissue("jaw_lower", {}, {{46, drops[2]}}, {{46, {{"B", 0}, {"L", 0}}}}).num_faces(), whole.num_faces());
+  EXPECT_EQ(MakeSoftTissue("jaw_lower", {}, {{46, 1.5}}).num_faces(), MakeSoftTissue("jaw_lower").num_faces());
   std::printf("46: the furcation's roof %.1f mm below the CEJ\n", -roof);
   // The upper first molar (three roots) and first premolar (two, buccal and
   // palatal): their roofs where the roots part, and jaws that stay solid.
@@ -231,7 +238,18 @@ TEST(SoftTissue, TheBoneBetweenTheRootsFollowsTheFurcationClass) {
                                                          : std::map<std::string, int>{{"M", 1}};
     const TriangleMesh jaw = MakeSoftTissue("jaw_upper", {}, {{fdi, r + 1.5}}, {{fdi, classes}});
     EXPECT_TRUE(jaw.Check().IsSolid()) << fdi;
-    EXPECT_GT(jaw.num_faces(), MakeSoftTissue("jaw_upper", {}, {{fdi, r + 1.5}}).num_faces()) << fdi << ": its bone added";
+    // Without classes, bone in the middle between the roots' tops, halfway
+    // between the crest and the roof; with them, a different bone.
+    const TriangleMesh sound = MakeSoftTissue("jaw_upper", {}, {{fdi, r + 1.5}});
+    EXPECT_TRUE(sound.Check().IsSolid()) << fdi;
+    const std::vector<PlacedTooth> uppers = PlaceArch(true);
+    const PlacedTooth& pt = *std::find_if(uppers.begin(), uppers.end(), [&](const PlacedTooth& p) { return p.tooth.fdi == fdi; });
+    Vector3 mid = Vector3::Zero();
+    const std::vector<Vector3> tops = GenerateTooth(fdi, {.resolution = 3}).root_tops;
+    for (const Vector3& t : tops) mid += t / static_cast<double>(tops.size());
+    mid.z() = -r - 0.9;
+    EXPECT_TRUE(InsideSolid(sound, {pt.X_WT * ArchMirror(pt.mirrored, mid)})[0]) << fdi << ": bone between the roots";
+    EXPECT_NE(jaw.num_faces(), sound.num_faces()) << fdi << ": its classes shape that bone";
   }
 }
 

@@ -389,6 +389,15 @@ TEST(SceneFile, FurcationByEntranceAndTheBoneBelowIt) {
                                              "arch: true\nobjects:\n  - tooth: 36\n    furcation: {B: 0}\n"
                                              "  - anatomy: jaw_lower\n"));
   EXPECT_EQ(none.objects[1].trees.leaves, SphereTreeParams{}.leaves);
+  // Deep pockets at a molar and no class: the bone between its roots is
+  // modelled whole (its crest below the furcation), and the jaw is as fine;
+  // the other jaw is not.
+  const SceneSpec deep = LoadSceneSpec(Write("furcation_deep.yaml",
+                                             "arch: true\nobjects:\n  - tooth: 36\n    pockets_mm: [6, 5, 6, 5, 4, 5]\n"
+                                             "  - anatomy: jaw_lower\n  - anatomy: jaw_upper\n"));
+  EXPECT_GT(deep.objects[1].crest_drop_mm.at(36), FurcationRoofMm(36));
+  EXPECT_EQ(deep.objects[1].trees.leaves, kFurcationJawLeaves);
+  EXPECT_EQ(deep.objects[2].trees.leaves, SphereTreeParams{}.leaves);
 }
 
 TEST(SceneFile, CalculusBySiteAboveOrBelowTheMargin) {
