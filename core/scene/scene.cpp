@@ -435,8 +435,10 @@ void FollowAttachmentLoss(SceneSpec* spec) {
     // probing scene stopped 0.25 mm short).
     bool furcation_above_crest = false;
     for (const auto& [fdi, drop] : drops) {
-      if (FdiTooth::Parse(fdi).upper() == (jaw.anatomy == "jaw_upper") && FurcationRoofMm(fdi) > 0 &&
-          drop > FurcationRoofMm(fdi))
+      // (a tooth number the reader has already refused is skipped: no throw here)
+      const int quadrant = fdi / 10, position = fdi % 10;
+      if (quadrant < 1 || quadrant > 4 || position < 1 || position > 8) continue;
+      if ((quadrant <= 2) == (jaw.anatomy == "jaw_upper") && FurcationRoofMm(fdi) > 0 && drop > FurcationRoofMm(fdi))
         furcation_above_crest = true;
     }
     if (furcation_above_crest && !jaw.own_trees && jaw.trees.target_error_mm == 0 &&
