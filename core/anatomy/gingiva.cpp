@@ -178,8 +178,7 @@ constexpr double kPapillaSteepest = 2.0;  // its steepest (mm per mm)
 constexpr double kBelowSiteMarginMm = 0.15;  // how far below a line-angle site's margin the papilla's top passes
 constexpr double kPastCutFall = 2.0;  // how fast a collar's top falls past its cut (mm per mm)
 constexpr double kFaceInsetMm = 0.5;  // the interdental band's faces inside the collars' outer extents
-constexpr double kPapillaRoll = 1.5;  // how fast the papilla's top falls outward past kPapillaOut (mm per mm)
-constexpr double kPapillaOut = 0.0;   // ... outside the line between the two sulci's walls (mm)
+constexpr double kPapillaRoll = 1.5;  // its top's fall outward past the line between the sulci's walls (mm per mm)
 
 // How far a share's outer wall has drawn in at height z below the crest: 2 mm
 // per mm, so that the share ends inside the jaw (whose top, soft_tissue.cpp,
@@ -484,7 +483,7 @@ double GingivaShareField::Uncut(const Vector3& p) const {
     // between the teeth and no further out than their margins, not a fin
     // standing out of the embrasure)
     above.Add((p - l.papilla).dot(l.up) + l.slope[across_signed < 0 ? 0 : 1] * across + 0.3 * SmoothRamp(aside - 1.0, 1.5) +
-              kPapillaRoll * SmoothRamp(to_wall - kPapillaOut, 0.8) + behind);
+              kPapillaRoll * SmoothRamp(to_wall, 0.8) + behind);
     below.Add((l.base - p).dot(l.up) + 0.5 * std::abs(across_signed) + behind);
   }
   above.Add(p.z() - own.top + own_top_past_cuts);

@@ -183,7 +183,7 @@ std::optional<TriangleMesh> InterradicularBone(const FdiTooth& t, double crest_d
                                                const std::map<std::string, int>& classes) {
   int worst = 0;
   for (const auto& [entrance, hamp] : classes) worst = std::max(worst, hamp);
-  if (worst == 3 || Dimensions(t).roots < 2) return std::nullopt;
+  if (worst == 3 || !FurcationAboveCrest(t.fdi, crest_drop)) return std::nullopt;
   const ToothDimensions d = Dimensions(t);
   const double a = d.md_cervix / 2, b = d.bl / 2 * 0.82;  // tooth.cpp's cervical half widths
   // The roots' tops (tooth.cpp): lower molar mesial, distal; upper molar
@@ -246,7 +246,6 @@ std::optional<TriangleMesh> InterradicularBone(const FdiTooth& t, double crest_d
   for (const Vector2& p : poly) mid += p / static_cast<double>(poly.size());
   const double roof = -FurcationRoofMm(t.fdi);
   const double z0 = -crest_drop - 1.0, z1 = roof - 0.3;
-  if (z1 < -crest_drop + 0.1) return std::nullopt;  // the roots part below the crest: the jaw holds it all
   std::vector<std::vector<Vector3>> rings(2);
   for (const Vector2& p : poly) {
     rings[0].emplace_back(p.x(), p.y(), z0);
@@ -476,7 +475,7 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   // the scene gives none (class 0: the furcation not involved).
   for (const PlacedTooth& p : teeth.placed) {
     const auto drop = drops.find(p.tooth.fdi);
-    if (drop == drops.end() || Dimensions(p.tooth).roots < 2) continue;
+    if (drop == drops.end() || !FurcationAboveCrest(p.tooth.fdi, drop->second)) continue;
     const auto it = furcation.find(p.tooth.fdi);
     const std::optional<TriangleMesh> bone =
         InterradicularBone(p.tooth, drop->second, it == furcation.end() ? std::map<std::string, int>{} : it->second);
@@ -509,8 +508,9 @@ double BuccalExtent(const ArchCurve& curve, const std::vector<const ArchTeeth*>&
 // (a half ellipse); toward the fold the lip thins to 60 % of that and its
 // corners are squarer (a superellipse of exponent 4), where the vestibule's
 // mucosa turns. The inner face keeps to `inner` or outside it. The outer face
-// (the skin) is `groove` mm deeper from a third of the way up from the
-// vermilion to the fold (the philtrum, on the upper lip). m points.
+// (the skin) is up to `groove` mm deeper away from the vermilion: none over
+// the fifth of the height next to the free edge, all of it from nearly half
+// way to the fold (the philtrum, on the upper lip). m points.
 std::vector<Vector3> LipSection(const Vector3& origin, const Vector3& u, double inner, double thickness, double edge,
                                 double fold, int m, double groove = 0) {
   std::vector<Vector3> ring;
@@ -557,10 +557,10 @@ TriangleMesh OuterSlab(const ArchCurve& curve, const std::vector<const ArchTeeth
       // The oral fissure is an oval: toward the commissures each lip's free
       // edge comes toward the other lip's (as the 2.5th power of the
       // distance from the midline), `fissure_half` at the ends, where the two
-      // meet; at its ends the lip's height shrinks toward that edge. The lip is fullest at the midline and thins to
-      // 60 % toward the commissures; the upper lip's edge dips 0.8 mm at the
-      // midline (its tubercle), and its skin has the philtrum, a groove
-      // 0.8 mm deep and about 9 mm wide between two columns.
+      // meet; at its ends the lip's height shrinks toward that edge. The lip
+      // is fullest at the midline and thins to 60 % toward the commissures;
+      // the upper lip's edge dips 0.8 mm at the midline (its tubercle), and
+      // its skin has the philtrum, a groove 0.8 mm deep and about 6 mm wide.
       const double mid = s - 0.5 * (s0 + s1), w = mid / (0.5 * (s1 - s0));
       const double f = std::pow(std::abs(w), 2.5);
       const bool upper = lip_edge < 0;
@@ -777,6 +777,12 @@ double FurcationRoofMm(int fdi) {
   const auto it = measured.find(key);
   if (it != measured.end()) return it->second;
   return measured[key] = MeasureFurcationRoof(t);
+}
+
+bool FurcationAboveCrest(int fdi, double crest_drop_mm) {
+  if (!FdiTooth::Valid(fdi)) return false;
+  const double roof = FurcationRoofMm(fdi);  // (0: one root)
+  return roof > 0 && roof + 0.3 <= crest_drop_mm - 0.1;
 }
 
 double CrestDropMm(double pocket_plus_recession_mm) { return std::max(1.5, pocket_plus_recession_mm - 0.5); }

@@ -37,6 +37,12 @@ double CrestDropMm(double pocket_plus_recession_mm);
 /// tooth with one root.
 double FurcationRoofMm(int fdi);
 
+/// Whether the jaw models the bone between a tooth's roots at this crest: a
+/// multi-rooted tooth whose crest lies below its furcation's roof, far enough
+/// for that bone (up to 0.3 mm under the roof) to stand above it. False for a
+/// number that is not a tooth.
+bool FurcationAboveCrest(int fdi, double crest_drop_mm);
+
 /// A closed, outward mesh in the world frame. `crest_drop_mm` gives the crest
 /// per FDI tooth for the jaws (CrestDropMm; teeth not named: 1.5 mm);
 /// `furcation` each multi-rooted tooth's Hamp class (0 to 3) by entrance (as a

@@ -49,6 +49,9 @@ struct FdiTooth {
   bool upper() const { return quadrant <= 2; }
   ToothType type() const { return static_cast<ToothType>(position - 1); }
   static FdiTooth Parse(int fdi);
+  /// Whether Parse accepts `fdi` (for code that must not throw on a number a
+  /// reader has already reported).
+  static bool Valid(int fdi) { return fdi / 10 >= 1 && fdi / 10 <= 4 && fdi % 10 >= 1 && fdi % 10 <= 8; }
 };
 
 std::string ToString(ToothType type);

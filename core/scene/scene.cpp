@@ -433,14 +433,11 @@ void FollowAttachmentLoss(SceneSpec* spec) {
     // is 4 mm; 3.8 mm at 2,048 leaves) and stand out of the whole bone's
     // corners into the pockets beside them (a 2 N push at 46 DB of the
     // probing scene stopped 0.25 mm short).
+    // (a tooth number the reader has already refused is not a tooth here: no throw)
     bool furcation_above_crest = false;
-    for (const auto& [fdi, drop] : drops) {
-      // (a tooth number the reader has already refused is skipped: no throw here)
-      const int quadrant = fdi / 10, position = fdi % 10;
-      if (quadrant < 1 || quadrant > 4 || position < 1 || position > 8) continue;
-      if ((quadrant <= 2) == (jaw.anatomy == "jaw_upper") && FurcationRoofMm(fdi) > 0 && drop > FurcationRoofMm(fdi))
-        furcation_above_crest = true;
-    }
+    for (const auto& [fdi, drop] : drops)
+      furcation_above_crest = furcation_above_crest || (FurcationAboveCrest(fdi, drop) &&
+                                                        FdiTooth::Parse(fdi).upper() == (jaw.anatomy == "jaw_upper"));
     if (furcation_above_crest && !jaw.own_trees && jaw.trees.target_error_mm == 0 &&
         jaw.trees.leaves < kFurcationJawLeaves) {
       jaw.trees.levels = std::max(jaw.trees.levels, 5);

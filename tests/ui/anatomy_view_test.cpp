@@ -22,6 +22,24 @@ namespace fs = std::filesystem;
 fs::path Shot(const std::string& name) { return test::OutputPath("screenshots", name); }
 using test::OutputPath;
 
+// RenderToPng's camera is raised 25 degrees and turned 35. `R` turns the
+// meshes so that its rows are the image's x, y (up) and z (toward the
+// camera); turned back after it, so that the camera looks straight along -z.
+Matrix3 Straight(const Matrix3& R) {
+  return Matrix3(Eigen::AngleAxisd(35 * M_PI / 180, Vector3::UnitY())) *
+         Matrix3(Eigen::AngleAxisd(-25 * M_PI / 180, Vector3::UnitX())) * R;
+}
+
+// The mouth (+x the patient's left, +y forward, +z occlusal) seen straight
+// from in front, the camera `below_deg` below the occlusal plane (negative:
+// above it).
+Matrix3 FromTheFront(double below_deg) {
+  const double e = below_deg * M_PI / 180;
+  Matrix3 R;
+  R << -1, 0, 0, 0, -std::sin(e), std::cos(e), 0, std::cos(e), std::sin(e);
+  return Straight(R);
+}
+
 TEST(AnatomyView, LowerRightQuadrantRow) {
   std::vector<TriangleMesh> teeth;
   double x = 0;
@@ -117,14 +135,8 @@ TEST(AnatomyView, LipsAndCheeksAroundTheOpenMouth) {
   const std::size_t teeth = meshes.size();
   for (const char* name : {"lip_upper", "lip_lower", "cheek_left", "cheek_right", "tongue"})
     meshes.push_back(MakeSoftTissue(name, open));
-  // Rows: the image's x, y (up), z (toward the camera) in the mouth: from in
-  // front, 10 degrees above the occlusal plane; RenderToPng's own tilt and
-  // turn taken back.
-  const double e = -10 * M_PI / 180;
-  Matrix3 R;
-  R << -1, 0, 0, 0, -std::sin(e), std::cos(e), 0, std::cos(e), std::sin(e);
-  R = Matrix3(Eigen::AngleAxisd(35 * M_PI / 180, Vector3::UnitY())) *
-      Matrix3(Eigen::AngleAxisd(-25 * M_PI / 180, Vector3::UnitX())) * R;
+  // From in front, 10 degrees above the occlusal plane.
+  const Matrix3 R = FromTheFront(-10);
   for (TriangleMesh& m : meshes) m.Transform(R, Vector3::Zero());
   std::vector<ShadedMesh> shaded;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
@@ -146,12 +158,10 @@ TEST(AnatomyView, FurcationClasses) {
   const double below[4] = {0, 0.5, 1.5, 3.0};
   // Rows: the image's x, y (up) and z (toward the camera) in the tooth frame
   // (+y buccal, +z toward the crown).
+  // The camera straight at the buccal side.
   Matrix3 R;
   R << -1, 0, 0, 0, 0, 1, 0, 1, 0;
-  // RenderToPng's camera is raised 25 degrees and turned 35: turned back
-  // here, so that the camera looks straight at the buccal side.
-  R = Matrix3(Eigen::AngleAxisd(35 * M_PI / 180, Vector3::UnitY())) *
-      Matrix3(Eigen::AngleAxisd(-25 * M_PI / 180, Vector3::UnitX())) * R;
+  R = Straight(R);
   std::vector<TriangleMesh> meshes;
   for (int hamp = 1; hamp <= 3; ++hamp) {
     TriangleMesh jaw = MakeSoftTissue("jaw_lower", {}, {{46, roof + below[hamp]}}, {{46, {{"B", hamp}, {"L", 0}}}});
@@ -196,15 +206,9 @@ TEST(AnatomyView, GingivaOfTheUpperFront) {
     kinds.push_back(tooth ? 0 : 1);
   }
   ASSERT_EQ(meshes.size(), 13u) << "six teeth, their six shares of the gingiva and the upper jaw";
-  // Rows: the image's x, y (up) and z (toward the camera) in the mouth (+x
-  // the patient's left, +y forward, +z occlusal for the lower arch): the
-  // camera in front, 5 degrees below the occlusal plane, looking a little up
-  // at the upper teeth; RenderToPng's own tilt and turn taken back.
-  const double e = 5 * M_PI / 180;
-  Matrix3 R;
-  R << -1, 0, 0, 0, -std::sin(e), std::cos(e), 0, std::cos(e), std::sin(e);
-  R = Matrix3(Eigen::AngleAxisd(35 * M_PI / 180, Vector3::UnitY())) *
-      Matrix3(Eigen::AngleAxisd(-25 * M_PI / 180, Vector3::UnitX())) * R;
+  // From in front, 5 degrees below the occlusal plane: looking a little up
+  // at the upper teeth.
+  const Matrix3 R = FromTheFront(5);
   for (TriangleMesh& m : meshes) m.Transform(R, Vector3::Zero());
   std::vector<ShadedMesh> shaded;
   for (std::size_t i = 0; i < meshes.size(); ++i) {

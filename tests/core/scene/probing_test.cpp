@@ -803,13 +803,15 @@ TEST(Probing, AProbeGoesIntoTheFurcationAsFarAsItsClassLeavesTheBoneOpen) {
       m.Transform(scene->spec.objects[i].X_WO.rotation(), scene->spec.objects[i].X_WO.translation());
       solids.push_back(std::move(m));
     }
-    auto free_at = [&](double y) {
+    // Whether the probe at a pose is free of the exact meshes.
+    auto free_pose = [&](const Matrix3& R_tool, const Vector3& t) {
       TriangleMesh probe = scene->tool_mesh;
-      probe.Transform(R_WG, world(Vector3(0, y, z)));
+      probe.Transform(R_tool, t);
       for (const TriangleMesh& m : solids)
         if (MeshesIntersect(probe, m)) return false;
       return true;
     };
+    auto free_at = [&](double y) { return free_pose(R_WG, world(Vector3(0, y, z))); };
     ASSERT_TRUE(free_at(start));
     double lo = start, hi = end;
     if (free_at(end)) {
@@ -828,18 +830,12 @@ TEST(Probing, AProbeGoesIntoTheFurcationAsFarAsItsClassLeavesTheBoneOpen) {
     const double in = entrance_y - tip_T.y();
     // Where the rendered tool stopped, how far it overlaps the exact meshes:
     // how far back out along its way it must move to be free of them.
-    auto free_pose = [&](const Vector3& shift) {
-      TriangleMesh probe = scene->tool_mesh;
-      probe.Transform(d.X_WG.rotation(), d.X_WG.translation() + shift);
-      for (const TriangleMesh& m : solids)
-        if (MeshesIntersect(probe, m)) return false;
-      return true;
-    };
     const Vector3 out_W = R * Vector3::UnitY();
+    auto free_back = [&](double s) { return free_pose(d.X_WG.rotation(), d.X_WG.translation() + s * out_W); };
     double overlap = 0;
-    if (!free_pose(Vector3::Zero())) {
+    if (!free_back(0)) {
       double a = 0, b = 2.0;
-      for (int k = 0; k < 16; ++k) (free_pose(0.5 * (a + b) * out_W) ? b : a) = 0.5 * (a + b);
+      for (int k = 0; k < 16; ++k) (free_back(0.5 * (a + b)) ? b : a) = 0.5 * (a + b);
       overlap = b;
     }
     std::printf("class %d: the ball's centre %.2f mm in from the entrance (exact meshes along its line: %.2f; tip %.2f %.2f "
@@ -850,8 +846,8 @@ TEST(Probing, AProbeGoesIntoTheFurcationAsFarAsItsClassLeavesTheBoneOpen) {
     // the straight line, over an edge the line meets: class I's bone ends
     // 0.2 mm under the line's height).
     EXPECT_LE(overlap, 0.1) << "no further than the true geometry lets it";
-    // And not held far short of it: the jaw of a scene with a furcation
-    // defect gets 2,048 leaves by default (FollowAttachmentLoss; at 512 its
+    // And not held far short of it: a jaw whose crest lies below a furcation
+    // gets 2,048 leaves by default (FollowAttachmentLoss; at 512 its
     // spheres filled the class II defect, felt 0.9 mm in where the meshes
     // allow 4).
     EXPECT_EQ(scene->spec.objects[1].trees.leaves, kFurcationJawLeaves);
