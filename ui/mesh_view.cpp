@@ -127,7 +127,7 @@ double RenderToPng(const std::vector<ShadedMesh>& meshes, const std::filesystem:
   for (const ShadedMesh& m : meshes) {
     if (m.mesh == nullptr) continue;
     auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-    mapper->SetInputData(ToPolyData(*m.mesh));
+    mapper->SetInputData(ToPolyData(*m.mesh, m.crease_deg, m.normals));
     auto actor = vtkSmartPointer<vtkActor>::New();
     actor->SetMapper(mapper);
     actor->GetProperty()->SetColor(m.color[0], m.color[1], m.color[2]);

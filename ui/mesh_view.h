@@ -22,12 +22,19 @@ namespace sulcus::ui {
 vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_deg = 0,
                                         const std::vector<Vector3>* normals = nullptr);
 inline constexpr const char* kSourceVertexArray = "source_vertex";
+// Edges sharper than this are drawn sharp (a share of the gingiva cut flat
+// against its neighbour's, a jaw's cut end); gentler ones are shaded smooth.
+inline constexpr double kCreaseDeg = 60;
 
 /// One mesh in a picture, with an RGB colour in [0, 1] and an opacity.
 struct ShadedMesh {
   const TriangleMesh* mesh = nullptr;
   double color[3] = {0.93, 0.91, 0.84};  // enamel
   double opacity = 1.0;
+  // As ToPolyData takes them: the normals to draw with (a gingiva share's, as
+  // the scene view draws it) and the crease angle (0: smooth everywhere).
+  const std::vector<Vector3>* normals = nullptr;
+  double crease_deg = 0;
 };
 
 /// Renders the meshes offscreen (needs an X display, e.g. Xvfb) from an oblique

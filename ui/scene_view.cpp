@@ -111,10 +111,6 @@ vtkSmartPointer<vtkMatrix4x4> ToVtk(const RigidTransform& X) {
   return m;
 }
 
-// Edges sharper than this are drawn sharp (a share of the gingiva cut flat
-// against its neighbour's, a jaw's cut end); gentler ones are shaded smooth.
-constexpr double kCreaseDeg = 60;
-
 vtkSmartPointer<vtkActor> MeshActor(const TriangleMesh& mesh, const Look& look,
                                     const std::vector<Vector3>* normals = nullptr) {
   auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();

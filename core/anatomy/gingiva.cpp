@@ -313,8 +313,12 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
       const double sign = side == 0 ? 1.0 : -1.0;
       const double th_i = th_e + sign * kPi / 2;
       const Vector3 b_i = Around(own.outer_r, th_i) * Vector3(std::cos(th_i), std::sin(th_i), 0);
-      // The same side seen from the neighbour: its angle toward this tooth turned the other way.
-      const double th_j = th_back - sign * kPi / 2;
+      // The same side seen from the neighbour: this side's direction in its
+      // frame (its angle toward this tooth turned the other way, unless the
+      // arch's mirror lies between the two frames, as it does between the
+      // central incisors, where it is turned the same way).
+      const Vector3 d_j = n.A * Vector3(std::cos(th_i), std::sin(th_i), 0);
+      const double th_j = std::atan2(d_j.y(), d_j.x());
       const Vector3 b_j = At * (Around(n.gingiva->outer_r, th_j) * Vector3(std::cos(th_j), std::sin(th_j), 0) - n.b);
       Vector3 normal = (b_j - b_i).cross(up).normalized();
       if (normal.dot(b_i) < 0) normal = -normal;  // outward, away from the axes

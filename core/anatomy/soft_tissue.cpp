@@ -1,5 +1,6 @@
 #include "core/anatomy/soft_tissue.h"
 
+#include <array>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -100,10 +101,19 @@ std::vector<Vector3> Section(const Vector3& origin, const Vector3& u, double u0,
   return ring;
 }
 
+// The jaw's section is taken in bands of kBandMm from the crest toward the
+// apices, each band's faces from the roots within it, so that the bone
+// follows the roots' inclination (an upper incisor's root leans back 4 to 5 mm
+// over its length) instead of standing as a wall at their widest.
+constexpr int kBands = 24;
+constexpr double kBandMm = 1.0;
+
 struct Extent {
-  double n_min = 1e9, n_max = -1e9;  // offsets along the arch's outward normal
-  double far = -1e9;                 // the deepest root point, as distance away from the crowns (sign * z)
+  // Offsets along the arch's outward normal, in each band below the crest.
+  std::array<double, kBands> n_min, n_max;
+  double far = -1e9;  // the deepest root point, as distance away from the crowns (sign * z)
   bool any = false;
+  Extent() { n_min.fill(1e9), n_max.fill(-1e9); }
 };
 
 // The placed teeth of an arch (no third molars) and their meshes, with each
@@ -309,58 +319,78 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
       const int i = station_of(curve.Project(v, teeth.s[k]));
       const double along = sign * (v.z() - crest_z);  // > 0: in the bone
       if (along < 0 || i < 0 || i >= stations) continue;
+      const int band = std::min(kBands - 1, static_cast<int>(along / kBandMm));
       for (int j = std::max(0, i - 2); j <= std::min(stations - 1, i + 2); ++j) {
         const double n = (v - curve.Point(station_s(j))).dot(curve.Normal(station_s(j)));
         Extent& e = ext[j];
         e.any = true;
-        e.n_min = std::min(e.n_min, n);
-        e.n_max = std::max(e.n_max, n);
+        e.n_min[band] = std::min(e.n_min[band], n);
+        e.n_max[band] = std::max(e.n_max[band], n);
         e.far = std::max(e.far, sign * v.z());
       }
     }
   }
-  // Stations without roots (the ends) take the nearest rooted station's section.
+  // Stations without roots (the ends) take the nearest rooted station's
+  // section; bands past the apices the deepest band's that holds a root.
   int first = 0, last = stations - 1;
   while (first < stations && !ext[first].any) ++first;
   while (last >= 0 && !ext[last].any) --last;
   for (int i = 0; i < first; ++i) ext[i] = ext[first];
   for (int i = last + 1; i < stations; ++i) ext[i] = ext[last];
-  // Smooth the section along the arch (the bone does not follow each root's
-  // bulge): the widest extent within 4 stations (3 mm), then the mean of that
-  // over the same 4 stations. The mean of widest extents taken over windows
-  // that all contain a station is at least that station's own, so every root
-  // stays inside, and the outer surface ramps between teeth instead of
-  // stepping where one root's extent gives way to the next.
+  for (Extent& e : ext) {
+    int b = 0;
+    while (b < kBands && e.n_max[b] < -1e8) ++b;
+    for (int c = 0; c < b && b < kBands; ++c) e.n_min[c] = e.n_min[b], e.n_max[c] = e.n_max[b];
+    for (int c = 1; c < kBands; ++c)
+      if (e.n_max[c] < -1e8) e.n_min[c] = e.n_min[c - 1], e.n_max[c] = e.n_max[c - 1];
+  }
+  // Smooth the section along the arch and down it (the bone does not follow
+  // each root's bulge): the widest extent within 4 stations (3 mm) and 1
+  // band, then the mean of that over the same window. The mean of widest
+  // extents taken over windows that all contain a cell is at least that
+  // cell's own, so every root stays inside, and the outer surface ramps
+  // between teeth instead of stepping where one root's extent gives way to
+  // the next.
   // The far edge (the bone's depth) the same way over 16 stations (12 mm): it
   // would otherwise follow each root's length, a notch at the short-rooted
   // incisors and a peak at each long canine, where the jaw's edge is a smooth
   // curve.
-  constexpr int kSmooth = 4, kSmoothFar = 16;
+  constexpr int kSmooth = 4, kSmoothFar = 16, kSmoothBands = 1;
   std::vector<Extent> widest = ext;
   for (int i = 0; i < stations; ++i) {
     for (int j = std::max(0, i - kSmoothFar); j <= std::min(stations - 1, i + kSmoothFar); ++j) {
       if (std::abs(i - j) <= kSmooth) {
-        widest[i].n_min = std::min(widest[i].n_min, ext[j].n_min);
-        widest[i].n_max = std::max(widest[i].n_max, ext[j].n_max);
+        for (int b = 0; b < kBands; ++b) {
+          for (int c = std::max(0, b - kSmoothBands); c <= std::min(kBands - 1, b + kSmoothBands); ++c) {
+            widest[i].n_min[b] = std::min(widest[i].n_min[b], ext[j].n_min[c]);
+            widest[i].n_max[b] = std::max(widest[i].n_max[b], ext[j].n_max[c]);
+          }
+        }
       }
       widest[i].far = std::max(widest[i].far, ext[j].far);
     }
   }
   std::vector<Extent> smooth = widest;
   for (int i = 0; i < stations; ++i) {
-    double n_min = 0, n_max = 0, far = 0;
-    int count = 0, count_far = 0;
-    for (int j = std::max(0, i - kSmoothFar); j <= std::min(stations - 1, i + kSmoothFar); ++j) {
-      if (std::abs(i - j) <= kSmooth) {
-        n_min += widest[j].n_min;
-        n_max += widest[j].n_max;
-        ++count;
+    double far = 0;
+    int count_far = 0;
+    for (int b = 0; b < kBands; ++b) {
+      double n_min = 0, n_max = 0;
+      int count = 0;
+      for (int j = std::max(0, i - kSmooth); j <= std::min(stations - 1, i + kSmooth); ++j) {
+        for (int c = std::max(0, b - kSmoothBands); c <= std::min(kBands - 1, b + kSmoothBands); ++c) {
+          n_min += widest[j].n_min[c];
+          n_max += widest[j].n_max[c];
+          ++count;
+        }
       }
+      smooth[i].n_min[b] = n_min / count;
+      smooth[i].n_max[b] = n_max / count;
+    }
+    for (int j = std::max(0, i - kSmoothFar); j <= std::min(stations - 1, i + kSmoothFar); ++j) {
       far += widest[j].far;
       ++count_far;
     }
-    smooth[i].n_min = n_min / count;
-    smooth[i].n_max = n_max / count;
     smooth[i].far = far / count_far;
   }
   // The gingiva over the alveolar process: a share of the arch's gingiva is
@@ -370,7 +400,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   // jaw's mucosa comes out of the gingiva just below the crest along one line
   // (the mucogingival junction) and falls back to the bone's width over 4 mm.
   // Where no tooth stands (the ends), no flare.
-  const double gingiva_out = GingivaParams{}.gap_mm + GingivaParams{}.thickness_mm - 0.5;
+  const double gingiva_out = GingivaParams{}.gap_mm + GingivaParams{}.thickness_mm - 0.2;
+  const double band_out = GingivaParams{}.gap_mm + GingivaParams{}.thickness_mm - 0.5;  // (the band's faces are set in 0.5 mm)
   constexpr double kFlareMm = 4.0;
   std::vector<double> gum_in(stations, 0), gum_out(stations, 0);
   {
@@ -408,7 +439,7 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
         auto extent = [&](std::size_t t, const Vector3& c) {
           double most = -1e9;
           for (const Vector3& v : cervix[t]) most = std::max(most, (v - c).dot(perp));
-          return c + (most + gingiva_out) * perp;
+          return c + (most + band_out) * perp;
         };
         const Vector3 pk = extent(k, ck), pl = extent(l, cl);
         for (int q = 0; q <= 20; ++q) {
@@ -433,8 +464,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
       // How much wider than the bone (smoothed section) on each side; fading
       // out where the stations near it hold no tooth.
       const double have = w / (std::min(stations - 1, i + 2) - std::max(0, i - 2) + 1);
-      gum_in[i] = have * std::max(0.0, smooth[i].n_min - 1.5 - a / w);
-      gum_out[i] = have * std::max(0.0, b / w - smooth[i].n_max - 1.5);
+      gum_in[i] = have * std::max(0.0, smooth[i].n_min[0] - 1.5 - a / w);
+      gum_out[i] = have * std::max(0.0, b / w - smooth[i].n_max[0] - 1.5);
     }
   }
   std::vector<std::vector<Vector3>> rings;
@@ -448,21 +479,35 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     origin.z() = 0;
     // Tapered and rounded at both ends of the arch.
     const double taper = std::min(1.0, std::sqrt(std::max(0.05, (end - std::abs(s)) / 4.0)));
-    const double mid = 0.5 * (e.n_min + e.n_max), half = (0.5 * (e.n_max - e.n_min) + 1.5) * taper;
+    // The bone's faces at depth h below the crest, 1.5 mm outside the roots
+    // there (interpolated between the bands' middles).
+    auto faces = [&](double h, double& lo, double& hi) {
+      const double x = std::clamp(h / kBandMm - 0.5, 0.0, kBands - 1.0);
+      const int b = std::min(kBands - 2, static_cast<int>(x));
+      const double t = x - b;
+      lo = e.n_min[b] + t * (e.n_min[b + 1] - e.n_min[b]) - 1.5;
+      hi = e.n_max[b] + t * (e.n_max[b + 1] - e.n_max[b]) + 1.5;
+    };
+    double lo_far, hi_far;
+    faces(std::abs(far - top), lo_far, hi_far);
     // The section: down the outer (buccal) side from the crest to the far
     // edge, rounded there, and up the inner side; the flat top at the crest.
     const Vector3 u = curve.Normal(s);
-    const double depth = std::abs(far - top), round = std::min({3.0, half, 0.5 * depth});
-    constexpr int kSide = 20;
+    const double depth = std::abs(far - top), round = std::min({3.0, 0.5 * (hi_far - lo_far) * taper, 0.5 * depth});
+    constexpr int kSide = 28;
     std::vector<Vector3> ring;
     for (int side = 0; side < 2; ++side) {
       for (int j = 0; j < kSide; ++j) {
         const int jj = side == 0 ? j : kSide - 1 - j;  // outer: crest to far; inner: far to crest
         const double h = depth * std::pow(jj / (kSide - 1.0), 1.6);
-        const double f = h < kFlareMm ? (1 - h / kFlareMm) * (1 - h / kFlareMm) : 0.0;
+        // (the flare under the gingiva leaves the crest straight down, in line
+        // with the gingiva's face, and curves in to the bone over kFlareMm)
+        const double t = std::min(1.0, h / kFlareMm), f = 1 - t * t * (3 - 2 * t);
         const double below_round = h - (depth - round);
         const double shrink = below_round > 0 ? std::sqrt(std::max(0.0, 1 - std::pow(below_round / round, 2))) : 1.0;
-        const double w = half * (0.15 + 0.85 * shrink);
+        double lo, hi;
+        faces(h, lo, hi);
+        const double mid = 0.5 * (lo + hi), w = 0.5 * (hi - lo) * taper * (0.15 + 0.85 * shrink);
         const double a = side == 0 ? mid + w + taper * gum_out[i] * f : mid - w - taper * gum_in[i] * f;
         ring.push_back(origin + a * u + Vector3(0, 0, top + sign * h));
       }

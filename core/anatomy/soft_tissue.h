@@ -19,7 +19,7 @@ namespace sulcus {
 
 /// Changes whenever MakeSoftTissue's meshes change: caches of generated meshes
 /// key on it.
-inline constexpr int kSoftTissueVersion = 21;
+inline constexpr int kSoftTissueVersion = 23;
 
 /// The names MakeSoftTissue knows: jaw_lower, jaw_upper, lip_upper, lip_lower,
 /// cheek_left, cheek_right, tongue, floor_of_mouth, palate, soft_palate.

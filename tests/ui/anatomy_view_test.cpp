@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/anatomy/arch.h"
@@ -193,12 +194,19 @@ TEST(AnatomyView, GingivaOfTheUpperFront) {
   const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
   const fs::path cache = OutputPath("cache");
   std::vector<TriangleMesh> meshes;
+  std::vector<std::vector<Vector3>> normals;  // (the shares': drawn with them, as the scene view draws them)
   std::vector<int> kinds;  // 0 tooth, 1 gingiva or jaw
+  // From in front, 5 degrees below the occlusal plane: looking a little up
+  // at the upper teeth.
+  const Matrix3 R = FromTheFront(5);
   for (const ObjectSpec& o : spec.objects) {
     const bool front = o.fdi == 13 || o.fdi == 12 || o.fdi == 11 || o.fdi == 21 || o.fdi == 22 || o.fdi == 23;
     const bool tooth = o.kind == ObjectSpec::Kind::kTooth, gingiva = o.kind == ObjectSpec::Kind::kGingiva;
     if (!((tooth || gingiva) && front) && o.anatomy != "jaw_upper") continue;
-    TriangleMesh m = MakeObjectMeshCached(o, cache);
+    std::vector<Vector3> n;
+    TriangleMesh m = MakeObjectMeshCached(o, cache, &n);
+    for (Vector3& v : n) v = R * o.X_WO.rotation() * v;
+    normals.push_back(std::move(n));
     m.Transform(o.X_WO.rotation(), o.X_WO.translation());
     if (o.anatomy == "jaw_upper")  // (its front only)
       m = ClipByPlanes(m, {{Vector3(0, -8, 0), -Vector3::UnitY()}});
@@ -206,13 +214,14 @@ TEST(AnatomyView, GingivaOfTheUpperFront) {
     kinds.push_back(tooth ? 0 : 1);
   }
   ASSERT_EQ(meshes.size(), 13u) << "six teeth, their six shares of the gingiva and the upper jaw";
-  // From in front, 5 degrees below the occlusal plane: looking a little up
-  // at the upper teeth.
-  const Matrix3 R = FromTheFront(5);
+  EXPECT_EQ(std::count_if(normals.begin(), normals.end(), [](const auto& n) { return !n.empty(); }), 6)
+      << "each share of the gingiva has its normals";
   for (TriangleMesh& m : meshes) m.Transform(R, Vector3::Zero());
   std::vector<ShadedMesh> shaded;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
-    shaded.push_back({&meshes[i], {0.93, 0.91, 0.84}, 1.0});
+    // (with the scene view's crease angle: a share's flat cut against its
+    // neighbour stays sharp instead of darkening the seam)
+    shaded.push_back({&meshes[i], {0.93, 0.91, 0.84}, 1.0, normals[i].empty() ? nullptr : &normals[i], kCreaseDeg});
     if (kinds[i] == 1) shaded.back().color[0] = 0.85, shaded.back().color[1] = 0.5, shaded.back().color[2] = 0.52;
   }
   const double drawn = RenderToPng(shaded, Shot("gingiva_upper_front.png"), 1200, 800,
