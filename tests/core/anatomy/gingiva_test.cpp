@@ -500,3 +500,70 @@ TEST(Gingiva, OnTheArchEverySiteReadsItsOwnDepthBesideADeeperNeighbour) {
 
 }  // namespace
 }  // namespace sulcus
+
+namespace sulcus {
+namespace {
+
+// Between the central incisors the arch's mirror lies between the two teeth's
+// frames (one tooth is placed mirrored, the other not). The interdental
+// band's labial face must join the labial sides of both teeth: when it joined
+// one tooth's labial side to the other's lingual, it slanted across the
+// midline and cut a V-notch down the papilla's face (here 0.5 to 0.6 mm
+// deeper at the midline than 1 mm beside it; now it bulges out a little).
+// Measured on the shares' fields from in front at three heights between the
+// CEJ and the papilla's tip: how far out the gingiva reaches at the midline
+// and 1 mm either side of it.
+TEST(Gingiva, TheMidlinePapillaHasNoNotch) {
+  for (const bool upper : {true, false}) {
+    std::vector<PlacedTooth> placed;
+    for (const PlacedTooth& p : PlaceArch(upper))
+      if (p.tooth.position == 1) placed.push_back(p);
+    ASSERT_EQ(placed.size(), 2u);
+    ASSERT_NE(placed[0].mirrored, placed[1].mirrored);
+    std::vector<ToothModel> teeth;
+    std::vector<GingivaModel> collars;
+    for (const PlacedTooth& p : placed) {
+      teeth.push_back(GenerateTooth(p.tooth.fdi));
+      collars.push_back(GenerateGingiva(teeth.back(), {}));
+    }
+    auto mirror = [&](std::size_t k) { return Matrix3(Vector3(placed[k].mirrored ? -1 : 1, 1, 1).asDiagonal()); };
+    std::vector<std::vector<GingivaNeighbour>> links(2);
+    for (std::size_t i = 0; i < 2; ++i) {
+      const std::size_t j = 1 - i;
+      GingivaNeighbour n;
+      n.tooth = &teeth[j];
+      n.gingiva = &collars[j];
+      const Matrix3 Rt = placed[j].X_WT.rotation().transpose();
+      n.A = mirror(j) * Rt * placed[i].X_WT.rotation() * mirror(i);
+      n.b = mirror(j) * Rt * (placed[i].X_WT.translation() - placed[j].X_WT.translation());
+      links[i].push_back(n);
+    }
+    const GingivaShareField fields[2] = {{teeth[0], collars[0], links[0]}, {teeth[1], collars[1], links[1]}};
+    // (the world's x = 0 is the midline; +y labial, the crowns toward z = 0)
+    const double cej_z = 0.5 * (placed[0].X_WT.translation().z() + placed[1].X_WT.translation().z());
+    const double toward_crown = upper ? -1 : 1;
+    auto outermost = [&](double x, double z) {
+      const std::size_t k = (x < 0) == (placed[0].X_WT.translation().x() < 0) ? 0 : 1;
+      const RigidTransform X_TW = placed[k].X_WT.inverse();
+      const double y0 = upper ? 0.0 : -2.0;  // (the lower arch lies 2 mm behind the upper)
+      for (double y = y0 + 6; y > y0 - 2; y -= 0.02)
+        if (fields[k].Uncut(ArchMirror(placed[k].mirrored, X_TW * Vector3(x, y, z))) < 0) return y - y0;
+      return -1e9;
+    };
+    int compared = 0;
+    for (const double below_cej : {0.6, 0.8, 1.0, 1.2, 1.5, 1.9, 2.5}) {
+      const double z = cej_z + toward_crown * below_cej;
+      const double mid = outermost(0, z), left = outermost(-1, z), right = outermost(1, z);
+      if (left < -1e8 || right < -1e8) continue;  // (past the margin beside the papilla)
+      ASSERT_GT(mid, -1e8) << "no gingiva at the midline " << below_cej << " mm toward the crowns";
+      std::printf("%s %.1f mm toward the crowns from the CEJ: the gingiva reaches %.2f at the midline, %.2f and %.2f 1 mm either side\n",
+                  upper ? "11|21" : "41|31", below_cej, mid, left, right);
+      EXPECT_GE(mid, std::min(left, right) - 0.3) << (upper ? "upper" : "lower") << " at " << below_cej << " mm";
+      ++compared;
+    }
+    EXPECT_GE(compared, 3) << (upper ? "upper" : "lower");
+  }
+}
+
+}  // namespace
+}  // namespace sulcus
