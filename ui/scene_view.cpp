@@ -54,8 +54,9 @@ enum class Paint { kCaries, kCavity, kInflamed, kUlcer, kWhite, kRed };
 
 // `cavity` (caries only): per vertex, the weight of the cavitated lesions among
 // `weight`; where it is the larger, the vertex takes the cavity's colours.
+// `skin` (a lip): per vertex, how far its base colour is the skin's.
 void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Look& base, Paint paint,
-                   const std::vector<double>* cavity = nullptr) {
+                   const std::vector<double>* cavity = nullptr, const std::vector<double>* skin = nullptr) {
   auto* mapper = vtkPolyDataMapper::SafeDownCast(actor->GetMapper());
   auto* poly = vtkPolyData::SafeDownCast(mapper->GetInput());
   // (a point of the polydata may be one of several made from a mesh vertex)
@@ -64,7 +65,7 @@ void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Loo
   colours->SetNumberOfComponents(3);
   colours->SetName("finding");
   colours->SetNumberOfTuples(poly->GetNumberOfPoints());
-  const Vector3 from(base.r, base.g, base.b);
+  const Vector3 base_colour(base.r, base.g, base.b);
   // Caries: a chalky white rim (demineralised enamel) around a brown centre.
   // Inflamed gingiva, erythroplakia: deep red. An ulcer: a yellow-grey fibrin
   // floor in a red halo. Leukoplakia: a white patch.
@@ -72,10 +73,12 @@ void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Loo
   const Vector3 rim(0.99, 0.98, 0.95), centre(0.36, 0.22, 0.12), floor(0.16, 0.09, 0.05), red(0.80, 0.16, 0.20);
   const Vector3 fibrin(0.90, 0.86, 0.66), white(0.96, 0.95, 0.92);
   auto blend = [](const Vector3& a, const Vector3& b, double t) { return Vector3(a + (b - a) * std::clamp(t, 0.0, 1.0)); };
-  std::vector<Vector3> colour(weight.size(), from);
+  const Vector3 skin_colour(0.88, 0.68, 0.58);
+  std::vector<Vector3> colour(weight.size(), base_colour);
   for (std::size_t i = 0; i < weight.size(); ++i) {
     double w = weight[i];
     Paint p = paint;
+    const Vector3 from = skin && i < skin->size() ? blend(base_colour, skin_colour, (*skin)[i]) : base_colour;
     if (cavity && i < cavity->size() && (*cavity)[i] > 0 && (*cavity)[i] >= w) {
       w = (*cavity)[i];
       p = Paint::kCavity;
@@ -95,7 +98,7 @@ void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Loo
   }
   for (vtkIdType p = 0; p < poly->GetNumberOfPoints(); ++p) {
     const vtkIdType v = source ? source->GetValue(p) : p;
-    const Vector3 c = v < static_cast<vtkIdType>(colour.size()) ? colour[static_cast<std::size_t>(v)] : from;
+    const Vector3 c = v < static_cast<vtkIdType>(colour.size()) ? colour[static_cast<std::size_t>(v)] : base_colour;
     colours->SetTuple3(p, 255 * c.x(), 255 * c.y(), 255 * c.z());
   }
   poly->GetPointData()->SetScalars(colours);
@@ -215,10 +218,18 @@ void SceneView::Load(const CompiledScene& scene) {
       std::vector<Vector3> in_tooth_frame;
       for (const Vector3& v : scene.meshes[i].vertices()) in_tooth_frame.push_back(ArchMirror(o.mirrored, v));
       PaintVertices(actor, InflammationCoverage(in_tooth_frame, o.inflamed), look, Paint::kInflamed);
-    } else if (o.kind == ObjectSpec::Kind::kAnatomy && !o.lesion_kind.empty()) {
-      const Vector3 at = LesionCentre(o.anatomy, o.lesion_region, scene.meshes[i]);
-      const Paint paint = o.lesion_kind == "ulcer" ? Paint::kUlcer : o.lesion_kind == "leukoplakia" ? Paint::kWhite : Paint::kRed;
-      PaintVertices(actor, LesionCoverage(scene.meshes[i], at, o.lesion_mm), look, paint);
+    } else if (o.kind == ObjectSpec::Kind::kAnatomy) {
+      // A lip: its skin beyond the vermilion border (and a lesion where the
+      // scene puts one, on any soft tissue).
+      const std::vector<double> skin =
+          o.anatomy == "lip_upper" || o.anatomy == "lip_lower" ? LipSkinCoverage(scene.meshes[i]) : std::vector<double>{};
+      if (!o.lesion_kind.empty()) {
+        const Vector3 at = LesionCentre(o.anatomy, o.lesion_region, scene.meshes[i]);
+        const Paint paint = o.lesion_kind == "ulcer" ? Paint::kUlcer : o.lesion_kind == "leukoplakia" ? Paint::kWhite : Paint::kRed;
+        PaintVertices(actor, LesionCoverage(scene.meshes[i], at, o.lesion_mm), look, paint, nullptr, &skin);
+      } else if (!skin.empty()) {
+        PaintVertices(actor, std::vector<double>(skin.size(), 0.0), look, Paint::kRed, nullptr, &skin);
+      }
     }
     actor->SetUserMatrix(ToVtk(o.X_WO));
     renderer_->AddActor(actor);

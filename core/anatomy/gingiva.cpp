@@ -66,6 +66,10 @@ int GingivaModel::SegmentAt(double th) const {
 
 double GingivaModel::FloorAt(double th) const { return floor_z.empty() ? 0 : floor_z[SegmentAt(th)]; }
 
+double GingivaThicknessMm(const FdiTooth& tooth) {
+  return tooth.position <= 2 ? 1.0 : tooth.position == 3 ? 1.2 : 1.5;
+}
+
 const std::array<double, 6>& SiteAngles() {
   static const std::array<double, 6> a = {kPi / 4, kPi / 2, 3 * kPi / 4, 7 * kPi / 4, 3 * kPi / 2, 5 * kPi / 4};
   return a;
@@ -77,6 +81,7 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
   if (!(p.crest_drop_mm >= 0) || !(p.crest_up.z() > 0.5) || std::abs(p.crest_up.norm() - 1) > 1e-6)
     throw std::invalid_argument("the gingiva's bone crest needs a drop of at least 0 and a unit 'up' within 60 degrees of the tooth's axis");
   if (!(p.gap_mm >= 0.55)) throw std::invalid_argument("the sulcus must be at least 0.55 mm wide for a 0.5 mm probe tip");
+  if (!(p.thickness_mm >= 0)) throw std::invalid_argument("the gingiva's thickness must be positive (0: the tooth's own)");
   for (int i = 0; i < 6; ++i) {
     if (p.pocket_mm[i] < 0 || p.pocket_mm[i] + p.recession_mm[i] > MaxAttachmentLoss(tooth.dimensions))
       throw std::invalid_argument("pocket of " + std::to_string(p.pocket_mm[i]) + " mm at site " +
@@ -101,7 +106,8 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
     double widest = 0;
     for (int j = 0; j <= 12; ++j) widest = std::max(widest, OuterRadius(tooth.mesh, th, z_f + (z_m - z_f) * j / 12.0));
     const double r_in = widest + p.gap_mm;
-    const double thickness = p.thickness_mm * (0.35 + 0.65 * std::sin(th) * std::sin(th));
+    const double thickness =
+        (p.thickness_mm > 0 ? p.thickness_mm : GingivaThicknessMm(tooth.tooth)) * (0.35 + 0.65 * std::sin(th) * std::sin(th));
     const double r_out = r_in + thickness;
     const double r_floor = std::max(0.3, OuterRadius(tooth.mesh, th, z_f) - 0.3);
     auto& ring = rings[k];

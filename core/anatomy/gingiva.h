@@ -24,7 +24,7 @@ struct GingivaParams {
   std::array<double, 6> recession_mm{};               // positive: the margin moves toward the root
   double margin_above_cej_mm = 1.5;
   double gap_mm = 0.85;          // sulcus width at its narrowest: a 0.5 mm tip fits with room for the sphere-trees
-  double thickness_mm = 1.5;     // buccal and lingual; thinner between teeth
+  double thickness_mm = 0;       // buccal and lingual, thinner between teeth; 0: the tooth's own (GingivaThicknessMm)
   double papilla_mm = 1.5;       // how far the margin rises between teeth
   int segments = 72;             // around the tooth (a multiple of 8 puts a ring at every site)
   // A share of the arch's gingiva (not a collar) covers the alveolar process
@@ -65,7 +65,7 @@ struct GingivaModel {
 };
 
 /// Changes whenever the share's geometry does (its meshes are cached by it).
-inline constexpr int kGingivaShareVersion = 36;
+inline constexpr int kGingivaShareVersion = 37;
 
 /// A neighbouring tooth on the arch, for the gingiva between the two.
 struct GingivaNeighbour {
@@ -123,6 +123,12 @@ class GingivaShareField {
   std::vector<Link> links_;
   Aabb box_;
 };
+
+/// How thick a tooth's gingiva is buccally and lingually over its cervix by
+/// default (mm): 1.0 over the incisors, 1.2 over the canines, 1.5 over the
+/// premolars and molars (a thin phenotype at the front of the mouth, thicker
+/// further back).
+double GingivaThicknessMm(const FdiTooth& tooth);
 
 /// The most attachment a site can lose (pocket plus recession, mm) and keep at
 /// least 1 mm of root in the gingiva.

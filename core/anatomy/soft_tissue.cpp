@@ -395,13 +395,15 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   }
   // The gingiva over the alveolar process: a share of the arch's gingiva is
   // the tooth about its CEJ, the sulcus and the gingiva's thickness wide
-  // (buccal and lingual). At the crest the jaw is 0.5 mm narrower, so its top
+  // (buccal and lingual). At the crest the jaw is 0.2 mm narrower, so its top
   // edge stays hidden in the gingiva, whose wall draws in below the crest; the
   // jaw's mucosa comes out of the gingiva just below the crest along one line
   // (the mucogingival junction) and falls back to the bone's width over 4 mm.
   // Where no tooth stands (the ends), no flare.
-  const double gingiva_out = GingivaParams{}.gap_mm + GingivaParams{}.thickness_mm - 0.2;
-  const double band_out = GingivaParams{}.gap_mm + GingivaParams{}.thickness_mm - 0.5;  // (the band's faces are set in 0.5 mm)
+  // (each tooth's gingiva as thick as GingivaThicknessMm gives it; the
+  // band's faces between teeth are set in 0.5 mm from the collars)
+  auto gingiva_out = [&](std::size_t k) { return GingivaParams{}.gap_mm + GingivaThicknessMm(teeth.placed[k].tooth) - 0.2; };
+  auto band_out = [&](std::size_t k) { return GingivaParams{}.gap_mm + GingivaThicknessMm(teeth.placed[k].tooth) - 0.5; };
   constexpr double kFlareMm = 4.0;
   std::vector<double> gum_in(stations, 0), gum_out(stations, 0);
   {
@@ -420,8 +422,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
         const int i = station_of(curve.Project(v, teeth.s[k]));
         for (int j = std::max(0, i - 1); j <= std::min(stations - 1, i + 1); ++j) {
           const double n = (v - curve.Point(station_s(j))).dot(curve.Normal(station_s(j)));
-          in[j] = std::min(in[j], n);
-          out[j] = std::max(out[j], n);
+          in[j] = std::min(in[j], n - gingiva_out(k));
+          out[j] = std::max(out[j], n + gingiva_out(k));
         }
       }
     }
@@ -439,7 +441,7 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
         auto extent = [&](std::size_t t, const Vector3& c) {
           double most = -1e9;
           for (const Vector3& v : cervix[t]) most = std::max(most, (v - c).dot(perp));
-          return c + (most + band_out) * perp;
+          return c + (most + band_out(t)) * perp;
         };
         const Vector3 pk = extent(k, ck), pl = extent(l, cl);
         for (int q = 0; q <= 20; ++q) {
@@ -456,8 +458,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
       double a = 0, b = 0, w = 0;
       for (int j = std::max(0, i - 2); j <= std::min(stations - 1, i + 2); ++j) {
         if (out[j] < -1e8 && face_out[j] < -1e8) continue;
-        a += std::min(in[j] - gingiva_out, face_in[j]);
-        b += std::max(out[j] + gingiva_out, face_out[j]);
+        a += std::min(in[j], face_in[j]);
+        b += std::max(out[j], face_out[j]);
         w += 1;
       }
       if (w == 0) continue;
@@ -556,14 +558,24 @@ double BuccalExtent(const ArchCurve& curve, const std::vector<const ArchTeeth*>&
 // (the skin) is up to `groove` mm deeper away from the vermilion: none over
 // the fifth of the height next to the free edge, all of it from nearly half
 // way to the fold (the philtrum, on the upper lip). m points.
+// Point i of m around a lip's section: x across it (> 0 on the outer face,
+// the skin's side) and y from the fold (-1) to the free edge (+1), each in
+// [-1, 1].
+void LipRingPoint(int i, int m, double* x, double* y) {
+  const double a = 2 * kPi * i / m, c = std::cos(a), s = std::sin(a);
+  const double e = s >= 0 ? 2.0 : 4.0;  // s > 0: the edge's half
+  *x = std::copysign(std::pow(std::abs(c), 2 / e), c);
+  *y = std::copysign(std::pow(std::abs(s), 2 / e), s);
+}
+constexpr int kLipRing = 32;  // points around a lip's section
+
 std::vector<Vector3> LipSection(const Vector3& origin, const Vector3& u, double inner, double thickness, double edge,
                                 double fold, int m, double groove = 0) {
   std::vector<Vector3> ring;
   const double zc = 0.5 * (edge + fold), hz = 0.5 * std::abs(edge - fold), toward_edge = edge > fold ? 1 : -1;
   for (int i = 0; i < m; ++i) {
-    const double a = 2 * kPi * i / m, c = std::cos(a), s = std::sin(a);
-    const double e = s >= 0 ? 2.0 : 4.0;  // s > 0: the edge's half
-    const double x = std::copysign(std::pow(std::abs(c), 2 / e), c), y = std::copysign(std::pow(std::abs(s), 2 / e), s);
+    double x, y;
+    LipRingPoint(i, m, &x, &y);
     const double t = 0.5 * (1 - y);  // 0 at the edge, 1 at the fold
     double half = 0.5 * thickness * (1 - 0.4 * t);
     if (x > 0) half -= 0.5 * groove * x * std::clamp((t - 0.2) / 0.25, 0.0, 1.0);
@@ -613,7 +625,7 @@ TriangleMesh OuterSlab(const ArchCurve& curve, const std::vector<const ArchTeeth
       const double edge = (lip_edge > 0 ? z1 : z0) + lip_edge * (fissure_half * f + tubercle);
       const double fold = edge + ((lip_edge > 0 ? z0 : z1) - edge) * shrink;
       const double philtrum = upper ? 0.8 * std::exp(-std::pow(mid / 3.0, 4)) : 0.0;
-      rings.push_back(LipSection(o, curve.Normal(s), smooth[i], t_i * (1 - 0.4 * w * w), edge, fold, 32, philtrum));
+      rings.push_back(LipSection(o, curve.Normal(s), smooth[i], t_i * (1 - 0.4 * w * w), edge, fold, kLipRing, philtrum));
     }
   }
   return Loft(rings);
@@ -836,6 +848,24 @@ const std::vector<std::string>& SoftTissueNames() {
   static const std::vector<std::string> names = {"jaw_lower", "jaw_upper", "lip_upper", "lip_lower", "cheek_left",
                                                  "cheek_right", "tongue", "floor_of_mouth", "palate", "soft_palate"};
   return names;
+}
+
+std::vector<double> LipSkinCoverage(const TriangleMesh& lip) {
+  // (Loft's vertices: a cap's centre, the rings in order, the other cap's centre)
+  const std::size_t n = lip.num_vertices();
+  if (n < 2 + kLipRing || (n - 2) % kLipRing != 0) return {};
+  std::vector<double> skin(n, 0.0);
+  for (std::size_t v = 1; v + 1 < n; ++v) {
+    double x, y;
+    LipRingPoint(static_cast<int>((v - 1) % kLipRing), kLipRing, &x, &y);
+    if (x <= 0) continue;  // the mucosa, facing the teeth
+    // The vermilion border a third of the way from the free edge to the fold
+    // (a real one 6 to 9 mm from the free edge; the lips here are 18 to 20 mm
+    // from edge to fold), sharp as a real one is: over a tenth of that.
+    const double t = std::clamp((0.5 * (1 - y) - 0.3) / 0.1, 0.0, 1.0);
+    skin[v] = t * t * (3 - 2 * t);
+  }
+  return skin;
 }
 
 std::string TongueRegion(const Vector3& n) {

@@ -19,7 +19,7 @@ namespace sulcus {
 
 /// Changes whenever MakeSoftTissue's meshes change: caches of generated meshes
 /// key on it.
-inline constexpr int kSoftTissueVersion = 23;
+inline constexpr int kSoftTissueVersion = 24;
 
 /// The names MakeSoftTissue knows: jaw_lower, jaw_upper, lip_upper, lip_lower,
 /// cheek_left, cheek_right, tongue, floor_of_mouth, palate, soft_palate.
@@ -55,6 +55,13 @@ bool FurcationAboveCrest(int fdi, double crest_drop_mm);
 TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch = {},
                             const std::map<int, double>& crest_drop_mm = {},
                             const std::map<int, std::map<std::string, int>>& furcation = {});
+
+/// Per vertex of a lip's mesh as MakeSoftTissue made it, how much of it is
+/// skin (1) rather than the vermilion at the free edge or the mucosa facing the
+/// teeth (0): the outer face from the vermilion border, a third of the way
+/// from the free edge to the vestibule's fold, on. Empty for a mesh that is not
+/// a generated lip.
+std::vector<double> LipSkinCoverage(const TriangleMesh& lip);
 
 /// The part of the tongue a point on it belongs to, from the surface's normal
 /// there: "dorsum" (facing up), "ventral surface" (facing down) or "lateral

@@ -189,6 +189,45 @@ TEST_F(SoftTissueAround, ThePalateHoldsNoCrown) {
   }
 }
 
+// A lip is skin on its outer face from the vermilion border on: at the front
+// of the mouth, skin vertices face forward (away from the teeth) and lie
+// further from the free edge than any vermilion vertex on that face; no
+// vertex facing the teeth is skin.
+TEST(SoftTissue, ALipsSkinBeginsAtTheVermilionBorder) {
+  for (const char* name : {"lip_upper", "lip_lower"}) {
+    const bool upper = std::string(name) == "lip_upper";
+    const TriangleMesh lip = MakeSoftTissue(name, {.upper_lift_mm = 20});
+    const std::vector<double> skin = LipSkinCoverage(lip);
+    ASSERT_EQ(skin.size(), lip.num_vertices()) << name;
+    const std::vector<Vector3> normals = lip.VertexNormalSums();
+    // Near the midline (|x| < 3 mm): the free edge is the lowest (upper lip)
+    // or highest (lower) point there.
+    double edge = upper ? 1e9 : -1e9;
+    for (const Vector3& v : lip.vertices())
+      if (std::abs(v.x()) < 3) edge = upper ? std::min(edge, v.z()) : std::max(edge, v.z());
+    double skin_nearest = 1e9, vermilion_farthest = 0;
+    int skin_count = 0, vermilion_count = 0;
+    for (std::size_t i = 0; i < lip.num_vertices(); ++i) {
+      const Vector3& v = lip.vertices()[i];
+      if (std::abs(v.x()) >= 3) continue;
+      const Vector3 n = normals[i].normalized();
+      const double from_edge = std::abs(v.z() - edge);
+      if (n.y() < -0.5) {
+        EXPECT_EQ(skin[i], 0.0) << name << ": a vertex facing the teeth is skin";
+      }
+      if (n.y() > 0.7 && skin[i] > 0.99) skin_nearest = std::min(skin_nearest, from_edge), ++skin_count;
+      if (n.y() > 0.7 && skin[i] < 0.01) vermilion_farthest = std::max(vermilion_farthest, from_edge), ++vermilion_count;
+    }
+    std::printf("%s: vermilion up to %.1f mm from the free edge, skin from %.1f mm\n", name, vermilion_farthest, skin_nearest);
+    EXPECT_GT(skin_count, 0) << name;
+    EXPECT_GT(vermilion_count, 0) << name;
+    EXPECT_LT(vermilion_farthest, skin_nearest) << name;
+    EXPECT_GT(vermilion_farthest, 3.0) << name;
+    EXPECT_LT(skin_nearest, 10.0) << name;
+  }
+  EXPECT_TRUE(LipSkinCoverage(MakeSoftTissue("tongue")).empty());
+}
+
 TEST(SoftTissue, LesionsSitOnTheRegionTheyName) {
   const TriangleMesh tongue = MakeSoftTissue("tongue", {.upper_lift_mm = 20});
   const Aabb b = tongue.Bounds();

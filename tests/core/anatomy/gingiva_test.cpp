@@ -84,6 +84,25 @@ TEST(Gingiva, MarginFollowsTheCejAndRecession) {
   EXPECT_THROW(GenerateGingiva(tooth, p), std::invalid_argument);
 }
 
+// The gingiva over the cervix is as thick as the tooth's place in the mouth
+// makes it unless the parameters say: 1.0 mm buccally over an incisor, 1.2
+// over a canine, 1.5 over a molar (measured on the tables: from the sulcus'
+// outer wall to the collar's outer face at the buccal site).
+TEST(Gingiva, ThicknessFollowsTheToothUnlessGiven) {
+  for (const auto& [fdi, mm] : std::vector<std::pair<int, double>>{{11, 1.0}, {31, 1.0}, {13, 1.2}, {45, 1.5}, {46, 1.5}}) {
+    const GingivaModel g = GenerateGingiva(GenerateTooth(fdi), {});
+    const int buccal = g.SegmentAt(g.site_angle[1]);
+    EXPECT_NEAR(g.outer_r[buccal] - g.wall_r[buccal], mm, 1e-6) << fdi;
+  }
+  GingivaParams p;
+  p.thickness_mm = 2.0;
+  const GingivaModel given = GenerateGingiva(GenerateTooth(11), p);
+  const int buccal = given.SegmentAt(given.site_angle[1]);
+  EXPECT_NEAR(given.outer_r[buccal] - given.wall_r[buccal], 2.0, 1e-6);
+  p.thickness_mm = -1;
+  EXPECT_THROW(GenerateGingiva(GenerateTooth(11), p), std::invalid_argument);
+}
+
 TEST(SoftTissue, EveryPieceIsASolid) {
   for (const std::string& name : SoftTissueNames()) {
     const TriangleMesh m = MakeSoftTissue(name);
@@ -510,7 +529,7 @@ namespace {
 // one tooth's labial side to the other's lingual, it slanted across the
 // midline and cut a V-notch down the papilla's face (here 0.5 to 0.6 mm
 // deeper at the midline than 1 mm beside it; now it bulges out a little).
-// Measured on the shares' fields from in front at three heights between the
+// Measured on the shares' fields from in front at heights between the
 // CEJ and the papilla's tip: how far out the gingiva reaches at the midline
 // and 1 mm either side of it.
 TEST(Gingiva, TheMidlinePapillaHasNoNotch) {
