@@ -16,7 +16,7 @@ if [[ $# -gt 0 ]]; then
 fi
 if [[ -n "${DISPLAY:-}" && -x build/release/bin/sulcus ]]; then
   echo "Opening the window on its start page: say who you are and pick a lesson (the"
-  echo "first run builds the scene's sphere-trees, about 20 s; the mouse and keyboard"
+  echo "first run builds the scene's sphere-trees, about a minute; the mouse and keyboard"
   echo "move the probe: W/S, A/D, Q/E; F1 for help)."
   exec build/release/bin/sulcus
 fi
@@ -24,7 +24,7 @@ echo
 echo "No display (\$DISPLAY is not set), so the main program runs a lesson headless:"
 echo "a scripted student takes the periodontal probing lesson (teeth 44 to 47), the"
 echo "attempt is scored and stored, and its report is written (the first run builds"
-echo "the scene's sphere-trees, about 20 s)."
+echo "the scene's sphere-trees, about a minute)."
 echo
 echo "  \$ $cli lesson run lessons/periodontal_probing.yaml --student 'demo student' --device student:careful"
 "$cli" lesson run lessons/periodontal_probing.yaml --student "demo student" --device student:careful
