@@ -527,7 +527,7 @@ namespace {
 // frames (one tooth is placed mirrored, the other not). The interdental
 // band's labial face must join the labial sides of both teeth: when it joined
 // one tooth's labial side to the other's lingual, it slanted across the
-// midline and cut a V-notch down the papilla's face (here 0.5 to 0.6 mm
+// midline and cut a V-notch down the papilla's face (here up to 0.6 mm
 // deeper at the midline than 1 mm beside it; now it bulges out a little).
 // Measured on the shares' fields from in front at heights between the
 // CEJ and the papilla's tip: how far out the gingiva reaches at the midline
