@@ -226,6 +226,16 @@ struct ArchRun {
       collars.push_back(GenerateGingiva(teeth.back(), params.back()));
     }
   }
+  // The teeth `fdis` of one arch (in arch order), with default collars.
+  ArchRun(bool upper, const std::vector<int>& fdis) {
+    for (const PlacedTooth& p : PlaceArch(upper))
+      if (std::find(fdis.begin(), fdis.end(), p.tooth.fdi) != fdis.end()) placed.push_back(p);
+    for (const PlacedTooth& p : placed) {
+      teeth.push_back(GenerateTooth(p.tooth.fdi));
+      params.emplace_back();
+      collars.push_back(GenerateGingiva(teeth.back(), params.back()));
+    }
+  }
   GingivaNeighbour Link(std::size_t i, std::size_t j) const {
     auto mirror = [&](std::size_t k) { return Matrix3(Vector3(placed[k].mirrored ? -1 : 1, 1, 1).asDiagonal()); };
     GingivaNeighbour n;
@@ -528,36 +538,19 @@ namespace {
 // band's labial face must join the labial sides of both teeth: when it joined
 // one tooth's labial side to the other's lingual, it slanted across the
 // midline and cut a V-notch down the papilla's face (here up to 0.6 mm
-// deeper at the midline than 1 mm beside it; now it bulges out a little).
+// deeper at the midline than 1 mm beside it; now at most 0.2 mm, a shallow
+// interdental groove).
 // Measured on the shares' fields from in front at heights between the
 // CEJ and the papilla's tip: how far out the gingiva reaches at the midline
 // and 1 mm either side of it.
 TEST(Gingiva, TheMidlinePapillaHasNoNotch) {
   for (const bool upper : {true, false}) {
-    std::vector<PlacedTooth> placed;
-    for (const PlacedTooth& p : PlaceArch(upper))
-      if (p.tooth.position == 1) placed.push_back(p);
+    const ArchRun arch(upper, upper ? std::vector<int>{11, 21} : std::vector<int>{41, 31});
+    const std::vector<PlacedTooth>& placed = arch.placed;
     ASSERT_EQ(placed.size(), 2u);
     ASSERT_NE(placed[0].mirrored, placed[1].mirrored);
-    std::vector<ToothModel> teeth;
-    std::vector<GingivaModel> collars;
-    for (const PlacedTooth& p : placed) {
-      teeth.push_back(GenerateTooth(p.tooth.fdi));
-      collars.push_back(GenerateGingiva(teeth.back(), {}));
-    }
-    auto mirror = [&](std::size_t k) { return Matrix3(Vector3(placed[k].mirrored ? -1 : 1, 1, 1).asDiagonal()); };
-    std::vector<std::vector<GingivaNeighbour>> links(2);
-    for (std::size_t i = 0; i < 2; ++i) {
-      const std::size_t j = 1 - i;
-      GingivaNeighbour n;
-      n.tooth = &teeth[j];
-      n.gingiva = &collars[j];
-      const Matrix3 Rt = placed[j].X_WT.rotation().transpose();
-      n.A = mirror(j) * Rt * placed[i].X_WT.rotation() * mirror(i);
-      n.b = mirror(j) * Rt * (placed[i].X_WT.translation() - placed[j].X_WT.translation());
-      links[i].push_back(n);
-    }
-    const GingivaShareField fields[2] = {{teeth[0], collars[0], links[0]}, {teeth[1], collars[1], links[1]}};
+    const std::vector<GingivaNeighbour> links[2] = {arch.Links(0), arch.Links(1)};
+    const GingivaShareField fields[2] = {{arch.teeth[0], arch.collars[0], links[0]}, {arch.teeth[1], arch.collars[1], links[1]}};
     // (the world's x = 0 is the midline; +y labial, the crowns toward z = 0)
     const double cej_z = 0.5 * (placed[0].X_WT.translation().z() + placed[1].X_WT.translation().z());
     const double toward_crown = upper ? -1 : 1;
