@@ -153,6 +153,12 @@ double ArchEnd(bool upper) { return ArchCentreMm(upper, 7) + 5.5; }
 
 using Vector2 = Eigen::Vector2d;
 
+// 0 below 0, 1 above 1, a cubic between with level ends.
+double SmoothStep(double x) {
+  const double t = std::clamp(x, 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
 // The middle of a multi-rooted tooth's roots (their tops' mean) in its tooth
 // frame's xy: where the line between them runs.
 Vector2 RootsMiddle(const ToothModel& tooth) {
@@ -504,7 +510,7 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
         const double h = depth * std::pow(jj / (kSide - 1.0), 1.6);
         // (the flare under the gingiva leaves the crest straight down, in line
         // with the gingiva's face, and curves in to the bone over kFlareMm)
-        const double t = std::min(1.0, h / kFlareMm), f = 1 - t * t * (3 - 2 * t);
+        const double f = 1 - SmoothStep(h / kFlareMm);
         const double below_round = h - (depth - round);
         const double shrink = below_round > 0 ? std::sqrt(std::max(0.0, 1 - std::pow(below_round / round, 2))) : 1.0;
         double lo, hi;
@@ -862,8 +868,7 @@ std::vector<double> LipSkinCoverage(const TriangleMesh& lip) {
     // The vermilion border a third of the way from the free edge to the fold
     // (a real one 6 to 9 mm from the free edge; the lips here are 18 to 20 mm
     // from edge to fold), sharp as a real one is: over a tenth of that.
-    const double t = std::clamp((0.5 * (1 - y) - 0.3) / 0.1, 0.0, 1.0);
-    skin[v] = t * t * (3 - 2 * t);
+    skin[v] = SmoothStep((0.5 * (1 - y) - 0.3) / 0.1);
   }
   return skin;
 }
