@@ -328,17 +328,25 @@ bool MainWindow::OpenSpec(const SceneSpec& spec, const std::filesystem::path& fi
     double fraction = 0;
     std::atomic<bool> cancel{false}, done{false};
     std::unique_ptr<CompiledScene> result;
+    SeenGingiva seen;  // the gingiva as drawn (the engine's is the felt one)
     std::string error;
   };
   auto job = std::make_shared<Job>();
   std::thread worker([job, spec] {
     try {
-      job->result = CompileScene(spec, DefaultCacheDir(), [job](std::string_view stage, double f) {
+      std::unique_ptr<CompiledScene> scene = CompileScene(spec, DefaultCacheDir(), [job](std::string_view stage, double f) {
         std::lock_guard lock(job->mutex);
         job->stage = stage;
-        job->fraction = f;
+        job->fraction = 0.85 * f;
         return !job->cancel.load();
       });
+      job->seen = BuildSeenGingiva(*scene, DefaultCacheDir(), [job](std::string_view stage, double f) {
+        std::lock_guard lock(job->mutex);
+        job->stage = "the gingiva as drawn, " + std::string(stage);
+        job->fraction = 0.85 + 0.15 * f;
+        return !job->cancel.load();
+      });
+      job->result = std::move(scene);
     } catch (const BuildCancelled&) {
       job->error = "cancelled";
     } catch (const std::exception& e) {
@@ -357,7 +365,7 @@ bool MainWindow::OpenSpec(const SceneSpec& spec, const std::filesystem::path& fi
     {
       std::lock_guard lock(job->mutex);
       progress->setValue(static_cast<int>(job->fraction * 1000));
-      progress->setLabelText(QString("Preparing the scene (the first time only: its collision spheres): %1").arg(Q(job->stage)));
+      progress->setLabelText(QString("Preparing the scene (the first time only: its collision spheres and its drawing): %1").arg(Q(job->stage)));
     }
     if (!job->done) return;
     poll->stop();  // once: deleteLater may wait for an event loop that never comes back
@@ -367,7 +375,7 @@ bool MainWindow::OpenSpec(const SceneSpec& spec, const std::filesystem::path& fi
       StopSession();
       scene_ = std::move(job->result);
       scene_file_ = file;
-      view_->Load(*scene_);
+      view_->Load(*scene_, &job->seen);
       sphere_level_->setValue(-1);
       QSettings().setValue("scene/last", Q(file.string()));
       StartSession();

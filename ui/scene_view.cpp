@@ -188,7 +188,7 @@ void SceneView::AddToolActors(const ProbeModel& probe) {
   for (auto& a : tool_graphic_) renderer_->AddActor(a);
 }
 
-void SceneView::Load(const CompiledScene& scene) {
+void SceneView::Load(const CompiledScene& scene, const SeenGingiva* seen) {
   renderer_->RemoveAllViewProps();
   objects_.clear();
   gingiva_.clear();
@@ -201,7 +201,13 @@ void SceneView::Load(const CompiledScene& scene) {
     // The jaws are bone under alveolar mucosa: drawn as the mucosa, a deeper
     // red than the attached gingiva.
     if (o.kind == ObjectSpec::Kind::kAnatomy && o.tissue == Tissue::kBone) look = {0.78, 0.40, 0.44, 1.0, 0.25};
-    auto actor = MeshActor(scene.meshes[i], look, i < scene.normals.size() ? &scene.normals[i] : nullptr);
+    // A share of the gingiva drawn as the eye sees it (its sulcus closed round
+    // the tooth, its papillae full), when the window has built that.
+    const bool seen_here = seen && i < seen->meshes.size() && seen->meshes[i].num_faces() > 0;
+    const TriangleMesh& mesh = seen_here ? seen->meshes[i] : scene.meshes[i];
+    const std::vector<Vector3>* normals =
+        seen_here ? &seen->normals[i] : i < scene.normals.size() ? &scene.normals[i] : nullptr;
+    auto actor = MeshActor(mesh, look, normals);
     // Findings drawn where the scene puts them: caries on its surface, inflamed
     // gingiva at its sites.
     const bool carious = std::any_of(o.caries_mm.begin(), o.caries_mm.end(), [](double r) { return r > 0; });
@@ -216,7 +222,7 @@ void SceneView::Load(const CompiledScene& scene) {
       PaintVertices(actor, CariesCoverage(tooth, intact), look, Paint::kCaries, &cavities);
     } else if (o.kind == ObjectSpec::Kind::kGingiva && inflamed) {
       std::vector<Vector3> in_tooth_frame;
-      for (const Vector3& v : scene.meshes[i].vertices()) in_tooth_frame.push_back(ArchMirror(o.mirrored, v));
+      for (const Vector3& v : mesh.vertices()) in_tooth_frame.push_back(ArchMirror(o.mirrored, v));
       PaintVertices(actor, InflammationCoverage(in_tooth_frame, o.inflamed), look, Paint::kInflamed);
     } else if (o.kind == ObjectSpec::Kind::kAnatomy) {
       // A lip: its skin beyond the vermilion border (and a lesion where the

@@ -25,7 +25,9 @@ class SceneView {
   explicit SceneView(vtkRenderer* renderer);
 
   /// Replaces what is shown by the scene (which must outlive the view's use of it).
-  void Load(const CompiledScene& scene);
+  /// `seen`: the shares of the gingiva as the eye sees them (BuildSeenGingiva),
+  /// drawn instead of the engine's meshes; null: everything as the engine has it.
+  void Load(const CompiledScene& scene, const SeenGingiva* seen = nullptr);
   /// Moves the tools and highlights contacts from the latest snapshot.
   void Update(const HapticSnapshot& s);
   /// A demonstration's probe beside the live one (green, translucent); empty hides it.

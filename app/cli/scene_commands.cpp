@@ -39,6 +39,10 @@ void AddSceneCommands(CLI::App& app) {
       "build", "Generate every mesh and sphere-tree of a scene (through the cache) and say how long each stage took");
   build->add_option("FILE", *build_file, "Scene file (.yaml)")->required();
   build->add_option("--cache", *cache, "Cache folder (default: $SULCUS_CACHE_DIR or ~/.cache/sulcus)");
+  auto build_drawn = std::make_shared<bool>(false);
+  build->add_flag("--drawn", *build_drawn,
+                  "Also build the gingiva as the window draws it (the sulcus closed round the teeth), as the window does "
+                  "after the scene, and say how long it took");
   build->callback([=] {
     const SceneSpec s = LoadSceneSpec(*build_file);
     const std::filesystem::path dir = cache->empty() ? DefaultCacheDir() : std::filesystem::path(*cache);
@@ -59,6 +63,17 @@ void AddSceneCommands(CLI::App& app) {
     std::printf("%s: %zu objects, %zu triangles; meshes %.2f s, sphere-trees and model %.2f s, total %.2f s (%zu spheres); cache %s\n",
                 build_file->c_str(), s.objects.size(), triangles, compiled->mesh_seconds, compiled->tree_seconds,
                 compiled->mesh_seconds + compiled->tree_seconds, spheres, dir.c_str());
+    if (*build_drawn) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const SeenGingiva seen = BuildSeenGingiva(*compiled, dir);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::size_t shares = 0, seen_triangles = 0;
+      for (const TriangleMesh& m : seen.meshes) {
+        shares += m.num_faces() > 0;
+        seen_triangles += m.num_faces();
+      }
+      std::printf("the gingiva as drawn: %zu shares, %zu triangles, %.2f s\n", shares, seen_triangles, seconds);
+    }
   });
 
   auto export_file = std::make_shared<std::string>();
@@ -66,11 +81,14 @@ void AddSceneCommands(CLI::App& app) {
   CLI::App* exp = scene->add_subcommand("export", "Write every object's mesh, placed in the world frame, as STL");
   exp->add_option("FILE", *export_file, "Scene file (.yaml)")->required();
   exp->add_option("-o,--output", *dir, "Folder for the meshes")->required();
+  auto export_drawn = std::make_shared<bool>(false);
+  exp->add_flag("--drawn", *export_drawn,
+                "The gingiva as the window draws it (the sulcus closed round the teeth) instead of the surface the probe feels");
   exp->callback([=] {
     const SceneSpec s = LoadSceneSpec(*export_file);
     std::filesystem::create_directories(*dir);
     for (const ObjectSpec& o : s.objects) {
-      TriangleMesh mesh = MakeObjectMeshCached(o, DefaultCacheDir());
+      TriangleMesh mesh = MakeObjectMeshCached(o, DefaultCacheDir(), nullptr, *export_drawn);
       mesh.Transform(o.X_WO.rotation(), o.X_WO.translation());
       std::string name = o.name;
       for (char& c : name) {

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace sulcus {
 namespace {
@@ -54,6 +55,62 @@ double OuterRadius(const TriangleMesh& mesh, double th, double z) {
     best = std::max(best, e2.dot(q) / det);
   }
   return best;
+}
+
+ToothRadii::ToothRadii(const TriangleMesh& mesh, double z_lo, double z_hi)
+    : z0_(z_lo), levels_(std::max(2, static_cast<int>(std::ceil((z_hi - z_lo) / kDz)) + 1)) {
+  r_.assign(static_cast<std::size_t>(levels_) * kAngles, 0.0f);
+  const double step = 2 * kPi / kAngles;
+  const auto& v = mesh.vertices();
+  for (const auto& f : mesh.faces()) {
+    const Vector3 *a = &v[f[0]], *b = &v[f[1]], *c = &v[f[2]];
+    const double lo = std::min({a->z(), b->z(), c->z()}), hi = std::max({a->z(), b->z(), c->z()});
+    const int j0 = std::max(0, static_cast<int>(std::ceil((lo - z0_) / kDz)));
+    const int j1 = std::min(levels_ - 1, static_cast<int>(std::floor((hi - z0_) / kDz)));
+    for (int j = j0; j <= j1; ++j) {
+      // The face's section at this height: a segment P Q.
+      const double z = z0_ + j * kDz;
+      Eigen::Vector2d ends[2];
+      int found = 0;
+      for (const auto& [p, q] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+        if ((p->z() - z) * (q->z() - z) > 0 || p->z() == q->z() || found == 2) continue;
+        const double t = (z - p->z()) / (q->z() - p->z());
+        ends[found++] = (*p + t * (*q - *p)).head<2>();
+      }
+      if (found < 2) continue;
+      const Eigen::Vector2d P = ends[0], E = ends[1] - ends[0];
+      const double t0 = std::atan2(P.y(), P.x());
+      double sweep = std::atan2(ends[1].y(), ends[1].x()) - t0;
+      if (sweep > kPi) sweep -= 2 * kPi;
+      if (sweep < -kPi) sweep += 2 * kPi;
+      const int k0 = static_cast<int>(std::ceil(std::min(t0, t0 + sweep) / step));
+      const int k1 = static_cast<int>(std::floor(std::max(t0, t0 + sweep) / step));
+      for (int k = k0; k <= k1; ++k) {
+        // The ray t u from the axis meets P + s E where t (u x E) = P x E.
+        const Eigen::Vector2d u(std::cos(k * step), std::sin(k * step));
+        const double den = u.x() * E.y() - u.y() * E.x();
+        if (std::abs(den) < 1e-12) continue;
+        const double t = (P.x() * E.y() - P.y() * E.x()) / den;
+        if (t <= 0) continue;
+        float& r = r_[static_cast<std::size_t>(j) * kAngles + ((k % kAngles) + kAngles) % kAngles];
+        r = std::max(r, static_cast<float>(t));
+      }
+    }
+  }
+}
+
+double ToothRadii::At(double th, double z) const {
+  const double y = (z - z0_) / kDz;
+  if (!(y >= 0) || y > levels_ - 1) return 0;
+  double x = th / (2 * kPi / kAngles);
+  x -= kAngles * std::floor(x / kAngles);
+  const int i = std::min(static_cast<int>(x), kAngles - 1), j = std::min(static_cast<int>(y), levels_ - 2);
+  const double s = x - i, t = y - j;
+  const int i2 = (i + 1) % kAngles;
+  const auto at = [this](int level, int angle) { return static_cast<double>(r_[static_cast<std::size_t>(level) * kAngles + angle]); };
+  const double r00 = at(j, i), r10 = at(j, i2), r01 = at(j + 1, i), r11 = at(j + 1, i2);
+  if (r00 <= 0 || r10 <= 0 || r01 <= 0 || r11 <= 0) return 0;
+  return (1 - t) * ((1 - s) * r00 + s * r10) + t * ((1 - s) * r01 + s * r11);
 }
 
 int GingivaModel::SegmentAt(double th) const {
@@ -215,13 +272,26 @@ struct CollarAt {
   double bottom;  // its base, rising beyond the outer wall
 };
 
-CollarAt Collar(const GingivaModel& g, const Vector3& q) {
+// `seen`: the tooth's surface, for the seen gingiva (GingivaSurface), whose
+// sulcus closes onto the tooth (kSeenWallMm); null for the felt one.
+CollarAt Collar(const GingivaModel& g, const Vector3& q, const ToothRadii* seen = nullptr) {
   const double r = std::hypot(q.x(), q.y());
   const double th = std::atan2(q.y(), q.x());
   const double wall = Around(g.wall_r, th), z_f = Around(g.floor_z, th), z_m = Around(g.margin_z, th);
   const double r_floor = Around(g.floor_r, th), r_out = Around(g.outer_r, th);
   CollarAt c;
   c.inside = wall - r;
+  if (seen) {
+    // (where the ray misses the tooth, as between a molar's roots, the felt
+    // wall: an exposed furcation stays open)
+    // (and below the floor it holds the root as closely: the tissue attached
+    // to it, where the felt gingiva keeps the collar's straight cut)
+    const double tooth_r = seen->At(th, q.z());
+    if (tooth_r > 0) {
+      c.inside = std::min(wall, tooth_r + kSeenWallMm) - r;
+      c.root = tooth_r + kSeenWallMm - r;
+    }
+  }
   c.from_root = r - (2 * Around(g.sulcus_r, th) - wall);
   c.above = q.z() - z_f;
   c.root = r_floor - r;
@@ -284,9 +354,22 @@ struct Union {
 }  // namespace
 
 GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel& own,
-                                     const std::vector<GingivaNeighbour>& neighbours)
+                                     const std::vector<GingivaNeighbour>& neighbours, GingivaSurface surface)
     : own_(&own) {
   if (neighbours.size() > 3) throw std::invalid_argument("a gingiva share has at most 3 neighbours");
+  if (surface == GingivaSurface::kSeen) {
+    // Each tooth's surface over the heights its collar spans (and a little more).
+    const auto radii = [](const ToothModel& t, const GingivaModel& g) {
+      const double lo = *std::min_element(g.floor_z.begin(), g.floor_z.end()) - 2.0;
+      const double hi = *std::max_element(g.margin_z.begin(), g.margin_z.end()) + 1.0;
+      return ToothRadii(t.mesh, lo, hi);
+    };
+    radii_.reserve(neighbours.size() + 1);  // (no reallocation: the links point into it)
+    radii_.push_back(radii(tooth, own));
+    for (const GingivaNeighbour& n : neighbours)
+      if (n.tooth && n.gingiva && !n.gingiva->floor_z.empty()) radii_.push_back(radii(*n.tooth, *n.gingiva));
+    seen_ = &radii_[0];
+  }
   double reach = 0;
   for (const double r : own.outer_r) reach = std::max(reach, r);
   for (const GingivaNeighbour& n : neighbours) {
@@ -392,6 +475,7 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
     const double d = l.q.head<2>().dot(l.e);
     for (const Vector3& b : l.face_point) reach = std::max(reach, std::hypot(d, b.head<2>().norm()) + 0.5);
     reach = std::max(reach, d + 0.5);
+    if (seen_) l.seen = &radii_[links_.size() + 1];
     links_.push_back(l);
   }
   double z_lo = 1e9, z_hi = -1e9;
@@ -420,7 +504,7 @@ double GingivaShareField::Uncut(const Vector3& p) const {
   // Each collar's heights are in its own tooth's frame, so each is compared
   // with the point there: above = how far above the highest top, below = how
   // far below the lowest base.
-  const CollarAt own = Collar(*own_, p);
+  const CollarAt own = Collar(*own_, p, seen_);
   Union band, above, below;
   band.Add(own.band);
   double own_top_past_cuts = 0;  // (each collar's top falls away past the cut: see the loop)
@@ -438,7 +522,7 @@ double GingivaShareField::Uncut(const Vector3& p) const {
   double own_above = own.above, cavity = -1e9, own_side = 1e9;
   for (const Link& l : links_) {
     const Vector3 q = l.n->A * p + l.n->b;
-    const CollarAt other = Collar(*l.n->gingiva, q);
+    const CollarAt other = Collar(*l.n->gingiva, q, l.seen);
     // (each link's terms kept to its neighbour's side of this tooth's axis:
     // by the cut toward the other neighbour, where that neighbour's share
     // does not hold them, they lie far above the fillets' reach)
@@ -580,10 +664,10 @@ std::vector<Vector3> FieldNormals(const TriangleMesh& mesh, const GingivaShareFi
 }  // namespace
 
 GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params,
-                             const std::vector<GingivaNeighbour>& neighbours, double cell_mm) {
+                             const std::vector<GingivaNeighbour>& neighbours, double cell_mm, GingivaSurface surface) {
   GingivaModel out = GenerateGingiva(tooth, params);
   if (neighbours.empty()) return out;
-  const GingivaShareField field(tooth, out, neighbours);
+  const GingivaShareField field(tooth, out, neighbours, surface);
   // Sampled whole and cut exactly at the planes toward the neighbours: the
   // neighbours' shares, each sampled on its own grid, meet on the plane in the
   // same rim (up to the sampling's error) and without a saw-tooth.

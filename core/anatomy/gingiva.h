@@ -75,6 +75,48 @@ struct GingivaNeighbour {
   Vector3 b = Vector3::Zero();            // (A may hold the arch's mirror)
 };
 
+/// Which surface of the gingiva a share is: the one the probe feels, with the
+/// sulcus opened `gap_mm` wide around the tooth down to the pocket floor (a
+/// vertical wall, so that a 0.5 mm tip enters at every site; the engine's
+/// geometry and every site measurement), or the one the eye sees: the same
+/// tissue closed round the tooth, its inner wall following the tooth's surface
+/// at every height (a real sulcus is a crevice that the probe
+/// opens by pushing the gingiva aside), so that the papillae fill the
+/// embrasures under the contacts instead of standing as two thin shells over a
+/// hollow col. Only drawn, never felt: the window draws the seen surface and
+/// the engine works on the felt one.
+enum class GingivaSurface { kFelt, kSeen };
+
+/// Where the seen gingiva's inner wall lies, outward from the tooth's surface
+/// (mm): a little inside the tooth, so that the tooth hides it and the margin
+/// meets the tooth in one clean line (sampled on a 0.3 mm grid, a wall drawn
+/// just outside the tooth would dip in and out of it, in patches that show
+/// through translucent gingiva).
+inline constexpr double kSeenWallMm = -0.2;
+
+/// Changes whenever the seen gingiva's geometry does and the felt one's does
+/// not (its meshes are cached by both).
+inline constexpr int kSeenGingivaVersion = 2;
+
+/// A tooth's outer surface as a table, in its frame: for each of 144 angles
+/// around the axis and each height 0.1 mm apart, the farthest crossing of the
+/// horizontal ray from the axis with the mesh (OuterRadius, for all of them at
+/// once: one pass over the faces).
+class ToothRadii {
+ public:
+  ToothRadii(const TriangleMesh& mesh, double z_lo, double z_hi);
+  /// Bilinear in angle and height; 0 outside the heights, or where a ray near
+  /// (th, z) misses the tooth (between a molar's roots).
+  double At(double th, double z) const;
+
+ private:
+  static constexpr int kAngles = 144;
+  static constexpr double kDz = 0.1;
+  double z0_;
+  int levels_;
+  std::vector<float> r_;  // [level * kAngles + angle]
+};
+
 /// The field of a tooth's share of the gingiva (negative inside), in the
 /// tooth's frame. `Uncut` is the gingiva before the cuts toward the
 /// neighbours: two neighbours' shares compute the same value at the same point
@@ -84,7 +126,8 @@ struct GingivaNeighbour {
 /// must outlive it.
 class GingivaShareField {
  public:
-  GingivaShareField(const ToothModel& tooth, const GingivaModel& own, const std::vector<GingivaNeighbour>& neighbours);
+  GingivaShareField(const ToothModel& tooth, const GingivaModel& own, const std::vector<GingivaNeighbour>& neighbours,
+                    GingivaSurface surface = GingivaSurface::kFelt);
   double Uncut(const Vector3& p) const;
   double Cut(const Vector3& p) const;
   const Aabb& box() const { return box_; }
@@ -118,8 +161,11 @@ class GingivaShareField {
     // cut, [0] with across_dir, [1] against it: the col reaches the deeper
     // tooth's floor there.
     double own_site_gap[2], other_site_gap[2];
+    const ToothRadii* seen = nullptr;  // the neighbour's surface, for the seen gingiva (null: felt)
   };
   const GingivaModel* own_;
+  std::vector<ToothRadii> radii_;     // for the seen gingiva: this tooth's, then each neighbour's
+  const ToothRadii* seen_ = nullptr;  // this tooth's (null: felt)
   std::vector<Link> links_;
   Aabb box_;
 };
@@ -156,7 +202,10 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& param
 /// floor, tables) is the collar's; only the mesh differs. Sampled as the zero
 /// set of a field on a grid of `cell_mm` (isosurface.h), then clipped at the
 /// cut planes with flat caps (mesh_clip.h). With no neighbours it is the collar.
+/// `surface`: the felt gingiva, or the seen one (GingivaSurface; its tables
+/// and sites are the felt one's, only the mesh and normals differ).
 GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params,
-                             const std::vector<GingivaNeighbour>& neighbours, double cell_mm = 0.3);
+                             const std::vector<GingivaNeighbour>& neighbours, double cell_mm = 0.3,
+                             GingivaSurface surface = GingivaSurface::kFelt);
 
 }  // namespace sulcus

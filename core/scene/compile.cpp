@@ -393,9 +393,11 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
 }  // namespace
 
 TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::path& cache_dir,
-                                  std::vector<Vector3>* normals) {
-  const std::string key = GeneratorKey(o);
-  if (key.empty() || cache_dir.empty()) return MakeObjectMesh(o, normals);
+                                  std::vector<Vector3>* normals, bool seen) {
+  seen = seen && o.kind == ObjectSpec::Kind::kGingiva && !o.gingiva_neighbours.empty();
+  std::string key = GeneratorKey(o);
+  if (key.empty() || cache_dir.empty()) return MakeObjectMesh(o, normals, seen);
+  if (seen) key += "|seen " + std::to_string(kSeenGingivaVersion) + "|" + std::to_string(kSeenWallMm);
   // A gingiva is cached unmirrored (its key is in that frame) and mirrored here.
   const bool mirror_here = o.kind == ObjectSpec::Kind::kGingiva && o.mirrored;
   char name[32];
@@ -409,7 +411,7 @@ TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::pa
     return ArchMirror(mirror_here, std::move(*cached));
   }
   std::vector<Vector3> made_normals;
-  TriangleMesh m = MakeObjectMesh(o, &made_normals);
+  TriangleMesh m = MakeObjectMesh(o, &made_normals, seen);
   // (the normals first: a reader that finds the mesh finds its normals)
   if (!made_normals.empty()) WriteCachedNormals(ArchMirror(mirror_here, made_normals), normals_file);
   WriteCachedMesh(ArchMirror(mirror_here, m), file);
@@ -417,7 +419,7 @@ TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::pa
   return m;
 }
 
-TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals) {
+TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, bool seen) {
   if (normals) normals->clear();
   switch (o.kind) {
     case ObjectSpec::Kind::kTooth: {
@@ -429,7 +431,7 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals) 
       const ToothModel tooth = GenerateTooth(o.fdi);
       if (o.gingiva_neighbours.empty()) return ArchMirror(o.mirrored, GenerateGingiva(tooth, GingivaOf(o)).mesh);
       const ShareNeighbours nb(o);
-      GingivaModel g = GenerateGingiva(tooth, GingivaOf(o), nb.next);
+      GingivaModel g = GenerateGingiva(tooth, GingivaOf(o), nb.next, 0.3, seen ? GingivaSurface::kSeen : GingivaSurface::kFelt);
       if (normals) *normals = ArchMirror(o.mirrored, std::move(g.normals));
       return ArchMirror(o.mirrored, std::move(g.mesh));
     }
@@ -462,6 +464,56 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals) 
       return MakeCylinder(o.radius_mm, o.height_mm, 48, std::max(1, static_cast<int>(o.height_mm / 2)));
   }
   return {};
+}
+
+SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::path& cache_dir,
+                             const BuildProgress& progress) {
+  const auto& objects = scene.spec.objects;
+  const int n = static_cast<int>(objects.size());
+  SeenGingiva out;
+  out.meshes.resize(n);
+  out.normals.resize(n);
+  // The unmirrored shares first, then their mirrored twins (each found in the
+  // cache, where its twin left it).
+  std::vector<int> jobs;
+  for (const bool mirrored : {false, true})
+    for (int i = 0; i < n; ++i)
+      if (objects[i].kind == ObjectSpec::Kind::kGingiva && !objects[i].gingiva_neighbours.empty() &&
+          objects[i].mirrored == mirrored)
+        jobs.push_back(i);
+  const int count = static_cast<int>(jobs.size());
+  const int first_mirrored = static_cast<int>(
+      std::count_if(jobs.begin(), jobs.end(), [&](int i) { return !objects[i].mirrored; }));
+  std::mutex mutex;
+  std::exception_ptr failure;
+  std::atomic<bool> halt{false};
+  int made = 0;
+  for (const auto& [from, to] : {std::pair{0, first_mirrored}, std::pair{first_mirrored, count}}) {
+    std::atomic<int> next{from};
+    auto worker = [&] {
+      for (int job = next++; job < to && !halt; job = next++) {
+        const int i = jobs[job];
+        try {
+          out.meshes[i] = MakeObjectMeshCached(objects[i], cache_dir, &out.normals[i], true);
+          std::lock_guard lock(mutex);
+          ++made;
+          if (progress && !progress(objects[i].name, static_cast<double>(made) / std::max(count, 1))) halt = true;
+        } catch (...) {
+          std::lock_guard lock(mutex);
+          if (!failure) failure = std::current_exception();
+          halt = true;
+        }
+      }
+    };
+    const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(to - from, 1));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+    if (halt) throw BuildCancelled();
+  }
+  return out;
 }
 
 std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::filesystem::path& cache_dir,

@@ -188,12 +188,15 @@ void LinkGingivaNeighbours(SceneSpec* spec);
 /// With `normals`, also the normals to draw it with, per vertex (a share of an
 /// arch's gingiva has them: GingivaModel::normals; other objects none, and
 /// `normals` is left empty).
-TriangleMesh MakeObjectMesh(const ObjectSpec& object, std::vector<Vector3>* normals = nullptr);
+/// `seen`: for a share of an arch's gingiva, the surface the eye sees instead
+/// of the one the probe feels (GingivaSurface in core/anatomy/gingiva.h);
+/// other objects are the same either way.
+TriangleMesh MakeObjectMesh(const ObjectSpec& object, std::vector<Vector3>* normals = nullptr, bool seen = false);
 
 /// The same, with generated meshes cached in `cache_dir`/meshes keyed by a hash
 /// of what generates them (a corrupt file is regenerated, never trusted).
 TriangleMesh MakeObjectMeshCached(const ObjectSpec& object, const std::filesystem::path& cache_dir,
-                                  std::vector<Vector3>* normals = nullptr);
+                                  std::vector<Vector3>* normals = nullptr, bool seen = false);
 
 /// A compiled scene: everything the engine needs, immutable after construction.
 struct CompiledScene {
@@ -219,6 +222,19 @@ inline constexpr double kGingivaWallStiffness = 0.05, kPocketFloorStiffness = 2.
 /// engine model. Progress is reported per object.
 std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::filesystem::path& cache_dir,
                                             const BuildProgress& progress = {});
+
+/// What the window draws for the shares of an arch's gingiva: per object of
+/// the compiled scene, the seen gingiva's mesh and normals (the sulcus closed
+/// round the tooth, the papillae full: GingivaSurface::kSeen), empty for every
+/// other object, which is drawn as the engine has it. Built through the cache
+/// (one worker per core, a share's mirrored twin from its cache entry); about
+/// as long as the shares' meshes in CompileScene when the cache is cold.
+struct SeenGingiva {
+  std::vector<TriangleMesh> meshes;
+  std::vector<std::vector<Vector3>> normals;
+};
+SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::path& cache_dir,
+                             const BuildProgress& progress = {});
 
 /// Where a named scripted trajectory works in a compiled scene: on object
 /// `object` (-1: the first tooth, else the first object). For teeth, `insert`

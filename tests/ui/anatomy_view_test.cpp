@@ -204,7 +204,7 @@ TEST(AnatomyView, GingivaOfTheUpperFront) {
     const bool tooth = o.kind == ObjectSpec::Kind::kTooth, gingiva = o.kind == ObjectSpec::Kind::kGingiva;
     if (!((tooth || gingiva) && front) && o.anatomy != "jaw_upper") continue;
     std::vector<Vector3> n;
-    TriangleMesh m = MakeObjectMeshCached(o, cache, &n);
+    TriangleMesh m = MakeObjectMeshCached(o, cache, &n, /*seen=*/true);
     for (Vector3& v : n) v = R * o.X_WO.rotation() * v;
     normals.push_back(std::move(n));
     m.Transform(o.X_WO.rotation(), o.X_WO.translation());

@@ -12,6 +12,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/anatomy/mesh_contact.h"
 #include "core/anatomy/soft_tissue.h"
 
 namespace sulcus {
@@ -574,6 +575,67 @@ TEST(Gingiva, TheMidlinePapillaHasNoNotch) {
       ++compared;
     }
     EXPECT_GE(compared, 3) << (upper ? "upper" : "lower");
+  }
+}
+
+// The window draws the gingiva as the eye sees it: the same tissue with the
+// sulcus closed round the tooth (GingivaSurface::kSeen). Along the path a
+// probe tip walks around each tooth (the sulcus' middle, from 0.3 mm above
+// the floor to 0.3 mm below the margin, interproximal sites under the
+// contacts included), the felt gingiva leaves the tip its room and the seen
+// one holds tissue (or the neighbour's tooth, where the path passes the
+// contact): without this, the papillae were drawn as a labial and a lingual
+// shell over a hollow col, and a dark line ran between every tooth and its margin.
+TEST(Gingiva, TheSeenGingivaClosesTheSulcusAndFillsThePapillae) {
+  const ArchRun runs[2] = {ArchRun(), ArchRun(true, {12, 11, 21, 22})};
+  for (const ArchRun& arch : runs) {
+    const std::size_t n = arch.placed.size();
+    ASSERT_EQ(n, 4u);
+    std::vector<TriangleMesh> seen;
+    std::vector<std::vector<GingivaNeighbour>> links;
+    for (std::size_t i = 0; i < n; ++i) links.push_back(arch.Links(i));
+    for (std::size_t i = 0; i < n; ++i) {
+      const GingivaModel g = GenerateGingiva(arch.teeth[i], {}, links[i], 0.3, GingivaSurface::kSeen);
+      EXPECT_TRUE(g.mesh.Check().IsSolid()) << arch.placed[i].tooth.fdi;
+      EXPECT_EQ(g.normals.size(), g.mesh.num_vertices());
+      for (int s = 0; s < 6; ++s) EXPECT_EQ(g.floor[s], arch.collars[i].floor[s]) << "the site truth is the felt gingiva's";
+      seen.push_back(g.mesh);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const GingivaModel& c = arch.collars[i];
+      const GingivaShareField felt(arch.teeth[i], c, links[i]);
+      const int segments = static_cast<int>(c.sulcus_r.size());
+      // The path, in this tooth's frame.
+      std::vector<Vector3> path;
+      for (int k = 0; k < segments; ++k) {
+        const double th = 2 * std::numbers::pi * k / segments;
+        for (double z = c.floor_z[k] + 0.3; z <= c.margin_z[k] - 0.3; z += 0.25)
+          path.emplace_back(c.sulcus_r[k] * std::cos(th), c.sulcus_r[k] * std::sin(th), z);
+      }
+      ASSERT_GT(path.size(), 300u);
+      std::vector<bool> held(path.size(), false);
+      // In any share of the seen gingiva, or in a neighbour's tooth: each in its own frame.
+      for (std::size_t j = 0; j < n; ++j) {
+        std::vector<Vector3> there = path;
+        if (j != i) {
+          const GingivaNeighbour to_j = arch.Link(i, j);
+          for (Vector3& p : there) p = to_j.A * p + to_j.b;
+        }
+        const std::vector<bool> in_share = InsideSolid(seen[j], there);
+        const std::vector<bool> in_tooth = j != i ? InsideSolid(arch.teeth[j].mesh, there) : std::vector<bool>(there.size());
+        for (std::size_t k = 0; k < path.size(); ++k) held[k] = held[k] || in_share[k] || in_tooth[k];
+      }
+      int open_felt = 0, closed_seen = 0;
+      for (std::size_t k = 0; k < path.size(); ++k) {
+        open_felt += felt.Uncut(path[k]) > 0;
+        closed_seen += held[k];
+      }
+      const double m = static_cast<double>(path.size());
+      std::printf("%d: %zu points on the probe's path, %.1f %% open in the felt gingiva, %.1f %% closed in the seen one\n",
+                  arch.placed[i].tooth.fdi, path.size(), 100 * open_felt / m, 100 * closed_seen / m);
+      EXPECT_GT(open_felt, 0.95 * m) << arch.placed[i].tooth.fdi << ": the felt sulcus is open";
+      EXPECT_GT(closed_seen, 0.95 * m) << arch.placed[i].tooth.fdi << ": the seen sulcus is closed";
+    }
   }
 }
 
