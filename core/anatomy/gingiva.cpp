@@ -272,30 +272,57 @@ struct CollarAt {
   double bottom;  // its base, rising beyond the outer wall
 };
 
+// How far the seen gingiva's outer face lies inside the felt one's at angle th
+// and height z: the free gingiva thin at its margin (kSeenEdgeMm outside the
+// tooth there), thickening downward and meeting the felt face at the bone
+// crest (where the jaw's mucosa takes over from it; a collar without a crest:
+// 1 mm below the floor), a smoothstep between. 0 where the tooth is not in
+// the table.
+constexpr double kSeenEdgeMm = 0.45;
+// The seen interdental band's faces lie this much further in than the
+// collars' (mm): the papilla between two teeth is a shallow groove in the
+// gingiva over the roots, not a plate across the embrasure.
+constexpr double kSeenGrooveMm = 0.4;
+double SeenInset(const GingivaModel& g, const ToothRadii& seen, double th, double z) {
+  const double r_out = Around(g.outer_r, th), z_m = Around(g.margin_z, th);
+  const double tooth_m = seen.At(th, z_m);
+  if (tooth_m <= 0) return 0;
+  const double at_margin = std::max(0.0, r_out - tooth_m - kSeenEdgeMm);
+  const double z_end = g.crest_drop_mm > 0 ? CrestZ(g, r_out * std::cos(th), r_out * std::sin(th)) : Around(g.floor_z, th) - 1.0;
+  const double t = std::clamp((z_m - z) / std::max(0.5, z_m - z_end), 0.0, 1.0);
+  return at_margin * (1 - t * t * (3 - 2 * t));
+}
+
 // `seen`: the tooth's surface, for the seen gingiva (GingivaSurface), whose
-// sulcus closes onto the tooth (kSeenWallMm); null for the felt one.
+// sulcus closes onto the tooth (kSeenWallMm) and whose free gingiva thins to
+// its margin (SeenInset); null for the felt one.
 CollarAt Collar(const GingivaModel& g, const Vector3& q, const ToothRadii* seen = nullptr) {
   const double r = std::hypot(q.x(), q.y());
   const double th = std::atan2(q.y(), q.x());
-  const double wall = Around(g.wall_r, th), z_f = Around(g.floor_z, th), z_m = Around(g.margin_z, th);
-  const double r_floor = Around(g.floor_r, th), r_out = Around(g.outer_r, th);
+  const double z_f = Around(g.floor_z, th), z_m = Around(g.margin_z, th);
+  const double r_floor = Around(g.floor_r, th);
+  double wall = Around(g.wall_r, th), r_out = Around(g.outer_r, th), r_out_here = r_out;
   CollarAt c;
   c.inside = wall - r;
+  c.root = r_floor - r;
   if (seen) {
     // (where the ray misses the tooth, as between a molar's roots, the felt
-    // wall: an exposed furcation stays open)
-    // (and below the floor it holds the root as closely: the tissue attached
-    // to it, where the felt gingiva keeps the collar's straight cut)
+    // wall: an exposed furcation stays open; below the floor the seen gingiva
+    // holds the root as closely, the tissue attached to it)
     const double tooth_r = seen->At(th, q.z());
     if (tooth_r > 0) {
       c.inside = std::min(wall, tooth_r + kSeenWallMm) - r;
       c.root = tooth_r + kSeenWallMm - r;
     }
+    // (the margin's top from the tooth at the margin out to the thin edge)
+    const double edge_r = seen->At(th, z_m);
+    if (edge_r > 0) wall = std::min(wall, edge_r + kSeenWallMm);
+    r_out_here = r_out - SeenInset(g, *seen, th, q.z());
+    r_out -= SeenInset(g, *seen, th, z_m);
   }
-  c.from_root = r - (2 * Around(g.sulcus_r, th) - wall);
+  c.from_root = r - (2 * Around(g.sulcus_r, th) - Around(g.wall_r, th));
   c.above = q.z() - z_f;
-  c.root = r_floor - r;
-  double base = z_f - 1.0, outer = r_out;
+  double base = z_f - 1.0, outer = r_out_here;
   if (g.crest_drop_mm > 0) {
     // Down over the alveolar process to the crest and into the jaw, the outer
     // wall drawing in below the crest.
@@ -310,9 +337,13 @@ CollarAt Collar(const GingivaModel& g, const Vector3& q, const ToothRadii* seen 
   // margin for a few tenths of a millimetre, then rolls over into the outer
   // face (from a millimetre inside it), so the margin is a rounded edge close
   // to the tooth and not a ledge (the bends rounded).
+  // (The seen gingiva's margin is its thin edge: the top falls gently past
+  // it, less steeply than the outer face leans out below it, so that the face
+  // and not the top's fall shapes the free gingiva.)
   const double lip = std::max(wall + 0.6, r_out - 1.0);
-  c.top = z_m - 0.4 * SmoothRamp(r - wall, 0.5) - 1.5 * SmoothRamp(r - lip, 0.8) - 2.0 * SmoothRamp(r - r_out, 1.0);
-  c.bottom = base + 2.0 * std::max(0.0, r - r_out);
+  c.top = seen ? z_m - 0.4 * SmoothRamp(r - wall, 0.5) - 1.0 * SmoothRamp(r - r_out, 0.6)
+               : z_m - 0.4 * SmoothRamp(r - wall, 0.5) - 1.5 * SmoothRamp(r - lip, 0.8) - 2.0 * SmoothRamp(r - r_out, 1.0);
+  c.bottom = base + 2.0 * std::max(0.0, r - Around(g.outer_r, th));
   return c;
 }
 
@@ -360,7 +391,7 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
   if (surface == GingivaSurface::kSeen) {
     // Each tooth's surface over the heights its collar spans (and a little more).
     const auto radii = [](const ToothModel& t, const GingivaModel& g) {
-      const double lo = *std::min_element(g.floor_z.begin(), g.floor_z.end()) - 2.0;
+      const double lo = *std::min_element(g.floor_z.begin(), g.floor_z.end()) - 4.0;
       const double hi = *std::max_element(g.margin_z.begin(), g.margin_z.end()) + 1.0;
       return ToothRadii(t.mesh, lo, hi);
     };
@@ -416,6 +447,8 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
       // dip a shallow groove)
       l.face_point[side] = b_i - kFaceInsetMm * normal;
       l.face_normal[side] = normal;
+      l.face_th[side][0] = th_i;
+      l.face_th[side][1] = th_j;
       // (and the same face moved in to the line between the two sulci's
       // walls on that side)
       const Vector3 w_i = Around(own.wall_r, th_i) * Vector3(std::cos(th_i), std::sin(th_i), 0);
@@ -564,7 +597,15 @@ double GingivaShareField::Uncut(const Vector3& p) const {
     }
     double to_face = -1e9, to_wall = -1e9;  // (negative inside the band's buccal and lingual faces; the walls' line)
     for (int side = 0; side < 2; ++side) {
-      to_face = std::max(to_face, (p - l.face_point[side]).dot(l.face_normal[side]));
+      // (the seen gingiva's faces set in as its collars' are, the mean of the
+      // two teeth's: the same from both sides)
+      double inset = 0;
+      if (seen_) {
+        inset = 0.5 * (SeenInset(*own_, *seen_, l.face_th[side][0], p.z()) +
+                       SeenInset(*l.n->gingiva, *l.seen, l.face_th[side][1], q.z())) +
+                kSeenGrooveMm;
+      }
+      to_face = std::max(to_face, (p - l.face_point[side]).dot(l.face_normal[side]) + inset);
       to_wall = std::max(to_wall, (p - l.wall_point[side]).dot(l.face_normal[side]));
     }
     faces = std::max(faces, to_face + drawn_in);

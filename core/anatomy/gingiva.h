@@ -83,8 +83,10 @@ struct GingivaNeighbour {
 /// at every height (a real sulcus is a crevice that the probe
 /// opens by pushing the gingiva aside), so that the papillae fill the
 /// embrasures under the contacts instead of standing as two thin shells over a
-/// hollow col. Only drawn, never felt: the window draws the seen surface and
-/// the engine works on the felt one.
+/// hollow col; and its free gingiva thin at the margin (about 0.45 mm outside
+/// the tooth), thickening downward to the felt face at the bone crest, where
+/// the jaw's mucosa meets it. Only drawn, never felt: the window draws the
+/// seen surface and the engine works on the felt one.
 enum class GingivaSurface { kFelt, kSeen };
 
 /// Where the seen gingiva's inner wall lies, outward from the tooth's surface
@@ -96,7 +98,7 @@ inline constexpr double kSeenWallMm = -0.2;
 
 /// Changes whenever the seen gingiva's geometry does and the felt one's does
 /// not (its meshes are cached by both).
-inline constexpr int kSeenGingivaVersion = 2;
+inline constexpr int kSeenGingivaVersion = 6;
 
 /// A tooth's outer surface as a table, in its frame: for each of 144 angles
 /// around the axis and each height 0.1 mm apart, the farthest crossing of the
@@ -147,6 +149,7 @@ class GingivaShareField {
     double L;              // to its axis
     Vector3 q, normal;     // the cut: through q, normal toward the neighbour (the same plane from both sides)
     Vector3 face_point[2], face_normal[2];  // the interdental band's buccal and lingual faces
+    double face_th[2][2];  // each face's side: its angle around this tooth [0] and the neighbour [1]
     Vector3 wall_point[2];  // the same faces through the two sulci's walls: the papilla's tip stays within them
     Vector3 across_dir;    // in the cut, square to the mean vertical
     Vector3 up;            // the two teeth's mean vertical

@@ -635,6 +635,27 @@ TEST(Gingiva, TheSeenGingivaClosesTheSulcusAndFillsThePapillae) {
                   arch.placed[i].tooth.fdi, path.size(), 100 * open_felt / m, 100 * closed_seen / m);
       EXPECT_GT(open_felt, 0.95 * m) << arch.placed[i].tooth.fdi << ": the felt sulcus is open";
       EXPECT_GT(closed_seen, 0.95 * m) << arch.placed[i].tooth.fdi << ": the seen sulcus is closed";
+      // The free gingiva thins to its margin in the seen gingiva: buccally and
+      // lingually, 0.3 mm toward the root from the margin, from the tooth's
+      // surface out to the gingiva's outer face (the felt one holds the sulcus
+      // and its full thickness there).
+      const GingivaShareField seen_field(arch.teeth[i], c, links[i], GingivaSurface::kSeen);
+      for (const int site : {1, 4}) {
+        const double th = c.site_angle[site], z = c.margin[site].z() - 0.3;
+        const double r0 = OuterRadius(arch.teeth[i].mesh, th, z);
+        auto thickness = [&](const GingivaShareField& f) {
+          double outermost = -1;
+          for (double r = r0; r < r0 + 4; r += 0.02)
+            if (f.Uncut(Vector3(r * std::cos(th), r * std::sin(th), z)) < 0) outermost = r - r0;
+          return outermost;
+        };
+        const double felt_t = thickness(felt), seen_t = thickness(seen_field);
+        std::printf("%d %s: the gingiva's outer face %.2f mm from the tooth 0.3 mm below the margin, felt %.2f\n",
+                    arch.placed[i].tooth.fdi, site == 1 ? "B" : "L", seen_t, felt_t);
+        EXPECT_GT(felt_t, 1.5) << arch.placed[i].tooth.fdi << " site " << site;
+        EXPECT_GT(seen_t, 0.2) << arch.placed[i].tooth.fdi << " site " << site;
+        EXPECT_LT(seen_t, 1.0) << arch.placed[i].tooth.fdi << " site " << site;
+      }
     }
   }
 }
