@@ -191,6 +191,7 @@ void SceneView::AddToolActors(const ProbeModel& probe) {
 void SceneView::Load(const CompiledScene& scene, const SeenGingiva* seen) {
   renderer_->RemoveAllViewProps();
   objects_.clear();
+  caps_.clear();
   gingiva_.clear();
   tool_graphic_.clear();
   spheres_.clear();
@@ -207,7 +208,22 @@ void SceneView::Load(const CompiledScene& scene, const SeenGingiva* seen) {
     const TriangleMesh& mesh = seen_here ? seen->meshes[i] : scene.meshes[i];
     const std::vector<Vector3>* normals =
         seen_here ? &seen->normals[i] : i < scene.normals.size() ? &scene.normals[i] : nullptr;
-    auto actor = MeshActor(mesh, look, normals);
+    // (its flat caps, where it meets its neighbours' shares, an actor of their
+    // own: drawn only while the gingiva is opaque, SyncCaps)
+    const std::vector<char>* cap = seen_here && i < seen->caps.size() && seen->caps[i].size() == mesh.num_faces()
+                                       ? &seen->caps[i]
+                                       : nullptr;
+    std::vector<TriangleMesh::Face> body_faces, cap_faces;
+    if (cap)
+      for (std::size_t f = 0; f < mesh.num_faces(); ++f) ((*cap)[f] ? cap_faces : body_faces).push_back(mesh.faces()[f]);
+    const bool split = !cap_faces.empty() && !body_faces.empty();
+    auto actor = split ? MeshActor(TriangleMesh(mesh.vertices(), body_faces), look, normals) : MeshActor(mesh, look, normals);
+    if (split) {
+      auto caps = MeshActor(TriangleMesh(mesh.vertices(), cap_faces), look, normals);
+      caps->SetUserMatrix(ToVtk(o.X_WO));
+      renderer_->AddActor(caps);
+      caps_.push_back({i, caps});
+    }
     // Findings drawn where the scene puts them: caries on its surface, inflamed
     // gingiva at its sites.
     const bool carious = std::any_of(o.caries_mm.begin(), o.caries_mm.end(), [](double r) { return r > 0; });
@@ -331,6 +347,14 @@ void SceneView::SetLipsAndCheeksHidden(bool hidden) {
 void SceneView::SetGingivaTranslucent(bool on) {
   gingiva_translucent_ = on;
   for (auto& a : gingiva_) a->GetProperty()->SetOpacity(on ? 0.45 : 1.0);
+  SyncCaps();
+}
+
+void SceneView::SyncCaps() {
+  for (const auto& [i, caps] : caps_) {
+    const vtkSmartPointer<vtkActor>& body = objects_[i];
+    caps->SetVisibility(body->GetVisibility() && body->GetProperty()->GetOpacity() > 0.99);
+  }
 }
 
 void SceneView::Frame(const Vector3& focus, const Vector3& from_dir, double distance, const Vector3& up) {
@@ -393,6 +417,7 @@ void SceneView::Frame(const Vector3& focus, const Vector3& from_dir, double dist
       }
     }
   }
+  SyncCaps();
   renderer_->ResetCameraClippingRange();
 }
 

@@ -80,6 +80,10 @@ class SceneView {
   int spheres_shown_ = -1;
   int see_through_ = 0;
   bool fade_upper_ = false, fade_lower_ = false, gingiva_translucent_ = false, lips_hidden_ = false;
+  // The seen gingiva's flat caps between shares (object index, actor): shown
+  // only while their share is drawn opaque.
+  std::vector<std::pair<std::size_t, vtkSmartPointer<vtkActor>>> caps_;
+  void SyncCaps();
   bool show_contacts_ = true;
 };
 

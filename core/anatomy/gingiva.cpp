@@ -97,6 +97,24 @@ ToothRadii::ToothRadii(const TriangleMesh& mesh, double z_lo, double z_hi)
       }
     }
   }
+  // Where a ray misses (between a molar's roots, below the furcation's roof),
+  // the radius runs straight from the last root it met to the next one
+  // around, as tissue spans the furcation's entrance.
+  for (int j = 0; j < levels_; ++j) {
+    float* level = &r_[static_cast<std::size_t>(j) * kAngles];
+    int first = -1;
+    for (int k = 0; k < kAngles && first < 0; ++k)
+      if (level[k] > 0) first = k;
+    if (first < 0) continue;  // (above the crown or below the apices)
+    for (int k = first, steps = 0; steps < kAngles; ++steps) {
+      int next = (k + 1) % kAngles, gap = 1;
+      while (level[next] <= 0) next = (next + 1) % kAngles, ++gap;
+      for (int m = 1; m < gap; ++m)
+        level[(k + m) % kAngles] = level[k] + (level[next] - level[k]) * static_cast<float>(m) / static_cast<float>(gap);
+      steps += gap - 1;
+      k = next;
+    }
+  }
 }
 
 double ToothRadii::At(double th, double z) const {
@@ -306,9 +324,8 @@ CollarAt Collar(const GingivaModel& g, const Vector3& q, const ToothRadii* seen 
   c.inside = wall - r;
   c.root = r_floor - r;
   if (seen) {
-    // (where the ray misses the tooth, as between a molar's roots, the felt
-    // wall: an exposed furcation stays open; below the floor the seen gingiva
-    // holds the root as closely, the tissue attached to it)
+    // (below the floor too the seen gingiva holds the root as closely, the
+    // tissue attached to it; across a furcation's entrance from root to root)
     const double tooth_r = seen->At(th, q.z());
     if (tooth_r > 0) {
       c.inside = std::min(wall, tooth_r + kSeenWallMm) - r;

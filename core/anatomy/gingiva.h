@@ -98,7 +98,7 @@ inline constexpr double kSeenWallMm = -0.2;
 
 /// Changes whenever the seen gingiva's geometry does and the felt one's does
 /// not (its meshes are cached by both).
-inline constexpr int kSeenGingivaVersion = 6;
+inline constexpr int kSeenGingivaVersion = 7;
 
 /// A tooth's outer surface as a table, in its frame: for each of 144 angles
 /// around the axis and each height 0.1 mm apart, the farthest crossing of the
@@ -107,8 +107,9 @@ inline constexpr int kSeenGingivaVersion = 6;
 class ToothRadii {
  public:
   ToothRadii(const TriangleMesh& mesh, double z_lo, double z_hi);
-  /// Bilinear in angle and height; 0 outside the heights, or where a ray near
-  /// (th, z) misses the tooth (between a molar's roots).
+  /// Bilinear in angle and height; 0 outside the heights. Where a ray misses
+  /// the tooth (between a molar's roots) the radius runs straight around from
+  /// the root before to the root after.
   double At(double th, double z) const;
 
  private:

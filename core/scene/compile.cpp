@@ -466,6 +466,28 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, 
   return {};
 }
 
+namespace {
+
+// The faces of a share's mesh (object frame) that lie on one of its cuts.
+std::vector<char> CapFaces(const ObjectSpec& o, const TriangleMesh& mesh) {
+  const ToothModel tooth = GenerateTooth(o.fdi);
+  const GingivaModel collar = GenerateGingiva(tooth, GingivaOf(o));
+  const ShareNeighbours nb(o);
+  const std::vector<ClipPlane> planes = GingivaShareField(tooth, collar, nb.next).cuts();
+  const std::vector<Vector3> v = ArchMirror(o.mirrored, mesh.vertices());  // (the cuts are unmirrored)
+  std::vector<char> cap(mesh.num_faces(), 0);
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    const TriangleMesh::Face& face = mesh.faces()[f];
+    for (const ClipPlane& c : planes) {
+      const auto on = [&](int k) { return std::abs((v[face[k]] - c.q).dot(c.normal)) < 1e-6; };
+      if (on(0) && on(1) && on(2)) cap[f] = 1;
+    }
+  }
+  return cap;
+}
+
+}  // namespace
+
 SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::path& cache_dir,
                              const BuildProgress& progress) {
   const auto& objects = scene.spec.objects;
@@ -473,6 +495,7 @@ SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::
   SeenGingiva out;
   out.meshes.resize(n);
   out.normals.resize(n);
+  out.caps.resize(n);
   // The unmirrored shares first, then their mirrored twins (each found in the
   // cache, where its twin left it).
   std::vector<int> jobs;
@@ -495,6 +518,7 @@ SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::
         const int i = jobs[job];
         try {
           out.meshes[i] = MakeObjectMeshCached(objects[i], cache_dir, &out.normals[i], true);
+          out.caps[i] = CapFaces(objects[i], out.meshes[i]);
           std::lock_guard lock(mutex);
           ++made;
           if (progress && !progress(objects[i].name, static_cast<double>(made) / std::max(count, 1))) halt = true;

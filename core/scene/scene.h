@@ -232,6 +232,11 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
 struct SeenGingiva {
   std::vector<TriangleMesh> meshes;
   std::vector<std::vector<Vector3>> normals;
+  // Per object, per face of its seen mesh: 1 for a face of the flat cap on
+  // the cut toward a neighbour, where two shares meet face to face (drawn
+  // only while the gingiva is opaque: through translucent gingiva the two
+  // coinciding caps would show as a dark plane between the teeth).
+  std::vector<std::vector<char>> caps;
 };
 SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::path& cache_dir,
                              const BuildProgress& progress = {});

@@ -650,5 +650,58 @@ TEST(SceneCompile, AMirroredGingivaShareIsItsTwinsMirrored) {
   }
 }
 
+// The window draws each share of the gingiva as the eye sees it (the sulcus
+// closed round the tooth): a closed mesh of its own with its drawing normals,
+// mirrored from its twin's cache entry on the patient's left like the felt
+// one, and with the faces of its flat caps marked (the cut toward a
+// neighbour), which the window hides through translucent gingiva.
+TEST(SceneCompile, TheGingivaAsDrawnIsAClosedMeshWithItsCapsMarked) {
+  const fs::path cache = Dir() / "cache-gingiva-seen";
+  fs::remove_all(cache);
+  const auto scene = CompileScene(
+      LoadSceneSpec(Write("gingiva_seen.yaml",
+                          "arch: true\ngingiva: arch\nobjects:\n  - tooth: 11\n  - tooth: 12\n  - tooth: 21\n  - tooth: 22\n")),
+      cache);
+  const SeenGingiva seen = BuildSeenGingiva(*scene, cache);
+  const std::size_t n = scene->spec.objects.size();
+  ASSERT_EQ(seen.meshes.size(), n);
+  ASSERT_EQ(seen.caps.size(), n);
+  std::map<int, std::size_t> share;
+  for (std::size_t i = 0; i < n; ++i) {
+    const ObjectSpec& o = scene->spec.objects[i];
+    if (o.kind != ObjectSpec::Kind::kGingiva) {
+      EXPECT_EQ(seen.meshes[i].num_faces(), 0u) << o.name << ": drawn as the engine has it";
+      continue;
+    }
+    share[o.fdi] = i;
+    const TriangleMesh& m = seen.meshes[i];
+    EXPECT_TRUE(m.Check().IsSolid()) << o.name;
+    EXPECT_NE(m.num_faces(), scene->meshes[i].num_faces()) << o.name << ": not the felt share";
+    ASSERT_EQ(seen.normals[i].size(), m.num_vertices()) << o.name;
+    ASSERT_EQ(seen.caps[i].size(), m.num_faces()) << o.name;
+    // The caps: some faces, each flat on one of the share's cuts (12 and 22
+    // have one neighbour here, so one plane: all their cap faces face one way).
+    std::vector<Vector3> cap_normals;
+    for (std::size_t f = 0; f < m.num_faces(); ++f) {
+      if (!seen.caps[i][f]) continue;
+      const auto& face = m.faces()[f];
+      const Vector3 e = (m.vertices()[face[1]] - m.vertices()[face[0]]).cross(m.vertices()[face[2]] - m.vertices()[face[0]]);
+      if (e.norm() > 1e-9) cap_normals.push_back(e.normalized());
+    }
+    EXPECT_GT(cap_normals.size(), 20u) << o.name;
+    EXPECT_LT(cap_normals.size(), m.num_faces() / 4) << o.name;
+    if (o.fdi == 12 || o.fdi == 22) {
+      for (const Vector3& c : cap_normals) EXPECT_GT(c.dot(cap_normals.front()), 0.999) << o.name;
+    }
+  }
+  ASSERT_EQ(share.size(), 4u);
+  // 21's is 11's mirrored, caps and all.
+  const TriangleMesh &a = seen.meshes[share[11]], &b = seen.meshes[share[21]];
+  ASSERT_EQ(a.num_vertices(), b.num_vertices());
+  for (std::size_t v = 0; v < a.num_vertices(); ++v)
+    EXPECT_EQ(b.vertices()[v], Vector3(-a.vertices()[v].x(), a.vertices()[v].y(), a.vertices()[v].z())) << v;
+  EXPECT_EQ(seen.caps[share[11]], seen.caps[share[21]]);
+}
+
 }  // namespace
 }  // namespace sulcus
