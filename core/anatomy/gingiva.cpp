@@ -737,6 +737,14 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& param
       RimsOntoField(ClipByPlanes(Simplify(Isosurface(near_side, field.box(), cell_mm), 0.02), planes), field, planes, cell_mm);
   if (mesh.num_faces() == 0) throw std::invalid_argument("the gingiva of tooth " + std::to_string(tooth.tooth.fdi) + " is empty");
   out.normals = FieldNormals(mesh, field);
+  out.caps.assign(mesh.num_faces(), 0);
+  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
+    const TriangleMesh::Face& face = mesh.faces()[f];
+    for (const ClipPlane& c : planes) {
+      const auto on = [&](int k) { return std::abs((mesh.vertices()[face[k]] - c.q).dot(c.normal)) < 1e-9; };
+      if (on(0) && on(1) && on(2)) out.caps[f] = 1;
+    }
+  }
   out.mesh = std::move(mesh);
   return out;
 }

@@ -58,6 +58,9 @@ struct GingivaModel {
   // take the same normal where their rims meet, so the seam does not show in
   // the shading, nor the facets of the sampling.
   std::vector<Vector3> normals;
+  // A share's only, too: per face of `mesh`, 1 for a face of its flat cap on
+  // a cut toward a neighbour (where two shares meet face to face), else 0.
+  std::vector<char> caps;
   /// The floor height at angle th (radians from +x), nearest segment.
   double FloorAt(double th) const;
   /// The segment of the tables around the tooth nearest angle th (radians from +x).
@@ -98,7 +101,7 @@ inline constexpr double kSeenWallMm = -0.2;
 
 /// Changes whenever the seen gingiva's geometry does and the felt one's does
 /// not (its meshes are cached by both).
-inline constexpr int kSeenGingivaVersion = 7;
+inline constexpr int kSeenGingivaVersion = 8;
 
 /// A tooth's outer surface as a table, in its frame: for each of 144 angles
 /// around the axis and each height 0.1 mm apart, the farthest crossing of the

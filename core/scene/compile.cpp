@@ -184,17 +184,20 @@ std::optional<TriangleMesh> ReadCachedMesh(const std::filesystem::path& file) {
   return TriangleMesh(std::move(v), std::move(f));
 }
 
-// A mesh's normals as the cache holds them: the count, the normals, their checksum.
-std::vector<Vector3> ReadCachedNormals(const std::filesystem::path& file, std::size_t expected) {
+// A per-vertex or per-face array as the cache holds it (a mesh's normals, a
+// share's cap faces): the count, the items, their checksum. Empty when the
+// file is missing, or does not hold `expected` items, or is corrupt.
+template <typename T>
+std::vector<T> ReadCachedArray(const std::filesystem::path& file, std::size_t expected) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return {};
   std::uint64_t n = 0, checksum = 0;
   in.read(reinterpret_cast<char*>(&n), 8);
   if (!in || n != expected) return {};
-  std::vector<Vector3> v(n);
-  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(Vector3)));
+  std::vector<T> v(n);
+  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(T)));
   in.read(reinterpret_cast<char*>(&checksum), 8);
-  if (!in || Fnv1a(v.data(), n * sizeof(Vector3)) != checksum) return {};
+  if (!in || Fnv1a(v.data(), n * sizeof(T)) != checksum) return {};
   return v;
 }
 
@@ -214,12 +217,13 @@ void WriteCacheFile(const std::filesystem::path& file, Write write) {
   std::filesystem::rename(tmp, file, ec);
 }
 
-void WriteCachedNormals(const std::vector<Vector3>& normals, const std::filesystem::path& file) {
+template <typename T>
+void WriteCachedArray(const std::vector<T>& items, const std::filesystem::path& file) {
   WriteCacheFile(file, [&](std::ofstream& out) {
-    const std::uint64_t n = normals.size();
-    const std::uint64_t sum = Fnv1a(normals.data(), n * sizeof(Vector3));
+    const std::uint64_t n = items.size();
+    const std::uint64_t sum = Fnv1a(items.data(), n * sizeof(T));
     out.write(reinterpret_cast<const char*>(&n), 8);
-    out.write(reinterpret_cast<const char*>(normals.data()), static_cast<std::streamsize>(n * sizeof(Vector3)));
+    out.write(reinterpret_cast<const char*>(items.data()), static_cast<std::streamsize>(n * sizeof(T)));
     out.write(reinterpret_cast<const char*>(&sum), 8);
   });
 }
@@ -393,34 +397,41 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
 }  // namespace
 
 TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::path& cache_dir,
-                                  std::vector<Vector3>* normals, bool seen) {
+                                  std::vector<Vector3>* normals, bool seen, std::vector<char>* caps) {
   seen = seen && o.kind == ObjectSpec::Kind::kGingiva && !o.gingiva_neighbours.empty();
   std::string key = GeneratorKey(o);
-  if (key.empty() || cache_dir.empty()) return MakeObjectMesh(o, normals, seen);
+  if (key.empty() || cache_dir.empty()) return MakeObjectMesh(o, normals, seen, caps);
   if (seen) key += "|seen " + std::to_string(kSeenGingivaVersion) + "|" + std::to_string(kSeenWallMm);
   // A gingiva is cached unmirrored (its key is in that frame) and mirrored here.
   const bool mirror_here = o.kind == ObjectSpec::Kind::kGingiva && o.mirrored;
   char name[32];
   std::snprintf(name, sizeof name, "%016llx.mesh", static_cast<unsigned long long>(Fnv1a(key.data(), key.size())));
   const std::filesystem::path file = cache_dir / "meshes" / name;
-  std::filesystem::path normals_file = file;
+  std::filesystem::path normals_file = file, caps_file = file;
   normals_file.replace_extension(".normals");
+  caps_file.replace_extension(".caps");
   if (auto cached = ReadCachedMesh(file)) {
-    // (no normals file, or one that does not fit: drawn from the faces)
-    if (normals) *normals = ArchMirror(mirror_here, ReadCachedNormals(normals_file, cached->num_vertices()));
+    // (no normals file, or one that does not fit: drawn from the faces; no
+    // caps file: none marked)
+    if (normals) *normals = ArchMirror(mirror_here, ReadCachedArray<Vector3>(normals_file, cached->num_vertices()));
+    if (caps) *caps = ReadCachedArray<char>(caps_file, cached->num_faces());
     return ArchMirror(mirror_here, std::move(*cached));
   }
   std::vector<Vector3> made_normals;
-  TriangleMesh m = MakeObjectMesh(o, &made_normals, seen);
-  // (the normals first: a reader that finds the mesh finds its normals)
-  if (!made_normals.empty()) WriteCachedNormals(ArchMirror(mirror_here, made_normals), normals_file);
+  std::vector<char> made_caps;
+  TriangleMesh m = MakeObjectMesh(o, &made_normals, seen, &made_caps);
+  // (the normals and caps first: a reader that finds the mesh finds them)
+  if (!made_normals.empty()) WriteCachedArray(ArchMirror(mirror_here, made_normals), normals_file);
+  if (!made_caps.empty()) WriteCachedArray(made_caps, caps_file);
+  if (caps) *caps = made_caps;
   WriteCachedMesh(ArchMirror(mirror_here, m), file);
   if (normals) *normals = std::move(made_normals);
   return m;
 }
 
-TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, bool seen) {
+TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, bool seen, std::vector<char>* caps) {
   if (normals) normals->clear();
+  if (caps) caps->clear();
   switch (o.kind) {
     case ObjectSpec::Kind::kTooth: {
       ToothModel tooth = GenerateTooth(o.fdi);
@@ -433,6 +444,7 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, 
       const ShareNeighbours nb(o);
       GingivaModel g = GenerateGingiva(tooth, GingivaOf(o), nb.next, 0.3, seen ? GingivaSurface::kSeen : GingivaSurface::kFelt);
       if (normals) *normals = ArchMirror(o.mirrored, std::move(g.normals));
+      if (caps) *caps = std::move(g.caps);
       return ArchMirror(o.mirrored, std::move(g.mesh));
     }
     case ObjectSpec::Kind::kCalculus: {
@@ -466,28 +478,6 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, 
   return {};
 }
 
-namespace {
-
-// The faces of a share's mesh (object frame) that lie on one of its cuts.
-std::vector<char> CapFaces(const ObjectSpec& o, const TriangleMesh& mesh) {
-  const ToothModel tooth = GenerateTooth(o.fdi);
-  const GingivaModel collar = GenerateGingiva(tooth, GingivaOf(o));
-  const ShareNeighbours nb(o);
-  const std::vector<ClipPlane> planes = GingivaShareField(tooth, collar, nb.next).cuts();
-  const std::vector<Vector3> v = ArchMirror(o.mirrored, mesh.vertices());  // (the cuts are unmirrored)
-  std::vector<char> cap(mesh.num_faces(), 0);
-  for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
-    const TriangleMesh::Face& face = mesh.faces()[f];
-    for (const ClipPlane& c : planes) {
-      const auto on = [&](int k) { return std::abs((v[face[k]] - c.q).dot(c.normal)) < 1e-6; };
-      if (on(0) && on(1) && on(2)) cap[f] = 1;
-    }
-  }
-  return cap;
-}
-
-}  // namespace
-
 SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::path& cache_dir,
                              const BuildProgress& progress) {
   const auto& objects = scene.spec.objects;
@@ -517,8 +507,7 @@ SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::
       for (int job = next++; job < to && !halt; job = next++) {
         const int i = jobs[job];
         try {
-          out.meshes[i] = MakeObjectMeshCached(objects[i], cache_dir, &out.normals[i], true);
-          out.caps[i] = CapFaces(objects[i], out.meshes[i]);
+          out.meshes[i] = MakeObjectMeshCached(objects[i], cache_dir, &out.normals[i], true, &out.caps[i]);
           std::lock_guard lock(mutex);
           ++made;
           if (progress && !progress(objects[i].name, static_cast<double>(made) / std::max(count, 1))) halt = true;

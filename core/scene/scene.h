@@ -191,12 +191,15 @@ void LinkGingivaNeighbours(SceneSpec* spec);
 /// `seen`: for a share of an arch's gingiva, the surface the eye sees instead
 /// of the one the probe feels (GingivaSurface in core/anatomy/gingiva.h);
 /// other objects are the same either way.
-TriangleMesh MakeObjectMesh(const ObjectSpec& object, std::vector<Vector3>* normals = nullptr, bool seen = false);
+/// `caps`: for a share, per face 1 on its flat cap toward a neighbour (GingivaModel::caps); empty otherwise.
+TriangleMesh MakeObjectMesh(const ObjectSpec& object, std::vector<Vector3>* normals = nullptr, bool seen = false,
+                            std::vector<char>* caps = nullptr);
 
 /// The same, with generated meshes cached in `cache_dir`/meshes keyed by a hash
 /// of what generates them (a corrupt file is regenerated, never trusted).
 TriangleMesh MakeObjectMeshCached(const ObjectSpec& object, const std::filesystem::path& cache_dir,
-                                  std::vector<Vector3>* normals = nullptr, bool seen = false);
+                                  std::vector<Vector3>* normals = nullptr, bool seen = false,
+                                  std::vector<char>* caps = nullptr);
 
 /// A compiled scene: everything the engine needs, immutable after construction.
 struct CompiledScene {
