@@ -501,7 +501,8 @@ SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::
   std::exception_ptr failure;
   std::atomic<bool> halt{false};
   int made = 0;
-  for (const auto& [from, to] : {std::pair{0, first_mirrored}, std::pair{first_mirrored, count}}) {
+  for (const std::pair<int, int>& range : {std::pair{0, first_mirrored}, std::pair{first_mirrored, count}}) {
+    const int from = range.first, to = range.second;  // (not a structured binding: clang 14 cannot capture one)
     std::atomic<int> next{from};
     auto worker = [&] {
       for (int job = next++; job < to && !halt; job = next++) {
