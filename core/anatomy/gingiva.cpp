@@ -284,7 +284,6 @@ struct CollarAt {
   // In the sulcus or above it: inside > 0 and above > 0; in the root below the
   // floor: root > 0.
   double inside, above, root;
-  double from_root;  // outward from the root's widest line (r less the wall less the sulcus' width)
   double band;    // < 0 within the collar's outer wall, above its base
   double top;     // the gingiva's top: the margin at the wall, falling outward
   double bottom;  // its base, rising beyond the outer wall
@@ -337,7 +336,6 @@ CollarAt Collar(const GingivaModel& g, const Vector3& q, const ToothRadii* seen 
     r_out_here = r_out - SeenInset(g, *seen, th, q.z());
     r_out -= SeenInset(g, *seen, th, z_m);
   }
-  c.from_root = r - (2 * Around(g.sulcus_r, th) - Around(g.wall_r, th));
   c.above = q.z() - z_f;
   double base = z_f - 1.0, outer = r_out_here;
   if (g.crest_drop_mm > 0) {

@@ -478,6 +478,21 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, 
   return {};
 }
 
+namespace {
+
+// Runs `work` on one thread per core, at most `jobs` of them, the caller's
+// among them, and returns when all have returned (each takes its jobs itself).
+template <typename Work>
+void OnEachCore(int jobs, const Work& work) {
+  const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(jobs, 1));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+}
+
+}  // namespace
+
 SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::path& cache_dir,
                              const BuildProgress& progress) {
   const auto& objects = scene.spec.objects;
@@ -486,46 +501,46 @@ SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::
   out.meshes.resize(n);
   out.normals.resize(n);
   out.caps.resize(n);
-  // The unmirrored shares first, then their mirrored twins (each found in the
-  // cache, where its twin left it).
-  std::vector<int> jobs;
-  for (const bool mirrored : {false, true})
-    for (int i = 0; i < n; ++i)
-      if (objects[i].kind == ObjectSpec::Kind::kGingiva && !objects[i].gingiva_neighbours.empty() &&
-          objects[i].mirrored == mirrored)
-        jobs.push_back(i);
+  // As CompileScene's meshes: a share whose generator sees what an earlier
+  // one's sees (its mirrored twin) is that share's mesh, mirrored.
+  std::vector<int> jobs, twin(n, -1);
+  std::map<std::string, int> first;
+  for (int i = 0; i < n; ++i) {
+    if (objects[i].kind != ObjectSpec::Kind::kGingiva || objects[i].gingiva_neighbours.empty()) continue;
+    const auto [it, added] = first.try_emplace(GeneratorKey(objects[i]), i);
+    if (added) jobs.push_back(i);
+    else twin[i] = it->second;
+  }
   const int count = static_cast<int>(jobs.size());
-  const int first_mirrored = static_cast<int>(
-      std::count_if(jobs.begin(), jobs.end(), [&](int i) { return !objects[i].mirrored; }));
   std::mutex mutex;
   std::exception_ptr failure;
   std::atomic<bool> halt{false};
+  std::atomic<int> next{0};
   int made = 0;
-  for (const std::pair<int, int>& range : {std::pair{0, first_mirrored}, std::pair{first_mirrored, count}}) {
-    const int from = range.first, to = range.second;  // (not a structured binding: clang 14 cannot capture one)
-    std::atomic<int> next{from};
-    auto worker = [&] {
-      for (int job = next++; job < to && !halt; job = next++) {
-        const int i = jobs[job];
-        try {
-          out.meshes[i] = MakeObjectMeshCached(objects[i], cache_dir, &out.normals[i], true, &out.caps[i]);
-          std::lock_guard lock(mutex);
-          ++made;
-          if (progress && !progress(objects[i].name, static_cast<double>(made) / std::max(count, 1))) halt = true;
-        } catch (...) {
-          std::lock_guard lock(mutex);
-          if (!failure) failure = std::current_exception();
-          halt = true;
-        }
+  OnEachCore(count, [&] {
+    for (int job = next++; job < count && !halt; job = next++) {
+      const int i = jobs[job];
+      try {
+        out.meshes[i] = MakeObjectMeshCached(objects[i], cache_dir, &out.normals[i], true, &out.caps[i]);
+        std::lock_guard lock(mutex);
+        ++made;
+        if (progress && !progress(objects[i].name, static_cast<double>(made) / std::max(count, 1))) halt = true;
+      } catch (...) {
+        std::lock_guard lock(mutex);
+        if (!failure) failure = std::current_exception();
+        halt = true;
       }
-    };
-    const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(to - from, 1));
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
-    if (halt) throw BuildCancelled();
+    }
+  });
+  if (failure) std::rethrow_exception(failure);
+  if (halt) throw BuildCancelled();
+  for (int i = 0; i < n; ++i) {
+    if (twin[i] < 0) continue;
+    const int j = twin[i];
+    const bool mirror = objects[i].mirrored != objects[j].mirrored;
+    out.meshes[i] = ArchMirror(mirror, out.meshes[j]);
+    out.normals[i] = ArchMirror(mirror, out.normals[j]);
+    out.caps[i] = out.caps[j];  // (mirroring keeps the faces' order)
   }
   return out;
 }
@@ -589,11 +604,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
         }
       }
     };
-    const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(jobs, 1));
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(mesher);
-    mesher();
-    for (std::thread& t : pool) t.join();
+    OnEachCore(jobs, mesher);
     if (mesh_failure) std::rethrow_exception(mesh_failure);
     for (int i = 0; i < n; ++i) {
       if (twin[i] < 0) continue;
@@ -662,11 +673,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
       }
     }
   };
-  const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, n + 1);
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+  OnEachCore(n + 1, worker);
   if (failure) std::rethrow_exception(failure);
   if (stop) throw BuildCancelled();
   const auto& objs = scene->spec.objects;

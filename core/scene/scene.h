@@ -230,7 +230,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
 /// the compiled scene, the seen gingiva's mesh and normals (the sulcus closed
 /// round the tooth, the papillae full: GingivaSurface::kSeen), empty for every
 /// other object, which is drawn as the engine has it. Built through the cache
-/// (one worker per core, a share's mirrored twin from its cache entry); about
+/// (one worker per core; a share's mirrored twin is its mesh mirrored, as in CompileScene); about
 /// as long as the shares' meshes in CompileScene when the cache is cold.
 struct SeenGingiva {
   std::vector<TriangleMesh> meshes;
