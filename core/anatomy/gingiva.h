@@ -134,6 +134,9 @@ class GingivaShareField {
  public:
   GingivaShareField(const ToothModel& tooth, const GingivaModel& own, const std::vector<GingivaNeighbour>& neighbours,
                     GingivaSurface surface = GingivaSurface::kFelt);
+  // (not copied: the seen field's links point into its own table of radii)
+  GingivaShareField(const GingivaShareField&) = delete;
+  GingivaShareField& operator=(const GingivaShareField&) = delete;
   double Uncut(const Vector3& p) const;
   double Cut(const Vector3& p) const;
   const Aabb& box() const { return box_; }
