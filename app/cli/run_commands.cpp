@@ -167,10 +167,11 @@ int Run(const RunArgs& a) {
   const std::uint64_t ticks = a.offline ? loop.tick() : st.ticks.load();
   const double miss_pct = ticks ? 100.0 * st.misses.load() / ticks : 0;
   std::printf("timing: %" PRIu64 " ticks at %.0f Hz; period p50 %.0f us, p99 %.0f us, p99.9 %.0f us, worst %.0f us "
-              "(tick %" PRIu64 "); %" PRIu64 " deadline misses (%.3f %%)\n",
+              "(tick %" PRIu64 "); %" PRIu64 " deadline misses (%.3f %%; %" PRIu64
+              " began more than a tenth of a period late, the others' work was too long)\n",
               ticks, so.rate_hz, st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
               st.period_us.Percentile(0.999), st.worst_period_us.load(), st.worst_tick.load(), st.misses.load(),
-              miss_pct);
+              miss_pct, st.late_start_misses.load());
   std::printf("step: p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us%s\n", step_hist.Percentile(0.5),
               step_hist.Percentile(0.99), step_hist.Percentile(0.999), step_hist.max_us(), a.offline ? " (offline)" : "");
   if (!node_tests.empty()) {
@@ -202,11 +203,11 @@ int Run(const RunArgs& a) {
   if (const RecordingWriter* w = session.recorder())
     std::printf("recorded %" PRIu64 " ticks to %s (%" PRIu64 " dropped)\n", w->written(), a.record.c_str(),
                 w->dropped());
-  std::printf("run rate_hz=%.0f ticks=%" PRIu64 " misses=%" PRIu64
+  std::printf("run rate_hz=%.0f ticks=%" PRIu64 " misses=%" PRIu64 " late_start_misses=%" PRIu64
               " period_p50_us=%.1f period_p99_us=%.1f period_p999_us=%.1f worst_us=%.1f step_p50_us=%.1f "
               "step_p99_us=%.1f step_p999_us=%.1f max_force_n=%.3f faults=%" PRIu64 " pops=%" PRIu64 "\n",
-              so.rate_hz, ticks, st.misses.load(), st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
-              st.period_us.Percentile(0.999), st.worst_period_us.load(), step_hist.Percentile(0.5),
+              so.rate_hz, ticks, st.misses.load(), st.late_start_misses.load(), st.period_us.Percentile(0.5),
+              st.period_us.Percentile(0.99), st.period_us.Percentile(0.999), st.worst_period_us.load(), step_hist.Percentile(0.5),
               step_hist.Percentile(0.99), step_hist.Percentile(0.999), s.max_force_n, s.faults.total(), summary.pops);
   return 0;
 }
@@ -230,7 +231,8 @@ void AddRunCommands(CLI::App& app) {
   run->add_flag("--no-realtime", a->no_realtime, "Do not ask for real-time priority and a pinned core");
   run->add_option("--spin-us", a->spin_us,
                   "Microseconds at the end of each wait spent polling the clock instead of sleeping "
-                  "(default: 40 % of the period, at most 60; 0: sleep the whole wait)")
+                  "(default: 90 % of the period, at most 100; at most 90 %, and a tenth of the period is always slept; "
+                  "0: sleep the whole wait)")
       ->check(CLI::Range(0.0, 1000.0));
   run->add_flag("--offline", a->offline, "No thread and no clock: tick as fast as possible (timing figures are then empty)");
   run->add_option("--trace", a->trace,

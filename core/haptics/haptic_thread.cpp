@@ -29,15 +29,25 @@ void SleepUntil(std::int64_t ns) {
   }
 }
 
-// Sleeps until `spin` ns before `ns`, then polls the clock until `ns`.
-void WaitUntil(std::int64_t ns, std::int64_t spin) {
-  if (spin <= 0) return SleepUntil(ns);
-  if (ns - NowNs() > spin) SleepUntil(ns - spin);
+// Sleeps until `poll_from`, then polls the clock until `ns`.
+void WaitUntil(std::int64_t ns, std::int64_t poll_from) {
+  if (poll_from >= ns) return SleepUntil(ns);
+  if (poll_from > NowNs()) SleepUntil(poll_from);
   while (NowNs() < ns) {
   }
 }
 
 }  // namespace
+
+std::int64_t SpinNs(std::int64_t period_ns, double spin_us) {
+  const double us = spin_us >= 0 ? spin_us : std::min(0.9e-3 * static_cast<double>(period_ns), 100.0);
+  return std::clamp(static_cast<std::int64_t>(1e3 * us), std::int64_t{0}, period_ns * 9 / 10);
+}
+
+std::int64_t PollFrom(std::int64_t end, std::int64_t deadline, std::int64_t period, std::int64_t spin) {
+  if (spin <= 0) return deadline;
+  return std::max(deadline - spin, std::min(end + period / 10, deadline));
+}
 
 HapticThread::HapticThread(HapticLoop* loop, const ThreadOptions& options) : loop_(loop), options_(options) {}
 
@@ -86,10 +96,7 @@ void HapticThread::Run() noexcept {
 
   const double rate = loop_->options().rate_hz > 0 ? loop_->options().rate_hz : 1000.0;
   const auto period = static_cast<std::int64_t>(kNsPerS / rate);
-  // The polled end of each wait (ThreadOptions::spin_us), at most half a period.
-  const auto spin = std::min(period / 2, static_cast<std::int64_t>(1e3 * (options_.spin_us >= 0
-                                                                             ? options_.spin_us
-                                                                             : std::min(0.4e-3 * period, 60.0))));
+  const std::int64_t spin = SpinNs(period, options_.spin_us);  // the polled end of each wait
   std::int64_t deadline = NowNs();  // the scheduled start of the current tick
   std::int64_t last_start = deadline;
   std::uint64_t n = 0;
@@ -117,9 +124,11 @@ void HapticThread::Run() noexcept {
     if (options_.stop_when_device_finished && loop_->device_finished()) break;
     if (options_.free_run) continue;
 
+    const std::int64_t late = start - deadline;
     deadline += period;
     if (end > deadline) {
       stats_.misses.fetch_add(1, std::memory_order_relaxed);
+      if (late > period / 10) stats_.late_start_misses.fetch_add(1, std::memory_order_relaxed);
       // Far behind (a stall, or steps longer than the period): start again from
       // now rather than racing to catch up, and sleep a little anyway: a
       // real-time thread that never sleeps would starve everything on its core.
@@ -127,7 +136,7 @@ void HapticThread::Run() noexcept {
       SleepUntil(NowNs() + std::max<std::int64_t>(period / 10, 20'000));
       continue;
     }
-    WaitUntil(deadline, spin);
+    WaitUntil(deadline, PollFrom(end, deadline, period, spin));
   }
   running_.store(false, std::memory_order_release);
 }

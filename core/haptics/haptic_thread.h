@@ -22,9 +22,12 @@ struct ThreadOptions {
   double stall_periods = 3;  // a tick this many periods late trips the watchdog
   // The last part of each wait is spent polling the clock instead of sleeping,
   // so that the tick starts on time rather than when the kernel wakes the
-  // thread (tens of microseconds late, sometimes a period: a missed deadline
-  // at 10 kHz). Microseconds; negative: the default, 40 % of the period and at
-  // most 60 us; 0: sleep the whole wait.
+  // thread (on a virtual machine 20 to 40 us late, and in one wake of a hundred
+  // later than 60 us: at 10 kHz, a missed deadline). Microseconds; negative:
+  // the default, 90 % of the period and at most 100 us; 0: sleep the whole wait.
+  // Whatever the spin, the thread sleeps at least a tenth of each period after
+  // its work (PollFrom), so that a real-time thread leaves its core's other
+  // work room and the kernel never throttles it.
   double spin_us = -1;
   std::uint64_t max_ticks = 0;    // stop after this many ticks (0: until Stop())
   bool stop_when_device_finished = true;
@@ -37,9 +40,20 @@ struct TimingStats {
   TimeHistogram step_us;    // the tick's own work
   std::atomic<std::uint64_t> ticks{0};
   std::atomic<std::uint64_t> misses{0};   // ticks whose work ended after the next deadline
+  // Of those, the ticks that started more than a tenth of a period after their
+  // time (the thread woke or was run late); the others' work was too long.
+  std::atomic<std::uint64_t> late_start_misses{0};
   std::atomic<std::uint64_t> worst_tick{0};
   std::atomic<double> worst_period_us{0};
 };
+
+/// The polled part of each wait, in ns, for a period and ThreadOptions::spin_us.
+std::int64_t SpinNs(std::int64_t period_ns, double spin_us);
+/// When the thread stops sleeping and starts polling the clock for the tick due
+/// at `deadline`, its last tick's work having ended at `end` (ns, one clock):
+/// `spin` before the deadline, but never sooner than a tenth of a period after
+/// `end`, and never after the deadline.
+std::int64_t PollFrom(std::int64_t end, std::int64_t deadline, std::int64_t period, std::int64_t spin);
 
 class HapticThread {
  public:

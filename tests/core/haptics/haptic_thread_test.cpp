@@ -106,6 +106,25 @@ TEST(TimeHistogram, Percentiles) {
   EXPECT_EQ(h.CountAtLeast(900), 11u);
 }
 
+// How the thread waits for its next tick: the polled end of the wait, and the
+// tenth of each period it always sleeps (the clock is not read: a plan only).
+TEST(HapticThread, PollsMostOfAShortPeriodAndAlwaysSleepsATenth) {
+  constexpr std::int64_t k10kHz = 100'000, k1kHz = 1'000'000;  // ns
+  EXPECT_EQ(SpinNs(k10kHz, -1), 90'000);
+  EXPECT_EQ(SpinNs(k1kHz, -1), 100'000);
+  EXPECT_EQ(SpinNs(k10kHz, 0), 0);
+  EXPECT_EQ(SpinNs(k10kHz, 30), 30'000);
+  EXPECT_EQ(SpinNs(k10kHz, 500), 90'000) << "never more than 90 % of the period";
+  // A tick due at 100 us whose predecessor ended at 2 us: poll from 10 us.
+  EXPECT_EQ(PollFrom(2'000, 100'000, k10kHz, 90'000), 12'000) << "a tenth of the period slept after the work";
+  EXPECT_EQ(PollFrom(2'000, 100'000, k10kHz, 40'000), 60'000);
+  EXPECT_EQ(PollFrom(2'000, 100'000, k10kHz, 0), 100'000) << "spin 0 sleeps the whole wait";
+  // Long work leaves less than a tenth: sleep until the deadline, never past it.
+  EXPECT_EQ(PollFrom(95'000, 100'000, k10kHz, 90'000), 100'000);
+  // At 1 kHz, work of 5 us: sleep until 900 us, poll the last 100.
+  EXPECT_EQ(PollFrom(5'000, 1'000'000, k1kHz, SpinNs(k1kHz, -1)), 900'000);
+}
+
 // The real thread at 1 kHz, with a reader taking snapshots and events and sending
 // commands meanwhile, as the window does.
 TEST(HapticThread, RunsAtItsRateWhileAnotherThreadReadsAndCommands) {
