@@ -935,6 +935,7 @@ void MainWindow::ShowStartPage() {
   s.lesson = dialog.lesson();
   s.student = dialog.student();
   s.mode = dialog.mode();
+  s.seed = dialog.seed();
   s.device = "mouse";
   StartLesson(s);
 }

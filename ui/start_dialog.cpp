@@ -13,6 +13,7 @@
 #include <QPushButton>
 #include <QRadioButton>
 #include <QSettings>
+#include <QSpinBox>
 #include <QVBoxLayout>
 
 #include "core/lesson/results.h"
@@ -53,6 +54,28 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs, std::fi
   own_mode_->setChecked(true);
   for (QRadioButton* b : {own_mode_, practice_, assessment_}) mode_row->addWidget(b);
   layout->addWidget(modes);
+  // Only for a lesson that draws its case: which one.
+  case_box_ = new QGroupBox("Case");
+  case_box_->setToolTip("This lesson draws its patient's pockets, recession and bleeding from a seed: "
+                        "the same seed always gives the same case");
+  auto* case_row = new QHBoxLayout(case_box_);
+  own_case_ = new QRadioButton;
+  last_case_ = new QRadioButton;
+  last_case_->setToolTip("Take the case of your last attempt at this lesson again, to see what you improved");
+  seed_case_ = new QRadioButton("the case of seed");
+  seed_case_->setToolTip("The case your instructor gave you by its seed (the report of an attempt shows its seed)");
+  case_seed_ = new QSpinBox;
+  case_seed_->setRange(0, 2147483647);
+  case_seed_->setValue(1);
+  own_case_->setChecked(true);
+  case_row->addWidget(own_case_);
+  case_row->addWidget(last_case_);
+  case_row->addWidget(seed_case_);
+  case_row->addWidget(case_seed_);
+  case_row->addStretch(1);
+  connect(case_seed_, qOverload<int>(&QSpinBox::valueChanged), this, [this] { seed_case_->setChecked(true); });
+  case_box_->hide();
+  layout->addWidget(case_box_);
   auto* buttons = new QDialogButtonBox;
   auto* folder = buttons->addButton("Instructor's folder...", QDialogButtonBox::ActionRole);
   folder->setToolTip("Add a folder of lesson files written by your instructor");
@@ -74,6 +97,7 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs, std::fi
                                     Q(it.errors).toHtmlEscaped().replace("\n", "<br>") + "</tt>"
                               : Q(it.description).toHtmlEscaped());
     start_->setEnabled(!it.broken);
+    ShowCase(it);
   });
   connect(student_, &QComboBox::currentTextChanged, this, [this] { Refresh(); });
   // Who was here last.
@@ -114,6 +138,7 @@ void StartDialog::Refresh() {
       const LessonSpec s = LoadLessonSpec(it.file);
       it.title = (s.name.empty() ? f.stem().string() : s.name) + "  (" + ToString(s.mode) + ")";
       it.description = s.description;
+      it.generated_case = s.case_spec;
     } catch (const SceneLoadError& e) {
       it.broken = true;
       it.title = f.filename().string() + " (broken)";
@@ -121,13 +146,53 @@ void StartDialog::Refresh() {
     }
     std::string last;
     for (const AttemptRow& a : attempts)
-      if (a.lesson_file == it.file.string()) last = "  last score " + std::to_string(static_cast<int>(a.total + 0.5));
+      if (a.lesson_file == it.file.string()) {
+        last = "  last score " + std::to_string(static_cast<int>(a.total + 0.5));
+        it.last_seed = a.generated_case ? std::optional<std::uint64_t>(a.case_seed) : std::nullopt;
+      }
     auto* item = new QListWidgetItem(Q(it.title + last));
     if (it.broken) item->setForeground(QColor(190, 30, 30));
     list_->addItem(item);
     items_.push_back(it);
   }
   if (!items_.empty()) list_->setCurrentRow(keep >= 0 && keep < static_cast<int>(items_.size()) ? keep : 0);
+}
+
+void StartDialog::ShowCase(const Item& it) {
+  const CaseSpec& c = it.generated_case;
+  case_box_->setVisible(!it.broken && c.generated);
+  if (!c.generated) return;
+  own_case_->setText(c.random_seed ? "a new case" : QString("the lesson's case (seed %1)").arg(c.seed));
+  own_case_->setToolTip(c.random_seed ? "A case drawn for this attempt: its seed is kept with your result"
+                                      : "The case the lesson file names");
+  last_case_->setEnabled(it.last_seed.has_value());
+  last_case_->setText(it.last_seed ? QString("my last case again (seed %1)").arg(*it.last_seed)
+                                   : QString("my last case again (none yet)"));
+  if (!it.last_seed && last_case_->isChecked()) own_case_->setChecked(true);
+}
+
+bool StartDialog::ChooseCase(int choice, std::uint64_t seed) {
+  const int row = list_->currentRow();
+  if (row < 0 || row >= static_cast<int>(items_.size())) return false;
+  const Item& it = items_[static_cast<std::size_t>(row)];
+  if (!it.generated_case.generated) return false;
+  if (choice == 0) own_case_->setChecked(true);
+  else if (choice == 1 && it.last_seed) last_case_->setChecked(true);
+  else if (choice == 2) {
+    case_seed_->setValue(static_cast<int>(seed));
+    seed_case_->setChecked(true);
+  } else return false;
+  return true;
+}
+
+std::optional<std::uint64_t> StartDialog::seed() const {
+  const int row = list_->currentRow();
+  if (row < 0 || row >= static_cast<int>(items_.size())) return std::nullopt;
+  const Item& it = items_[static_cast<std::size_t>(row)];
+  if (!it.generated_case.generated || it.broken) return std::nullopt;
+  if (last_case_->isChecked() && it.last_seed) return it.last_seed;
+  if (seed_case_->isChecked()) return static_cast<std::uint64_t>(case_seed_->value());
+  return std::nullopt;
 }
 
 bool StartDialog::SelectLesson(const std::filesystem::path& file) {

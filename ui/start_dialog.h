@@ -2,7 +2,9 @@
 // The start page: who the student is (picked or added, remembered), the lessons
 // shipped and the instructor's own folder, each with its description and this
 // student's last score, broken lesson files listed as broken with their errors,
-// and practice or assessment.
+// practice or assessment, and for a lesson that generates its case, which case:
+// the lesson's own (or a new one), this student's last case again, or the case
+// of a seed the instructor gives.
 
 #include <filesystem>
 #include <optional>
@@ -15,9 +17,11 @@
 
 class QComboBox;
 class QLabel;
+class QGroupBox;
 class QListWidget;
 class QRadioButton;
 class QPushButton;
+class QSpinBox;
 
 namespace sulcus::ui {
 
@@ -31,15 +35,23 @@ class StartDialog : public QDialog {
   std::filesystem::path lesson() const;
   /// Empty: the lesson's own mode.
   std::optional<LessonSpec::Mode> mode() const;
+  /// A generated case's seed chosen here; empty: the lesson's own (its seed,
+  /// or a new one drawn at the start when it says `seed: random`).
+  std::optional<std::uint64_t> seed() const;
   /// The lessons listed, with the broken ones (for tests).
   struct Item {
     std::filesystem::path file;
     std::string title, description, errors;
     bool broken = false;
+    CaseSpec generated_case;                  // .generated: the lesson draws its case
+    std::optional<std::uint64_t> last_seed;   // this student's last attempt's case
   };
   const std::vector<Item>& items() const { return items_; }
   void SetStudent(const QString& name);
   bool SelectLesson(const std::filesystem::path& file);
+  /// Chooses the case as a student would: its own (0), the last again (1), the
+  /// case of `seed` (2). False when the choice is not offered for this lesson.
+  bool ChooseCase(int choice, std::uint64_t seed = 0);
   void Refresh();
 
  private:
@@ -51,6 +63,10 @@ class StartDialog : public QDialog {
   QLabel* about_ = nullptr;
   QRadioButton *own_mode_ = nullptr, *practice_ = nullptr, *assessment_ = nullptr;
   QPushButton* start_ = nullptr;
+  QGroupBox* case_box_ = nullptr;
+  QRadioButton *own_case_ = nullptr, *last_case_ = nullptr, *seed_case_ = nullptr;
+  QSpinBox* case_seed_ = nullptr;
+  void ShowCase(const Item& it);
 };
 
 }  // namespace sulcus::ui

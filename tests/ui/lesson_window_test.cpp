@@ -91,6 +91,52 @@ TEST(StartPage, ListsTheLessonsAndABrokenOneAsBroken) {
   EXPECT_TRUE(Save(&d, "start_page.png"));
 }
 
+// A lesson that draws its case offers the case choice; one that does not, not.
+TEST(StartPage, ALessonThatDrawsItsCaseOffersTheLastCaseAgainAndAGivenSeed) {
+  const fs::path db_file = Out("start_case_results.db");
+  fs::remove(db_file);
+  const fs::path case_lesson = fs::absolute(Lessons() / "periodontal_probing_case.yaml").lexically_normal();
+  {
+    ResultsDb db(db_file);
+    LessonResult r;
+    r.lesson_name = "case";
+    r.lesson_file = case_lesson.string();
+    r.student = "Grace";
+    r.mode = "practice";
+    r.generated_case = true;
+    r.case_seed = 4242;
+    r.total = 71;
+    r.complete = true;
+    db.Store(r, "2026-12-01T10:00:00Z", "/a.rec", "/a.yaml", "/a");
+  }
+  StartDialog d({Lessons()}, db_file);
+  d.SetStudent("Grace");
+  d.show();
+  ASSERT_TRUE(d.SelectLesson(Lessons() / "periodontal_probing.yaml"));
+  QApplication::processEvents();
+  EXPECT_FALSE(d.ChooseCase(2, 7)) << "a lesson with a fixed scene has no case to choose";
+  EXPECT_FALSE(d.seed().has_value());
+
+  ASSERT_TRUE(d.SelectLesson(case_lesson));
+  QApplication::processEvents();
+  EXPECT_FALSE(d.seed().has_value()) << "by default the lesson's own: a new case (seed: random)";
+  ASSERT_TRUE(d.ChooseCase(1));
+  ASSERT_TRUE(d.seed().has_value());
+  EXPECT_EQ(*d.seed(), 4242u) << "the student's last case again";
+  ASSERT_TRUE(d.ChooseCase(2, 11));
+  EXPECT_EQ(d.seed().value_or(0), 11u) << "the instructor's seed";
+  EXPECT_TRUE(Save(&d, "start_page_case.png"));
+  ASSERT_TRUE(d.ChooseCase(0));
+  EXPECT_FALSE(d.seed().has_value());
+
+  // Another student has no last case: that choice is refused, the own case kept.
+  d.SetStudent("Ada");
+  QApplication::processEvents();
+  ASSERT_TRUE(d.SelectLesson(case_lesson));
+  EXPECT_FALSE(d.ChooseCase(1));
+  EXPECT_FALSE(d.seed().has_value());
+}
+
 // Types the chart as the student reads it: each site's deepest reading to the
 // nearest millimetre, B after the sites that bled.
 void ChartEverything(MainWindow& w) {
