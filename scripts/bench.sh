@@ -69,9 +69,10 @@ for seed in 1 2 3 4 5; do
     fi
   done
 done | tee "$out/rate10k.txt"
-awk '{ key = $3 == "floor" ? "floor" : "mouth spin " $5
-       for (i = 1; i <= NF; ++i) if ($i ~ /^misses=/) { split($i, kv, "="); sum[key] += kv[2]; runs[key]++ } }
-     END { for (k in sum) printf "%-18s misses %.3f %% of ticks over %d runs\n", k, 100 * sum[k] / (runs[k] * 50000), runs[k] }' \
+awk '/^seed / { key = $3 == "floor" ? "floor" : "mouth spin " $5
+       for (i = 1; i <= NF; ++i) { split($i, kv, "=")
+         if (kv[1] == "misses") { misses[key] += kv[2]; runs[key]++ } else if (kv[1] == "ticks") ticks[key] += kv[2] } }
+     END { for (k in misses) printf "%-18s misses %.3f %% of ticks over %d runs\n", k, 100 * misses[k] / ticks[k], runs[k] }' \
   "$out/rate10k.txt" | sort | tee -a "$out/rate10k.txt"
 
 echo "== the closed mouth (the oral scene with mouth_open_mm: 0), a saturated random hand, 1 kHz, seeds 1-3:"

@@ -171,26 +171,35 @@ void StartDialog::ShowCase(const Item& it) {
   if (!it.last_seed && last_case_->isChecked()) own_case_->setChecked(true);
 }
 
-bool StartDialog::ChooseCase(int choice, std::uint64_t seed) {
+const StartDialog::Item* StartDialog::Current() const {
   const int row = list_->currentRow();
-  if (row < 0 || row >= static_cast<int>(items_.size())) return false;
-  const Item& it = items_[static_cast<std::size_t>(row)];
-  if (!it.generated_case.generated) return false;
-  if (choice == 0) own_case_->setChecked(true);
-  else if (choice == 1 && it.last_seed) last_case_->setChecked(true);
-  else if (choice == 2) {
-    case_seed_->setValue(static_cast<int>(seed));
-    seed_case_->setChecked(true);
-  } else return false;
-  return true;
+  return row >= 0 && row < static_cast<int>(items_.size()) ? &items_[static_cast<std::size_t>(row)] : nullptr;
+}
+
+bool StartDialog::ChooseCase(CaseChoice choice, std::uint64_t seed) {
+  const Item* it = Current();
+  if (!it || !it->generated_case.generated) return false;
+  switch (choice) {
+    case CaseChoice::kOwn:
+      own_case_->setChecked(true);
+      return true;
+    case CaseChoice::kLast:
+      if (!it->last_seed) return false;
+      last_case_->setChecked(true);
+      return true;
+    case CaseChoice::kSeed:
+      if (seed > static_cast<std::uint64_t>(case_seed_->maximum())) return false;
+      case_seed_->setValue(static_cast<int>(seed));
+      seed_case_->setChecked(true);
+      return true;
+  }
+  return false;
 }
 
 std::optional<std::uint64_t> StartDialog::seed() const {
-  const int row = list_->currentRow();
-  if (row < 0 || row >= static_cast<int>(items_.size())) return std::nullopt;
-  const Item& it = items_[static_cast<std::size_t>(row)];
-  if (!it.generated_case.generated || it.broken) return std::nullopt;
-  if (last_case_->isChecked() && it.last_seed) return it.last_seed;
+  const Item* it = Current();
+  if (!it || !it->generated_case.generated) return std::nullopt;
+  if (last_case_->isChecked() && it->last_seed) return it->last_seed;
   if (seed_case_->isChecked()) return static_cast<std::uint64_t>(case_seed_->value());
   return std::nullopt;
 }
@@ -211,9 +220,8 @@ std::string StartDialog::student() const {
 }
 
 std::filesystem::path StartDialog::lesson() const {
-  const int row = list_->currentRow();
-  if (row < 0 || row >= static_cast<int>(items_.size())) return {};
-  return items_[static_cast<std::size_t>(row)].file;
+  const Item* it = Current();
+  return it ? it->file : std::filesystem::path();
 }
 
 std::optional<LessonSpec::Mode> StartDialog::mode() const {

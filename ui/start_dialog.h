@@ -49,9 +49,10 @@ class StartDialog : public QDialog {
   const std::vector<Item>& items() const { return items_; }
   void SetStudent(const QString& name);
   bool SelectLesson(const std::filesystem::path& file);
-  /// Chooses the case as a student would: its own (0), the last again (1), the
-  /// case of `seed` (2). False when the choice is not offered for this lesson.
-  bool ChooseCase(int choice, std::uint64_t seed = 0);
+  enum class CaseChoice { kOwn, kLast, kSeed };
+  /// Chooses the case as a student would (`seed` for kSeed). False when the
+  /// choice is not offered for the selected lesson.
+  bool ChooseCase(CaseChoice choice, std::uint64_t seed = 0);
   void Refresh();
 
  private:
@@ -66,6 +67,7 @@ class StartDialog : public QDialog {
   QGroupBox* case_box_ = nullptr;
   QRadioButton *own_case_ = nullptr, *last_case_ = nullptr, *seed_case_ = nullptr;
   QSpinBox* case_seed_ = nullptr;
+  const Item* Current() const;  // the selected lesson, or null
   void ShowCase(const Item& it);
 };
 

@@ -114,26 +114,26 @@ TEST(StartPage, ALessonThatDrawsItsCaseOffersTheLastCaseAgainAndAGivenSeed) {
   d.show();
   ASSERT_TRUE(d.SelectLesson(Lessons() / "periodontal_probing.yaml"));
   QApplication::processEvents();
-  EXPECT_FALSE(d.ChooseCase(2, 7)) << "a lesson with a fixed scene has no case to choose";
+  EXPECT_FALSE(d.ChooseCase(StartDialog::CaseChoice::kSeed, 7)) << "a lesson with a fixed scene has no case to choose";
   EXPECT_FALSE(d.seed().has_value());
 
   ASSERT_TRUE(d.SelectLesson(case_lesson));
   QApplication::processEvents();
   EXPECT_FALSE(d.seed().has_value()) << "by default the lesson's own: a new case (seed: random)";
-  ASSERT_TRUE(d.ChooseCase(1));
+  ASSERT_TRUE(d.ChooseCase(StartDialog::CaseChoice::kLast));
   ASSERT_TRUE(d.seed().has_value());
   EXPECT_EQ(*d.seed(), 4242u) << "the student's last case again";
-  ASSERT_TRUE(d.ChooseCase(2, 11));
+  ASSERT_TRUE(d.ChooseCase(StartDialog::CaseChoice::kSeed, 11));
   EXPECT_EQ(d.seed().value_or(0), 11u) << "the instructor's seed";
   EXPECT_TRUE(Save(&d, "start_page_case.png"));
-  ASSERT_TRUE(d.ChooseCase(0));
+  ASSERT_TRUE(d.ChooseCase(StartDialog::CaseChoice::kOwn));
   EXPECT_FALSE(d.seed().has_value());
 
   // Another student has no last case: that choice is refused, the own case kept.
   d.SetStudent("Ada");
   QApplication::processEvents();
   ASSERT_TRUE(d.SelectLesson(case_lesson));
-  EXPECT_FALSE(d.ChooseCase(1));
+  EXPECT_FALSE(d.ChooseCase(StartDialog::CaseChoice::kLast));
   EXPECT_FALSE(d.seed().has_value());
 }
 
