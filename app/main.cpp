@@ -2,13 +2,13 @@
 // over the last scene; or on a scene given on the command line (the workbench),
 // or straight into a lesson (--lesson).
 
+#include <QVTKOpenGLNativeWidget.h>
+
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QSettings>
 #include <QSurfaceFormat>
 #include <QTimer>
-#include <QVTKOpenGLNativeWidget.h>
-
 #include <cstdio>
 #include <filesystem>
 
@@ -26,13 +26,18 @@ int main(int argc, char** argv) {
   QCommandLineParser cli;
   cli.setApplicationDescription("Sulcus: haptic dental training simulator");
   cli.addHelpOption();
-  cli.addPositionalArgument("scene", "Scene file (default: the last one, or scenes/periodontal_probing.yaml)");
+  cli.addPositionalArgument(
+      "scene", "Scene file (default: the last one, or scenes/periodontal_probing.yaml)");
   QCommandLineOption device("device", "mouse, scripted:NAME or replay:FILE", "device");
-  QCommandLineOption quit_after("quit-after", "Quit after this many seconds (demos, tests)", "seconds");
-  QCommandLineOption screenshot("screenshot", "Save a screenshot here just before quitting", "png");
-  QCommandLineOption lesson("lesson", "Start this lesson at once (no start page)", "file");
+  QCommandLineOption quit_after("quit-after",
+                                "Quit after this many seconds (demos, tests)", "seconds");
+  QCommandLineOption screenshot("screenshot",
+                                "Save a screenshot here just before quitting", "png");
+  QCommandLineOption lesson("lesson", "Start this lesson at once (no start page)",
+                            "file");
   QCommandLineOption student("student", "Who takes the lesson", "name");
-  QCommandLineOption workbench("workbench", "Open the scene without a lesson (no start page)");
+  QCommandLineOption workbench("workbench",
+                               "Open the scene without a lesson (no start page)");
   cli.addOptions({device, quit_after, screenshot, lesson, student, workbench});
   cli.process(app);
 
@@ -40,11 +45,12 @@ int main(int argc, char** argv) {
   const bool scene_given = !cli.positionalArguments().isEmpty();
   if (scene_given) {
     scene = cli.positionalArguments().front().toStdString();
-  } else if (const QString last = QSettings().value("scene/last").toString(); !last.isEmpty() &&
-                                                                              std::filesystem::exists(last.toStdString())) {
+  } else if (const QString last = QSettings().value("scene/last").toString();
+             !last.isEmpty() && std::filesystem::exists(last.toStdString())) {
     scene = last.toStdString();
   } else {
-    scene = std::filesystem::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
+    scene =
+        std::filesystem::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
   }
   sulcus::ui::MainWindow window;
   window.SetLessonFolders({std::filesystem::path(SULCUS_SOURCE_DIR) / "lessons"});
@@ -62,14 +68,17 @@ int main(int argc, char** argv) {
     }
     window.OpenScene(scene);
     // The start page, unless a scene was asked for: who, which lesson, which mode.
-    if (!scene_given && !cli.isSet(workbench) && !cli.isSet(quit_after)) window.ShowStartPage();
+    if (!scene_given && !cli.isSet(workbench) && !cli.isSet(quit_after))
+      window.ShowStartPage();
   });
   if (cli.isSet(quit_after)) {
-    QTimer::singleShot(static_cast<int>(cli.value(quit_after).toDouble() * 1000), &window, [&] {
-      if (cli.isSet(screenshot)) window.SaveScreenshot(cli.value(screenshot).toStdString());
-      std::printf("%s\n", window.status_text().toStdString().c_str());
-      window.close();
-    });
+    QTimer::singleShot(static_cast<int>(cli.value(quit_after).toDouble() * 1000), &window,
+                       [&] {
+                         if (cli.isSet(screenshot))
+                           window.SaveScreenshot(cli.value(screenshot).toStdString());
+                         std::printf("%s\n", window.status_text().toStdString().c_str());
+                         window.close();
+                       });
   }
   return app.exec();
 }

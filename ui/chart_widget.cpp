@@ -1,18 +1,18 @@
 #include "ui/chart_widget.h"
 
-#include "core/lesson/lesson_spec.h"
-
-#include <algorithm>
-#include <cmath>
-
 #include <QKeyEvent>
 #include <QMouseEvent>
 #include <QPainter>
+#include <algorithm>
+#include <cmath>
+
+#include "core/lesson/lesson_spec.h"
 
 namespace sulcus::ui {
 namespace {
 
-constexpr int kCell = 24, kRowH = 20, kLabelW = 78, kToothGap = 6, kBandTitle = 18, kHeader = 18;
+constexpr int kCell = 24, kRowH = 20, kLabelW = 78, kToothGap = 6, kBandTitle = 18,
+              kHeader = 18;
 constexpr int kRows = 5;  // PD, recession, CAL, bleeding, truth (practice)
 const char* const kRowNames[kRows] = {"PD", "recession", "CAL", "bleeding", "true PD"};
 
@@ -33,11 +33,15 @@ int Rank(int fdi) {
 
 ChartWidget::ChartWidget(QWidget* parent) : QWidget(parent) {
   setFocusPolicy(Qt::StrongFocus);
-  setToolTip("The periodontal chart. Type the depth you read (whole mm) and it moves to the next site; "
-             "B or Space marks bleeding on the site just entered; Backspace goes back. Shift+digit: 10 mm and over.");
+  setToolTip(
+      "The periodontal chart. Type the depth you read (whole mm) and it moves to the "
+      "next site; "
+      "B or Space marks bleeding on the site just entered; Backspace goes back. "
+      "Shift+digit: 10 mm and over.");
 }
 
-void ChartWidget::SetLesson(const std::vector<int>& teeth, const std::vector<SiteRef>& path,
+void ChartWidget::SetLesson(const std::vector<int>& teeth,
+                            const std::vector<SiteRef>& path,
                             const std::map<std::pair<int, int>, double>& recession_mm) {
   bands_.clear();
   for (bool upper : {true, false}) {
@@ -72,7 +76,8 @@ void ChartWidget::ShowChart(const PerioChart& chart) {
   std::map<std::pair<int, int>, double> recession;
   for (const ToothChart& t : chart.teeth) {
     teeth.push_back(t.fdi);
-    for (int s = 0; s < kSitesPerTooth; ++s) recession[{t.fdi, s}] = t.sites[s].recession_mm;
+    for (int s = 0; s < kSitesPerTooth; ++s)
+      recession[{t.fdi, s}] = t.sites[s].recession_mm;
   }
   SetLesson(teeth, StandardPath(teeth), recession);
   for (const ToothChart& t : chart.teeth)
@@ -122,13 +127,16 @@ int ChartWidget::rows() const { return truth_.empty() ? kRows - 1 : kRows; }
 
 QSize ChartWidget::sizeHint() const {
   int teeth = 1;
-  for (const Band& b : bands_) teeth = std::max<int>(teeth, static_cast<int>(b.teeth.size()));
-  return {kLabelW + teeth * (3 * kCell + kToothGap) + 8,
-          static_cast<int>(bands_.size()) * (kBandTitle + kHeader + rows() * kRowH + 6) + 8};
+  for (const Band& b : bands_)
+    teeth = std::max<int>(teeth, static_cast<int>(b.teeth.size()));
+  return {
+      kLabelW + teeth * (3 * kCell + kToothGap) + 8,
+      static_cast<int>(bands_.size()) * (kBandTitle + kHeader + rows() * kRowH + 6) + 8};
 }
 
 QRect ChartWidget::CellRect(int band, int tooth_index, int cell, int row) const {
-  const int y0 = 4 + band * (kBandTitle + kHeader + rows() * kRowH + 6) + kBandTitle + kHeader;
+  const int y0 =
+      4 + band * (kBandTitle + kHeader + rows() * kRowH + 6) + kBandTitle + kHeader;
   const int x = kLabelW + tooth_index * (3 * kCell + kToothGap) + cell * kCell;
   return {x, y0 + row * kRowH, kCell - 1, kRowH - 1};
 }
@@ -148,11 +156,15 @@ void ChartWidget::paintEvent(QPaintEvent*) {
     p.setFont(bold);
     p.setPen(palette().text().color());
     p.drawText(QRect(4, y0, 300, kBandTitle), Qt::AlignLeft | Qt::AlignVCenter,
-               QString("%1 %2").arg(band.upper ? "upper" : "lower").arg(band.buccal ? "buccal" : band.upper ? "palatal" : "lingual"));
+               QString("%1 %2")
+                   .arg(band.upper ? "upper" : "lower")
+                   .arg(band.buccal  ? "buccal"
+                        : band.upper ? "palatal"
+                                     : "lingual"));
     p.setFont(f);
     for (int r = 0; r < rows(); ++r)
-      p.drawText(QRect(4, y0 + kBandTitle + kHeader + r * kRowH, kLabelW - 6, kRowH), Qt::AlignLeft | Qt::AlignVCenter,
-                 kRowNames[r]);
+      p.drawText(QRect(4, y0 + kBandTitle + kHeader + r * kRowH, kLabelW - 6, kRowH),
+                 Qt::AlignLeft | Qt::AlignVCenter, kRowNames[r]);
     for (int t = 0; t < static_cast<int>(band.teeth.size()); ++t) {
       const int fdi = band.teeth[t];
       const QRect head(CellRect(b, t, 0, 0).left(), y0 + kBandTitle, 3 * kCell, kHeader);
@@ -164,7 +176,8 @@ void ChartWidget::paintEvent(QPaintEvent*) {
       for (int c = 0; c < 3; ++c) {
         const std::pair key{fdi, sites[c]};
         const bool is_cursor = cur && cur->fdi == fdi && cur->site == sites[c];
-        const bool is_probing = probing_ && probing_->fdi == fdi && probing_->site == sites[c];
+        const bool is_probing =
+            probing_ && probing_->fdi == fdi && probing_->site == sites[c];
         for (int r = 0; r < rows(); ++r) {
           const QRect cell = CellRect(b, t, c, r);
           QColor fill = palette().base().color();
@@ -179,7 +192,9 @@ void ChartWidget::paintEvent(QPaintEvent*) {
           const auto rec = recession_.find(key);
           if (r == 0 && pd != pd_.end()) text = QString::number(pd->second);
           if (r == 0 && pd != pd_.end() && pd->second >= 4) colour = QColor(200, 30, 30);
-          if (r == 1 && rec != recession_.end()) text = QString::number(rec->second, 'f', rec->second == std::floor(rec->second) ? 0 : 1);
+          if (r == 1 && rec != recession_.end())
+            text = QString::number(rec->second, 'f',
+                                   rec->second == std::floor(rec->second) ? 0 : 1);
           if (r == 2 && pd != pd_.end() && rec != recession_.end()) {
             SiteValues v;
             v.pd_mm = pd->second;
@@ -195,7 +210,8 @@ void ChartWidget::paintEvent(QPaintEvent*) {
           }
           if (r == 4 && truth_.count(key) && pd != pd_.end()) {
             text = QString::number(truth_.at(key));
-            colour = truth_.at(key) == pd->second ? QColor(30, 130, 50) : QColor(200, 120, 0);
+            colour =
+                truth_.at(key) == pd->second ? QColor(30, 130, 50) : QColor(200, 120, 0);
           }
           if (!text.isEmpty()) {
             p.setPen(colour);
@@ -272,7 +288,8 @@ void ChartWidget::mousePressEvent(QMouseEvent* e) {
       for (int c = 0; c < 3; ++c)
         if (CellRect(b, t, c, 0).contains(e->pos())) {
           for (std::size_t i = 0; i < path_.size(); ++i)
-            if (path_[i].fdi == bands_[b].teeth[t] && path_[i].site == sites[c]) cursor_ = i;
+            if (path_[i].fdi == bands_[b].teeth[t] && path_[i].site == sites[c])
+              cursor_ = i;
           update();
           return;
         }

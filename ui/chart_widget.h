@@ -9,13 +9,12 @@
 // steps back and clears. The site being probed is highlighted. Every entry goes
 // to `on_entry` (the window stamps it with the tick and hands it to the lesson).
 
+#include <QWidget>
 #include <functional>
 #include <map>
 #include <optional>
 #include <utility>
 #include <vector>
-
-#include <QWidget>
 
 #include "core/lesson/lesson.h"
 
@@ -30,7 +29,8 @@ class ChartWidget : public QWidget {
   void SetLesson(const std::vector<int>& teeth, const std::vector<SiteRef>& path,
                  const std::map<std::pair<int, int>, double>& recession_mm);
   void SetProbing(std::optional<SiteRef> site);  // highlighted: the site the tip is in
-  void SetTruth(const std::map<std::pair<int, int>, int>& truth);  // practice: shown in a row once a site is entered
+  void SetTruth(const std::map<std::pair<int, int>, int>&
+                    truth);  // practice: shown in a row once a site is entered
   void SetEnabled(bool on);
   /// Shows a whole chart, read only (an instructor's preview of a case's truth).
   void ShowChart(const PerioChart& chart);

@@ -2,15 +2,14 @@
 
 #include <QFontMetricsF>
 #include <QPainter>
-
 #include <algorithm>
-
 
 namespace sulcus::ui {
 
 ForceGauge::ForceGauge(QWidget* parent) : QWidget(parent) {
   setMinimumSize(260, 75);
-  setToolTip("Probing force; the green band is the clinical probing force, 0.20 to 0.25 N");
+  setToolTip(
+      "Probing force; the green band is the clinical probing force, 0.20 to 0.25 N");
 }
 
 void ForceGauge::SetLabel(const QString& label) {
@@ -32,22 +31,33 @@ void ForceGauge::paintEvent(QPaintEvent*) {
   // Inset by half a label each side, so that the end labels (0.0, 0.6) are whole.
   const double inset = QFontMetricsF(p.font()).horizontalAdvance("0.0") / 2 + 1;
   const QRectF bar(all.left() + inset, all.top() + 22, all.width() - 2 * inset, 26);
-  auto x_of = [&](double n) { return bar.left() + bar.width() * std::clamp(n / kScaleN, 0.0, 1.0); };
+  auto x_of = [&](double n) {
+    return bar.left() + bar.width() * std::clamp(n / kScaleN, 0.0, 1.0);
+  };
   p.fillRect(bar, QColor(58, 60, 68));
-  p.fillRect(QRectF(QPointF(x_of(kBandLow), bar.top()), QPointF(x_of(kBandHigh), bar.bottom())), QColor(60, 170, 90));
-  const QColor fill = InBand() ? QColor(90, 220, 120) : (force_ > kBandHigh ? QColor(235, 120, 60) : QColor(120, 170, 240));
+  p.fillRect(
+      QRectF(QPointF(x_of(kBandLow), bar.top()), QPointF(x_of(kBandHigh), bar.bottom())),
+      QColor(60, 170, 90));
+  const QColor fill =
+      InBand() ? QColor(90, 220, 120)
+               : (force_ > kBandHigh ? QColor(235, 120, 60) : QColor(120, 170, 240));
   p.fillRect(QRectF(bar.left(), bar.top() + 7, x_of(force_) - bar.left(), 12), fill);
   p.setPen(QColor(200, 200, 205));
   for (double n = 0; n <= kScaleN + 1e-9; n += 0.1) {
     p.drawLine(QPointF(x_of(n), bar.bottom()), QPointF(x_of(n), bar.bottom() + 4));
     const QString label = QString::number(n, 'f', 1);
-    p.drawText(QPointF(x_of(n) - QFontMetricsF(p.font()).horizontalAdvance(label) / 2, bar.bottom() + 16), label);
+    p.drawText(QPointF(x_of(n) - QFontMetricsF(p.font()).horizontalAdvance(label) / 2,
+                       bar.bottom() + 16),
+               label);
   }
   QFont big = p.font();
   big.setBold(true);
   p.setFont(big);
   p.drawText(QPointF(all.left(), all.top() + 14),
-             QString("%1 %2 N%3").arg(label_).arg(force_, 0, 'f', 3).arg(force_ > kScaleN ? "  (off scale)" : ""));
+             QString("%1 %2 N%3")
+                 .arg(label_)
+                 .arg(force_, 0, 'f', 3)
+                 .arg(force_ > kScaleN ? "  (off scale)" : ""));
   p.setFont(QFont());
 }
 

@@ -13,7 +13,8 @@ class ForceGauge : public QWidget {
   /// The force now (N).
   void SetForce(double force_n);
   double force() const { return force_; }
-  /// What the force is: "Force" (the tool's whole force), "Probing force" (along the probe).
+  /// What the force is: "Force" (the tool's whole force), "Probing force" (along the
+  /// probe).
   void SetLabel(const QString& label);
   void Clear() { SetForce(0); }
   bool InBand() const { return force_ >= kBandLow && force_ <= kBandHigh; }

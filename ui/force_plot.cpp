@@ -1,6 +1,5 @@
 #include "ui/force_plot.h"
 
-#include <QVBoxLayout>
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkAxis.h>
 #include <vtkChartLegend.h>
@@ -14,6 +13,8 @@
 #include <vtkTable.h>
 #include <vtkTextProperty.h>
 
+#include <QVBoxLayout>
+
 namespace sulcus::ui {
 namespace {
 
@@ -21,7 +22,8 @@ constexpr double kHistoryS = 5.0, kBandLow = 0.20, kBandHigh = 0.25;
 
 }  // namespace
 
-ForcePlot::ForcePlot(QWidget* parent) : QWidget(parent), widget_(new QVTKOpenGLNativeWidget(this)) {
+ForcePlot::ForcePlot(QWidget* parent)
+    : QWidget(parent), widget_(new QVTKOpenGLNativeWidget(this)) {
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
   layout->addWidget(widget_);
@@ -34,13 +36,15 @@ ForcePlot::ForcePlot(QWidget* parent) : QWidget(parent), widget_(new QVTKOpenGLN
   chart_ = vtkSmartPointer<vtkChartXY>::New();
   view_->GetScene()->AddItem(chart_);
   table_ = vtkSmartPointer<vtkTable>::New();
-  for (const char* name : {"t (s)", "force (N)", "torque (N*m x 10)", "band 0.20 N", "band 0.25 N"}) {
+  for (const char* name :
+       {"t (s)", "force (N)", "torque (N*m x 10)", "band 0.20 N", "band 0.25 N"}) {
     auto column = vtkSmartPointer<vtkDoubleArray>::New();
     column->SetName(name);
     table_->AddColumn(column);
   }
   chart_->SetShowLegend(false);
-  chart_->GetLegend()->GetLabelProperties()->SetColor(0.1, 0.1, 0.12);  // on the legend's white box
+  chart_->GetLegend()->GetLabelProperties()->SetColor(0.1, 0.1,
+                                                      0.12);  // on the legend's white box
   // Top left, over the oldest seconds: the newest (right) stay visible.
   chart_->GetLegend()->SetHorizontalAlignment(vtkChartLegend::LEFT);
   chart_->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
@@ -55,8 +59,8 @@ ForcePlot::ForcePlot(QWidget* parent) : QWidget(parent), widget_(new QVTKOpenGLN
     unsigned char r, g, b;
     float width;
   };
-  for (const Line& l : {Line{1, 110, 190, 255, 2.5f}, Line{2, 170, 170, 170, 1.0f}, Line{3, 70, 170, 90, 1.0f},
-                        Line{4, 70, 170, 90, 1.0f}}) {
+  for (const Line& l : {Line{1, 110, 190, 255, 2.5f}, Line{2, 170, 170, 170, 1.0f},
+                        Line{3, 70, 170, 90, 1.0f}, Line{4, 70, 170, 90, 1.0f}}) {
     vtkPlot* plot = chart_->AddPlot(vtkChart::LINE);
     plots_.push_back(plot);
     plot->SetVisible(false);  // until there are two points to draw

@@ -2,12 +2,12 @@
 // The force and torque of the last seconds as a VTK chart (vtkChartXY in a
 // QVTKOpenGLNativeWidget), with the clinical probing band drawn as two lines.
 
+#include <vtkSmartPointer.h>
+
+#include <QWidget>
 #include <array>
 #include <deque>
 #include <vector>
-
-#include <QWidget>
-#include <vtkSmartPointer.h>
 
 class QVTKOpenGLNativeWidget;
 class vtkChartXY;

@@ -1,24 +1,23 @@
 #include "ui/instructor_dialog.h"
 
-#include <algorithm>
-#include <cmath>
-#include <fstream>
-#include <map>
-
 #include <QComboBox>
 #include <QDialogButtonBox>
+#include <QFileDialog>
 #include <QFormLayout>
 #include <QHBoxLayout>
-#include <QRandomGenerator>
-#include <QSpinBox>
-#include <QFileDialog>
 #include <QHeaderView>
 #include <QLabel>
 #include <QMessageBox>
 #include <QPushButton>
+#include <QRandomGenerator>
+#include <QSpinBox>
 #include <QTabWidget>
 #include <QTableWidget>
 #include <QVBoxLayout>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
 
 #include "core/lesson/results.h"
 #include "core/scene/scene.h"
@@ -42,30 +41,38 @@ QTableWidget* Table(const QStringList& headers) {
 
 }  // namespace
 
-InstructorDialog::InstructorDialog(std::filesystem::path results_db, std::vector<std::filesystem::path> lesson_dirs,
+InstructorDialog::InstructorDialog(std::filesystem::path results_db,
+                                   std::vector<std::filesystem::path> lesson_dirs,
                                    QWidget* parent)
-    : QDialog(parent), db_file_(std::move(results_db)), lesson_dirs_(std::move(lesson_dirs)) {
+    : QDialog(parent),
+      db_file_(std::move(results_db)),
+      lesson_dirs_(std::move(lesson_dirs)) {
   setWindowTitle("Sulcus: instructor");
   resize(1000, 680);
   auto* layout = new QVBoxLayout(this);
   summary_ = new QLabel;
   layout->addWidget(summary_);
   auto* tabs = new QTabWidget;
-  attempts_ = Table({"attempt", "student", "lesson", "started", "mode", "score", "within 1 mm", "force in band",
-                     "declared", "truth"});
-  cohort_ = Table({"site", "attempts", "mean |charted - true| (mm)", "within 1 mm", "signed bias (mm)"});
-  cohort_->setToolTip("The sites the cohort charts worst, across every attempt of every student");
+  attempts_ = Table({"attempt", "student", "lesson", "started", "mode", "score",
+                     "within 1 mm", "force in band", "declared", "truth"});
+  cohort_ = Table({"site", "attempts", "mean |charted - true| (mm)", "within 1 mm",
+                   "signed bias (mm)"});
+  cohort_->setToolTip(
+      "The sites the cohort charts worst, across every attempt of every student");
   tabs->addTab(attempts_, "Every attempt");
   tabs->addTab(cohort_, "The cohort's sites");
   BuildCaseTab(tabs);
   layout->addWidget(tabs, 1);
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
-  auto* csv = buttons->addButton("Export every attempt (CSV)...", QDialogButtonBox::ActionRole);
-  auto* del = buttons->addButton("Delete the selected student's results...", QDialogButtonBox::DestructiveRole);
+  auto* csv =
+      buttons->addButton("Export every attempt (CSV)...", QDialogButtonBox::ActionRole);
+  auto* del = buttons->addButton("Delete the selected student's results...",
+                                 QDialogButtonBox::DestructiveRole);
   layout->addWidget(buttons);
   connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::close);
   connect(csv, &QPushButton::clicked, this, [this] {
-    const QString f = QFileDialog::getSaveFileName(this, "Export", "cohort.csv", "CSV (*.csv)");
+    const QString f =
+        QFileDialog::getSaveFileName(this, "Export", "cohort.csv", "CSV (*.csv)");
     if (f.isEmpty()) return;
     ResultsDb db(db_file_);
     std::ofstream out(f.toStdString());
@@ -78,7 +85,8 @@ InstructorDialog::InstructorDialog(std::filesystem::path results_db, std::vector
     if (row < 0) return;
     const std::string name = attempts_->item(row, 1)->text().toStdString();
     if (QMessageBox::question(this, "Delete results",
-                              Q("Delete every result of " + name + "? Their recordings and reports stay on disk.")) ==
+                              Q("Delete every result of " + name +
+                                "? Their recordings and reports stay on disk.")) ==
         QMessageBox::Yes)
       DeleteStudent(name);
   });
@@ -88,17 +96,21 @@ InstructorDialog::InstructorDialog(std::filesystem::path results_db, std::vector
 void InstructorDialog::BuildCaseTab(QTabWidget* tabs) {
   auto* page = new QWidget;
   auto* layout = new QVBoxLayout(page);
-  layout->addWidget(new QLabel(
-      "Draw a periodontitis case on a probing lesson's teeth: pockets, recession and bleeding until the true chart "
-      "classifies as asked (2017 classification). Preview its chart, then save it as a scene that lessons can use."));
+  layout->addWidget(
+      new QLabel("Draw a periodontitis case on a probing lesson's teeth: pockets, "
+                 "recession and bleeding until the true chart "
+                 "classifies as asked (2017 classification). Preview its chart, then "
+                 "save it as a scene that lessons can use."));
   auto* form = new QFormLayout;
   case_lesson_ = new QComboBox;
   for (const std::filesystem::path& f : LessonFiles(lesson_dirs_)) {
     try {
       const LessonSpec spec = LoadLessonSpec(f);
-      case_lesson_->addItem(Q(spec.name + "  (" + f.filename().string() + ")"), Q(f.string()));
+      case_lesson_->addItem(Q(spec.name + "  (" + f.filename().string() + ")"),
+                            Q(f.string()));
     } catch (const std::exception&) {
-      // broken lessons are listed as broken on the start page; a case needs one that loads
+      // broken lessons are listed as broken on the start page; a case needs one that
+      // loads
     }
   }
   case_stage_ = new QComboBox;
@@ -109,7 +121,8 @@ void InstructorDialog::BuildCaseTab(QTabWidget* tabs) {
   case_seed_ = new QSpinBox;
   case_seed_->setRange(0, 2147483647);
   case_seed_->setValue(1);
-  case_seed_->setToolTip("The same lesson, stage, extent and seed always draw the same case");
+  case_seed_->setToolTip(
+      "The same lesson, stage, extent and seed always draw the same case");
   auto* seed_row = new QHBoxLayout;
   auto* reseed = new QPushButton("Another");
   reseed->setToolTip("A new seed: another case of the same stage and extent");
@@ -136,27 +149,33 @@ void InstructorDialog::BuildCaseTab(QTabWidget* tabs) {
   layout->addWidget(case_chart_, 1);
   auto redraw = [this] {
     if (case_lesson_->currentIndex() < 0) return;
-    DrawCase(case_lesson_->currentData().toString().toStdString(), *StageFromString(case_stage_->currentText().toStdString()),
-             *ExtentFromString(case_extent_->currentText().toStdString()), static_cast<std::uint64_t>(case_seed_->value()));
+    DrawCase(case_lesson_->currentData().toString().toStdString(),
+             *StageFromString(case_stage_->currentText().toStdString()),
+             *ExtentFromString(case_extent_->currentText().toStdString()),
+             static_cast<std::uint64_t>(case_seed_->value()));
   };
   connect(draw, &QPushButton::clicked, this, redraw);
   connect(reseed, &QPushButton::clicked, this, [this, redraw] {
-    case_seed_->setValue(static_cast<int>(QRandomGenerator::global()->bounded(1, 999999)));
+    case_seed_->setValue(
+        static_cast<int>(QRandomGenerator::global()->bounded(1, 999999)));
     redraw();
   });
   connect(case_save_, &QPushButton::clicked, this, [this] {
     if (!case_spec_) return;
     const std::filesystem::path scene = case_spec_->scene;
-    const std::string name = scene.stem().string() + "_stage_" + ToString(case_.stage) + "_" + ToString(case_.extent) +
-                             "_" + std::to_string(case_seed_value_) + ".yaml";
-    const QString f = QFileDialog::getSaveFileName(this, "Save the case as a scene", Q((scene.parent_path() / name).string()),
-                                                   "Scenes (*.yaml)");
+    const std::string name = scene.stem().string() + "_stage_" + ToString(case_.stage) +
+                             "_" + ToString(case_.extent) + "_" +
+                             std::to_string(case_seed_value_) + ".yaml";
+    const QString f = QFileDialog::getSaveFileName(
+        this, "Save the case as a scene", Q((scene.parent_path() / name).string()),
+        "Scenes (*.yaml)");
     if (!f.isEmpty()) SaveCase(f.toStdString());
   });
   tabs->addTab(page, "Cases");
 }
 
-bool InstructorDialog::DrawCase(const std::filesystem::path& lesson, Stage stage, Extent extent, std::uint64_t seed) {
+bool InstructorDialog::DrawCase(const std::filesystem::path& lesson, Stage stage,
+                                Extent extent, std::uint64_t seed) {
   case_spec_.reset();
   case_save_->setEnabled(false);
   try {
@@ -171,15 +190,18 @@ bool InstructorDialog::DrawCase(const std::filesystem::path& lesson, Stage stage
     const Diagnosis d = Classify2017(truth);
     case_chart_->ShowChart(truth);
     QString path;
-    for (const std::string& step : d.path) path += "<li>" + Q(step).toHtmlEscaped() + "</li>";
+    for (const std::string& step : d.path)
+      path += "<li>" + Q(step).toHtmlEscaped() + "</li>";
     case_label_->setText(QString("<b>%1</b> on %2 (seed %3)<ul>%4</ul>")
-                             .arg(Q(d.Summary()).toHtmlEscaped(), Q(spec.scene.filename().string()).toHtmlEscaped())
+                             .arg(Q(d.Summary()).toHtmlEscaped(),
+                                  Q(spec.scene.filename().string()).toHtmlEscaped())
                              .arg(seed)
                              .arg(path));
     // The form says what was drawn (also when drawn by a call, not the form).
     int index = case_lesson_->findData(Q(lesson.string()));
     if (index < 0) {
-      case_lesson_->addItem(Q(spec.name + "  (" + lesson.filename().string() + ")"), Q(lesson.string()));
+      case_lesson_->addItem(Q(spec.name + "  (" + lesson.filename().string() + ")"),
+                            Q(lesson.string()));
       index = case_lesson_->count() - 1;
     }
     case_lesson_->setCurrentIndex(index);
@@ -192,7 +214,8 @@ bool InstructorDialog::DrawCase(const std::filesystem::path& lesson, Stage stage
     case_save_->setEnabled(true);
     return true;
   } catch (const std::exception& e) {
-    case_label_->setText(QString("<span style='color:#c02020'>No case drawn: %1</span>").arg(Q(e.what()).toHtmlEscaped()));
+    case_label_->setText(QString("<span style='color:#c02020'>No case drawn: %1</span>")
+                             .arg(Q(e.what()).toHtmlEscaped()));
     return false;
   }
 }
@@ -202,17 +225,22 @@ bool InstructorDialog::SaveCase(const std::filesystem::path& scene_file) {
   try {
     SaveCaseScene(*case_spec_, case_, case_seed_value_, scene_file);
     case_label_->setText(case_label_->text() +
-                         QString("Saved as <b>%1</b>. A lesson uses it with <tt>scene: %2</tt> (and no <tt>case:</tt>).")
-                             .arg(Q(scene_file.string()).toHtmlEscaped(), Q(scene_file.filename().string()).toHtmlEscaped()));
+                         QString("Saved as <b>%1</b>. A lesson uses it with <tt>scene: "
+                                 "%2</tt> (and no <tt>case:</tt>).")
+                             .arg(Q(scene_file.string()).toHtmlEscaped(),
+                                  Q(scene_file.filename().string()).toHtmlEscaped()));
     return true;
   } catch (const std::exception& e) {
-    case_label_->setText(case_label_->text() + QString("<span style='color:#c02020'>Not saved: %1</span>")
-                                                    .arg(Q(e.what()).toHtmlEscaped()));
+    case_label_->setText(case_label_->text() +
+                         QString("<span style='color:#c02020'>Not saved: %1</span>")
+                             .arg(Q(e.what()).toHtmlEscaped()));
     return false;
   }
 }
 
-QString InstructorDialog::case_summary() const { return case_label_ ? case_label_->text() : QString(); }
+QString InstructorDialog::case_summary() const {
+  return case_label_ ? case_label_->text() : QString();
+}
 
 int InstructorDialog::DeleteStudent(const std::string& name) {
   ResultsDb db(db_file_);
@@ -230,12 +258,19 @@ void InstructorDialog::Refresh() {
     const AttemptRow& a = attempts[static_cast<std::size_t>(r)];
     // An inspection has no sites and no diagnosis: those cells say so.
     const bool sites = a.sites_total > 0;
-    const QStringList cells = {QString::number(a.id), Q(a.student), Q(a.lesson_name), Q(a.started), Q(a.mode),
-                               QString::number(a.total, 'f', 1),
-                               sites ? QString("%1 %").arg(a.within_1mm_pct, 0, 'f', 0) : QString("-"),
-                               sites ? QString("%1 %").arg(a.force_in_band_pct, 0, 'f', 0) : QString("-"),
-                               sites ? Q(a.declared_dx) : QString("-"), sites ? Q(a.true_dx) : QString("-")};
-    for (int c = 0; c < cells.size(); ++c) attempts_->setItem(r, c, new QTableWidgetItem(cells[c]));
+    const QStringList cells = {
+        QString::number(a.id),
+        Q(a.student),
+        Q(a.lesson_name),
+        Q(a.started),
+        Q(a.mode),
+        QString::number(a.total, 'f', 1),
+        sites ? QString("%1 %").arg(a.within_1mm_pct, 0, 'f', 0) : QString("-"),
+        sites ? QString("%1 %").arg(a.force_in_band_pct, 0, 'f', 0) : QString("-"),
+        sites ? Q(a.declared_dx) : QString("-"),
+        sites ? Q(a.true_dx) : QString("-")};
+    for (int c = 0; c < cells.size(); ++c)
+      attempts_->setItem(r, c, new QTableWidgetItem(cells[c]));
   }
   // Sites across the cohort, worst first.
   struct Acc {
@@ -253,20 +288,25 @@ void InstructorDialog::Refresh() {
     a.signed_sum += e;
   }
   std::vector<std::pair<std::pair<int, int>, Acc>> rows(acc.begin(), acc.end());
-  std::sort(rows.begin(), rows.end(), [](const auto& x, const auto& y) { return x.second.abs / x.second.n > y.second.abs / y.second.n; });
+  std::sort(rows.begin(), rows.end(), [](const auto& x, const auto& y) {
+    return x.second.abs / x.second.n > y.second.abs / y.second.n;
+  });
   cohort_->setRowCount(static_cast<int>(rows.size()));
   for (int r = 0; r < static_cast<int>(rows.size()); ++r) {
     const auto& [key, a] = rows[static_cast<std::size_t>(r)];
-    const QStringList cells = {QString("%1 %2").arg(key.first).arg(SiteCode(key.second)), QString::number(a.n),
-                               QString::number(a.abs / a.n, 'f', 2), QString("%1 %").arg(100.0 * a.within / a.n, 0, 'f', 0),
+    const QStringList cells = {QString("%1 %2").arg(key.first).arg(SiteCode(key.second)),
+                               QString::number(a.n), QString::number(a.abs / a.n, 'f', 2),
+                               QString("%1 %").arg(100.0 * a.within / a.n, 0, 'f', 0),
                                QString("%1").arg(a.signed_sum / a.n, 0, 'f', 2)};
-    for (int c = 0; c < cells.size(); ++c) cohort_->setItem(r, c, new QTableWidgetItem(cells[c]));
+    for (int c = 0; c < cells.size(); ++c)
+      cohort_->setItem(r, c, new QTableWidgetItem(cells[c]));
   }
   summary_->setText(QString("%1 students, %2 attempts. %3")
                         .arg(students_)
                         .arg(attempts.size())
                         .arg(rows.empty() ? QString()
-                                          : QString("The site charted worst: %1.").arg(cohort_->item(0, 0)->text())));
+                                          : QString("The site charted worst: %1.")
+                                                .arg(cohort_->item(0, 0)->text())));
 }
 
 }  // namespace sulcus::ui

@@ -3,14 +3,13 @@
 // cohort's sites ranked by how wrong they are charted, export, and deleting a
 // student's results.
 
+#include <QDialog>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/lesson/lesson_spec.h"
-
-#include <QDialog>
 
 class QTableWidget;
 class QLabel;
@@ -26,7 +25,8 @@ class ChartWidget;
 class InstructorDialog : public QDialog {
  public:
   /// `lesson_dirs`: where the lessons a case can be drawn for are found.
-  InstructorDialog(std::filesystem::path results_db, std::vector<std::filesystem::path> lesson_dirs = {},
+  InstructorDialog(std::filesystem::path results_db,
+                   std::vector<std::filesystem::path> lesson_dirs = {},
                    QWidget* parent = nullptr);
   void Refresh();
   int students() const { return students_; }
@@ -38,7 +38,8 @@ class InstructorDialog : public QDialog {
   // A case drawn for a probing lesson (stage, extent, seed), previewed as its
   // true chart and classification, saved as a scene of its own.
   /// Draws it; false (and the reason shown) when no such case fits the lesson's teeth.
-  bool DrawCase(const std::filesystem::path& lesson, Stage stage, Extent extent, std::uint64_t seed);
+  bool DrawCase(const std::filesystem::path& lesson, Stage stage, Extent extent,
+                std::uint64_t seed);
   /// Saves the drawn case; false (and the reason shown) when it cannot.
   bool SaveCase(const std::filesystem::path& scene_file);
   const ChartWidget* case_chart() const { return case_chart_; }

@@ -1,48 +1,48 @@
 #include "ui/main_window.h"
 
-#include <cctype>
-#include <QAction>
-#include <QApplication>
-#include <QCheckBox>
-#include <QCloseEvent>
-#include <QDesktopServices>
-#include <QDialogButtonBox>
-#include <QGroupBox>
-#include <QInputDialog>
-#include <QLineEdit>
-#include <QRadioButton>
-#include <QScrollArea>
-#include <QSignalBlocker>
-#include <QSlider>
-#include <QTextBrowser>
-#include <QUrl>
-#include <QComboBox>
-#include <QDockWidget>
-#include <QEventLoop>
-#include <QFileDialog>
-#include <QFormLayout>
-#include <QHBoxLayout>
-#include <QKeyEvent>
-#include <QLabel>
-#include <QListWidget>
-#include <QMenuBar>
-#include <QMessageBox>
-#include <QProgressDialog>
-#include <QPushButton>
-#include <QSettings>
-#include <QSpinBox>
-#include <QStatusBar>
-#include <QTimer>
-#include <QVBoxLayout>
-#include <QMouseEvent>
-#include <QStandardItemModel>
 #include <QVTKOpenGLNativeWidget.h>
-#include <QWheelEvent>
 #include <vtkCamera.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkRenderer.h>
 
+#include <QAction>
+#include <QApplication>
+#include <QCheckBox>
+#include <QCloseEvent>
+#include <QComboBox>
+#include <QDesktopServices>
+#include <QDialogButtonBox>
+#include <QDockWidget>
+#include <QEventLoop>
+#include <QFileDialog>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QInputDialog>
+#include <QKeyEvent>
+#include <QLabel>
+#include <QLineEdit>
+#include <QListWidget>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QMouseEvent>
+#include <QProgressDialog>
+#include <QPushButton>
+#include <QRadioButton>
+#include <QScrollArea>
+#include <QSettings>
+#include <QSignalBlocker>
+#include <QSlider>
+#include <QSpinBox>
+#include <QStandardItemModel>
+#include <QStatusBar>
+#include <QTextBrowser>
+#include <QTimer>
+#include <QUrl>
+#include <QVBoxLayout>
+#include <QWheelEvent>
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -50,22 +50,22 @@
 #include <sstream>
 
 #include "core/haptics/devices/usb_discovery.h"
+#include "core/haptics/scripted_device.h"
 #include "core/lesson/answers.h"
 #include "core/lesson/attempt.h"
 #include "core/lesson/instructor.h"
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
-#include "ui/chart_widget.h"
-#include "ui/odontogram_widget.h"
-#include "core/haptics/scripted_device.h"
 #include "core/spheretree/cache.h"
+#include "ui/chart_widget.h"
 #include "ui/force_gauge.h"
-#include "ui/instructor_dialog.h"
-#include "ui/progress_dialog.h"
-#include "ui/start_dialog.h"
 #include "ui/force_plot.h"
+#include "ui/instructor_dialog.h"
 #include "ui/mouse_device.h"
+#include "ui/odontogram_widget.h"
+#include "ui/progress_dialog.h"
 #include "ui/scene_view.h"
+#include "ui/start_dialog.h"
 
 namespace sulcus::ui {
 namespace {
@@ -142,19 +142,24 @@ void MainWindow::BuildUi() {
     if (auto* model = qobject_cast<QStandardItemModel*>(device_box_->model()))
       model->item(device_box_->count() - 1)->setEnabled(false);
   }
-  device_box_->setToolTip("The mouse and keyboard, a developer's scripted probe, or a haptic device when one is plugged in");
+  device_box_->setToolTip(
+      "The mouse and keyboard, a developer's scripted probe, or a haptic device when one "
+      "is plugged in");
   form->addRow("Device", device_box_);
-  connect(device_box_, &QComboBox::textActivated, this, [this](const QString& d) { SetDevice(d.toStdString()); });
+  connect(device_box_, &QComboBox::textActivated, this,
+          [this](const QString& d) { SetDevice(d.toStdString()); });
   sphere_level_ = new QSpinBox;
   sphere_level_->setRange(-1, 7);
   sphere_level_->setSpecialValueText("off");
   sphere_level_->setValue(-1);
   form->addRow("Sphere-tree level", sphere_level_);
-  connect(sphere_level_, qOverload<int>(&QSpinBox::valueChanged), this, [this](int l) { ShowSpheres(l); });
+  connect(sphere_level_, qOverload<int>(&QSpinBox::valueChanged), this,
+          [this](int l) { ShowSpheres(l); });
   translucent_ = new QCheckBox("translucent gingiva");
   lips_hidden_ = new QCheckBox("hide lips and cheeks");
-  lips_hidden_->setToolTip("Take the lips and cheeks out of the picture, as a retractor would; "
-                           "the instrument still meets them");
+  lips_hidden_->setToolTip(
+      "Take the lips and cheeks out of the picture, as a retractor would; "
+      "the instrument still meets them");
   auto* see_row = new QHBoxLayout;
   see_row->addWidget(translucent_);
   see_row->addWidget(lips_hidden_);
@@ -171,22 +176,28 @@ void MainWindow::BuildUi() {
   look->setRange(11, 48);
   look->setValue(46);
   auto* look_button = new QPushButton("Look at tooth");
-  connect(look_button, &QPushButton::clicked, this, [this, look] { LookAtTooth(look->value()); });
+  connect(look_button, &QPushButton::clicked, this,
+          [this, look] { LookAtTooth(look->value()); });
   auto* look_row = new QHBoxLayout;
   look_row->addWidget(look);
   look_row->addWidget(look_button);
   form->addRow("Camera", look_row);
   auto* views = new QHBoxLayout;
   auto* occlusal_views = new QHBoxLayout;
-  for (auto [label, side] : {std::pair{"Buccal", SceneView::Side::kBuccal}, std::pair{"Lingual", SceneView::Side::kLingual},
-                             std::pair{"Front", SceneView::Side::kFront}, std::pair{"Lower arch", SceneView::Side::kOcclusal},
+  for (auto [label, side] : {std::pair{"Buccal", SceneView::Side::kBuccal},
+                             std::pair{"Lingual", SceneView::Side::kLingual},
+                             std::pair{"Front", SceneView::Side::kFront},
+                             std::pair{"Lower arch", SceneView::Side::kOcclusal},
                              std::pair{"Upper arch", SceneView::Side::kUpperOcclusal}}) {
     auto* b = new QPushButton(label);
     connect(b, &QPushButton::clicked, this, [this, side = side] {
       view_->View(side);
       vtk_widget_->renderWindow()->Render();
     });
-    (side == SceneView::Side::kOcclusal || side == SceneView::Side::kUpperOcclusal ? occlusal_views : views)->addWidget(b);
+    (side == SceneView::Side::kOcclusal || side == SceneView::Side::kUpperOcclusal
+         ? occlusal_views
+         : views)
+        ->addWidget(b);
   }
   form->addRow("View", views);
   form->addRow("Occlusal", occlusal_views);
@@ -196,10 +207,13 @@ void MainWindow::BuildUi() {
   });
   auto* pause = new QPushButton("Pause");
   pause->setCheckable(true);
-  pause->setToolTip("Pause the force (the tool stays where it is); press again to resume");
+  pause->setToolTip(
+      "Pause the force (the tool stays where it is); press again to resume");
   connect(pause, &QPushButton::toggled, this, [this, pause](bool on) {
     pause->setText(on ? "Resume" : "Pause");
-    if (session_) session_->loop().Send({on ? HapticCommand::Kind::kPause : HapticCommand::Kind::kResume});
+    if (session_)
+      session_->loop().Send(
+          {on ? HapticCommand::Kind::kPause : HapticCommand::Kind::kResume});
   });
   auto* buttons = new QHBoxLayout;
   buttons->addWidget(reset);
@@ -220,11 +234,15 @@ void MainWindow::BuildUi() {
 
   // Menus.
   QMenu* file = menuBar()->addMenu("&File");
-  file->addAction("&Open scene...", this, [this] {
-    const QString f = QFileDialog::getOpenFileName(this, "Open scene", Q(scene_file_.parent_path().string()),
-                                                   "Scenes (*.yaml *.yml)");
-    if (!f.isEmpty()) OpenScene(f.toStdString());
-  }, QKeySequence::Open);
+  file->addAction(
+      "&Open scene...", this,
+      [this] {
+        const QString f = QFileDialog::getOpenFileName(
+            this, "Open scene", Q(scene_file_.parent_path().string()),
+            "Scenes (*.yaml *.yml)");
+        if (!f.isEmpty()) OpenScene(f.toStdString());
+      },
+      QKeySequence::Open);
   QAction* record = file->addAction("&Record session");
   record->setCheckable(true);
   connect(record, &QAction::toggled, this, [this, record](bool on) {
@@ -232,15 +250,18 @@ void MainWindow::BuildUi() {
       StopRecording();
       return;
     }
-    const QString f = QFileDialog::getSaveFileName(this, "Record to", "session.rec", "Recordings (*.rec)");
+    const QString f = QFileDialog::getSaveFileName(this, "Record to", "session.rec",
+                                                   "Recordings (*.rec)");
     if (f.isEmpty() || !StartRecording(f.toStdString())) record->setChecked(false);
   });
   file->addAction("Replay a recording...", this, [this] {
-    const QString f = QFileDialog::getOpenFileName(this, "Replay", "", "Recordings (*.rec)");
+    const QString f =
+        QFileDialog::getOpenFileName(this, "Replay", "", "Recordings (*.rec)");
     if (!f.isEmpty()) SetDevice("replay:" + f.toStdString());
   });
   file->addAction("Save &screenshot...", this, [this] {
-    const QString f = QFileDialog::getSaveFileName(this, "Screenshot", "sulcus.png", "PNG (*.png)");
+    const QString f =
+        QFileDialog::getSaveFileName(this, "Screenshot", "sulcus.png", "PNG (*.png)");
     if (!f.isEmpty()) SaveScreenshot(f.toStdString());
   });
   file->addSeparator();
@@ -248,7 +269,8 @@ void MainWindow::BuildUi() {
   BuildLessonDock();
   BuildReplayDock();
   auto* lessons = menuBar()->addMenu("&Lesson");
-  lessons->addAction("&Start a lesson...", this, [this] { ShowStartPage(); }, QKeySequence("Ctrl+L"));
+  lessons->addAction(
+      "&Start a lesson...", this, [this] { ShowStartPage(); }, QKeySequence("Ctrl+L"));
   lessons->addAction("&Declare the diagnosis...", this, [this] { AskDiagnosis(); });
   lessons->addAction("&Finish the lesson", this, [this] { FinishLesson(); });
   lessons->addAction("My &progress...", this, [this] {
@@ -258,42 +280,54 @@ void MainWindow::BuildUi() {
     const std::filesystem::path lock_file = DefaultResultsDir() / "instructor.pwhash";
     const bool first = !InstructorLock(lock_file).is_set();
     bool ok = false;
-    const QString pass = QInputDialog::getText(
-        this, "Instructor", first ? "Set the instructor's passphrase (at least 8 characters; students must not know it):"
-                                  : "The instructor's passphrase:",
-        QLineEdit::Password, "", &ok);
+    const QString pass =
+        QInputDialog::getText(this, "Instructor",
+                              first ? "Set the instructor's passphrase (at least 8 "
+                                      "characters; students must not know it):"
+                                    : "The instructor's passphrase:",
+                              QLineEdit::Password, "", &ok);
     if (!ok) return;
     if (first) {
-      const QString again = QInputDialog::getText(this, "Instructor", "The same passphrase again:", QLineEdit::Password, "", &ok);
+      const QString again = QInputDialog::getText(
+          this, "Instructor", "The same passphrase again:", QLineEdit::Password, "", &ok);
       if (!ok) return;
       if (again != pass) {
-        QMessageBox::warning(this, "Instructor", "The two passphrases differ; nothing was set.");
+        QMessageBox::warning(this, "Instructor",
+                             "The two passphrases differ; nothing was set.");
         return;
       }
     }
     OpenInstructor(pass.toStdString());
   });
   lessons->addAction("Play a &demonstration as a ghost...", this, [this] {
-    const QString f = QFileDialog::getOpenFileName(this, "A recorded demonstration", Q(DefaultResultsDir().string()),
+    const QString f = QFileDialog::getOpenFileName(this, "A recorded demonstration",
+                                                   Q(DefaultResultsDir().string()),
                                                    "Recordings (*.rec)");
     SetDemonstration(f.toStdString());
   });
   lessons->addAction("&Replay a recording...", this, [this] {
-    const QString f = QFileDialog::getOpenFileName(this, "Replay a recording", Q(DefaultResultsDir().string()),
+    const QString f = QFileDialog::getOpenFileName(this, "Replay a recording",
+                                                   Q(DefaultResultsDir().string()),
                                                    "Recordings (*.rec)");
     if (!f.isEmpty()) OpenReplay(f.toStdString());
   });
   auto* help_menu = menuBar()->addMenu("&Help");
-  help_menu->addAction("&Help for this lesson", this, [this] { QMessageBox::information(this, "Sulcus help", HelpHtml()); },
-                       QKeySequence::HelpContents);
-  help_menu->addAction("How to &probe and chart", this,
-                       [this] { QMessageBox::information(this, "Sulcus help", HelpHtml(HelpTopic::kProbing)); });
-  help_menu->addAction("How to &examine the mouth", this,
-                       [this] { QMessageBox::information(this, "Sulcus help", HelpHtml(HelpTopic::kInspection)); });
-  statusBar()->showMessage("Start a lesson (Lesson > Start, Ctrl+L) or open a scene (File > Open scene).");
+  help_menu->addAction(
+      "&Help for this lesson", this,
+      [this] { QMessageBox::information(this, "Sulcus help", HelpHtml()); },
+      QKeySequence::HelpContents);
+  help_menu->addAction("How to &probe and chart", this, [this] {
+    QMessageBox::information(this, "Sulcus help", HelpHtml(HelpTopic::kProbing));
+  });
+  help_menu->addAction("How to &examine the mouth", this, [this] {
+    QMessageBox::information(this, "Sulcus help", HelpHtml(HelpTopic::kInspection));
+  });
+  statusBar()->showMessage(
+      "Start a lesson (Lesson > Start, Ctrl+L) or open a scene (File > Open scene).");
 }
 
-void MainWindow::ShowErrors(const QString& title, const QString& text, const QString& details) {
+void MainWindow::ShowErrors(const QString& title, const QString& text,
+                            const QString& details) {
   if (!error_dialog_) {
     error_dialog_ = new QMessageBox(this);
     error_dialog_->setIcon(QMessageBox::Critical);
@@ -313,14 +347,17 @@ bool MainWindow::OpenScene(const std::filesystem::path& file, bool wait) {
     QString details;
     for (const SceneError& err : e.errors()) details += Q(err.ToString()) + "\n";
     ShowErrors("Scene has errors",
-               QString("%1 has %2 error(s); the current scene stays loaded.").arg(Q(file.string())).arg(e.errors().size()),
+               QString("%1 has %2 error(s); the current scene stays loaded.")
+                   .arg(Q(file.string()))
+                   .arg(e.errors().size()),
                details);
     return false;
   }
   return OpenSpec(spec, file, wait);
 }
 
-bool MainWindow::OpenSpec(const SceneSpec& spec, const std::filesystem::path& file, bool wait) {
+bool MainWindow::OpenSpec(const SceneSpec& spec, const std::filesystem::path& file,
+                          bool wait) {
   // Compile off the UI thread; the dialog shows progress and can cancel.
   struct Job {
     std::mutex mutex;
@@ -334,18 +371,20 @@ bool MainWindow::OpenSpec(const SceneSpec& spec, const std::filesystem::path& fi
   auto job = std::make_shared<Job>();
   std::thread worker([job, spec] {
     try {
-      std::unique_ptr<CompiledScene> scene = CompileScene(spec, DefaultCacheDir(), [job](std::string_view stage, double f) {
-        std::lock_guard lock(job->mutex);
-        job->stage = stage;
-        job->fraction = 0.85 * f;
-        return !job->cancel.load();
-      });
-      job->seen = BuildSeenGingiva(*scene, DefaultCacheDir(), [job](std::string_view stage, double f) {
-        std::lock_guard lock(job->mutex);
-        job->stage = "the gingiva as drawn, " + std::string(stage);
-        job->fraction = 0.85 + 0.15 * f;
-        return !job->cancel.load();
-      });
+      std::unique_ptr<CompiledScene> scene =
+          CompileScene(spec, DefaultCacheDir(), [job](std::string_view stage, double f) {
+            std::lock_guard lock(job->mutex);
+            job->stage = stage;
+            job->fraction = 0.85 * f;
+            return !job->cancel.load();
+          });
+      job->seen = BuildSeenGingiva(
+          *scene, DefaultCacheDir(), [job](std::string_view stage, double f) {
+            std::lock_guard lock(job->mutex);
+            job->stage = "the gingiva as drawn, " + std::string(stage);
+            job->fraction = 0.85 + 0.15 * f;
+            return !job->cancel.load();
+          });
       job->result = std::move(scene);
     } catch (const BuildCancelled&) {
       job->error = "cancelled";
@@ -355,7 +394,8 @@ bool MainWindow::OpenSpec(const SceneSpec& spec, const std::filesystem::path& fi
     job->done = true;
   });
   worker.detach();  // it only touches `job`, which it shares
-  auto* progress = new QProgressDialog(QString("Building %1 ...").arg(Q(spec.name)), "Cancel", 0, 1000, this);
+  auto* progress = new QProgressDialog(QString("Building %1 ...").arg(Q(spec.name)),
+                                       "Cancel", 0, 1000, this);
   progress->setWindowModality(Qt::WindowModal);
   progress->setMinimumDuration(300);
   auto* poll = new QTimer(progress);
@@ -365,7 +405,9 @@ bool MainWindow::OpenSpec(const SceneSpec& spec, const std::filesystem::path& fi
     {
       std::lock_guard lock(job->mutex);
       progress->setValue(static_cast<int>(job->fraction * 1000));
-      progress->setLabelText(QString("Preparing the scene (the first time only: its collision spheres and its drawing): %1").arg(Q(job->stage)));
+      progress->setLabelText(QString("Preparing the scene (the first time only: its "
+                                     "collision spheres and its drawing): %1")
+                                 .arg(Q(job->stage)));
     }
     if (!job->done) return;
     poll->stop();  // once: deleteLater may wait for an event loop that never comes back
@@ -381,7 +423,9 @@ bool MainWindow::OpenSpec(const SceneSpec& spec, const std::filesystem::path& fi
       StartSession();
       setWindowTitle(QString("Sulcus - %1").arg(Q(scene_->spec.name)));
     } else if (job->error != "cancelled") {
-      ShowErrors("Scene could not be built", QString("%1 could not be built; the current scene stays loaded.").arg(Q(file.string())),
+      ShowErrors("Scene could not be built",
+                 QString("%1 could not be built; the current scene stays loaded.")
+                     .arg(Q(file.string())),
                  Q(job->error));
     }
     if (waiter) waiter->quit();
@@ -397,7 +441,8 @@ bool MainWindow::OpenSpec(const SceneSpec& spec, const std::filesystem::path& fi
 
 bool MainWindow::SetDevice(const std::string& device) {
   device_name_ = device;
-  if (const int i = device_box_->findText(Q(device)); i >= 0) device_box_->setCurrentIndex(i);
+  if (const int i = device_box_->findText(Q(device)); i >= 0)
+    device_box_->setCurrentIndex(i);
   QSettings().setValue("device/last", Q(device));
   if (!scene_) return true;
   StartSession();
@@ -408,8 +453,11 @@ void MainWindow::StopSession() {
   if (session_) {
     const bool recorded = session_->recorder() != nullptr;
     try {
-      session_->Stop();  // a session's end ends its recording: everything recorded is written
-      if (recorded) statusBar()->showMessage(QString("Recorded %1 ticks").arg(session_->recorder()->written()));
+      session_
+          ->Stop();  // a session's end ends its recording: everything recorded is written
+      if (recorded)
+        statusBar()->showMessage(
+            QString("Recorded %1 ticks").arg(session_->recorder()->written()));
     } catch (const std::exception& e) {
       ShowErrors("Recording", "The recording failed.", Q(e.what()));
     }
@@ -437,8 +485,8 @@ void MainWindow::BeginSession() {
             scene_->spec.objects[i].fdi == lesson_spec_->path.front().fdi)
           first = i;
     const ScriptTarget top = FindScriptTarget(*scene_, "poke", first);
-    auto mouse = std::make_unique<MouseKeyboardDevice>(
-        RigidTransform(Quaternion::FromTwoVectors(Vector3::UnitZ(), top.n_W), top.p_W + 4.0 * top.n_W));
+    auto mouse = std::make_unique<MouseKeyboardDevice>(RigidTransform(
+        Quaternion::FromTwoVectors(Vector3::UnitZ(), top.n_W), top.p_W + 4.0 * top.n_W));
     mouse_ = mouse.get();
     DeviceSpec d;
     d.device = std::move(mouse);
@@ -448,26 +496,31 @@ void MainWindow::BeginSession() {
   DeviceSpec device;
   if (lesson_spec_ && device_name_.rfind("student:", 0) == 0) {
     try {
-      scripted_student_ = MakeScriptedHand(device_name_.substr(8), *lesson_spec_, *scene_);
+      scripted_student_ =
+          MakeScriptedHand(device_name_.substr(8), *lesson_spec_, *scene_);
       device.device = scripted_student_->MakeDevice();
       device.name = device_name_;
     } catch (const std::exception& e) {
       device_error_ = e.what();
-      ShowErrors("Device", QString("The device %1 cannot be used.").arg(Q(device_name_)), Q(device_error_));
+      ShowErrors("Device", QString("The device %1 cannot be used.").arg(Q(device_name_)),
+                 Q(device_error_));
     }
-  } else if (device_name_.rfind("scripted:", 0) == 0 || device_name_.rfind("replay:", 0) == 0) {
+  } else if (device_name_.rfind("scripted:", 0) == 0 ||
+             device_name_.rfind("replay:", 0) == 0) {
     try {
       device = MakeDevice(device_name_, *scene_, 600.0);
     } catch (const std::exception& e) {
       device_error_ = e.what();
-      ShowErrors("Device", QString("The device %1 cannot be used.").arg(Q(device_name_)), Q(device_error_));
+      ShowErrors("Device", QString("The device %1 cannot be used.").arg(Q(device_name_)),
+                 Q(device_error_));
     }
   }
   if (!device.device) device = use_mouse();
   if (device_wrapper_) device.device = device_wrapper_(std::move(device.device));
   session_device_ = device.device->caps().name;
   UpdateDeviceHelp(device.name);
-  snapshot_ = HapticSnapshot{};  // nothing from the previous session is shown as this one's
+  snapshot_ =
+      HapticSnapshot{};  // nothing from the previous session is shown as this one's
   gauge_->Clear();
   plot_->Clear();
   events_->clear();
@@ -490,15 +543,20 @@ void MainWindow::BeginSession() {
   session_->AddConsumer(&tap_);
   if (lesson_spec_ && !lesson_) {
     // The lesson follows this session's ticks from its first.
-    lesson_ = std::make_unique<LessonRun>(*lesson_spec_, *scene_, lesson_start_.student,
-                                          lesson_spec_->case_spec.generated ? lesson_seed_ : 0);
+    lesson_ =
+        std::make_unique<LessonRun>(*lesson_spec_, *scene_, lesson_start_.student,
+                                    lesson_spec_->case_spec.generated ? lesson_seed_ : 0);
     const bool inspection = lesson_spec_->inspection();
     chart_->setVisible(!inspection);
     odontogram_->setVisible(inspection);
     tilt_label_->setVisible(!inspection);
-    diagnose_button_->setText(inspection ? "Submit the findings" : "Declare the diagnosis...");
-    diagnose_button_->setToolTip(inspection ? "Says your odontogram is complete (you may still change it until you finish)"
-                                            : "Stage and extent of periodontitis from your chart (2017 classification)");
+    diagnose_button_->setText(inspection ? "Submit the findings"
+                                         : "Declare the diagnosis...");
+    diagnose_button_->setToolTip(
+        inspection
+            ? "Says your odontogram is complete (you may still change it until you "
+              "finish)"
+            : "Stage and extent of periodontitis from your chart (2017 classification)");
     if (inspection) odontogram_->SetLesson(lesson_spec_->teeth, lesson_spec_->regions);
     // The odontogram is shorter than the chart: what the dock has to spare goes
     // to the list of what the lesson says, not between the labels.
@@ -506,7 +564,8 @@ void MainWindow::BeginSession() {
     if (auto* box = qobject_cast<QBoxLayout*>(feedback_->parentWidget()->layout()))
       box->setStretchFactor(feedback_, inspection ? 1 : 0);
     std::map<std::pair<int, int>, double> recession;
-    for (const SiteRef& site : lesson_spec_->path) recession[{site.fdi, site.site}] = lesson_->recession_mm(site);
+    for (const SiteRef& site : lesson_spec_->path)
+      recession[{site.fdi, site.site}] = lesson_->recession_mm(site);
     chart_->SetLesson(lesson_spec_->teeth, lesson_spec_->path, recession);
     if (lesson_spec_->practice() && !inspection) {
       // Practice: the true depth of each site appears once the student has entered it.
@@ -534,37 +593,50 @@ void MainWindow::BeginSession() {
     session_->Start();
   } catch (const std::exception& e) {
     device_error_ = e.what();
-    ShowErrors("Device", QString("The device %1 cannot be started.").arg(Q(device_name_)), Q(device_error_));
+    ShowErrors("Device", QString("The device %1 cannot be started.").arg(Q(device_name_)),
+               Q(device_error_));
     session_.reset();
     session_ = std::make_unique<Session>(*scene_, use_mouse(), so);
     session_->AddConsumer(&tap_);
     session_->Start();
   }
-  statusBar()->showMessage(QString("%1 on %2%3")
-                               .arg(Q(session_device_), Q(scene_file_.string()),
-                                    session_->recorder() ? QString(", recording") : QString()));
+  statusBar()->showMessage(
+      QString("%1 on %2%3")
+          .arg(Q(session_device_), Q(scene_file_.string()),
+               session_->recorder() ? QString(", recording") : QString()));
 }
 
 void MainWindow::UpdateDeviceHelp(const std::string& device) {
-  // What moves the tool now: the footer describes the device that runs, not always the mouse.
+  // What moves the tool now: the footer describes the device that runs, not always the
+  // mouse.
   QString text;
   if (device == "mouse") {
-    text = "Mouse device: Ctrl+drag moves the tool, Ctrl+Shift+drag turns it, Ctrl+wheel pushes it; keys W/S, A/D, "
-           "Q/E move it 0.1 mm (with Shift: turn; hold Alt for 0.02 mm steps). Drag without Ctrl moves the camera.";
+    text =
+        "Mouse device: Ctrl+drag moves the tool, Ctrl+Shift+drag turns it, Ctrl+wheel "
+        "pushes it; keys W/S, A/D, "
+        "Q/E move it 0.1 mm (with Shift: turn; hold Alt for 0.02 mm steps). Drag without "
+        "Ctrl moves the camera.";
   } else if (device.rfind("student:", 0) == 0) {
-    text = QString("A scripted student (%1) holds the probe: watch it work. Drag moves the camera.")
+    text = QString(
+               "A scripted student (%1) holds the probe: watch it work. Drag moves the "
+               "camera.")
                .arg(Q(device.substr(8)));
   } else if (device.rfind("scripted:", 0) == 0 || device.rfind("replay", 0) == 0) {
-    text = QString("The tool follows %1, not your hand. Drag moves the camera; choose the mouse under Device to take "
-                   "it back.")
+    text = QString(
+               "The tool follows %1, not your hand. Drag moves the camera; choose the "
+               "mouse under Device to take "
+               "it back.")
                .arg(Q(device));
   } else {
-    text = QString("The tool follows the %1 in your hand. Drag moves the camera.").arg(Q(session_device_));
+    text = QString("The tool follows the %1 in your hand. Drag moves the camera.")
+               .arg(Q(session_device_));
   }
   device_help_->setText(text + " F1: help.");
 }
 
-QString MainWindow::device_help() const { return device_help_ ? device_help_->text() : QString(); }
+QString MainWindow::device_help() const {
+  return device_help_ ? device_help_->text() : QString();
+}
 
 bool MainWindow::StartRecording(const std::filesystem::path& file) {
   if (!scene_) return false;
@@ -603,7 +675,8 @@ void MainWindow::Tick() {
   if (loop.snapshots().Acquire()) snapshot_ = loop.snapshots().front();
   view_->Update(snapshot_);
   if (demonstration_ && !demonstration_->frames.empty()) {
-    const std::size_t i = std::min<std::size_t>(snapshot_.tick, demonstration_->frames.size() - 1);
+    const std::size_t i =
+        std::min<std::size_t>(snapshot_.tick, demonstration_->frames.size() - 1);
     view_->ShowGhost(demonstration_->frames[i].X_WG);
   }
   {
@@ -620,7 +693,8 @@ void MainWindow::Tick() {
   for (const HapticEvent& e : tap_.events) {
     const QString what = Q(DescribeEvent(scene_->spec, e));
     if (e.kind == EventKind::kProbeReading) last_reading_ = what;
-    events_->insertItem(0, QString("%1 s  %2").arg(e.tick / scene_->spec.rate_hz, 0, 'f', 2).arg(what));
+    events_->insertItem(
+        0, QString("%1 s  %2").arg(e.tick / scene_->spec.rate_hz, 0, 'f', 2).arg(what));
     while (events_->count() > 200) delete events_->takeItem(events_->count() - 1);
   }
   tap_.events.clear();
@@ -635,8 +709,8 @@ QString MainWindow::status_text() const {
   const TimingStats& st = thread.stats();
   const HapticSnapshot& s = snapshot_;
   QString text;
-  text += QString("Device: %1%2\n").arg(Q(session_device_),
-                                         s.device_ok ? "" : " (NOT ANSWERING)");
+  text += QString("Device: %1%2\n")
+              .arg(Q(session_device_), s.device_ok ? "" : " (NOT ANSWERING)");
   text += QString("Haptic rate %1 Hz, %2 ticks%3\n")
               .arg(thread.rate_hz(), 0, 'f', 0)
               .arg(st.ticks.load())
@@ -665,7 +739,8 @@ double MainWindow::gauge_force() const { return gauge_->force(); }
 int MainWindow::plot_rows() const { return plot_->rows(); }
 
 void MainWindow::ShowSpheres(int level) {
-  if (sphere_level_->value() != level) sphere_level_->setValue(level);  // re-enters through the signal
+  if (sphere_level_->value() != level)
+    sphere_level_->setValue(level);  // re-enters through the signal
   if (view_->spheres_shown() != level) {
     view_->ShowSpheres(level);
     vtk_widget_->renderWindow()->Render();
@@ -700,13 +775,27 @@ void MainWindow::keyPressEvent(QKeyEvent* e) {
   const double step = fine ? 0.02 : 0.1, turn = fine ? 0.01 : 0.05;
   Vector3 d = Vector3::Zero();
   switch (e->key()) {
-    case Qt::Key_D: d.x() = 1; break;
-    case Qt::Key_A: d.x() = -1; break;
-    case Qt::Key_W: d.y() = 1; break;
-    case Qt::Key_S: d.y() = -1; break;
-    case Qt::Key_E: d.z() = 1; break;
-    case Qt::Key_Q: d.z() = -1; break;
-    default: QMainWindow::keyPressEvent(e); return;
+    case Qt::Key_D:
+      d.x() = 1;
+      break;
+    case Qt::Key_A:
+      d.x() = -1;
+      break;
+    case Qt::Key_W:
+      d.y() = 1;
+      break;
+    case Qt::Key_S:
+      d.y() = -1;
+      break;
+    case Qt::Key_E:
+      d.z() = 1;
+      break;
+    case Qt::Key_Q:
+      d.z() = -1;
+      break;
+    default:
+      QMainWindow::keyPressEvent(e);
+      return;
   }
   if (e->modifiers() & Qt::ShiftModifier) {
     mouse_->Nudge(Vector3::Zero(), turn * d);
@@ -728,15 +817,21 @@ bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
     cam->GetViewUp(up);
     const Vector3 eye(pos[0], pos[1], pos[2]), at(focal[0], focal[1], focal[2]);
     const Vector3 view = (at - eye).normalized();
-    const Vector3 v_up = (Vector3(up[0], up[1], up[2]) - Vector3(up[0], up[1], up[2]).dot(view) * view).normalized();
+    const Vector3 v_up =
+        (Vector3(up[0], up[1], up[2]) - Vector3(up[0], up[1], up[2]).dot(view) * view)
+            .normalized();
     const Vector3 right = view.cross(v_up);
     // Millimetres per pixel at the tool's distance from the camera.
     const double depth = std::max(1.0, (mouse_->pose().translation() - eye).dot(view));
-    const double mm_per_px = 2 * depth * std::tan(cam->GetViewAngle() * 0.5 * M_PI / 180) / std::max(1, vtk_widget_->height());
+    const double mm_per_px = 2 * depth *
+                             std::tan(cam->GetViewAngle() * 0.5 * M_PI / 180) /
+                             std::max(1, vtk_widget_->height());
     if (e->type() == QEvent::Wheel) {
       auto* w = static_cast<QWheelEvent*>(e);
-      if (!(w->modifiers() & Qt::ControlModifier)) return QMainWindow::eventFilter(watched, e);
-      const double per_notch = (w->modifiers() & Qt::AltModifier) ? 0.02 : 0.2;  // mm; Alt: fine
+      if (!(w->modifiers() & Qt::ControlModifier))
+        return QMainWindow::eventFilter(watched, e);
+      const double per_notch =
+          (w->modifiers() & Qt::AltModifier) ? 0.02 : 0.2;  // mm; Alt: fine
       mouse_->Nudge(-per_notch * (w->angleDelta().y() / 120.0) * view, Vector3::Zero());
       return true;
     }
@@ -764,10 +859,16 @@ bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
   if (watched == vtk_widget_ && e->type() == QEvent::KeyPress && mouse_) {
     auto* k = static_cast<QKeyEvent*>(e);
     switch (k->key()) {
-      case Qt::Key_W: case Qt::Key_A: case Qt::Key_S: case Qt::Key_D: case Qt::Key_Q: case Qt::Key_E:
+      case Qt::Key_W:
+      case Qt::Key_A:
+      case Qt::Key_S:
+      case Qt::Key_D:
+      case Qt::Key_Q:
+      case Qt::Key_E:
         keyPressEvent(k);
         return true;
-      default: break;
+      default:
+        break;
     }
   }
   return QMainWindow::eventFilter(watched, e);
@@ -779,13 +880,13 @@ void MainWindow::closeEvent(QCloseEvent* e) {
   settings.setValue("window/state", saveState());
   // A lesson in progress is kept: scored as far as it went, stored, its report written.
   if (lesson_) {
-    if (!lesson_->done()) lesson_->SetEnding("the window was closed before the last step");
+    if (!lesson_->done())
+      lesson_->SetEnding("the window was closed before the last step");
     FinishLesson(/*show_report=*/false);
   }
   StopSession();
   QMainWindow::closeEvent(e);
 }
-
 
 void MainWindow::BuildLessonDock() {
   auto* panel = new QWidget;
@@ -796,14 +897,18 @@ void MainWindow::BuildLessonDock() {
   step_label_->setStyleSheet("font-size: 14px;");
   banner_ = new QLabel;
   banner_->setWordWrap(true);
-  banner_->setStyleSheet("background: #fbe3c8; border-left: 4px solid #c86400; padding: 6px; font-size: 13px;");
+  banner_->setStyleSheet(
+      "background: #fbe3c8; border-left: 4px solid #c86400; padding: 6px; font-size: "
+      "13px;");
   banner_->hide();
   layout->addWidget(banner_);
   layout->addWidget(step_label_);
   next_label_ = new QLabel;
   tip_label_ = new QLabel;
   tilt_label_ = new QLabel;
-  tilt_label_->setToolTip("The probe's tilt from the tooth's long axis: keep it under 5 degrees at the mid-sites");
+  tilt_label_->setToolTip(
+      "The probe's tilt from the tooth's long axis: keep it under 5 degrees at the "
+      "mid-sites");
   for (QLabel* l : {next_label_, tip_label_, tilt_label_}) {
     l->setTextFormat(Qt::RichText);
     layout->addWidget(l);
@@ -828,17 +933,24 @@ void MainWindow::BuildLessonDock() {
   layout->addWidget(odontogram_);
   feedback_ = new QListWidget;
   feedback_->setMaximumHeight(110);
-  feedback_->setToolTip("What the lesson tells you as you go (in practice mode the truth after each site, or at each "
-                        "surface and region you examine)");
+  feedback_->setToolTip(
+      "What the lesson tells you as you go (in practice mode the truth after each site, "
+      "or at each "
+      "surface and region you examine)");
   layout->addWidget(feedback_);
   auto* buttons = new QHBoxLayout;
   diagnose_button_ = new QPushButton("Declare the diagnosis...");
   finish_button_ = new QPushButton("Finish and see the report");
-  diagnose_button_->setToolTip("Stage and extent of periodontitis from your chart (2017 classification)");
-  finish_button_->setToolTip("Ends the lesson (whatever is left undone counts as not done) and shows your report");
+  diagnose_button_->setToolTip(
+      "Stage and extent of periodontitis from your chart (2017 classification)");
+  finish_button_->setToolTip(
+      "Ends the lesson (whatever is left undone counts as not done) and shows your "
+      "report");
   connect(diagnose_button_, &QPushButton::clicked, this, [this] {
-    if (lesson_spec_ && lesson_spec_->inspection()) SubmitFindings();
-    else AskDiagnosis();
+    if (lesson_spec_ && lesson_spec_->inspection())
+      SubmitFindings();
+    else
+      AskDiagnosis();
   });
   connect(finish_button_, &QPushButton::clicked, this, [this] { FinishLesson(); });
   buttons->addWidget(diagnose_button_);
@@ -871,14 +983,19 @@ bool MainWindow::StartLesson(const LessonStart& start) {
   } catch (const SceneLoadError& e) {
     QString details;
     for (const SceneError& err : e.errors()) details += Q(err.ToString()) + "\n";
-    ShowErrors("Lesson has errors", QString("%1 has %2 error(s).").arg(Q(start.lesson.string())).arg(e.errors().size()),
+    ShowErrors("Lesson has errors",
+               QString("%1 has %2 error(s).")
+                   .arg(Q(start.lesson.string()))
+                   .arg(e.errors().size()),
                details);
     return false;
   }
   if (start.mode) spec.mode = *start.mode;
   std::uint64_t seed = spec.case_spec.seed;
-  if (start.seed) seed = *start.seed;
-  else if (spec.case_spec.generated && spec.case_spec.random_seed) seed = static_cast<std::uint64_t>(std::time(nullptr)) & 0xffffff;
+  if (start.seed)
+    seed = *start.seed;
+  else if (spec.case_spec.generated && spec.case_spec.random_seed)
+    seed = static_cast<std::uint64_t>(std::time(nullptr)) & 0xffffff;
   SceneSpec scene;
   try {
     scene = LessonScene(spec, seed);
@@ -888,7 +1005,8 @@ bool MainWindow::StartLesson(const LessonStart& start) {
   }
   if (lesson_) FinishLesson();
   // The attempt's folder: its recording, entries and report.
-  const std::filesystem::path results = start.results_dir.empty() ? DefaultResultsDir() : start.results_dir;
+  const std::filesystem::path results =
+      start.results_dir.empty() ? DefaultResultsDir() : start.results_dir;
   AttemptFolder folder;
   try {
     folder = NewAttemptFolder(results, start.student);
@@ -915,15 +1033,21 @@ bool MainWindow::StartLesson(const LessonStart& start) {
     return false;
   }
   try {
-    WriteAttemptMarker(attempt_, {spec.file, start.student, ToString(spec.mode), seed, attempt_.started});
+    WriteAttemptMarker(attempt_, {spec.file, start.student, ToString(spec.mode), seed,
+                                  attempt_.started});
   } catch (const std::exception& e) {
-    feedback_->insertItem(0, QString("This attempt cannot be rebuilt if Sulcus stops: %1").arg(Q(e.what())));
+    feedback_->insertItem(
+        0,
+        QString("This attempt cannot be rebuilt if Sulcus stops: %1").arg(Q(e.what())));
   }
   device_was_lost_ = false;
   banner_->hide();
-  setWindowTitle(QString("Sulcus - %1 - %2 (%3)").arg(Q(spec.name), Q(start.student), Q(ToString(spec.mode))));
-  if (spec.inspection()) odontogram_->setFocus();
-  else chart_->setFocus();
+  setWindowTitle(QString("Sulcus - %1 - %2 (%3)")
+                     .arg(Q(spec.name), Q(start.student), Q(ToString(spec.mode))));
+  if (spec.inspection())
+    odontogram_->setFocus();
+  else
+    chart_->setFocus();
   return true;
 }
 
@@ -942,35 +1066,48 @@ void MainWindow::ShowStartPage() {
 
 QString MainWindow::lesson_text() const {
   if (!lesson_) return {};
-  return step_label_->text() + "\n" + next_label_->text() + "\n" + tip_label_->text() + "\n" + tilt_label_->text();
+  return step_label_->text() + "\n" + next_label_->text() + "\n" + tip_label_->text() +
+         "\n" + tilt_label_->text();
 }
 
-QString MainWindow::banner_text() const { return banner_->isVisible() ? banner_->text() : QString(); }
+QString MainWindow::banner_text() const {
+  return banner_->isVisible() ? banner_->text() : QString();
+}
 
 void MainWindow::UpdateLessonPanel() {
   LessonRun& l = *lesson_;
   if (l.device_lost() != device_was_lost_) {
     device_was_lost_ = l.device_lost();
     if (device_was_lost_) {
-      banner_->setText("<b>The device stopped answering.</b> Nothing is lost: your attempt and entries are kept. "
-                       "Reconnect it and go on (the force ramps in gently), or finish to keep the attempt as "
-                       "incomplete.");
+      banner_->setText(
+          "<b>The device stopped answering.</b> Nothing is lost: your attempt and "
+          "entries are kept. "
+          "Reconnect it and go on (the force ramps in gently), or finish to keep the "
+          "attempt as "
+          "incomplete.");
       banner_->show();
-      l.SetEnding("the device stopped answering and the lesson was finished before the last step");
+      l.SetEnding(
+          "the device stopped answering and the lesson was finished before the last "
+          "step");
     } else {
       banner_->hide();
       l.SetEnding("");
-      feedback_->insertItem(0, "The device is back: the force ramps in over half a second.");
+      feedback_->insertItem(0,
+                            "The device is back: the force ramps in over half a second.");
     }
   }
   const auto& steps = lesson_spec_->steps;
   if (l.done()) {
-    step_label_->setText(l.current_step() >= static_cast<int>(steps.size())
-                             ? "<b>All steps done.</b> Finish the lesson to see your report."
-                             : "<b>Time is up.</b> Finish the lesson to see your report.");
+    step_label_->setText(
+        l.current_step() >= static_cast<int>(steps.size())
+            ? "<b>All steps done.</b> Finish the lesson to see your report."
+            : "<b>Time is up.</b> Finish the lesson to see your report.");
   } else {
     const StepSpec& st = steps[static_cast<std::size_t>(l.current_step())];
-    step_label_->setText(QString("<b>Step %1 of %2</b>: %3").arg(l.current_step() + 1).arg(steps.size()).arg(Q(st.instruction).toHtmlEscaped()));
+    step_label_->setText(QString("<b>Step %1 of %2</b>: %3")
+                             .arg(l.current_step() + 1)
+                             .arg(steps.size())
+                             .arg(Q(st.instruction).toHtmlEscaped()));
   }
   if (lesson_spec_->inspection()) {
     // What is left of this step, where the tip is, what has been examined.
@@ -978,24 +1115,32 @@ void MainWindow::UpdateLessonPanel() {
     std::vector<std::string> left = l.pending(), examined;
     QString todo;
     for (std::size_t i = 0; i < left.size() && i < 6; ++i) {
-      const bool tooth = !left[i].empty() && std::isdigit(static_cast<unsigned char>(left[i][0]));
+      const bool tooth =
+          !left[i].empty() && std::isdigit(static_cast<unsigned char>(left[i][0]));
       todo += (i ? ", " : "") + Q(tooth ? left[i] : RegionLabel(left[i]));
     }
     if (left.size() > 6) todo += QString(" and %1 more").arg(left.size() - 6);
-    next_label_->setText(left.empty() ? QString() : "Still to examine: <b>" + todo.toHtmlEscaped() + "</b>");
+    next_label_->setText(left.empty()
+                             ? QString()
+                             : "Still to examine: <b>" + todo.toHtmlEscaped() + "</b>");
     int touching = 0;
     QString on = "The tip is not resting on anything the lesson examines";
     if (const int u = in.tip_unit(); u >= 0) {
       const InspectionUnit& unit = in.units()[static_cast<std::size_t>(u)];
       touching = unit.fdi;
-      on = "The tip is on <b>" + Q(unit.region.empty() ? unit.Name() : RegionLabel(unit.region)).toHtmlEscaped() + "</b>";
+      on = "The tip is on <b>" +
+           Q(unit.region.empty() ? unit.Name() : RegionLabel(unit.region))
+               .toHtmlEscaped() +
+           "</b>";
     }
     tip_label_->setText(on);
     for (const InspectionUnit& u : in.units())
       if (u.touched) examined.push_back(u.Name());
-    // What the view shows: the camera, each time it has moved (at most ten times a second).
+    // What the view shows: the camera, each time it has moved (at most ten times a
+    // second).
     const SceneView::CameraPose cam = view_->Camera();
-    if (views_sent_ == 0 || (cam.eye - last_view_.eye).norm() > 0.5 || (cam.focal - last_view_.focal).norm() > 0.5 ||
+    if (views_sent_ == 0 || (cam.eye - last_view_.eye).norm() > 0.5 ||
+        (cam.focal - last_view_.focal).norm() > 0.5 ||
         std::abs(cam.view_angle_deg - last_view_.view_angle_deg) > 0.5) {
       if (views_sent_ == 0 || l.last_tick() >= last_view_.tick + 100) {
         ViewSample v;
@@ -1006,7 +1151,8 @@ void MainWindow::UpdateLessonPanel() {
         v.view_angle_deg = cam.view_angle_deg;
         l.View(v);
         last_view_ = v;
-        if (++views_sent_ % 20 == 0) SaveEntriesSoFar();  // the views are kept as the attempt goes too
+        if (++views_sent_ % 20 == 0)
+          SaveEntriesSoFar();  // the views are kept as the attempt goes too
       }
     }
     for (const InspectionUnit& u : in.units())
@@ -1028,23 +1174,29 @@ void MainWindow::UpdateLessonPanel() {
         break;
       }
   }
-  const std::optional<SiteRef> next = lesson_spec_->inspection() ? std::nullopt : l.next_site();
-  next_label_->setText(next ? QString("Next: <b>%1</b>").arg(Q(next->ToString())) : QString());
+  const std::optional<SiteRef> next =
+      lesson_spec_->inspection() ? std::nullopt : l.next_site();
+  next_label_->setText(next ? QString("Next: <b>%1</b>").arg(Q(next->ToString()))
+                            : QString());
   if (next && next->fdi != looked_at_ && !lesson_spec_->inspection()) {
     looked_at_ = next->fdi;
     LookAtTooth(next->fdi);  // the camera to the tooth the lesson asks for
   }
   const std::optional<SiteRef> tip = l.tip_site();
   if (!lesson_spec_->inspection())
-    tip_label_->setText(tip ? QString("You are in the sulcus of <b>%1</b>").arg(Q(tip->ToString())) : "The tip is not in a sulcus");
+    tip_label_->setText(
+        tip ? QString("You are in the sulcus of <b>%1</b>").arg(Q(tip->ToString()))
+            : "The tip is not in a sulcus");
   chart_->SetProbing(tip);
   if (const auto angle = l.tip_angle_deg()) {
     const QString colour = *angle <= 5 ? "#2a8a3a" : *angle <= 10 ? "#c88a00" : "#c02020";
     const int bars = std::min(20, static_cast<int>(*angle));
-    tilt_label_->setText(QString("Tilt from the long axis: <span style='color:%1'><b>%2&deg;</b> %3</span>")
-                             .arg(colour)
-                             .arg(*angle, 0, 'f', 0)
-                             .arg(QString(bars, QChar(0x2588))));
+    tilt_label_->setText(
+        QString(
+            "Tilt from the long axis: <span style='color:%1'><b>%2&deg;</b> %3</span>")
+            .arg(colour)
+            .arg(*angle, 0, 'f', 0)
+            .arg(QString(bars, QChar(0x2588))));
   } else {
     tilt_label_->setText("Tilt from the long axis: -");
   }
@@ -1065,30 +1217,49 @@ bool MainWindow::DeclareDiagnosis(const DeclaredDiagnosis& d) {
 }
 
 QString MainWindow::HelpHtml(std::optional<HelpTopic> topic) const {
-  if (!topic) topic = lesson_spec_ && lesson_spec_->inspection() ? HelpTopic::kInspection : HelpTopic::kProbing;
+  if (!topic)
+    topic = lesson_spec_ && lesson_spec_->inspection() ? HelpTopic::kInspection
+                                                       : HelpTopic::kProbing;
   const QString moving =
-      "<b>Moving the instrument</b> (mouse and keyboard): W/S, A/D, Q/E move it 0.1 mm a press; with Shift they turn "
-      "it; hold Alt for fine steps (0.02 mm, to hold the force band). Ctrl + drag moves it with the mouse, Ctrl + "
-      "wheel pushes it (with Alt, finely). Drag without Ctrl turns the camera, the wheel zooms; the View buttons and "
+      "<b>Moving the instrument</b> (mouse and keyboard): W/S, A/D, Q/E move it 0.1 mm a "
+      "press; with Shift they turn "
+      "it; hold Alt for fine steps (0.02 mm, to hold the force band). Ctrl + drag moves "
+      "it with the mouse, Ctrl + "
+      "wheel pushes it (with Alt, finely). Drag without Ctrl turns the camera, the wheel "
+      "zooms; the View buttons and "
       "Look at tooth place it.";
   if (*topic == HelpTopic::kInspection)
     return moving +
-           "<br><br><b>The examination</b>: follow the steps in their order (lips, cheeks, gingiva, tongue, floor of "
-           "the mouth, palate, then tooth by tooth). A region or surface counts as examined when the tip rests on it "
-           "for a moment; a tooth surface counts as seen when the camera has shown it (a neighbouring tooth can hide "
-           "it: turn the camera round). Touch gently: soft tissue pressed above its limit, or a carious lesion "
-           "pressed above 0.5 N, is scored as damage.<br><br><b>Recording findings</b> on the odontogram: click a "
-           "tooth's surface for caries, <i>Ca</i> for calculus, <i>G</i> for inflamed gingiva; right-click a tooth "
-           "for its WHO status; click a soft-tissue region to record a lesion there. Keys: arrows choose the tooth, "
-           "M D B L O mark caries on a surface, C calculus, G inflamed gingiva, 0-9 the WHO status. Press a key "
-           "again to take the finding back.<br><br><b>Finishing</b>: Submit the findings ends the examination (you "
+           "<br><br><b>The examination</b>: follow the steps in their order (lips, "
+           "cheeks, gingiva, tongue, floor of "
+           "the mouth, palate, then tooth by tooth). A region or surface counts as "
+           "examined when the tip rests on it "
+           "for a moment; a tooth surface counts as seen when the camera has shown it (a "
+           "neighbouring tooth can hide "
+           "it: turn the camera round). Touch gently: soft tissue pressed above its "
+           "limit, or a carious lesion "
+           "pressed above 0.5 N, is scored as damage.<br><br><b>Recording findings</b> "
+           "on the odontogram: click a "
+           "tooth's surface for caries, <i>Ca</i> for calculus, <i>G</i> for inflamed "
+           "gingiva; right-click a tooth "
+           "for its WHO status; click a soft-tissue region to record a lesion there. "
+           "Keys: arrows choose the tooth, "
+           "M D B L O mark caries on a surface, C calculus, G inflamed gingiva, 0-9 the "
+           "WHO status. Press a key "
+           "again to take the finding back.<br><br><b>Finishing</b>: Submit the findings "
+           "ends the examination (you "
            "may still correct a finding); Lesson &gt; Finish shows your report.";
   return moving +
-         "<br><br><b>Probing</b>: walk the probe around each tooth in short up-and-down strokes with the tip on the "
-         "tooth, parallel to the long axis; at the contacts tilt it into the col. Press the pocket floor lightly: the "
-         "gauge's green band is 0.20-0.25 N.<br><br><b>Charting</b>: click the chart (or press Tab to it), type the "
-         "depth you read at each site in whole millimetres; it moves to the next site along the path. B or Space "
-         "marks bleeding on the site you just entered; Backspace goes back.<br><br><b>Diagnosis</b>: at the end, "
+         "<br><br><b>Probing</b>: walk the probe around each tooth in short up-and-down "
+         "strokes with the tip on the "
+         "tooth, parallel to the long axis; at the contacts tilt it into the col. Press "
+         "the pocket floor lightly: the "
+         "gauge's green band is 0.20-0.25 N.<br><br><b>Charting</b>: click the chart (or "
+         "press Tab to it), type the "
+         "depth you read at each site in whole millimetres; it moves to the next site "
+         "along the path. B or Space "
+         "marks bleeding on the site you just entered; Backspace goes "
+         "back.<br><br><b>Diagnosis</b>: at the end, "
          "Lesson &gt; Declare the diagnosis; then Lesson &gt; Finish shows your report.";
 }
 
@@ -1096,7 +1267,8 @@ bool MainWindow::SubmitFindings() {
   if (!lesson_ || !lesson_spec_ || !lesson_spec_->inspection()) return false;
   lesson_->Submit(lesson_->last_tick() + 1);
   SaveEntriesSoFar();
-  feedback_->insertItem(0, "Findings submitted. You may still change them until you finish the lesson.");
+  feedback_->insertItem(
+      0, "Findings submitted. You may still change them until you finish the lesson.");
   return true;
 }
 
@@ -1113,17 +1285,21 @@ void MainWindow::SaveEntriesSoFar() {
   try {
     SaveAnswers(a, attempt_.answers());
   } catch (const std::exception& e) {
-    feedback_->insertItem(0, QString("Your entries cannot be saved as you go: %1").arg(Q(e.what())));
+    feedback_->insertItem(
+        0, QString("Your entries cannot be saved as you go: %1").arg(Q(e.what())));
   }
 }
 
 int MainWindow::RecoverUnfinishedAttempts(const std::filesystem::path& results_dir) {
-  const std::filesystem::path results = results_dir.empty() ? DefaultResultsDir() : results_dir;
+  const std::filesystem::path results =
+      results_dir.empty() ? DefaultResultsDir() : results_dir;
   const std::vector<std::filesystem::path> dirs = UnfinishedAttempts(results);
   if (dirs.empty()) return 0;
-  QProgressDialog progress(QString("Keeping %1 attempt(s) that Sulcus did not finish keeping when it stopped...")
-                               .arg(dirs.size()),
-                           QString(), 0, static_cast<int>(dirs.size()), this);
+  QProgressDialog progress(
+      QString(
+          "Keeping %1 attempt(s) that Sulcus did not finish keeping when it stopped...")
+          .arg(dirs.size()),
+      QString(), 0, static_cast<int>(dirs.size()), this);
   progress.setWindowTitle("Recovering attempts");
   progress.setMinimumDuration(0);
   progress.setValue(0);
@@ -1144,16 +1320,21 @@ int MainWindow::RecoverUnfinishedAttempts(const std::filesystem::path& results_d
     progress.setValue(progress.value() + 1);
   }
   if (!kept.isEmpty()) {
-    auto* box = new QMessageBox(QMessageBox::Information, "Attempts kept",
-                                "Sulcus stopped before these attempts were kept. Each was rebuilt from its recording "
-                                "and your entries and is kept, scored as far as it went:\n\n" + kept,
-                                QMessageBox::Ok, this);
+    auto* box =
+        new QMessageBox(QMessageBox::Information, "Attempts kept",
+                        "Sulcus stopped before these attempts were kept. Each was "
+                        "rebuilt from its recording "
+                        "and your entries and is kept, scored as far as it went:\n\n" +
+                            kept,
+                        QMessageBox::Ok, this);
     box->setObjectName("recovered");
     box->setAttribute(Qt::WA_DeleteOnClose);
     box->show();
   }
   if (!failed.isEmpty())
-    ShowErrors("Recovering attempts", "These attempts could not be rebuilt; their files are left as they were.", failed);
+    ShowErrors("Recovering attempts",
+               "These attempts could not be rebuilt; their files are left as they were.",
+               failed);
   return n;
 }
 
@@ -1210,7 +1391,9 @@ bool MainWindow::FinishLesson(bool show_report) {
   SetAidsLocked(false);
   lesson_dock_->hide();
   if (!problems.isEmpty())
-    ShowErrors("Lesson", QString("Your attempt is kept in %1, but:").arg(Q(attempt_.dir.string())), problems);
+    ShowErrors("Lesson",
+               QString("Your attempt is kept in %1, but:").arg(Q(attempt_.dir.string())),
+               problems);
   if (show_report) ShowReport(r, last_report_);
   device_name_ = "mouse";
   StartSession();  // the workbench goes on, without the lesson
@@ -1234,7 +1417,8 @@ void MainWindow::ShowReport(const LessonResult& r, const std::filesystem::path& 
     });
     layout->addWidget(browser);
     auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
-    auto* open = buttons->addButton("Open the full report (pictures, force traces)", QDialogButtonBox::ActionRole);
+    auto* open = buttons->addButton("Open the full report (pictures, force traces)",
+                                    QDialogButtonBox::ActionRole);
     layout->addWidget(buttons);
     connect(buttons, &QDialogButtonBox::rejected, report_dialog_, &QDialog::hide);
     connect(open, &QPushButton::clicked, this, [this] {
@@ -1247,10 +1431,10 @@ void MainWindow::ShowReport(const LessonResult& r, const std::filesystem::path& 
   text << in.rdbuf();
   auto* browser = report_dialog_->findChild<QTextBrowser*>("report");
   browser->setHtml(Q(text.str()));
-  report_dialog_->setWindowTitle(QString("Your report: %1 / 100").arg(r.total, 0, 'f', 1));
+  report_dialog_->setWindowTitle(
+      QString("Your report: %1 / 100").arg(r.total, 0, 'f', 1));
   report_dialog_->show();
 }
-
 
 void MainWindow::BuildReplayDock() {
   auto* panel = new QWidget;
@@ -1262,7 +1446,8 @@ void MainWindow::BuildReplayDock() {
   layout->addWidget(replay_slider_);
   connect(replay_slider_, &QSlider::valueChanged, this, [this](int v) {
     if (!replay_ || replay_playing_) return;
-    replay_index_ = static_cast<std::size_t>(std::clamp(v, 0, static_cast<int>(replay_->frames.size()) - 1));
+    replay_index_ = static_cast<std::size_t>(
+        std::clamp(v, 0, static_cast<int>(replay_->frames.size()) - 1));
     replay_position_ = static_cast<double>(replay_index_);
   });
   auto* row = new QHBoxLayout;
@@ -1276,22 +1461,26 @@ void MainWindow::BuildReplayDock() {
   speed->setCurrentText("1x");
   speed->setToolTip("Playback speed");
   auto* close = new QPushButton("Close the replay");
-  for (QWidget* w : {static_cast<QWidget*>(back), static_cast<QWidget*>(replay_play_), static_cast<QWidget*>(step),
-                     static_cast<QWidget*>(speed), static_cast<QWidget*>(close)})
+  for (QWidget* w : {static_cast<QWidget*>(back), static_cast<QWidget*>(replay_play_),
+                     static_cast<QWidget*>(step), static_cast<QWidget*>(speed),
+                     static_cast<QWidget*>(close)})
     row->addWidget(w);
   layout->addLayout(row);
-  connect(replay_play_, &QPushButton::clicked, this, [this] { SetReplayPlaying(!replay_playing_); });
+  connect(replay_play_, &QPushButton::clicked, this,
+          [this] { SetReplayPlaying(!replay_playing_); });
   auto nudge = [this](int d) {
     if (!replay_) return;
     SetReplayPlaying(false);
-    const long long i = std::clamp<long long>(static_cast<long long>(replay_index_) + d, 0,
-                                              static_cast<long long>(replay_->frames.size()) - 1);
+    const long long i =
+        std::clamp<long long>(static_cast<long long>(replay_index_) + d, 0,
+                              static_cast<long long>(replay_->frames.size()) - 1);
     replay_index_ = static_cast<std::size_t>(i);
     replay_position_ = static_cast<double>(i);
   };
   connect(back, &QPushButton::clicked, this, [nudge] { nudge(-1); });
   connect(step, &QPushButton::clicked, this, [nudge] { nudge(1); });
-  connect(speed, &QComboBox::currentTextChanged, this, [this](const QString& t) { replay_speed_ = t.chopped(1).toDouble(); });
+  connect(speed, &QComboBox::currentTextChanged, this,
+          [this](const QString& t) { replay_speed_ = t.chopped(1).toDouble(); });
   connect(close, &QPushButton::clicked, this, [this] { CloseReplay(); });
   replay_dock_ = new QDockWidget("Replay", this);
   replay_dock_->setObjectName("replay");
@@ -1317,10 +1506,12 @@ bool MainWindow::OpenReplay(const std::filesystem::path& recording, std::uint64_
   StopSession();
   replay_ = std::move(rec);
   // The frame of that tick (frames are in tick order).
-  const auto it = std::lower_bound(replay_->frames.begin(), replay_->frames.end(), tick,
-                                   [](const TickRecord& f, std::uint64_t t) { return f.tick < t; });
-  replay_index_ = static_cast<std::size_t>(std::min<std::ptrdiff_t>(it - replay_->frames.begin(),
-                                                                     static_cast<std::ptrdiff_t>(replay_->frames.size()) - 1));
+  const auto it =
+      std::lower_bound(replay_->frames.begin(), replay_->frames.end(), tick,
+                       [](const TickRecord& f, std::uint64_t t) { return f.tick < t; });
+  replay_index_ = static_cast<std::size_t>(
+      std::min<std::ptrdiff_t>(it - replay_->frames.begin(),
+                               static_cast<std::ptrdiff_t>(replay_->frames.size()) - 1));
   replay_position_ = static_cast<double>(replay_index_);
   replay_slider_->setRange(0, static_cast<int>(replay_->frames.size()) - 1);
   replay_dock_->show();
@@ -1353,8 +1544,10 @@ void MainWindow::ShowReplayFrame() {
   // The force trace of the last 5 s up to the cursor (every 10 ms).
   std::vector<std::array<double, 3>> trace;
   const std::size_t span = static_cast<std::size_t>(5 * replay_->header.rate_hz);
-  const std::size_t every = std::max<std::size_t>(1, static_cast<std::size_t>(replay_->header.rate_hz / 100));
-  for (std::size_t i = replay_index_ > span ? replay_index_ - span : 0; i <= replay_index_; i += every) {
+  const std::size_t every =
+      std::max<std::size_t>(1, static_cast<std::size_t>(replay_->header.rate_hz / 100));
+  for (std::size_t i = replay_index_ > span ? replay_index_ - span : 0;
+       i <= replay_index_; i += every) {
     const TickRecord& g = replay_->frames[i];
     trace.push_back({g.time_s, g.force_W.norm(), g.torque_W.norm()});
   }
@@ -1363,7 +1556,8 @@ void MainWindow::ShowReplayFrame() {
     const QSignalBlocker block(replay_slider_);
     replay_slider_->setValue(static_cast<int>(replay_index_));
   }
-  status_->setText(QString("Replay of a recording (%1)\nThe blue tool is the device as it was, the white one the rendered "
+  status_->setText(QString("Replay of a recording (%1)\nThe blue tool is the device as "
+                           "it was, the white one the rendered "
                            "probe.\nTick %2, %3 s\nForce %4 N")
                        .arg(Q(replay_->header.device_name))
                        .arg(f.tick)
@@ -1377,9 +1571,13 @@ void MainWindow::ShowReplayFrame() {
   vtk_widget_->renderWindow()->Render();
 }
 
-std::uint64_t MainWindow::replay_tick() const { return replay_ ? replay_->frames[replay_index_].tick : 0; }
+std::uint64_t MainWindow::replay_tick() const {
+  return replay_ ? replay_->frames[replay_index_].tick : 0;
+}
 
-const TickRecord* MainWindow::replay_frame() const { return replay_ ? &replay_->frames[replay_index_] : nullptr; }
+const TickRecord* MainWindow::replay_frame() const {
+  return replay_ ? &replay_->frames[replay_index_] : nullptr;
+}
 
 void MainWindow::CloseReplay() {
   if (!replay_) return;
@@ -1389,23 +1587,26 @@ void MainWindow::CloseReplay() {
   StartSession();
 }
 
-
-QDialog* MainWindow::ShowProgress(const std::string& student, const std::filesystem::path& results_dir) {
-  const std::filesystem::path dir = results_dir.empty() ? DefaultResultsDir() : results_dir;
+QDialog* MainWindow::ShowProgress(const std::string& student,
+                                  const std::filesystem::path& results_dir) {
+  const std::filesystem::path dir =
+      results_dir.empty() ? DefaultResultsDir() : results_dir;
   auto* d = new ProgressDialog(dir / "results.db", student, this);
   d->setAttribute(Qt::WA_DeleteOnClose);
   d->show();
   return d;
 }
 
-
-QDialog* MainWindow::OpenInstructor(const std::string& passphrase, const std::filesystem::path& results_dir) {
-  const std::filesystem::path dir = results_dir.empty() ? DefaultResultsDir() : results_dir;
+QDialog* MainWindow::OpenInstructor(const std::string& passphrase,
+                                    const std::filesystem::path& results_dir) {
+  const std::filesystem::path dir =
+      results_dir.empty() ? DefaultResultsDir() : results_dir;
   try {
     InstructorLock lock(dir / "instructor.pwhash");
     if (!lock.is_set()) lock.Set(passphrase);
     if (!lock.Check(passphrase)) {
-      ShowErrors("Instructor", "Wrong passphrase.", "The instructor's view stays closed.");
+      ShowErrors("Instructor", "Wrong passphrase.",
+                 "The instructor's view stays closed.");
       return nullptr;
     }
     auto* d = new InstructorDialog(dir / "results.db", lesson_dirs_, this);
@@ -1417,7 +1618,6 @@ QDialog* MainWindow::OpenInstructor(const std::string& passphrase, const std::fi
     return nullptr;
   }
 }
-
 
 bool MainWindow::SetDemonstration(const std::filesystem::path& recording) {
   if (recording.empty()) {
@@ -1432,10 +1632,13 @@ bool MainWindow::SetDemonstration(const std::filesystem::path& recording) {
     return false;
   }
   StartSession();  // from its first tick, beside the student's
-  statusBar()->showMessage(QString("The green probe is the demonstration %1").arg(Q(recording.string())));
+  statusBar()->showMessage(
+      QString("The green probe is the demonstration %1").arg(Q(recording.string())));
   return true;
 }
 
-const std::optional<RigidTransform>& MainWindow::ghost_pose() const { return view_->ghost(); }
+const std::optional<RigidTransform>& MainWindow::ghost_pose() const {
+  return view_->ghost();
+}
 
 }  // namespace sulcus::ui

@@ -6,6 +6,9 @@
 // progress dialog; a scene with errors opens a dialog listing them all and the
 // previous scene stays loaded.
 
+#include <QMainWindow>
+#include <QPoint>
+#include <QString>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -16,17 +19,13 @@
 #include <string>
 #include <thread>
 
-#include <QMainWindow>
-#include <QPoint>
-#include <QString>
-
 #include "core/haptics/effects.h"
 #include "core/haptics/haptic_thread.h"
 #include "core/haptics/recording.h"
-#include "core/scene/scene.h"
 #include "core/lesson/attempt.h"
 #include "core/lesson/lesson.h"
 #include "core/lesson/scripted_student.h"
+#include "core/scene/scene.h"
 #include "core/session/session.h"
 
 class QCheckBox;
@@ -94,17 +93,20 @@ class MainWindow : public QMainWindow {
     std::filesystem::path lesson;
     std::string student = "student";
     std::optional<LessonSpec::Mode> mode;  // empty: the lesson's
-    std::string device = "mouse";          // or student:NAME (a scripted student), scripted:..., replay:...
-    bool free_run = false;                 // the thread as fast as it can (scripted students in tests)
-    std::optional<std::uint64_t> seed;     // a generated case's
-    std::filesystem::path results_dir;     // empty: DefaultResultsDir()
+    std::string device =
+        "mouse";  // or student:NAME (a scripted student), scripted:..., replay:...
+    bool free_run = false;  // the thread as fast as it can (scripted students in tests)
+    std::optional<std::uint64_t> seed;  // a generated case's
+    std::filesystem::path results_dir;  // empty: DefaultResultsDir()
   };
   /// Loads the lesson (its errors shown, nothing changed when it has any), builds
   /// its scene (waiting) and starts it. False when it could not start.
   bool StartLesson(const LessonStart& start);
   /// The start page (who, which lesson, which mode); starts the chosen lesson.
   void ShowStartPage();
-  void SetLessonFolders(std::vector<std::filesystem::path> dirs) { lesson_dirs_ = std::move(dirs); }
+  void SetLessonFolders(std::vector<std::filesystem::path> dirs) {
+    lesson_dirs_ = std::move(dirs);
+  }
   bool DeclareDiagnosis(const DeclaredDiagnosis& d);
   /// Ends the lesson: the recording written, the attempt scored, its entries and
   /// report saved, stored in the results database, and the report shown.
@@ -151,10 +153,12 @@ class MainWindow : public QMainWindow {
   bool SetDemonstration(const std::filesystem::path& recording);
   const std::optional<RigidTransform>& ghost_pose() const;
   /// A student's attempts over time (the results database); returns the dialog.
-  QDialog* ShowProgress(const std::string& student, const std::filesystem::path& results_dir = {});
+  QDialog* ShowProgress(const std::string& student,
+                        const std::filesystem::path& results_dir = {});
   /// The instructor's view for this passphrase (set on first use); nullptr,
   /// after saying so, for a wrong one.
-  QDialog* OpenInstructor(const std::string& passphrase, const std::filesystem::path& results_dir = {});
+  QDialog* OpenInstructor(const std::string& passphrase,
+                          const std::filesystem::path& results_dir = {});
 
  protected:
   void keyPressEvent(QKeyEvent* e) override;
@@ -166,7 +170,7 @@ class MainWindow : public QMainWindow {
   void StartSession();  // StopSession, then BeginSession
   void BeginSession();  // a loop and thread on the scene with the chosen device
   void StopSession();   // also ends a recording in progress
-  void Tick();  // the display timer: snapshot -> view, gauge, status, events
+  void Tick();          // the display timer: snapshot -> view, gauge, status, events
   void ShowErrors(const QString& title, const QString& text, const QString& details);
   bool OpenSpec(const SceneSpec& spec, const std::filesystem::path& file, bool wait);
   void BuildLessonDock();
@@ -198,19 +202,23 @@ class MainWindow : public QMainWindow {
   std::unique_ptr<Session> session_;
   // The window's consumer of the tick stream: the events of the ticks pumped.
   struct EventTap final : TickConsumer {
-    void OnTick(const TickRecord& r) override { events.insert(events.end(), r.events.begin(), r.events.begin() + r.num_events); }
+    void OnTick(const TickRecord& r) override {
+      events.insert(events.end(), r.events.begin(), r.events.begin() + r.num_events);
+    }
     std::vector<HapticEvent> events;
   } tap_;
   std::vector<std::filesystem::path> lesson_dirs_;
   // The lesson in progress.
   std::optional<LessonSpec> lesson_spec_;
   std::unique_ptr<LessonRun> lesson_;
-  std::unique_ptr<ScriptedHand> scripted_student_;  // a scripted student or inspector playing the hand
+  std::unique_ptr<ScriptedHand>
+      scripted_student_;  // a scripted student or inspector playing the hand
   LessonStart lesson_start_;
   std::uint64_t lesson_seed_ = 0;
   AttemptFolder attempt_;
   QDockWidget* lesson_dock_ = nullptr;
-  QLabel *step_label_ = nullptr, *next_label_ = nullptr, *tip_label_ = nullptr, *tilt_label_ = nullptr;
+  QLabel *step_label_ = nullptr, *next_label_ = nullptr, *tip_label_ = nullptr,
+         *tilt_label_ = nullptr;
   QLabel* banner_ = nullptr;  // the device stopped answering, ...
   DeviceWrapper device_wrapper_;
   QLabel* device_help_ = nullptr;

@@ -4,6 +4,8 @@
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkImageData.h>
 #include <vtkLight.h>
 #include <vtkPNGWriter.h>
 #include <vtkPointData.h>
@@ -16,19 +18,17 @@
 #include <vtkTextProperty.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
-#include <vtkIdTypeArray.h>
-#include <vtkImageData.h>
 
 #include <array>
 #include <cmath>
-#include <utility>
-
 #include <cstdlib>
 #include <stdexcept>
+#include <utility>
 
 namespace sulcus::ui {
 
-vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_deg, const std::vector<Vector3>* normals) {
+vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_deg,
+                                        const std::vector<Vector3>* normals) {
   // Area-weighted vertex normals for smooth shading. With a crease angle,
   // each corner of a face takes the normals of only those faces around its
   // vertex that lie within the angle of its own, and a vertex whose corners
@@ -39,7 +39,8 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_
   const auto& faces = mesh.faces();
   std::vector<Vector3> face_area_normal(faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f)
-    face_area_normal[f] = (verts[faces[f][1]] - verts[faces[f][0]]).cross(verts[faces[f][2]] - verts[faces[f][0]]);
+    face_area_normal[f] = (verts[faces[f][1]] - verts[faces[f][0]])
+                              .cross(verts[faces[f][2]] - verts[faces[f][0]]);
   std::vector<Vector3> out_points;
   std::vector<Vector3> out_normals;
   std::vector<vtkIdType> source;  // the mesh vertex each point was made from
@@ -54,7 +55,8 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_
       if (given_at(static_cast<int>(i))) out_normals[i] = (*normals)[i];
     source.resize(verts.size());
     for (std::size_t i = 0; i < verts.size(); ++i) source[i] = static_cast<vtkIdType>(i);
-    for (std::size_t f = 0; f < faces.size(); ++f) out_faces[f] = {faces[f][0], faces[f][1], faces[f][2]};
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      out_faces[f] = {faces[f][0], faces[f][1], faces[f][2]};
   } else {
     const double cos_crease = std::cos(crease_deg * 3.14159265358979323846 / 180.0);
     std::vector<std::vector<int>> around(verts.size());
@@ -95,20 +97,23 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(static_cast<vtkIdType>(out_points.size()));
   for (std::size_t i = 0; i < out_points.size(); ++i)
-    points->SetPoint(static_cast<vtkIdType>(i), out_points[i].x(), out_points[i].y(), out_points[i].z());
+    points->SetPoint(static_cast<vtkIdType>(i), out_points[i].x(), out_points[i].y(),
+                     out_points[i].z());
   auto cells = vtkSmartPointer<vtkCellArray>::New();
   for (const auto& f : out_faces) cells->InsertNextCell(3, f.data());
   auto normal_array = vtkSmartPointer<vtkDoubleArray>::New();
   normal_array->SetNumberOfComponents(3);
   normal_array->SetNumberOfTuples(static_cast<vtkIdType>(out_normals.size()));
   for (std::size_t i = 0; i < out_normals.size(); ++i) {
-    const Vector3 n = out_normals[i].norm() > 0 ? Vector3(out_normals[i].normalized()) : Vector3::UnitZ();
+    const Vector3 n = out_normals[i].norm() > 0 ? Vector3(out_normals[i].normalized())
+                                                : Vector3::UnitZ();
     normal_array->SetTuple3(static_cast<vtkIdType>(i), n.x(), n.y(), n.z());
   }
   auto vertex_array = vtkSmartPointer<vtkIdTypeArray>::New();
   vertex_array->SetName(kSourceVertexArray);
   vertex_array->SetNumberOfTuples(static_cast<vtkIdType>(source.size()));
-  for (std::size_t i = 0; i < source.size(); ++i) vertex_array->SetValue(static_cast<vtkIdType>(i), source[i]);
+  for (std::size_t i = 0; i < source.size(); ++i)
+    vertex_array->SetValue(static_cast<vtkIdType>(i), source[i]);
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   poly->SetPoints(points);
   poly->SetPolys(cells);
@@ -117,8 +122,9 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const TriangleMesh& mesh, double crease_
   return poly;
 }
 
-double RenderToPng(const std::vector<ShadedMesh>& meshes, const std::filesystem::path& png,
-                   int width, int height, const std::string& title) {
+double RenderToPng(const std::vector<ShadedMesh>& meshes,
+                   const std::filesystem::path& png, int width, int height,
+                   const std::string& title) {
   const double background[3] = {0.16, 0.18, 0.22};
   auto renderer = vtkSmartPointer<vtkRenderer>::New();
   renderer->SetBackground(background[0], background[1], background[2]);
@@ -180,8 +186,10 @@ double RenderToPng(const std::vector<ShadedMesh>& meshes, const std::filesystem:
   window->Render();
   grab->Modified();
   grab->Update();
-  auto* with = vtkUnsignedCharArray::SafeDownCast(drawn_image->GetPointData()->GetScalars());
-  auto* without = vtkUnsignedCharArray::SafeDownCast(grab->GetOutput()->GetPointData()->GetScalars());
+  auto* with =
+      vtkUnsignedCharArray::SafeDownCast(drawn_image->GetPointData()->GetScalars());
+  auto* without =
+      vtkUnsignedCharArray::SafeDownCast(grab->GetOutput()->GetPointData()->GetScalars());
   if (with == nullptr || without == nullptr ||
       with->GetNumberOfValues() != without->GetNumberOfValues()) {
     return 0.0;
@@ -191,7 +199,8 @@ double RenderToPng(const std::vector<ShadedMesh>& meshes, const std::filesystem:
   vtkIdType drawn = 0;
   for (vtkIdType i = 0; i < values; i += comps) {
     bool differs = false;
-    for (int c = 0; c < 3; ++c) differs |= std::abs(int{with->GetValue(i + c)} - int{without->GetValue(i + c)}) > 8;
+    for (int c = 0; c < 3; ++c)
+      differs |= std::abs(int{with->GetValue(i + c)} - int{without->GetValue(i + c)}) > 8;
     drawn += differs;
   }
   return static_cast<double>(drawn) / static_cast<double>(values / comps);

@@ -1,12 +1,12 @@
 #pragma once
 // Turning engine meshes into VTK data, and saving pictures of them.
 
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <vtkPolyData.h>
-#include <vtkSmartPointer.h>
 
 #include "core/geometry/mesh.h"
 
@@ -40,7 +40,8 @@ struct ShadedMesh {
 /// Renders the meshes offscreen (needs an X display, e.g. Xvfb) from an oblique
 /// view that frames them all, and writes a PNG. Returns the share of pixels that
 /// differ from the background, so callers can check that something was drawn.
-double RenderToPng(const std::vector<ShadedMesh>& meshes, const std::filesystem::path& png,
-                   int width = 800, int height = 600, const std::string& title = "");
+double RenderToPng(const std::vector<ShadedMesh>& meshes,
+                   const std::filesystem::path& png, int width = 800, int height = 600,
+                   const std::string& title = "");
 
 }  // namespace sulcus::ui

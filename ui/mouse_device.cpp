@@ -2,7 +2,8 @@
 
 namespace sulcus::ui {
 
-MouseKeyboardDevice::MouseKeyboardDevice(const RigidTransform& start) : pose_(start), shared_(start) {
+MouseKeyboardDevice::MouseKeyboardDevice(const RigidTransform& start)
+    : pose_(start), shared_(start) {
   caps_.name = "mouse and keyboard";
   caps_.input_dof = 6;
   caps_.output_dof = 0;

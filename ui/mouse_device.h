@@ -18,7 +18,8 @@ class MouseKeyboardDevice final : public Device {
   void Write(const Vector3&, const Vector3&) noexcept override {}
 
   // UI thread.
-  /// Moves the tool by dp (mm, world) and turns it by dtheta (rad, world axes, about the tip).
+  /// Moves the tool by dp (mm, world) and turns it by dtheta (rad, world axes, about the
+  /// tip).
   void Nudge(const Vector3& dp_W, const Vector3& dtheta_W);
   void Set(const RigidTransform& X_WH);
   const RigidTransform& pose() const { return pose_; }

@@ -1,28 +1,32 @@
 #include "ui/odontogram_widget.h"
 
-#include <algorithm>
-
 #include <QKeyEvent>
 #include <QMenu>
 #include <QMouseEvent>
 #include <QPainter>
 #include <QPainterPath>
+#include <algorithm>
 
 #include "core/anatomy/soft_tissue.h"
 
 namespace sulcus::ui {
 namespace {
 
-constexpr int kBox = 34, kColumn = 40, kMidGap = 12, kLeft = 8, kTop = 18, kRowGap = 26, kRegionRow = 19;
+constexpr int kBox = 34, kColumn = 40, kMidGap = 12, kLeft = 8, kTop = 18, kRowGap = 26,
+              kRegionRow = 19;
 
 // Upper 18..11 21..28, lower 48..41 31..38: the chart's order.
 int Rank(int fdi) {
   const int q = fdi / 10, p = fdi % 10;
   switch (q) {
-    case 1: return 10 - p;
-    case 2: return 10 + p;
-    case 4: return 10 - p;
-    case 3: return 10 + p;
+    case 1:
+      return 10 - p;
+    case 2:
+      return 10 + p;
+    case 4:
+      return 10 - p;
+    case 3:
+      return 10 + p;
   }
   return 100;
 }
@@ -41,11 +45,14 @@ QString Cap(const std::string& s) {
 
 OdontogramWidget::OdontogramWidget(QWidget* parent) : QWidget(parent) {
   setFocusPolicy(Qt::StrongFocus);
-  setToolTip("Odontogram: click a surface for caries, Ca for calculus, G for inflamed gingiva, right-click a tooth "
-             "for its WHO status; keys: arrows, M D B L O, C, G, 0-9");
+  setToolTip(
+      "Odontogram: click a surface for caries, Ca for calculus, G for inflamed gingiva, "
+      "right-click a tooth "
+      "for its WHO status; keys: arrows, M D B L O, C, G, 0-9");
 }
 
-void OdontogramWidget::SetLesson(const std::vector<int>& teeth, const std::vector<std::string>& regions) {
+void OdontogramWidget::SetLesson(const std::vector<int>& teeth,
+                                 const std::vector<std::string>& regions) {
   teeth_ = teeth;
   std::sort(teeth_.begin(), teeth_.end(), [](int a, int b) {
     return Upper(a) != Upper(b) ? Upper(a) : Rank(a) < Rank(b);
@@ -81,7 +88,8 @@ void OdontogramWidget::Layout() {
   cells_.clear();
   for (int fdi : teeth_) {
     const int side = SideColumns(), pos = fdi % 10;
-    const bool right = fdi / 10 == 1 || fdi / 10 == 4;  // the patient's right: the chart's left
+    const bool right =
+        fdi / 10 == 1 || fdi / 10 == 4;  // the patient's right: the chart's left
     const int col = right ? side - pos : side + pos - 1;
     const int x = kLeft + col * kColumn + (col >= side ? kMidGap : 0);
     const int y = Upper(fdi) ? kTop : kTop + kBox + kRowGap + 14;
@@ -97,18 +105,25 @@ void OdontogramWidget::Layout() {
   const int half = (width() > 0 ? width() : sizeHint().width()) / 2 - kLeft;
   for (std::size_t i = 0; i < regions_.size(); ++i) {
     const int col = static_cast<int>(i % 2), row = static_cast<int>(i / 2);
-    region_rects_.push_back({regions_[i], QRect(kLeft + col * (half + 4), y0 + row * kRegionRow, half - 4, kRegionRow - 3)});
+    region_rects_.push_back(
+        {regions_[i], QRect(kLeft + col * (half + 4), y0 + row * kRegionRow, half - 4,
+                            kRegionRow - 3)});
   }
 }
 
 int OdontogramWidget::SurfaceAt(const Cell& c, const QPoint& p) const {
   if (!c.box.contains(p)) return -1;
-  const double u = (p.x() - c.box.left()) / double(kBox), v = (p.y() - c.box.top()) / double(kBox);
-  if (u > 1.0 / 3 && u < 2.0 / 3 && v > 1.0 / 3 && v < 2.0 / 3) return static_cast<int>(ToothSurface::kOcclusal);
-  const bool top = v < u && v < 1 - u, bottom = v > u && v > 1 - u, left = u < v && u < 1 - v;
+  const double u = (p.x() - c.box.left()) / double(kBox),
+               v = (p.y() - c.box.top()) / double(kBox);
+  if (u > 1.0 / 3 && u < 2.0 / 3 && v > 1.0 / 3 && v < 2.0 / 3)
+    return static_cast<int>(ToothSurface::kOcclusal);
+  const bool top = v < u && v<1 - u, bottom = v> u && v > 1 - u,
+             left = u < v && u < 1 - v;
   const bool upper = Upper(c.fdi);
-  if (top) return static_cast<int>(upper ? ToothSurface::kBuccal : ToothSurface::kLingual);
-  if (bottom) return static_cast<int>(upper ? ToothSurface::kLingual : ToothSurface::kBuccal);
+  if (top)
+    return static_cast<int>(upper ? ToothSurface::kBuccal : ToothSurface::kLingual);
+  if (bottom)
+    return static_cast<int>(upper ? ToothSurface::kLingual : ToothSurface::kBuccal);
   const bool mesial = left != MesialRight(c.fdi);
   return static_cast<int>(mesial ? ToothSurface::kMesial : ToothSurface::kDistal);
 }
@@ -126,7 +141,7 @@ void OdontogramWidget::Toggle(int fdi, Finding::Kind kind, ToothSurface s) {
   f.kind = kind;
   f.fdi = fdi;
   f.surface = s;
-  f.present = kind == Finding::Kind::kCaries ? !t->caries[static_cast<std::size_t>(s)]
+  f.present = kind == Finding::Kind::kCaries     ? !t->caries[static_cast<std::size_t>(s)]
               : kind == Finding::Kind::kCalculus ? !t->calculus
                                                  : !t->inflamed;
   Apply(f);
@@ -156,7 +171,8 @@ void OdontogramWidget::AskLesion(const std::string& region, const QPoint& where)
   if (!enabled_) return;
   QMenu menu(this);
   menu.addAction("No lesion")->setData(QString());
-  for (const std::string& k : LesionKinds()) menu.addAction(QString::fromStdString(k))->setData(QString::fromStdString(k));
+  for (const std::string& k : LesionKinds())
+    menu.addAction(QString::fromStdString(k))->setData(QString::fromStdString(k));
   const QAction* chosen = menu.exec(mapToGlobal(where));
   if (!chosen) return;
   Finding f;
@@ -173,7 +189,8 @@ void OdontogramWidget::mousePressEvent(QMouseEvent* e) {
   for (const Cell& c : cells_) {
     if (c.box.contains(p) || c.ca.contains(p) || c.g.contains(p)) selected_ = c.fdi;
     if (e->button() == Qt::RightButton && c.box.contains(p)) return AskStatus(c.fdi, p);
-    if (const int s = SurfaceAt(c, p); s >= 0) return Toggle(c.fdi, Finding::Kind::kCaries, static_cast<ToothSurface>(s));
+    if (const int s = SurfaceAt(c, p); s >= 0)
+      return Toggle(c.fdi, Finding::Kind::kCaries, static_cast<ToothSurface>(s));
     if (c.ca.contains(p)) return Toggle(c.fdi, Finding::Kind::kCalculus);
     if (c.g.contains(p)) return Toggle(c.fdi, Finding::Kind::kInflamed);
   }
@@ -188,8 +205,12 @@ void OdontogramWidget::keyPressEvent(QKeyEvent* e) {
   const auto i = static_cast<int>(it - teeth_.begin());
   const int n = static_cast<int>(teeth_.size());
   switch (e->key()) {
-    case Qt::Key_Right: selected_ = teeth_[static_cast<std::size_t>(std::min(n - 1, i + 1))]; break;
-    case Qt::Key_Left: selected_ = teeth_[static_cast<std::size_t>(std::max(0, i - 1))]; break;
+    case Qt::Key_Right:
+      selected_ = teeth_[static_cast<std::size_t>(std::min(n - 1, i + 1))];
+      break;
+    case Qt::Key_Left:
+      selected_ = teeth_[static_cast<std::size_t>(std::max(0, i - 1))];
+      break;
     case Qt::Key_Down:
     case Qt::Key_Up: {
       // The tooth across the occlusal plane at the same place in the chart.
@@ -198,13 +219,27 @@ void OdontogramWidget::keyPressEvent(QKeyEvent* e) {
         if (Upper(t) != Upper(selected_) && Rank(t) == want) selected_ = t;
       break;
     }
-    case Qt::Key_M: Toggle(selected_, Finding::Kind::kCaries, ToothSurface::kMesial); break;
-    case Qt::Key_D: Toggle(selected_, Finding::Kind::kCaries, ToothSurface::kDistal); break;
-    case Qt::Key_B: Toggle(selected_, Finding::Kind::kCaries, ToothSurface::kBuccal); break;
-    case Qt::Key_L: Toggle(selected_, Finding::Kind::kCaries, ToothSurface::kLingual); break;
-    case Qt::Key_O: Toggle(selected_, Finding::Kind::kCaries, ToothSurface::kOcclusal); break;
-    case Qt::Key_C: Toggle(selected_, Finding::Kind::kCalculus); break;
-    case Qt::Key_G: Toggle(selected_, Finding::Kind::kInflamed); break;
+    case Qt::Key_M:
+      Toggle(selected_, Finding::Kind::kCaries, ToothSurface::kMesial);
+      break;
+    case Qt::Key_D:
+      Toggle(selected_, Finding::Kind::kCaries, ToothSurface::kDistal);
+      break;
+    case Qt::Key_B:
+      Toggle(selected_, Finding::Kind::kCaries, ToothSurface::kBuccal);
+      break;
+    case Qt::Key_L:
+      Toggle(selected_, Finding::Kind::kCaries, ToothSurface::kLingual);
+      break;
+    case Qt::Key_O:
+      Toggle(selected_, Finding::Kind::kCaries, ToothSurface::kOcclusal);
+      break;
+    case Qt::Key_C:
+      Toggle(selected_, Finding::Kind::kCalculus);
+      break;
+    case Qt::Key_G:
+      Toggle(selected_, Finding::Kind::kInflamed);
+      break;
     default:
       if (e->key() >= Qt::Key_0 && e->key() <= Qt::Key_9 && enabled_) {
         Finding f;
@@ -235,32 +270,41 @@ void OdontogramWidget::paintEvent(QPaintEvent*) {
   const int occlusal_y = kTop + kBox + kRowGap / 2 + 7;
   p.drawLine(kLeft, occlusal_y, kLeft + 2 * side * kColumn + kMidGap, occlusal_y);
 
-  auto examined = [&](const std::string& u) { return std::find(examined_.begin(), examined_.end(), u) != examined_.end(); };
+  auto examined = [&](const std::string& u) {
+    return std::find(examined_.begin(), examined_.end(), u) != examined_.end();
+  };
   for (const Cell& c : cells_) {
     const ToothRecord* t = odontogram_.Find(c.fdi);
     const QRectF b = c.box;
-    const QRectF in(b.left() + b.width() / 3, b.top() + b.height() / 3, b.width() / 3, b.height() / 3);
+    const QRectF in(b.left() + b.width() / 3, b.top() + b.height() / 3, b.width() / 3,
+                    b.height() / 3);
     // The four outer trapezoids and the centre, each its surface.
     struct Poly {
       QPolygonF poly;
       int surface;
     };
     const bool upper = Upper(c.fdi), mr = MesialRight(c.fdi);
-    const int top = static_cast<int>(upper ? ToothSurface::kBuccal : ToothSurface::kLingual);
-    const int bottom = static_cast<int>(upper ? ToothSurface::kLingual : ToothSurface::kBuccal);
+    const int top =
+        static_cast<int>(upper ? ToothSurface::kBuccal : ToothSurface::kLingual);
+    const int bottom =
+        static_cast<int>(upper ? ToothSurface::kLingual : ToothSurface::kBuccal);
     const int left = static_cast<int>(mr ? ToothSurface::kDistal : ToothSurface::kMesial);
-    const int right = static_cast<int>(mr ? ToothSurface::kMesial : ToothSurface::kDistal);
+    const int right =
+        static_cast<int>(mr ? ToothSurface::kMesial : ToothSurface::kDistal);
     const std::vector<Poly> polys = {
         {QPolygonF({b.topLeft(), b.topRight(), in.topRight(), in.topLeft()}), top},
-        {QPolygonF({in.bottomLeft(), in.bottomRight(), b.bottomRight(), b.bottomLeft()}), bottom},
+        {QPolygonF({in.bottomLeft(), in.bottomRight(), b.bottomRight(), b.bottomLeft()}),
+         bottom},
         {QPolygonF({b.topLeft(), in.topLeft(), in.bottomLeft(), b.bottomLeft()}), left},
-        {QPolygonF({in.topRight(), b.topRight(), b.bottomRight(), in.bottomRight()}), right},
+        {QPolygonF({in.topRight(), b.topRight(), b.bottomRight(), in.bottomRight()}),
+         right},
         {QPolygonF(in), static_cast<int>(ToothSurface::kOcclusal)}};
     for (const Poly& poly : polys) {
       const bool caries = t && t->caries[static_cast<std::size_t>(poly.surface)];
-      const std::string unit = std::to_string(c.fdi) + " " + SurfaceCode(static_cast<ToothSurface>(poly.surface));
-      p.setBrush(caries            ? QColor("#9c2a1a")
-                 : examined(unit)  ? QColor("#cfe3f5")
+      const std::string unit = std::to_string(c.fdi) + " " +
+                               SurfaceCode(static_cast<ToothSurface>(poly.surface));
+      p.setBrush(caries                     ? QColor("#9c2a1a")
+                 : examined(unit)           ? QColor("#cfe3f5")
                  : examined("seen:" + unit) ? QColor("#eef1f4")
                                             : QColor("#ffffff"));
       p.setPen(QPen(QColor("#8a8a8a"), 1));
@@ -273,10 +317,12 @@ void OdontogramWidget::paintEvent(QPaintEvent*) {
     }
     // Its number on the outside, Ca and G toggles, the status code.
     p.setPen(QColor("#333"));
-    const QRect label = upper ? QRect(c.box.left(), c.box.top() - 14, kBox, 13) : QRect(c.box.left(), c.box.bottom() + 2, kBox, 13);
+    const QRect label = upper ? QRect(c.box.left(), c.box.top() - 14, kBox, 13)
+                              : QRect(c.box.left(), c.box.bottom() + 2, kBox, 13);
     p.drawText(label, Qt::AlignCenter, QString::number(c.fdi));
     for (const auto& [r, on, text, colour] :
-         {std::tuple{c.ca, t && t->calculus, "Ca", QColor("#b08a00")}, std::tuple{c.g, t && t->inflamed, "G", QColor("#c03040")}}) {
+         {std::tuple{c.ca, t && t->calculus, "Ca", QColor("#b08a00")},
+          std::tuple{c.g, t && t->inflamed, "G", QColor("#c03040")}}) {
       p.setPen(QPen(on ? colour : QColor("#bbb"), 1));
       p.setBrush(on ? colour : QColor("#fafafa"));
       p.drawRoundedRect(r, 2, 2);
@@ -285,7 +331,8 @@ void OdontogramWidget::paintEvent(QPaintEvent*) {
     }
     if (t && (t->status || t->Status() != 0)) {
       p.setPen(t->status ? QColor("#2060c0") : QColor("#999"));
-      p.drawText(QRect(c.box.right() + 1, c.box.top() - 1, 8, 12), Qt::AlignLeft | Qt::AlignTop, QString::number(t->Status()));
+      p.drawText(QRect(c.box.right() + 1, c.box.top() - 1, 8, 12),
+                 Qt::AlignLeft | Qt::AlignTop, QString::number(t->Status()));
     }
   }
   // The regions.
@@ -297,14 +344,18 @@ void OdontogramWidget::paintEvent(QPaintEvent*) {
     const auto it = odontogram_.lesions.find(region);
     const bool lesion = it != odontogram_.lesions.end();
     p.setPen(QPen(QColor("#ccc"), 1));
-    p.setBrush(lesion ? QColor("#f6d8d3") : examined(region) ? QColor("#cfe3f5") : QColor("#ffffff"));
+    p.setBrush(lesion             ? QColor("#f6d8d3")
+               : examined(region) ? QColor("#cfe3f5")
+                                  : QColor("#ffffff"));
     p.drawRoundedRect(r, 3, 3);
     p.setPen(QColor("#222"));
     p.drawText(r.adjusted(6, 0, -4, 0), Qt::AlignLeft | Qt::AlignVCenter,
-               (examined(region) ? QString::fromUtf8("\u2713 ") : QString("   ")) + Cap(RegionLabel(region)));
+               (examined(region) ? QString::fromUtf8("\u2713 ") : QString("   ")) +
+                   Cap(RegionLabel(region)));
     if (lesion) {
       p.setPen(QColor("#9c2a1a"));
-      p.drawText(r.adjusted(6, 0, -6, 0), Qt::AlignRight | Qt::AlignVCenter, QString::fromStdString(it->second));
+      p.drawText(r.adjusted(6, 0, -6, 0), Qt::AlignRight | Qt::AlignVCenter,
+                 QString::fromStdString(it->second));
     }
   }
   if (!enabled_) p.fillRect(rect(), QColor(255, 255, 255, 120));

@@ -12,11 +12,10 @@
 // gingiva, 0-9 the status code. Surfaces the tip has examined are shaded, so a
 // student sees what is left. Every change goes to `on_finding`.
 
+#include <QWidget>
 #include <functional>
 #include <string>
 #include <vector>
-
-#include <QWidget>
 
 #include "core/lesson/inspection.h"
 

@@ -1,17 +1,5 @@
 #include "ui/progress_dialog.h"
 
-#include <algorithm>
-#include <fstream>
-#include <map>
-
-#include <QComboBox>
-#include <QDialogButtonBox>
-#include <QFileDialog>
-#include <QHeaderView>
-#include <QLabel>
-#include <QPushButton>
-#include <QTableWidget>
-#include <QVBoxLayout>
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkAxis.h>
 #include <vtkChartLegend.h>
@@ -25,6 +13,18 @@
 #include <vtkRenderer.h>
 #include <vtkTable.h>
 
+#include <QComboBox>
+#include <QDialogButtonBox>
+#include <QFileDialog>
+#include <QHeaderView>
+#include <QLabel>
+#include <QPushButton>
+#include <QTableWidget>
+#include <QVBoxLayout>
+#include <algorithm>
+#include <fstream>
+#include <map>
+
 namespace sulcus::ui {
 namespace {
 
@@ -32,7 +32,8 @@ QString Q(const std::string& s) { return QString::fromStdString(s); }
 
 }  // namespace
 
-ProgressDialog::ProgressDialog(std::filesystem::path results_db, const std::string& student, QWidget* parent)
+ProgressDialog::ProgressDialog(std::filesystem::path results_db,
+                               const std::string& student, QWidget* parent)
     : QDialog(parent), db_file_(std::move(results_db)), student_(student) {
   setWindowTitle(Q("Progress: " + student));
   resize(980, 720);
@@ -57,41 +58,50 @@ ProgressDialog::ProgressDialog(std::filesystem::path results_db, const std::stri
   chart_->GetAxis(vtkAxis::LEFT)->SetBehavior(vtkAxis::FIXED);
   chart_->GetAxis(vtkAxis::LEFT)->SetRange(0, 100);
   table_ = vtkSmartPointer<vtkTable>::New();
-  for (const char* name : {"attempt", "total score", "within 1 mm (%)", "force in band (%)"}) {
+  for (const char* name :
+       {"attempt", "total score", "within 1 mm (%)", "force in band (%)"}) {
     auto c = vtkSmartPointer<vtkDoubleArray>::New();
     c->SetName(name);
     table_->AddColumn(c);
   }
   layout->addWidget(chart_widget_, 1);
   sites_ = new QTableWidget;
-  sites_->setToolTip("Charted minus true depth at each site, attempt by attempt: the sites that keep failing stand out");
+  sites_->setToolTip(
+      "Charted minus true depth at each site, attempt by attempt: the sites that keep "
+      "failing stand out");
   layout->addWidget(sites_, 1);
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
   auto* csv = buttons->addButton("Export CSV...", QDialogButtonBox::ActionRole);
   layout->addWidget(buttons);
   connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::hide);
   connect(csv, &QPushButton::clicked, this, [this] {
-    const QString f = QFileDialog::getSaveFileName(this, "Export", Q(student_ + ".csv"), "CSV (*.csv)");
+    const QString f =
+        QFileDialog::getSaveFileName(this, "Export", Q(student_ + ".csv"), "CSV (*.csv)");
     if (f.isEmpty()) return;
     ResultsDb db(db_file_);
     std::ofstream out(f.toStdString());
-    ExportAttemptsCsv(db.Attempts(student_, lesson_->currentData().toString().toStdString()), out);
+    ExportAttemptsCsv(
+        db.Attempts(student_, lesson_->currentData().toString().toStdString()), out);
     std::ofstream sites(f.toStdString().substr(0, f.size() - 4) + "_sites.csv");
-    ExportSitesCsv(db.Sites(student_, lesson_->currentData().toString().toStdString()), sites);
+    ExportSitesCsv(db.Sites(student_, lesson_->currentData().toString().toStdString()),
+                   sites);
   });
   // The lessons this student took.
   try {
     ResultsDb db(db_file_);
     std::map<std::string, std::string> lessons;
-    for (const AttemptRow& a : db.Attempts(student_)) lessons[a.lesson_file] = a.lesson_name;
+    for (const AttemptRow& a : db.Attempts(student_))
+      lessons[a.lesson_file] = a.lesson_name;
     for (const auto& [file, name] : lessons) lesson_->addItem(Q(name), Q(file));
   } catch (const ResultsError& e) {
     summary_->setText(Q(e.what()));
   }
   connect(lesson_, qOverload<int>(&QComboBox::currentIndexChanged), this,
           [this](int) { ShowLesson(lesson_->currentData().toString().toStdString()); });
-  if (lesson_->count() > 0) ShowLesson(lesson_->currentData().toString().toStdString());
-  else if (summary_->text().isEmpty()) summary_->setText("No attempts yet.");
+  if (lesson_->count() > 0)
+    ShowLesson(lesson_->currentData().toString().toStdString());
+  else if (summary_->text().isEmpty())
+    summary_->setText("No attempts yet.");
 }
 
 void ProgressDialog::ShowLesson(const std::string& lesson_file) {
@@ -114,7 +124,8 @@ void ProgressDialog::ShowLesson(const std::string& lesson_file) {
   chart_->ClearPlots();
   const unsigned char colours[3][3] = {{31, 95, 168}, {58, 157, 74}, {224, 160, 32}};
   // An inspection has no sites: only its score is plotted.
-  const bool probing = std::any_of(attempts_.begin(), attempts_.end(), [](const AttemptRow& a) { return a.sites_total > 0; });
+  const bool probing = std::any_of(attempts_.begin(), attempts_.end(),
+                                   [](const AttemptRow& a) { return a.sites_total > 0; });
   for (int c = 1; c <= (probing ? 3 : 1); ++c) {
     vtkPlot* p = chart_->AddPlot(n > 1 ? vtkChart::LINE : vtkChart::POINTS);
     p->SetInputData(table_, 0, c);
@@ -122,13 +133,16 @@ void ProgressDialog::ShowLesson(const std::string& lesson_file) {
     p->SetWidth(2.5);
   }
   chart_widget_->renderWindow()->Render();
-  summary_->setText(QString("%1 attempts%4; mean score %2, last %3. Averages over many attempts predict clinical "
+  summary_->setText(QString("%1 attempts%4; mean score %2, last %3. Averages over many "
+                            "attempts predict clinical "
                             "performance better than any single one.")
                         .arg(n)
                         .arg(n ? sum / n : 0, 0, 'f', 1)
                         .arg(n ? attempts_.back().total : 0, 0, 'f', 1)
-                        .arg(incomplete ? QString(" (%1 incomplete, scored as far as they went)").arg(incomplete)
-                                        : QString()));
+                        .arg(incomplete
+                                 ? QString(" (%1 incomplete, scored as far as they went)")
+                                       .arg(incomplete)
+                                 : QString()));
   // Sites x attempts, signed error of the charted depth.
   std::vector<std::pair<int, int>> keys;
   std::map<std::pair<std::int64_t, std::pair<int, int>>, int> err;
@@ -141,17 +155,22 @@ void ProgressDialog::ShowLesson(const std::string& lesson_file) {
   sites_->setRowCount(static_cast<int>(keys.size()));
   sites_->setColumnCount(n);
   QStringList rows, cols;
-  for (const auto& k : keys) rows << QString("%1 %2").arg(k.first).arg(SiteCode(k.second));
+  for (const auto& k : keys)
+    rows << QString("%1 %2").arg(k.first).arg(SiteCode(k.second));
   for (int i = 0; i < n; ++i) cols << QString("#%1").arg(i + 1);
   sites_->setVerticalHeaderLabels(rows);
   sites_->setHorizontalHeaderLabels(cols);
   for (int r = 0; r < static_cast<int>(keys.size()); ++r)
     for (int c = 0; c < n; ++c) {
       const auto it = err.find({attempts_[c].id, keys[r]});
-      auto* item = new QTableWidgetItem(it == err.end() ? "-" : QString("%1%2").arg(it->second > 0 ? "+" : "").arg(it->second));
+      auto* item = new QTableWidgetItem(
+          it == err.end()
+              ? "-"
+              : QString("%1%2").arg(it->second > 0 ? "+" : "").arg(it->second));
       if (it != err.end())
-        item->setBackground(it->second == 0 ? QColor(200, 235, 200) : std::abs(it->second) == 1 ? QColor(250, 225, 160)
-                                                                                                 : QColor(240, 170, 170));
+        item->setBackground(it->second == 0             ? QColor(200, 235, 200)
+                            : std::abs(it->second) == 1 ? QColor(250, 225, 160)
+                                                        : QColor(240, 170, 170));
       item->setTextAlignment(Qt::AlignCenter);
       sites_->setItem(r, c, item);
     }

@@ -4,12 +4,12 @@
 // chart), and the signed error of every site in every attempt (which sites keep
 // failing), with CSV export.
 
+#include <vtkSmartPointer.h>
+
+#include <QDialog>
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <QDialog>
-#include <vtkSmartPointer.h>
 
 #include "core/lesson/results.h"
 
@@ -25,7 +25,8 @@ namespace sulcus::ui {
 
 class ProgressDialog : public QDialog {
  public:
-  ProgressDialog(std::filesystem::path results_db, const std::string& student, QWidget* parent = nullptr);
+  ProgressDialog(std::filesystem::path results_db, const std::string& student,
+                 QWidget* parent = nullptr);
   void ShowLesson(const std::string& lesson_file);
   int attempts_shown() const { return static_cast<int>(attempts_.size()); }
   const QTableWidget* sites_table() const { return sites_; }

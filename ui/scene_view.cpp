@@ -1,11 +1,10 @@
 #include "ui/scene_view.h"
 
-#include <algorithm>
-
 #include <vtkCamera.h>
 #include <vtkCylinderSource.h>
 #include <vtkDoubleArray.h>
 #include <vtkGlyph3D.h>
+#include <vtkIdTypeArray.h>
 #include <vtkMatrix4x4.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -15,9 +14,9 @@
 #include <vtkSphereSource.h>
 #include <vtkTransform.h>
 #include <vtkTransformPolyDataFilter.h>
-
 #include <vtkUnsignedCharArray.h>
-#include <vtkIdTypeArray.h>
+
+#include <algorithm>
 
 #include "core/anatomy/arch.h"
 #include "core/anatomy/findings.h"
@@ -33,17 +32,28 @@ struct Look {
 
 Look LookOf(Tissue t) {
   switch (t) {
-    case Tissue::kEnamel: return {0.95, 0.93, 0.86, 1.0, 0.5};
-    case Tissue::kRoot: return {0.90, 0.84, 0.64, 1.0, 0.2};
-    case Tissue::kGingiva: return {0.86, 0.48, 0.52, 1.0, 0.25};
-    case Tissue::kBone: return {0.92, 0.87, 0.74, 1.0, 0.1};
-    case Tissue::kTongue: return {0.80, 0.38, 0.42, 1.0, 0.3};
-    case Tissue::kCheek: return {0.90, 0.60, 0.60, 0.35, 0.2};
-    case Tissue::kPalate: return {0.86, 0.52, 0.56, 1.0, 0.25};
-    case Tissue::kLip: return {0.80, 0.40, 0.45, 1.0, 0.3};
-    case Tissue::kMucosa: return {0.88, 0.56, 0.58, 1.0, 0.25};
-    case Tissue::kMetal: return {0.70, 0.72, 0.75, 1.0, 0.8};
-    case Tissue::kCalculus: return {0.78, 0.70, 0.44, 1.0, 0.1};
+    case Tissue::kEnamel:
+      return {0.95, 0.93, 0.86, 1.0, 0.5};
+    case Tissue::kRoot:
+      return {0.90, 0.84, 0.64, 1.0, 0.2};
+    case Tissue::kGingiva:
+      return {0.86, 0.48, 0.52, 1.0, 0.25};
+    case Tissue::kBone:
+      return {0.92, 0.87, 0.74, 1.0, 0.1};
+    case Tissue::kTongue:
+      return {0.80, 0.38, 0.42, 1.0, 0.3};
+    case Tissue::kCheek:
+      return {0.90, 0.60, 0.60, 0.35, 0.2};
+    case Tissue::kPalate:
+      return {0.86, 0.52, 0.56, 1.0, 0.25};
+    case Tissue::kLip:
+      return {0.80, 0.40, 0.45, 1.0, 0.3};
+    case Tissue::kMucosa:
+      return {0.88, 0.56, 0.58, 1.0, 0.25};
+    case Tissue::kMetal:
+      return {0.70, 0.72, 0.75, 1.0, 0.8};
+    case Tissue::kCalculus:
+      return {0.78, 0.70, 0.44, 1.0, 0.1};
   }
   return {0.8, 0.8, 0.8, 1.0, 0.2};
 }
@@ -55,12 +65,14 @@ enum class Paint { kCaries, kCavity, kInflamed, kUlcer, kWhite, kRed };
 // `cavity` (caries only): per vertex, the weight of the cavitated lesions among
 // `weight`; where it is the larger, the vertex takes the cavity's colours.
 // `skin` (a lip): per vertex, how far its base colour is the skin's.
-void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Look& base, Paint paint,
-                   const std::vector<double>* cavity = nullptr, const std::vector<double>* skin = nullptr) {
+void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Look& base,
+                   Paint paint, const std::vector<double>* cavity = nullptr,
+                   const std::vector<double>* skin = nullptr) {
   auto* mapper = vtkPolyDataMapper::SafeDownCast(actor->GetMapper());
   auto* poly = vtkPolyData::SafeDownCast(mapper->GetInput());
   // (a point of the polydata may be one of several made from a mesh vertex)
-  auto* source = vtkIdTypeArray::SafeDownCast(poly->GetPointData()->GetArray(kSourceVertexArray));
+  auto* source =
+      vtkIdTypeArray::SafeDownCast(poly->GetPointData()->GetArray(kSourceVertexArray));
   auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
   colours->SetNumberOfComponents(3);
   colours->SetName("finding");
@@ -70,35 +82,52 @@ void PaintVertices(vtkActor* actor, const std::vector<double>& weight, const Loo
   // Inflamed gingiva, erythroplakia: deep red. An ulcer: a yellow-grey fibrin
   // floor in a red halo. Leukoplakia: a white patch.
   // A cavitated lesion: the chalky rim, brown walls, a dark floor.
-  const Vector3 rim(0.99, 0.98, 0.95), centre(0.36, 0.22, 0.12), floor(0.16, 0.09, 0.05), red(0.80, 0.16, 0.20);
+  const Vector3 rim(0.99, 0.98, 0.95), centre(0.36, 0.22, 0.12), floor(0.16, 0.09, 0.05),
+      red(0.80, 0.16, 0.20);
   const Vector3 fibrin(0.90, 0.86, 0.66), white(0.96, 0.95, 0.92);
-  auto blend = [](const Vector3& a, const Vector3& b, double t) { return Vector3(a + (b - a) * std::clamp(t, 0.0, 1.0)); };
+  auto blend = [](const Vector3& a, const Vector3& b, double t) {
+    return Vector3(a + (b - a) * std::clamp(t, 0.0, 1.0));
+  };
   const Vector3 skin_colour(0.88, 0.68, 0.58);
   std::vector<Vector3> colour(weight.size(), base_colour);
   for (std::size_t i = 0; i < weight.size(); ++i) {
     double w = weight[i];
     Paint p = paint;
-    const Vector3 from = skin && i < skin->size() ? blend(base_colour, skin_colour, (*skin)[i]) : base_colour;
+    const Vector3 from = skin && i < skin->size()
+                             ? blend(base_colour, skin_colour, (*skin)[i])
+                             : base_colour;
     if (cavity && i < cavity->size() && (*cavity)[i] > 0 && (*cavity)[i] >= w) {
       w = (*cavity)[i];
       p = Paint::kCavity;
     }
     Vector3 c = from;
     switch (p) {
-      case Paint::kCaries: c = w < 0.3 ? blend(from, rim, w / 0.3) : blend(rim, centre, (w - 0.3) / 0.7); break;
+      case Paint::kCaries:
+        c = w < 0.3 ? blend(from, rim, w / 0.3) : blend(rim, centre, (w - 0.3) / 0.7);
+        break;
       case Paint::kCavity:
-        c = w < 0.2 ? blend(from, rim, w / 0.2) : w < 0.5 ? blend(rim, centre, (w - 0.2) / 0.3) : blend(centre, floor, (w - 0.5) / 0.3);
+        c = w < 0.2   ? blend(from, rim, w / 0.2)
+            : w < 0.5 ? blend(rim, centre, (w - 0.2) / 0.3)
+                      : blend(centre, floor, (w - 0.5) / 0.3);
         break;
       case Paint::kInflamed:
-      case Paint::kRed: c = blend(from, red, w); break;
-      case Paint::kUlcer: c = w < 0.35 ? blend(from, red, w / 0.35) : blend(red, fibrin, (w - 0.35) / 0.25); break;
-      case Paint::kWhite: c = blend(from, white, w / 0.3); break;
+      case Paint::kRed:
+        c = blend(from, red, w);
+        break;
+      case Paint::kUlcer:
+        c = w < 0.35 ? blend(from, red, w / 0.35) : blend(red, fibrin, (w - 0.35) / 0.25);
+        break;
+      case Paint::kWhite:
+        c = blend(from, white, w / 0.3);
+        break;
     }
     colour[i] = c;
   }
   for (vtkIdType p = 0; p < poly->GetNumberOfPoints(); ++p) {
     const vtkIdType v = source ? source->GetValue(p) : p;
-    const Vector3 c = v < static_cast<vtkIdType>(colour.size()) ? colour[static_cast<std::size_t>(v)] : base_colour;
+    const Vector3 c = v < static_cast<vtkIdType>(colour.size())
+                          ? colour[static_cast<std::size_t>(v)]
+                          : base_colour;
     colours->SetTuple3(p, 255 * c.x(), 255 * c.y(), 255 * c.z());
   }
   poly->GetPointData()->SetScalars(colours);
@@ -168,7 +197,8 @@ void SceneView::AddToolActors(const ProbeModel& probe) {
     ring->SetRadius(0.56);
     ring->SetHeight(length);
     ring->SetResolution(24);
-    auto place = vtkSmartPointer<vtkTransform>::New();  // cylinder along y -> along z, centred on the mark
+    auto place = vtkSmartPointer<vtkTransform>::New();  // cylinder along y -> along z,
+                                                        // centred on the mark
     place->Translate(0, 0, 0.5 * (m.from_mm + m.to_mm));
     place->RotateX(90);
     auto moved = vtkSmartPointer<vtkTransformPolyDataFilter>::New();
@@ -201,23 +231,30 @@ void SceneView::Load(const CompiledScene& scene, const SeenGingiva* seen) {
     Look look = LookOf(o.tissue);
     // The jaws are bone under alveolar mucosa: drawn as the mucosa, a deeper
     // red than the attached gingiva.
-    if (o.kind == ObjectSpec::Kind::kAnatomy && o.tissue == Tissue::kBone) look = {0.78, 0.40, 0.44, 1.0, 0.25};
+    if (o.kind == ObjectSpec::Kind::kAnatomy && o.tissue == Tissue::kBone)
+      look = {0.78, 0.40, 0.44, 1.0, 0.25};
     // A share of the gingiva drawn as the eye sees it (its sulcus closed round
     // the tooth, its papillae full), when the window has built that.
-    const bool seen_here = seen && i < seen->meshes.size() && seen->meshes[i].num_faces() > 0;
+    const bool seen_here =
+        seen && i < seen->meshes.size() && seen->meshes[i].num_faces() > 0;
     const TriangleMesh& mesh = seen_here ? seen->meshes[i] : scene.meshes[i];
-    const std::vector<Vector3>* normals =
-        seen_here ? &seen->normals[i] : i < scene.normals.size() ? &scene.normals[i] : nullptr;
+    const std::vector<Vector3>* normals = seen_here                  ? &seen->normals[i]
+                                          : i < scene.normals.size() ? &scene.normals[i]
+                                                                     : nullptr;
     // (its flat caps, where it meets its neighbours' shares, an actor of their
     // own: drawn only while the gingiva is opaque, SyncCaps)
-    const std::vector<char>* cap = seen_here && i < seen->caps.size() && seen->caps[i].size() == mesh.num_faces()
-                                       ? &seen->caps[i]
-                                       : nullptr;
+    const std::vector<char>* cap =
+        seen_here && i < seen->caps.size() && seen->caps[i].size() == mesh.num_faces()
+            ? &seen->caps[i]
+            : nullptr;
     std::vector<TriangleMesh::Face> body_faces, cap_faces;
     if (cap)
-      for (std::size_t f = 0; f < mesh.num_faces(); ++f) ((*cap)[f] ? cap_faces : body_faces).push_back(mesh.faces()[f]);
+      for (std::size_t f = 0; f < mesh.num_faces(); ++f)
+        ((*cap)[f] ? cap_faces : body_faces).push_back(mesh.faces()[f]);
     const bool split = !cap_faces.empty() && !body_faces.empty();
-    auto actor = split ? MeshActor(TriangleMesh(mesh.vertices(), body_faces), look, normals) : MeshActor(mesh, look, normals);
+    auto actor = split
+                     ? MeshActor(TriangleMesh(mesh.vertices(), body_faces), look, normals)
+                     : MeshActor(mesh, look, normals);
     if (split) {
       auto caps = MeshActor(TriangleMesh(mesh.vertices(), cap_faces), look, normals);
       caps->SetUserMatrix(ToVtk(o.X_WO));
@@ -226,8 +263,10 @@ void SceneView::Load(const CompiledScene& scene, const SeenGingiva* seen) {
     }
     // Findings drawn where the scene puts them: caries on its surface, inflamed
     // gingiva at its sites.
-    const bool carious = std::any_of(o.caries_mm.begin(), o.caries_mm.end(), [](double r) { return r > 0; });
-    const bool inflamed = std::any_of(o.inflamed.begin(), o.inflamed.end(), [](bool b) { return b; });
+    const bool carious = std::any_of(o.caries_mm.begin(), o.caries_mm.end(),
+                                     [](double r) { return r > 0; });
+    const bool inflamed =
+        std::any_of(o.inflamed.begin(), o.inflamed.end(), [](bool b) { return b; });
     if (o.kind == ObjectSpec::Kind::kTooth && carious) {
       // The lesions whose surface is intact, and the cavitated ones (darker, a floor).
       std::array<double, 5> intact = o.caries_mm, cavitated{};
@@ -235,22 +274,31 @@ void SceneView::Load(const CompiledScene& scene, const SeenGingiva* seen) {
         if (o.cavity_mm[k] > 0) std::swap(intact[k], cavitated[k]);
       const ToothModel tooth = GenerateTooth(o.fdi);
       const std::vector<double> cavities = CariesCoverage(tooth, cavitated);
-      PaintVertices(actor, CariesCoverage(tooth, intact), look, Paint::kCaries, &cavities);
+      PaintVertices(actor, CariesCoverage(tooth, intact), look, Paint::kCaries,
+                    &cavities);
     } else if (o.kind == ObjectSpec::Kind::kGingiva && inflamed) {
       std::vector<Vector3> in_tooth_frame;
-      for (const Vector3& v : mesh.vertices()) in_tooth_frame.push_back(ArchMirror(o.mirrored, v));
-      PaintVertices(actor, InflammationCoverage(in_tooth_frame, o.inflamed), look, Paint::kInflamed);
+      for (const Vector3& v : mesh.vertices())
+        in_tooth_frame.push_back(ArchMirror(o.mirrored, v));
+      PaintVertices(actor, InflammationCoverage(in_tooth_frame, o.inflamed), look,
+                    Paint::kInflamed);
     } else if (o.kind == ObjectSpec::Kind::kAnatomy) {
       // A lip: its skin beyond the vermilion border (and a lesion where the
       // scene puts one, on any soft tissue).
       const std::vector<double> skin =
-          o.anatomy == "lip_upper" || o.anatomy == "lip_lower" ? LipSkinCoverage(scene.meshes[i]) : std::vector<double>{};
+          o.anatomy == "lip_upper" || o.anatomy == "lip_lower"
+              ? LipSkinCoverage(scene.meshes[i])
+              : std::vector<double>{};
       if (!o.lesion_kind.empty()) {
         const Vector3 at = LesionCentre(o.anatomy, o.lesion_region, scene.meshes[i]);
-        const Paint paint = o.lesion_kind == "ulcer" ? Paint::kUlcer : o.lesion_kind == "leukoplakia" ? Paint::kWhite : Paint::kRed;
-        PaintVertices(actor, LesionCoverage(scene.meshes[i], at, o.lesion_mm), look, paint, nullptr, &skin);
+        const Paint paint = o.lesion_kind == "ulcer"         ? Paint::kUlcer
+                            : o.lesion_kind == "leukoplakia" ? Paint::kWhite
+                                                             : Paint::kRed;
+        PaintVertices(actor, LesionCoverage(scene.meshes[i], at, o.lesion_mm), look,
+                      paint, nullptr, &skin);
       } else if (!skin.empty()) {
-        PaintVertices(actor, std::vector<double>(skin.size(), 0.0), look, Paint::kRed, nullptr, &skin);
+        PaintVertices(actor, std::vector<double>(skin.size(), 0.0), look, Paint::kRed,
+                      nullptr, &skin);
       }
     }
     actor->SetUserMatrix(ToVtk(o.X_WO));
@@ -327,7 +375,8 @@ void SceneView::ShowSpheres(int level) {
     auto actor = SphereGlyphs(poly, 14, 10);
     actor->SetUserMatrix(ToVtk(scene_->spec.objects[i].X_WO));
     const double hue = (i % 6) / 6.0;
-    actor->GetProperty()->SetColor(0.55 + 0.4 * hue, 0.85 - 0.3 * hue, 0.35 + 0.5 * (1 - hue));
+    actor->GetProperty()->SetColor(0.55 + 0.4 * hue, 0.85 - 0.3 * hue,
+                                   0.35 + 0.5 * (1 - hue));
     actor->GetProperty()->SetOpacity(0.45);
     renderer_->AddActor(actor);
     spheres_.push_back(actor);
@@ -339,7 +388,8 @@ void SceneView::SetLipsAndCheeksHidden(bool hidden) {
   if (!scene_) return;
   for (std::size_t i = 0; i < objects_.size() && i < scene_->spec.objects.size(); ++i) {
     const ObjectSpec& o = scene_->spec.objects[i];
-    if (o.kind == ObjectSpec::Kind::kAnatomy && (o.tissue == Tissue::kLip || o.tissue == Tissue::kCheek))
+    if (o.kind == ObjectSpec::Kind::kAnatomy &&
+        (o.tissue == Tissue::kLip || o.tissue == Tissue::kCheek))
       objects_[i]->SetVisibility(!hidden);
   }
 }
@@ -353,11 +403,13 @@ void SceneView::SetGingivaTranslucent(bool on) {
 void SceneView::SyncCaps() {
   for (const auto& [i, caps] : caps_) {
     const vtkSmartPointer<vtkActor>& body = objects_[i];
-    caps->SetVisibility(body->GetVisibility() && body->GetProperty()->GetOpacity() > 0.99);
+    caps->SetVisibility(body->GetVisibility() &&
+                        body->GetProperty()->GetOpacity() > 0.99);
   }
 }
 
-void SceneView::Frame(const Vector3& focus, const Vector3& from_dir, double distance, const Vector3& up) {
+void SceneView::Frame(const Vector3& focus, const Vector3& from_dir, double distance,
+                      const Vector3& up) {
   vtkCamera* cam = renderer_->GetActiveCamera();
   const Vector3 eye = focus + distance * from_dir.normalized();
   cam->SetFocalPoint(focus.x(), focus.y(), focus.z());
@@ -371,7 +423,9 @@ void SceneView::Frame(const Vector3& focus, const Vector3& from_dir, double dist
   if (scene_) {
     for (std::size_t i = 0; i < objects_.size() && i < scene_->spec.objects.size(); ++i) {
       const ObjectSpec& o = scene_->spec.objects[i];
-      if (o.kind != ObjectSpec::Kind::kAnatomy || o.tissue == Tissue::kBone || o.tissue == Tissue::kGingiva) continue;
+      if (o.kind != ObjectSpec::Kind::kAnatomy || o.tissue == Tissue::kBone ||
+          o.tissue == Tissue::kGingiva)
+        continue;
       double b[6];
       objects_[i]->GetBounds(b);
       // Slab test of the segment eye -> focus against the actor's world box.
@@ -388,7 +442,8 @@ void SceneView::Frame(const Vector3& focus, const Vector3& from_dir, double dist
         t1 = std::min(t1, tb);
       }
       const bool in_the_way = t0 <= t1;
-      objects_[i]->GetProperty()->SetOpacity(in_the_way ? 0.18 : LookOf(o.tissue).opacity);
+      objects_[i]->GetProperty()->SetOpacity(in_the_way ? 0.18
+                                                        : LookOf(o.tissue).opacity);
       see_through_ += in_the_way;
     }
     // The occlusal view of a full mouth looks at the lower arch: the upper one
@@ -397,15 +452,19 @@ void SceneView::Frame(const Vector3& focus, const Vector3& from_dir, double dist
     // and the lower lip.
     for (std::size_t i = 0; i < objects_.size() && i < scene_->spec.objects.size(); ++i) {
       const ObjectSpec& o = scene_->spec.objects[i];
-      const bool tooth_or_gingiva = o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva;
+      const bool tooth_or_gingiva =
+          o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva;
       const bool anatomy = o.kind == ObjectSpec::Kind::kAnatomy;
-      const bool upper = (tooth_or_gingiva && (o.fdi / 10 == 1 || o.fdi / 10 == 2)) ||
-                         (anatomy && (o.anatomy == "jaw_upper" || o.anatomy == "palate" || o.anatomy == "soft_palate" ||
-                                      o.anatomy == "lip_upper"));
-      const bool lower = (tooth_or_gingiva && (o.fdi / 10 == 3 || o.fdi / 10 == 4)) ||
-                         (anatomy && (o.anatomy == "jaw_lower" || o.anatomy == "tongue" || o.anatomy == "floor_of_mouth" ||
-                                      o.anatomy == "lip_lower"));
-      const bool lip_or_cheek = anatomy && (o.tissue == Tissue::kLip || o.tissue == Tissue::kCheek);
+      const bool upper =
+          (tooth_or_gingiva && (o.fdi / 10 == 1 || o.fdi / 10 == 2)) ||
+          (anatomy && (o.anatomy == "jaw_upper" || o.anatomy == "palate" ||
+                       o.anatomy == "soft_palate" || o.anatomy == "lip_upper"));
+      const bool lower =
+          (tooth_or_gingiva && (o.fdi / 10 == 3 || o.fdi / 10 == 4)) ||
+          (anatomy && (o.anatomy == "jaw_lower" || o.anatomy == "tongue" ||
+                       o.anatomy == "floor_of_mouth" || o.anatomy == "lip_lower"));
+      const bool lip_or_cheek =
+          anatomy && (o.tissue == Tissue::kLip || o.tissue == Tissue::kCheek);
       objects_[i]->SetVisibility(!(lips_hidden_ && lip_or_cheek));
       if (!upper && !lower) continue;
       if ((upper && fade_upper_) || (lower && fade_lower_)) {
@@ -457,10 +516,18 @@ void SceneView::View(Side side) {
   fade_upper_ = side == Side::kOcclusal && lower && upper;
   fade_lower_ = side == Side::kUpperOcclusal && lower && upper;
   switch (side) {
-    case Side::kBuccal: Frame(centre, buccal + 0.35 * occlusal, 1.6 * extent, occlusal); break;
-    case Side::kLingual: Frame(centre, -buccal + 0.35 * occlusal, 1.6 * extent, occlusal); break;
-    case Side::kOcclusal: Frame(centre, occlusal, 1.8 * extent, buccal); break;
-    case Side::kUpperOcclusal: Frame(centre, -occlusal, 1.8 * extent, buccal); break;
+    case Side::kBuccal:
+      Frame(centre, buccal + 0.35 * occlusal, 1.6 * extent, occlusal);
+      break;
+    case Side::kLingual:
+      Frame(centre, -buccal + 0.35 * occlusal, 1.6 * extent, occlusal);
+      break;
+    case Side::kOcclusal:
+      Frame(centre, occlusal, 1.8 * extent, buccal);
+      break;
+    case Side::kUpperOcclusal:
+      Frame(centre, -occlusal, 1.8 * extent, buccal);
+      break;
     case Side::kFront: {
       // From in front of the patient, level with the mouth's opening: the
       // incisors in the middle of the picture, the patient's left on the right.
@@ -478,7 +545,8 @@ SceneView::CameraPose SceneView::Camera() const {
   c->GetPosition(e);
   c->GetFocalPoint(f);
   c->GetViewUp(u);
-  return {Vector3(e[0], e[1], e[2]), Vector3(f[0], f[1], f[2]), Vector3(u[0], u[1], u[2]), c->GetViewAngle()};
+  return {Vector3(e[0], e[1], e[2]), Vector3(f[0], f[1], f[2]), Vector3(u[0], u[1], u[2]),
+          c->GetViewAngle()};
 }
 
 bool SceneView::LookAtTooth(int fdi) {
@@ -487,7 +555,8 @@ bool SceneView::LookAtTooth(int fdi) {
     if (o.kind != ObjectSpec::Kind::kTooth || o.fdi != fdi) continue;
     const Vector3 occlusal = o.X_WO.rotation().col(2);
     fade_upper_ = fade_lower_ = false;
-    Frame(o.X_WO * Vector3(0, 0, 2), o.X_WO.rotation().col(1) + 0.4 * occlusal, 38, occlusal);
+    Frame(o.X_WO * Vector3(0, 0, 2), o.X_WO.rotation().col(1) + 0.4 * occlusal, 38,
+          occlusal);
     return true;
   }
   return false;

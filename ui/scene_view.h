@@ -4,15 +4,15 @@
 // ("graphic") tool in white with the probe's markings, contact spheres, and the
 // sphere-trees at any level. Reads snapshots only (docs/architecture.md).
 
-#include <optional>
-#include <vector>
-
 #include <vtkActor.h>
 #include <vtkDoubleArray.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
+
+#include <optional>
+#include <vector>
 
 #include "core/anatomy/probe.h"
 #include "core/haptics/haptic_loop.h"
@@ -48,7 +48,8 @@ class SceneView {
   enum class Side { kBuccal, kLingual, kOcclusal, kFront, kUpperOcclusal };
   void View(Side side);
   /// The camera at `focus` + `distance` * `from_dir`, looking at `focus`.
-  void LookAt(const Vector3& focus, const Vector3& from_dir, double distance, const Vector3& up) {
+  void LookAt(const Vector3& focus, const Vector3& from_dir, double distance,
+              const Vector3& up) {
     Frame(focus, from_dir, distance, up);
   }
   /// Frames one tooth from its buccal side; false if the scene has no such tooth.
@@ -66,11 +67,13 @@ class SceneView {
 
  private:
   void AddToolActors(const ProbeModel& probe);
-  void Frame(const Vector3& focus, const Vector3& from_dir, double distance, const Vector3& up);
+  void Frame(const Vector3& focus, const Vector3& from_dir, double distance,
+             const Vector3& up);
 
   vtkRenderer* renderer_;
   const CompiledScene* scene_ = nullptr;
-  std::vector<vtkSmartPointer<vtkActor>> objects_, gingiva_, tool_graphic_, spheres_, contacts_;
+  std::vector<vtkSmartPointer<vtkActor>> objects_, gingiva_, tool_graphic_, spheres_,
+      contacts_;
   vtkSmartPointer<vtkActor> tool_haptic_, tool_ghost_, contact_actor_;
   std::optional<RigidTransform> ghost_;
   vtkSmartPointer<vtkPoints> contact_points_;
@@ -79,7 +82,8 @@ class SceneView {
   RigidTransform X_WG_;
   int spheres_shown_ = -1;
   int see_through_ = 0;
-  bool fade_upper_ = false, fade_lower_ = false, gingiva_translucent_ = false, lips_hidden_ = false;
+  bool fade_upper_ = false, fade_lower_ = false, gingiva_translucent_ = false,
+       lips_hidden_ = false;
   // The seen gingiva's flat caps between shares (object index, actor): shown
   // only while their share is drawn opaque.
   std::vector<std::pair<std::size_t, vtkSmartPointer<vtkActor>>> caps_;

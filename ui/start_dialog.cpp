@@ -1,7 +1,5 @@
 #include "ui/start_dialog.h"
 
-#include <algorithm>
-
 #include <QComboBox>
 #include <QDialogButtonBox>
 #include <QFileDialog>
@@ -15,6 +13,7 @@
 #include <QSettings>
 #include <QSpinBox>
 #include <QVBoxLayout>
+#include <algorithm>
 
 #include "core/lesson/results.h"
 
@@ -25,17 +24,21 @@ QString Q(const std::string& s) { return QString::fromStdString(s); }
 
 }  // namespace
 
-StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs, std::filesystem::path results_db, QWidget* parent)
+StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
+                         std::filesystem::path results_db, QWidget* parent)
     : QDialog(parent), dirs_(std::move(lesson_dirs)), results_db_(std::move(results_db)) {
   setWindowTitle("Sulcus: start a lesson");
   resize(760, 520);
   auto* layout = new QVBoxLayout(this);
-  auto* title = new QLabel("<h2>Sulcus</h2>Haptic dental training: periodontal probing and oral inspection. Say who you are, pick a lesson and start.");
+  auto* title = new QLabel(
+      "<h2>Sulcus</h2>Haptic dental training: periodontal probing and oral inspection. "
+      "Say who you are, pick a lesson and start.");
   layout->addWidget(title);
   auto* form = new QFormLayout;
   student_ = new QComboBox;
   student_->setEditable(true);
-  student_->setToolTip("Your name: pick it, or type a new one. Your results are kept under it.");
+  student_->setToolTip(
+      "Your name: pick it, or type a new one. Your results are kept under it.");
   form->addRow("Student", student_);
   layout->addLayout(form);
   list_ = new QListWidget;
@@ -56,14 +59,19 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs, std::fi
   layout->addWidget(modes);
   // Only for a lesson that draws its case: which one.
   case_box_ = new QGroupBox("Case");
-  case_box_->setToolTip("This lesson draws its patient's pockets, recession and bleeding from a seed: "
-                        "the same seed always gives the same case");
+  case_box_->setToolTip(
+      "This lesson draws its patient's pockets, recession and bleeding from a seed: "
+      "the same seed always gives the same case");
   auto* case_row = new QHBoxLayout(case_box_);
   own_case_ = new QRadioButton;
   last_case_ = new QRadioButton;
-  last_case_->setToolTip("Take the case of your last attempt at this lesson again, to see what you improved");
+  last_case_->setToolTip(
+      "Take the case of your last attempt at this lesson again, to see what you "
+      "improved");
   seed_case_ = new QRadioButton("the case of seed");
-  seed_case_->setToolTip("The case your instructor gave you by its seed (the report of an attempt shows its seed)");
+  seed_case_->setToolTip(
+      "The case your instructor gave you by its seed (the report of an attempt shows its "
+      "seed)");
   case_seed_ = new QSpinBox;
   case_seed_->setRange(0, 2147483647);
   case_seed_->setValue(1);
@@ -73,11 +81,13 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs, std::fi
   case_row->addWidget(seed_case_);
   case_row->addWidget(case_seed_);
   case_row->addStretch(1);
-  connect(case_seed_, qOverload<int>(&QSpinBox::valueChanged), this, [this] { seed_case_->setChecked(true); });
+  connect(case_seed_, qOverload<int>(&QSpinBox::valueChanged), this,
+          [this] { seed_case_->setChecked(true); });
   case_box_->hide();
   layout->addWidget(case_box_);
   auto* buttons = new QDialogButtonBox;
-  auto* folder = buttons->addButton("Instructor's folder...", QDialogButtonBox::ActionRole);
+  auto* folder =
+      buttons->addButton("Instructor's folder...", QDialogButtonBox::ActionRole);
   folder->setToolTip("Add a folder of lesson files written by your instructor");
   start_ = buttons->addButton("Start the lesson", QDialogButtonBox::AcceptRole);
   buttons->addButton("Workbench (no lesson)", QDialogButtonBox::RejectRole);
@@ -85,7 +95,8 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs, std::fi
   connect(buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
   connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
   connect(folder, &QPushButton::clicked, this, [this] {
-    const QString dir = QFileDialog::getExistingDirectory(this, "Instructor's lesson folder");
+    const QString dir =
+        QFileDialog::getExistingDirectory(this, "Instructor's lesson folder");
     if (dir.isEmpty()) return;
     QSettings().setValue("lessons/folder", dir);
     Refresh();
@@ -93,9 +104,10 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs, std::fi
   connect(list_, &QListWidget::currentRowChanged, this, [this](int row) {
     if (row < 0 || row >= static_cast<int>(items_.size())) return;
     const Item& it = items_[static_cast<std::size_t>(row)];
-    about_->setText(it.broken ? "<b>This lesson file has errors</b> (tell your instructor):<br><tt>" +
-                                    Q(it.errors).toHtmlEscaped().replace("\n", "<br>") + "</tt>"
-                              : Q(it.description).toHtmlEscaped());
+    about_->setText(
+        it.broken ? "<b>This lesson file has errors</b> (tell your instructor):<br><tt>" +
+                        Q(it.errors).toHtmlEscaped().replace("\n", "<br>") + "</tt>"
+                  : Q(it.description).toHtmlEscaped());
     start_->setEnabled(!it.broken);
     ShowCase(it);
   });
@@ -123,7 +135,8 @@ void StartDialog::Refresh() {
   items_.clear();
   list_->clear();
   std::vector<std::filesystem::path> dirs = dirs_;
-  if (const QString extra = QSettings().value("lessons/folder").toString(); !extra.isEmpty())
+  if (const QString extra = QSettings().value("lessons/folder").toString();
+      !extra.isEmpty())
     dirs.push_back(extra.toStdString());
   std::vector<AttemptRow> attempts;
   try {
@@ -136,7 +149,8 @@ void StartDialog::Refresh() {
     it.file = std::filesystem::absolute(f).lexically_normal();
     try {
       const LessonSpec s = LoadLessonSpec(it.file);
-      it.title = (s.name.empty() ? f.stem().string() : s.name) + "  (" + ToString(s.mode) + ")";
+      it.title =
+          (s.name.empty() ? f.stem().string() : s.name) + "  (" + ToString(s.mode) + ")";
       it.description = s.description;
       it.generated_case = s.case_spec;
     } catch (const SceneLoadError& e) {
@@ -148,32 +162,39 @@ void StartDialog::Refresh() {
     for (const AttemptRow& a : attempts)
       if (a.lesson_file == it.file.string()) {
         last = "  last score " + std::to_string(static_cast<int>(a.total + 0.5));
-        it.last_seed = a.generated_case ? std::optional<std::uint64_t>(a.case_seed) : std::nullopt;
+        it.last_seed =
+            a.generated_case ? std::optional<std::uint64_t>(a.case_seed) : std::nullopt;
       }
     auto* item = new QListWidgetItem(Q(it.title + last));
     if (it.broken) item->setForeground(QColor(190, 30, 30));
     list_->addItem(item);
     items_.push_back(it);
   }
-  if (!items_.empty()) list_->setCurrentRow(keep >= 0 && keep < static_cast<int>(items_.size()) ? keep : 0);
+  if (!items_.empty())
+    list_->setCurrentRow(keep >= 0 && keep < static_cast<int>(items_.size()) ? keep : 0);
 }
 
 void StartDialog::ShowCase(const Item& it) {
   const CaseSpec& c = it.generated_case;
   case_box_->setVisible(!it.broken && c.generated);
   if (!c.generated) return;
-  own_case_->setText(c.random_seed ? "a new case" : QString("the lesson's case (seed %1)").arg(c.seed));
-  own_case_->setToolTip(c.random_seed ? "A case drawn for this attempt: its seed is kept with your result"
-                                      : "The case the lesson file names");
+  own_case_->setText(c.random_seed ? "a new case"
+                                   : QString("the lesson's case (seed %1)").arg(c.seed));
+  own_case_->setToolTip(
+      c.random_seed ? "A case drawn for this attempt: its seed is kept with your result"
+                    : "The case the lesson file names");
   last_case_->setEnabled(it.last_seed.has_value());
-  last_case_->setText(it.last_seed ? QString("my last case again (seed %1)").arg(*it.last_seed)
-                                   : QString("my last case again (none yet)"));
+  last_case_->setText(it.last_seed
+                          ? QString("my last case again (seed %1)").arg(*it.last_seed)
+                          : QString("my last case again (none yet)"));
   if (!it.last_seed && last_case_->isChecked()) own_case_->setChecked(true);
 }
 
 const StartDialog::Item* StartDialog::Current() const {
   const int row = list_->currentRow();
-  return row >= 0 && row < static_cast<int>(items_.size()) ? &items_[static_cast<std::size_t>(row)] : nullptr;
+  return row >= 0 && row < static_cast<int>(items_.size())
+             ? &items_[static_cast<std::size_t>(row)]
+             : nullptr;
 }
 
 bool StartDialog::ChooseCase(CaseChoice choice, std::uint64_t seed) {

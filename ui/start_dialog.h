@@ -6,12 +6,11 @@
 // the lesson's own (or a new one), this student's last case again, or the case
 // of a seed the instructor gives.
 
+#include <QDialog>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <QDialog>
 
 #include "core/lesson/lesson_spec.h"
 
@@ -28,8 +27,8 @@ namespace sulcus::ui {
 class StartDialog : public QDialog {
  public:
   /// `lesson_dirs`: folders to list lessons from (the shipped ones first).
-  StartDialog(std::vector<std::filesystem::path> lesson_dirs, std::filesystem::path results_db,
-              QWidget* parent = nullptr);
+  StartDialog(std::vector<std::filesystem::path> lesson_dirs,
+              std::filesystem::path results_db, QWidget* parent = nullptr);
 
   std::string student() const;
   std::filesystem::path lesson() const;
@@ -43,8 +42,8 @@ class StartDialog : public QDialog {
     std::filesystem::path file;
     std::string title, description, errors;
     bool broken = false;
-    CaseSpec generated_case;                  // .generated: the lesson draws its case
-    std::optional<std::uint64_t> last_seed;   // this student's last attempt's case
+    CaseSpec generated_case;                 // .generated: the lesson draws its case
+    std::optional<std::uint64_t> last_seed;  // this student's last attempt's case
   };
   const std::vector<Item>& items() const { return items_; }
   void SetStudent(const QString& name);

@@ -37,7 +37,8 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 struct FrameStats {
-  double p50_us = 0, p99_us = 0, mean_pairs = 0, mean_linearizations = 0, max_penetration_mm = 0;
+  double p50_us = 0, p99_us = 0, mean_pairs = 0, mean_linearizations = 0,
+         max_penetration_mm = 0;
   double contact_share = 0;  // frames with an active contact
   std::uint64_t faults = 0;
   EngineFaults kinds;
@@ -65,7 +66,8 @@ std::string FaultKinds(const EngineFaults& f) {
 // the direction from the object's centre) and pressed 0.3 mm toward the centre
 // from the graphic tool, a device that follows the surface with a steady push:
 // 300 frames to settle, then 3000 measured frames.
-FrameStats RunSlide(const SphereTree& probe, const SphereTree& object, const Aabb& box, EngineParams params) {
+FrameStats RunSlide(const SphereTree& probe, const SphereTree& object, const Aabb& box,
+                    EngineParams params) {
   const EngineModel model(probe, {{&object, RigidTransform::Identity()}}, params);
   EngineData d(model);
   const Vector3 c = 0.5 * (box.min + box.max);
@@ -75,7 +77,8 @@ FrameStats RunSlide(const SphereTree& probe, const SphereTree& object, const Aab
   };
   auto pose = [&](double t, double dist) {
     const Vector3 u = direction(t);
-    return RigidTransform(Quaternion::FromTwoVectors(Vector3::UnitZ(), u).toRotationMatrix(), c + dist * u);
+    return RigidTransform(
+        Quaternion::FromTwoVectors(Vector3::UnitZ(), u).toRotationMatrix(), c + dist * u);
   };
   ResetTool(pose(0, box.extent().norm()), &d);
   std::vector<double> us;
@@ -87,7 +90,8 @@ FrameStats RunSlide(const SphereTree& probe, const SphereTree& object, const Aab
     const RigidTransform X = pose(t, (d.X_WG.translation() - c).norm() - 0.3);
     const auto t0 = Clock::now();
     Step(model, X, &d);
-    const double dt = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+    const double dt =
+        std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
     if (i < warmup) continue;
     us.push_back(dt);
     pairs += d.num_pairs;
@@ -118,16 +122,21 @@ struct RippleStats {
   double height_ripple_mm = 0;  // peak to peak of the rendered tool's height
   int pops = 0;
   double worst_pop_n = 0;
-  double gap_mean_mm = 0, gap_max_mm = 0;  // the tool's true distance above the face (the air gap a hand feels)
+  double gap_mean_mm = 0,
+         gap_max_mm =
+             0;  // the tool's true distance above the face (the air gap a hand feels)
   double p50_us = 0, p99_us = 0;
   std::uint64_t faults = 0;
 };
 
-RippleStats RunFlatSlide(const SphereTree& probe, double probe_bottom, const SphereTree& plate,
-                         const LeafPlanes* planes, double top, EngineParams params) {
+RippleStats RunFlatSlide(const SphereTree& probe, double probe_bottom,
+                         const SphereTree& plate, const LeafPlanes* planes, double top,
+                         EngineParams params) {
   const EngineModel model(probe, {{&plate, RigidTransform::Identity(), planes}}, params);
   EngineData d(model);
-  auto at = [&](double x) { return RigidTransform(Matrix3::Identity(), Vector3(x, 0, top - 0.3)); };
+  auto at = [&](double x) {
+    return RigidTransform(Matrix3::Identity(), Vector3(x, 0, top - 0.3));
+  };
   ResetTool(RigidTransform(Matrix3::Identity(), Vector3(-6, 0, top + 1)), &d);
   RippleStats r;
   std::vector<double> us, fz, gz;
@@ -138,7 +147,8 @@ RippleStats RunFlatSlide(const SphereTree& probe, double probe_bottom, const Sph
     const RigidTransform X = at(x);
     const auto t0 = Clock::now();
     Step(model, X, &d);
-    const double dt = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+    const double dt =
+        std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
     if (i >= warmup) {
       us.push_back(dt);
       fz.push_back(d.force_W.z());
@@ -147,7 +157,8 @@ RippleStats RunFlatSlide(const SphereTree& probe, double probe_bottom, const Sph
       const double gap = d.X_WG.translation().z() + probe_bottom - top;
       r.gap_mean_mm += gap / frames;
       r.gap_max_mm = std::max(r.gap_max_mm, gap);
-      const double unexplained = UnexplainedForceChange(last_f, d.force_W, last_h, X.translation(), params.k_t);
+      const double unexplained =
+          UnexplainedForceChange(last_f, d.force_W, last_h, X.translation(), params.k_t);
       if (unexplained > kPopN) ++r.pops;
       r.worst_pop_n = std::max(r.worst_pop_n, unexplained);
     }
@@ -176,8 +187,9 @@ RippleStats RunFlatSlide(const SphereTree& probe, double probe_bottom, const Sph
 // peak to peak of |F| less its moving mean over 0.5 mm of travel, over the mean.
 // The air gap is the end face's true distance to the tooth's mesh (every tenth
 // frame; the probe is the 0.4 mm cylinder, its end face at probe_bottom).
-RippleStats RunBuccalSlide(const SphereTree& probe, double probe_bottom, const TriangleMesh& tooth,
-                           const SphereTree& tree, const LeafPlanes* planes, EngineParams params) {
+RippleStats RunBuccalSlide(const SphereTree& probe, double probe_bottom,
+                           const TriangleMesh& tooth, const SphereTree& tree,
+                           const LeafPlanes* planes, EngineParams params) {
   const EngineModel model(probe, {{&tree, RigidTransform::Identity(), planes}}, params);
   EngineData d(model);
   const MeshOracle oracle(tooth);  // signed distance: negative inside the tooth
@@ -192,7 +204,8 @@ RippleStats RunBuccalSlide(const SphereTree& probe, double probe_bottom, const T
     R.col(2) = u;
     R.col(0) = Vector3::UnitZ().cross(u).normalized();
     R.col(1) = R.col(2).cross(R.col(0));
-    // The end face's centre (probe_bottom along the axis from the origin) at `depth` inside.
+    // The end face's centre (probe_bottom along the axis from the origin) at `depth`
+    // inside.
     return RigidTransform(R, surface - depth * u - probe_bottom * u);
   };
   const double th0 = kPi / 3, th1 = 2 * kPi / 3;
@@ -208,7 +221,8 @@ RippleStats RunBuccalSlide(const SphereTree& probe, double probe_bottom, const T
     const RigidTransform X = pose(th, kDepth);
     const auto t0 = Clock::now();
     Step(model, X, &d);
-    const double dt = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+    const double dt =
+        std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
     const Vector3 end = d.X_WG * Vector3(0, 0, probe_bottom);
     if (i >= warmup) {
       if (i > warmup) path += (end - last_end).norm();
@@ -221,12 +235,15 @@ RippleStats RunBuccalSlide(const SphereTree& probe, double probe_bottom, const T
         double gap = SignedDistance(tooth, end);
         for (int k = 0; k < 24; ++k) {
           const double a = 2 * kPi * k / 24;
-          gap = std::min(gap, SignedDistance(tooth, d.X_WG * Vector3(kEndRadius * std::cos(a), kEndRadius * std::sin(a),
-                                                                     probe_bottom)));
+          gap = std::min(
+              gap, SignedDistance(
+                       tooth, d.X_WG * Vector3(kEndRadius * std::cos(a),
+                                               kEndRadius * std::sin(a), probe_bottom)));
         }
         gaps.push_back(gap);
       }
-      const double unexplained = UnexplainedForceChange(last_f, d.force_W, last_h, X.translation(), params.k_t);
+      const double unexplained =
+          UnexplainedForceChange(last_f, d.force_W, last_h, X.translation(), params.k_t);
       if (unexplained > kPopN) ++r.pops;
       r.worst_pop_n = std::max(r.worst_pop_n, unexplained);
     }
@@ -261,54 +278,83 @@ RippleStats RunBuccalSlide(const SphereTree& probe, double probe_bottom, const T
 
 void Plot(const fs::path& dir) {
   if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
-    std::printf("gnuplot not found: CSV written, no plots (scripts/install-deps.sh installs gnuplot-nox)\n");
+    std::printf(
+        "gnuplot not found: CSV written, no plots (scripts/install-deps.sh installs "
+        "gnuplot-nox)\n");
     return;
   }
   const fs::path gp = dir / "plots.gp";
   std::ofstream out(gp);
-  out << "set datafile separator ','\nset terminal pngcairo size 900,560 font 'Sans,11'\nset grid\n"
+  out << "set datafile separator ','\nset terminal pngcairo size 900,560 font "
+         "'Sans,11'\nset grid\n"
       << "set key left top\n"
       << "set output '" << (dir / "resolution.png").string() << "'\n"
-      << "set title 'Sphere-tree resolution: what it buys (protrusion) and what it costs (time)'\n"
-      << "set logscale x 2\nset xlabel 'leaf spheres'\nset ylabel 'protrusion, % of largest extent'\n"
-      << "set y2label 'time (us per frame; build: ms)'\nset y2tics\nset logscale y\nset logscale y2\n"
-      << "plot '" << (dir / "resolution.csv").string() << "' skip 1 using 1:3 with linespoints lw 2 title 'worst protrusion',"
+      << "set title 'Sphere-tree resolution: what it buys (protrusion) and what it costs "
+         "(time)'\n"
+      << "set logscale x 2\nset xlabel 'leaf spheres'\nset ylabel 'protrusion, % of "
+         "largest extent'\n"
+      << "set y2label 'time (us per frame; build: ms)'\nset y2tics\nset logscale y\nset "
+         "logscale y2\n"
+      << "plot '" << (dir / "resolution.csv").string()
+      << "' skip 1 using 1:3 with linespoints lw 2 title 'worst protrusion',"
       << " '' skip 1 using 1:4 with linespoints lw 2 title 'mean protrusion',"
-      << " '' skip 1 using 1:6 axes x1y2 with linespoints dt 2 lw 2 title 'frame p50 (us)',"
-      << " '' skip 1 using 1:7 axes x1y2 with linespoints dt 2 lw 2 title 'frame p99 (us)',"
-      << " '' skip 1 using 1:($5*1000) axes x1y2 with linespoints dt 3 lw 2 title 'build (ms)'\n"
-      << "unset logscale\nset logscale x 10\nset format x '10^{%L}'\nunset y2tics\nunset y2label\n"
+      << " '' skip 1 using 1:6 axes x1y2 with linespoints dt 2 lw 2 title 'frame p50 "
+         "(us)',"
+      << " '' skip 1 using 1:7 axes x1y2 with linespoints dt 2 lw 2 title 'frame p99 "
+         "(us)',"
+      << " '' skip 1 using 1:($5*1000) axes x1y2 with linespoints dt 3 lw 2 title 'build "
+         "(ms)'\n"
+      << "unset logscale\nset logscale x 10\nset format x '10^{%L}'\nunset y2tics\nunset "
+         "y2label\n"
       << "set output '" << (dir / "tolerance.png").string() << "'\n"
       << "set title 'Solver tolerance: penetration allowed vs frame time'\n"
-      << "set xlabel 'penetration tolerance (mm)'\nset ylabel 'us per frame / linearisations x 10'\nset logscale y\n"
-      << "plot '" << (dir / "tolerance.csv").string() << "' skip 1 using 1:2 with linespoints lw 2 title 'frame p50 (us)',"
+      << "set xlabel 'penetration tolerance (mm)'\nset ylabel 'us per frame / "
+         "linearisations x 10'\nset logscale y\n"
+      << "plot '" << (dir / "tolerance.csv").string()
+      << "' skip 1 using 1:2 with linespoints lw 2 title 'frame p50 (us)',"
       << " '' skip 1 using 1:3 with linespoints lw 2 title 'frame p99 (us)',"
-      << " '' skip 1 using 1:($4*10) with linespoints lw 2 title 'mean linearisations x 10'\n"
+      << " '' skip 1 using 1:($4*10) with linespoints lw 2 title 'mean linearisations x "
+         "10'\n"
       << "unset logscale\nset logscale x 2\nset format x '%g'\nset y2tics\n"
       << "set output '" << (dir / "ripple.png").string() << "'\n"
-      << "set title 'Sliding on a flat plate: what the hand feels of the sphere bumps'\nset key right center\n"
-      << "set xlabel 'leaf spheres of the plate'\nset ylabel 'normal force ripple, % (peak to peak / mean)'\n"
-      << "set y2label 'rendered tool height ripple (mm)'\nset logscale y\nset logscale y2\n"
-      << "plot '" << (dir / "ripple.csv").string() << "' skip 1 using 1:2 with linespoints lw 2 title 'force ripple %, spheres',"
-      << " '' skip 1 using 1:($11 > 0.01 ? $11 : 0.01) with linespoints lw 2 title 'force ripple %, clipped leaves (0.01 = none)',"
+      << "set title 'Sliding on a flat plate: what the hand feels of the sphere "
+         "bumps'\nset key right center\n"
+      << "set xlabel 'leaf spheres of the plate'\nset ylabel 'normal force ripple, % "
+         "(peak to peak / mean)'\n"
+      << "set y2label 'rendered tool height ripple (mm)'\nset logscale y\nset logscale "
+         "y2\n"
+      << "plot '" << (dir / "ripple.csv").string()
+      << "' skip 1 using 1:2 with linespoints lw 2 title 'force ripple %, spheres',"
+      << " '' skip 1 using 1:($11 > 0.01 ? $11 : 0.01) with linespoints lw 2 title "
+         "'force ripple %, clipped leaves (0.01 = none)',"
       << " 7 with lines dt 2 lw 1 title 'Weber fraction for force (7 %)',"
-      << " '' skip 1 using 1:3 axes x1y2 with linespoints dt 3 lw 2 title 'height ripple (mm), spheres',"
-      << " '' skip 1 using 1:($12 > 1e-5 ? $12 : 1e-5) axes x1y2 with linespoints dt 3 lw 2 title 'height ripple (mm), clipped leaves'\n"
+      << " '' skip 1 using 1:3 axes x1y2 with linespoints dt 3 lw 2 title 'height ripple "
+         "(mm), spheres',"
+      << " '' skip 1 using 1:($12 > 1e-5 ? $12 : 1e-5) axes x1y2 with linespoints dt 3 "
+         "lw 2 title 'height ripple (mm), clipped leaves'\n"
       << "unset logscale\nset logscale x 2\n"
       << "set output '" << (dir / "buccal_ripple.png").string() << "'\n"
-      << "set title 'Sliding along a molar''s buccal surface: force ripple and the air gap felt'\nset key right top\n"
-      << "set xlabel 'leaf spheres of the tooth'\nset ylabel 'fast force ripple, % (peak to peak / mean)'\n"
+      << "set title 'Sliding along a molar''s buccal surface: force ripple and the air "
+         "gap felt'\nset key right top\n"
+      << "set xlabel 'leaf spheres of the tooth'\nset ylabel 'fast force ripple, % (peak "
+         "to peak / mean)'\n"
       << "set y2label 'air gap felt, mean (mm)'\nset yrange [0:*]\nset y2range [0:*]\n"
       << "plot '" << (dir / "buccal_ripple.csv").string()
-      << "' skip 1 every 2::0 using 1:3 with linespoints lw 2 lc rgb '#1f77b4' title 'force ripple %, spheres',"
-      << " '' skip 1 every 2::1 using 1:3 with linespoints lw 2 lc rgb '#d62728' title 'force ripple %, clipped leaves',"
-      << " 7 with lines dt 2 lw 1 lc rgb '#555555' title 'Weber fraction for force (7 %)',"
-      << " '' skip 1 every 2::0 using 1:5 axes x1y2 with linespoints dt 3 lw 2 lc rgb '#1f77b4' title 'air gap (mm), spheres',"
-      << " '' skip 1 every 2::1 using 1:5 axes x1y2 with linespoints dt 3 lw 2 lc rgb '#d62728' title 'air gap (mm), clipped leaves'\n";
+      << "' skip 1 every 2::0 using 1:3 with linespoints lw 2 lc rgb '#1f77b4' title "
+         "'force ripple %, spheres',"
+      << " '' skip 1 every 2::1 using 1:3 with linespoints lw 2 lc rgb '#d62728' title "
+         "'force ripple %, clipped leaves',"
+      << " 7 with lines dt 2 lw 1 lc rgb '#555555' title 'Weber fraction for force (7 "
+         "%)',"
+      << " '' skip 1 every 2::0 using 1:5 axes x1y2 with linespoints dt 3 lw 2 lc rgb "
+         "'#1f77b4' title 'air gap (mm), spheres',"
+      << " '' skip 1 every 2::1 using 1:5 axes x1y2 with linespoints dt 3 lw 2 lc rgb "
+         "'#d62728' title 'air gap (mm), clipped leaves'\n";
   out.close();
   if (std::system(("gnuplot '" + gp.string() + "'").c_str()) == 0) {
-    std::printf("plots: %s, %s, %s, %s\n", (dir / "resolution.png").c_str(), (dir / "tolerance.png").c_str(),
-                (dir / "ripple.png").c_str(), (dir / "buccal_ripple.png").c_str());
+    std::printf("plots: %s, %s, %s, %s\n", (dir / "resolution.png").c_str(),
+                (dir / "tolerance.png").c_str(), (dir / "ripple.png").c_str(),
+                (dir / "buccal_ripple.png").c_str());
   } else {
     std::printf("gnuplot failed on %s\n", gp.c_str());
   }
@@ -327,27 +373,34 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
   for (Effect e : base.effects)
     if (e != Effect::kContact) configs.push_back({ToString(e), {Effect::kContact, e}});
   configs.push_back({"all of the scene's", base.effects});
-  // Friction is measured whether or not the scene names it (on its objects' coefficients).
+  // Friction is measured whether or not the scene names it (on its objects'
+  // coefficients).
   if (!base.HasEffect(Effect::kFriction)) {
-    configs.push_back({"friction (not in the scene)", {Effect::kContact, Effect::kFriction}});
+    configs.push_back(
+        {"friction (not in the scene)", {Effect::kContact, Effect::kFriction}});
     std::vector<Effect> all = base.effects;
     all.push_back(Effect::kFriction);
     configs.push_back({"all of the scene's + friction", all});
   }
   std::ofstream csv(dir / "effects.csv");
-  csv << "config,tick_mean_us,tick_p50_us,tick_p99_us,readings,reading_mm,max_force_n,soft_contacts,bleeding,damage,"
+  csv << "config,tick_mean_us,tick_p50_us,tick_p99_us,readings,reading_mm,max_force_n,"
+         "soft_contacts,bleeding,damage,"
          "caries_catches,calculus_touches,stuck_ticks,sliding_ticks\n";
-  std::printf("effects on %s: the scripted insert, 8000 ticks offline (each tick timed 3 times, averaged)\n",
-              scene_file.c_str());
-  std::printf("  %-36s %8s %8s %8s  %8s %8s %9s %5s %5s %5s %5s %5s %6s %6s\n", "effects", "mean us", "p50 us",
-              "p99 us", "readings", "reading", "max F (N)", "soft", "bleed", "harm", "catch", "calc", "stuck", "slide");
+  std::printf(
+      "effects on %s: the scripted insert, 8000 ticks offline (each tick timed 3 times, "
+      "averaged)\n",
+      scene_file.c_str());
+  std::printf("  %-36s %8s %8s %8s  %8s %8s %9s %5s %5s %5s %5s %5s %6s %6s\n", "effects",
+              "mean us", "p50 us", "p99 us", "readings", "reading", "max F (N)", "soft",
+              "bleed", "harm", "catch", "calc", "stuck", "slide");
   for (const Config& c : configs) {
     SceneSpec spec = base;
     spec.effects = c.effects;
     const auto scene = CompileScene(spec, DefaultCacheDir());
     const ScriptTarget target = FindScriptTarget(*scene, "insert");
     std::vector<double> tick_us;
-    int readings = 0, soft = 0, bleeding = 0, damage = 0, catches = 0, calculus = 0, stuck = 0, sliding = 0;
+    int readings = 0, soft = 0, bleeding = 0, damage = 0, catches = 0, calculus = 0,
+        stuck = 0, sliding = 0;
     double reading = 0, max_force = 0;
     for (int run = 0; run < 3; ++run) {
       // Counts the effects' events of the first run.
@@ -357,13 +410,27 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
           for (int i = 0; i < r.num_events; ++i) {
             const HapticEvent& e = r.events[i];
             switch (e.kind) {
-              case EventKind::kProbeReading: ++readings; reading = e.payload.reading.depth_mm; break;
-              case EventKind::kSoftContact: ++soft; break;
-              case EventKind::kBleeding: ++bleeding; break;
-              case EventKind::kTissueDamage: ++damage; break;
-              case EventKind::kCariesCatch: ++catches; break;
-              case EventKind::kCalculusTouched: ++calculus; break;
-              default: break;
+              case EventKind::kProbeReading:
+                ++readings;
+                reading = e.payload.reading.depth_mm;
+                break;
+              case EventKind::kSoftContact:
+                ++soft;
+                break;
+              case EventKind::kBleeding:
+                ++bleeding;
+                break;
+              case EventKind::kTissueDamage:
+                ++damage;
+                break;
+              case EventKind::kCariesCatch:
+                ++catches;
+                break;
+              case EventKind::kCalculusTouched:
+                ++calculus;
+                break;
+              default:
+                break;
             }
           }
         }
@@ -386,36 +453,45 @@ void RunEffectsStudy(const fs::path& scene_file, const fs::path& dir) {
         run_sliding += loop.data().friction == EngineData::Friction::kSlip;
       });
       if (run == 0) {
-        readings = counter.readings, soft = counter.soft, bleeding = counter.bleeding, damage = counter.damage;
+        readings = counter.readings, soft = counter.soft, bleeding = counter.bleeding,
+        damage = counter.damage;
         catches = counter.catches;
         calculus = counter.calculus;
         reading = counter.reading, max_force = counter.max_force;
         stuck = run_stuck, sliding = run_sliding;
       }
       if (tick_us.empty()) tick_us.assign(us.size(), 0);
-      for (std::size_t i = 0; i < us.size(); ++i) tick_us[i] += us[i] / 3;  // mean over runs, tick by tick
+      for (std::size_t i = 0; i < us.size(); ++i)
+        tick_us[i] += us[i] / 3;  // mean over runs, tick by tick
     }
     std::vector<double> sorted = tick_us;
     std::sort(sorted.begin(), sorted.end());
     double mean = 0;
     for (double v : sorted) mean += v / sorted.size();
     const double p50 = sorted[sorted.size() / 2], p99 = sorted[sorted.size() * 99 / 100];
-    std::printf("  %-36s %8.2f %8.2f %8.2f  %8d %8.2f %9.3f %5d %5d %5d %5d %5d %6d %6d\n", c.label.c_str(), mean, p50,
-                p99, readings, reading, max_force, soft, bleeding, damage, catches, calculus, stuck, sliding);
-    csv << '"' << c.label << '"' << ',' << mean << ',' << p50 << ',' << p99 << ',' << readings << ',' << reading << ','
-        << max_force << ',' << soft << ',' << bleeding << ',' << damage << ',' << catches << ',' << calculus << ','
-        << stuck << ',' << sliding << '\n';
+    std::printf(
+        "  %-36s %8.2f %8.2f %8.2f  %8d %8.2f %9.3f %5d %5d %5d %5d %5d %6d %6d\n",
+        c.label.c_str(), mean, p50, p99, readings, reading, max_force, soft, bleeding,
+        damage, catches, calculus, stuck, sliding);
+    csv << '"' << c.label << '"' << ',' << mean << ',' << p50 << ',' << p99 << ','
+        << readings << ',' << reading << ',' << max_force << ',' << soft << ','
+        << bleeding << ',' << damage << ',' << catches << ',' << calculus << ',' << stuck
+        << ',' << sliding << '\n';
   }
   csv.close();
   const fs::path gp = dir / "effects.gp";
   std::ofstream out(gp);
-  out << "set datafile separator ','\nset terminal pngcairo size 900,480 font 'Sans,11'\nset grid ytics\n"
+  out << "set datafile separator ','\nset terminal pngcairo size 900,480 font "
+         "'Sans,11'\nset grid ytics\n"
       << "set output '" << (dir / "effects.png").string() << "'\n"
-      << "set title 'Effects: what each costs per haptic tick (probing scene, scripted insert)'\n"
-      << "set style data histograms\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
+      << "set title 'Effects: what each costs per haptic tick (probing scene, scripted "
+         "insert)'\n"
+      << "set style data histograms\nset style histogram clustered gap 1\nset style fill "
+         "solid 0.8 border -1\n"
       << "set ylabel 'microseconds per tick'\nset xtics rotate by -20\nset key left top\n"
       << "set termoption noenhanced\nset yrange [0:*]\n"
-      << "plot '" << (dir / "effects.csv").string() << "' skip 1 using 2:xtic(1) title 'mean',"
+      << "plot '" << (dir / "effects.csv").string()
+      << "' skip 1 using 2:xtic(1) title 'mean',"
       << " '' skip 1 using 3 title 'p50', '' skip 1 using 4 title 'p99'\n";
   out.close();
   std::printf("CSV: %s\n", (dir / "effects.csv").c_str());
@@ -430,14 +506,17 @@ void AddAccuracyCommands(CLI::App& app) {
   auto out_dir = std::make_shared<std::string>("accuracy-cost");
   CLI::App* cmd = app.add_subcommand(
       "accuracy-cost",
-      "Measure what accuracy costs: sphere-tree resolution (protrusion vs build and frame time) and solver "
+      "Measure what accuracy costs: sphere-tree resolution (protrusion vs build and "
+      "frame time) and solver "
       "tolerance (penetration vs frame time), as a table, CSV and plots");
   cmd->add_option("--mesh", *mesh_file,
                   "Object to probe (default: a tooth-sized ellipsoid, 8 x 7 x 20 mm)");
-  cmd->add_option("-o,--output", *out_dir, "Folder for CSV files and plots")->capture_default_str();
+  cmd->add_option("-o,--output", *out_dir, "Folder for CSV files and plots")
+      ->capture_default_str();
   auto effects_scene = std::make_shared<std::string>();
-  cmd->add_option("--effects", *effects_scene,
-                  "Instead: measure each effect of this scene (cost per tick, what it buys)");
+  cmd->add_option(
+      "--effects", *effects_scene,
+      "Instead: measure each effect of this scene (cost per tick, what it buys)");
   cmd->callback([=] {
     if (!effects_scene->empty()) {
       fs::create_directories(*out_dir);
@@ -454,8 +533,11 @@ void AddAccuracyCommands(CLI::App& app) {
     const fs::path dir(*out_dir);
     fs::create_directories(dir);
     const fs::path cache = DefaultCacheDir();
-    std::printf("object: %s, %zu faces; probe: cylinder r 0.4 mm, 512 leaves; trees cached in %s\n",
-                mesh_file->empty() ? "tooth-sized ellipsoid" : mesh_file->c_str(), object.num_faces(), cache.c_str());
+    std::printf(
+        "object: %s, %zu faces; probe: cylinder r 0.4 mm, 512 leaves; trees cached in "
+        "%s\n",
+        mesh_file->empty() ? "tooth-sized ellipsoid" : mesh_file->c_str(),
+        object.num_faces(), cache.c_str());
     const TriangleMesh probe_mesh = MakeCylinder(0.4, 16, 24, 24);
     const double probe_bottom = probe_mesh.Bounds().min.z();
     const SphereTree probe = LoadOrBuildSphereTree(probe_mesh, ToolTreeParams(), cache);
@@ -464,9 +546,12 @@ void AddAccuracyCommands(CLI::App& app) {
     fit_eval.volume_samples_per_sphere = 64;
 
     std::ofstream res(dir / "resolution.csv");
-    res << "leaves_budget,leaves,protrusion_max_pct,protrusion_mean_pct,build_s,frame_p50_us,frame_p99_us,pairs,faults\n";
+    res << "leaves_budget,leaves,protrusion_max_pct,protrusion_mean_pct,build_s,frame_"
+           "p50_us,frame_p99_us,pairs,faults\n";
     std::printf("\nresolution (levels 4 up to 512 leaves, 5 above)\n");
-    std::printf("  budget leaves  worst %%   mean %%   build s  frame p50 us  p99 us  pairs  contact  faults\n");
+    std::printf(
+        "  budget leaves  worst %%   mean %%   build s  frame p50 us  p99 us  pairs  "
+        "contact  faults\n");
     for (int budget : {8, 32, 64, 128, 256, 512, 1024, 2048}) {
       SphereTreeParams p;
       p.leaves = budget;
@@ -485,12 +570,16 @@ void AddAccuracyCommands(CLI::App& app) {
       const FrameStats f = RunSlide(probe, tree, box, EngineParams{});
       const double wp = 100 * m.leaves().protrusion_max_mm / m.largest_extent_mm;
       const double mp = 100 * m.leaves().protrusion_mean_mm / m.largest_extent_mm;
-      std::printf("  %6d %6zu  %7.3f  %7.3f  %8.2f  %12.2f  %6.2f  %5.0f  %6.0f%%  %6llu\n", budget, tree.NumLeaves(), wp,
-                  mp, build_s, f.p50_us, f.p99_us, f.mean_pairs, 100 * f.contact_share,
-                  static_cast<unsigned long long>(f.faults));
-      if (f.faults > 0) std::printf("          faults at %d leaves: %s\n", budget, FaultKinds(f.kinds).c_str());
-      res << budget << ',' << tree.NumLeaves() << ',' << wp << ',' << mp << ',' << build_s << ',' << f.p50_us << ','
-          << f.p99_us << ',' << f.mean_pairs << ',' << f.faults << '\n';
+      std::printf(
+          "  %6d %6zu  %7.3f  %7.3f  %8.2f  %12.2f  %6.2f  %5.0f  %6.0f%%  %6llu\n",
+          budget, tree.NumLeaves(), wp, mp, build_s, f.p50_us, f.p99_us, f.mean_pairs,
+          100 * f.contact_share, static_cast<unsigned long long>(f.faults));
+      if (f.faults > 0)
+        std::printf("          faults at %d leaves: %s\n", budget,
+                    FaultKinds(f.kinds).c_str());
+      res << budget << ',' << tree.NumLeaves() << ',' << wp << ',' << mp << ',' << build_s
+          << ',' << f.p50_us << ',' << f.p99_us << ',' << f.mean_pairs << ',' << f.faults
+          << '\n';
       std::fflush(stdout);
     }
     res.close();
@@ -500,14 +589,22 @@ void AddAccuracyCommands(CLI::App& app) {
       const TriangleMesh box_mesh = MakeBox(Vector3(16, 16, 4), 8);
       const double top = box_mesh.Bounds().max.z();
       std::ofstream rip(dir / "ripple.csv");
-      rip << "leaves,force_ripple_pct,height_ripple_mm,pops,worst_pop_n,frame_p50_us,frame_p99_us,faults,gap_mean_mm,"
-             "gap_max_mm,planes_force_ripple_pct,planes_height_ripple_mm,planes_pops,planes_worst_pop_n,"
-             "planes_frame_p50_us,planes_frame_p99_us,planes_faults,planes_gap_mean_mm,planes_gap_max_mm,"
+      rip << "leaves,force_ripple_pct,height_ripple_mm,pops,worst_pop_n,frame_p50_us,"
+             "frame_p99_us,faults,gap_mean_mm,"
+             "gap_max_mm,planes_force_ripple_pct,planes_height_ripple_mm,planes_pops,"
+             "planes_worst_pop_n,"
+             "planes_frame_p50_us,planes_frame_p99_us,planes_faults,planes_gap_mean_mm,"
+             "planes_gap_max_mm,"
              "clipped_leaves\n";
-      std::printf("\nsliding on a flat plate at constant depth (0.3 mm): normal force ripple (7 %% is about what a "
-                  "hand tells apart), rendered tool height ripple, pops (> 0.05 N in a frame beyond the device's move)\n");
-      std::printf("  budget leaves  surface  force ripple %%  height ripple mm  pops  worst pop N  frame p50 us  p99 us"
-                  "  faults  gap mean mm  gap max mm\n");
+      std::printf(
+          "\nsliding on a flat plate at constant depth (0.3 mm): normal force ripple (7 "
+          "%% is about what a "
+          "hand tells apart), rendered tool height ripple, pops (> 0.05 N in a frame "
+          "beyond the device's move)\n");
+      std::printf(
+          "  budget leaves  surface  force ripple %%  height ripple mm  pops  worst pop "
+          "N  frame p50 us  p99 us"
+          "  faults  gap mean mm  gap max mm\n");
       for (int budget : {32, 128, 512, 2048}) {
         SphereTreeParams p;
         p.leaves = budget;
@@ -517,17 +614,22 @@ void AddAccuracyCommands(CLI::App& app) {
         const LeafPlanes planes = FitLeafPlanes(box_mesh, plate);
         rip << plate.NumLeaves();
         for (const LeafPlanes* lp : {static_cast<const LeafPlanes*>(nullptr), &planes}) {
-          const RippleStats r = RunFlatSlide(probe, probe_bottom, plate, lp, top, EngineParams{});
-          std::printf("  %6d %6zu  %7s  %14.2f  %16.4f  %4d  %11.3f  %12.2f  %6.2f  %6llu  %11.4f  %10.4f\n", budget,
-                      plate.NumLeaves(), lp ? "planes" : "spheres", r.force_ripple_pct, r.height_ripple_mm, r.pops,
-                      r.worst_pop_n, r.p50_us, r.p99_us, static_cast<unsigned long long>(r.faults), r.gap_mean_mm,
-                      r.gap_max_mm);
-          rip << ',' << r.force_ripple_pct << ',' << r.height_ripple_mm << ',' << r.pops << ',' << r.worst_pop_n << ','
-              << r.p50_us << ',' << r.p99_us << ',' << r.faults << ',' << r.gap_mean_mm << ',' << r.gap_max_mm;
+          const RippleStats r =
+              RunFlatSlide(probe, probe_bottom, plate, lp, top, EngineParams{});
+          std::printf(
+              "  %6d %6zu  %7s  %14.2f  %16.4f  %4d  %11.3f  %12.2f  %6.2f  %6llu  "
+              "%11.4f  %10.4f\n",
+              budget, plate.NumLeaves(), lp ? "planes" : "spheres", r.force_ripple_pct,
+              r.height_ripple_mm, r.pops, r.worst_pop_n, r.p50_us, r.p99_us,
+              static_cast<unsigned long long>(r.faults), r.gap_mean_mm, r.gap_max_mm);
+          rip << ',' << r.force_ripple_pct << ',' << r.height_ripple_mm << ',' << r.pops
+              << ',' << r.worst_pop_n << ',' << r.p50_us << ',' << r.p99_us << ','
+              << r.faults << ',' << r.gap_mean_mm << ',' << r.gap_max_mm;
           std::fflush(stdout);
         }
         rip << ',' << planes.count() << '\n';
-        std::printf("          %d of %zu leaves clipped by a plane\n", planes.count(), plate.NumLeaves());
+        std::printf("          %d of %zu leaves clipped by a plane\n", planes.count(),
+                    plate.NumLeaves());
       }
     }
 
@@ -535,13 +637,20 @@ void AddAccuracyCommands(CLI::App& app) {
     {
       const ToothModel tooth = GenerateTooth(46);
       std::ofstream bc(dir / "buccal_ripple.csv");
-      bc << "leaves,surface,force_ripple_pct,gap_spread_mm,gap_mean_mm,gap_max_mm,pops,worst_pop_n,frame_p50_us,"
+      bc << "leaves,surface,force_ripple_pct,gap_spread_mm,gap_mean_mm,gap_max_mm,pops,"
+            "worst_pop_n,frame_p50_us,"
             "frame_p99_us,faults\n";
-      std::printf("\nsliding along tooth 46's buccal surface at constant depth (0.3 mm, 1.5 mm above the CEJ, 60 degrees "
-                  "of arc): fast force ripple (|F| less its mean over 0.5 mm of travel, peak to peak over the mean), "
-                  "the air gap felt (the probe's end face to the tooth's mesh) and its spread, pops\n");
-      std::printf("  budget leaves  surface  force ripple %%  gap mean mm  gap spread mm  gap max mm  pops  worst pop N"
-                  "  frame p50 us  p99 us  faults\n");
+      std::printf(
+          "\nsliding along tooth 46's buccal surface at constant depth (0.3 mm, 1.5 mm "
+          "above the CEJ, 60 degrees "
+          "of arc): fast force ripple (|F| less its mean over 0.5 mm of travel, peak to "
+          "peak over the mean), "
+          "the air gap felt (the probe's end face to the tooth's mesh) and its spread, "
+          "pops\n");
+      std::printf(
+          "  budget leaves  surface  force ripple %%  gap mean mm  gap spread mm  gap "
+          "max mm  pops  worst pop N"
+          "  frame p50 us  p99 us  faults\n");
       for (int budget : {128, 512, 2048}) {
         SphereTreeParams p;
         p.leaves = budget;
@@ -549,23 +658,31 @@ void AddAccuracyCommands(CLI::App& app) {
         const SphereTree tree = LoadOrBuildSphereTree(tooth.mesh, p, cache);
         const LeafPlanes planes = FitLeafPlanes(tooth.mesh, tree);
         for (const LeafPlanes* lp : {static_cast<const LeafPlanes*>(nullptr), &planes}) {
-          const RippleStats r = RunBuccalSlide(probe, probe_bottom, tooth.mesh, tree, lp, EngineParams{});
-          std::printf("  %6d %6zu  %7s  %14.2f  %11.4f  %13.4f  %10.4f  %4d  %11.3f  %12.2f  %6.2f  %6llu\n", budget,
-                      tree.NumLeaves(), lp ? "planes" : "spheres", r.force_ripple_pct, r.gap_mean_mm,
-                      r.height_ripple_mm, r.gap_max_mm, r.pops, r.worst_pop_n, r.p50_us, r.p99_us,
-                      static_cast<unsigned long long>(r.faults));
-          bc << tree.NumLeaves() << ',' << (lp ? "planes" : "spheres") << ',' << r.force_ripple_pct << ','
-             << r.height_ripple_mm << ',' << r.gap_mean_mm << ',' << r.gap_max_mm << ',' << r.pops << ','
-             << r.worst_pop_n << ',' << r.p50_us << ',' << r.p99_us << ',' << r.faults << '\n';
+          const RippleStats r =
+              RunBuccalSlide(probe, probe_bottom, tooth.mesh, tree, lp, EngineParams{});
+          std::printf(
+              "  %6d %6zu  %7s  %14.2f  %11.4f  %13.4f  %10.4f  %4d  %11.3f  %12.2f  "
+              "%6.2f  %6llu\n",
+              budget, tree.NumLeaves(), lp ? "planes" : "spheres", r.force_ripple_pct,
+              r.gap_mean_mm, r.height_ripple_mm, r.gap_max_mm, r.pops, r.worst_pop_n,
+              r.p50_us, r.p99_us, static_cast<unsigned long long>(r.faults));
+          bc << tree.NumLeaves() << ',' << (lp ? "planes" : "spheres") << ','
+             << r.force_ripple_pct << ',' << r.height_ripple_mm << ',' << r.gap_mean_mm
+             << ',' << r.gap_max_mm << ',' << r.pops << ',' << r.worst_pop_n << ','
+             << r.p50_us << ',' << r.p99_us << ',' << r.faults << '\n';
           std::fflush(stdout);
         }
       }
     }
 
     // What the budget is spent on, at 512 leaves: the mean (default) or the worst.
-    std::printf("\nspend (512 leaves): what the leaves are traded for after the min-max cover\n");
-    std::printf("  spend  worst %%   mean %%   overlap  build s  frame p50 us  p99 us  pairs  faults\n");
-    for (const auto spend : {SphereTreeParams::Spend::kWorst, SphereTreeParams::Spend::kMean}) {
+    std::printf(
+        "\nspend (512 leaves): what the leaves are traded for after the min-max cover\n");
+    std::printf(
+        "  spend  worst %%   mean %%   overlap  build s  frame p50 us  p99 us  pairs  "
+        "faults\n");
+    for (const auto spend :
+         {SphereTreeParams::Spend::kWorst, SphereTreeParams::Spend::kMean}) {
       SphereTreeParams p;
       p.spend = spend;
       const auto t0 = Clock::now();
@@ -576,30 +693,37 @@ void AddAccuracyCommands(CLI::App& app) {
       std::printf("  %5s  %7.3f  %7.3f  %7.2f  %7.2f  %12.2f  %6.2f  %5.0f  %6llu\n",
                   spend == SphereTreeParams::Spend::kMean ? "mean" : "worst",
                   100 * m.leaves().protrusion_max_mm / m.largest_extent_mm,
-                  100 * m.leaves().protrusion_mean_mm / m.largest_extent_mm, m.leaves().overlap, build_s, f.p50_us,
-                  f.p99_us, f.mean_pairs, static_cast<unsigned long long>(f.faults));
+                  100 * m.leaves().protrusion_mean_mm / m.largest_extent_mm,
+                  m.leaves().overlap, build_s, f.p50_us, f.p99_us, f.mean_pairs,
+                  static_cast<unsigned long long>(f.faults));
       std::fflush(stdout);
     }
 
     const SphereTree tree512 = LoadOrBuildSphereTree(object, SphereTreeParams{}, cache);
     std::ofstream tol(dir / "tolerance.csv");
-    tol << "tolerance_mm,frame_p50_us,frame_p99_us,linearizations,max_penetration_mm,faults\n";
-    std::printf("\nsolver tolerance (512 leaves): re-linearise until penetration and slack are below it\n");
-    std::printf("  tolerance mm  frame p50 us  p99 us  linearisations  max penetration mm  contact  faults\n");
+    tol << "tolerance_mm,frame_p50_us,frame_p99_us,linearizations,max_penetration_mm,"
+           "faults\n";
+    std::printf(
+        "\nsolver tolerance (512 leaves): re-linearise until penetration and slack are "
+        "below it\n");
+    std::printf(
+        "  tolerance mm  frame p50 us  p99 us  linearisations  max penetration mm  "
+        "contact  faults\n");
     for (double t : {1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6}) {
       EngineParams p;
       p.penetration_tolerance_mm = t;
       p.max_linearizations = 8;
       const FrameStats f = RunSlide(probe, tree512, box, p);
-      std::printf("  %12.0e  %12.2f  %6.2f  %14.2f  %18.2e  %6.0f%%  %6llu\n", t, f.p50_us, f.p99_us,
-                  f.mean_linearizations, f.max_penetration_mm, 100 * f.contact_share,
-                  static_cast<unsigned long long>(f.faults));
-      tol << t << ',' << f.p50_us << ',' << f.p99_us << ',' << f.mean_linearizations << ',' << f.max_penetration_mm
-          << ',' << f.faults << '\n';
+      std::printf("  %12.0e  %12.2f  %6.2f  %14.2f  %18.2e  %6.0f%%  %6llu\n", t,
+                  f.p50_us, f.p99_us, f.mean_linearizations, f.max_penetration_mm,
+                  100 * f.contact_share, static_cast<unsigned long long>(f.faults));
+      tol << t << ',' << f.p50_us << ',' << f.p99_us << ',' << f.mean_linearizations
+          << ',' << f.max_penetration_mm << ',' << f.faults << '\n';
     }
     tol.close();
-    std::printf("\nCSV: %s, %s, %s, %s\n", (dir / "resolution.csv").c_str(), (dir / "tolerance.csv").c_str(),
-                (dir / "ripple.csv").c_str(), (dir / "buccal_ripple.csv").c_str());
+    std::printf("\nCSV: %s, %s, %s, %s\n", (dir / "resolution.csv").c_str(),
+                (dir / "tolerance.csv").c_str(), (dir / "ripple.csv").c_str(),
+                (dir / "buccal_ripple.csv").c_str());
     Plot(dir);
   });
 }

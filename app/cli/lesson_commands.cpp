@@ -5,10 +5,10 @@
 #include <array>
 #include <cctype>
 #include <chrono>
-#include <cmath>
-#include <ctime>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -28,7 +28,8 @@ namespace {
 namespace fs = std::filesystem;
 
 void PrintResult(const LessonResult& r) {
-  std::printf("lesson: %s (%s), student %s\n", r.lesson_name.c_str(), r.mode.c_str(), r.student.c_str());
+  std::printf("lesson: %s (%s), student %s\n", r.lesson_name.c_str(), r.mode.c_str(),
+              r.student.c_str());
   // What needs attention and what was said; the lines that passed are counted
   // (every line is in the report).
   int passed = 0;
@@ -42,46 +43,60 @@ void PrintResult(const LessonResult& r) {
   }
   std::printf("  (%d more lines passed; the report lists every line)\n", passed);
   std::printf("categories:");
-  for (const auto& [cat, credit] : r.category_credit) std::printf(" %s %.0f%%", cat.c_str(), 100 * credit);
+  for (const auto& [cat, credit] : r.category_credit)
+    std::printf(" %s %.0f%%", cat.c_str(), 100 * credit);
   if (r.kind == "inspection") {
     std::size_t examined = 0;
     for (const InspectionUnit& u : r.inspection.units) examined += u.touched;
-    std::printf("\nscore %.1f / 100; %zu of %zu regions and tooth surfaces examined; %.1f s\nfindings:", r.total, examined,
-                r.inspection.units.size(), r.duration_s);
+    std::printf(
+        "\nscore %.1f / 100; %zu of %zu regions and tooth surfaces examined; %.1f "
+        "s\nfindings:",
+        r.total, examined, r.inspection.units.size(), r.duration_s);
     for (const FindingScore& f : r.inspection.scores)
       if (f.kind != "status")
-        std::printf(" %s %d of %d found, %d false;", f.kind.c_str(), f.tp, f.tp + f.fn, f.fp);
+        std::printf(" %s %d of %d found, %d false;", f.kind.c_str(), f.tp, f.tp + f.fn,
+                    f.fp);
     std::printf("\n");
     return;
   }
-  std::printf("\nscore %.1f / 100; %d of %d sites probed, %d charted; within 1 mm %.0f %%, exact %.0f %%, bias %+.2f mm "
-              "(interdental %+.2f mm); force in band %.0f %%; %.1f s\n",
-              r.total, r.sites_read, r.sites_total, r.sites_charted, r.within_1mm_pct, r.exact_pct, r.bias_mm,
-              r.bias_proximal_mm, r.force_in_band_pct, r.duration_s);
-  std::printf("diagnosis: truth %s; the student's chart %s; declared %s\n", r.true_dx.Summary().c_str(),
-              r.chart_dx.Summary().c_str(), r.declared ? r.declared->Summary().c_str() : "nothing");
+  std::printf(
+      "\nscore %.1f / 100; %d of %d sites probed, %d charted; within 1 mm %.0f %%, exact "
+      "%.0f %%, bias %+.2f mm "
+      "(interdental %+.2f mm); force in band %.0f %%; %.1f s\n",
+      r.total, r.sites_read, r.sites_total, r.sites_charted, r.within_1mm_pct,
+      r.exact_pct, r.bias_mm, r.bias_proximal_mm, r.force_in_band_pct, r.duration_s);
+  std::printf("diagnosis: truth %s; the student's chart %s; declared %s\n",
+              r.true_dx.Summary().c_str(), r.chart_dx.Summary().c_str(),
+              r.declared ? r.declared->Summary().c_str() : "nothing");
 }
 
 struct RunArgs {
-  std::string lesson, device = "student:careful", student = "student", answers, out_dir, results;
+  std::string lesson, device = "student:careful", student = "student", answers, out_dir,
+                      results;
   std::int64_t seed = -1;
   bool quiet = false, no_store = false;
 };
 
-fs::path ResultsDir(const std::string& option) { return option.empty() ? DefaultResultsDir() : fs::path(option); }
+fs::path ResultsDir(const std::string& option) {
+  return option.empty() ? DefaultResultsDir() : fs::path(option);
+}
 
 // Progress of a cold scene build (the first run builds the sphere-trees, which
 // takes a while): a line every 2 s once it has taken more than 1 s.
 BuildProgress Progress() {
   struct State {
-    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), last = start;
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(),
+                                          last = start;
   };
   auto st = std::make_shared<State>();
   return [st](std::string_view stage, double f) {
     const auto now = std::chrono::steady_clock::now();
-    if (now - st->start > std::chrono::seconds(1) && now - st->last > std::chrono::seconds(2)) {
-      std::fprintf(stderr, "  building the scene's sphere-trees (first run only): %3.0f %% (%.*s)\n", 100 * f,
-                   static_cast<int>(stage.size()), stage.data());
+    if (now - st->start > std::chrono::seconds(1) &&
+        now - st->last > std::chrono::seconds(2)) {
+      std::fprintf(
+          stderr,
+          "  building the scene's sphere-trees (first run only): %3.0f %% (%.*s)\n",
+          100 * f, static_cast<int>(stage.size()), stage.data());
       st->last = now;
     }
     return true;
@@ -102,12 +117,15 @@ int RunLesson(const RunArgs& a) {
   // Kept as it goes (a marker and the entries so far): if this program is
   // stopped mid-attempt, the next start rebuilds it (lesson recover, the window).
   if (!a.no_store) o.keep_in = &folder;
-  std::fprintf(stderr, "lesson %s, student '%s', device %s\n", a.lesson.c_str(), a.student.c_str(), a.device.c_str());
+  std::fprintf(stderr, "lesson %s, student '%s', device %s\n", a.lesson.c_str(),
+               a.student.c_str(), a.device.c_str());
   // The lesson by its full path, so that the attempt can be rebuilt from anywhere.
   const AttemptOutcome out = RunAttempt(fs::absolute(a.lesson).lexically_normal(), o);
   for (const std::string& n : out.notes) std::fprintf(stderr, "%s\n", n.c_str());
-  std::fprintf(stderr, "scene ready in %.2f s; %" PRIu64 " ticks (%.1f s of lesson) ran in %.2f s\n", out.compile_s,
-               out.ticks, out.result.duration_s, out.run_s);
+  std::fprintf(stderr,
+               "scene ready in %.2f s; %" PRIu64
+               " ticks (%.1f s of lesson) ran in %.2f s\n",
+               out.compile_s, out.ticks, out.result.duration_s, out.run_s);
   const fs::path report_dir = a.out_dir.empty() ? folder.dir : fs::path(a.out_dir);
   int status = 0;
   if (a.no_store) {
@@ -119,21 +137,30 @@ int RunLesson(const RunArgs& a) {
   } else {
     try {
       const auto t0 = std::chrono::steady_clock::now();
-      const std::int64_t id = KeepAttempt(out.result, folder, report_dir, results / "results.db");
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      std::fprintf(stderr, "kept as attempt %lld in %s (entries, report and database row in %.1f ms)\n",
-                   static_cast<long long>(id), (results / "results.db").c_str(), ms);
+      const std::int64_t id =
+          KeepAttempt(out.result, folder, report_dir, results / "results.db");
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+              .count();
+      std::fprintf(
+          stderr,
+          "kept as attempt %lld in %s (entries, report and database row in %.1f ms)\n",
+          static_cast<long long>(id), (results / "results.db").c_str(), ms);
       // Kept: with its report elsewhere, the folder's marker would read as unfinished.
       std::error_code ec;
       if (report_dir != folder.dir) fs::remove(folder.dir / "attempt.yaml", ec);
     } catch (const ResultsError& e) {
-      std::fprintf(stderr, "error: the attempt was not stored in the results database: %s\n"
-                           "(its recording, entries and report are kept in %s)\n", e.what(), folder.dir.c_str());
+      std::fprintf(stderr,
+                   "error: the attempt was not stored in the results database: %s\n"
+                   "(its recording, entries and report are kept in %s)\n",
+                   e.what(), folder.dir.c_str());
       status = 1;
     }
   }
-  if (!a.quiet) PrintResult(out.result);
-  else std::printf("score %.1f / 100 (%s)\n", out.result.total, out.result.student.c_str());
+  if (!a.quiet)
+    PrintResult(out.result);
+  else
+    std::printf("score %.1f / 100 (%s)\n", out.result.total, out.result.student.c_str());
   std::printf("report: %s\n", (report_dir / "report.html").c_str());
   return status;
 }
@@ -149,11 +176,13 @@ int Report(const ReportArgs& a) {
   fs::path lesson = a.lesson, answers = a.answers, recording, out_dir = a.out_dir;
   ReportInfo info;
   std::optional<AttemptRow> row;
-  const bool id = !a.what.empty() && std::all_of(a.what.begin(), a.what.end(), [](char c) { return std::isdigit(c); });
+  const bool id = !a.what.empty() && std::all_of(a.what.begin(), a.what.end(),
+                                                 [](char c) { return std::isdigit(c); });
   if (id) {
     ResultsDb db(ResultsDir(a.results) / "results.db");
     row = db.Attempt(std::stoll(a.what));
-    if (!row) throw std::invalid_argument("no attempt " + a.what + " in " + db.file().string());
+    if (!row)
+      throw std::invalid_argument("no attempt " + a.what + " in " + db.file().string());
     lesson = row->lesson_file;
     recording = row->recording;
     if (answers.empty()) answers = row->answers;
@@ -164,12 +193,17 @@ int Report(const ReportArgs& a) {
     if (out_dir.empty()) out_dir = row->report_dir;
   } else {
     recording = a.what;
-    if (lesson.empty()) throw std::invalid_argument("a recording needs --lesson FILE (the lesson it was taken in)");
-    if (answers.empty() && fs::exists(recording.parent_path() / "answers.yaml")) answers = recording.parent_path() / "answers.yaml";
-    if (out_dir.empty()) out_dir = recording.parent_path().empty() ? "." : recording.parent_path();
+    if (lesson.empty())
+      throw std::invalid_argument(
+          "a recording needs --lesson FILE (the lesson it was taken in)");
+    if (answers.empty() && fs::exists(recording.parent_path() / "answers.yaml"))
+      answers = recording.parent_path() / "answers.yaml";
+    if (out_dir.empty())
+      out_dir = recording.parent_path().empty() ? "." : recording.parent_path();
   }
   if (a.seed >= 0) o.seed = static_cast<std::uint64_t>(a.seed);
-  if (!fs::exists(recording)) throw std::invalid_argument("the recording " + recording.string() + " is missing");
+  if (!fs::exists(recording))
+    throw std::invalid_argument("the recording " + recording.string() + " is missing");
   o.device = "replay:" + recording.string();
   o.answers = answers;
   o.progress = Progress();
@@ -178,7 +212,10 @@ int Report(const ReportArgs& a) {
   info.recording = recording.string();
   WriteReport(out.result, info, out_dir);
   std::printf("score %.1f / 100", out.result.total);
-  if (row) std::printf(" (stored: %.1f%s)", row->total, std::abs(row->total - out.result.total) < 1e-9 ? ", the same" : ", DIFFERENT");
+  if (row)
+    std::printf(
+        " (stored: %.1f%s)", row->total,
+        std::abs(row->total - out.result.total) < 1e-9 ? ", the same" : ", DIFFERENT");
   std::printf("\nreport: %s\n", (out_dir / "report.html").c_str());
   return row && std::abs(row->total - out.result.total) >= 1e-9 ? 1 : 0;
 }
@@ -186,22 +223,28 @@ int Report(const ReportArgs& a) {
 }  // namespace
 
 void AddLessonCommands(CLI::App& app) {
-  CLI::App* lesson = app.add_subcommand("lesson", "Lessons: check a lesson file, run it headless, report an attempt");
+  CLI::App* lesson = app.add_subcommand(
+      "lesson", "Lessons: check a lesson file, run it headless, report an attempt");
   lesson->require_subcommand(1);
 
   auto file = std::make_shared<std::string>();
-  CLI::App* validate = lesson->add_subcommand("validate", "Check a lesson file and its scene; every error as file:line:column");
+  CLI::App* validate = lesson->add_subcommand(
+      "validate", "Check a lesson file and its scene; every error as file:line:column");
   validate->add_option("FILE", *file, "Lesson file (.yaml)")->required();
   validate->callback([file] {
     try {
       const LessonSpec s = LoadLessonSpec(*file);
       if (s.inspection())
-        std::printf("%s: valid: '%s', inspection, %s, scene %s, %zu teeth, %zu regions, %zu steps\n", file->c_str(),
-                    s.name.c_str(), ToString(s.mode), s.scene.string().c_str(), s.teeth.size(), s.regions.size(),
-                    s.steps.size());
+        std::printf(
+            "%s: valid: '%s', inspection, %s, scene %s, %zu teeth, %zu regions, %zu "
+            "steps\n",
+            file->c_str(), s.name.c_str(), ToString(s.mode), s.scene.string().c_str(),
+            s.teeth.size(), s.regions.size(), s.steps.size());
       else
-        std::printf("%s: valid: '%s', %s, scene %s, %zu teeth, %zu sites, %zu steps\n", file->c_str(), s.name.c_str(),
-                    ToString(s.mode), s.scene.string().c_str(), s.teeth.size(), s.path.size(), s.steps.size());
+        std::printf("%s: valid: '%s', %s, scene %s, %zu teeth, %zu sites, %zu steps\n",
+                    file->c_str(), s.name.c_str(), ToString(s.mode),
+                    s.scene.string().c_str(), s.teeth.size(), s.path.size(),
+                    s.steps.size());
     } catch (const SceneLoadError& e) {
       std::fprintf(stderr, "%s\n", e.what());
       ExitStatus() = 1;
@@ -209,39 +252,58 @@ void AddLessonCommands(CLI::App& app) {
   });
 
   auto a = std::make_shared<RunArgs>();
-  CLI::App* run = lesson->add_subcommand("run", "Take a lesson headless with a scripted or replayed device, score it, "
-                                               "write its report and store the attempt");
+  CLI::App* run = lesson->add_subcommand(
+      "run",
+      "Take a lesson headless with a scripted or replayed device, score it, "
+      "write its report and store the attempt");
   run->add_option("FILE", a->lesson, "Lesson file (.yaml)")->required();
   std::string students;
-  for (const std::string& n : ScriptedStudentNames()) students += (students.empty() ? "" : ", ") + n;
+  for (const std::string& n : ScriptedStudentNames())
+    students += (students.empty() ? "" : ", ") + n;
   run->add_option("--device", a->device,
-                  "student:NAME (a scripted student: " + students + "), scripted:NAME|FILE.csv, or replay:FILE")
+                  "student:NAME (a scripted student: " + students +
+                      "), scripted:NAME|FILE.csv, or replay:FILE")
       ->capture_default_str();
   run->add_option("--student", a->student, "Who takes the lesson")->capture_default_str();
-  run->add_option("--answers", a->answers, "An answers file: what the student charted and declared")
+  run->add_option("--answers", a->answers,
+                  "An answers file: what the student charted and declared")
       ->check(CLI::ExistingFile);
-  run->add_option("--seed", a->seed, "The generated case's seed (default: the lesson's, or drawn and stored)");
-  run->add_option("-o,--output", a->out_dir, "Write the report here (default: the attempt's folder)");
-  run->add_option("--results", a->results, "Results folder (default: $SULCUS_RESULTS_DIR or ~/.local/share/sulcus)");
-  run->add_flag("--no-store", a->no_store, "Do not store the attempt in the results database");
+  run->add_option(
+      "--seed", a->seed,
+      "The generated case's seed (default: the lesson's, or drawn and stored)");
+  run->add_option("-o,--output", a->out_dir,
+                  "Write the report here (default: the attempt's folder)");
+  run->add_option(
+      "--results", a->results,
+      "Results folder (default: $SULCUS_RESULTS_DIR or ~/.local/share/sulcus)");
+  run->add_flag("--no-store", a->no_store,
+                "Do not store the attempt in the results database");
   run->add_flag("--quiet", a->quiet, "Print the score only, not every line");
   run->callback([a] { ExitStatus() = RunLesson(*a); });
 
   auto r = std::make_shared<ReportArgs>();
-  CLI::App* report = lesson->add_subcommand("report", "Rebuild an attempt's report from its recording and entries "
-                                                     "(an attempt id from `results list`, or a recording file)");
-  report->add_option("ATTEMPT_OR_RECORDING", r->what, "Attempt id, or a recording (.rec)")->required();
-  report->add_option("-o,--output", r->out_dir, "Write the report here (default: beside the recording)");
+  CLI::App* report =
+      lesson->add_subcommand("report",
+                             "Rebuild an attempt's report from its recording and entries "
+                             "(an attempt id from `results list`, or a recording file)");
+  report->add_option("ATTEMPT_OR_RECORDING", r->what, "Attempt id, or a recording (.rec)")
+      ->required();
+  report->add_option("-o,--output", r->out_dir,
+                     "Write the report here (default: beside the recording)");
   report->add_option("--lesson", r->lesson, "The lesson (for a recording)");
-  report->add_option("--answers", r->answers, "The entries (default: the attempt's, or answers.yaml beside the recording)");
+  report->add_option(
+      "--answers", r->answers,
+      "The entries (default: the attempt's, or answers.yaml beside the recording)");
   report->add_option("--seed", r->seed, "A generated case's seed (for a recording)");
   report->add_option("--results", r->results, "Results folder");
   report->callback([r] { ExitStatus() = Report(*r); });
 
   auto recover_dir = std::make_shared<std::string>();
   CLI::App* recover = lesson->add_subcommand(
-      "recover", "Keep the attempts that were started and never kept (the program stopped mid-lesson): each is "
-                 "rebuilt from its recording and entries and stored as incomplete");
+      "recover",
+      "Keep the attempts that were started and never kept (the program stopped "
+      "mid-lesson): each is "
+      "rebuilt from its recording and entries and stored as incomplete");
   recover->add_option("--results", *recover_dir, "Results folder");
   recover->callback([recover_dir] {
     const fs::path results = ResultsDir(*recover_dir);
@@ -249,64 +311,86 @@ void AddLessonCommands(CLI::App& app) {
     if (dirs.empty()) std::printf("no unfinished attempts in %s\n", results.c_str());
     for (const fs::path& d : dirs) {
       try {
-        const RecoveredAttempt a = RecoverAttempt(d, results, DefaultCacheDir(), Progress());
-        std::printf("kept %s as attempt %lld: %.1f / 100, %s\n", d.c_str(), static_cast<long long>(a.id),
-                    a.result.total, a.result.complete ? "complete" : ("incomplete (" + a.result.ended + ")").c_str());
+        const RecoveredAttempt a =
+            RecoverAttempt(d, results, DefaultCacheDir(), Progress());
+        std::printf("kept %s as attempt %lld: %.1f / 100, %s\n", d.c_str(),
+                    static_cast<long long>(a.id), a.result.total,
+                    a.result.complete ? "complete"
+                                      : ("incomplete (" + a.result.ended + ")").c_str());
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "error: %s cannot be rebuilt: %s (its files are left as they were)\n", d.c_str(), e.what());
+        std::fprintf(
+            stderr, "error: %s cannot be rebuilt: %s (its files are left as they were)\n",
+            d.c_str(), e.what());
         ExitStatus() = 1;
       }
     }
   });
 
-  CLI::App* results = app.add_subcommand("results", "Students' results: list, show, export as CSV");
+  CLI::App* results =
+      app.add_subcommand("results", "Students' results: list, show, export as CSV");
   results->require_subcommand(1);
-  auto q = std::make_shared<std::array<std::string, 4>>();  // student, lesson, output, results folder
+  auto q = std::make_shared<std::array<std::string, 4>>();  // student, lesson, output,
+                                                            // results folder
   auto sites = std::make_shared<bool>(false);
   auto id = std::make_shared<std::int64_t>(0);
-  CLI::App* list = results->add_subcommand("list", "Every attempt, or a student's or a lesson's");
+  CLI::App* list =
+      results->add_subcommand("list", "Every attempt, or a student's or a lesson's");
   CLI::App* show = results->add_subcommand("show", "One attempt: its scores and sites");
-  CLI::App* exp = results->add_subcommand("export", "A student's or a cohort's attempts (or sites) as CSV");
+  CLI::App* exp = results->add_subcommand(
+      "export", "A student's or a cohort's attempts (or sites) as CSV");
   for (CLI::App* c : {list, exp}) {
     c->add_option("--student", (*q)[0], "Only this student");
     c->add_option("--lesson", (*q)[1], "Only this lesson file");
   }
-  for (CLI::App* c : {list, show, exp}) c->add_option("--results", (*q)[3], "Results folder");
+  for (CLI::App* c : {list, show, exp})
+    c->add_option("--results", (*q)[3], "Results folder");
   show->add_option("ATTEMPT", *id, "Attempt id")->required();
   exp->add_option("-o,--output", (*q)[2], "CSV file (default: standard output)");
   exp->add_flag("--sites", *sites, "One line per site instead of per attempt");
   list->callback([q] {
     ResultsDb db(ResultsDir((*q)[3]) / "results.db");
     const auto rows = db.Attempts((*q)[0], (*q)[1]);
-    std::printf("%6s  %-20s  %-16s  %-36s  %6s  %8s  %s\n", "id", "started", "student", "lesson", "score", "within1", "diagnosis declared");
+    std::printf("%6s  %-20s  %-16s  %-36s  %6s  %8s  %s\n", "id", "started", "student",
+                "lesson", "score", "within1", "diagnosis declared");
     for (const AttemptRow& a : rows) {
       // An inspection has no sites and no diagnosis: its columns say so.
       const bool sites = a.sites_total > 0;
       char within[16];
       std::snprintf(within, sizeof within, "%.0f%%", a.within_1mm_pct);
-      std::printf("%6lld  %-20s  %-16s  %-36s  %6.1f  %8s  %s\n", static_cast<long long>(a.id), a.started.c_str(),
-                  a.student.c_str(), a.lesson_name.substr(0, 36).c_str(), a.total, sites ? within : "-",
-                  ((sites ? a.declared_dx : std::string("-")) + (a.complete ? "" : "  [incomplete: " + a.ended + "]")).c_str());
+      std::printf("%6lld  %-20s  %-16s  %-36s  %6.1f  %8s  %s\n",
+                  static_cast<long long>(a.id), a.started.c_str(), a.student.c_str(),
+                  a.lesson_name.substr(0, 36).c_str(), a.total, sites ? within : "-",
+                  ((sites ? a.declared_dx : std::string("-")) +
+                   (a.complete ? "" : "  [incomplete: " + a.ended + "]"))
+                      .c_str());
     }
     std::printf("%zu attempts in %s\n", rows.size(), db.file().c_str());
   });
   show->callback([q, id] {
     ResultsDb db(ResultsDir((*q)[3]) / "results.db");
     const auto a = db.Attempt(*id);
-    if (!a) throw std::invalid_argument("no attempt " + std::to_string(*id) + " in " + db.file().string());
-    std::printf("attempt %lld: %s, %s (%s), %s\nscore %.1f / 100; %d of %d sites probed, %d charted; within 1 mm %.0f %%, "
-                "bias %+.2f mm; force in band %.0f %%; %.1f s\ndiagnosis: truth %s; chart %s; declared %s\n"
-                "recording %s\nreport %s/report.html\n",
-                static_cast<long long>(a->id), a->student.c_str(), a->lesson_name.c_str(), a->mode.c_str(), a->started.c_str(),
-                a->total, a->sites_read, a->sites_total, a->sites_charted, a->within_1mm_pct, a->bias_mm,
-                a->force_in_band_pct, a->duration_s, a->true_dx.c_str(), a->chart_dx.c_str(), a->declared_dx.c_str(),
-                a->recording.c_str(), a->report_dir.c_str());
+    if (!a)
+      throw std::invalid_argument("no attempt " + std::to_string(*id) + " in " +
+                                  db.file().string());
+    std::printf(
+        "attempt %lld: %s, %s (%s), %s\nscore %.1f / 100; %d of %d sites probed, %d "
+        "charted; within 1 mm %.0f %%, "
+        "bias %+.2f mm; force in band %.0f %%; %.1f s\ndiagnosis: truth %s; chart %s; "
+        "declared %s\n"
+        "recording %s\nreport %s/report.html\n",
+        static_cast<long long>(a->id), a->student.c_str(), a->lesson_name.c_str(),
+        a->mode.c_str(), a->started.c_str(), a->total, a->sites_read, a->sites_total,
+        a->sites_charted, a->within_1mm_pct, a->bias_mm, a->force_in_band_pct,
+        a->duration_s, a->true_dx.c_str(), a->chart_dx.c_str(), a->declared_dx.c_str(),
+        a->recording.c_str(), a->report_dir.c_str());
     if (!a->complete) std::printf("incomplete: %s\n", a->ended.c_str());
     for (const SiteRow& s : db.Sites(a->student, a->lesson_file)) {
       if (s.attempt != a->id) continue;
-      std::printf("  %d %-2s truth %d  reached %s  entered %s  %.2f N\n", s.fdi, SiteCode(s.site), s.truth_mm,
+      std::printf("  %d %-2s truth %d  reached %s  entered %s  %.2f N\n", s.fdi,
+                  SiteCode(s.site), s.truth_mm,
                   s.reached_mm ? std::to_string(*s.reached_mm).substr(0, 4).c_str() : "-",
-                  s.entered_mm ? std::to_string(*s.entered_mm).c_str() : "-", s.peak_force_n);
+                  s.entered_mm ? std::to_string(*s.entered_mm).c_str() : "-",
+                  s.peak_force_n);
     }
   });
   exp->callback([q, sites] {
@@ -317,8 +401,10 @@ void AddLessonCommands(CLI::App& app) {
       if (!file) throw std::runtime_error((*q)[2] + ": cannot write");
     }
     std::ostream& out = (*q)[2].empty() ? std::cout : file;
-    if (*sites) ExportSitesCsv(db.Sites((*q)[0], (*q)[1]), out);
-    else ExportAttemptsCsv(db.Attempts((*q)[0], (*q)[1]), out);
+    if (*sites)
+      ExportSitesCsv(db.Sites((*q)[0], (*q)[1]), out);
+    else
+      ExportAttemptsCsv(db.Attempts((*q)[0], (*q)[1]), out);
     if (!(*q)[2].empty()) std::fprintf(stderr, "wrote %s\n", (*q)[2].c_str());
   });
 }

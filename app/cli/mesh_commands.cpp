@@ -21,16 +21,17 @@ int MeshInfo(const std::string& file) {
   const MeshReport r = mesh.Check();
   const Vector3 e = r.bounds.extent();
   std::printf("mesh %s\n", file.c_str());
-  std::printf("  vertices   %zu (%zu unreferenced)\n", r.num_vertices, r.unreferenced_vertices);
+  std::printf("  vertices   %zu (%zu unreferenced)\n", r.num_vertices,
+              r.unreferenced_vertices);
   std::printf("  faces      %zu\n", r.num_faces);
   std::printf("  edges      %zu\n", r.num_edges);
   std::printf("  components %zu, Euler characteristic %d\n", r.components,
               r.euler_characteristic);
   std::printf("  volume     %.6g mm^3\n", r.volume);
   std::printf("  area       %.6g mm^2\n", r.area);
-  std::printf("  bounds     [%.6g, %.6g, %.6g] .. [%.6g, %.6g, %.6g] mm\n", r.bounds.min.x(),
-              r.bounds.min.y(), r.bounds.min.z(), r.bounds.max.x(), r.bounds.max.y(),
-              r.bounds.max.z());
+  std::printf("  bounds     [%.6g, %.6g, %.6g] .. [%.6g, %.6g, %.6g] mm\n",
+              r.bounds.min.x(), r.bounds.min.y(), r.bounds.min.z(), r.bounds.max.x(),
+              r.bounds.max.y(), r.bounds.max.z());
   std::printf("  size       %.6g x %.6g x %.6g mm\n", e.x(), e.y(), e.z());
   std::printf("checks\n");
   std::printf("  [%s] closed (watertight): %zu boundary edge(s)\n", Mark(r.closed()),
@@ -54,8 +55,9 @@ void AddMeshCommands(CLI::App& app) {
   mesh->require_subcommand(1);
 
   auto file = std::make_shared<std::string>();
-  CLI::App* info = mesh->add_subcommand(
-      "info", "Print counts, volume, area, bounding box and every check; exit 1 if a check fails");
+  CLI::App* info = mesh->add_subcommand("info",
+                                        "Print counts, volume, area, bounding box and "
+                                        "every check; exit 1 if a check fails");
   info->add_option("FILE", *file, "Mesh file (.stl, .obj, .ply, .off)")->required();
   info->callback([file] { ExitStatus() = MeshInfo(*file); });
 
@@ -81,7 +83,8 @@ void AddMeshCommands(CLI::App& app) {
   make->add_option("SHAPE", *shape, "box, sphere, torus or cylinder")
       ->required()
       ->check(CLI::IsMember({"box", "sphere", "torus", "cylinder"}));
-  make->add_option("--size", *size, "Characteristic size in mm (edge, radius, ring radius)")
+  make->add_option("--size", *size,
+                   "Characteristic size in mm (edge, radius, ring radius)")
       ->check(CLI::PositiveNumber);
   make->add_option("--detail", *detail, "Resolution (subdivisions or segments / 8)")
       ->check(CLI::Range(1, 8));
@@ -95,8 +98,8 @@ void AddMeshCommands(CLI::App& app) {
     if (*shape == "torus") mesh = MakeTorus(s, s / 3, 16 * d, 8 * d);
     if (*shape == "cylinder") mesh = MakeCylinder(s, 2 * s, 16 * d, d);
     SaveMesh(mesh, *make_out);
-    std::printf("wrote %s: %s, %zu vertices, %zu faces\n", make_out->c_str(), shape->c_str(),
-                mesh.num_vertices(), mesh.num_faces());
+    std::printf("wrote %s: %s, %zu vertices, %zu faces\n", make_out->c_str(),
+                shape->c_str(), mesh.num_vertices(), mesh.num_faces());
   });
 }
 

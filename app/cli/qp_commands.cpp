@@ -27,7 +27,8 @@ struct BenchResult {
 // Independent check of one answer, from the file's own A, b, G and q_h and the
 // solver's multipliers: violation max(b - A q), and the KKT residual (stationarity
 // G (q - q_h) = sum lambda_i a_i, complementarity, dual feasibility), relative.
-void Check(const QpInstances& qp, int s, int t, const QpSolution& sol, double* violation, double* kkt) {
+void Check(const QpInstances& qp, int s, int t, const QpSolution& sol, double* violation,
+           double* kkt) {
   const double* A = qp.A(s, t);
   const double* b = qp.B(s, t);
   const double* qh = qp.QH(s, t);
@@ -77,9 +78,12 @@ BenchResult Run(const QpInstances& qp, bool warm) {
       std::copy_n(qp.A(s, t), A.size(), A.begin());
       std::copy_n(qp.B(s, t), b.size(), b.begin());
       const auto t0 = std::chrono::steady_clock::now();
-      const QpSolution& sol = solver.Solve(A.data(), b.data(), qp.m, g, qh, warm ? active.data() : nullptr,
-                                           warm ? num_active : 0);
-      r.us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+      const QpSolution& sol =
+          solver.Solve(A.data(), b.data(), qp.m, g, qh, warm ? active.data() : nullptr,
+                       warm ? num_active : 0);
+      r.us.push_back(
+          std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0)
+              .count());
       num_active = sol.num_active;
       std::copy_n(sol.active.begin(), num_active, active.begin());
       for (int k = 0; k < kQpVars; ++k) r.q.push_back(sol.q[k]);
@@ -97,7 +101,9 @@ BenchResult Run(const QpInstances& qp, bool warm) {
   return r;
 }
 
-double Pct(const std::vector<double>& v, double q) { return v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))]; }
+double Pct(const std::vector<double>& v, double q) {
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))];
+}
 
 }  // namespace
 
@@ -105,40 +111,51 @@ void AddQpCommands(CLI::App& app) {
   auto file = std::make_shared<std::string>();
   auto cold = std::make_shared<bool>(false);
   auto solutions = std::make_shared<std::string>();
-  CLI::App* bench = app.add_subcommand(
-      "qp-bench", "Solve every QP of a file in order, warm-starting along each sequence, and time it");
-  bench->add_option("FILE", *file, "QP instances (see `qp-gen --help` for the format)")->required();
-  bench->add_flag("--compare-cold", *cold, "Also solve every frame cold (no warm start), side by side");
+  CLI::App* bench = app.add_subcommand("qp-bench",
+                                       "Solve every QP of a file in order, warm-starting "
+                                       "along each sequence, and time it");
+  bench->add_option("FILE", *file, "QP instances (see `qp-gen --help` for the format)")
+      ->required();
+  bench->add_flag("--compare-cold", *cold,
+                  "Also solve every frame cold (no warm start), side by side");
   bench->add_option("--solutions", *solutions,
-                    "Write every frame's warm-started solution here (float64 q[n] per frame, little-endian, in the "
+                    "Write every frame's warm-started solution here (float64 q[n] per "
+                    "frame, little-endian, in the "
                     "file's order), to compare with another solver");
   bench->callback([=] {
     const QpInstances qp = ReadQpInstances(*file);
     if (qp.n != kQpVars) {
-      throw QpFileError(*file + ": n = " + std::to_string(qp.n) + ", this solver has " + std::to_string(kQpVars) + " variables");
+      throw QpFileError(*file + ": n = " + std::to_string(qp.n) + ", this solver has " +
+                        std::to_string(kQpVars) + " variables");
     }
-    std::printf("%s: n=%d m=%d, %d sequences of %d frames\n", file->c_str(), qp.n, qp.m, qp.sequences, qp.frames);
+    std::printf("%s: n=%d m=%d, %d sequences of %d frames\n", file->c_str(), qp.n, qp.m,
+                qp.sequences, qp.frames);
     auto report = [&](const char* label, const BenchResult& r) {
       const double n = static_cast<double>(r.us.size());
-      std::printf("  %-5s median %.2f us, p99 %.2f us, max %.2f us; iterations mean %.2f, max %d; failures %d"
-                  " (%d infeasible, relaxed)\n",
-                  label, Pct(r.us, 0.5), Pct(r.us, 0.99), r.us.back(), r.iterations / n, r.max_iterations,
-                  r.failures, r.infeasible);
+      std::printf(
+          "  %-5s median %.2f us, p99 %.2f us, max %.2f us; iterations mean %.2f, max "
+          "%d; failures %d"
+          " (%d infeasible, relaxed)\n",
+          label, Pct(r.us, 0.5), Pct(r.us, 0.99), r.us.back(), r.iterations / n,
+          r.max_iterations, r.failures, r.infeasible);
     };
     if (*cold) report("cold", Run(qp, false));
     const BenchResult warm = Run(qp, true);
     report("warm", warm);
     if (!solutions->empty()) {
       std::FILE* f = std::fopen(solutions->c_str(), "wb");
-      const bool ok = f && std::fwrite(warm.q.data(), sizeof(double), warm.q.size(), f) == warm.q.size();
+      const bool ok = f && std::fwrite(warm.q.data(), sizeof(double), warm.q.size(), f) ==
+                               warm.q.size();
       if (f) std::fclose(f);
       if (!ok) throw QpFileError(*solutions + ": cannot write the solutions");
     }
-    std::printf("qp-bench frames=%zu median_us=%.3f p99_us=%.3f max_us=%.3f mean_iters=%.3f max_iters=%d failures=%d "
-                "mean_active=%.2f\n",
-                warm.us.size(), Pct(warm.us, 0.5), Pct(warm.us, 0.99), warm.us.back(),
-                static_cast<double>(warm.iterations) / warm.us.size(), warm.max_iterations, warm.failures,
-                static_cast<double>(warm.active) / warm.us.size());
+    std::printf(
+        "qp-bench frames=%zu median_us=%.3f p99_us=%.3f max_us=%.3f mean_iters=%.3f "
+        "max_iters=%d failures=%d "
+        "mean_active=%.2f\n",
+        warm.us.size(), Pct(warm.us, 0.5), Pct(warm.us, 0.99), warm.us.back(),
+        static_cast<double>(warm.iterations) / warm.us.size(), warm.max_iterations,
+        warm.failures, static_cast<double>(warm.active) / warm.us.size());
     ExitStatus() = warm.failures ? 1 : 0;
   });
 
@@ -150,20 +167,28 @@ void AddQpCommands(CLI::App& app) {
   auto out = std::make_shared<std::string>();
   CLI::App* gen = app.add_subcommand(
       "qp-gen",
-      "Write contact-like QP sequences. Format (little-endian): int32 n, m, S, T; float64 G_diag[n]; then S "
+      "Write contact-like QP sequences. Format (little-endian): int32 n, m, S, T; "
+      "float64 G_diag[n]; then S "
       "sequences of T frames, each float64 q_h[n], A[m*n] row-major, b[m]; each frame is "
       "min 1/2 (q-q_h)^T G (q-q_h) s.t. A q >= b");
   gen->add_option("KIND", *kind, "slot, wedge, plane, cluster or random")
       ->required()
       ->check(CLI::IsMember({"slot", "wedge", "plane", "cluster", "random"}));
-  gen->add_option("--m", *m, "Constraints per frame")->capture_default_str()->check(CLI::Range(1, 100000));
-  gen->add_option("--sequences", *seqs, "Sequences")->capture_default_str()->check(CLI::PositiveNumber);
-  gen->add_option("--frames", *frames, "Frames per sequence")->capture_default_str()->check(CLI::PositiveNumber);
+  gen->add_option("--m", *m, "Constraints per frame")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  gen->add_option("--sequences", *seqs, "Sequences")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  gen->add_option("--frames", *frames, "Frames per sequence")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   gen->add_option("--seed", *seed, "Random seed")->capture_default_str();
   gen->add_option("-o,--output", *out, "Output file")->required();
   gen->callback([=] {
     WriteQpInstances(GenerateQpInstances(*kind, *m, *seqs, *frames, *seed), *out);
-    std::printf("wrote %s: %s, m=%d, %d sequences of %d frames\n", out->c_str(), kind->c_str(), *m, *seqs, *frames);
+    std::printf("wrote %s: %s, m=%d, %d sequences of %d frames\n", out->c_str(),
+                kind->c_str(), *m, *seqs, *frames);
   });
 }
 

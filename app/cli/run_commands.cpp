@@ -8,8 +8,8 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <set>
 #include <memory>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -36,7 +36,8 @@ struct RunArgs {
   bool no_realtime = false;
   double spin_us = -1;  // the thread's default
   bool offline = false;
-  std::vector<double> trace;  // offline: print the engine's state each tick from trace[0] to trace[1] s
+  std::vector<double>
+      trace;  // offline: print the engine's state each tick from trace[0] to trace[1] s
 };
 
 // One tick of the engine, for --trace: the device and rendered tool, the force,
@@ -45,15 +46,21 @@ void TraceTick(const HapticLoop& l, const SceneSpec& spec, double rate_hz) {
   const EngineData& d = l.data();
   const TickRecord& r = l.last_record();
   const Vector3 h = d.X_WH.translation(), g = d.X_WG.translation();
-  std::printf("trace %" PRIu64 " %.4f s: device (%.3f %.3f %.3f) tool (%.3f %.3f %.3f) |g-h| %.3f mm force %.3f N "
-              "(engine %.3f) step %.1f us (collide %.1f rows %.1f qp %.1f) pairs %d active %d pen %.4f mm margin %.3f sweeps %d tests %d%s qp %d it %d lin %d%s%s "
-              "faults overflow %" PRIu64 " solver %" PRIu64 " pen %" PRIu64 " sweep %" PRIu64 " held %" PRIu64 " inside %" PRIu64 "\n",
-              r.tick, static_cast<double>(r.tick) / rate_hz, h.x(), h.y(), h.z(), g.x(), g.y(), g.z(), (g - h).norm(),
-              r.force_W.norm(), d.force_W.norm(), d.timings.total_us, d.timings.collide_us, d.timings.constraints_us,
-              d.timings.solve_us, d.num_pairs, d.active_contacts, d.max_penetration_mm, d.margin_mm,
-              d.sweeps, d.node_tests, d.node_budget_hit ? " (budget hit)" : "", static_cast<int>(d.qp_status),
-              d.qp_iterations, d.linearizations, d.pair_overflow ? " overflow" : "", d.inside ? " INSIDE" : "",
-              d.faults.pair_overflow, d.faults.solver, d.faults.penetration, d.faults.sweep, d.faults.held, d.faults.inside);
+  std::printf(
+      "trace %" PRIu64
+      " %.4f s: device (%.3f %.3f %.3f) tool (%.3f %.3f %.3f) |g-h| %.3f mm force %.3f N "
+      "(engine %.3f) step %.1f us (collide %.1f rows %.1f qp %.1f) pairs %d active %d "
+      "pen %.4f mm margin %.3f sweeps %d tests %d%s qp %d it %d lin %d%s%s "
+      "faults overflow %" PRIu64 " solver %" PRIu64 " pen %" PRIu64 " sweep %" PRIu64
+      " held %" PRIu64 " inside %" PRIu64 "\n",
+      r.tick, static_cast<double>(r.tick) / rate_hz, h.x(), h.y(), h.z(), g.x(), g.y(),
+      g.z(), (g - h).norm(), r.force_W.norm(), d.force_W.norm(), d.timings.total_us,
+      d.timings.collide_us, d.timings.constraints_us, d.timings.solve_us, d.num_pairs,
+      d.active_contacts, d.max_penetration_mm, d.margin_mm, d.sweeps, d.node_tests,
+      d.node_budget_hit ? " (budget hit)" : "", static_cast<int>(d.qp_status),
+      d.qp_iterations, d.linearizations, d.pair_overflow ? " overflow" : "",
+      d.inside ? " INSIDE" : "", d.faults.pair_overflow, d.faults.solver,
+      d.faults.penetration, d.faults.sweep, d.faults.held, d.faults.inside);
   // Which objects the pairs are with, and how many distinct tool leaves they use.
   std::map<int, std::pair<int, std::set<int>>> by_object;
   for (int i = 0; i < d.num_pairs; ++i) {
@@ -64,7 +71,8 @@ void TraceTick(const HapticLoop& l, const SceneSpec& spec, double rate_hz) {
   if (!by_object.empty()) {
     std::printf("  pairs by object:");
     for (const auto& [object, e] : by_object)
-      std::printf(" %s %d (tool leaves %zu)", ObjectName(spec, object).c_str(), e.first, e.second.size());
+      std::printf(" %s %d (tool leaves %zu)", ObjectName(spec, object).c_str(), e.first,
+                  e.second.size());
     std::printf("\n");
   }
 }
@@ -77,7 +85,8 @@ class RunSummary final : public TickConsumer {
     // Pops of the force sent (UnexplainedForceChange).
     const Vector3 at = r.sample.X_WH.translation();
     if (ticks_++ > 0) {
-      const double unexplained = UnexplainedForceChange(last_force_, r.force_W, last_at_, at, spec_.haptics.k_t);
+      const double unexplained =
+          UnexplainedForceChange(last_force_, r.force_W, last_at_, at, spec_.haptics.k_t);
       if (unexplained > kPopN) {
         ++pops;
         if (unexplained > worst_pop_n) {
@@ -92,8 +101,9 @@ class RunSummary final : public TickConsumer {
     for (int i = 0; i < r.num_events; ++i) {
       const HapticEvent& e = r.events[i];
       if (e.kind == EventKind::kContactBegan) ++began[e.object];
-      const bool effect = e.kind == EventKind::kProbeReading || e.kind == EventKind::kBleeding ||
-                          e.kind == EventKind::kTissueDamage || e.kind == EventKind::kSoftContact;
+      const bool effect =
+          e.kind == EventKind::kProbeReading || e.kind == EventKind::kBleeding ||
+          e.kind == EventKind::kTissueDamage || e.kind == EventKind::kSoftContact;
       if (!effect || lines.size() >= 40) continue;
       char t[32];
       std::snprintf(t, sizeof t, "%.3f s: ", static_cast<double>(e.tick) / rate_hz_);
@@ -118,14 +128,17 @@ int Run(const RunArgs& a) {
   std::fprintf(stderr, "compiling %s ...\n", a.scene.c_str());
   const auto t0 = std::chrono::steady_clock::now();
   const auto scene = CompileScene(spec, DefaultCacheDir());
-  std::fprintf(stderr, "compiled in %.2f s\n",
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  std::fprintf(
+      stderr, "compiled in %.2f s\n",
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 
   DeviceSpec device = MakeDevice(a.device, *scene, a.seconds, a.seed, a.object);
   for (const std::string& n : device.notes) std::fprintf(stderr, "%s\n", n.c_str());
   const double recorded_rate = device.replayed ? device.replayed->header.rate_hz : 0;
   SessionOptions so;
-  so.rate_hz = a.rate_hz > 0 ? a.rate_hz : recorded_rate > 0 ? recorded_rate : spec.rate_hz;
+  so.rate_hz = a.rate_hz > 0       ? a.rate_hz
+               : recorded_rate > 0 ? recorded_rate
+                                   : spec.rate_hz;
   so.max_ticks = static_cast<std::uint64_t>(a.seconds * so.rate_hz);
   so.realtime = !a.no_realtime;
   so.spin_us = a.spin_us;
@@ -133,15 +146,18 @@ int Run(const RunArgs& a) {
   Session session(*scene, std::move(device), so);
   RunSummary summary(scene->spec, so.rate_hz);
   session.AddConsumer(&summary);
-  std::fprintf(stderr, "running %s at %.0f Hz for %.1f s ...\n", session.device_name().c_str(), so.rate_hz, a.seconds);
-  std::vector<int> node_tests;  // offline: the collision work of each tick, in sphere tests
+  std::fprintf(stderr, "running %s at %.0f Hz for %.1f s ...\n",
+               session.device_name().c_str(), so.rate_hz, a.seconds);
+  std::vector<int>
+      node_tests;  // offline: the collision work of each tick, in sphere tests
   if (a.offline) {
     node_tests.reserve(so.max_ticks);
     // As fast as possible, on this thread: the same ticks, no clock.
     session.RunOffline([&](const HapticLoop& l) {
       node_tests.push_back(l.data().node_tests);
       const double t = static_cast<double>(l.last_record().tick) / so.rate_hz;
-      if (a.trace.size() == 2 && t >= a.trace[0] && t <= a.trace[1]) TraceTick(l, scene->spec, so.rate_hz);
+      if (a.trace.size() == 2 && t >= a.trace[0] && t <= a.trace[1])
+        TraceTick(l, scene->spec, so.rate_hz);
     });
   } else {
     session.Start();
@@ -159,56 +175,78 @@ int Run(const RunArgs& a) {
   const TimeHistogram& step_hist = a.offline ? session.offline_step_us() : st.step_us;
 
   if (session.thread())
-    if (const std::string notes = session.thread()->notes(); !notes.empty()) std::printf("note: %s\n", notes.c_str());
+    if (const std::string notes = session.thread()->notes(); !notes.empty())
+      std::printf("note: %s\n", notes.c_str());
   std::string on;
-  for (const auto& e : session.effects()) on += std::string(on.empty() ? "" : ", ") + e->name();
+  for (const auto& e : session.effects())
+    on += std::string(on.empty() ? "" : ", ") + e->name();
   std::printf("effects: %s\n", on.empty() ? "contact only" : on.c_str());
   for (const std::string& l : summary.lines) std::printf("  %s\n", l.c_str());
   const std::uint64_t ticks = a.offline ? loop.tick() : st.ticks.load();
   const double miss_pct = ticks ? 100.0 * st.misses.load() / ticks : 0;
-  std::printf("timing: %" PRIu64 " ticks at %.0f Hz; period p50 %.0f us, p99 %.0f us, p99.9 %.0f us, worst %.0f us "
-              "(tick %" PRIu64 "); %" PRIu64 " deadline misses (%.3f %%; %" PRIu64
-              " began more than a tenth of a period late, the others' work was too long)\n",
-              ticks, so.rate_hz, st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
-              st.period_us.Percentile(0.999), st.worst_period_us.load(), st.worst_tick.load(), st.misses.load(),
-              miss_pct, st.late_start_misses.load());
-  std::printf("step: p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us%s\n", step_hist.Percentile(0.5),
-              step_hist.Percentile(0.99), step_hist.Percentile(0.999), step_hist.max_us(), a.offline ? " (offline)" : "");
+  std::printf(
+      "timing: %" PRIu64
+      " ticks at %.0f Hz; period p50 %.0f us, p99 %.0f us, p99.9 %.0f us, worst %.0f us "
+      "(tick %" PRIu64 "); %" PRIu64 " deadline misses (%.3f %%; %" PRIu64
+      " began more than a tenth of a period late, the others' work was too long)\n",
+      ticks, so.rate_hz, st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
+      st.period_us.Percentile(0.999), st.worst_period_us.load(), st.worst_tick.load(),
+      st.misses.load(), miss_pct, st.late_start_misses.load());
+  std::printf("step: p50 %.0f us, p99 %.0f us, p99.9 %.0f us, max %.0f us%s\n",
+              step_hist.Percentile(0.5), step_hist.Percentile(0.99),
+              step_hist.Percentile(0.999), step_hist.max_us(),
+              a.offline ? " (offline)" : "");
   if (!node_tests.empty()) {
     std::sort(node_tests.begin(), node_tests.end());
-    std::printf("collision: sphere tests a tick p50 %d, p99 %d, p99.9 %d, max %d\n", node_tests[node_tests.size() / 2],
-                node_tests[node_tests.size() * 99 / 100], node_tests[node_tests.size() * 999 / 1000], node_tests.back());
+    std::printf("collision: sphere tests a tick p50 %d, p99 %d, p99.9 %d, max %d\n",
+                node_tests[node_tests.size() / 2],
+                node_tests[node_tests.size() * 99 / 100],
+                node_tests[node_tests.size() * 999 / 1000], node_tests.back());
   }
   // Read after the thread has stopped (joined): the engine's own counters.
   if (const int budget = loop.model().params.solve_pairs; budget > 0)
-    std::printf("crowded: %" PRIu64 " ticks met more than %d pairs (haptics: solve_pairs) and %" PRIu64
-                " had the step toward the device limited by the margin cap (never below 0.1 mm a tick)\n",
+    std::printf("crowded: %" PRIu64
+                " ticks met more than %d pairs (haptics: solve_pairs) and %" PRIu64
+                " had the step toward the device limited by the margin cap (never below "
+                "0.1 mm a tick)\n",
                 loop.data().shortened_frames, budget, loop.data().capped_frames);
   std::printf("contact: %" PRIu64 " ticks in contact (%.1f %%)", s.contact_ticks,
               ticks ? 100.0 * s.contact_ticks / ticks : 0.0);
   for (const auto& [object, n] : summary.began)
     std::printf("; %s touched %d times", ObjectName(scene->spec, object).c_str(), n);
-  std::printf("\nforce: max %.3f N, mean in contact %.3f N, saturated %" PRIu64 " ticks\n", s.max_force_n,
-              s.contact_ticks ? s.contact_force_sum_n / s.contact_ticks : 0.0, s.saturated_ticks);
-  std::printf("pops: %" PRIu64 " ticks whose force changed by more than %.2f N beyond the device's own move",
-              summary.pops, kPopN);
+  std::printf(
+      "\nforce: max %.3f N, mean in contact %.3f N, saturated %" PRIu64 " ticks\n",
+      s.max_force_n, s.contact_ticks ? s.contact_force_sum_n / s.contact_ticks : 0.0,
+      s.saturated_ticks);
+  std::printf(
+      "pops: %" PRIu64
+      " ticks whose force changed by more than %.2f N beyond the device's own move",
+      summary.pops, kPopN);
   if (summary.pops > 0)
-    std::printf(" (worst %.3f N at %.3f s)", summary.worst_pop_n, static_cast<double>(summary.worst_pop_tick) / so.rate_hz);
+    std::printf(" (worst %.3f N at %.3f s)", summary.worst_pop_n,
+                static_cast<double>(summary.worst_pop_tick) / so.rate_hz);
   std::printf("\n");
-  std::printf("faults: %" PRIu64 " (engine %" PRIu64 ", overruns %" PRIu64 ", device stalls %" PRIu64
-              ", non-finite output %" PRIu64 "); events %" PRIu64 ", dropped %" PRIu64 "; ticks not delivered %" PRIu64
+  std::printf("faults: %" PRIu64 " (engine %" PRIu64 ", overruns %" PRIu64
+              ", device stalls %" PRIu64 ", non-finite output %" PRIu64
+              "); events %" PRIu64 ", dropped %" PRIu64 "; ticks not delivered %" PRIu64
               "\n",
-              s.faults.total(), s.faults.engine, s.faults.overruns, s.faults.device_stalls, s.faults.nonfinite_output,
-              summary.events, s.faults.events_dropped, session.dropped_ticks());
+              s.faults.total(), s.faults.engine, s.faults.overruns,
+              s.faults.device_stalls, s.faults.nonfinite_output, summary.events,
+              s.faults.events_dropped, session.dropped_ticks());
   if (const RecordingWriter* w = session.recorder())
-    std::printf("recorded %" PRIu64 " ticks to %s (%" PRIu64 " dropped)\n", w->written(), a.record.c_str(),
-                w->dropped());
-  std::printf("run rate_hz=%.0f ticks=%" PRIu64 " misses=%" PRIu64 " late_start_misses=%" PRIu64
-              " period_p50_us=%.1f period_p99_us=%.1f period_p999_us=%.1f worst_us=%.1f step_p50_us=%.1f "
-              "step_p99_us=%.1f step_p999_us=%.1f max_force_n=%.3f faults=%" PRIu64 " pops=%" PRIu64 "\n",
-              so.rate_hz, ticks, st.misses.load(), st.late_start_misses.load(), st.period_us.Percentile(0.5),
-              st.period_us.Percentile(0.99), st.period_us.Percentile(0.999), st.worst_period_us.load(), step_hist.Percentile(0.5),
-              step_hist.Percentile(0.99), step_hist.Percentile(0.999), s.max_force_n, s.faults.total(), summary.pops);
+    std::printf("recorded %" PRIu64 " ticks to %s (%" PRIu64 " dropped)\n", w->written(),
+                a.record.c_str(), w->dropped());
+  std::printf("run rate_hz=%.0f ticks=%" PRIu64 " misses=%" PRIu64
+              " late_start_misses=%" PRIu64
+              " period_p50_us=%.1f period_p99_us=%.1f period_p999_us=%.1f worst_us=%.1f "
+              "step_p50_us=%.1f "
+              "step_p99_us=%.1f step_p999_us=%.1f max_force_n=%.3f faults=%" PRIu64
+              " pops=%" PRIu64 "\n",
+              so.rate_hz, ticks, st.misses.load(), st.late_start_misses.load(),
+              st.period_us.Percentile(0.5), st.period_us.Percentile(0.99),
+              st.period_us.Percentile(0.999), st.worst_period_us.load(),
+              step_hist.Percentile(0.5), step_hist.Percentile(0.99),
+              step_hist.Percentile(0.999), s.max_force_n, s.faults.total(), summary.pops);
   return 0;
 }
 
@@ -216,42 +254,61 @@ int Run(const RunArgs& a) {
 
 void AddRunCommands(CLI::App& app) {
   auto a = std::make_shared<RunArgs>();
-  CLI::App* run = app.add_subcommand("run", "Run the real haptic thread headless on a scene, then print timing, "
-                                            "contact and force statistics");
+  CLI::App* run = app.add_subcommand(
+      "run",
+      "Run the real haptic thread headless on a scene, then print timing, "
+      "contact and force statistics");
   run->add_option("--scene", a->scene, "Scene file (.yaml)")->required();
   run->add_option("--device", a->device,
-                  "scripted:NAME (line, poke, slide, arc, insert, random), scripted:FILE.csv or replay:FILE")
+                  "scripted:NAME (line, poke, slide, arc, insert, random), "
+                  "scripted:FILE.csv or replay:FILE")
       ->capture_default_str();
-  run->add_option("--rate", a->rate_hz, "Haptic rate in Hz (default: the scene's; a replay's own)")
+  run->add_option("--rate", a->rate_hz,
+                  "Haptic rate in Hz (default: the scene's; a replay's own)")
       ->check(CLI::Range(100.0, 20000.0));
-  run->add_option("--seconds", a->seconds, "How long to run")->capture_default_str()->check(CLI::Range(0.01, 3600.0));
+  run->add_option("--seconds", a->seconds, "How long to run")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 3600.0));
   run->add_option("--record", a->record, "Record the session to this file");
-  run->add_option("--object", a->object, "Index of the object a scripted trajectory works on (default: first tooth)");
-  run->add_option("--seed", a->seed, "Seed of the random trajectory")->capture_default_str();
-  run->add_flag("--no-realtime", a->no_realtime, "Do not ask for real-time priority and a pinned core");
+  run->add_option(
+      "--object", a->object,
+      "Index of the object a scripted trajectory works on (default: first tooth)");
+  run->add_option("--seed", a->seed, "Seed of the random trajectory")
+      ->capture_default_str();
+  run->add_flag("--no-realtime", a->no_realtime,
+                "Do not ask for real-time priority and a pinned core");
   run->add_option("--spin-us", a->spin_us,
-                  "Microseconds at the end of each wait spent polling the clock instead of sleeping "
-                  "(default: 90 % of the period, at most 100; at most 90 %, and a tenth of the period is always slept; "
+                  "Microseconds at the end of each wait spent polling the clock instead "
+                  "of sleeping "
+                  "(default: 90 % of the period, at most 100; at most 90 %, and a tenth "
+                  "of the period is always slept; "
                   "0: sleep the whole wait)")
       ->check(CLI::Range(0.0, 1000.0));
-  run->add_flag("--offline", a->offline, "No thread and no clock: tick as fast as possible (timing figures are then empty)");
+  run->add_flag(
+      "--offline", a->offline,
+      "No thread and no clock: tick as fast as possible (timing figures are then empty)");
   run->add_option("--trace", a->trace,
-                  "With --offline: print the engine's state at every tick from FROM to TO seconds (FROM TO)")
+                  "With --offline: print the engine's state at every tick from FROM to "
+                  "TO seconds (FROM TO)")
       ->expected(2);
   run->callback([a] {
     if (!a->trace.empty() && (!a->offline || a->trace[0] > a->trace[1]))
-      throw CLI::ValidationError("--trace", "takes FROM TO in seconds (FROM <= TO) and needs --offline");
+      throw CLI::ValidationError(
+          "--trace", "takes FROM TO in seconds (FROM <= TO) and needs --offline");
     ExitStatus() = Run(*a);
   });
 
   auto watch = std::make_shared<double>(0);
-  CLI::App* devices = app.add_subcommand("devices", "List the haptic and 6-DoF devices plugged in (USB)");
-  devices->add_option("--watch", *watch, "Then watch for devices arriving or leaving for this many seconds");
+  CLI::App* devices =
+      app.add_subcommand("devices", "List the haptic and 6-DoF devices plugged in (USB)");
+  devices->add_option("--watch", *watch,
+                      "Then watch for devices arriving or leaving for this many seconds");
   devices->callback([watch] {
     std::printf("%s", DescribeScan(ScanUsb()).c_str());
     if (*watch > 0) {
       UsbWatcher watcher([](bool arrived, const UsbDeviceInfo& d) {
-        std::printf("%s: %s (%s)\n", arrived ? "plugged in" : "unplugged", d.name.c_str(), d.backend.c_str());
+        std::printf("%s: %s (%s)\n", arrived ? "plugged in" : "unplugged", d.name.c_str(),
+                    d.backend.c_str());
         std::fflush(stdout);
       });
       if (!watcher.supported()) {
@@ -269,7 +326,8 @@ void AddRunCommands(CLI::App& app) {
   auto file = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
   auto csv = std::make_shared<bool>(false);
-  CLI::App* exp = recording->add_subcommand("export", "Write a recording as CSV (one line per tick)");
+  CLI::App* exp =
+      recording->add_subcommand("export", "Write a recording as CSV (one line per tick)");
   exp->add_option("FILE", *file, "Recording file")->required()->check(CLI::ExistingFile);
   exp->add_flag("--csv", *csv, "CSV (the only format so far)");
   exp->add_option("-o,--output", *out, "Output file (default: standard output)");
@@ -289,13 +347,18 @@ void AddRunCommands(CLI::App& app) {
     }
   });
   auto info_file = std::make_shared<std::string>();
-  CLI::App* info = recording->add_subcommand("info", "Print a recording's header and length");
-  info->add_option("FILE", *info_file, "Recording file")->required()->check(CLI::ExistingFile);
+  CLI::App* info =
+      recording->add_subcommand("info", "Print a recording's header and length");
+  info->add_option("FILE", *info_file, "Recording file")
+      ->required()
+      ->check(CLI::ExistingFile);
   info->callback([info_file] {
     const Recording rec = ReadRecording(*info_file);
-    std::printf("%s: format %u, device '%s', scene '%s' (hash %016" PRIx64 "), %.0f Hz, %zu ticks (%.2f s)\n",
-                info_file->c_str(), rec.header.version, rec.header.device_name.c_str(), rec.header.scene_file.c_str(),
-                rec.header.scene_hash, rec.header.rate_hz, rec.frames.size(), rec.frames.size() / rec.header.rate_hz);
+    std::printf("%s: format %u, device '%s', scene '%s' (hash %016" PRIx64
+                "), %.0f Hz, %zu ticks (%.2f s)\n",
+                info_file->c_str(), rec.header.version, rec.header.device_name.c_str(),
+                rec.header.scene_file.c_str(), rec.header.scene_hash, rec.header.rate_hz,
+                rec.frames.size(), rec.frames.size() / rec.header.rate_hz);
     if (!rec.warning.empty()) std::printf("warning: %s\n", rec.warning.c_str());
   });
 }

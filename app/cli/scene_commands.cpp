@@ -17,16 +17,20 @@ void AddSceneCommands(CLI::App& app) {
   CLI::App* scene = app.add_subcommand("scene", "Validate and export scene files");
   scene->require_subcommand(1);
   auto file = std::make_shared<std::string>();
-  CLI::App* validate = scene->add_subcommand(
-      "validate", "Check a scene file; print every error as file:line:column: message (exit 1 on error)");
+  CLI::App* validate =
+      scene->add_subcommand("validate",
+                            "Check a scene file; print every error as file:line:column: "
+                            "message (exit 1 on error)");
   validate->add_option("FILE", *file, "Scene file (.yaml)")->required();
   validate->callback([file] {
     try {
       const SceneSpec s = LoadSceneSpec(*file);
       std::string effects;
-      for (Effect e : s.effects) effects += std::string(effects.empty() ? "" : ", ") + ToString(e);
-      std::printf("%s: valid scene '%s': %zu objects, probe %s, effects: %s\n", file->c_str(), s.name.c_str(),
-                  s.objects.size(), s.probe.c_str(), effects.c_str());
+      for (Effect e : s.effects)
+        effects += std::string(effects.empty() ? "" : ", ") + ToString(e);
+      std::printf("%s: valid scene '%s': %zu objects, probe %s, effects: %s\n",
+                  file->c_str(), s.name.c_str(), s.objects.size(), s.probe.c_str(),
+                  effects.c_str());
     } catch (const SceneLoadError& e) {
       std::fprintf(stderr, "%s\n%zu error(s)\n", e.what(), e.errors().size());
       ExitStatus() = 1;
@@ -35,17 +39,22 @@ void AddSceneCommands(CLI::App& app) {
 
   auto build_file = std::make_shared<std::string>();
   auto cache = std::make_shared<std::string>();
-  CLI::App* build = scene->add_subcommand(
-      "build", "Generate every mesh and sphere-tree of a scene (through the cache) and say how long each stage took");
+  CLI::App* build =
+      scene->add_subcommand("build",
+                            "Generate every mesh and sphere-tree of a scene (through the "
+                            "cache) and say how long each stage took");
   build->add_option("FILE", *build_file, "Scene file (.yaml)")->required();
-  build->add_option("--cache", *cache, "Cache folder (default: $SULCUS_CACHE_DIR or ~/.cache/sulcus)");
+  build->add_option("--cache", *cache,
+                    "Cache folder (default: $SULCUS_CACHE_DIR or ~/.cache/sulcus)");
   auto build_drawn = std::make_shared<bool>(false);
   build->add_flag("--drawn", *build_drawn,
-                  "Also build the gingiva as the window draws it (the sulcus closed round the teeth), as the window does "
+                  "Also build the gingiva as the window draws it (the sulcus closed "
+                  "round the teeth), as the window does "
                   "after the scene, and say how long it took");
   build->callback([=] {
     const SceneSpec s = LoadSceneSpec(*build_file);
-    const std::filesystem::path dir = cache->empty() ? DefaultCacheDir() : std::filesystem::path(*cache);
+    const std::filesystem::path dir =
+        cache->empty() ? DefaultCacheDir() : std::filesystem::path(*cache);
     int last = -1;
     const auto compiled = CompileScene(s, dir, [&](std::string_view stage, double f) {
       const int pct = static_cast<int>(f * 100);
@@ -60,35 +69,43 @@ void AddSceneCommands(CLI::App& app) {
     for (const SphereTree& t : compiled->trees) spheres += t.size();
     for (const TriangleMesh& m : compiled->meshes) triangles += m.num_faces();
     // The stages as a window or a lesson meets them (CompileScene, on all cores).
-    std::printf("%s: %zu objects, %zu triangles; meshes %.2f s, sphere-trees and model %.2f s, total %.2f s (%zu spheres); cache %s\n",
-                build_file->c_str(), s.objects.size(), triangles, compiled->mesh_seconds, compiled->tree_seconds,
-                compiled->mesh_seconds + compiled->tree_seconds, spheres, dir.c_str());
+    std::printf(
+        "%s: %zu objects, %zu triangles; meshes %.2f s, sphere-trees and model %.2f s, "
+        "total %.2f s (%zu spheres); cache %s\n",
+        build_file->c_str(), s.objects.size(), triangles, compiled->mesh_seconds,
+        compiled->tree_seconds, compiled->mesh_seconds + compiled->tree_seconds, spheres,
+        dir.c_str());
     if (*build_drawn) {
       const auto t0 = std::chrono::steady_clock::now();
       const SeenGingiva seen = BuildSeenGingiva(*compiled, dir);
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::size_t shares = 0, seen_triangles = 0;
       for (const TriangleMesh& m : seen.meshes) {
         shares += m.num_faces() > 0;
         seen_triangles += m.num_faces();
       }
-      std::printf("the gingiva as drawn: %zu shares, %zu triangles, %.2f s\n", shares, seen_triangles, seconds);
+      std::printf("the gingiva as drawn: %zu shares, %zu triangles, %.2f s\n", shares,
+                  seen_triangles, seconds);
     }
   });
 
   auto export_file = std::make_shared<std::string>();
   auto dir = std::make_shared<std::string>();
-  CLI::App* exp = scene->add_subcommand("export", "Write every object's mesh, placed in the world frame, as STL");
+  CLI::App* exp = scene->add_subcommand(
+      "export", "Write every object's mesh, placed in the world frame, as STL");
   exp->add_option("FILE", *export_file, "Scene file (.yaml)")->required();
   exp->add_option("-o,--output", *dir, "Folder for the meshes")->required();
   auto export_drawn = std::make_shared<bool>(false);
   exp->add_flag("--drawn", *export_drawn,
-                "The gingiva as the window draws it (the sulcus closed round the teeth) instead of the surface the probe feels");
+                "The gingiva as the window draws it (the sulcus closed round the teeth) "
+                "instead of the surface the probe feels");
   exp->callback([=] {
     const SceneSpec s = LoadSceneSpec(*export_file);
     std::filesystem::create_directories(*dir);
     for (const ObjectSpec& o : s.objects) {
-      TriangleMesh mesh = MakeObjectMeshCached(o, DefaultCacheDir(), nullptr, *export_drawn);
+      TriangleMesh mesh =
+          MakeObjectMeshCached(o, DefaultCacheDir(), nullptr, *export_drawn);
       mesh.Transform(o.X_WO.rotation(), o.X_WO.translation());
       std::string name = o.name;
       for (char& c : name) {

@@ -25,8 +25,9 @@ BuildProgress ProgressBar() {
   return [tty, last_stage](std::string_view stage, double f) {
     if (tty) {
       const int width = 30, filled = static_cast<int>(f * width + 0.5);
-      std::fprintf(stderr, "\r  [%-*s] %3d%%  %-28.*s", width, std::string(filled, '#').c_str(),
-                   static_cast<int>(f * 100 + 0.5), static_cast<int>(stage.size()), stage.data());
+      std::fprintf(stderr, "\r  [%-*s] %3d%%  %-28.*s", width,
+                   std::string(filled, '#').c_str(), static_cast<int>(f * 100 + 0.5),
+                   static_cast<int>(stage.size()), stage.data());
       if (f >= 1.0) std::fprintf(stderr, "\n");
     } else if (*last_stage != stage) {
       *last_stage = stage;
@@ -39,21 +40,28 @@ BuildProgress ProgressBar() {
 
 void PrintMetrics(const TreeMetrics& m) {
   const double e = m.largest_extent_mm;
-  std::printf("fit (largest extent %.4g mm, volume %.4g mm^3, %zu surface samples, %d points per sphere)\n",
-              e, m.volume_mm3, m.surface_samples, EvalParams{}.points_per_sphere);
-  std::printf("  level spheres  protrusion max        mean                 coverage    overlap  excess vol  children in parent\n");
+  std::printf(
+      "fit (largest extent %.4g mm, volume %.4g mm^3, %zu surface samples, %d points per "
+      "sphere)\n",
+      e, m.volume_mm3, m.surface_samples, EvalParams{}.points_per_sphere);
+  std::printf(
+      "  level spheres  protrusion max        mean                 coverage    overlap  "
+      "excess vol  children in parent\n");
   for (const LevelMetrics& l : m.levels) {
-    std::printf("  %5d %7zu  %8.4f mm %6.3f%%  %8.4f mm %6.3f%%  %9.5f%%  %7.2f  %9.3f%%  %8.2f%%\n", l.level,
-                l.spheres, l.protrusion_max_mm, 100 * l.protrusion_max_mm / e, l.protrusion_mean_mm,
-                100 * l.protrusion_mean_mm / e, 100 * l.coverage, l.overlap, 100 * l.excess_volume,
-                100 * l.children_inside);
+    std::printf(
+        "  %5d %7zu  %8.4f mm %6.3f%%  %8.4f mm %6.3f%%  %9.5f%%  %7.2f  %9.3f%%  "
+        "%8.2f%%\n",
+        l.level, l.spheres, l.protrusion_max_mm, 100 * l.protrusion_max_mm / e,
+        l.protrusion_mean_mm, 100 * l.protrusion_mean_mm / e, 100 * l.coverage, l.overlap,
+        100 * l.excess_volume, 100 * l.children_inside);
   }
 }
 
 }  // namespace
 
 void AddSphereTreeCommands(CLI::App& app) {
-  CLI::App* st = app.add_subcommand("spheretree", "Build sphere-trees and measure their fit");
+  CLI::App* st =
+      app.add_subcommand("spheretree", "Build sphere-trees and measure their fit");
   st->require_subcommand(1);
 
   struct BuildArgs {
@@ -65,22 +73,30 @@ void AddSphereTreeCommands(CLI::App& app) {
   auto b = std::make_shared<BuildArgs>();
   CLI::App* build = st->add_subcommand("build", "Build a sphere-tree from a closed mesh");
   build->add_option("MESH", b->mesh, "Closed mesh (.stl, .obj, .ply, .off)")->required();
-  build->add_option("-o,--output", b->out, "Tree file (.sph, Bradshaw's format)")->required();
-  build->add_option("--levels", b->params.levels, "Levels, counting the root")->capture_default_str();
-  build->add_option("--branch", b->params.branching, "Children per node")->capture_default_str();
+  build->add_option("-o,--output", b->out, "Tree file (.sph, Bradshaw's format)")
+      ->required();
+  build->add_option("--levels", b->params.levels, "Levels, counting the root")
+      ->capture_default_str();
+  build->add_option("--branch", b->params.branching, "Children per node")
+      ->capture_default_str();
   build->add_option("--leaves", b->params.leaves, "Leaf budget")->capture_default_str();
-  build->add_option("--target-error", b->params.target_error_mm,
-                    "Instead of a budget: the fewest leaves protruding at most this many mm");
-  build->add_option("--spend", b->params.spend,
-                    "mean: trade leaves to lower the mean protrusion, none past the worst (default); worst: the "
-                    "min-max cover only (what tools use)")
+  build->add_option(
+      "--target-error", b->params.target_error_mm,
+      "Instead of a budget: the fewest leaves protruding at most this many mm");
+  build
+      ->add_option("--spend", b->params.spend,
+                   "mean: trade leaves to lower the mean protrusion, none past the worst "
+                   "(default); worst: the "
+                   "min-max cover only (what tools use)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, SphereTreeParams::Spend>{
-          {"mean", SphereTreeParams::Spend::kMean}, {"worst", SphereTreeParams::Spend::kWorst}}));
+          {"mean", SphereTreeParams::Spend::kMean},
+          {"worst", SphereTreeParams::Spend::kWorst}}));
   build->add_option("--samples", b->params.samples, "Surface samples (0: automatic)");
   build->add_option("--seed", b->params.seed, "Random seed")->capture_default_str();
   build->add_flag("--eval", b->eval, "Also print the fit metrics");
-  build->add_option("--method", b->method,
-                    "medial (Sulcus) or octree (the straightforward reference)")
+  build
+      ->add_option("--method", b->method,
+                   "medial (Sulcus) or octree (the straightforward reference)")
       ->check(CLI::IsMember({"medial", "octree"}))
       ->capture_default_str();
   build->callback([b] {
@@ -93,11 +109,14 @@ void AddSphereTreeCommands(CLI::App& app) {
     const SphereTree tree = b->method == "octree"
                                 ? BuildOctreeSphereTree(mesh, b->params.levels)
                                 : BuildSphereTree(mesh, b->params, ProgressBar(), &stats);
-    stats.seconds_total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stats.seconds_total =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     WriteSph(tree, b->out);
-    std::printf("wrote %s: %zu nodes, %zu leaves\n", b->out.c_str(), tree.size(), tree.NumLeaves());
+    std::printf("wrote %s: %zu nodes, %zu leaves\n", b->out.c_str(), tree.size(),
+                tree.NumLeaves());
     std::printf("  time %.2f s (medial axis %.2f s, cover %.2f s, hierarchy %.2f s)\n",
-                stats.seconds_total, stats.seconds_medial, stats.seconds_cover, stats.seconds_hierarchy);
+                stats.seconds_total, stats.seconds_medial, stats.seconds_cover,
+                stats.seconds_hierarchy);
     std::printf("  %zu surface pieces, %zu medial candidates, protrusion bound %.4g mm\n",
                 stats.surface_pieces, stats.medial_candidates, stats.error_bound_mm);
     for (int l = 0; l < tree.levels; ++l) {
@@ -109,19 +128,22 @@ void AddSphereTreeCommands(CLI::App& app) {
   auto mesh = std::make_shared<std::string>();
   auto file = std::make_shared<std::string>();
   auto offset = std::make_shared<std::vector<double>>();
-  CLI::App* eval = st->add_subcommand("eval", "Measure how well a tree fits its mesh, per level");
+  CLI::App* eval =
+      st->add_subcommand("eval", "Measure how well a tree fits its mesh, per level");
   eval->add_option("MESH", *mesh, "The mesh the tree was built from")->required();
   eval->add_option("TREE", *file, "Tree file (.sph)")->required();
-  eval->add_option("--offset", *offset,
-                   "Add X Y Z to every centre (for files from a toolkit that recentred the mesh)")
+  eval->add_option(
+          "--offset", *offset,
+          "Add X Y Z to every centre (for files from a toolkit that recentred the mesh)")
       ->expected(3);
   eval->callback([=] {
     const TriangleMesh m = LoadMesh(*mesh);
-    const Vector3 shift = offset->size() == 3 ? Vector3((*offset)[0], (*offset)[1], (*offset)[2])
-                                              : Vector3::Zero();
+    const Vector3 shift = offset->size() == 3
+                              ? Vector3((*offset)[0], (*offset)[1], (*offset)[2])
+                              : Vector3::Zero();
     const SphereTree tree = ReadSph(*file, shift);
-    std::printf("tree %s: %d levels, branch %d, %zu nodes, %zu leaves\n", file->c_str(), tree.levels,
-                tree.branching, tree.size(), tree.NumLeaves());
+    std::printf("tree %s: %d levels, branch %d, %zu nodes, %zu leaves\n", file->c_str(),
+                tree.levels, tree.branching, tree.size(), tree.NumLeaves());
     PrintMetrics(EvaluateSphereTree(m, tree));
   });
 }

@@ -33,7 +33,8 @@ double Inclination(int position) {
 Vector3 ArchPoint(bool upper, bool patient_right, double arc, const ArchParams& params) {
   const double k = upper ? params.k_upper : params.k_lower;
   const double x = XAtArc(k, arc);
-  return Vector3((patient_right ? -1 : 1) * x, -k * x * x - (upper ? 0 : params.lower_setback_mm),
+  return Vector3((patient_right ? -1 : 1) * x,
+                 -k * x * x - (upper ? 0 : params.lower_setback_mm),
                  upper ? params.occlusion_mm + params.upper_lift_mm : 0);
 }
 
@@ -43,9 +44,12 @@ PlacedTooth PlaceTooth(int fdi, double s_centre, const ArchParams& params) {
   const bool upper = p.tooth.upper();
   const int pos = p.tooth.position;
   const double k = upper ? params.k_upper : params.k_lower;
-  const double sx = (p.tooth.quadrant == 1 || p.tooth.quadrant == 4) ? -1.0 : 1.0;  // patient's right: x < 0
+  const double sx = (p.tooth.quadrant == 1 || p.tooth.quadrant == 4)
+                        ? -1.0
+                        : 1.0;  // patient's right: x < 0
   const ToothDimensions d = Dimensions(p.tooth);
-  p.contact_mesial_W = ArchPoint(upper, sx < 0, std::max(0.0, s_centre - d.md_crown / 2), params);
+  p.contact_mesial_W =
+      ArchPoint(upper, sx < 0, std::max(0.0, s_centre - d.md_crown / 2), params);
   p.contact_distal_W = ArchPoint(upper, sx < 0, s_centre + d.md_crown / 2, params);
   const double x = XAtArc(k, s_centre);
   const Vector3 on_arch = ArchPoint(upper, sx < 0, s_centre, params);
@@ -80,8 +84,10 @@ double ArchCentreMm(bool upper, int position) {
   // the exact tooth meshes: each tooth as near its mesial neighbour as it goes
   // without the two meshes intersecting, plus 0.01 mm. A test refits them and
   // checks every pair of teeth with exact triangle geometry.
-  static constexpr double kLower[8] = {2.905, 8.632, 15.090, 22.154, 29.193, 38.225, 48.999, 59.266};
-  static constexpr double kUpper[8] = {4.793, 12.705, 19.849, 27.153, 33.939, 42.219, 51.743, 60.510};
+  static constexpr double kLower[8] = {2.905,  8.632,  15.090, 22.154,
+                                       29.193, 38.225, 48.999, 59.266};
+  static constexpr double kUpper[8] = {4.793,  12.705, 19.849, 27.153,
+                                       33.939, 42.219, 51.743, 60.510};
   return (upper ? kUpper : kLower)[position - 1];
 }
 
@@ -100,9 +106,12 @@ std::vector<PlacedTooth> PlaceArch(bool upper, const ArchParams& params) {
       // along the arch, shared by both teeth.
       const double half_width = Dimensions(p.tooth).md_crown / 2;
       if (pos == 1) {
-        p.contact_mesial_W = ArchPoint(upper, side == 0, 0, params);  // at the midline, shared with the other central
+        p.contact_mesial_W =
+            ArchPoint(upper, side == 0, 0,
+                      params);  // at the midline, shared with the other central
       } else {
-        p.contact_mesial_W = ArchPoint(upper, side == 0, 0.5 * (prev_distal + s - half_width), params);
+        p.contact_mesial_W =
+            ArchPoint(upper, side == 0, 0.5 * (prev_distal + s - half_width), params);
         half.back().contact_distal_W = p.contact_mesial_W;
       }
       prev_distal = s + half_width;
@@ -117,7 +126,9 @@ std::vector<PlacedTooth> PlaceArch(bool upper, const ArchParams& params) {
   return out;
 }
 
-Vector3 ArchMirror(bool mirrored, const Vector3& p) { return mirrored ? Vector3(-p.x(), p.y(), p.z()) : p; }
+Vector3 ArchMirror(bool mirrored, const Vector3& p) {
+  return mirrored ? Vector3(-p.x(), p.y(), p.z()) : p;
+}
 
 TriangleMesh ArchMirror(bool mirrored, TriangleMesh mesh) {
   if (mirrored) {

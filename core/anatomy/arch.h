@@ -21,29 +21,32 @@
 namespace sulcus {
 
 struct ArchParams {
-  double k_lower = 0.052;        // parabola y = -k x^2 (1/mm): first molars about 45 mm apart
-  double k_upper = 0.045;        // the upper arch is wider and encloses the lower
-  double upper_lift_mm = 0.0;    // raise the upper arch (open the mouth) above its place in occlusion
-  double lower_setback_mm = 2.0; // the lower arch moved back (-y): the incisors' overjet
+  double k_lower = 0.052;  // parabola y = -k x^2 (1/mm): first molars about 45 mm apart
+  double k_upper = 0.045;  // the upper arch is wider and encloses the lower
+  double upper_lift_mm =
+      0.0;  // raise the upper arch (open the mouth) above its place in occlusion
+  double lower_setback_mm = 2.0;  // the lower arch moved back (-y): the incisors' overjet
   // The upper arch's height above the lower when the teeth meet (mouth closed):
   // the least lift at which no upper tooth's mesh intersects a lower one's with
   // the default arches (found by bisection on the exact meshes; a test checks
   // that the teeth are apart here and intersect 0.05 mm lower).
   double occlusion_mm = 4.75;
-  bool third_molars = false;     // 28 teeth without them, 32 with
+  bool third_molars = false;  // 28 teeth without them, 32 with
 };
 
 struct PlacedTooth {
   FdiTooth tooth;
-  bool mirrored = false;   // mesh mirrored in x before X_WT applies
-  RigidTransform X_WT;     // tooth frame (after the mirror) in the world
+  bool mirrored = false;                   // mesh mirrored in x before X_WT applies
+  RigidTransform X_WT;                     // tooth frame (after the mirror) in the world
   Vector3 mesial_W, buccal_W, occlusal_W;  // unit directions for lesson sites
-  Vector3 contact_mesial_W, contact_distal_W;  // the arch points where it meets its neighbours
+  Vector3 contact_mesial_W,
+      contact_distal_W;  // the arch points where it meets its neighbours
 };
 
 /// The point `arc` mm along the arch's occlusal curve from the midline, on the
 /// patient's right (x < 0) or left.
-Vector3 ArchPoint(bool upper, bool patient_right, double arc, const ArchParams& params = {});
+Vector3 ArchPoint(bool upper, bool patient_right, double arc,
+                  const ArchParams& params = {});
 
 /// Tooth `fdi` on its arch with its crown's centre `s_centre` mm along the arch
 /// from the midline (PlaceArch uses the fitted centres, ArchCentreMm).

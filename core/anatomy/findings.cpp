@@ -32,22 +32,32 @@ Vector3 CariesCentre(const ToothModel& tooth, ToothSurface surface) {
     case ToothSurface::kDistal: {
       const double sx = surface == ToothSurface::kMesial ? 1 : -1;
       const double z = contact - 1.5;  // just cervical of the contact
-      return best([&](const Vector3& v) { return sx * v.x() - 3 * std::abs(v.z() - z) - std::abs(v.y()); });
+      return best([&](const Vector3& v) {
+        return sx * v.x() - 3 * std::abs(v.z() - z) - std::abs(v.y());
+      });
     }
     case ToothSurface::kBuccal:
     case ToothSurface::kLingual: {
       const double sy = surface == ToothSurface::kBuccal ? 1 : -1;
-      const double z = 0.2 * d.crown_height + 0.8;  // the cervical third, above the CEJ's scallop
-      return best([&](const Vector3& v) { return sy * v.y() - 3 * std::abs(v.z() - z) - std::abs(v.x()); });
+      const double z =
+          0.2 * d.crown_height + 0.8;  // the cervical third, above the CEJ's scallop
+      return best([&](const Vector3& v) {
+        return sy * v.y() - 3 * std::abs(v.z() - z) - std::abs(v.x());
+      });
     }
     case ToothSurface::kOcclusal:
       if (anterior) {
         // The lingual fossa below the incisal edge.
         const double z = 0.7 * d.crown_height;
-        return best([&](const Vector3& v) { return -v.y() - 3 * std::abs(v.z() - z) - std::abs(v.x()); });
+        return best([&](const Vector3& v) {
+          return -v.y() - 3 * std::abs(v.z() - z) - std::abs(v.x());
+        });
       }
       // The central fossa: the crown's top surface nearest the long axis.
-      return best([&](const Vector3& v) { return v.z() > 0.5 * d.crown_height ? v.z() - 4 * std::hypot(v.x(), v.y()) : -1e300; });
+      return best([&](const Vector3& v) {
+        return v.z() > 0.5 * d.crown_height ? v.z() - 4 * std::hypot(v.x(), v.y())
+                                            : -1e300;
+      });
   }
   return Vector3::Zero();
 }
@@ -65,7 +75,8 @@ SurfacePoint CariesSpot(const ToothModel& tooth, ToothSurface surface) {
   return out;
 }
 
-void CarveCavities(ToothModel* tooth, const std::array<double, 5>& caries_mm, const std::array<double, 5>& cavity_mm) {
+void CarveCavities(ToothModel* tooth, const std::array<double, 5>& caries_mm,
+                   const std::array<double, 5>& cavity_mm) {
   // Where each cavity is and which way, from the intact surface, before any moves.
   struct Cavity {
     SurfacePoint at;
@@ -74,9 +85,12 @@ void CarveCavities(ToothModel* tooth, const std::array<double, 5>& caries_mm, co
   std::vector<Cavity> cavities;
   for (int s = 0; s < 5; ++s)
     if (cavity_mm[s] > 0 && caries_mm[s] > 0)
-      cavities.push_back({CariesSpot(*tooth, static_cast<ToothSurface>(s)), caries_mm[s], std::min(cavity_mm[s], kMaxCavityMm)});
+      cavities.push_back({CariesSpot(*tooth, static_cast<ToothSurface>(s)), caries_mm[s],
+                          std::min(cavity_mm[s], kMaxCavityMm)});
   if (cavities.empty()) return;
-  const double facing = std::cos(70 * std::numbers::pi / 180);  // a vertex moves when its normal is within 70 degrees
+  const double facing =
+      std::cos(70 * std::numbers::pi /
+               180);  // a vertex moves when its normal is within 70 degrees
   const std::vector<Vector3> normals = tooth->mesh.VertexNormalSums();
   std::vector<Vector3> moved = tooth->mesh.vertices();
   for (std::size_t i = 0; i < moved.size(); ++i) {
@@ -88,7 +102,8 @@ void CarveCavities(ToothModel* tooth, const std::array<double, 5>& caries_mm, co
       const double d = (v - c.at.point).norm();
       if (d >= c.radius || n.dot(c.at.normal) < facing) continue;
       // A flat floor over the inner half, walls rising smoothly to the rim.
-      const double t = std::clamp((d / c.radius - 0.5) / 0.5, 0.0, 1.0), u = 1 - t * t * (3 - 2 * t);
+      const double t = std::clamp((d / c.radius - 0.5) / 0.5, 0.0, 1.0),
+                   u = 1 - t * t * (3 - 2 * t);
       if (c.depth * u > sink) {
         sink = c.depth * u;
         along = c.at.normal;
@@ -99,7 +114,8 @@ void CarveCavities(ToothModel* tooth, const std::array<double, 5>& caries_mm, co
   tooth->mesh = TriangleMesh(std::move(moved), tooth->mesh.faces());
 }
 
-std::vector<double> CariesCoverage(const ToothModel& tooth, const std::array<double, 5>& caries_mm) {
+std::vector<double> CariesCoverage(const ToothModel& tooth,
+                                   const std::array<double, 5>& caries_mm) {
   std::vector<double> out(tooth.mesh.num_vertices(), 0.0);
   for (int s = 0; s < 5; ++s) {
     const double r = caries_mm[s];
@@ -113,7 +129,8 @@ std::vector<double> CariesCoverage(const ToothModel& tooth, const std::array<dou
   return out;
 }
 
-std::vector<double> LesionCoverage(const TriangleMesh& mesh, const Vector3& centre, double radius_mm) {
+std::vector<double> LesionCoverage(const TriangleMesh& mesh, const Vector3& centre,
+                                   double radius_mm) {
   std::vector<double> out(mesh.num_vertices(), 0.0);
   for (std::size_t i = 0; i < out.size(); ++i) {
     const double d = (mesh.vertices()[i] - centre).norm();
@@ -122,7 +139,8 @@ std::vector<double> LesionCoverage(const TriangleMesh& mesh, const Vector3& cent
   return out;
 }
 
-std::vector<double> InflammationCoverage(const std::vector<Vector3>& vertices, const std::array<bool, 6>& inflamed) {
+std::vector<double> InflammationCoverage(const std::vector<Vector3>& vertices,
+                                         const std::array<bool, 6>& inflamed) {
   constexpr double kPi = std::numbers::pi;
   std::vector<double> out(vertices.size(), 0.0);
   const auto& angles = SiteAngles();
@@ -140,18 +158,20 @@ std::vector<double> InflammationCoverage(const std::vector<Vector3>& vertices, c
   return out;
 }
 
-
 // How far a calculus deposit's lumps stand in or out, as a fraction of its size.
 constexpr double kCalculusLumps = 1.0 / 6;
 
-TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, int site, bool subgingival) {
+TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, int site,
+                          bool subgingival) {
   const double th = SiteAngles()[site];
   double margin = 1.5, floor = -0.5;
   if (gingiva) {
     margin = gingiva->margin[site].z();
     floor = gingiva->floor[site].z();
   } else {
-    const int k = static_cast<int>(std::lround(th / (2 * std::numbers::pi) * tooth.cej.size())) % tooth.cej.size();
+    const int k =
+        static_cast<int>(std::lround(th / (2 * std::numbers::pi) * tooth.cej.size())) %
+        tooth.cej.size();
     margin = tooth.cej[k].z() + 1.5;
     floor = margin - 2.0;
   }
@@ -168,12 +188,14 @@ TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, 
   lumpy.reserve(unit.num_vertices());
   const double phase = 1.3 * site + (subgingival ? 0.7 : 0.0);
   for (const Vector3& u : unit.vertices()) {
-    const double lumps = 0.5 * std::sin(3.1 * u.x() + 2.3 * u.y() + 1.7 + phase) * std::cos(2.7 * u.z() - 1.1 * u.y()) +
+    const double lumps = 0.5 * std::sin(3.1 * u.x() + 2.3 * u.y() + 1.7 + phase) *
+                             std::cos(2.7 * u.z() - 1.1 * u.y()) +
                          0.5 * std::sin(4.3 * u.y() - 3.7 * u.z() + 0.4 + 2 * phase);
     lumpy.push_back(u * (1 + kCalculusLumps * lumps));
   }
   TriangleMesh m(std::move(lumpy), unit.faces());
-  const Vector3 radial(std::cos(th), std::sin(th), 0), tangent(-std::sin(th), std::cos(th), 0);
+  const Vector3 radial(std::cos(th), std::sin(th), 0),
+      tangent(-std::sin(th), std::cos(th), 0);
   Matrix3 A;
   A.col(0) = 0.45 * radial;
   A.col(1) = 1.0 * tangent;

@@ -40,21 +40,25 @@ inline constexpr double kMaxCavityMm = 2.0;
 /// crown's other side stays where it is; the mesh's vertices and faces are
 /// otherwise unchanged (it stays closed, the lesions' colouring per vertex
 /// still applies).
-void CarveCavities(ToothModel* tooth, const std::array<double, 5>& caries_mm, const std::array<double, 5>& cavity_mm);
+void CarveCavities(ToothModel* tooth, const std::array<double, 5>& caries_mm,
+                   const std::array<double, 5>& cavity_mm);
 
 /// Per vertex of the tooth's mesh: how far inside a lesion it lies, 1 at a
 /// lesion's centre falling to 0 at its rim (radius: the lesion's size), the
 /// largest over the five surfaces. `caries_mm` as in the scene (0: none).
-std::vector<double> CariesCoverage(const ToothModel& tooth, const std::array<double, 5>& caries_mm);
+std::vector<double> CariesCoverage(const ToothModel& tooth,
+                                   const std::array<double, 5>& caries_mm);
 
 /// Per vertex of a gingival mesh in its tooth's frame: how inflamed the tissue
 /// is, 1 at an inflamed site fading to 0 half way to the next site, by the
 /// vertex's angle around the tooth (site angles as in gingiva.h).
-std::vector<double> InflammationCoverage(const std::vector<Vector3>& vertices, const std::array<bool, 6>& inflamed);
+std::vector<double> InflammationCoverage(const std::vector<Vector3>& vertices,
+                                         const std::array<bool, 6>& inflamed);
 
 /// Per vertex of a mesh: how far inside a round lesion of radius `radius_mm`
 /// centred at `centre` it lies (1 at the centre, 0 at the rim and beyond).
-std::vector<double> LesionCoverage(const TriangleMesh& mesh, const Vector3& centre, double radius_mm);
+std::vector<double> LesionCoverage(const TriangleMesh& mesh, const Vector3& centre,
+                                   double radius_mm);
 
 struct GingivaModel;
 
@@ -66,7 +70,8 @@ struct GingivaModel;
 /// a third of the way from the floor to the margin. Without gingiva
 /// (`gingiva` null) the margin is taken 1.5 mm above the CEJ and the floor
 /// 2 mm below that.
-TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, int site, bool subgingival);
+TriangleMesh MakeCalculus(const ToothModel& tooth, const GingivaModel* gingiva, int site,
+                          bool subgingival);
 
 /// Changes whenever MakeCalculus's meshes change: caches of generated meshes key on it.
 inline constexpr int kCalculusVersion = 2;

@@ -20,13 +20,15 @@
 namespace sulcus {
 
 struct GingivaParams {
-  std::array<double, 6> pocket_mm{2, 2, 2, 2, 2, 2};   // MB, B, DB, ML, L, DL
-  std::array<double, 6> recession_mm{};               // positive: the margin moves toward the root
+  std::array<double, 6> pocket_mm{2, 2, 2, 2, 2, 2};  // MB, B, DB, ML, L, DL
+  std::array<double, 6> recession_mm{};  // positive: the margin moves toward the root
   double margin_above_cej_mm = 1.5;
-  double gap_mm = 0.85;          // sulcus width at its narrowest: a 0.5 mm tip fits with room for the sphere-trees
-  double thickness_mm = 0;       // buccal and lingual, thinner between teeth; 0: the tooth's own (GingivaThicknessMm)
-  double papilla_mm = 1.5;       // how far the margin rises between teeth
-  int segments = 72;             // around the tooth (a multiple of 8 puts a ring at every site)
+  double gap_mm = 0.85;  // sulcus width at its narrowest: a 0.5 mm tip fits with room for
+                         // the sphere-trees
+  double thickness_mm = 0;  // buccal and lingual, thinner between teeth; 0: the tooth's
+                            // own (GingivaThicknessMm)
+  double papilla_mm = 1.5;  // how far the margin rises between teeth
+  int segments = 72;  // around the tooth (a multiple of 8 puts a ring at every site)
   // A share of the arch's gingiva (not a collar) covers the alveolar process
   // down to the bone crest, `crest_drop_mm` below the CEJ's centre along the
   // world's vertical (`crest_up`: toward the crown, in the tooth frame), and
@@ -37,10 +39,10 @@ struct GingivaParams {
 };
 
 struct GingivaModel {
-  TriangleMesh mesh;                    // in the tooth frame
-  std::array<double, 6> site_angle{};   // radians from +x (mesial) toward +y (buccal)
-  std::array<Vector3, 6> margin{};      // each site on the margin, in the sulcus' middle
-  std::array<Vector3, 6> floor{};       // the pocket floor below it
+  TriangleMesh mesh;                   // in the tooth frame
+  std::array<double, 6> site_angle{};  // radians from +x (mesial) toward +y (buccal)
+  std::array<Vector3, 6> margin{};     // each site on the margin, in the sulcus' middle
+  std::array<Vector3, 6> floor{};      // the pocket floor below it
   // Per segment around the tooth (angle 2 pi k / segments): the floor height,
   // the margin height and the radius of the sulcus' middle (where a probe tip
   // walks; lessons measure coverage of the walking stroke with them).
@@ -73,9 +75,11 @@ inline constexpr int kGingivaShareVersion = 37;
 /// A neighbouring tooth on the arch, for the gingiva between the two.
 struct GingivaNeighbour {
   const ToothModel* tooth = nullptr;
-  const GingivaModel* gingiva = nullptr;  // its collar's model (its tables; the mesh is not used)
-  Matrix3 A = Matrix3::Identity();        // this tooth's frame to the neighbour's: p_n = A p + b
-  Vector3 b = Vector3::Zero();            // (A may hold the arch's mirror)
+  const GingivaModel* gingiva =
+      nullptr;  // its collar's model (its tables; the mesh is not used)
+  Matrix3 A =
+      Matrix3::Identity();      // this tooth's frame to the neighbour's: p_n = A p + b
+  Vector3 b = Vector3::Zero();  // (A may hold the arch's mirror)
 };
 
 /// Which surface of the gingiva a share is: the one the probe feels, with the
@@ -132,7 +136,8 @@ class ToothRadii {
 /// must outlive it.
 class GingivaShareField {
  public:
-  GingivaShareField(const ToothModel& tooth, const GingivaModel& own, const std::vector<GingivaNeighbour>& neighbours,
+  GingivaShareField(const ToothModel& tooth, const GingivaModel& own,
+                    const std::vector<GingivaNeighbour>& neighbours,
                     GingivaSurface surface = GingivaSurface::kFelt);
   // (not copied: the seen field's links point into its own table of radii)
   GingivaShareField(const GingivaShareField&) = delete;
@@ -152,17 +157,22 @@ class GingivaShareField {
  private:
   struct Link {
     const GingivaNeighbour* n;
-    Eigen::Vector2d e;     // toward the neighbour's axis, horizontal here
-    double L;              // to its axis
-    Vector3 q, normal;     // the cut: through q, normal toward the neighbour (the same plane from both sides)
-    Vector3 face_point[2], face_normal[2];  // the interdental band's buccal and lingual faces
-    double face_th[2][2];  // each face's side: its angle around this tooth [0] and the neighbour [1]
-    Vector3 wall_point[2];  // the same faces through the two sulci's walls: the papilla's tip stays within them
-    Vector3 across_dir;    // in the cut, square to the mean vertical
-    Vector3 up;            // the two teeth's mean vertical
-    Vector3 papilla;       // the papilla's top, by the contact
-    double slope[2];       // its fall per mm from the cut toward this tooth [0] and the neighbour [1]
-    Vector3 base;          // the interdental gingiva's base
+    Eigen::Vector2d e;  // toward the neighbour's axis, horizontal here
+    double L;           // to its axis
+    Vector3 q, normal;  // the cut: through q, normal toward the neighbour (the same plane
+                        // from both sides)
+    Vector3 face_point[2],
+        face_normal[2];     // the interdental band's buccal and lingual faces
+    double face_th[2][2];   // each face's side: its angle around this tooth [0] and the
+                            // neighbour [1]
+    Vector3 wall_point[2];  // the same faces through the two sulci's walls: the papilla's
+                            // tip stays within them
+    Vector3 across_dir;     // in the cut, square to the mean vertical
+    Vector3 up;             // the two teeth's mean vertical
+    Vector3 papilla;        // the papilla's top, by the contact
+    double slope[2];        // its fall per mm from the cut toward this tooth [0] and the
+                            // neighbour [1]
+    Vector3 base;           // the interdental gingiva's base
     // The bone crest at this tooth's axis and at the neighbour's, heights
     // along the world's vertical (crest_up; -inf: no attached gingiva); between
     // the two it runs straight, as the jaw's does.
@@ -171,10 +181,12 @@ class GingivaShareField {
     // cut, [0] with across_dir, [1] against it: the col reaches the deeper
     // tooth's floor there.
     double own_site_gap[2], other_site_gap[2];
-    const ToothRadii* seen = nullptr;  // the neighbour's surface, for the seen gingiva (null: felt)
+    const ToothRadii* seen =
+        nullptr;  // the neighbour's surface, for the seen gingiva (null: felt)
   };
   const GingivaModel* own_;
-  std::vector<ToothRadii> radii_;     // for the seen gingiva: this tooth's, then each neighbour's
+  std::vector<ToothRadii>
+      radii_;  // for the seen gingiva: this tooth's, then each neighbour's
   const ToothRadii* seen_ = nullptr;  // this tooth's (null: felt)
   std::vector<Link> links_;
   Aabb box_;
@@ -188,7 +200,9 @@ double GingivaThicknessMm(const FdiTooth& tooth);
 
 /// The most attachment a site can lose (pocket plus recession, mm) and keep at
 /// least 1 mm of root in the gingiva.
-inline double MaxAttachmentLoss(const ToothDimensions& d) { return d.longest_root() - 1.0; }
+inline double MaxAttachmentLoss(const ToothDimensions& d) {
+  return d.longest_root() - 1.0;
+}
 
 /// The farthest crossing of the horizontal ray from (0, 0, z) along angle th
 /// (radians from +x) with the mesh: the tooth's outer surface in that
@@ -215,7 +229,8 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& param
 /// `surface`: the felt gingiva, or the seen one (GingivaSurface; its tables
 /// and sites are the felt one's, only the mesh and normals differ).
 GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& params,
-                             const std::vector<GingivaNeighbour>& neighbours, double cell_mm = 0.3,
+                             const std::vector<GingivaNeighbour>& neighbours,
+                             double cell_mm = 0.3,
                              GingivaSurface surface = GingivaSurface::kFelt);
 
 }  // namespace sulcus

@@ -24,7 +24,8 @@ using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::int32_t, K>;
 using Fbi = CGAL::Triangulation_face_base_with_info_2<int, K>;
 using Fb = CGAL::Constrained_triangulation_face_base_2<K, Fbi>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-using Cdt = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
+using Cdt =
+    CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
 
 // Faces reachable from `start` without crossing a constraint get `depth`;
 // those across one are queued with depth + 1.
@@ -78,8 +79,10 @@ TriangleMesh ClipByPlane(const TriangleMesh& solid, const ClipPlane& plane) {
   std::unordered_map<std::uint64_t, std::int32_t> on_edge;
   auto crossing = [&](std::int32_t a, std::int32_t b) {
     if (a > b) std::swap(a, b);
-    const std::uint64_t key = static_cast<std::uint64_t>(a) << 32 | static_cast<std::uint32_t>(b);
-    auto [it, added] = on_edge.try_emplace(key, static_cast<std::int32_t>(vertices.size()));
+    const std::uint64_t key =
+        static_cast<std::uint64_t>(a) << 32 | static_cast<std::uint32_t>(b);
+    auto [it, added] =
+        on_edge.try_emplace(key, static_cast<std::int32_t>(vertices.size()));
     if (added) {
       const double t = d[a] / (d[a] - d[b]);
       Vector3 p = in[a] + t * (in[b] - in[a]);
@@ -107,14 +110,18 @@ TriangleMesh ClipByPlane(const TriangleMesh& solid, const ClipPlane& plane) {
       const std::int32_t a = f[k], b = f[(k + 1) % 3];
       if (d[a] < 0) poly[n++] = keep(a);
       if ((d[a] < 0) != (d[b] < 0)) {
-        if (d[a] < 0) leave = n; else enter = n;
+        if (d[a] < 0)
+          leave = n;
+        else
+          enter = n;
         poly[n++] = crossing(a, b);
       }
     }
     for (int k = 1; k + 1 < n; ++k) faces.push_back({poly[0], poly[k], poly[k + 1]});
     rim.emplace_back(poly[leave], poly[enter]);  // (the kept part's edge along the plane)
   }
-  if (faces.empty() || rim.empty()) return TriangleMesh(std::move(vertices), std::move(faces));
+  if (faces.empty() || rim.empty())
+    return TriangleMesh(std::move(vertices), std::move(faces));
 
   // The cap in plane coordinates.
   const Vector3 u = plane.normal.unitOrthogonal(), w = plane.normal.cross(u);
@@ -126,7 +133,8 @@ TriangleMesh ClipByPlane(const TriangleMesh& solid, const ClipPlane& plane) {
     const std::size_t before = cdt.number_of_vertices();
     const Cdt::Vertex_handle h = cdt.insert(K::Point_2(p.dot(u), p.dot(w)));
     if (cdt.number_of_vertices() == before)
-      throw std::invalid_argument("clip: two points of the cut coincide (the mesh touches itself there)");
+      throw std::invalid_argument(
+          "clip: two points of the cut coincide (the mesh touches itself there)");
     h->info() = v;
     handle.emplace(v, h);
   };
@@ -134,14 +142,17 @@ TriangleMesh ClipByPlane(const TriangleMesh& solid, const ClipPlane& plane) {
   try {
     for (const auto& [a, b] : rim) cdt.insert_constraint(handle.at(a), handle.at(b));
   } catch (const std::exception&) {
-    throw std::invalid_argument("clip: the cut's outline crosses itself (the mesh intersects itself)");
+    throw std::invalid_argument(
+        "clip: the cut's outline crosses itself (the mesh intersects itself)");
   }
   if (cdt.number_of_vertices() != handle.size())
-    throw std::invalid_argument("clip: the cut's outline crosses itself (the mesh intersects itself)");
+    throw std::invalid_argument(
+        "clip: the cut's outline crosses itself (the mesh intersects itself)");
   MarkNesting(cdt);
   // (u, w, normal) is right-handed, so a face counter-clockwise in (u, w),
   // as the triangulation's are, faces +normal: out of the kept solid.
-  for (Cdt::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+  for (Cdt::Finite_faces_iterator f = cdt.finite_faces_begin();
+       f != cdt.finite_faces_end(); ++f) {
     if (f->info() % 2 != 1) continue;
     faces.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
   }
@@ -150,10 +161,12 @@ TriangleMesh ClipByPlane(const TriangleMesh& solid, const ClipPlane& plane) {
 
 }  // namespace
 
-TriangleMesh ClipByPlanes(const TriangleMesh& solid, const std::vector<ClipPlane>& planes) {
+TriangleMesh ClipByPlanes(const TriangleMesh& solid,
+                          const std::vector<ClipPlane>& planes) {
   if (planes.empty()) return solid;
   const MeshReport r = solid.Check();
-  if (!r.closed() || !r.manifold()) throw std::invalid_argument("clip: the mesh is not a closed manifold surface");
+  if (!r.closed() || !r.manifold())
+    throw std::invalid_argument("clip: the mesh is not a closed manifold surface");
   TriangleMesh out = solid;
   for (const ClipPlane& p : planes) out = ClipByPlane(out, p);
   return out;

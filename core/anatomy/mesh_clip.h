@@ -25,6 +25,7 @@ struct ClipPlane {
 /// holes left open. A vertex within a millionth of a millimetre of a plane
 /// counts as kept. Throws std::invalid_argument when the mesh is not a closed
 /// manifold or its cut's outline crosses itself (the mesh intersects itself).
-TriangleMesh ClipByPlanes(const TriangleMesh& solid, const std::vector<ClipPlane>& planes);
+TriangleMesh ClipByPlanes(const TriangleMesh& solid,
+                          const std::vector<ClipPlane>& planes);
 
 }  // namespace sulcus

@@ -31,7 +31,8 @@ Mesh ToCgal(const TriangleMesh& input) {
   Mesh m;
   std::vector<Mesh::Vertex_index> vi;
   vi.reserve(input.num_vertices());
-  for (const Vector3& v : input.vertices()) vi.push_back(m.add_vertex(Point(v.x(), v.y(), v.z())));
+  for (const Vector3& v : input.vertices())
+    vi.push_back(m.add_vertex(Point(v.x(), v.y(), v.z())));
   for (const auto& f : input.faces()) m.add_face(vi[f[0]], vi[f[1]], vi[f[2]]);
   return m;
 }
@@ -46,7 +47,8 @@ bool BoxesApart(const TriangleMesh& a, const TriangleMesh& b, double margin) {
 // Smallest distance from a vertex of `from` to the surface in `tree`.
 double VertexGap(const TriangleMesh& from, const Tree& tree) {
   double best = std::numeric_limits<double>::infinity();
-  for (const Vector3& v : from.vertices()) best = std::min(best, tree.squared_distance(Point(v.x(), v.y(), v.z())));
+  for (const Vector3& v : from.vertices())
+    best = std::min(best, tree.squared_distance(Point(v.x(), v.y(), v.z())));
   return std::sqrt(best);
 }
 
@@ -54,7 +56,8 @@ double VertexGap(const TriangleMesh& from, const Tree& tree) {
 
 TriangleMesh UniteSolids(const TriangleMesh& a, const TriangleMesh& b) {
   Mesh ma = ToCgal(a), mb = ToCgal(b), out;
-  if (!PMP::corefine_and_compute_union(ma, mb, out)) throw std::runtime_error("the union of two meshes could not be formed");
+  if (!PMP::corefine_and_compute_union(ma, mb, out))
+    throw std::runtime_error("the union of two meshes could not be formed");
   std::vector<Vector3> v;
   std::unordered_map<std::uint32_t, int> index;
   for (const Mesh::Vertex_index i : out.vertices()) {
@@ -66,11 +69,14 @@ TriangleMesh UniteSolids(const TriangleMesh& a, const TriangleMesh& b) {
   for (const Mesh::Face_index fi : out.faces()) {
     TriangleMesh::Face face{};
     int k = 0;
-    for (const Mesh::Vertex_index vi : CGAL::vertices_around_face(out.halfedge(fi), out)) {
+    for (const Mesh::Vertex_index vi :
+         CGAL::vertices_around_face(out.halfedge(fi), out)) {
       if (k < 3) face[k] = index.at(static_cast<std::uint32_t>(vi));
       ++k;
     }
-    if (k != 3) throw std::runtime_error("the union of two meshes has a face that is not a triangle");
+    if (k != 3)
+      throw std::runtime_error(
+          "the union of two meshes has a face that is not a triangle");
     f.push_back(face);
   }
   return TriangleMesh(std::move(v), std::move(f));
@@ -80,7 +86,8 @@ bool MeshesIntersect(const TriangleMesh& a, const TriangleMesh& b) {
   if (BoxesApart(a, b, 0)) return false;
   const Mesh ma = ToCgal(a), mb = ToCgal(b);
   // Surfaces crossing, or one solid wholly inside the other (closed meshes).
-  return PMP::do_intersect(ma, mb, CGAL::parameters::do_overlap_test_of_bounded_sides(true),
+  return PMP::do_intersect(ma, mb,
+                           CGAL::parameters::do_overlap_test_of_bounded_sides(true),
                            CGAL::parameters::do_overlap_test_of_bounded_sides(true));
 }
 
@@ -89,20 +96,23 @@ MeshContact MeasureContact(const TriangleMesh& a, const TriangleMesh& b) {
   c.intersect = MeshesIntersect(a, b);
   if (c.intersect) return c;
   const Mesh ma = ToCgal(a), mb = ToCgal(b);
-  Tree ta(faces(ma).first, faces(ma).second, ma), tb(faces(mb).first, faces(mb).second, mb);
+  Tree ta(faces(ma).first, faces(ma).second, ma),
+      tb(faces(mb).first, faces(mb).second, mb);
   ta.accelerate_distance_queries();
   tb.accelerate_distance_queries();
   c.gap_mm = std::min(VertexGap(b, ta), VertexGap(a, tb));
   return c;
 }
 
-std::vector<bool> InsideSolid(const TriangleMesh& solid, const std::vector<Vector3>& points) {
+std::vector<bool> InsideSolid(const TriangleMesh& solid,
+                              const std::vector<Vector3>& points) {
   const Mesh m = ToCgal(solid);
   Tree tree(faces(m).first, faces(m).second, m);
   const CGAL::Side_of_triangle_mesh<Mesh, K> side(tree);
   std::vector<bool> out;
   out.reserve(points.size());
-  for (const Vector3& p : points) out.push_back(side(Point(p.x(), p.y(), p.z())) != CGAL::ON_UNBOUNDED_SIDE);
+  for (const Vector3& p : points)
+    out.push_back(side(Point(p.x(), p.y(), p.z())) != CGAL::ON_UNBOUNDED_SIDE);
   return out;
 }
 

@@ -30,6 +30,7 @@ bool MeshesIntersect(const TriangleMesh& a, const TriangleMesh& b);
 TriangleMesh UniteSolids(const TriangleMesh& a, const TriangleMesh& b);
 
 /// For each point, whether it lies inside (or on) the closed mesh `solid`.
-std::vector<bool> InsideSolid(const TriangleMesh& solid, const std::vector<Vector3>& points);
+std::vector<bool> InsideSolid(const TriangleMesh& solid,
+                              const std::vector<Vector3>& points);
 
 }  // namespace sulcus

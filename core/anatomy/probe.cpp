@@ -1,10 +1,10 @@
 #include "core/anatomy/probe.h"
 
-#include "core/geometry/primitives.h"
-
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+
+#include "core/geometry/primitives.h"
 
 namespace sulcus {
 
@@ -12,11 +12,13 @@ ProbeModel MakeProbe(const std::string& name) {
   ProbeModel p;
   p.name = name;
   if (name == "williams") {
-    for (double mm : {1.0, 2.0, 3.0, 5.0, 7.0, 8.0, 9.0, 10.0}) p.markings.push_back({mm, mm, false});
+    for (double mm : {1.0, 2.0, 3.0, 5.0, 7.0, 8.0, 9.0, 10.0})
+      p.markings.push_back({mm, mm, false});
     p.tip_radius_mm = 0.25;
     p.working_length_mm = 13;
   } else if (name == "unc15") {
-    for (int mm = 1; mm <= 15; ++mm) p.markings.push_back({double(mm), double(mm), false});
+    for (int mm = 1; mm <= 15; ++mm)
+      p.markings.push_back({double(mm), double(mm), false});
     for (double from : {4.0, 9.0, 14.0}) p.markings.push_back({from, from + 1, true});
     p.tip_radius_mm = 0.25;
     p.working_length_mm = 17;
@@ -30,8 +32,9 @@ ProbeModel MakeProbe(const std::string& name) {
     p.explorer = true;
     p.working_length_mm = name == "explorer23" ? 2.0 : 5.0;
   } else {
-    throw std::invalid_argument("unknown instrument '" + name +
-                                "' (expected williams, unc15, who, explorer23 or explorer1112)");
+    throw std::invalid_argument(
+        "unknown instrument '" + name +
+        "' (expected williams, unc15, who, explorer23 or explorer1112)");
   }
   // Centreline: from the tip up the working end, a turn of 70 degrees (the working
   // end at 110 degrees to the handle) of radius 4 mm in the x-z plane, then the
@@ -97,7 +100,8 @@ ProbeModel MakeProbe(const std::string& name) {
     cpath.push_back(t.at + 8.5 * t.heading());
     cradii.push_back(0.0);
     p.collision_mesh = MakeSweep(cpath, cradii, 16);
-    for (double s = 1; s <= 12; s += 1) add(t.at + s * t.heading(), 0.55 + (s >= 10 ? 1.45 * (s - 9) / 3 : 0));
+    for (double s = 1; s <= 12; s += 1)
+      add(t.at + s * t.heading(), 0.55 + (s >= 10 ? 1.45 * (s - 9) / 3 : 0));
     for (double s = 14; s <= 90; s += 4) add(t.at + s * t.heading(), 2.0);
     add(t.at + 91 * t.heading(), 0.0);
     p.mesh = MakeSweep(path, radii, 16);
@@ -128,7 +132,8 @@ ProbeModel MakeProbe(const std::string& name) {
     cradii.push_back(0.0);
     p.collision_mesh = MakeSweep(cpath, cradii, 16);
   }
-  for (double s = 1; s <= 12; s += 1) add(end_bend + s * dir, 0.6 + (s >= 10 ? 1.4 * (s - 9) / 3 : 0));
+  for (double s = 1; s <= 12; s += 1)
+    add(end_bend + s * dir, 0.6 + (s >= 10 ? 1.4 * (s - 9) / 3 : 0));
   for (double s = 14; s <= 90; s += 4) add(end_bend + s * dir, 2.0);  // handle
   add(end_bend + 91 * dir, 0.0);  // pole at the handle's end
   p.mesh = MakeSweep(path, radii, 16);

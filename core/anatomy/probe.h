@@ -20,14 +20,14 @@ struct ProbeMarking {
 };
 
 struct ProbeModel {
-  std::string name;                  // williams, unc15, who
-  TriangleMesh mesh;                 // the whole probe, in the tip frame (for display)
-  TriangleMesh collision_mesh;       // working end, bend and 8 mm of shank (for the engine)
+  std::string name;             // williams, unc15, who
+  TriangleMesh mesh;            // the whole probe, in the tip frame (for display)
+  TriangleMesh collision_mesh;  // working end, bend and 8 mm of shank (for the engine)
   std::vector<ProbeMarking> markings;
-  double tip_radius_mm = 0;          // ball (WHO) or rounded taper
+  double tip_radius_mm = 0;  // ball (WHO) or rounded taper
   bool ball_tip = false;
-  bool explorer = false;             // a sharp explorer (no markings), not a probe
-  double working_length_mm = 0;      // straight part from the tip to the bend
+  bool explorer = false;         // a sharp explorer (no markings), not a probe
+  double working_length_mm = 0;  // straight part from the tip to the bend
 };
 
 /// Known names: the periodontal probes "williams", "unc15", "who" (its 0.5 mm ball

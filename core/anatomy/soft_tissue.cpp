@@ -1,14 +1,14 @@
 #include "core/anatomy/soft_tissue.h"
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <mutex>
-#include <tuple>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
 
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/mesh_contact.h"
@@ -36,7 +36,9 @@ class ArchCurve {
     const double t = x - i;
     return (1 - t) * points_[i] + t * points_[i + 1];
   }
-  Vector3 Tangent(double s) const { return (Point(s + 0.1) - Point(s - 0.1)).normalized(); }
+  Vector3 Tangent(double s) const {
+    return (Point(s + 0.1) - Point(s - 0.1)).normalized();
+  }
   Vector3 Normal(double s) const {  // horizontal, out of the arch (buccal)
     const Vector3 t = Tangent(s);
     return Vector3(-t.y(), t.x(), 0).normalized();
@@ -53,15 +55,16 @@ class ArchCurve {
   }
 
  private:
-  static constexpr int kHalf = 2000;       // samples each side of the midline
-  static constexpr double kStep = 0.05;    // mm: the curve to 100 mm from the midline
+  static constexpr int kHalf = 2000;     // samples each side of the midline
+  static constexpr double kStep = 0.05;  // mm: the curve to 100 mm from the midline
   std::vector<Vector3> points_;
 };
 
 // A closed mesh through rings of equal size (each a closed loop), capped at
 // both ends by a vertex at the ring's centroid; made outward.
 TriangleMesh Loft(const std::vector<std::vector<Vector3>>& rings) {
-  const int n = static_cast<int>(rings.size()), m = static_cast<int>(rings.front().size());
+  const int n = static_cast<int>(rings.size()),
+            m = static_cast<int>(rings.front().size());
   std::vector<Vector3> v;
   std::vector<TriangleMesh::Face> f;
   auto centroid = [&](const std::vector<Vector3>& r) {
@@ -89,13 +92,15 @@ TriangleMesh Loft(const std::vector<std::vector<Vector3>>& rings) {
 
 // A rounded rectangle (superellipse of exponent e) spanning [u0, u1] along
 // `u` and [z0, z1] along +z, about `origin`; m points, counter-clockwise.
-std::vector<Vector3> Section(const Vector3& origin, const Vector3& u, double u0, double u1, double z0, double z1,
-                             int m, double e = 4.0) {
+std::vector<Vector3> Section(const Vector3& origin, const Vector3& u, double u0,
+                             double u1, double z0, double z1, int m, double e = 4.0) {
   std::vector<Vector3> ring;
-  const double cu = 0.5 * (u0 + u1), hu = 0.5 * (u1 - u0), cz = 0.5 * (z0 + z1), hz = 0.5 * (z1 - z0);
+  const double cu = 0.5 * (u0 + u1), hu = 0.5 * (u1 - u0), cz = 0.5 * (z0 + z1),
+               hz = 0.5 * (z1 - z0);
   for (int i = 0; i < m; ++i) {
     const double a = 2 * kPi * i / m, c = std::cos(a), s = std::sin(a);
-    const double x = std::copysign(std::pow(std::abs(c), 2 / e), c), y = std::copysign(std::pow(std::abs(s), 2 / e), s);
+    const double x = std::copysign(std::pow(std::abs(c), 2 / e), c),
+                 y = std::copysign(std::pow(std::abs(s), 2 / e), s);
     ring.push_back(origin + (cu + hu * x) * u + Vector3(0, 0, cz + hz * y));
   }
   return ring;
@@ -111,7 +116,8 @@ constexpr double kBandMm = 1.0;
 struct Extent {
   // Offsets along the arch's outward normal, in each band below the crest.
   std::array<double, kBands> n_min, n_max;
-  double far = -1e9;  // the deepest root point, as distance away from the crowns (sign * z)
+  double far =
+      -1e9;  // the deepest root point, as distance away from the crowns (sign * z)
   bool any = false;
   Extent() { n_min.fill(1e9), n_max.fill(-1e9); }
 };
@@ -140,7 +146,8 @@ ArchTeeth MakeTeeth(bool upper, const ArchParams& arch) {
 const ArchTeeth& Teeth(bool upper, const ArchParams& arch) {
   static std::mutex mutex;
   static std::map<std::tuple<bool, double, double, double, double, bool>, ArchTeeth> made;
-  const auto key = std::tuple(upper, arch.k_lower, arch.k_upper, arch.upper_lift_mm + arch.occlusion_mm,
+  const auto key = std::tuple(upper, arch.k_lower, arch.k_upper,
+                              arch.upper_lift_mm + arch.occlusion_mm,
                               arch.lower_setback_mm, arch.third_molars);
   std::lock_guard lock(mutex);
   auto it = made.find(key);
@@ -163,7 +170,8 @@ double SmoothStep(double x) {
 // frame's xy: where the line between them runs.
 Vector2 RootsMiddle(const ToothModel& tooth) {
   Vector2 mid = Vector2::Zero();
-  for (const Vector3& top : tooth.root_tops) mid += top.head<2>() / static_cast<double>(tooth.root_tops.size());
+  for (const Vector3& top : tooth.root_tops)
+    mid += top.head<2>() / static_cast<double>(tooth.root_tops.size());
   return mid;
 }
 
@@ -173,10 +181,12 @@ double MeasureFurcationRoof(const FdiTooth& t) {
   const ToothModel tooth = GenerateTooth(t.fdi, {.resolution = 3});
   const Vector2 mid = RootsMiddle(tooth);
   std::vector<Vector3> line;
-  for (double z = 0; z > -tooth.dimensions.root_length; z -= 0.1) line.emplace_back(mid.x(), mid.y(), z);
+  for (double z = 0; z > -tooth.dimensions.root_length; z -= 0.1)
+    line.emplace_back(mid.x(), mid.y(), z);
   const std::vector<bool> inside = InsideSolid(tooth.mesh, line);
   const auto out = std::find(inside.begin(), inside.end(), false);
-  return out == inside.end() ? tooth.dimensions.root_length : -line[out - inside.begin()].z();
+  return out == inside.end() ? tooth.dimensions.root_length
+                             : -line[out - inside.begin()].z();
 }
 
 // How far a furcation's bone is missing in from its entrance (Hamp: class 1
@@ -195,13 +205,14 @@ double FurcationDefectMm(int hamp) { return hamp == 1 ? 2.0 : hamp == 2 ? 4.0 : 
 // the tooth but not between its roots. None when an entrance is class 3
 // (through and through: no bone between the roots above the crest), for a
 // single-rooted tooth, or where the crest lies above the prism.
-std::optional<TriangleMesh> InterradicularBone(const FdiTooth& t, double crest_drop,
-                                               const std::map<std::string, int>& classes) {
+std::optional<TriangleMesh> InterradicularBone(
+    const FdiTooth& t, double crest_drop, const std::map<std::string, int>& classes) {
   int worst = 0;
   for (const auto& [entrance, hamp] : classes) worst = std::max(worst, hamp);
   if (worst == 3 || !FurcationAboveCrest(t.fdi, crest_drop)) return std::nullopt;
   const ToothDimensions d = Dimensions(t);
-  const double a = d.md_cervix / 2, b = d.bl / 2 * 0.82;  // tooth.cpp's cervical half widths
+  const double a = d.md_cervix / 2,
+               b = d.bl / 2 * 0.82;  // tooth.cpp's cervical half widths
   // The roots' tops (tooth.cpp): lower molar mesial, distal; upper molar
   // mesiobuccal, distobuccal, palatal; upper premolar buccal, palatal.
   const std::vector<Vector3> tops = GenerateTooth(t.fdi, {.resolution = 3}).root_tops;
@@ -215,14 +226,22 @@ std::optional<TriangleMesh> InterradicularBone(const FdiTooth& t, double crest_d
   std::vector<Side> sides;
   if (t.position >= 6 && !t.upper()) {  // between the roots' axes; B (+y) and L
     const double m = tops[0].x(), dist = -tops[1].x();
-    sides = {{{1, 0}, m, ""}, {{0, 1}, 0.7 * b, "B"}, {{-1, 0}, dist, ""}, {{0, -1}, 0.7 * b, "L"}};
+    sides = {{{1, 0}, m, ""},
+             {{0, 1}, 0.7 * b, "B"},
+             {{-1, 0}, dist, ""},
+             {{0, -1}, 0.7 * b, "L"}};
   } else if (t.position >= 6) {  // MB, DB and palatal roots: B, D and M
     const Vector2 mb = tops[0].head<2>(), db = tops[1].head<2>(), pal = tops[2].head<2>();
     const Vector2 n_m = Vector2(mb.y() - pal.y(), -(mb.x() - pal.x())).normalized();
     const Vector2 n_d = Vector2(-(db.y() - pal.y()), db.x() - pal.x()).normalized();
-    sides = {{n_m, n_m.dot(mb) + 0.2 * a, "M"}, {{0, 1}, 0.75 * b, "B"}, {n_d, n_d.dot(db) + 0.2 * a, "D"}};
+    sides = {{n_m, n_m.dot(mb) + 0.2 * a, "M"},
+             {{0, 1}, 0.75 * b, "B"},
+             {n_d, n_d.dot(db) + 0.2 * a, "D"}};
   } else {  // the upper first premolar: buccal and palatal roots; M (+x) and D
-    sides = {{{1, 0}, 0.5 * a, "M"}, {{0, 1}, tops[0].y(), ""}, {{-1, 0}, 0.5 * a, "D"}, {{0, -1}, -tops[1].y(), ""}};
+    sides = {{{1, 0}, 0.5 * a, "M"},
+             {{0, 1}, tops[0].y(), ""},
+             {{-1, 0}, 0.5 * a, "D"},
+             {{0, -1}, -tops[1].y(), ""}};
   }
   auto corners = [&](double scale) {
     std::vector<Vector2> poly;
@@ -233,7 +252,8 @@ std::optional<TriangleMesh> InterradicularBone(const FdiTooth& t, double crest_d
         const auto it = classes.find(s.entrance);
         return s.c - (it == classes.end() ? 0.0 : scale * FurcationDefectMm(it->second));
       };
-      const Eigen::Matrix2d m = (Eigen::Matrix2d() << p.n.x(), p.n.y(), q.n.x(), q.n.y()).finished();
+      const Eigen::Matrix2d m =
+          (Eigen::Matrix2d() << p.n.x(), p.n.y(), q.n.x(), q.n.y()).finished();
       poly.push_back(m.inverse() * Vector2(c_of(p), c_of(q)));
     }
     return poly;
@@ -288,10 +308,13 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   // beyond the last teeth.
   std::vector<double> crest(stations, 0.0);
   auto station_s = [&](int i) { return -end + 2 * end * i / (stations - 1); };
-  auto station_of = [&](double s) { return static_cast<int>(std::lround((s + end) / (2 * end) * (stations - 1))); };
+  auto station_of = [&](double s) {
+    return static_cast<int>(std::lround((s + end) / (2 * end) * (stations - 1)));
+  };
   std::vector<std::size_t> by_s(teeth.placed.size());  // the teeth in arch order
   for (std::size_t k = 0; k < by_s.size(); ++k) by_s[k] = k;
-  std::sort(by_s.begin(), by_s.end(), [&](std::size_t a, std::size_t b) { return teeth.s[a] < teeth.s[b]; });
+  std::sort(by_s.begin(), by_s.end(),
+            [&](std::size_t a, std::size_t b) { return teeth.s[a] < teeth.s[b]; });
   std::vector<double> crest_of(teeth.placed.size());
   for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
     const PlacedTooth& p = teeth.placed[k];
@@ -301,14 +324,16 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   }
   for (int i = 0; i < stations && !by_s.empty(); ++i) {
     const double s = station_s(i);
-    const auto next = std::partition_point(by_s.begin(), by_s.end(), [&](std::size_t k) { return teeth.s[k] < s; });
+    const auto next = std::partition_point(by_s.begin(), by_s.end(),
+                                           [&](std::size_t k) { return teeth.s[k] < s; });
     if (next == by_s.begin()) {
       crest[i] = crest_of[by_s.front()];
     } else if (next == by_s.end()) {
       crest[i] = crest_of[by_s.back()];
     } else {
       const std::size_t a = *(next - 1), b = *next;
-      crest[i] = crest_of[a] + (crest_of[b] - crest_of[a]) * (s - teeth.s[a]) / (teeth.s[b] - teeth.s[a]);
+      crest[i] = crest_of[a] + (crest_of[b] - crest_of[a]) * (s - teeth.s[a]) /
+                                   (teeth.s[b] - teeth.s[a]);
     }
   }
   // Across each tooth's cervix no more than 0.4 mm beyond its own crest: a
@@ -316,7 +341,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
     const double half = Dimensions(teeth.placed[k].tooth).md_cervix / 2 + 0.5;
     for (int i = 0; i < stations; ++i)
-      if (std::abs(station_s(i) - teeth.s[k]) <= half && sign * (crest[i] - crest_of[k]) > 0.4)
+      if (std::abs(station_s(i) - teeth.s[k]) <= half &&
+          sign * (crest[i] - crest_of[k]) > 0.4)
         crest[i] = crest_of[k] + sign * 0.4;
   }
   for (std::size_t k = 0; k < teeth.placed.size(); ++k) {
@@ -346,7 +372,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   for (Extent& e : ext) {
     int b = 0;
     while (b < kBands && e.n_max[b] < -1e8) ++b;
-    for (int c = 0; c < b && b < kBands; ++c) e.n_min[c] = e.n_min[b], e.n_max[c] = e.n_max[b];
+    for (int c = 0; c < b && b < kBands; ++c)
+      e.n_min[c] = e.n_min[b], e.n_max[c] = e.n_max[b];
     for (int c = 1; c < kBands; ++c)
       if (e.n_max[c] < -1e8) e.n_min[c] = e.n_min[c - 1], e.n_max[c] = e.n_max[c - 1];
   }
@@ -364,10 +391,12 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   constexpr int kSmooth = 4, kSmoothFar = 16, kSmoothBands = 1;
   std::vector<Extent> widest = ext;
   for (int i = 0; i < stations; ++i) {
-    for (int j = std::max(0, i - kSmoothFar); j <= std::min(stations - 1, i + kSmoothFar); ++j) {
+    for (int j = std::max(0, i - kSmoothFar); j <= std::min(stations - 1, i + kSmoothFar);
+         ++j) {
       if (std::abs(i - j) <= kSmooth) {
         for (int b = 0; b < kBands; ++b) {
-          for (int c = std::max(0, b - kSmoothBands); c <= std::min(kBands - 1, b + kSmoothBands); ++c) {
+          for (int c = std::max(0, b - kSmoothBands);
+               c <= std::min(kBands - 1, b + kSmoothBands); ++c) {
             widest[i].n_min[b] = std::min(widest[i].n_min[b], ext[j].n_min[c]);
             widest[i].n_max[b] = std::max(widest[i].n_max[b], ext[j].n_max[c]);
           }
@@ -383,8 +412,10 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     for (int b = 0; b < kBands; ++b) {
       double n_min = 0, n_max = 0;
       int count = 0;
-      for (int j = std::max(0, i - kSmooth); j <= std::min(stations - 1, i + kSmooth); ++j) {
-        for (int c = std::max(0, b - kSmoothBands); c <= std::min(kBands - 1, b + kSmoothBands); ++c) {
+      for (int j = std::max(0, i - kSmooth); j <= std::min(stations - 1, i + kSmooth);
+           ++j) {
+        for (int c = std::max(0, b - kSmoothBands);
+             c <= std::min(kBands - 1, b + kSmoothBands); ++c) {
           n_min += widest[j].n_min[c];
           n_max += widest[j].n_max[c];
           ++count;
@@ -393,7 +424,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
       smooth[i].n_min[b] = n_min / count;
       smooth[i].n_max[b] = n_max / count;
     }
-    for (int j = std::max(0, i - kSmoothFar); j <= std::min(stations - 1, i + kSmoothFar); ++j) {
+    for (int j = std::max(0, i - kSmoothFar); j <= std::min(stations - 1, i + kSmoothFar);
+         ++j) {
       far += widest[j].far;
       ++count_far;
     }
@@ -408,8 +440,12 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
   // Where no tooth stands (the ends), no flare.
   // (each tooth's gingiva as thick as GingivaThicknessMm gives it; the
   // band's faces between teeth are set in 0.5 mm from the collars)
-  auto gingiva_out = [&](std::size_t k) { return GingivaParams{}.gap_mm + GingivaThicknessMm(teeth.placed[k].tooth) - 0.2; };
-  auto band_out = [&](std::size_t k) { return GingivaParams{}.gap_mm + GingivaThicknessMm(teeth.placed[k].tooth) - 0.5; };
+  auto gingiva_out = [&](std::size_t k) {
+    return GingivaParams{}.gap_mm + GingivaThicknessMm(teeth.placed[k].tooth) - 0.2;
+  };
+  auto band_out = [&](std::size_t k) {
+    return GingivaParams{}.gap_mm + GingivaThicknessMm(teeth.placed[k].tooth) - 0.5;
+  };
   constexpr double kFlareMm = 4.0;
   std::vector<double> gum_in(stations, 0), gum_out(stations, 0);
   {
@@ -427,7 +463,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
       for (const Vector3& v : cervix[k]) {
         const int i = station_of(curve.Project(v, teeth.s[k]));
         for (int j = std::max(0, i - 1); j <= std::min(stations - 1, i + 1); ++j) {
-          const double n = (v - curve.Point(station_s(j))).dot(curve.Normal(station_s(j)));
+          const double n =
+              (v - curve.Point(station_s(j))).dot(curve.Normal(station_s(j)));
           in[j] = std::min(in[j], n - gingiva_out(k));
           out[j] = std::max(out[j], n + gingiva_out(k));
         }
@@ -440,7 +477,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     std::vector<double> face_in(stations, 1e9), face_out(stations, -1e9);
     for (std::size_t m = 0; m + 1 < by_s.size(); ++m) {
       const std::size_t k = by_s[m], l = by_s[m + 1];
-      const Vector3 ck = teeth.placed[k].X_WT.translation(), cl = teeth.placed[l].X_WT.translation();
+      const Vector3 ck = teeth.placed[k].X_WT.translation(),
+                    cl = teeth.placed[l].X_WT.translation();
       const Eigen::Vector2d e = (cl - ck).head<2>().normalized();
       for (const double side : {1.0, -1.0}) {
         const Vector3 perp = side * Vector3(-e.y(), e.x(), 0);
@@ -454,7 +492,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
           const Vector3 p = pk + (pl - pk) * (q / 20.0);
           const int i = station_of(curve.Project(p, 0.5 * (teeth.s[k] + teeth.s[l])));
           if (i < 0 || i >= stations) continue;
-          const double n = (p - curve.Point(station_s(i))).dot(curve.Normal(station_s(i)));
+          const double n =
+              (p - curve.Point(station_s(i))).dot(curve.Normal(station_s(i)));
           face_in[i] = std::min(face_in[i], n);
           face_out[i] = std::max(face_out[i], n);
         }
@@ -486,7 +525,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     Vector3 origin = curve.Point(s);
     origin.z() = 0;
     // Tapered and rounded at both ends of the arch.
-    const double taper = std::min(1.0, std::sqrt(std::max(0.05, (end - std::abs(s)) / 4.0)));
+    const double taper =
+        std::min(1.0, std::sqrt(std::max(0.05, (end - std::abs(s)) / 4.0)));
     // The bone's faces at depth h below the crest, 1.5 mm outside the roots
     // there (interpolated between the bands' middles).
     auto faces = [&](double h, double& lo, double& hi) {
@@ -501,22 +541,29 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     // The section: down the outer (buccal) side from the crest to the far
     // edge, rounded there, and up the inner side; the flat top at the crest.
     const Vector3 u = curve.Normal(s);
-    const double depth = std::abs(far - top), round = std::min({3.0, 0.5 * (hi_far - lo_far) * taper, 0.5 * depth});
+    const double depth = std::abs(far - top),
+                 round = std::min({3.0, 0.5 * (hi_far - lo_far) * taper, 0.5 * depth});
     constexpr int kSide = 28;
     std::vector<Vector3> ring;
     for (int side = 0; side < 2; ++side) {
       for (int j = 0; j < kSide; ++j) {
-        const int jj = side == 0 ? j : kSide - 1 - j;  // outer: crest to far; inner: far to crest
+        const int jj =
+            side == 0 ? j : kSide - 1 - j;  // outer: crest to far; inner: far to crest
         const double h = depth * std::pow(jj / (kSide - 1.0), 1.6);
         // (the flare under the gingiva leaves the crest straight down, in line
         // with the gingiva's face, and curves in to the bone over kFlareMm)
         const double f = 1 - SmoothStep(h / kFlareMm);
         const double below_round = h - (depth - round);
-        const double shrink = below_round > 0 ? std::sqrt(std::max(0.0, 1 - std::pow(below_round / round, 2))) : 1.0;
+        const double shrink =
+            below_round > 0
+                ? std::sqrt(std::max(0.0, 1 - std::pow(below_round / round, 2)))
+                : 1.0;
         double lo, hi;
         faces(h, lo, hi);
-        const double mid = 0.5 * (lo + hi), w = 0.5 * (hi - lo) * taper * (0.15 + 0.85 * shrink);
-        const double a = side == 0 ? mid + w + taper * gum_out[i] * f : mid - w - taper * gum_in[i] * f;
+        const double mid = 0.5 * (lo + hi),
+                     w = 0.5 * (hi - lo) * taper * (0.15 + 0.85 * shrink);
+        const double a = side == 0 ? mid + w + taper * gum_out[i] * f
+                                   : mid - w - taper * gum_in[i] * f;
         ring.push_back(origin + a * u + Vector3(0, 0, top + sign * h));
       }
     }
@@ -530,8 +577,9 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
     const auto drop = drops.find(p.tooth.fdi);
     if (drop == drops.end() || !FurcationAboveCrest(p.tooth.fdi, drop->second)) continue;
     const auto it = furcation.find(p.tooth.fdi);
-    const std::optional<TriangleMesh> bone =
-        InterradicularBone(p.tooth, drop->second, it == furcation.end() ? std::map<std::string, int>{} : it->second);
+    const std::optional<TriangleMesh> bone = InterradicularBone(
+        p.tooth, drop->second,
+        it == furcation.end() ? std::map<std::string, int>{} : it->second);
     if (bone) jaw = UniteSolids(jaw, PlacedMesh(p, *bone));
   }
   return jaw;
@@ -539,7 +587,8 @@ TriangleMesh Jaw(bool upper, const ArchParams& arch, const std::map<int, double>
 
 // The buccal extent of the teeth (both arches) at each station of a curve:
 // the largest outward offset of any tooth point near it.
-double BuccalExtent(const ArchCurve& curve, const std::vector<const ArchTeeth*>& arches, double s, double width) {
+double BuccalExtent(const ArchCurve& curve, const std::vector<const ArchTeeth*>& arches,
+                    double s, double width) {
   double best = 3.0;
   for (const ArchTeeth* a : arches) {
     for (std::size_t k = 0; k < a->placed.size(); ++k) {
@@ -575,17 +624,20 @@ void LipRingPoint(int i, int m, double* x, double* y) {
 }
 constexpr int kLipRing = 32;  // points around a lip's section
 
-std::vector<Vector3> LipSection(const Vector3& origin, const Vector3& u, double inner, double thickness, double edge,
-                                double fold, int m, double groove = 0) {
+std::vector<Vector3> LipSection(const Vector3& origin, const Vector3& u, double inner,
+                                double thickness, double edge, double fold, int m,
+                                double groove = 0) {
   std::vector<Vector3> ring;
-  const double zc = 0.5 * (edge + fold), hz = 0.5 * std::abs(edge - fold), toward_edge = edge > fold ? 1 : -1;
+  const double zc = 0.5 * (edge + fold), hz = 0.5 * std::abs(edge - fold),
+               toward_edge = edge > fold ? 1 : -1;
   for (int i = 0; i < m; ++i) {
     double x, y;
     LipRingPoint(i, m, &x, &y);
     const double t = 0.5 * (1 - y);  // 0 at the edge, 1 at the fold
     double half = 0.5 * thickness * (1 - 0.4 * t);
     if (x > 0) half -= 0.5 * groove * x * std::clamp((t - 0.2) / 0.25, 0.0, 1.0);
-    ring.push_back(origin + (inner + half * (1 + x)) * u + Vector3(0, 0, zc + toward_edge * hz * y));
+    ring.push_back(origin + (inner + half * (1 + x)) * u +
+                   Vector3(0, 0, zc + toward_edge * hz * y));
   }
   return ring;
 }
@@ -595,16 +647,19 @@ std::vector<Vector3> LipSection(const Vector3& origin, const Vector3& u, double 
 // z1 (tapered to its ends over `z_round` stations). A lip (`lip_edge` +1: its
 // free edge at z1, -1: at z0) takes LipSection's profile, a cheek (0) a
 // rounded rectangle.
-TriangleMesh OuterSlab(const ArchCurve& curve, const std::vector<const ArchTeeth*>& arches, double s0, double s1,
-                       double gap, double thickness, double z0, double z1, double z_round = 2, int lip_edge = 0,
-                       double fissure_half = 3.0) {
+TriangleMesh OuterSlab(const ArchCurve& curve,
+                       const std::vector<const ArchTeeth*>& arches, double s0, double s1,
+                       double gap, double thickness, double z0, double z1,
+                       double z_round = 2, int lip_edge = 0, double fissure_half = 3.0) {
   const int stations = std::max(8, static_cast<int>((s1 - s0) / 1.0));
   std::vector<double> inner(stations + 1);
-  for (int i = 0; i <= stations; ++i) inner[i] = BuccalExtent(curve, arches, s0 + (s1 - s0) * i / stations, 1.0) + gap;
+  for (int i = 0; i <= stations; ++i)
+    inner[i] = BuccalExtent(curve, arches, s0 + (s1 - s0) * i / stations, 1.0) + gap;
   // Smoothed: the mucosa drapes over the teeth's bulges.
   std::vector<double> smooth = inner;
   for (int i = 0; i <= stations; ++i)
-    for (int j = std::max(0, i - 3); j <= std::min(stations, i + 3); ++j) smooth[i] = std::max(smooth[i], inner[j]);
+    for (int j = std::max(0, i - 3); j <= std::min(stations, i + 3); ++j)
+      smooth[i] = std::max(smooth[i], inner[j]);
   std::vector<std::vector<Vector3>> rings;
   for (int i = 0; i <= stations; ++i) {
     const double s = s0 + (s1 - s0) * i / stations;
@@ -615,7 +670,8 @@ TriangleMesh OuterSlab(const ArchCurve& curve, const std::vector<const ArchTeeth
     const double zc = 0.5 * (z0 + z1), hz = 0.5 * (z1 - z0) * shrink;
     const double t_i = thickness * std::max(0.5, shrink);
     if (lip_edge == 0) {
-      rings.push_back(Section(o, curve.Normal(s), smooth[i], smooth[i] + t_i, zc - hz, zc + hz, 24, 3.0));
+      rings.push_back(Section(o, curve.Normal(s), smooth[i], smooth[i] + t_i, zc - hz,
+                              zc + hz, 24, 3.0));
     } else {
       // The oral fissure is an oval: toward the commissures each lip's free
       // edge comes toward the other lip's (as the 2.5th power of the
@@ -628,10 +684,12 @@ TriangleMesh OuterSlab(const ArchCurve& curve, const std::vector<const ArchTeeth
       const double f = std::pow(std::abs(w), 2.5);
       const bool upper = lip_edge < 0;
       const double tubercle = upper ? 0.8 * std::exp(-std::pow(mid / 3.5, 2)) : 0.0;
-      const double edge = (lip_edge > 0 ? z1 : z0) + lip_edge * (fissure_half * f + tubercle);
+      const double edge =
+          (lip_edge > 0 ? z1 : z0) + lip_edge * (fissure_half * f + tubercle);
       const double fold = edge + ((lip_edge > 0 ? z0 : z1) - edge) * shrink;
       const double philtrum = upper ? 0.8 * std::exp(-std::pow(mid / 3.0, 4)) : 0.0;
-      rings.push_back(LipSection(o, curve.Normal(s), smooth[i], t_i * (1 - 0.4 * w * w), edge, fold, kLipRing, philtrum));
+      rings.push_back(LipSection(o, curve.Normal(s), smooth[i], t_i * (1 - 0.4 * w * w),
+                                 edge, fold, kLipRing, philtrum));
     }
   }
   return Loft(rings);
@@ -645,10 +703,14 @@ struct Levels {
 
 Levels LevelsOf(const ArchTeeth& lower, const ArchTeeth& upper) {
   Levels l{-1e9, 1e9, -1e9, 1e9};
-  for (const TriangleMesh& m : lower.meshes) l.lower_edge = std::max(l.lower_edge, m.Bounds().max.z());
-  for (const TriangleMesh& m : upper.meshes) l.upper_edge = std::min(l.upper_edge, m.Bounds().min.z());
-  for (const PlacedTooth& p : lower.placed) l.lower_crest = std::max(l.lower_crest, p.X_WT.translation().z() - 1.5);
-  for (const PlacedTooth& p : upper.placed) l.upper_crest = std::min(l.upper_crest, p.X_WT.translation().z() + 1.5);
+  for (const TriangleMesh& m : lower.meshes)
+    l.lower_edge = std::max(l.lower_edge, m.Bounds().max.z());
+  for (const TriangleMesh& m : upper.meshes)
+    l.upper_edge = std::min(l.upper_edge, m.Bounds().min.z());
+  for (const PlacedTooth& p : lower.placed)
+    l.lower_crest = std::max(l.lower_crest, p.X_WT.translation().z() - 1.5);
+  for (const PlacedTooth& p : upper.placed)
+    l.upper_crest = std::min(l.upper_crest, p.X_WT.translation().z() + 1.5);
   return l;
 }
 
@@ -669,13 +731,15 @@ double LingualHalfWidth(const ArchTeeth& lower, double y) {
 // superellipse of exponent 2.3, so it falls about 1.6 mm from the midline to
 // four fifths of the way out) with a median groove `groove` deep; below them
 // the sides and the underside down to `bottom`, squarer (exponent 3).
-std::vector<Vector3> TongueSection(double y, double half, double top, double mid, double bottom, double groove, int m) {
+std::vector<Vector3> TongueSection(double y, double half, double top, double mid,
+                                   double bottom, double groove, int m) {
   std::vector<Vector3> ring;
   for (int i = 0; i < m; ++i) {
     const double a = 2 * kPi * i / m, c = std::cos(a), s = std::sin(a);
     const double e = s >= 0 ? 2.3 : 3.0;
     const double x = half * std::copysign(std::pow(std::abs(c), 2 / e), c);
-    double z = s >= 0 ? mid + (top - mid) * std::pow(s, 2 / e) : mid - (mid - bottom) * std::pow(-s, 2 / e);
+    double z = s >= 0 ? mid + (top - mid) * std::pow(s, 2 / e)
+                      : mid - (mid - bottom) * std::pow(-s, 2 / e);
     if (s > 0) z -= groove * std::exp(-std::pow(x / 2.5, 2)) * s;
     ring.emplace_back(x, y, z);
   }
@@ -689,7 +753,8 @@ TriangleMesh Tongue(const ArchTeeth& lower, const Levels& lv) {
   // of an instrument), back 45 mm, where its base turns down into the throat.
   double front = -1e9;  // the central incisors' lingual extent
   for (std::size_t k = 0; k < lower.placed.size(); ++k)
-    if (lower.placed[k].tooth.position == 1) front = std::max(front, lower.meshes[k].Bounds().min.y());
+    if (lower.placed[k].tooth.position == 1)
+      front = std::max(front, lower.meshes[k].Bounds().min.y());
   const double tip = front - 5.5, back = tip - 45.0;
   const int stations = 72;
   const double step = (tip - back) / stations;
@@ -708,11 +773,13 @@ TriangleMesh Tongue(const ArchTeeth& lower, const Levels& lv) {
   std::vector<double> eroded(stations + 1), width(stations + 1, 0.0);
   for (int i = 0; i <= stations; ++i) {
     eroded[i] = room[i];
-    for (int j = std::max(0, i - reach); j <= std::min(stations, i + reach); ++j) eroded[i] = std::min(eroded[i], room[j]);
+    for (int j = std::max(0, i - reach); j <= std::min(stations, i + reach); ++j)
+      eroded[i] = std::min(eroded[i], room[j]);
   }
   for (int i = 0; i <= stations; ++i) {
     int n = 0;
-    for (int j = std::max(0, i - reach); j <= std::min(stations, i + reach); ++j, ++n) width[i] += eroded[j];
+    for (int j = std::max(0, i - reach); j <= std::min(stations, i + reach); ++j, ++n)
+      width[i] += eroded[j];
     width[i] /= n;
   }
   std::vector<std::vector<Vector3>> rings;
@@ -723,32 +790,39 @@ TriangleMesh Tongue(const ArchTeeth& lower, const Levels& lv) {
     const double w = width[i];
     // The tip rounded like a half disc.
     const double r_tip = 0.8 * w;
-    const double round = from_tip < r_tip ? std::sqrt(std::max(0.0, 1 - std::pow(1 - from_tip / r_tip, 2))) : 1.0;
+    const double round =
+        from_tip < r_tip ? std::sqrt(std::max(0.0, 1 - std::pow(1 - from_tip / r_tip, 2)))
+                         : 1.0;
     // Its base (the last 14 mm) bends down; over the last 8 mm its corners are
     // rounded off in plan, to 55 % of its width at the end.
     const double base = std::max(0.0, from_tip - 31.0);
     const double t = std::clamp((base - 6.0) / 8.0, 0.0, 1.0);
-    const double half = std::max(0.8, w * std::max(0.12, round) * (0.55 + 0.45 * std::sqrt(1 - t * t)));
+    const double half =
+        std::max(0.8, w * std::max(0.12, round) * (0.55 + 0.45 * std::sqrt(1 - t * t)));
     // The dorsum level with the lower occlusal plane, rising toward the back and
     // falling to the tip; the base bends down (an arc of 20 mm radius, its
     // whole section) toward the oropharynx. The ventral surface free under the
     // first 12 mm, then down to the floor of the mouth.
     const double turn = 20.0 - std::sqrt(20.0 * 20.0 - base * base);  // 5.7 mm at the end
     const double bottom_free = from_tip < 12 ? (from_tip / 12.0) : 1.0;
-    double top = lv.lower_edge - 1.5 + 4.0 * std::pow(std::min(from_tip, 31.0) / 45.0, 1.5) - 2.5 * (1 - round);
-    const double bottom = std::min(top - 4.0 - (top - 4.0 - lower_z) * bottom_free, top - 2.5) - turn;
+    double top = lv.lower_edge - 1.5 +
+                 4.0 * std::pow(std::min(from_tip, 31.0) / 45.0, 1.5) - 2.5 * (1 - round);
+    const double bottom =
+        std::min(top - 4.0 - (top - 4.0 - lower_z) * bottom_free, top - 2.5) - turn;
     top -= turn;
     // The lateral borders 4.5 mm below the dorsum (less where it is thin).
     const double mid = top - std::min(4.5, 0.5 * (top - bottom));
     // The median groove: 0.5 mm deep from 12 mm behind the tip (growing in from
     // 4 mm), fading out over the base.
-    const double groove = 0.5 * std::clamp((from_tip - 4.0) / 8.0, 0.0, 1.0) * std::clamp(1 - base / 10.0, 0.0, 1.0);
+    const double groove = 0.5 * std::clamp((from_tip - 4.0) / 8.0, 0.0, 1.0) *
+                          std::clamp(1 - base / 10.0, 0.0, 1.0);
     rings.push_back(TongueSection(y, half, top, mid, bottom, groove, 48));
   }
   return Loft(rings);
 }
 
-TriangleMesh FloorOfMouth(const ArchTeeth& lower, const Levels& lv, const ArchParams& arch) {
+TriangleMesh FloorOfMouth(const ArchTeeth& lower, const Levels& lv,
+                          const ArchParams& arch) {
   // A horseshoe of mucosa inside the lower arch, from first molar to first
   // molar, 7 mm below the crest, from 0.5 mm inside the roots (in the jaw's
   // lingual bone) 9 mm toward the tongue.
@@ -768,7 +842,8 @@ TriangleMesh FloorOfMouth(const ArchTeeth& lower, const Levels& lv, const ArchPa
     Vector3 o = curve.Point(s);
     o.z() = 0;
     const double top = lv.lower_crest - 7.0;
-    rings.push_back(Section(o, curve.Normal(s), lingual - 9.5, lingual - 0.5, top - 3.0, top, 20, 3.0));
+    rings.push_back(Section(o, curve.Normal(s), lingual - 9.5, lingual - 0.5, top - 3.0,
+                            top, 20, 3.0));
   }
   return Loft(rings);
 }
@@ -808,7 +883,8 @@ TriangleMesh Palate(const ArchTeeth& upper, const Levels& lv, bool soft) {
       for (int j = 0; j < m; ++j) {
         const double a = 2 * kPi * j / m, c = std::cos(a), s = std::sin(a);
         const double x = half * c;
-        const double under = lv.upper_crest - 1.0 + vault * rise * std::sqrt(std::max(0.0, 1 - c * c));
+        const double under =
+            lv.upper_crest - 1.0 + vault * rise * std::sqrt(std::max(0.0, 1 - c * c));
         ring.emplace_back(x, y, s < 0 ? under - 1.0 : under + 2.5 + 2.0 * std::abs(s));
       }
       rings.push_back(std::move(ring));
@@ -823,7 +899,8 @@ TriangleMesh Palate(const ArchTeeth& upper, const Levels& lv, bool soft) {
     const double y = back + 1 - 14 * t * std::cos(0.6);
     const double top = lv.upper_crest - 1.0 + vault + 3.5 - 14 * t * std::sin(0.6);
     const double half = half0 * (1 - 0.45 * t * t);
-    rings.push_back(Section(Vector3(0, y, 0), Vector3::UnitX(), -half, half, top - 3.5, top, m, 2.4));
+    rings.push_back(
+        Section(Vector3(0, y, 0), Vector3::UnitX(), -half, half, top - 3.5, top, m, 2.4));
   }
   return Loft(rings);
 }
@@ -848,11 +925,14 @@ bool FurcationAboveCrest(int fdi, double crest_drop_mm) {
   return roof > 0 && roof + 0.3 <= crest_drop_mm - 0.1;
 }
 
-double CrestDropMm(double pocket_plus_recession_mm) { return std::max(1.5, pocket_plus_recession_mm - 0.5); }
+double CrestDropMm(double pocket_plus_recession_mm) {
+  return std::max(1.5, pocket_plus_recession_mm - 0.5);
+}
 
 const std::vector<std::string>& SoftTissueNames() {
-  static const std::vector<std::string> names = {"jaw_lower", "jaw_upper", "lip_upper", "lip_lower", "cheek_left",
-                                                 "cheek_right", "tongue", "floor_of_mouth", "palate", "soft_palate"};
+  static const std::vector<std::string> names = {
+      "jaw_lower",   "jaw_upper", "lip_upper",      "lip_lower", "cheek_left",
+      "cheek_right", "tongue",    "floor_of_mouth", "palate",    "soft_palate"};
   return names;
 }
 
@@ -879,7 +959,8 @@ std::string TongueRegion(const Vector3& n) {
   return "lateral border";
 }
 
-TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch, const std::map<int, double>& drops,
+TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch,
+                            const std::map<int, double>& drops,
                             const std::map<int, std::map<std::string, int>>& furcation) {
   const auto& known = SoftTissueNames();
   if (std::find(known.begin(), known.end(), name) == known.end()) {
@@ -910,15 +991,16 @@ TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch, con
     // when the mouth is closed and the edges pass each other).
     const double edge = up ? lv.upper_edge + 2.0 : lv.lower_edge - 1.0;
     const double fold = up ? lv.upper_crest + 9.0 : lv.lower_crest - 9.0;
-    const double meet = std::max(3.0, 0.5 * ((lv.upper_edge + 2.0) - (lv.lower_edge - 1.0)));
-    return OuterSlab(curve, teeth, -commissure, commissure, 2.5, 9.0, std::min(edge, fold), std::max(edge, fold), 6,
-                     up ? -1 : 1, meet);
+    const double meet =
+        std::max(3.0, 0.5 * ((lv.upper_edge + 2.0) - (lv.lower_edge - 1.0)));
+    return OuterSlab(curve, teeth, -commissure, commissure, 2.5, 9.0,
+                     std::min(edge, fold), std::max(edge, fold), 6, up ? -1 : 1, meet);
   }
   const bool left = name == "cheek_left";
   const ArchCurve curve(true, arch);
   const double s0 = commissure - 5, s1 = ArchEnd(true) + 8;
-  return OuterSlab(curve, {&upper, &lower}, left ? s0 : -s1, left ? s1 : -s0, 2.5, 5.0, lv.lower_crest - 9.0,
-                   lv.upper_crest + 9.0, 5);
+  return OuterSlab(curve, {&upper, &lower}, left ? s0 : -s1, left ? s1 : -s0, 2.5, 5.0,
+                   lv.lower_crest - 9.0, lv.upper_crest + 9.0, 5);
 }
 
 const std::vector<std::string>& LesionKinds() {
@@ -927,19 +1009,23 @@ const std::vector<std::string>& LesionKinds() {
 }
 
 std::vector<std::string> LesionRegions(const std::string& anatomy) {
-  if (anatomy == "tongue") return {"dorsum", "lateral_border_left", "lateral_border_right", "ventral"};
+  if (anatomy == "tongue")
+    return {"dorsum", "lateral_border_left", "lateral_border_right", "ventral"};
   if (anatomy.rfind("jaw", 0) == 0) return {};
   return {"centre"};
 }
 
-Vector3 LesionCentre(const std::string& anatomy, const std::string& region, const TriangleMesh& mesh) {
+Vector3 LesionCentre(const std::string& anatomy, const std::string& region,
+                     const TriangleMesh& mesh) {
   return RegionSpot(anatomy, region, mesh).point;
 }
 
-SurfacePoint RegionSpot(const std::string& anatomy, const std::string& region, const TriangleMesh& mesh) {
+SurfacePoint RegionSpot(const std::string& anatomy, const std::string& region,
+                        const TriangleMesh& mesh) {
   const auto regions = LesionRegions(anatomy);
   if (std::find(regions.begin(), regions.end(), region) == regions.end())
-    throw std::invalid_argument("'" + anatomy + "' has no region '" + region + "' for a lesion");
+    throw std::invalid_argument("'" + anatomy + "' has no region '" + region +
+                                "' for a lesion");
   const std::vector<Vector3> normals = mesh.VertexNormalSums();
   const Aabb b = mesh.Bounds();
   const Vector3 mid = 0.5 * (b.min + b.max);
@@ -954,9 +1040,11 @@ SurfacePoint RegionSpot(const std::string& anatomy, const std::string& region, c
       facing = -Vector3::UnitZ();
       anchor = Vector3(0, b.max.y() - 4, b.max.z() - 5);
     } else {
-      const double side = region == "lateral_border_left" ? 1 : -1;  // the patient's left is +x
+      const double side =
+          region == "lateral_border_left" ? 1 : -1;  // the patient's left is +x
       facing = side * Vector3::UnitX();
-      anchor = Vector3(side == 1 ? b.max.x() : b.min.x(), b.max.y() - 0.35 * length, b.max.z() - 3);
+      anchor = Vector3(side == 1 ? b.max.x() : b.min.x(), b.max.y() - 0.35 * length,
+                       b.max.z() - 3);
     }
   } else if (anatomy == "cheek_left" || anatomy == "cheek_right") {
     const double side = anatomy == "cheek_left" ? 1 : -1;

@@ -52,9 +52,10 @@ bool FurcationAboveCrest(int fdi, double crest_drop_mm);
 /// (never leaving less than 1 mm), none at all when an entrance is class 3,
 /// and all of it for a tooth not named there (class 0: not involved).
 /// Throws std::invalid_argument for an unknown name.
-TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch = {},
-                            const std::map<int, double>& crest_drop_mm = {},
-                            const std::map<int, std::map<std::string, int>>& furcation = {});
+TriangleMesh MakeSoftTissue(
+    const std::string& name, const ArchParams& arch = {},
+    const std::map<int, double>& crest_drop_mm = {},
+    const std::map<int, std::map<std::string, int>>& furcation = {});
 
 /// Per vertex of a lip's mesh as MakeSoftTissue made it, how much of it is
 /// skin (1) rather than the vermilion at the free edge or the mucosa facing the
@@ -78,8 +79,10 @@ std::vector<std::string> LesionRegions(const std::string& anatomy);
 /// Where a lesion on `region` of the tissue `anatomy` is centred: a vertex of
 /// its mesh (`mesh`, as MakeSoftTissue made it) on the side that faces the
 /// mouth. Throws std::invalid_argument for a region the tissue does not have.
-Vector3 LesionCentre(const std::string& anatomy, const std::string& region, const TriangleMesh& mesh);
+Vector3 LesionCentre(const std::string& anatomy, const std::string& region,
+                     const TriangleMesh& mesh);
 /// LesionCentre with the surface's outward normal there (unit; toward the mouth).
-SurfacePoint RegionSpot(const std::string& anatomy, const std::string& region, const TriangleMesh& mesh);
+SurfacePoint RegionSpot(const std::string& anatomy, const std::string& region,
+                        const TriangleMesh& mesh);
 
 }  // namespace sulcus

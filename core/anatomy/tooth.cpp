@@ -43,7 +43,8 @@ struct Root {
 class ToothShape {
  public:
   const std::vector<Root>& roots() const { return roots_; }
-  ToothShape(const FdiTooth& t, const ToothDimensions& d) : type_(t.type()), upper_(t.upper()), d_(d) {
+  ToothShape(const FdiTooth& t, const ToothDimensions& d)
+      : type_(t.type()), upper_(t.upper()), d_(d) {
     H_ = d.crown_height;
     L_ = d.root_length;
     a_c_ = d.md_crown / 2;
@@ -100,7 +101,8 @@ class ToothShape {
     double a, b, n;
     Profile(p.z(), &a, &b, &n);
     if (a < 1e-4 || b < 1e-4) return std::hypot(p.x(), p.y()) + 1e-3;
-    const double r = std::pow(std::pow(std::abs(p.x()) / a, n) + std::pow(std::abs(p.y()) / b, n), 1.0 / n);
+    const double r = std::pow(
+        std::pow(std::abs(p.x()) / a, n) + std::pow(std::abs(p.y()) / b, n), 1.0 / n);
     return (r - 1) * std::min(a, b);
   }
 
@@ -112,9 +114,11 @@ class ToothShape {
     switch (type_) {
       case ToothType::kCentralIncisor:
       case ToothType::kLateralIncisor:
-        return -0.5 * (x / a_c_) * (x / a_c_) - 0.3 * (y / b_c_) * (y / b_c_);  // incisal edge
+        return -0.5 * (x / a_c_) * (x / a_c_) -
+               0.3 * (y / b_c_) * (y / b_c_);  // incisal edge
       case ToothType::kCanine:
-        return -2.0 * std::sqrt(x * x + 0.04) / a_c_ - 0.3 * (y / b_c_) * (y / b_c_);  // one cusp
+        return -2.0 * std::sqrt(x * x + 0.04) / a_c_ -
+               0.3 * (y / b_c_) * (y / b_c_);  // one cusp
       default: {
         // Cusps around a central fossa: each cusp a dome, the surface the
         // highest dome (a smooth maximum), so that a groove runs where two
@@ -122,7 +126,9 @@ class ToothShape {
         // molar), rounded over kGrooveRoundingMm.
         double sum = 0;
         for (const Cusp& c : cusps_) {
-          const double dome = c.height * std::exp(-((x - c.x) * (x - c.x) + (y - c.y) * (y - c.y)) / (c.sigma * c.sigma));
+          const double dome =
+              c.height * std::exp(-((x - c.x) * (x - c.x) + (y - c.y) * (y - c.y)) /
+                                  (c.sigma * c.sigma));
           sum += std::exp(dome / kGrooveRoundingMm);
         }
         return kGrooveRoundingMm * std::log(sum);
@@ -141,15 +147,19 @@ class ToothShape {
       case ToothType::kSecondPremolar: {
         // Buccal and lingual cusps; the lower first premolar's lingual cusp is small.
         const bool small_lingual = !upper_ && type_ == ToothType::kFirstPremolar;
-        cusps_ = {{0, 0.45 * b, 2.2, 0.5 * a}, {0, -0.45 * b, small_lingual ? 1.0 : 1.9, 0.45 * a}};
+        cusps_ = {{0, 0.45 * b, 2.2, 0.5 * a},
+                  {0, -0.45 * b, small_lingual ? 1.0 : 1.9, 0.45 * a}};
         break;
       }
       case ToothType::kFirstMolar:
       case ToothType::kSecondMolar:
       case ToothType::kThirdMolar:
-        cusps_ = {{0.45 * a, 0.45 * b, 2.3, 0.42 * a}, {-0.45 * a, 0.45 * b, 2.1, 0.42 * a},
-                  {0.45 * a, -0.45 * b, 2.3, 0.42 * a}, {-0.45 * a, -0.45 * b, 2.0, 0.42 * a}};
-        if (!upper_ && type_ == ToothType::kFirstMolar) cusps_.push_back({-0.8 * a, 0.2 * b, 1.5, 0.3 * a});  // distal
+        cusps_ = {{0.45 * a, 0.45 * b, 2.3, 0.42 * a},
+                  {-0.45 * a, 0.45 * b, 2.1, 0.42 * a},
+                  {0.45 * a, -0.45 * b, 2.3, 0.42 * a},
+                  {-0.45 * a, -0.45 * b, 2.0, 0.42 * a}};
+        if (!upper_ && type_ == ToothType::kFirstMolar)
+          cusps_.push_back({-0.8 * a, 0.2 * b, 1.5, 0.3 * a});  // distal
         break;
       default:
         break;
@@ -157,7 +167,8 @@ class ToothShape {
     // The highest point of the relief over the crown is the crown height.
     double top = -1e9;
     for (int i = -40; i <= 40; ++i) {
-      for (int j = -40; j <= 40; ++j) top = std::max(top, Relief(a * i / 40.0, b * j / 40.0));
+      for (int j = -40; j <= 40; ++j)
+        top = std::max(top, Relief(a * i / 40.0, b * j / 40.0));
     }
     shift_ = H_ - top;
   }
@@ -170,19 +181,35 @@ class ToothShape {
       // the distobuccal one about round, the palatal one broader mesiodistally.
       furcation_ = -3.5;
       const double palatal = d_.longest_root();
-      roots_ = {{{0.45 * a, 0.4 * b, furcation_ + 1.2}, {0.6 * a, 0.55 * b, -L_}, 0.16 * 2 * a, 0.45 * b},
-                {{-0.45 * a, 0.4 * b, furcation_ + 1.2}, {-0.6 * a, 0.5 * b, -L_ + 0.5}, 0.17 * 2 * a, 0.3 * b},
-                {{0, -0.45 * b, furcation_ + 1.2}, {0, -0.8 * b, -palatal}, 0.26 * 2 * a, 0.34 * b}};
+      roots_ = {{{0.45 * a, 0.4 * b, furcation_ + 1.2},
+                 {0.6 * a, 0.55 * b, -L_},
+                 0.16 * 2 * a,
+                 0.45 * b},
+                {{-0.45 * a, 0.4 * b, furcation_ + 1.2},
+                 {-0.6 * a, 0.5 * b, -L_ + 0.5},
+                 0.17 * 2 * a,
+                 0.3 * b},
+                {{0, -0.45 * b, furcation_ + 1.2},
+                 {0, -0.8 * b, -palatal},
+                 0.26 * 2 * a,
+                 0.34 * b}};
     } else if (Molar(type_)) {
       // Mesial and distal roots, broad bucco-lingually.
       furcation_ = -3.0;
-      roots_ = {{{0.45 * a, 0, furcation_ + 1.2}, {0.62 * a, 0, -L_}, 0.20 * 2 * a, 0.75 * b},
-                {{-0.45 * a, 0, furcation_ + 1.2}, {-0.65 * a, 0, -0.95 * L_}, 0.19 * 2 * a, 0.7 * b}};
+      roots_ = {
+          {{0.45 * a, 0, furcation_ + 1.2}, {0.62 * a, 0, -L_}, 0.20 * 2 * a, 0.75 * b},
+          {{-0.45 * a, 0, furcation_ + 1.2},
+           {-0.65 * a, 0, -0.95 * L_},
+           0.19 * 2 * a,
+           0.7 * b}};
     } else {
       // Upper first premolar: buccal and palatal roots, split in the apical half.
       furcation_ = -0.45 * L_;
       roots_ = {{{0, 0.4 * b, furcation_ + 1.5}, {0, 0.45 * b, -L_}, 0.55 * a, 0.32 * b},
-                {{0, -0.4 * b, furcation_ + 1.5}, {0, -0.45 * b, -L_ + 0.5}, 0.55 * a, 0.32 * b}};
+                {{0, -0.4 * b, furcation_ + 1.5},
+                 {0, -0.45 * b, -L_ + 0.5},
+                 0.55 * a,
+                 0.32 * b}};
     }
   }
 
@@ -192,7 +219,8 @@ class ToothShape {
     const Vector3 d = p - (r.top + s * axis);
     const double taper = (1 - 0.5 * s) * std::sqrt(std::max(1e-6, 1 - std::pow(s, 4)));
     const double rx = r.rx * taper, ry = r.ry * taper;
-    return (std::hypot(d.x() / rx, d.y() / ry) - 1) * std::min(rx, ry) + (s >= 1 ? std::abs(d.z()) : 0);
+    return (std::hypot(d.x() / rx, d.y() / ry) - 1) * std::min(rx, ry) +
+           (s >= 1 ? std::abs(d.z()) : 0);
   }
 
   ToothType type_;
@@ -227,40 +255,48 @@ Vector3 FirstExit(const ToothShape& f, const Vector3& c, const Vector3& d, doubl
 FdiTooth FdiTooth::Parse(int fdi) {
   const int q = fdi / 10, pos = fdi % 10;
   if (fdi < 11 || fdi > 48) {
-    throw std::invalid_argument("FDI " + std::to_string(fdi) +
-                                " does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)");
+    throw std::invalid_argument(
+        "FDI " + std::to_string(fdi) +
+        " does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)");
   }
   if (q < 1 || q > 4) {
-    throw std::invalid_argument("FDI " + std::to_string(fdi) + " does not exist: the quadrant digit is 1 to 4");
+    throw std::invalid_argument("FDI " + std::to_string(fdi) +
+                                " does not exist: the quadrant digit is 1 to 4");
   }
   if (pos < 1 || pos > 8) {
-    throw std::invalid_argument("FDI " + std::to_string(fdi) + " does not exist: the tooth digit is 1 to 8");
+    throw std::invalid_argument("FDI " + std::to_string(fdi) +
+                                " does not exist: the tooth digit is 1 to 8");
   }
   return {fdi, q, pos};
 }
 
 std::string ToString(ToothType t) {
-  static const char* names[] = {"central incisor", "lateral incisor", "canine", "first premolar",
-                                "second premolar", "first molar", "second molar", "third molar"};
+  static const char* names[] = {"central incisor", "lateral incisor", "canine",
+                                "first premolar",  "second premolar", "first molar",
+                                "second molar",    "third molar"};
   return names[static_cast<int>(t)];
 }
 
 ToothDimensions Dimensions(const FdiTooth& t) {
-  // crown height, root length, MD crown, MD cervix, BL, roots, palatal root (typical adult values).
+  // crown height, root length, MD crown, MD cervix, BL, roots, palatal root (typical
+  // adult values).
   static const ToothDimensions upper[8] = {
-      {10.5, 13, 8.5, 7.0, 7.0, 1}, {9.0, 13, 6.5, 5.0, 6.0, 1},  {10.0, 17, 7.5, 5.5, 8.0, 1},
-      {8.5, 14, 7.0, 5.0, 9.0, 2},  {8.5, 14, 6.5, 5.0, 9.0, 1},  {7.5, 12, 10.0, 8.0, 11.0, 3, 13},
+      {10.5, 13, 8.5, 7.0, 7.0, 1}, {9.0, 13, 6.5, 5.0, 6.0, 1},
+      {10.0, 17, 7.5, 5.5, 8.0, 1}, {8.5, 14, 7.0, 5.0, 9.0, 2},
+      {8.5, 14, 6.5, 5.0, 9.0, 1},  {7.5, 12, 10.0, 8.0, 11.0, 3, 13},
       {7.0, 11, 9.0, 7.0, 11.0, 3}, {6.5, 10, 8.5, 6.5, 10.0, 3}};
   static const ToothDimensions lower[8] = {
-      {9.0, 12.5, 5.0, 3.5, 6.0, 1}, {9.5, 14, 5.5, 4.0, 6.5, 1},   {11.0, 16, 7.0, 5.5, 7.5, 1},
-      {8.5, 14, 7.0, 5.0, 7.5, 1},   {8.0, 14.5, 7.0, 5.0, 8.0, 1}, {7.5, 14, 11.0, 9.0, 10.5, 2},
+      {9.0, 12.5, 5.0, 3.5, 6.0, 1}, {9.5, 14, 5.5, 4.0, 6.5, 1},
+      {11.0, 16, 7.0, 5.5, 7.5, 1},  {8.5, 14, 7.0, 5.0, 7.5, 1},
+      {8.0, 14.5, 7.0, 5.0, 8.0, 1}, {7.5, 14, 11.0, 9.0, 10.5, 2},
       {7.0, 13, 10.5, 8.0, 10.0, 2}, {6.5, 12, 10.0, 7.5, 9.5, 2}};
   return (t.upper() ? upper : lower)[t.position - 1];
 }
 
 ToothModel GenerateTooth(int fdi, const ToothParams& params) {
   if (params.resolution < 2 || params.resolution > 7) {
-    throw std::invalid_argument("tooth resolution " + std::to_string(params.resolution) + " is out of range (2 to 7)");
+    throw std::invalid_argument("tooth resolution " + std::to_string(params.resolution) +
+                                " is out of range (2 to 7)");
   }
   ToothModel m;
   m.tooth = FdiTooth::Parse(fdi);
@@ -285,7 +321,8 @@ ToothModel GenerateTooth(int fdi, const ToothParams& params) {
   for (int i = 0; i < 72; ++i) {
     const double th = 2 * std::numbers::pi * i / 72;
     const Vector3 start(0, 0, scallop * std::cos(th) * std::cos(th));
-    m.cej.push_back(FirstExit(shape, start, Vector3(std::cos(th), std::sin(th), 0), 20.0));
+    m.cej.push_back(
+        FirstExit(shape, start, Vector3(std::cos(th), std::sin(th), 0), 20.0));
   }
   return m;
 }

@@ -1,5 +1,6 @@
 #pragma once
-// Procedural teeth from clinical dimensions (typical adult values from dental anatomy texts), by FDI number.
+// Procedural teeth from clinical dimensions (typical adult values from dental anatomy
+// texts), by FDI number.
 //
 // Tooth frame (every tooth, upper or lower): origin at the centre of the
 // cemento-enamel junction (CEJ) level, +z along the long axis toward the
@@ -22,19 +23,28 @@
 
 namespace sulcus {
 
-enum class ToothType { kCentralIncisor, kLateralIncisor, kCanine, kFirstPremolar, kSecondPremolar,
-                       kFirstMolar, kSecondMolar, kThirdMolar };
+enum class ToothType {
+  kCentralIncisor,
+  kLateralIncisor,
+  kCanine,
+  kFirstPremolar,
+  kSecondPremolar,
+  kFirstMolar,
+  kSecondMolar,
+  kThirdMolar
+};
 
-/// Typical adult dimensions, mm (dental anatomy texts' typical values; third molars from second
-/// molars, slightly smaller).
+/// Typical adult dimensions, mm (dental anatomy texts' typical values; third molars from
+/// second molars, slightly smaller).
 struct ToothDimensions {
   double crown_height = 0;
   double root_length = 0;  // the buccal roots of multi-rooted upper teeth
-  double md_crown = 0;   // mesiodistal width at the contact areas
-  double md_cervix = 0;  // mesiodistal width at the CEJ
-  double bl = 0;         // bucco-lingual width of the crown
+  double md_crown = 0;     // mesiodistal width at the contact areas
+  double md_cervix = 0;    // mesiodistal width at the CEJ
+  double bl = 0;           // bucco-lingual width of the crown
   int roots = 1;
-  double palatal_root_length = 0;  // upper molars' palatal root when longer (0: as root_length)
+  double palatal_root_length =
+      0;  // upper molars' palatal root when longer (0: as root_length)
   /// The deepest any root reaches below the CEJ.
   double longest_root() const { return std::max(root_length, palatal_root_length); }
 };
@@ -51,7 +61,9 @@ struct FdiTooth {
   static FdiTooth Parse(int fdi);
   /// Whether Parse accepts `fdi` (for code that must not throw on a number a
   /// reader has already reported).
-  static bool Valid(int fdi) { return fdi / 10 >= 1 && fdi / 10 <= 4 && fdi % 10 >= 1 && fdi % 10 <= 8; }
+  static bool Valid(int fdi) {
+    return fdi / 10 >= 1 && fdi / 10 <= 4 && fdi % 10 >= 1 && fdi % 10 <= 8;
+  }
 };
 
 std::string ToString(ToothType type);
@@ -62,16 +74,18 @@ ToothDimensions Dimensions(const FdiTooth& tooth);
 inline constexpr int kToothShapeVersion = 5;
 
 struct ToothParams {
-  int resolution = 4;  // icosahedron subdivisions: 4 gives 5,120 triangles (the paper's ~4,000), 5 gives 20,480
+  int resolution = 4;  // icosahedron subdivisions: 4 gives 5,120 triangles (the paper's
+                       // ~4,000), 5 gives 20,480
 };
 
 struct ToothModel {
   FdiTooth tooth;
   ToothDimensions dimensions;
-  TriangleMesh mesh;                 // in the tooth frame
-  std::vector<Vector3> cej;          // the CEJ as a closed curve on the surface (72 points)
+  TriangleMesh mesh;         // in the tooth frame
+  std::vector<Vector3> cej;  // the CEJ as a closed curve on the surface (72 points)
   Vector3 long_axis = Vector3::UnitZ();
-  std::vector<Vector3> root_tops;    // multi-rooted teeth: where each root's axis starts, under the furcation
+  std::vector<Vector3> root_tops;  // multi-rooted teeth: where each root's axis starts,
+                                   // under the furcation
 };
 
 /// Generates a tooth. Deterministic: the same number and parameters give the same

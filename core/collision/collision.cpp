@@ -31,19 +31,25 @@ CollisionWorld::CollisionWorld(const SphereTree& tool, const std::vector<Object>
       ofirst_.push_back(t.first_child[n]);
       ocount_.push_back(t.child_count[n]);
       for (int j = 0; j < LeafPlanes::kMaxPlanes; ++j) {
-        const bool used = o.planes != nullptr && n < o.planes->d.size() && o.planes->d[n][j] < LeafPlanes::kNone;
-        const Vector3 pn = used ? Vector3(o.X_WO.rotation() * o.planes->n[n][j]) : Vector3::Zero();
-        planes_.insert(planes_.end(), {pn.x(), pn.y(), pn.z(),
-                                       used ? o.planes->d[n][j] + pn.dot(o.X_WO.translation()) : LeafPlanes::kNone});
+        const bool used = o.planes != nullptr && n < o.planes->d.size() &&
+                          o.planes->d[n][j] < LeafPlanes::kNone;
+        const Vector3 pn =
+            used ? Vector3(o.X_WO.rotation() * o.planes->n[n][j]) : Vector3::Zero();
+        planes_.insert(planes_.end(),
+                       {pn.x(), pn.y(), pn.z(),
+                        used ? o.planes->d[n][j] + pn.dot(o.X_WO.translation())
+                             : LeafPlanes::kNone});
       }
     }
   }
   for (std::size_t n = 0; n < tool.size(); ++n) {
-    if (tool.IsLeaf(n)) tool_reach_ = std::max(tool_reach_, tool.center(n).norm() + tool.r[n]);
+    if (tool.IsLeaf(n))
+      tool_reach_ = std::max(tool_reach_, tool.center(n).norm() + tool.r[n]);
   }
 }
 
-double CollisionWorld::ClippedGap(std::size_t k, const Vector3& c_W, double r, Vector3* normal) const {
+double CollisionWorld::ClippedGap(std::size_t k, const Vector3& c_W, double r,
+                                  Vector3* normal) const {
   const Vector3 c(ox_[k], oy_[k], oz_[k]);
   const double* pl = &planes_[k * kPlaneStride];
   Vector3 dir, nearest;
@@ -51,7 +57,8 @@ double CollisionWorld::ClippedGap(std::size_t k, const Vector3& c_W, double r, V
   // Outside, with the polyhedron's nearest point in the sphere: that is the
   // cut sphere's nearest point too (the common case, a tool over a face).
   if (!(gap > 0 && (nearest - c).squaredNorm() <= orad_[k] * orad_[k])) {
-    for (int j = 0; j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone; ++j) {
+    for (int j = 0; j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone;
+         ++j) {
       Vector3 d;
       const double g = BallHalfSpaceDistance(c, orad_[k], &pl[4 * j], c_W, &d);
       if (g > gap) gap = g, dir = d;
@@ -61,7 +68,8 @@ double CollisionWorld::ClippedGap(std::size_t k, const Vector3& c_W, double r, V
   return gap - r;
 }
 
-double CollisionWorld::PolyhedronDistance(const double* pl, const Vector3& q, Vector3* dir, Vector3* nearest) {
+double CollisionWorld::PolyhedronDistance(const double* pl, const Vector3& q,
+                                          Vector3* dir, Vector3* nearest) {
   constexpr int K = LeafPlanes::kMaxPlanes;
   Vector3 n[K];
   double d[K], s[K];
@@ -129,8 +137,8 @@ double CollisionWorld::PolyhedronDistance(const double* pl, const Vector3& q, Ve
   return best;
 }
 
-double CollisionWorld::BallHalfSpaceDistance(const Vector3& c, double R, const double* pl, const Vector3& q,
-                                             Vector3* dir) {
+double CollisionWorld::BallHalfSpaceDistance(const Vector3& c, double R, const double* pl,
+                                             const Vector3& q, Vector3* dir) {
   const Vector3 n(pl[0], pl[1], pl[2]);
   const double s = n.dot(q) - pl[3];
   const Vector3 away = q - c;
@@ -164,8 +172,9 @@ double CollisionWorld::BallHalfSpaceDistance(const Vector3& c, double R, const d
   return len;
 }
 
-CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X_WT, double margin,
-                            CollisionScratch* s, ContactPair* out, int capacity, const QueryLimits& limits) noexcept {
+CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X_WT,
+                            double margin, CollisionScratch* s, ContactPair* out,
+                            int capacity, const QueryLimits& limits) noexcept {
   CollisionStats stats;
   const SphereTree& tool = world.tool();
   const Matrix3& R = X_WT.rotation();
@@ -184,10 +193,12 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
   // Tests `count` spheres (contiguous in x, y, z, r from `first`) against the
   // point q with radius rq, in one loop the compiler can vectorise; then emits
   // leaf pairs and pushes overlapping pairs that can still be split.
-  auto test_children = [&](const double* x, const double* y, const double* z, const double* r,
-                           std::int32_t first, int count, const Vector3& q, double rq, auto&& on_hit) {
+  auto test_children = [&](const double* x, const double* y, const double* z,
+                           const double* r, std::int32_t first, int count,
+                           const Vector3& q, double rq, auto&& on_hit) {
     for (int c = 0; c < count; ++c) {
-      const double dx = x[first + c] - q.x(), dy = y[first + c] - q.y(), dz = z[first + c] - q.z();
+      const double dx = x[first + c] - q.x(), dy = y[first + c] - q.y(),
+                   dz = z[first + c] - q.z();
       d2[c] = dx * dx + dy * dy + dz * dz;
     }
     stats.node_tests += count;
@@ -213,7 +224,8 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
         double gap = std::sqrt(dist2) - tr[a] - br[b];
         if (gap < CollisionWorld::kPlanesWithinMm && world.Clipped(base + b)) {
           // A clipped leaf: its gap as LeafGap gives it; a pair only within the margin.
-          gap = world.ClippedGap(base + b, R * Vector3(tx[a], ty[a], tz[a]) + p, tr[a], nullptr);
+          gap = world.ClippedGap(base + b, R * Vector3(tx[a], ty[a], tz[a]) + p, tr[a],
+                                 nullptr);
           if (!(gap < margin)) return;
         }
         if (stats.pairs < capacity) {
@@ -232,10 +244,12 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
     };
     // The roots: the broad phase.
     const Vector3 root_T = Rt * (Vector3(bx[0], by[0], bz[0]) - p);
-    test_children(tx, ty, tz, tr, 0, 1, root_T, br[0], [&](std::int32_t a, double dd) { hit(a, 0, dd); });
+    test_children(tx, ty, tz, tr, 0, 1, root_T, br[0],
+                  [&](std::int32_t a, double dd) { hit(a, 0, dd); });
     if (stats.cut_short) return stats;
     while (top > 0) {
-      if (stats.cut_short || (limits.max_node_tests > 0 && stats.node_tests >= limits.max_node_tests)) {
+      if (stats.cut_short ||
+          (limits.max_node_tests > 0 && stats.node_tests >= limits.max_node_tests)) {
         stats.cut_short = true;
         return stats;
       }
@@ -245,8 +259,8 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
       if (b_leaf || (!a_leaf && tr[a] >= br[b])) {
         // Split the tool node: the object sphere moves into the tool frame once.
         const Vector3 b_T = Rt * (Vector3(bx[b], by[b], bz[b]) - p);
-        test_children(tx, ty, tz, tr, tool.first_child[a], tool.child_count[a], b_T, br[b],
-                      [&](std::int32_t child, double dd) { hit(child, b, dd); });
+        test_children(tx, ty, tz, tr, tool.first_child[a], tool.child_count[a], b_T,
+                      br[b], [&](std::int32_t child, double dd) { hit(child, b, dd); });
       } else {
         // Split the object node: the tool sphere moves into the world once.
         const Vector3 a_W = R * Vector3(tx[a], ty[a], tz[a]) + p;
@@ -258,7 +272,8 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
   return stats;
 }
 
-std::vector<ContactPair> FindContactsReference(const CollisionWorld& world, const RigidTransform& X_WT,
+std::vector<ContactPair> FindContactsReference(const CollisionWorld& world,
+                                               const RigidTransform& X_WT,
                                                double margin) {
   std::vector<ContactPair> out;
   const SphereTree& tool = world.tool();
@@ -266,7 +281,8 @@ std::vector<ContactPair> FindContactsReference(const CollisionWorld& world, cons
     const SphereTree& ot = world.object_tree(obj);
     // Algorithm 1: if the two spheres are within the margin, either report the
     // leaf pair or recurse into every child pair.
-    std::function<void(std::int32_t, std::int32_t)> visit = [&](std::int32_t a, std::int32_t b) {
+    std::function<void(std::int32_t, std::int32_t)> visit = [&](std::int32_t a,
+                                                                std::int32_t b) {
       const Vector3 ca = X_WT * tool.center(a);
       const Vector3 cb = world.ObjectCenter(obj, b);
       const double gap = (ca - cb).norm() - tool.r[a] - ot.r[b];
@@ -282,7 +298,8 @@ std::vector<ContactPair> FindContactsReference(const CollisionWorld& world, cons
         for (int i = 0; i < tool.child_count[a]; ++i) visit(tool.first_child[a] + i, b);
       } else {
         for (int i = 0; i < tool.child_count[a]; ++i) {
-          for (int j = 0; j < ot.child_count[b]; ++j) visit(tool.first_child[a] + i, ot.first_child[b] + j);
+          for (int j = 0; j < ot.child_count[b]; ++j)
+            visit(tool.first_child[a] + i, ot.first_child[b] + j);
         }
       }
     };

@@ -31,12 +31,15 @@ struct ContactPair {
   /// Stable identity of the pair across frames (for warm starts).
   std::uint64_t key() const {
     return (static_cast<std::uint64_t>(object) << 48) |
-           (static_cast<std::uint64_t>(object_leaf) << 24) | static_cast<std::uint64_t>(tool_leaf);
+           (static_cast<std::uint64_t>(object_leaf) << 24) |
+           static_cast<std::uint64_t>(tool_leaf);
   }
   /// The object of a pair from its key.
   static int ObjectOfKey(std::uint64_t key) { return static_cast<int>(key >> 48); }
   /// The tool's leaf of a pair from its key.
-  static int ToolLeafOfKey(std::uint64_t key) { return static_cast<int>(key & 0xffffffu); }
+  static int ToolLeafOfKey(std::uint64_t key) {
+    return static_cast<int>(key & 0xffffffu);
+  }
 };
 
 struct CollisionScratch;
@@ -50,7 +53,8 @@ class CollisionWorld {
   struct Object {
     const SphereTree* tree;  // not owned; must outlive the world
     RigidTransform X_WO;
-    const LeafPlanes* planes = nullptr;  // the leaves' clipping planes (none: spheres); copied
+    const LeafPlanes* planes =
+        nullptr;  // the leaves' clipping planes (none: spheres); copied
   };
   /// Precondition: every tree is valid (SphereTree::Validate). Up to 65,535
   /// objects and 2^24 nodes per tree.
@@ -87,7 +91,8 @@ class CollisionWorld {
   /// a tool sliding on the face toward the leaf meets the sphere's cap (cut away
   /// by the plane) before the rim, and a constraint on the cap would hold it
   /// back at every leaf.
-  double LeafGap(int i, std::int32_t n, const Vector3& c_W, double r, Vector3* normal = nullptr) const {
+  double LeafGap(int i, std::int32_t n, const Vector3& c_W, double r,
+                 Vector3* normal = nullptr) const {
     const std::size_t k = offset_[i] + n;
     const Vector3 away(c_W.x() - ox_[k], c_W.y() - oy_[k], c_W.z() - oz_[k]);
     const double dist = away.norm();
@@ -97,25 +102,32 @@ class CollisionWorld {
     return sphere;
   }
   /// A pair's gap with the tool at X_WT (LeafGap of its two leaves).
-  double PairGap(const RigidTransform& X_WT, const ContactPair& c, Vector3* normal = nullptr) const {
-    return LeafGap(c.object, c.object_leaf, X_WT * tool_->center(c.tool_leaf), tool_->r[c.tool_leaf], normal);
+  double PairGap(const RigidTransform& X_WT, const ContactPair& c,
+                 Vector3* normal = nullptr) const {
+    return LeafGap(c.object, c.object_leaf, X_WT * tool_->center(c.tool_leaf),
+                   tool_->r[c.tool_leaf], normal);
   }
   /// Largest distance from the tool origin to a point of a tool leaf sphere.
   double tool_reach() const { return tool_reach_; }
 
  private:
-  bool Clipped(std::size_t k) const { return planes_[k * kPlaneStride + 3] < LeafPlanes::kNone; }
+  bool Clipped(std::size_t k) const {
+    return planes_[k * kPlaneStride + 3] < LeafPlanes::kNone;
+  }
   // LeafGap of a clipped leaf (flat index k), within kPlanesWithinMm.
   double ClippedGap(std::size_t k, const Vector3& c_W, double r, Vector3* normal) const;
   // Signed distance from q to {x : n_j . x <= d_j} for a leaf's used planes
   // (kPlaneStride doubles at pl), the unit direction in which it grows, and
   // the nearest point (q itself inside).
-  static double PolyhedronDistance(const double* pl, const Vector3& q, Vector3* dir, Vector3* nearest);
+  static double PolyhedronDistance(const double* pl, const Vector3& q, Vector3* dir,
+                                   Vector3* nearest);
   // Signed distance from q to the ball (c, R) cut by the plane (nx, ny, nz, d)
   // at pl, and the unit direction in which it grows (zero when undefined).
-  static double BallHalfSpaceDistance(const Vector3& c, double R, const double* pl, const Vector3& q, Vector3* dir);
+  static double BallHalfSpaceDistance(const Vector3& c, double R, const double* pl,
+                                      const Vector3& q, Vector3* dir);
   friend CollisionStats FindContacts(const CollisionWorld&, const RigidTransform&, double,
-                                     CollisionScratch*, ContactPair*, int, const QueryLimits&) noexcept;
+                                     CollisionScratch*, ContactPair*, int,
+                                     const QueryLimits&) noexcept;
   const SphereTree* tool_;
   std::vector<Object> objects_;
   // All object nodes in W, flat (structure of arrays); object i starts at offset_[i].
@@ -139,35 +151,38 @@ struct CollisionScratch {
 
 /// Result counters of a fast query.
 struct CollisionStats {
-  int pairs = 0;             // written to the output
-  bool overflow = false;     // more pairs existed than the capacity held
+  int pairs = 0;          // written to the output
+  bool overflow = false;  // more pairs existed than the capacity held
   bool stack_overflow = false;
-  bool cut_short = false;    // stopped by a QueryLimits (the pairs are a part of the set)
-  int node_tests = 0;        // sphere-sphere tests made
+  bool cut_short = false;  // stopped by a QueryLimits (the pairs are a part of the set)
+  int node_tests = 0;      // sphere-sphere tests made
 };
 
 /// Bounds on one query's work, for callers that must not wait on an unbounded
 /// traversal (a tool deep inside an object overlaps many node pairs).
 struct QueryLimits {
-  bool stop_when_full = false;  // stop at the first pair past `capacity` (an overlap test: capacity 1)
-  int max_node_tests = 0;       // stop after about this many sphere tests (0: no limit)
+  bool stop_when_full =
+      false;  // stop at the first pair past `capacity` (an overlap test: capacity 1)
+  int max_node_tests = 0;  // stop after about this many sphere tests (0: no limit)
 };
 
 /// Leaf pairs with gap < margin for the tool at X_WT, written to `out`
 /// (capacity entries at most), in traversal order (deterministic; object by
 /// object). No allocation; never throws. With limits, the query may stop early
 /// (`cut_short`), having done O(capacity + max_node_tests) work.
-CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X_WT, double margin,
-                            CollisionScratch* scratch, ContactPair* out, int capacity,
-                            const QueryLimits& limits) noexcept;
-inline CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X_WT, double margin,
-                                   CollisionScratch* scratch, ContactPair* out, int capacity) noexcept {
+CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X_WT,
+                            double margin, CollisionScratch* scratch, ContactPair* out,
+                            int capacity, const QueryLimits& limits) noexcept;
+inline CollisionStats FindContacts(const CollisionWorld& world,
+                                   const RigidTransform& X_WT, double margin,
+                                   CollisionScratch* scratch, ContactPair* out,
+                                   int capacity) noexcept {
   return FindContacts(world, X_WT, margin, scratch, out, capacity, QueryLimits{});
 }
 
 /// The reference: Algorithm 1 as a plain recursion over both trees (descending
 /// both sides), no pruning tricks. In its own traversal order.
-std::vector<ContactPair> FindContactsReference(const CollisionWorld& world, const RigidTransform& X_WT,
-                                               double margin);
+std::vector<ContactPair> FindContactsReference(const CollisionWorld& world,
+                                               const RigidTransform& X_WT, double margin);
 
 }  // namespace sulcus

@@ -8,8 +8,8 @@ namespace {
 
 // Largest n.p over the part of triangle (a, b, c) inside the ball (o, R); false
 // when the triangle misses the ball.
-bool MaxOverTriangleInBall(const Vector3& a, const Vector3& b, const Vector3& c, const Vector3& o, double R,
-                           const Vector3& n, double* best) {
+bool MaxOverTriangleInBall(const Vector3& a, const Vector3& b, const Vector3& c,
+                           const Vector3& o, double R, const Vector3& n, double* best) {
   bool any = false;
   auto take = [&](const Vector3& p) {
     const double f = n.dot(p);
@@ -46,7 +46,8 @@ bool MaxOverTriangleInBall(const Vector3& a, const Vector3& b, const Vector3& c,
       const Vector3 centre = o - h * m;
       const Vector3 u = n - n.dot(m) * m;
       const double un = u.norm();
-      const Vector3 p = un > 1e-12 ? Vector3(centre + std::sqrt(rho2) * (u / un)) : centre;
+      const Vector3 p =
+          un > 1e-12 ? Vector3(centre + std::sqrt(rho2) * (u / un)) : centre;
       // Inside the triangle: on the inner side of each edge.
       bool inside = true;
       for (int i = 0; i < 3 && inside; ++i)
@@ -60,10 +61,12 @@ bool MaxOverTriangleInBall(const Vector3& a, const Vector3& b, const Vector3& c,
 }  // namespace
 
 int LeafPlanes::count() const {
-  return static_cast<int>(std::count_if(d.begin(), d.end(), [](const auto& x) { return x[0] < kNone; }));
+  return static_cast<int>(
+      std::count_if(d.begin(), d.end(), [](const auto& x) { return x[0] < kNone; }));
 }
 
-LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree, const LeafPlaneParams& params) {
+LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree,
+                         const LeafPlaneParams& params) {
   constexpr int K = LeafPlanes::kMaxPlanes;
   LeafPlanes out;
   std::array<Vector3, K> no_n;
@@ -81,7 +84,9 @@ LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree, const
   for (std::size_t f = 0; f < F.size(); ++f) {
     const Vector3 a = V[F[f][0]], b = V[F[f][1]], c = V[F[f][2]];
     const Vector3 centre = (a + b + c) / 3.0;
-    const double r = std::sqrt(std::max({(a - centre).squaredNorm(), (b - centre).squaredNorm(), (c - centre).squaredNorm()}));
+    const double r =
+        std::sqrt(std::max({(a - centre).squaredNorm(), (b - centre).squaredNorm(),
+                            (c - centre).squaredNorm()}));
     stack.assign(1, 0);
     while (!stack.empty()) {
       const std::int32_t node = stack.back();
@@ -90,7 +95,8 @@ LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree, const
       if (tree.IsLeaf(node)) {
         near[node].push_back(static_cast<std::int32_t>(f));
       } else {
-        for (int k = 0; k < tree.child_count[node]; ++k) stack.push_back(tree.first_child[node] + k);
+        for (int k = 0; k < tree.child_count[node]; ++k)
+          stack.push_back(tree.first_child[node] + k);
       }
     }
   }
@@ -112,8 +118,11 @@ LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree, const
       const Vector3 a = V[F[f][0]], b = V[F[f][1]], c = V[F[f][2]];
       double unused = 0;
       const Vector3 m = mesh.FaceNormal(static_cast<std::size_t>(f));
-      if (m.squaredNorm() == 0 || !MaxOverTriangleInBall(a, b, c, o, R, Vector3::UnitZ(), &unused)) continue;
-      meeting.push_back({f, m, std::min(0.5 * (b - a).cross(c - a).norm(), M_PI * R * R)});
+      if (m.squaredNorm() == 0 ||
+          !MaxOverTriangleInBall(a, b, c, o, R, Vector3::UnitZ(), &unused))
+        continue;
+      meeting.push_back(
+          {f, m, std::min(0.5 * (b - a).cross(c - a).norm(), M_PI * R * R)});
     }
     if (meeting.empty()) continue;
     // Groups by normal: seeds taken farthest first (the largest face, then the
@@ -121,9 +130,11 @@ LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree, const
     // angle), then each group's mean normal, twice.
     std::array<Vector3, K> seeds;
     int groups = 0;
-    seeds[groups++] = std::max_element(meeting.begin(), meeting.end(), [](const Meeting& x, const Meeting& y) {
-                        return x.area < y.area;
-                      })->normal;
+    seeds[groups++] = std::max_element(meeting.begin(), meeting.end(),
+                                       [](const Meeting& x, const Meeting& y) {
+                                         return x.area < y.area;
+                                       })
+                          ->normal;
     while (groups < K) {
       double least = 2;
       Vector3 next = Vector3::Zero();
@@ -155,7 +166,9 @@ LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree, const
       double d = -LeafPlanes::kNone;
       for (const Meeting& m : meeting) {
         double top = 0;
-        if (MaxOverTriangleInBall(V[F[m.face][0]], V[F[m.face][1]], V[F[m.face][2]], o, R, n, &top)) d = std::max(d, top);
+        if (MaxOverTriangleInBall(V[F[m.face][0]], V[F[m.face][1]], V[F[m.face][2]], o, R,
+                                  n, &top))
+          d = std::max(d, top);
       }
       if (d >= n.dot(o) + R - 1e-9) continue;
       out.n[leaf][kept] = n;

@@ -50,6 +50,7 @@ struct LeafPlaneParams {
 /// sphere, and the extreme of the face's disc of intersection). The tree
 /// must bound the mesh (every face inside the union of its leaves) and each
 /// node's sphere must contain its children's.
-LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree, const LeafPlaneParams& params = {});
+LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree,
+                         const LeafPlaneParams& params = {});
 
 }  // namespace sulcus

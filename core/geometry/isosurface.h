@@ -20,6 +20,7 @@ namespace sulcus {
 /// the inside reaches the box the surface is closed along it. Throws
 /// std::invalid_argument for a cell that is not positive or a grid of more than
 /// 2^24 points.
-TriangleMesh Isosurface(const std::function<double(const Vector3&)>& f, const Aabb& box, double cell_mm);
+TriangleMesh Isosurface(const std::function<double(const Vector3&)>& f, const Aabb& box,
+                        double cell_mm);
 
 }  // namespace sulcus

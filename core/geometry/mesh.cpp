@@ -20,9 +20,9 @@ std::size_t FindRoot(std::vector<std::size_t>& parent, std::size_t i) {
   return i;
 }
 
-// Counts vertices whose incident faces do not form a single fan (a "pinch"). The link of a
-// vertex (the edges opposite it in its faces) is one path or cycle on a manifold;
-// each extra connected component of the link is another sheet touching there.
+// Counts vertices whose incident faces do not form a single fan (a "pinch"). The link of
+// a vertex (the edges opposite it in its faces) is one path or cycle on a manifold; each
+// extra connected component of the link is another sheet touching there.
 std::size_t CountNonManifoldVertices(const std::vector<TriangleMesh::Face>& faces) {
   struct LinkEdge {
     std::int32_t vertex, a, b;
@@ -51,7 +51,8 @@ std::size_t CountNonManifoldVertices(const std::vector<TriangleMesh::Face>& face
     parent.resize(ids.size());
     std::iota(parent.begin(), parent.end(), 0);
     auto local = [&](std::int32_t v) {
-      return static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), v) - ids.begin());
+      return static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), v) -
+                                      ids.begin());
     };
     std::size_t components = ids.size();
     for (std::size_t k = i; k < j; ++k) {
@@ -90,7 +91,9 @@ double TriangleMesh::Volume() const {
 double TriangleMesh::SurfaceArea() const {
   double twice = 0;
   for (const Face& f : faces_) {
-    twice += (vertices_[f[1]] - vertices_[f[0]]).cross(vertices_[f[2]] - vertices_[f[0]]).norm();
+    twice += (vertices_[f[1]] - vertices_[f[0]])
+                 .cross(vertices_[f[2]] - vertices_[f[0]])
+                 .norm();
   }
   return twice / 2.0;
 }
@@ -98,7 +101,8 @@ double TriangleMesh::SurfaceArea() const {
 std::vector<Vector3> TriangleMesh::VertexNormalSums() const {
   std::vector<Vector3> n(vertices_.size(), Vector3::Zero());
   for (const Face& f : faces_) {
-    const Vector3 a = (vertices_[f[1]] - vertices_[f[0]]).cross(vertices_[f[2]] - vertices_[f[0]]);
+    const Vector3 a =
+        (vertices_[f[1]] - vertices_[f[0]]).cross(vertices_[f[2]] - vertices_[f[0]]);
     for (int k = 0; k < 3; ++k) n[f[k]] += a;
   }
   return n;
@@ -106,7 +110,8 @@ std::vector<Vector3> TriangleMesh::VertexNormalSums() const {
 
 Vector3 TriangleMesh::FaceNormal(std::size_t i) const {
   const Face& f = faces_[i];
-  const Vector3 n = (vertices_[f[1]] - vertices_[f[0]]).cross(vertices_[f[2]] - vertices_[f[0]]);
+  const Vector3 n =
+      (vertices_[f[1]] - vertices_[f[0]]).cross(vertices_[f[2]] - vertices_[f[0]]);
   const double len = n.norm();
   return len > 0 ? Vector3(n / len) : Vector3::Zero();
 }
@@ -132,8 +137,9 @@ MeshReport TriangleMesh::Check() const {
   for (std::size_t i = 0; i < faces_.size(); ++i) {
     const Face& f = faces_[i];
     for (int k = 0; k < 3; ++k) used[f[k]] = 1;
-    const double twice_area =
-        (vertices_[f[1]] - vertices_[f[0]]).cross(vertices_[f[2]] - vertices_[f[0]]).norm();
+    const double twice_area = (vertices_[f[1]] - vertices_[f[0]])
+                                  .cross(vertices_[f[2]] - vertices_[f[0]])
+                                  .norm();
     if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2] ||
         !(twice_area > 2.0 * kDegenerateAreaRel * diag2)) {
       ++r.degenerate_faces;
@@ -141,10 +147,12 @@ MeshReport TriangleMesh::Check() const {
     for (int k = 0; k < 3; ++k) {
       const std::int32_t a = f[k], b = f[(k + 1) % 3];
       if (a == b) continue;
-      edges.push_back({std::min(a, b), std::max(a, b), a < b, static_cast<std::uint32_t>(i)});
+      edges.push_back(
+          {std::min(a, b), std::max(a, b), a < b, static_cast<std::uint32_t>(i)});
     }
   }
-  r.unreferenced_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
+  r.unreferenced_vertices =
+      static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
   std::sort(edges.begin(), edges.end(), [](const Directed& x, const Directed& y) {
     return std::tie(x.lo, x.hi, x.forward) < std::tie(y.lo, y.hi, y.forward);
   });
@@ -156,7 +164,8 @@ MeshReport TriangleMesh::Check() const {
     std::size_t fwd = 0;
     while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) {
       fwd += edges[j].forward;
-      const std::size_t a = FindRoot(parent, edges[i].face), b = FindRoot(parent, edges[j].face);
+      const std::size_t a = FindRoot(parent, edges[i].face),
+                        b = FindRoot(parent, edges[j].face);
       if (a != b) parent[a] = b;
       ++j;
     }
@@ -167,7 +176,8 @@ MeshReport TriangleMesh::Check() const {
     if (uses == 2 && fwd != 1) ++r.misoriented_edges;
     i = j;
   }
-  for (std::size_t i = 0; i < faces_.size(); ++i) r.components += FindRoot(parent, i) == i;
+  for (std::size_t i = 0; i < faces_.size(); ++i)
+    r.components += FindRoot(parent, i) == i;
   r.euler_characteristic = static_cast<int>(r.num_vertices - r.unreferenced_vertices) -
                            static_cast<int>(r.num_edges) + static_cast<int>(r.num_faces);
   // A non-manifold edge already makes its vertices' links branch; count pinched

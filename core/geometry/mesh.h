@@ -35,16 +35,16 @@ struct MeshReport {
   std::size_t num_vertices = 0;
   std::size_t num_faces = 0;
   std::size_t num_edges = 0;
-  std::size_t boundary_edges = 0;      // used by one face: the mesh is open
-  std::size_t nonmanifold_edges = 0;   // used by three or more faces
+  std::size_t boundary_edges = 0;        // used by one face: the mesh is open
+  std::size_t nonmanifold_edges = 0;     // used by three or more faces
   std::size_t nonmanifold_vertices = 0;  // fan of faces around it is not one disk
-  std::size_t misoriented_edges = 0;   // two faces traverse it in the same direction
-  std::size_t degenerate_faces = 0;    // repeated index or (near) zero area
+  std::size_t misoriented_edges = 0;     // two faces traverse it in the same direction
+  std::size_t degenerate_faces = 0;      // repeated index or (near) zero area
   std::size_t unreferenced_vertices = 0;
-  std::size_t components = 0;          // connected through shared edges
-  int euler_characteristic = 0;        // V - E + F; 2 per closed genus-0 component
-  double volume = 0;                   // signed, mm^3; > 0 when normals point out
-  double area = 0;                     // mm^2
+  std::size_t components = 0;    // connected through shared edges
+  int euler_characteristic = 0;  // V - E + F; 2 per closed genus-0 component
+  double volume = 0;             // signed, mm^3; > 0 when normals point out
+  double area = 0;               // mm^2
   Aabb bounds;
 
   bool closed() const { return boundary_edges == 0; }

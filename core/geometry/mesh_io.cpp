@@ -1,7 +1,5 @@
 #include "core/geometry/mesh_io.h"
 
-#include "core/geometry/mesh_readers.h"
-
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -9,10 +7,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <fstream>
 #include <cstdint>
+#include <fstream>
 #include <mutex>
 #include <sstream>
+
+#include "core/geometry/mesh_readers.h"
 
 namespace sulcus {
 namespace {
@@ -73,7 +73,8 @@ TriangleMesh LoadMesh(const fs::path& path, const MeshLoadOptions& options) {
   const std::string name = path.string();
   std::error_code ec;
   if (!fs::exists(path, ec)) throw MeshError(name, "no such file");
-  if (fs::is_directory(path, ec)) throw MeshError(name, "is a directory, expected a mesh file");
+  if (fs::is_directory(path, ec))
+    throw MeshError(name, "is a directory, expected a mesh file");
   if (!IsSupportedMeshFile(path)) {
     throw MeshError(name, "unsupported extension '" + path.extension().string() +
                               "' (expected .stl, .obj, .ply or .off)");
@@ -83,7 +84,8 @@ TriangleMesh LoadMesh(const fs::path& path, const MeshLoadOptions& options) {
     if (!probe) throw MeshError(name, "cannot be opened for reading (check permissions)");
   }
   if (fs::file_size(path, ec) == 0) throw MeshError(name, "file is empty");
-  RawMesh importer = ReadMeshFile(path);  // Sulcus's own readers: bounded by the file (mesh_readers.h)
+  RawMesh importer =
+      ReadMeshFile(path);  // Sulcus's own readers: bounded by the file (mesh_readers.h)
   if (importer.polygons.empty()) throw MeshError(name, "contains no faces");
 
   for (std::size_t i = 0; i < importer.points.size(); ++i) {
@@ -100,7 +102,8 @@ TriangleMesh LoadMesh(const fs::path& path, const MeshLoadOptions& options) {
     const auto& poly = importer.polygons[i];
     if (poly.size() < 3) {
       throw MeshError(name, "face " + std::to_string(i) + " has " +
-                                std::to_string(poly.size()) + " vertices, expected 3 or more");
+                                std::to_string(poly.size()) +
+                                " vertices, expected 3 or more");
     }
     for (int v : poly) {
       if (v < 0 || v >= nv) {
@@ -109,7 +112,8 @@ TriangleMesh LoadMesh(const fs::path& path, const MeshLoadOptions& options) {
                                   std::to_string(nv));
       }
     }
-    for (std::size_t k = 1; k + 1 < poly.size(); ++k) faces.push_back({poly[0], poly[k], poly[k + 1]});
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+      faces.push_back({poly[0], poly[k], poly[k + 1]});
   }
   TriangleMesh mesh(std::move(importer.points), std::move(faces));
   if (options.require_closed_manifold) {
@@ -121,7 +125,8 @@ TriangleMesh LoadMesh(const fs::path& path, const MeshLoadOptions& options) {
   return mesh;
 }
 
-void SaveMesh(const TriangleMesh& mesh, const fs::path& path, const MeshSaveOptions& options) {
+void SaveMesh(const TriangleMesh& mesh, const fs::path& path,
+              const MeshSaveOptions& options) {
   const std::string name = path.string();
   if (!IsSupportedMeshFile(path)) {
     throw MeshError(name, "unsupported extension '" + path.extension().string() +
@@ -130,7 +135,9 @@ void SaveMesh(const TriangleMesh& mesh, const fs::path& path, const MeshSaveOpti
   {
     // OpenMesh reports success for some formats even when the file cannot be created.
     std::ofstream probe(path, std::ios::binary | std::ios::trunc);
-    if (!probe) throw MeshError(name, "cannot be opened for writing (check the folder exists and is writable)");
+    if (!probe)
+      throw MeshError(
+          name, "cannot be opened for writing (check the folder exists and is writable)");
   }
   using OmMesh = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
   OmMesh om;
@@ -152,7 +159,8 @@ void SaveMesh(const TriangleMesh& mesh, const fs::path& path, const MeshSaveOpti
     QuietOpenMesh quiet;
     ok = OpenMesh::IO::write_mesh(om, name, opt, 17);
   }
-  if (!ok) throw MeshError(name, "cannot be written (check the folder exists and is writable)");
+  if (!ok)
+    throw MeshError(name, "cannot be written (check the folder exists and is writable)");
 }
 
 }  // namespace sulcus

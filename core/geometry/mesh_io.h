@@ -16,10 +16,12 @@ struct MeshLoadOptions {
   bool require_closed_manifold = true;
 };
 
-/// Reads a mesh; the format comes from the extension (.stl, .obj, .ply, .off). Throws MeshError when the file is missing, unreadable, empty,
-/// not in its format, has no triangles, has a non-finite coordinate, or (with
-/// require_closed_manifold) is open or non-manifold.
-TriangleMesh LoadMesh(const std::filesystem::path& path, const MeshLoadOptions& options = {});
+/// Reads a mesh; the format comes from the extension (.stl, .obj, .ply, .off). Throws
+/// MeshError when the file is missing, unreadable, empty, not in its format, has no
+/// triangles, has a non-finite coordinate, or (with require_closed_manifold) is open or
+/// non-manifold.
+TriangleMesh LoadMesh(const std::filesystem::path& path,
+                      const MeshLoadOptions& options = {});
 
 struct MeshSaveOptions {
   /// Binary STL or PLY; OBJ and OFF are always text.

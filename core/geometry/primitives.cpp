@@ -35,7 +35,8 @@ TriangleMesh MakeBox(const Vector3& size, int divisions) {
             k[w] = b;
             return vertex(k);
           };
-          const int a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+          const int a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1),
+                    d = at(i, j + 1);
           f.push_back({a, b, c});
           f.push_back({a, c, d});
         }
@@ -51,9 +52,9 @@ TriangleMesh MakeIcosphere(double radius, int subdivisions) {
                             {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
                             {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
   std::vector<TriangleMesh::Face> f = {
-      {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+      {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
       {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+      {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (Vector3& p : v) p.normalize();
   for (int s = 0; s < subdivisions; ++s) {
     std::map<std::pair<int, int>, int> mid;
@@ -86,8 +87,8 @@ TriangleMesh MakeTorus(double R, double r, int nu, int nv) {
     const double u = 2 * std::numbers::pi * i / nu;
     for (int j = 0; j < nv; ++j) {
       const double w = 2 * std::numbers::pi * j / nv;
-      v.emplace_back((R + r * std::cos(w)) * std::cos(u), (R + r * std::cos(w)) * std::sin(u),
-                     r * std::sin(w));
+      v.emplace_back((R + r * std::cos(w)) * std::cos(u),
+                     (R + r * std::cos(w)) * std::sin(u), r * std::sin(w));
     }
   }
   auto id = [&](int i, int j) { return (i % nu) * nv + (j % nv); };
@@ -128,7 +129,8 @@ TriangleMesh MakeCylinder(double radius, double height, int segments, int stacks
   return TriangleMesh(std::move(v), std::move(f));
 }
 
-TriangleMesh MakeSweep(const std::vector<Vector3>& path, const std::vector<double>& radii, int segments) {
+TriangleMesh MakeSweep(const std::vector<Vector3>& path, const std::vector<double>& radii,
+                       int segments) {
   const int n = static_cast<int>(path.size());
   std::vector<Vector3> v;
   std::vector<TriangleMesh::Face> f;

@@ -27,6 +27,7 @@ TriangleMesh MakeCylinder(double radius, double height, int segments, int stacks
 /// Tube of circular section swept along a polyline `path` with a radius per path
 /// point; the first and last radii should be 0 (the ends close as poles). Closed,
 /// manifold and outward when the path bends gently enough that rings do not cross.
-TriangleMesh MakeSweep(const std::vector<Vector3>& path, const std::vector<double>& radii, int segments);
+TriangleMesh MakeSweep(const std::vector<Vector3>& path, const std::vector<double>& radii,
+                       int segments);
 
 }  // namespace sulcus

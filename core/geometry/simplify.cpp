@@ -1,10 +1,10 @@
+#include "core/geometry/simplify.h"
+
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
-
-#include "core/geometry/simplify.h"
 
 namespace sulcus {
 namespace {
@@ -21,8 +21,10 @@ TriangleMesh Simplify(const TriangleMesh& in, double max_error_mm) {
   Mesh m;
   std::vector<Mesh::VertexHandle> handles;
   handles.reserve(in.num_vertices());
-  for (const Vector3& v : in.vertices()) handles.push_back(m.add_vertex(Mesh::Point(v.x(), v.y(), v.z())));
-  for (const auto& f : in.faces()) m.add_face(handles[f[0]], handles[f[1]], handles[f[2]]);
+  for (const Vector3& v : in.vertices())
+    handles.push_back(m.add_vertex(Mesh::Point(v.x(), v.y(), v.z())));
+  for (const auto& f : in.faces())
+    m.add_face(handles[f[0]], handles[f[1]], handles[f[2]]);
   m.request_face_normals();
   m.update_face_normals();
   OpenMesh::Decimater::DecimaterT<Mesh> decimater(m);

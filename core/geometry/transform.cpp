@@ -107,8 +107,7 @@ RigidTransform RigidTransform::operator*(const RigidTransform& X_BC) const {
   return {R_ * X_BC.R_, R_ * X_BC.p_ + p_};
 }
 
-RigidTransform RigidTransform::Perturbed(const Vector3& dp,
-                                         const Vector3& dtheta) const {
+RigidTransform RigidTransform::Perturbed(const Vector3& dp, const Vector3& dtheta) const {
   return {ExpMap(dtheta) * R_, p_ + dp};
 }
 

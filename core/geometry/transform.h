@@ -1,8 +1,8 @@
 #pragma once
 // Rigid transforms and the paper's 6-vector configuration.
 //
-// Naming follows frames (docs/architecture.md, "Rules the code keeps"): `X_WT` is the pose of frame T in frame W, so
-// `p_W = X_WT * p_T` and `X_WB = X_WT * X_TB`.
+// Naming follows frames (docs/architecture.md, "Rules the code keeps"): `X_WT` is the
+// pose of frame T in frame W, so `p_W = X_WT * p_T` and `X_WB = X_WT * X_TB`.
 //
 // Configuration (paper eq. 1): q = (x, y, z, gamma, beta, alpha), with the rotation
 // R = Rz(alpha) * Ry(beta) * Rx(gamma) (paper appendix, eq. 7). These Euler angles
@@ -64,7 +64,8 @@ class RigidTransform {
 
   /// This pose moved by dp (a translation in the outer frame) and turned by the
   /// rotation vector dtheta (about the origin of this pose, in the outer frame):
-  /// R' = Exp(dtheta) R, p' = p + dp. This is the local increment of docs/architecture.md.
+  /// R' = Exp(dtheta) R, p' = p + dp. This is the local increment of
+  /// docs/architecture.md.
   RigidTransform Perturbed(const Vector3& dp, const Vector3& dtheta) const;
 
   /// The increment (dp, dtheta) that takes this pose to `other` in the sense of

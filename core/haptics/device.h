@@ -1,7 +1,7 @@
 #pragma once
-// The device layer's one interface (docs/architecture.md, "Devices and the haptic thread"):
-// pose, buttons and a time stamp in; force and torque out; what the device can do.
-// Backends: scripted trajectories and replays (here), OpenHaptics (devices/), the
+// The device layer's one interface (docs/architecture.md, "Devices and the haptic
+// thread"): pose, buttons and a time stamp in; force and torque out; what the device can
+// do. Backends: scripted trajectories and replays (here), OpenHaptics (devices/), the
 // mouse and keyboard (in the window, ui/). Units at this interface are Sulcus's:
 // millimetres, newtons, newton-millimetres, the world frame W; a driver converts
 // at its own boundary.
@@ -16,15 +16,15 @@ namespace sulcus {
 
 /// One reading of a device.
 struct DeviceSample {
-  RigidTransform X_WH;         // the device ("haptic") tool in the world
-  std::uint32_t buttons = 0;   // bit i: button i pressed
-  double time_s = 0;           // the device's own time stamp
+  RigidTransform X_WH;        // the device ("haptic") tool in the world
+  std::uint32_t buttons = 0;  // bit i: button i pressed
+  double time_s = 0;          // the device's own time stamp
 };
 
 struct DeviceCaps {
   std::string name;
-  int input_dof = 6;                // 3: position only (orientation fixed)
-  int output_dof = 0;               // 0: no force feedback; 3: force; 6: force and torque
+  int input_dof = 6;   // 3: position only (orientation fixed)
+  int output_dof = 0;  // 0: no force feedback; 3: force; 6: force and torque
   double max_force_n = 0;
   double max_torque_nmm = 0;
   Vector3 workspace_min_W = Vector3::Constant(-1e9);

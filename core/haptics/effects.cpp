@@ -7,12 +7,13 @@
 namespace sulcus {
 namespace {
 
-// Whether a pair's tool leaf is on the working end (every leaf when the model does not say).
+// Whether a pair's tool leaf is on the working end (every leaf when the model does not
+// say).
 bool WorkingEnd(const EffectsModel& m, std::uint64_t key) {
   const auto leaf = static_cast<std::size_t>(ContactPair::ToolLeafOfKey(key));
-  return m.tool_working_end.empty() || (leaf < m.tool_working_end.size() && m.tool_working_end[leaf]);
+  return m.tool_working_end.empty() ||
+         (leaf < m.tool_working_end.size() && m.tool_working_end[leaf]);
 }
-
 
 // Soft tissue as springs: the graphic tool's leaf spheres pressing into soft
 // leaves push back along the pair's normal with the leaf's stiffness; the
@@ -22,12 +23,13 @@ class GingivaCompliance final : public LoopEffect {
   explicit GingivaCompliance(const EffectsModel& m)
       : m_(m), pairs_(kCapacity), scratch_(std::make_unique<CollisionScratch>()) {}
   const char* name() const override { return "gingiva_compliance"; }
-  void Apply(const EngineModel& model, const EngineData& data, Vector3* force_W, Vector3* torque_W,
-             HapticLoop* loop) noexcept override {
+  void Apply(const EngineModel& model, const EngineData& data, Vector3* force_W,
+             Vector3* torque_W, HapticLoop* loop) noexcept override {
     (void)model;
     (void)torque_W;
     const CollisionWorld& w = *m_.soft_world;
-    const CollisionStats cs = FindContacts(w, data.X_WG, 0.0, scratch_.get(), pairs_.data(), kCapacity);
+    const CollisionStats cs =
+        FindContacts(w, data.X_WG, 0.0, scratch_.get(), pairs_.data(), kCapacity);
     Vector3 dir = Vector3::Zero();
     double force = 0;
     int object = -1;
@@ -78,9 +80,12 @@ class ProbingDepth final : public LoopEffect {
     }
   }
   const char* name() const override {
-    return readings_ && bleeding_ ? "probing_depth, bleeding_on_probing" : readings_ ? "probing_depth" : "bleeding_on_probing";
+    return readings_ && bleeding_ ? "probing_depth, bleeding_on_probing"
+           : readings_            ? "probing_depth"
+                                  : "bleeding_on_probing";
   }
-  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
+  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*,
+             HapticLoop* loop) noexcept override {
     const Vector3 tip = data.X_WG.translation();
     // (the nearest: under a contact two teeth's interproximal sites lie
     // within a millimetre of each other; a tip there reads for the tooth in
@@ -99,12 +104,14 @@ class ProbingDepth final : public LoopEffect {
       // kHoldPastFloorMm: a heavy push reads deeper than the floor, and its
       // force is that reading's (as a probe forced through the junctional
       // epithelium over-reads).
-      const double past = static_cast<int>(i) == site_ ? kHoldPastFloorMm : kEnterPastFloorMm;
+      const double past =
+          static_cast<int>(i) == site_ ? kHoldPastFloorMm : kEnterPastFloorMm;
       if (along < -0.5 || along > len + past) continue;
       const double off = (tip - s.margin_W - along * u).norm();
       if (off > kRadius) continue;
       bool beyond = false;
-      for (int c = 0; c < s.num_cuts; ++c) beyond = beyond || (tip - s.cut_q_W[c]).dot(s.cut_n_W[c]) > 0;
+      for (int c = 0; c < s.num_cuts; ++c)
+        beyond = beyond || (tip - s.cut_q_W[c]).dot(s.cut_n_W[c]) > 0;
       if (beyond) continue;
       const Vector3 from_axis = tip - s.origin_W;
       const double radial = (from_axis - from_axis.dot(s.axis_W) * s.axis_W).norm();
@@ -149,10 +156,12 @@ class ProbingDepth final : public LoopEffect {
 
  private:
   void Finish(HapticLoop* loop) noexcept {
-    if (!readings_ || site_ < 0 || deepest_ < 0.5) return;  // a reading needs the tip in the sulcus
+    if (!readings_ || site_ < 0 || deepest_ < 0.5)
+      return;  // a reading needs the tip in the sulcus
     const ProbingSite& s = m_.sites[site_];
     HapticEvent e = HapticEvent::Of(EventKind::kProbeReading, s.tooth);
-    e.payload.reading = {s.fdi, s.site, deepest_, peak_force_, angle_deg_, deepest_tick_, entered_tick_};
+    e.payload.reading = {s.fdi,      s.site,        deepest_,     peak_force_,
+                         angle_deg_, deepest_tick_, entered_tick_};
     loop->Emit(e);
   }
   static constexpr double kRadius = 1.2;  // mm from the site's line
@@ -177,14 +186,16 @@ class TissueDamage final : public LoopEffect {
   explicit TissueDamage(const EffectsModel& m)
       : m_(m), over_(m.damage_limit_n.size(), 0), below_(m.damage_limit_n.size(), 0) {}
   const char* name() const override { return "tissue_damage"; }
-  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
+  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*,
+             HapticLoop* loop) noexcept override {
     // Each object bears its share of the contact force (its pairs' multipliers):
     // a tool pressed on a tooth while brushing the lip does not hurt the lip.
     std::array<std::size_t, kQpMaxActive> objects;
     std::array<double, kQpMaxActive> share;
     int n = 0;
     for (int i = 0; i < data.num_active_keys; ++i) {
-      const auto object = static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
+      const auto object =
+          static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
       if (object >= over_.size()) continue;
       int k = 0;
       while (k < n && objects[k] != object) ++k;
@@ -200,7 +211,8 @@ class TissueDamage final : public LoopEffect {
     // object) for kEpisodeGapS: a press that hovers about the limit, or whose
     // contact flickers, is one episode, not one per ripple.
     const double f = force_W->norm();
-    const auto gap_ticks = static_cast<std::uint32_t>(std::max(1.0, kEpisodeGapS * loop->options().rate_hz));
+    const auto gap_ticks =
+        static_cast<std::uint32_t>(std::max(1.0, kEpisodeGapS * loop->options().rate_hz));
     for (std::size_t object = 0; object < over_.size(); ++object) {
       if (!over_[object]) continue;
       int k = 0;
@@ -213,7 +225,8 @@ class TissueDamage final : public LoopEffect {
       const std::size_t object = objects[k];
       const double on = f * share[k];
       if (on > m_.damage_limit_n[object] && !over_[object]) {
-        HapticEvent e = HapticEvent::Of(EventKind::kTissueDamage, static_cast<int>(object));
+        HapticEvent e =
+            HapticEvent::Of(EventKind::kTissueDamage, static_cast<int>(object));
         e.payload.damage = {on, m_.damage_limit_n[object]};
         loop->Emit(e);
         over_[object] = 1;
@@ -237,7 +250,8 @@ class CariesCatch final : public LoopEffect {
  public:
   explicit CariesCatch(const EffectsModel& m) : m_(m) {}
   const char* name() const override { return "caries_catch"; }
-  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
+  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*,
+             HapticLoop* loop) noexcept override {
     const Vector3 tip = data.X_WG.translation();
     // The lesion under the tip, if its tooth is being touched.
     int on = -1;
@@ -256,7 +270,8 @@ class CariesCatch final : public LoopEffect {
     }
     const CariesLesion& c = m_.lesions[static_cast<std::size_t>(on)];
     const CariesFeel& f = m_.caries;
-    const double normal = force_W->dot(c.normal_W);  // > 0: the tip pressed into the surface
+    const double normal =
+        force_W->dot(c.normal_W);  // > 0: the tip pressed into the surface
     if (normal <= 0) {
       caught_ = -1;
       return;
@@ -291,7 +306,8 @@ class CariesCatch final : public LoopEffect {
   void Reset() noexcept override { caught_ = -1; }
 
  private:
-  static constexpr double kTipReachMm = 0.3;  // the tip's radius and a little: touching the lesion's rim counts
+  static constexpr double kTipReachMm =
+      0.3;  // the tip's radius and a little: touching the lesion's rim counts
   static bool Touching(const EngineData& data, int object) {
     for (int i = 0; i < data.num_active_keys; ++i)
       if (ContactPair::ObjectOfKey(data.active_keys[i]) == object) return true;
@@ -305,19 +321,25 @@ class CariesCatch final : public LoopEffect {
 // A deposit met by the working end: an event once per contact episode.
 class CalculusTouch final : public LoopEffect {
  public:
-  explicit CalculusTouch(const EffectsModel& m) : m_(m), touching_(m.deposits.size(), 0), now_(m.deposits.size(), 0) {}
+  explicit CalculusTouch(const EffectsModel& m)
+      : m_(m), touching_(m.deposits.size(), 0), now_(m.deposits.size(), 0) {}
   const char* name() const override { return "calculus"; }
-  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop* loop) noexcept override {
+  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*,
+             HapticLoop* loop) noexcept override {
     std::fill(now_.begin(), now_.end(), 0);
     const double f = force_W->norm();
     for (int i = 0; i < data.num_active_keys; ++i) {
-      const auto o = static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
-      if (o >= m_.deposits.size() || m_.deposits[o].fdi == 0 || !WorkingEnd(m_, data.active_keys[i])) continue;
+      const auto o =
+          static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
+      if (o >= m_.deposits.size() || m_.deposits[o].fdi == 0 ||
+          !WorkingEnd(m_, data.active_keys[i]))
+        continue;
       now_[o] = 1;
       if (touching_[o]) continue;
       touching_[o] = 1;
       HapticEvent e = HapticEvent::Of(EventKind::kCalculusTouched, static_cast<int>(o));
-      e.payload.calculus = {m_.deposits[o].fdi, m_.deposits[o].site, f * data.active_share[i]};
+      e.payload.calculus = {m_.deposits[o].fdi, m_.deposits[o].site,
+                            f * data.active_share[i]};
       loop->Emit(e);
     }
     for (std::size_t o = 0; o < now_.size(); ++o) touching_[o] = touching_[o] && now_[o];
@@ -333,14 +355,17 @@ class SurfaceTexture final : public LoopEffect {
  public:
   explicit SurfaceTexture(const EffectsModel& m) : m_(m) {}
   const char* name() const override { return "surface_texture"; }
-  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*, HapticLoop*) noexcept override {
+  void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*,
+             HapticLoop*) noexcept override {
     const Vector3 tip = data.X_WG.translation();
     const double f = force_W->norm();
     // The surface touched: the first textured object among the active pairs.
     int object = -1;
     for (int i = 0; i < data.num_active_keys && object < 0; ++i) {
-      const auto o = static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
-      if (o < m_.texture_kind.size() && m_.texture_kind[o] != TextureKind::kNone) object = static_cast<int>(o);
+      const auto o =
+          static_cast<std::size_t>(ContactPair::ObjectOfKey(data.active_keys[i]));
+      if (o < m_.texture_kind.size() && m_.texture_kind[o] != TextureKind::kNone)
+        object = static_cast<int>(o);
     }
     if (object < 0 || f < 1e-3) {
       has_last_ = false;
@@ -361,7 +386,8 @@ class SurfaceTexture final : public LoopEffect {
       t = (m_.X_OW[o] * tip).z() >= 0 ? &m_.texture.enamel : &m_.texture.root;
     }
     const double press = std::min(1.0, f / 0.5);
-    *force_W += press * t->amplitude_n * std::sin(2 * std::numbers::pi * slid_mm_ / t->period_mm) * normal;
+    *force_W += press * t->amplitude_n *
+                std::sin(2 * std::numbers::pi * slid_mm_ / t->period_mm) * normal;
   }
   void Reset() noexcept override {
     has_last_ = false;
@@ -369,7 +395,6 @@ class SurfaceTexture final : public LoopEffect {
   }
 
  private:
-
   const EffectsModel& m_;
   Vector3 last_ = Vector3::Zero();
   bool has_last_ = false;
@@ -380,18 +405,23 @@ class SurfaceTexture final : public LoopEffect {
 
 std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& m) {
   std::vector<std::unique_ptr<LoopEffect>> out;
-  if (m.on.gingiva_compliance && m.soft_world) out.push_back(std::make_unique<GingivaCompliance>(m));
+  if (m.on.gingiva_compliance && m.soft_world)
+    out.push_back(std::make_unique<GingivaCompliance>(m));
   const bool depth = m.on.probing_depth, bleeding = m.on.bleeding_on_probing;
-  if ((depth || bleeding) && !m.sites.empty()) out.push_back(std::make_unique<ProbingDepth>(m, depth, bleeding));
-  if (m.on.caries_catch && !m.lesions.empty()) out.push_back(std::make_unique<CariesCatch>(m));
+  if ((depth || bleeding) && !m.sites.empty())
+    out.push_back(std::make_unique<ProbingDepth>(m, depth, bleeding));
+  if (m.on.caries_catch && !m.lesions.empty())
+    out.push_back(std::make_unique<CariesCatch>(m));
   if (m.on.surface_texture) out.push_back(std::make_unique<SurfaceTexture>(m));
-  const bool deposits = std::any_of(m.deposits.begin(), m.deposits.end(), [](const auto& d) { return d.fdi != 0; });
+  const bool deposits = std::any_of(m.deposits.begin(), m.deposits.end(),
+                                    [](const auto& d) { return d.fdi != 0; });
   if (m.on.calculus && deposits) out.push_back(std::make_unique<CalculusTouch>(m));
   if (m.on.tissue_damage) out.push_back(std::make_unique<TissueDamage>(m));
   return out;
 }
 
-std::vector<LoopEffect*> EffectPointers(const std::vector<std::unique_ptr<LoopEffect>>& effects) {
+std::vector<LoopEffect*> EffectPointers(
+    const std::vector<std::unique_ptr<LoopEffect>>& effects) {
   std::vector<LoopEffect*> p;
   for (const auto& e : effects) p.push_back(e.get());
   return p;

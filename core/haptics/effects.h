@@ -41,9 +41,9 @@ struct ProbingSite {
   int fdi = 0;     // its FDI number
   int site = 0;    // 0..5: MB, B, DB, ML, L, DL
   Vector3 margin_W = Vector3::Zero(), floor_W = Vector3::Zero();
-  Vector3 axis_W = Vector3::UnitZ();  // the tooth's long axis (unit, toward the crown)
+  Vector3 axis_W = Vector3::UnitZ();   // the tooth's long axis (unit, toward the crown)
   Vector3 origin_W = Vector3::Zero();  // a point on that axis (the tooth frame's origin)
-  double sulcus_r_mm = 0;              // the site's line from the axis (the sulcus' middle)
+  double sulcus_r_mm = 0;  // the site's line from the axis (the sulcus' middle)
   // In one gingiva per arch, the cuts between this tooth's share and its
   // neighbours' (a point and the normal toward the neighbour): a tip beyond
   // one is in the neighbour's sulcus, not this tooth's.
@@ -56,7 +56,8 @@ struct ProbingSite {
 /// Which of the effects this layer implements the scene named (friction is
 /// the engine's, EngineModel::friction).
 struct EffectsOn {
-  bool gingiva_compliance = false, probing_depth = false, bleeding_on_probing = false, tissue_damage = false;
+  bool gingiva_compliance = false, probing_depth = false, bleeding_on_probing = false,
+       tissue_damage = false;
   bool caries_catch = false, surface_texture = false, calculus = false;
 };
 
@@ -87,7 +88,7 @@ struct CariesLesion {
 /// (softer than enamel), the normal force at which a tip catches, the catch's
 /// tangential stiffness and how much of the normal force it can hold.
 struct CariesFeel {
-  double softness = 0.6;        // normal force scaled to this at the centre, to 1 at the rim
+  double softness = 0.6;  // normal force scaled to this at the centre, to 1 at the rim
   double catch_force_n = 0.3;
   double catch_k_n_per_mm = 0.8;
   double catch_ratio = 0.8;
@@ -96,7 +97,7 @@ struct CariesFeel {
 /// What the effects need from the scene, immutable after compile.
 struct EffectsModel {
   EffectsOn on;
-  std::vector<double> damage_limit_n;       // per object
+  std::vector<double> damage_limit_n;  // per object
   // tissue_damage: per node of the tool's tree, 1 for the working end's leaves
   // (within kWorkingEndMm of the tip); empty: every leaf counts.
   std::vector<std::uint8_t> tool_working_end;
@@ -128,6 +129,7 @@ struct EffectsModel {
 std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& model);
 
 /// Raw pointers for HapticLoop's span.
-std::vector<LoopEffect*> EffectPointers(const std::vector<std::unique_ptr<LoopEffect>>& effects);
+std::vector<LoopEffect*> EffectPointers(
+    const std::vector<std::unique_ptr<LoopEffect>>& effects);
 
 }  // namespace sulcus

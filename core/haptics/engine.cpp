@@ -14,16 +14,21 @@ double Micros(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::micro>(b - a).count();
 }
 
-bool Finite(const RigidTransform& X) { return X.rotation().allFinite() && X.translation().allFinite(); }
+bool Finite(const RigidTransform& X) {
+  return X.rotation().allFinite() && X.translation().allFinite();
+}
 
 // Removes the drift of many products of rotations.
 RigidTransform Orthonormalised(const RigidTransform& X) {
-  return RigidTransform(Quaternion(X.rotation()).normalized().toRotationMatrix(), X.translation());
+  return RigidTransform(Quaternion(X.rotation()).normalized().toRotationMatrix(),
+                        X.translation());
 }
 
 // A solve whose pose can be used: optimal, or the least violation of an
 // infeasible set.
-bool Usable(QpStatus s) { return s == QpStatus::kSolved || s == QpStatus::kInfeasibleRelaxed; }
+bool Usable(QpStatus s) {
+  return s == QpStatus::kSolved || s == QpStatus::kInfeasibleRelaxed;
+}
 
 Vector3 Clamp(const Vector3& v, double limit, bool* clamped) {
   const double n = v.norm();
@@ -35,14 +40,17 @@ Vector3 Clamp(const Vector3& v, double limit, bool* clamped) {
 }
 
 // How far a tool point moves at most for a configuration step (dp, dtheta).
-double MoveBound(const Vector6& dq, double reach) { return dq.head<3>().norm() + dq.tail<3>().norm() * reach; }
+double MoveBound(const Vector6& dq, double reach) {
+  return dq.head<3>().norm() + dq.tail<3>().norm() * reach;
+}
 
 // The spring between the tools (paper eq. 6) as force and torque, saturated.
 void SpringWrench(const EngineParams& p, const RigidTransform& X_WH, EngineData* d) {
   d->force_saturated = false;
-  d->force_W = Clamp(p.k_t * (d->X_WG.translation() - X_WH.translation()), p.max_force_n, &d->force_saturated);
-  d->torque_W = Clamp(p.k_r * LogMap(d->X_WG.rotation() * X_WH.rotation().transpose()), p.max_torque_nmm,
-                      &d->force_saturated);
+  d->force_W = Clamp(p.k_t * (d->X_WG.translation() - X_WH.translation()), p.max_force_n,
+                     &d->force_saturated);
+  d->torque_W = Clamp(p.k_r * LogMap(d->X_WG.rotation() * X_WH.rotation().transpose()),
+                      p.max_torque_nmm, &d->force_saturated);
 }
 
 // Candidate poses for a tool found inside an object: the device pose, then the
@@ -50,7 +58,8 @@ void SpringWrench(const EngineParams& p, const RigidTransform& X_WH, EngineData*
 // growing distances, nearest first.
 constexpr double kFreeSearchMm[] = {0.25, 0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16, 24};
 constexpr int kFreeSearchDirections = 26;
-constexpr int kFreeSearchCandidates = 1 + kFreeSearchDirections * static_cast<int>(std::size(kFreeSearchMm));
+constexpr int kFreeSearchCandidates =
+    1 + kFreeSearchDirections * static_cast<int>(std::size(kFreeSearchMm));
 
 // The tool's axis (+z, -z) first, then its other faces, edges and corners; made
 // at load, so the haptic thread never meets a first-call initialisation.
@@ -73,8 +82,11 @@ const std::array<Vector3, kFreeSearchDirections> kFreeSearchDirection = [] {
 RigidTransform FreeSearchCandidate(const RigidTransform& X_WH, int k) {
   if (k == 0) return X_WH;
   const int d = (k - 1) / kFreeSearchDirections, dir = (k - 1) % kFreeSearchDirections;
-  return RigidTransform(X_WH.rotation(),
-                        X_WH.translation() + kFreeSearchMm[d] * (X_WH.rotation() * kFreeSearchDirection[static_cast<std::size_t>(dir)]));
+  return RigidTransform(
+      X_WH.rotation(),
+      X_WH.translation() +
+          kFreeSearchMm[d] *
+              (X_WH.rotation() * kFreeSearchDirection[static_cast<std::size_t>(dir)]));
 }
 
 // A frame inside an object: the rendered tool is at the device (no force) while
@@ -87,10 +99,11 @@ void FindFreeSpace(const EngineModel& model, const RigidTransform& X_WH, EngineD
   for (int tried = 0; tried < kFreeSearchCandidates && budget > 0; ++tried) {
     const RigidTransform X = FreeSearchCandidate(X_WH, d->free_search_next);
     // An overlap test: the first pair in overlap stops it.
-    const CollisionStats cs = FindContacts(model.world, X, 0.0, &d->scratch, d->pairs.data(), 0,
-                                           QueryLimits{true, budget});
+    const CollisionStats cs = FindContacts(model.world, X, 0.0, &d->scratch,
+                                           d->pairs.data(), 0, QueryLimits{true, budget});
     budget -= cs.node_tests;
-    if (cs.cut_short && !cs.overflow) break;  // out of budget: this candidate again next frame
+    if (cs.cut_short && !cs.overflow)
+      break;  // out of budget: this candidate again next frame
     if (!cs.overflow && !cs.stack_overflow) {
       d->inside = false;
       d->free_search_next = 0;
@@ -109,9 +122,11 @@ void FindFreeSpace(const EngineModel& model, const RigidTransform& X_WH, EngineD
 }
 
 // Largest penetration of this frame's pairs with the tool at X.
-double WorstPenetration(const CollisionWorld& world, const RigidTransform& X, const EngineData& d) {
+double WorstPenetration(const CollisionWorld& world, const RigidTransform& X,
+                        const EngineData& d) {
   double worst = 0;
-  for (int i = 0; i < d.num_pairs; ++i) worst = std::max(worst, -world.PairGap(X, d.pairs[i]));
+  for (int i = 0; i < d.num_pairs; ++i)
+    worst = std::max(worst, -world.PairGap(X, d.pairs[i]));
   return worst;
 }
 
@@ -128,8 +143,8 @@ double WorstPenetration(const CollisionWorld& world, const RigidTransform& X, co
 // still turn about its tip (the tool frame's origin). A sliding pose is lifted
 // out of the sphere bumps it would enter; a pose that still penetrates is not
 // taken (the frictionless one is).
-void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH, const QpSolution& sol, RigidTransform* X,
-                   EngineData* d) {
+void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH,
+                   const QpSolution& sol, RigidTransform* X, EngineData* d) {
   const EngineParams& p = model.params;
   const EngineData::Friction before = d->friction;
   auto done = [&](EngineData::Friction now) {
@@ -145,9 +160,11 @@ void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH, const Q
   // (this frame's pairs were found at that pose).
   const Vector3 p_H = X_WH.translation(), p_last = d->X_WG.translation();
   const RigidTransform X_last(X->rotation(), p_last);
-  constexpr double kTouching = 1e-3, kNear = 0.05;  // mm: touching the nearest; near enough to touch at all
+  constexpr double kTouching = 1e-3,
+                   kNear = 0.05;  // mm: touching the nearest; near enough to touch at all
   double nearest = kNear;
-  for (int i = 0; i < d->num_pairs; ++i) nearest = std::min(nearest, model.world.PairGap(X_last, d->pairs[i]));
+  for (int i = 0; i < d->num_pairs; ++i)
+    nearest = std::min(nearest, model.world.PairGap(X_last, d->pairs[i]));
   Vector3 n = Vector3::Zero();
   double mu = 0, weight = 0;
   for (int i = 0; i < d->num_pairs && nearest < kNear; ++i) {
@@ -163,7 +180,8 @@ void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH, const Q
   n.normalize();
   mu /= weight;
   const Vector3 r = p_last - p_H;
-  const double normal = r.dot(n);  // the normal force / k_t with the tool kept where it was
+  const double normal =
+      r.dot(n);  // the normal force / k_t with the tool kept where it was
   if (mu <= 0 || normal <= 0) return done(EngineData::Friction::kNone);
   const Vector3 t = r - normal * n;
   const double tangential = t.norm();
@@ -175,8 +193,9 @@ void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH, const Q
   const Vector3 device_step = p_H - d->friction_device_W;
   d->friction_device_W = p_H;
   const bool leading = tangential > 1e-12 && device_step.dot(-t / tangential) > 1e-4;
-  const bool stick = before == EngineData::Friction::kSlip ? !leading && tangential <= mu_s * normal
-                                                           : tangential <= mu_s * normal;
+  const bool stick = before == EngineData::Friction::kSlip
+                         ? !leading && tangential <= mu_s * normal
+                         : tangential <= mu_s * normal;
   RigidTransform candidate(X->rotation(), p_last);
   if (!stick) {
     // From the frictionless pose (on the surface, at the device's foot or short
@@ -189,12 +208,15 @@ void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH, const Q
     back -= back.dot(n) * n;
     const double room = back.norm();
     const double lag = std::clamp(mu_k * x_normal - x_tangential, 0.0, room);
-    candidate = RigidTransform(X->rotation(), room > 1e-12 ? Vector3(p_X + (lag / room) * back) : p_X);
+    candidate = RigidTransform(X->rotation(),
+                               room > 1e-12 ? Vector3(p_X + (lag / room) * back) : p_X);
   }
-  // A sliding pose is lifted out of the bumps between spheres that the tangent plane cuts.
+  // A sliding pose is lifted out of the bumps between spheres that the tangent plane
+  // cuts.
   double worst = WorstPenetration(model.world, candidate, *d);
   for (int i = 0; !stick && i < 3 && worst > p.penetration_tolerance_mm; ++i) {
-    candidate = RigidTransform(candidate.rotation(), candidate.translation() + (worst + 1e-6) * n);
+    candidate = RigidTransform(candidate.rotation(),
+                               candidate.translation() + (worst + 1e-6) * n);
     worst = WorstPenetration(model.world, candidate, *d);
   }
   if (worst <= p.penetration_tolerance_mm) {
@@ -213,7 +235,8 @@ void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH, const Q
 }
 
 // A frame inside an object: the search for free space, and no force.
-void InsideFrame(const EngineModel& model, const RigidTransform& X_WH, Clock::time_point t0, EngineData* d) {
+void InsideFrame(const EngineModel& model, const RigidTransform& X_WH,
+                 Clock::time_point t0, EngineData* d) {
   FindFreeSpace(model, X_WH, d);
   d->force_W.setZero();
   d->torque_W.setZero();
@@ -228,7 +251,8 @@ void EnterInside(EngineData* d) {
 
 }  // namespace
 
-EngineModel::EngineModel(const SphereTree& tool, const std::vector<CollisionWorld::Object>& objects,
+EngineModel::EngineModel(const SphereTree& tool,
+                         const std::vector<CollisionWorld::Object>& objects,
                          const EngineParams& p)
     : world(tool, objects), params(p) {}
 
@@ -315,16 +339,18 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     d->sweep_margin_mm[sweep] = margin;
     d->sweep_move_mm[sweep] = -1;
     const RigidTransform X_target =
-        step_scale < 1.0 ? d->X_WG.Perturbed(step_scale * to_device.head<3>(), step_scale * to_device.tail<3>())
+        step_scale < 1.0 ? d->X_WG.Perturbed(step_scale * to_device.head<3>(),
+                                             step_scale * to_device.tail<3>())
                          : X_WH;
     const auto t_collide = Clock::now();
     // Past the capacity the set is not used: the query stops there. Every try
     // but the last keeps to solve_pairs.
-    const bool whole_set = p.solve_pairs <= 0 || sweep == EngineData::kMaxSweeps - 1 || margin <= lowest_cap ||
-                           margin > cap;
+    const bool whole_set = p.solve_pairs <= 0 || sweep == EngineData::kMaxSweeps - 1 ||
+                           margin <= lowest_cap || margin > cap;
     const int capacity = whole_set ? p.max_pairs : std::min(p.max_pairs, p.solve_pairs);
-    const CollisionStats cs = FindContacts(world, d->X_WG, margin, &d->scratch, d->pairs.data(), capacity,
-                                           QueryLimits{true, p.max_node_tests});
+    const CollisionStats cs =
+        FindContacts(world, d->X_WG, margin, &d->scratch, d->pairs.data(), capacity,
+                     QueryLimits{true, p.max_node_tests});
     d->num_pairs = cs.pairs;
     d->node_tests += cs.node_tests;
     d->timings.collide_us += Micros(t_collide, Clock::now());
@@ -374,7 +400,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
         const ContactPair& c = d->pairs[i];
         const Vector3 cT = X * tool.center(c.tool_leaf);
         Vector3 n;
-        const double gap = world.LeafGap(c.object, c.object_leaf, cT, tool.r[c.tool_leaf], &n);
+        const double gap =
+            world.LeafGap(c.object, c.object_leaf, cT, tool.r[c.tool_leaf], &n);
         if (n.squaredNorm() == 0) {
           // Coincident centres: no direction is defined; push along the line from
           // the object sphere to the tool origin (or +z when that too is degenerate).
@@ -390,7 +417,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       }
       const Vector6 target = X.DifferenceTo(X_target);
       const auto t_solve = Clock::now();
-      sol = &d->qp.Solve(d->A.data(), d->b.data(), m, g, target, d->warm_rows.data(), num_warm);
+      sol = &d->qp.Solve(d->A.data(), d->b.data(), m, g, target, d->warm_rows.data(),
+                         num_warm);
       const auto t_solved = Clock::now();
       d->timings.constraints_us += Micros(t_build, t_solve);
       d->timings.solve_us += Micros(t_solve, t_solved);
@@ -407,23 +435,26 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       const double pass_move = MoveBound(X_pass.DifferenceTo(X), reach);
       double worst = 0;
       for (int i = 0; i < m; ++i)
-        if (-d->b[i] <= pass_move) worst = std::max(worst, -world.PairGap(X, d->pairs[i]));
+        if (-d->b[i] <= pass_move)
+          worst = std::max(worst, -world.PairGap(X, d->pairs[i]));
       double slack = 0;
-      for (int i = 0; i < sol->num_active; ++i) slack = std::max(slack, world.PairGap(X, d->pairs[sol->active[i]]));
+      for (int i = 0; i < sol->num_active; ++i)
+        slack = std::max(slack, world.PairGap(X, d->pairs[sol->active[i]]));
       d->max_penetration_mm = worst;
       if (sol->status == QpStatus::kInfeasibleRelaxed) break;
       // A tool that stopped short of a long move by a hundredth of it (a tool
       // sliding fast round a curved or edged surface) is not held back for that:
       // another linearisation would cost more than the hand can feel.
-      const double slack_allowed =
-          std::max(p.penetration_tolerance_mm, 0.01 * MoveBound(d->X_WG.DifferenceTo(X), reach));
+      const double slack_allowed = std::max(
+          p.penetration_tolerance_mm, 0.01 * MoveBound(d->X_WG.DifferenceTo(X), reach));
       if (worst <= p.penetration_tolerance_mm && slack <= slack_allowed) break;
       // Re-linearise from the new pose, keeping this pass's active set as the guess.
       num_warm = 0;
       for (int i = 0; i < sol->num_active; ++i) d->warm_rows[num_warm++] = sol->active[i];
     }
     if (!Usable(sol->status)) break;
-    if (sol->status == QpStatus::kInfeasibleRelaxed && d->max_penetration_mm > p.inside_mm) {
+    if (sol->status == QpStatus::kInfeasibleRelaxed &&
+        d->max_penetration_mm > p.inside_mm) {
       // No pose near this one is out of the object: the rendered tool is inside it.
       deep = true;
       break;
@@ -441,7 +472,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     // step: its margin is not capped, and its set is solved whole.
     const double wanted = p.base_margin_mm + 1.25 * move;
     if (wanted > cap && move < 2.0 * step_scale * device_move) {
-      if (margin >= cap) step_scale *= 0.5;  // the set at the cap did not hold the move: shorter
+      if (margin >= cap)
+        step_scale *= 0.5;  // the set at the cap did not hold the move: shorter
       margin = cap;
       fit_step();
     } else {
@@ -457,7 +489,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   d->margin_cap_mm = std::min(cap, EngineData::kMarginCapMaxMm);
   if (crowded_frame) ++d->shortened_frames;
   if (capped) ++d->capped_frames;
-  if (deep || (!accepted && ((d->pair_overflow && sol == nullptr) || overlap > 10 * p.penetration_tolerance_mm))) {
+  if (deep || (!accepted && ((d->pair_overflow && sol == nullptr) ||
+                             overlap > 10 * p.penetration_tolerance_mm))) {
     // Inside an object, overlapping it by more pairs than a set holds even at
     // the shortest step, or overlapping it in a frame that could not move (the
     // next frame would be the same: a frozen tool): follow the device with no
@@ -476,7 +509,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     // The accepted sweep's pairs and solution belong together: commit both.
     if (!model.friction.empty()) {
       ApplyFriction(model, X_WH, *sol, &X, d);
-      move = MoveBound(d->X_WG.DifferenceTo(X), reach);  // a stuck tool did not move: the next margin is small
+      move = MoveBound(d->X_WG.DifferenceTo(X),
+                       reach);  // a stuck tool did not move: the next margin is small
     }
     d->X_WG = X;
     d->last_move_mm = move;
@@ -489,13 +523,16 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       // The row's share of the contact force: its multiplier times the
       // translational part of its normal.
       const double* a = &d->A[static_cast<std::size_t>(row) * kQpVars];
-      const double w = std::max(0.0, sol->lambda[i]) * std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+      const double w = std::max(0.0, sol->lambda[i]) *
+                       std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
       d->active_share[d->num_active_keys++] = w;
       total += w;
     }
     for (int i = 0; i < d->num_active_keys; ++i)
-      d->active_share[i] = total > 0 ? d->active_share[i] / total : 1.0 / d->num_active_keys;
-    if (d->max_penetration_mm > p.penetration_tolerance_mm && sol->status == QpStatus::kSolved) {
+      d->active_share[i] =
+          total > 0 ? d->active_share[i] / total : 1.0 / d->num_active_keys;
+    if (d->max_penetration_mm > p.penetration_tolerance_mm &&
+        sol->status == QpStatus::kSolved) {
       ++d->faults.penetration;
     }
   } else {

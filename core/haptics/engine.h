@@ -27,9 +27,10 @@ struct EngineParams {
   double max_force_n = 3.3;       // saturation (Geomagic Touch peak force)
   double max_torque_nmm = 515.0;  // saturation (Phantom Premium 6DOF peak torque)
   double base_margin_mm = 0.05;   // pairs closer than this are constraints even at rest
-  double penetration_tolerance_mm = 1e-4;  // re-linearise while the exact check exceeds it
+  double penetration_tolerance_mm =
+      1e-4;  // re-linearise while the exact check exceeds it
   int max_linearizations = 4;
-  double max_step_mm = 2.0;       // most a tool point moves per frame (2 m/s at 1 kHz)
+  double max_step_mm = 2.0;  // most a tool point moves per frame (2 m/s at 1 kHz)
   // Pairs a frame can hold. A probe laid along a finely fitted tooth meets about
   // 80 of its leaves per tool leaf within a fraction of a millimetre: 4,000 pairs
   // (the oral inspection at 10 kHz); the set holds four times that.
@@ -84,14 +85,18 @@ struct EngineModel {
 
 /// Fault counters; a fault never throws, it is counted and the frame falls back.
 struct EngineFaults {
-  std::uint64_t nonfinite_device = 0;   // a NaN or infinite device pose: pose held, zero force
-  std::uint64_t pair_overflow = 0;      // more pairs than max_pairs: a shorter step is tried
-  std::uint64_t solver = 0;             // QP status other than solved / relaxed
-  std::uint64_t penetration = 0;        // exact penetration above tolerance after the last pass
-  std::uint64_t sweep = 0;              // the frame's move could not be covered: pose held
-  std::uint64_t held = 0;               // held max_held_frames in a row: treated as inside
-  std::uint64_t inside = 0;             // the tool was found inside an object and brought out
-  std::uint64_t total() const { return nonfinite_device + pair_overflow + solver + penetration + sweep + held + inside; }
+  std::uint64_t nonfinite_device =
+      0;  // a NaN or infinite device pose: pose held, zero force
+  std::uint64_t pair_overflow = 0;  // more pairs than max_pairs: a shorter step is tried
+  std::uint64_t solver = 0;         // QP status other than solved / relaxed
+  std::uint64_t penetration = 0;  // exact penetration above tolerance after the last pass
+  std::uint64_t sweep = 0;        // the frame's move could not be covered: pose held
+  std::uint64_t held = 0;         // held max_held_frames in a row: treated as inside
+  std::uint64_t inside = 0;       // the tool was found inside an object and brought out
+  std::uint64_t total() const {
+    return nonfinite_device + pair_overflow + solver + penetration + sweep + held +
+           inside;
+  }
 };
 
 /// Per-stage wall time of the last frame, microseconds.
@@ -103,8 +108,8 @@ struct EngineData {
   explicit EngineData(const EngineModel& model);
 
   // Inputs and outputs of the last frame.
-  RigidTransform X_WH;  // device ("haptic") tool
-  RigidTransform X_WG;  // rendered ("graphic") tool
+  RigidTransform X_WH;                 // device ("haptic") tool
+  RigidTransform X_WG;                 // rendered ("graphic") tool
   Vector3 force_W = Vector3::Zero();   // N, on the device: k_t (p_G - p_H), saturated
   Vector3 torque_W = Vector3::Zero();  // N*mm about the tool origin, saturated
   bool force_saturated = false;
@@ -112,22 +117,25 @@ struct EngineData {
   // Contacts: pairs within the margin at the graphic pose.
   std::vector<ContactPair> pairs;
   int num_pairs = 0;
-  int active_contacts = 0;  // pairs with a positive multiplier
+  int active_contacts = 0;        // pairs with a positive multiplier
   double max_penetration_mm = 0;  // exact, over all pairs, after the frame (>= 0)
-  double margin_mm = 0;      // query margin used (covers this frame's move)
+  double margin_mm = 0;           // query margin used (covers this frame's move)
   static constexpr int kMaxSweeps = 6;
-  int sweeps = 0;            // queries this frame (a re-query when the move outgrew the margin)
-  int node_tests = 0;        // sphere tests this frame, all its queries
+  int sweeps = 0;      // queries this frame (a re-query when the move outgrew the margin)
+  int node_tests = 0;  // sphere tests this frame, all its queries
   bool node_budget_hit = false;  // a query of this frame was cut short by max_node_tests
   double sweep_margin_mm[kMaxSweeps] = {};
   double sweep_move_mm[kMaxSweeps] = {};
-  double last_move_mm = 0;   // how far a tool point moved last frame (margin guess)
-  int held_frames = 0;       // frames in a row that held the rendered tool (could not move it)
+  double last_move_mm = 0;  // how far a tool point moved last frame (margin guess)
+  int held_frames = 0;  // frames in a row that held the rendered tool (could not move it)
   bool pair_overflow = false;
   static constexpr double kMarginCapMaxMm = 1e3;  // no cap: above any step's margin
-  double margin_cap_mm = kMarginCapMaxMm;  // largest margin (and step) the last crowded place allowed; grows back
-  std::uint64_t shortened_frames = 0;  // frames that took a shorter step for solve_pairs (all frames)
-  std::uint64_t capped_frames = 0;     // frames whose step the margin cap shortened (all frames)
+  double margin_cap_mm = kMarginCapMaxMm;  // largest margin (and step) the last crowded
+                                           // place allowed; grows back
+  std::uint64_t shortened_frames =
+      0;  // frames that took a shorter step for solve_pairs (all frames)
+  std::uint64_t capped_frames =
+      0;  // frames whose step the margin cap shortened (all frames)
 
   // Solver report of the last pass.
   QpStatus qp_status = QpStatus::kSolved;
@@ -140,12 +148,13 @@ struct EngineData {
   enum class Friction : std::uint8_t { kNone, kStick, kSlip };
   Friction friction = Friction::kNone;
   std::uint64_t friction_transitions = 0;  // stick <-> slip changes (all frames)
-  Vector3 friction_device_W = Vector3::Zero();  // the device's position at the last friction frame
+  Vector3 friction_device_W =
+      Vector3::Zero();  // the device's position at the last friction frame
 
   // Inside an object: the rendered tool follows the device with no force while
   // poses around the device are tried, nearest first, for one that is free.
   bool inside = false;
-  int free_search_next = 0;      // the next candidate pose to try
+  int free_search_next = 0;  // the next candidate pose to try
 
   StepTimings timings;
   EngineFaults faults;
@@ -156,7 +165,8 @@ struct EngineData {
   std::vector<double> A, b;
   std::vector<std::uint64_t> active_keys;  // last frame's active pairs
   int num_active_keys = 0;
-  std::array<double, kQpMaxActive> active_share{};  // each active pair's share of the contact force (sums to 1)
+  std::array<double, kQpMaxActive>
+      active_share{};  // each active pair's share of the contact force (sums to 1)
   std::vector<std::int32_t> warm_rows;
   CollisionScratch scratch;
   QpSolver qp;
@@ -167,6 +177,7 @@ struct EngineData {
 void ResetTool(const RigidTransform& X_WG, EngineData* data);
 
 /// One frame with the device at X_WH. Never allocates, never throws.
-void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* data) noexcept;
+void Step(const EngineModel& model, const RigidTransform& X_WH,
+          EngineData* data) noexcept;
 
 }  // namespace sulcus

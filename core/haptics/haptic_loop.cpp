@@ -15,45 +15,66 @@ void ClampNorm(Vector3* v, double limit) {
 
 const char* ToString(EventKind kind) {
   switch (kind) {
-    case EventKind::kContactBegan: return "contact_began";
-    case EventKind::kContactEnded: return "contact_ended";
-    case EventKind::kForceAbove: return "force_above";
-    case EventKind::kForceBelow: return "force_below";
-    case EventKind::kDeviceLost: return "device_lost";
-    case EventKind::kDeviceBack: return "device_back";
-    case EventKind::kOverrun: return "overrun";
-    case EventKind::kCommand: return "command";
-    case EventKind::kProbeReading: return "probe_reading";
-    case EventKind::kBleeding: return "bleeding";
-    case EventKind::kTissueDamage: return "tissue_damage";
-    case EventKind::kSoftContact: return "soft_contact";
-    case EventKind::kCariesCatch: return "caries_catch";
-    case EventKind::kCalculusTouched: return "calculus";
+    case EventKind::kContactBegan:
+      return "contact_began";
+    case EventKind::kContactEnded:
+      return "contact_ended";
+    case EventKind::kForceAbove:
+      return "force_above";
+    case EventKind::kForceBelow:
+      return "force_below";
+    case EventKind::kDeviceLost:
+      return "device_lost";
+    case EventKind::kDeviceBack:
+      return "device_back";
+    case EventKind::kOverrun:
+      return "overrun";
+    case EventKind::kCommand:
+      return "command";
+    case EventKind::kProbeReading:
+      return "probe_reading";
+    case EventKind::kBleeding:
+      return "bleeding";
+    case EventKind::kTissueDamage:
+      return "tissue_damage";
+    case EventKind::kSoftContact:
+      return "soft_contact";
+    case EventKind::kCariesCatch:
+      return "caries_catch";
+    case EventKind::kCalculusTouched:
+      return "calculus";
   }
   return "?";
 }
 
 const char* ToString(HapticCommand::Kind kind) {
   switch (kind) {
-    case HapticCommand::Kind::kPause: return "pause";
-    case HapticCommand::Kind::kResume: return "resume";
-    case HapticCommand::Kind::kResetTool: return "reset_tool";
-    case HapticCommand::Kind::kSetForceScale: return "set_force_scale";
-    case HapticCommand::Kind::kSetForceLimit: return "set_force_limit";
-    case HapticCommand::Kind::kSetTorqueLimit: return "set_torque_limit";
+    case HapticCommand::Kind::kPause:
+      return "pause";
+    case HapticCommand::Kind::kResume:
+      return "resume";
+    case HapticCommand::Kind::kResetTool:
+      return "reset_tool";
+    case HapticCommand::Kind::kSetForceScale:
+      return "set_force_scale";
+    case HapticCommand::Kind::kSetForceLimit:
+      return "set_force_limit";
+    case HapticCommand::Kind::kSetTorqueLimit:
+      return "set_torque_limit";
   }
   return "?";
 }
 
-HapticLoop::HapticLoop(const EngineModel& model, Device* device, const LoopOptions& options,
-                       std::span<LoopEffect* const> effects)
+HapticLoop::HapticLoop(const EngineModel& model, Device* device,
+                       const LoopOptions& options, std::span<LoopEffect* const> effects)
     : model_(model),
       device_(device),
       options_(options),
       effects_(effects),
       data_(model),
       force_limit_n_(std::min(model.params.max_force_n, device->caps().max_force_n)),
-      torque_limit_nmm_(std::min(model.params.max_torque_nmm, device->caps().max_torque_nmm)) {
+      torque_limit_nmm_(
+          std::min(model.params.max_torque_nmm, device->caps().max_torque_nmm)) {
   options_.force_scale = std::clamp(options_.force_scale, 0.0, 1.0);
 }
 
@@ -79,19 +100,26 @@ void HapticLoop::Apply(const HapticCommand& c) noexcept {
   using K = HapticCommand::Kind;
   const double v = std::isfinite(c.value) ? c.value : 0.0;
   switch (c.kind) {
-    case K::kPause: paused_ = true; break;
+    case K::kPause:
+      paused_ = true;
+      break;
     case K::kResume:
       if (paused_) ramp_start_tick_ = tick_;
       paused_ = false;
       break;
-    case K::kResetTool: Reset(sample_.X_WH); break;
-    case K::kSetForceScale: options_.force_scale = std::clamp(v, 0.0, 1.0); break;
+    case K::kResetTool:
+      Reset(sample_.X_WH);
+      break;
+    case K::kSetForceScale:
+      options_.force_scale = std::clamp(v, 0.0, 1.0);
+      break;
     case K::kSetForceLimit:
-      force_limit_n_ = std::clamp(v, 0.0, std::min(model_.params.max_force_n, device_->caps().max_force_n));
+      force_limit_n_ = std::clamp(
+          v, 0.0, std::min(model_.params.max_force_n, device_->caps().max_force_n));
       break;
     case K::kSetTorqueLimit:
-      torque_limit_nmm_ =
-          std::clamp(v, 0.0, std::min(model_.params.max_torque_nmm, device_->caps().max_torque_nmm));
+      torque_limit_nmm_ = std::clamp(
+          v, 0.0, std::min(model_.params.max_torque_nmm, device_->caps().max_torque_nmm));
       break;
   }
   HapticEvent e = HapticEvent::Of(EventKind::kCommand);
@@ -123,8 +151,9 @@ void HapticLoop::Tick(bool overrun) noexcept {
       ramp_start_tick_ = tick_;
       Emit(HapticEvent::Of(EventKind::kDeviceBack));
     }
-  } else if (device_ok_ && (device_->lost() ||
-                            static_cast<double>(tick_ - last_fresh_tick_) >= options_.safety.device_timeout_s * rate)) {
+  } else if (device_ok_ &&
+             (device_->lost() || static_cast<double>(tick_ - last_fresh_tick_) >=
+                                     options_.safety.device_timeout_s * rate)) {
     device_ok_ = false;
     ++faults_.device_stalls;
     Emit(HapticEvent::Of(EventKind::kDeviceLost));
@@ -139,9 +168,11 @@ void HapticLoop::Tick(bool overrun) noexcept {
   if (options_.safety.slip_n_per_s > 0 && F.allFinite()) {
     const Vector3 at = sample_.X_WH.translation();
     if (contact_force_valid_ && at.allFinite()) {
-      const double allowed = options_.safety.slip_n_per_s / rate + model_.params.k_t * (at - contact_device_W_).norm();
+      const double allowed = options_.safety.slip_n_per_s / rate +
+                             model_.params.k_t * (at - contact_device_W_).norm();
       const Vector3 change = F - contact_force_W_;
-      if (change.norm() > allowed) F = contact_force_W_ + change * (allowed / change.norm());
+      if (change.norm() > allowed)
+        F = contact_force_W_ + change * (allowed / change.norm());
     }
     contact_force_W_ = F;
     contact_device_W_ = at;
@@ -207,14 +238,16 @@ void HapticLoop::UpdateContacts() noexcept {
   std::array<std::uint64_t, HapticSnapshot::kMaxObjects / 64> now{};
   for (int i = 0; i < data_.num_active_keys; ++i) {
     const auto object = static_cast<int>(data_.active_keys[i] >> 48);
-    if (object < HapticSnapshot::kMaxObjects) now[object / 64] |= std::uint64_t{1} << (object % 64);
+    if (object < HapticSnapshot::kMaxObjects)
+      now[object / 64] |= std::uint64_t{1} << (object % 64);
   }
   for (std::size_t w = 0; w < now.size(); ++w) {
     const std::uint64_t changed = now[w] ^ in_contact_[w];
     for (int b = 0; b < 64; ++b) {
       if (!((changed >> b) & 1)) continue;
-      Emit(HapticEvent::Of(((now[w] >> b) & 1) ? EventKind::kContactBegan : EventKind::kContactEnded,
-                           static_cast<int>(w * 64 + b)));
+      Emit(HapticEvent::Of(
+          ((now[w] >> b) & 1) ? EventKind::kContactBegan : EventKind::kContactEnded,
+          static_cast<int>(w * 64 + b)));
     }
   }
   in_contact_ = now;

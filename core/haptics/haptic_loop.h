@@ -17,7 +17,7 @@
 namespace sulcus {
 
 struct SafetyParams {
-  double ramp_s = 0.5;              // output rises linearly over this after a start or a fault
+  double ramp_s = 0.5;  // output rises linearly over this after a start or a fault
   double device_timeout_s = 0.010;  // no fresh reading for this long: zero force
   // The contact force changes within a tick by at most what the device's own
   // move explains (k_t times how far it moved) plus this rate times the tick:
@@ -32,40 +32,47 @@ struct SafetyParams {
 /// explains (k_t times how far it moved), N. Above kPopN it is a pop: a click
 /// the hand feels. The slip limit (SafetyParams::slip_n_per_s) keeps it at most
 /// slip_n_per_s over the rate for the contact force.
-inline double UnexplainedForceChange(const Vector3& force_before, const Vector3& force_after,
-                                     const Vector3& device_before, const Vector3& device_after, double k_t) {
-  return (force_after - force_before).norm() - k_t * (device_after - device_before).norm();
+inline double UnexplainedForceChange(const Vector3& force_before,
+                                     const Vector3& force_after,
+                                     const Vector3& device_before,
+                                     const Vector3& device_after, double k_t) {
+  return (force_after - force_before).norm() -
+         k_t * (device_after - device_before).norm();
 }
 inline constexpr double kPopN = 0.05;
 
 enum class EventKind : std::uint8_t {
-  kContactBegan,    // object: which object (engine index)
+  kContactBegan,  // object: which object (engine index)
   kContactEnded,
-  kForceAbove,      // the force sent rose above LoopOptions::force_event_n; force
-  kForceBelow,      // and fell back below 90 % of it
-  kDeviceLost,      // no fresh reading for device_timeout_s
+  kForceAbove,  // the force sent rose above LoopOptions::force_event_n; force
+  kForceBelow,  // and fell back below 90 % of it
+  kDeviceLost,  // no fresh reading for device_timeout_s
   kDeviceBack,
-  kOverrun,         // the thread was late (watchdog): zero force this tick
-  kCommand,         // a command was applied; command
-  kProbeReading,    // probing_depth: one insertion at a site ended; reading
-  kBleeding,        // bleeding_on_probing: a bleeding site was probed to its floor; bleeding
-  kTissueDamage,    // tissue_damage: the force on an object rose above its limit; damage
-  kSoftContact,     // gingiva_compliance: the probe began pressing soft tissue; soft
-  kCariesCatch,     // caries_catch: the tip caught in a carious lesion; object (the tooth), damage (force, 0)
-  kCalculusTouched, // calculus: the working end met a calculus deposit; object (the deposit), calculus
+  kOverrun,       // the thread was late (watchdog): zero force this tick
+  kCommand,       // a command was applied; command
+  kProbeReading,  // probing_depth: one insertion at a site ended; reading
+  kBleeding,  // bleeding_on_probing: a bleeding site was probed to its floor; bleeding
+  kTissueDamage,  // tissue_damage: the force on an object rose above its limit; damage
+  kSoftContact,   // gingiva_compliance: the probe began pressing soft tissue; soft
+  kCariesCatch,   // caries_catch: the tip caught in a carious lesion; object (the tooth),
+                  // damage (force, 0)
+  kCalculusTouched,  // calculus: the working end met a calculus deposit; object (the
+                     // deposit), calculus
 };
 inline constexpr int kNumEventKinds = 14;
 const char* ToString(EventKind kind);
 
 /// A probing reading: the deepest point of one insertion into a site's sulcus.
 struct ReadingPayload {
-  std::int32_t fdi = 0;           // the tooth
-  std::int32_t site = 0;          // 0..5: MB, B, DB, ML, L, DL
-  double depth_mm = 0;            // deepest tip depth below the margin
-  double peak_force_n = 0;        // the largest force along the probe's axis while the tip dwelt at its deepest (within 0.2 mm)
-  double axis_angle_deg = 0;      // the tool axis against the tooth's long axis at the deepest moment
-  std::uint64_t deepest_tick = 0; // when the tip was deepest
-  std::uint64_t entered_tick = 0; // when the tip entered the site
+  std::int32_t fdi = 0;     // the tooth
+  std::int32_t site = 0;    // 0..5: MB, B, DB, ML, L, DL
+  double depth_mm = 0;      // deepest tip depth below the margin
+  double peak_force_n = 0;  // the largest force along the probe's axis while the tip
+                            // dwelt at its deepest (within 0.2 mm)
+  double axis_angle_deg =
+      0;  // the tool axis against the tooth's long axis at the deepest moment
+  std::uint64_t deepest_tick = 0;  // when the tip was deepest
+  std::uint64_t entered_tick = 0;  // when the tip entered the site
 };
 struct BleedingPayload {
   std::int32_t fdi = 0, site = 0;
@@ -112,7 +119,14 @@ struct HapticEvent {
 static_assert(std::is_trivially_copyable_v<HapticEvent>);
 
 struct HapticCommand {
-  enum class Kind : std::uint8_t { kPause, kResume, kResetTool, kSetForceScale, kSetForceLimit, kSetTorqueLimit };
+  enum class Kind : std::uint8_t {
+    kPause,
+    kResume,
+    kResetTool,
+    kSetForceScale,
+    kSetForceLimit,
+    kSetTorqueLimit
+  };
   Kind kind = Kind::kPause;
   double value = 0;  // scale 0..1, limit in N or N*mm
 };
@@ -120,12 +134,15 @@ const char* ToString(HapticCommand::Kind kind);
 
 /// Faults of the loop (beyond the engine's own), counted, never thrown.
 struct LoopFaults {
-  std::uint64_t overruns = 0;        // ticks the watchdog zeroed because the thread was late
-  std::uint64_t device_stalls = 0;   // episodes without fresh device readings
+  std::uint64_t overruns = 0;  // ticks the watchdog zeroed because the thread was late
+  std::uint64_t device_stalls = 0;  // episodes without fresh device readings
   std::uint64_t nonfinite_output = 0;
-  std::uint64_t engine = 0;          // EngineFaults::total()
-  std::uint64_t events_dropped = 0;  // a tick had more events than TickRecord holds (counted, never silent)
-  std::uint64_t total() const { return overruns + device_stalls + nonfinite_output + engine; }
+  std::uint64_t engine = 0;  // EngineFaults::total()
+  std::uint64_t events_dropped =
+      0;  // a tick had more events than TickRecord holds (counted, never silent)
+  std::uint64_t total() const {
+    return overruns + device_stalls + nonfinite_output + engine;
+  }
 };
 
 /// What the window and the lesson read: the latest tick, copied whole.
@@ -135,10 +152,10 @@ struct HapticSnapshot {
   std::uint64_t tick = 0;
   double time_s = 0;
   RigidTransform X_WH, X_WG;
-  Vector3 force_W = Vector3::Zero();   // as sent to the device (ramped, clamped)
+  Vector3 force_W = Vector3::Zero();  // as sent to the device (ramped, clamped)
   Vector3 torque_W = Vector3::Zero();
   Vector3 engine_force_W = Vector3::Zero();  // the spring before the safety rules
-  double output_scale = 0;  // ramp times the force scale, 0..1
+  double output_scale = 0;                   // ramp times the force scale, 0..1
   bool saturated = false, paused = false, device_ok = true;
   std::uint32_t buttons = 0;
   int num_pairs = 0, active_contacts = 0;
@@ -154,12 +171,13 @@ struct HapticSnapshot {
   std::array<double, kMaxShownPairs> shown_radii{};
   LoopFaults faults;
   // Totals since the start.
-  double max_force_n = 0;              // the largest force sent
-  std::uint64_t contact_ticks = 0;     // ticks with at least one active contact
-  double contact_force_sum_n = 0;      // sum of the force sent over those ticks
+  double max_force_n = 0;           // the largest force sent
+  std::uint64_t contact_ticks = 0;  // ticks with at least one active contact
+  double contact_force_sum_n = 0;   // sum of the force sent over those ticks
   std::uint64_t saturated_ticks = 0;
   bool InContact(int object) const {
-    return object >= 0 && object < kMaxObjects && ((in_contact[object / 64] >> (object % 64)) & 1);
+    return object >= 0 && object < kMaxObjects &&
+           ((in_contact[object / 64] >> (object % 64)) & 1);
   }
 };
 
@@ -173,8 +191,8 @@ class LoopEffect {
   virtual ~LoopEffect() = default;
   virtual const char* name() const = 0;
   /// Never allocates, never throws.
-  virtual void Apply(const EngineModel& model, const EngineData& data, Vector3* force_W, Vector3* torque_W,
-                     HapticLoop* loop) noexcept = 0;
+  virtual void Apply(const EngineModel& model, const EngineData& data, Vector3* force_W,
+                     Vector3* torque_W, HapticLoop* loop) noexcept = 0;
   virtual void Reset() noexcept {}
 };
 

@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <cstring>
 
-
 namespace sulcus {
 namespace {
 
@@ -40,16 +39,20 @@ void WaitUntil(std::int64_t ns, std::int64_t poll_from) {
 }  // namespace
 
 std::int64_t SpinNs(std::int64_t period_ns, double spin_us) {
-  const double us = spin_us >= 0 ? spin_us : std::min(0.9e-3 * static_cast<double>(period_ns), 100.0);
-  return std::clamp(static_cast<std::int64_t>(1e3 * us), std::int64_t{0}, period_ns * 9 / 10);
+  const double us =
+      spin_us >= 0 ? spin_us : std::min(0.9e-3 * static_cast<double>(period_ns), 100.0);
+  return std::clamp(static_cast<std::int64_t>(1e3 * us), std::int64_t{0},
+                    period_ns * 9 / 10);
 }
 
-std::int64_t PollFrom(std::int64_t end, std::int64_t deadline, std::int64_t period, std::int64_t spin) {
+std::int64_t PollFrom(std::int64_t end, std::int64_t deadline, std::int64_t period,
+                      std::int64_t spin) {
   if (spin <= 0) return deadline;
   return std::max(deadline - spin, std::min(end + period / 10, deadline));
 }
 
-HapticThread::HapticThread(HapticLoop* loop, const ThreadOptions& options) : loop_(loop), options_(options) {}
+HapticThread::HapticThread(HapticLoop* loop, const ThreadOptions& options)
+    : loop_(loop), options_(options) {}
 
 HapticThread::~HapticThread() { Stop(); }
 
@@ -87,8 +90,10 @@ void HapticThread::Run() noexcept {
     cpu_set_t set;
     CPU_ZERO(&set);
     CPU_SET(cpu, &set);
-    if (const int err = pthread_setaffinity_np(pthread_self(), sizeof(set), &set); err != 0)
-      refused += "core " + std::to_string(cpu) + " not pinned (" + std::strerror(err) + "); ";
+    if (const int err = pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
+        err != 0)
+      refused +=
+          "core " + std::to_string(cpu) + " not pinned (" + std::strerror(err) + "); ";
   }
   if (!refused.empty()) refused += "running without it";
   std::snprintf(notes_, sizeof notes_, "%s", refused.c_str());
@@ -96,14 +101,16 @@ void HapticThread::Run() noexcept {
 
   const double rate = loop_->options().rate_hz > 0 ? loop_->options().rate_hz : 1000.0;
   const auto period = static_cast<std::int64_t>(kNsPerS / rate);
-  const std::int64_t spin = SpinNs(period, options_.spin_us);  // the polled end of each wait
-  std::int64_t deadline = NowNs();  // the scheduled start of the current tick
+  const std::int64_t spin =
+      SpinNs(period, options_.spin_us);  // the polled end of each wait
+  std::int64_t deadline = NowNs();       // the scheduled start of the current tick
   std::int64_t last_start = deadline;
   std::uint64_t n = 0;
   while (!stop_.load(std::memory_order_acquire)) {
     const std::int64_t start = NowNs();
     const bool overrun = !options_.free_run && n > 0 &&
-                         static_cast<double>(start - deadline) > options_.stall_periods * static_cast<double>(period);
+                         static_cast<double>(start - deadline) >
+                             options_.stall_periods * static_cast<double>(period);
     loop_->Tick(overrun);
     if (options_.sink) options_.sink->Push(loop_->last_record());
     const std::int64_t end = NowNs();
@@ -128,7 +135,8 @@ void HapticThread::Run() noexcept {
     deadline += period;
     if (end > deadline) {
       stats_.misses.fetch_add(1, std::memory_order_relaxed);
-      if (late > period / 10) stats_.late_start_misses.fetch_add(1, std::memory_order_relaxed);
+      if (late > period / 10)
+        stats_.late_start_misses.fetch_add(1, std::memory_order_relaxed);
       // Far behind (a stall, or steps longer than the period): start again from
       // now rather than racing to catch up, and sleep a little anyway: a
       // real-time thread that never sleeps would starve everything on its core.

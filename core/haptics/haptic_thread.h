@@ -29,9 +29,10 @@ struct ThreadOptions {
   // its work (PollFrom), so that a real-time thread leaves its core's other
   // work room and the kernel never throttles it.
   double spin_us = -1;
-  std::uint64_t max_ticks = 0;    // stop after this many ticks (0: until Stop())
+  std::uint64_t max_ticks = 0;  // stop after this many ticks (0: until Stop())
   bool stop_when_device_finished = true;
-  TickSink* sink = nullptr;  // gets every tick's record (a Session, a RecordingWriter); not owned
+  TickSink* sink =
+      nullptr;  // gets every tick's record (a Session, a RecordingWriter); not owned
 };
 
 /// Timing statistics, written by the haptic thread, readable any time.
@@ -39,7 +40,7 @@ struct TimingStats {
   TimeHistogram period_us;  // between successive tick starts
   TimeHistogram step_us;    // the tick's own work
   std::atomic<std::uint64_t> ticks{0};
-  std::atomic<std::uint64_t> misses{0};   // ticks whose work ended after the next deadline
+  std::atomic<std::uint64_t> misses{0};  // ticks whose work ended after the next deadline
   // Of those, the ticks that started more than a tenth of a period after their
   // time (the thread woke or was run late); the others' work was too long.
   std::atomic<std::uint64_t> late_start_misses{0};
@@ -53,7 +54,8 @@ std::int64_t SpinNs(std::int64_t period_ns, double spin_us);
 /// at `deadline`, its last tick's work having ended at `end` (ns, one clock):
 /// `spin` before the deadline, but never sooner than a tenth of a period after
 /// `end`, and never after the deadline.
-std::int64_t PollFrom(std::int64_t end, std::int64_t deadline, std::int64_t period, std::int64_t spin);
+std::int64_t PollFrom(std::int64_t end, std::int64_t deadline, std::int64_t period,
+                      std::int64_t spin);
 
 class HapticThread {
  public:

@@ -1,8 +1,8 @@
 #pragma once
-// Lock-free hand-offs between the haptic thread and the rest (docs/architecture.md, "Rules the code keeps"):
-// a triple buffer for the latest snapshot, a fixed-capacity single-producer /
-// single-consumer ring for events and commands, and a histogram of times that
-// another thread can read at any moment. No locks, no allocation after
+// Lock-free hand-offs between the haptic thread and the rest (docs/architecture.md,
+// "Rules the code keeps"): a triple buffer for the latest snapshot, a fixed-capacity
+// single-producer / single-consumer ring for events and commands, and a histogram of
+// times that another thread can read at any moment. No locks, no allocation after
 // construction; every shared word is an atomic, so ThreadSanitizer can check them.
 
 #include <array>
@@ -27,7 +27,9 @@ class TripleBuffer {
   // Writer side.
   T& back() { return slots_[back_]; }
   void Publish() {
-    back_ = middle_.exchange(static_cast<std::uint8_t>(back_ | kFresh), std::memory_order_acq_rel) & kIndex;
+    back_ = middle_.exchange(static_cast<std::uint8_t>(back_ | kFresh),
+                             std::memory_order_acq_rel) &
+            kIndex;
   }
 
   // Reader side. Returns true when a newer value than the last one was taken.
@@ -78,7 +80,9 @@ class SpscRing {
     return head_.load(std::memory_order_acquire) - tail_.load(std::memory_order_acquire);
   }
   static constexpr std::size_t capacity() { return N; }
-  std::uint64_t dropped() const noexcept { return dropped_.load(std::memory_order_relaxed); }
+  std::uint64_t dropped() const noexcept {
+    return dropped_.load(std::memory_order_relaxed);
+  }
 
  private:
   std::unique_ptr<T[]> items_;
@@ -93,14 +97,17 @@ class TimeHistogram {
  public:
   static constexpr int kMaxUs = 20000;
 
-  TimeHistogram() : bins_(std::make_unique<std::atomic<std::uint32_t>[]>(kMaxUs + 1)) { Clear(); }
+  TimeHistogram() : bins_(std::make_unique<std::atomic<std::uint32_t>[]>(kMaxUs + 1)) {
+    Clear();
+  }
 
   void Add(double us) noexcept {
     if (!(us >= 0)) us = 0;  // NaN or negative (clock step) counts as 0
     const int bin = us >= kMaxUs ? kMaxUs : static_cast<int>(us);
     bins_[bin].fetch_add(1, std::memory_order_relaxed);
     count_.fetch_add(1, std::memory_order_relaxed);
-    if (us > max_us_.load(std::memory_order_relaxed)) max_us_.store(us, std::memory_order_relaxed);
+    if (us > max_us_.load(std::memory_order_relaxed))
+      max_us_.store(us, std::memory_order_relaxed);
   }
 
   /// Not while the writer runs.
@@ -139,7 +146,8 @@ inline double TimeHistogram::Percentile(double p) const noexcept {
   std::uint64_t seen = 0;
   for (int i = 0; i < kMaxUs; ++i) {
     seen += bins_[i].load(std::memory_order_relaxed);
-    if (static_cast<double>(seen) >= want && seen > 0) return i + 1.0 < max_us() ? i + 1.0 : max_us();
+    if (static_cast<double>(seen) >= want && seen > 0)
+      return i + 1.0 < max_us() ? i + 1.0 : max_us();
   }
   return max_us();
 }

@@ -39,7 +39,8 @@ class Out {
 
 class In {
  public:
-  In(const std::vector<char>& data, const std::filesystem::path& file) : data_(data), file_(file) {}
+  In(const std::vector<char>& data, const std::filesystem::path& file)
+      : data_(data), file_(file) {}
   template <class T>
   bool Get(T* v) {
     if (pos_ + sizeof(T) > data_.size()) return false;
@@ -108,22 +109,26 @@ bool GetFrame(In* in, TickRecord* r) {
   char marker[4];
   for (char& c : marker)
     if (!in->Get(&c)) return false;
-  if (std::memcmp(marker, kFrameMarker, 4) != 0) in->Fail("expected a frame marker 'FRM1' (corrupt recording)");
+  if (std::memcmp(marker, kFrameMarker, 4) != 0)
+    in->Fail("expected a frame marker 'FRM1' (corrupt recording)");
   std::uint8_t fresh = 0, overrun = 0, events = 0;
-  if (!in->Get(&r->tick) || !in->Get(&r->time_s) || !in->Get(&r->sample.time_s) || !in->GetPose(&r->sample.X_WH) ||
-      !in->Get(&r->sample.buttons) || !in->Get(&fresh) || !in->Get(&overrun) || !in->GetPose(&r->X_WG) ||
-      !in->GetVector(&r->force_W) || !in->GetVector(&r->torque_W) || !in->Get(&events) || !in->Get(&r->events_dropped))
+  if (!in->Get(&r->tick) || !in->Get(&r->time_s) || !in->Get(&r->sample.time_s) ||
+      !in->GetPose(&r->sample.X_WH) || !in->Get(&r->sample.buttons) || !in->Get(&fresh) ||
+      !in->Get(&overrun) || !in->GetPose(&r->X_WG) || !in->GetVector(&r->force_W) ||
+      !in->GetVector(&r->torque_W) || !in->Get(&events) || !in->Get(&r->events_dropped))
     return false;
   if (events > TickRecord::kMaxEvents)
-    in->Fail("a frame lists " + std::to_string(events) + " events, at most " + std::to_string(TickRecord::kMaxEvents) +
-             " expected");
+    in->Fail("a frame lists " + std::to_string(events) + " events, at most " +
+             std::to_string(TickRecord::kMaxEvents) + " expected");
   r->fresh = fresh != 0;
   r->overrun = overrun != 0;
   r->num_events = events;
   for (int i = 0; i < events; ++i) {
     HapticEvent& e = r->events[i];
     std::uint8_t kind = 0;
-    if (!in->Get(&kind) || !in->Get(&e.object) || !in->Get(&e.tick) || !in->Get(&e.payload)) return false;
+    if (!in->Get(&kind) || !in->Get(&e.object) || !in->Get(&e.tick) ||
+        !in->Get(&e.payload))
+      return false;
     if (kind >= kNumEventKinds) in->Fail("unknown event kind " + std::to_string(kind));
     e.kind = static_cast<EventKind>(kind);
   }
@@ -132,9 +137,13 @@ bool GetFrame(In* in, TickRecord* r) {
 
 }  // namespace
 
-RecordingWriter::RecordingWriter(const std::filesystem::path& file, const RecordingHeader& header) : file_(file) {
+RecordingWriter::RecordingWriter(const std::filesystem::path& file,
+                                 const RecordingHeader& header)
+    : file_(file) {
   out_ = std::fopen(file.string().c_str(), "wb");
-  if (!out_) throw RecordingError(file.string() + ": cannot create the recording: " + std::strerror(errno));
+  if (!out_)
+    throw RecordingError(file.string() +
+                         ": cannot create the recording: " + std::strerror(errno));
   Out o;
   for (char c : kMagic) o.Put(c);
   o.Put(kRecordingVersion);
@@ -142,7 +151,8 @@ RecordingWriter::RecordingWriter(const std::filesystem::path& file, const Record
   o.Put(header.rate_hz);
   o.PutString(header.device_name);
   o.PutString(header.scene_file);
-  if (std::fwrite(o.bytes.data(), 1, o.bytes.size(), out_) != o.bytes.size()) write_failed_ = true;
+  if (std::fwrite(o.bytes.data(), 1, o.bytes.size(), out_) != o.bytes.size())
+    write_failed_ = true;
   writer_ = std::thread([this] { Drain(); });
 }
 
@@ -165,7 +175,8 @@ void RecordingWriter::Drain() {
       PutFrame(r, &o);
       ++n;
     }
-    if (!o.bytes.empty() && std::fwrite(o.bytes.data(), 1, o.bytes.size(), out_) != o.bytes.size())
+    if (!o.bytes.empty() &&
+        std::fwrite(o.bytes.data(), 1, o.bytes.size(), out_) != o.bytes.size())
       write_failed_ = true;
     written_.fetch_add(n);
     if (stopping) break;  // the ring was drained after stop was seen
@@ -174,7 +185,8 @@ void RecordingWriter::Drain() {
 }
 
 void RecordingWriter::PushWaiting(const TickRecord& r) {
-  while (ring_.size() >= ring_.capacity()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  while (ring_.size() >= ring_.capacity())
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   ring_.Push(r);
 }
 
@@ -191,37 +203,50 @@ void RecordingWriter::Finish() {
 Recording ReadRecording(const std::filesystem::path& file) {
   std::ifstream f(file, std::ios::binary);
   if (!f) throw RecordingError(file.string() + ": cannot open the recording");
-  const std::vector<char> data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const std::vector<char> data((std::istreambuf_iterator<char>(f)),
+                               std::istreambuf_iterator<char>());
   In in(data, file);
   Recording rec;
   char magic[8];
   for (char& c : magic)
     if (!in.Get(&c)) in.Fail("too short to be a Sulcus recording");
-  if (std::memcmp(magic, kMagic, 8) != 0) throw RecordingError(file.string() + ": not a Sulcus recording (expected 'SULCUSR' at byte 0)");
+  if (std::memcmp(magic, kMagic, 8) != 0)
+    throw RecordingError(file.string() +
+                         ": not a Sulcus recording (expected 'SULCUSR' at byte 0)");
   if (!in.Get(&rec.header.version)) in.Fail("truncated header");
   if (rec.header.version != kRecordingVersion)
-    in.Fail("recording format version " + std::to_string(rec.header.version) + ", this build reads version " +
-            std::to_string(kRecordingVersion) +
-            (rec.header.version < kRecordingVersion ? " (the file is from an older Sulcus; record it again)" : ""));
-  if (!in.Get(&rec.header.scene_hash) || !in.Get(&rec.header.rate_hz) || !in.GetString(&rec.header.device_name) ||
-      !in.GetString(&rec.header.scene_file))
+    in.Fail("recording format version " + std::to_string(rec.header.version) +
+            ", this build reads version " + std::to_string(kRecordingVersion) +
+            (rec.header.version < kRecordingVersion
+                 ? " (the file is from an older Sulcus; record it again)"
+                 : ""));
+  if (!in.Get(&rec.header.scene_hash) || !in.Get(&rec.header.rate_hz) ||
+      !in.GetString(&rec.header.device_name) || !in.GetString(&rec.header.scene_file))
     in.Fail("truncated or corrupt header");
-  if (!(rec.header.rate_hz > 0 && rec.header.rate_hz <= 100000)) in.Fail("rate " + std::to_string(rec.header.rate_hz) + " Hz is not a haptic rate");
+  if (!(rec.header.rate_hz > 0 && rec.header.rate_hz <= 100000))
+    in.Fail("rate " + std::to_string(rec.header.rate_hz) + " Hz is not a haptic rate");
   while (!in.done()) {
     const std::size_t at = in.pos();
     TickRecord r;
     if (!GetFrame(&in, &r)) {
-      rec.warning = file.string() + ": truncated after frame " + std::to_string(rec.frames.size()) + " (byte " +
-                    std::to_string(at) + "); the " + std::to_string(rec.frames.size()) + " frames before it are kept";
+      rec.warning = file.string() + ": truncated after frame " +
+                    std::to_string(rec.frames.size()) + " (byte " + std::to_string(at) +
+                    "); the " + std::to_string(rec.frames.size()) +
+                    " frames before it are kept";
       break;
     }
     // A recording is replayed into the engine and read into reports: a NaN or an
     // infinity in it is corruption, refused, never carried on.
-    const auto finite = [](const RigidTransform& X) { return X.rotation().allFinite() && X.translation().allFinite(); };
-    if (!std::isfinite(r.time_s) || !std::isfinite(r.sample.time_s) || !finite(r.sample.X_WH) || !finite(r.X_WG) ||
-        !r.force_W.allFinite() || !r.torque_W.allFinite())
-      throw RecordingError(file.string() + ": frame " + std::to_string(rec.frames.size()) + " (byte " + std::to_string(at) +
-                           ") holds a non-finite number (NaN or infinity): the recording is corrupt");
+    const auto finite = [](const RigidTransform& X) {
+      return X.rotation().allFinite() && X.translation().allFinite();
+    };
+    if (!std::isfinite(r.time_s) || !std::isfinite(r.sample.time_s) ||
+        !finite(r.sample.X_WH) || !finite(r.X_WG) || !r.force_W.allFinite() ||
+        !r.torque_W.allFinite())
+      throw RecordingError(
+          file.string() + ": frame " + std::to_string(rec.frames.size()) + " (byte " +
+          std::to_string(at) +
+          ") holds a non-finite number (NaN or infinity): the recording is corrupt");
     rec.frames.push_back(r);
   }
   return rec;
@@ -235,37 +260,46 @@ void ExportCsv(const Recording& rec, std::ostream& out) {
   out << std::setprecision(std::numeric_limits<double>::max_digits10);
   auto pose = [&](const RigidTransform& X) {
     const Quaternion q(X.rotation());
-    out << X.translation().x() << ',' << X.translation().y() << ',' << X.translation().z() << ',' << q.w() << ','
-        << q.x() << ',' << q.y() << ',' << q.z() << ',';
+    out << X.translation().x() << ',' << X.translation().y() << ',' << X.translation().z()
+        << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',';
   };
   for (const TickRecord& r : rec.frames) {
-    out << r.tick << ',' << r.time_s << ',' << r.sample.time_s << ',' << int(r.fresh) << ',' << int(r.overrun) << ','
-        << r.sample.buttons << ',';
+    out << r.tick << ',' << r.time_s << ',' << r.sample.time_s << ',' << int(r.fresh)
+        << ',' << int(r.overrun) << ',' << r.sample.buttons << ',';
     pose(r.sample.X_WH);
     pose(r.X_WG);
-    out << r.force_W.x() << ',' << r.force_W.y() << ',' << r.force_W.z() << ',' << r.torque_W.x() << ','
-        << r.torque_W.y() << ',' << r.torque_W.z() << ',';
+    out << r.force_W.x() << ',' << r.force_W.y() << ',' << r.force_W.z() << ','
+        << r.torque_W.x() << ',' << r.torque_W.y() << ',' << r.torque_W.z() << ',';
     for (int i = 0; i < r.num_events; ++i) {
       const HapticEvent& e = r.events[i];
       out << (i ? ";" : "") << ToString(e.kind);
       switch (e.kind) {
         case EventKind::kCommand:
-          out << ':' << ToString(static_cast<HapticCommand::Kind>(e.payload.command.command)) << ':'
-              << e.payload.command.value;
+          out << ':'
+              << ToString(static_cast<HapticCommand::Kind>(e.payload.command.command))
+              << ':' << e.payload.command.value;
           break;
         case EventKind::kForceAbove:
-        case EventKind::kForceBelow: out << ':' << e.payload.force.force_n; break;
+        case EventKind::kForceBelow:
+          out << ':' << e.payload.force.force_n;
+          break;
         case EventKind::kProbeReading: {
           const ReadingPayload& p = e.payload.reading;
-          out << ':' << p.fdi << ':' << p.site << ':' << p.depth_mm << ':' << p.peak_force_n << ':' << p.axis_angle_deg;
+          out << ':' << p.fdi << ':' << p.site << ':' << p.depth_mm << ':'
+              << p.peak_force_n << ':' << p.axis_angle_deg;
           break;
         }
-        case EventKind::kBleeding: out << ':' << e.payload.bleeding.fdi << ':' << e.payload.bleeding.site; break;
+        case EventKind::kBleeding:
+          out << ':' << e.payload.bleeding.fdi << ':' << e.payload.bleeding.site;
+          break;
         case EventKind::kCalculusTouched:
-          out << ':' << e.payload.calculus.fdi << ':' << e.payload.calculus.site << ':' << e.payload.calculus.force_n;
+          out << ':' << e.payload.calculus.fdi << ':' << e.payload.calculus.site << ':'
+              << e.payload.calculus.force_n;
           break;
         case EventKind::kTissueDamage:
-        case EventKind::kCariesCatch: out << ':' << e.object << ':' << e.payload.damage.force_n; break;
+        case EventKind::kCariesCatch:
+          out << ':' << e.object << ':' << e.payload.damage.force_n;
+          break;
         default:
           if (e.object >= 0) out << ':' << e.object;
       }

@@ -22,7 +22,8 @@
 
 namespace sulcus {
 
-inline constexpr std::uint32_t kRecordingVersion = 2;  // 2: typed event payloads, 16 events a tick
+inline constexpr std::uint32_t kRecordingVersion =
+    2;  // 2: typed event payloads, 16 events a tick
 
 struct RecordingHeader {
   std::uint32_t version = kRecordingVersion;

@@ -24,15 +24,19 @@ Vector3 AnyPerpendicular(const Vector3& n) {
 double Bump(double phase) { return 0.5 - 0.5 * std::cos(2 * kPi * phase); }
 
 // Reaches 1 at t = ramp_s, smoothly, and stays there.
-double Approach(double t, double ramp_s) { return t >= ramp_s ? 1.0 : 0.5 - 0.5 * std::cos(kPi * t / ramp_s); }
+double Approach(double t, double ramp_s) {
+  return t >= ramp_s ? 1.0 : 0.5 - 0.5 * std::cos(kPi * t / ramp_s);
+}
 
 }  // namespace
 
 Trajectory::Trajectory(std::vector<Keyframe> keys) : keys_(std::move(keys)) {
-  if (keys_.empty()) throw std::invalid_argument("a trajectory needs at least one keyframe");
+  if (keys_.empty())
+    throw std::invalid_argument("a trajectory needs at least one keyframe");
   for (std::size_t i = 1; i < keys_.size(); ++i)
     if (!(keys_[i].t_s > keys_[i - 1].t_s))
-      throw std::invalid_argument("trajectory keyframes must be in increasing time order");
+      throw std::invalid_argument(
+          "trajectory keyframes must be in increasing time order");
   for (Keyframe& k : keys_) k.q_W.normalize();
 }
 
@@ -57,14 +61,16 @@ DeviceSample Trajectory::Sample(double t) const noexcept {
 }
 
 const std::vector<std::string>& ScriptNames() {
-  static const std::vector<std::string> names = {"line", "poke", "slide", "arc", "insert", "random"};
+  static const std::vector<std::string> names = {"line", "poke",   "slide",
+                                                 "arc",  "insert", "random"};
   return names;
 }
 
 Quaternion ScriptOrientation(const ScriptTarget& target) {
   const Vector3 n = target.n_W.normalized();
   const Vector3 axis = target.axis_W.squaredNorm() > 0 ? target.axis_W.normalized() : n;
-  const Vector3 z = target.tool_axis_W.squaredNorm() > 0 ? target.tool_axis_W.normalized() : axis;
+  const Vector3 z =
+      target.tool_axis_W.squaredNorm() > 0 ? target.tool_axis_W.normalized() : axis;
   const Vector3 lean = target.shank_W - target.shank_W.dot(z) * z;
   if (lean.squaredNorm() < 1e-12) return Quaternion::FromTwoVectors(Vector3::UnitZ(), z);
   Matrix3 R;
@@ -74,14 +80,17 @@ Quaternion ScriptOrientation(const ScriptTarget& target) {
   return Quaternion(R);
 }
 
-Trajectory MakeScript(const std::string& name, const ScriptTarget& target, double duration_s,
-                      std::uint64_t seed) {
-  if (std::find(ScriptNames().begin(), ScriptNames().end(), name) == ScriptNames().end()) {
+Trajectory MakeScript(const std::string& name, const ScriptTarget& target,
+                      double duration_s, std::uint64_t seed) {
+  if (std::find(ScriptNames().begin(), ScriptNames().end(), name) ==
+      ScriptNames().end()) {
     std::string known;
     for (const std::string& n : ScriptNames()) known += (known.empty() ? "" : ", ") + n;
-    throw std::invalid_argument("unknown scripted trajectory '" + name + "'; known: " + known);
+    throw std::invalid_argument("unknown scripted trajectory '" + name +
+                                "'; known: " + known);
   }
-  if (!(duration_s > 0)) throw std::invalid_argument("a trajectory needs a positive duration");
+  if (!(duration_s > 0))
+    throw std::invalid_argument("a trajectory needs a positive duration");
   const Vector3 n = target.n_W.normalized();
   const Vector3 axis = target.axis_W.squaredNorm() > 0 ? target.axis_W.normalized() : n;
   Vector3 u = target.along_W - target.along_W.dot(n) * n;
@@ -93,7 +102,9 @@ Trajectory MakeScript(const std::string& name, const ScriptTarget& target, doubl
   // Random motion: a few sinusoids per direction, seeded.
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> freq(0.15, 0.9), phase(0, 2 * kPi);
-  struct Wave { double f, phi; };
+  struct Wave {
+    double f, phi;
+  };
   std::array<std::array<Wave, 3>, 6> waves{};
   for (auto& dir : waves)
     for (Wave& w : dir) w = {freq(rng), phase(rng)};
@@ -112,7 +123,8 @@ Trajectory MakeScript(const std::string& name, const ScriptTarget& target, doubl
     k.t_s = t;
     k.q_W = q0;
     if (name == "line") {
-      const double s = 2 * std::abs(std::fmod(t / 4.0 + 0.25, 1.0) * 2 - 1) - 1;  // triangle wave
+      const double s =
+          2 * std::abs(std::fmod(t / 4.0 + 0.25, 1.0) * 2 - 1) - 1;  // triangle wave
       k.p_W = p + 4 * n + 10 * s * u;
     } else if (name == "poke") {
       k.p_W = p + (3.0 - 4.5 * Bump(t)) * n;
@@ -121,15 +133,17 @@ Trajectory MakeScript(const std::string& name, const ScriptTarget& target, doubl
       k.p_W = p + h * n + 5 * std::sin(2 * kPi * std::max(0.0, t - 0.5) / 2) * u;
     } else if (name == "arc") {
       const double h = 3.0 - 3.5 * Approach(t, 0.5);
-      const double angle = (30 * kPi / 180) * std::sin(2 * kPi * std::max(0.0, t - 0.5) / 2);
+      const double angle =
+          (30 * kPi / 180) * std::sin(2 * kPi * std::max(0.0, t - 0.5) / 2);
       k.p_W = p + h * n;
       k.q_W = Quaternion(Eigen::AngleAxisd(angle, tilt_axis)) * q0;
     } else if (name == "insert") {
       // Down in 1.5 s, a second at the bottom, up in 1.5 s; every 4 s.
       const double phase = std::fmod(t, 4.0), span = 3.0 + target.insert_depth_mm;
-      const double a = phase < 1.5   ? 3.0 - span * Approach(phase, 1.5)
-                       : phase < 2.5 ? -target.insert_depth_mm
-                                     : -target.insert_depth_mm + span * Approach(phase - 2.5, 1.5);
+      const double a = phase < 1.5 ? 3.0 - span * Approach(phase, 1.5)
+                       : phase < 2.5
+                           ? -target.insert_depth_mm
+                           : -target.insert_depth_mm + span * Approach(phase - 2.5, 1.5);
       k.p_W = p + target.insert_offset_mm * n + a * axis;
     } else {  // random
       const double approach = Approach(t, 0.5);
@@ -174,25 +188,31 @@ Trajectory LoadTrajectoryCsv(const std::filesystem::path& file) {
       } catch (const std::exception&) {
         used = 0;
       }
-      while (used < cell.size() && std::isspace(static_cast<unsigned char>(cell[used]))) ++used;
+      while (used < cell.size() && std::isspace(static_cast<unsigned char>(cell[used])))
+        ++used;
       if (used == 0 || used != cell.size() || !std::isfinite(x))
-        fail("column " + std::to_string(v.size() + 1) + " is '" + cell + "', expected a finite number");
+        fail("column " + std::to_string(v.size() + 1) + " is '" + cell +
+             "', expected a finite number");
       v.push_back(x);
     }
     if (v.size() != 7 && v.size() != 8)
       fail("expected 7 or 8 columns (" + expected + "), got " + std::to_string(v.size()));
     Keyframe k;
     k.t_s = v[0];
-    if (k.t_s < 0 || k.t_s > 1e6) fail("time " + std::to_string(k.t_s) + " s is out of range (0 to 1000000 s)");
+    if (k.t_s < 0 || k.t_s > 1e6)
+      fail("time " + std::to_string(k.t_s) + " s is out of range (0 to 1000000 s)");
     if (!keys.empty() && !(k.t_s > keys.back().t_s))
-      fail("time " + std::to_string(k.t_s) + " s must be after the previous row's " + std::to_string(keys.back().t_s) + " s");
+      fail("time " + std::to_string(k.t_s) + " s must be after the previous row's " +
+           std::to_string(keys.back().t_s) + " s");
     for (int c = 1; c <= 3; ++c)
       if (std::abs(v[static_cast<std::size_t>(c)]) > 1e4)
-        fail("column " + std::to_string(c + 1) + ": " + std::to_string(v[static_cast<std::size_t>(c)]) +
+        fail("column " + std::to_string(c + 1) + ": " +
+             std::to_string(v[static_cast<std::size_t>(c)]) +
              " mm is out of range (a device moves within +-10000 mm)");
     for (int c = 4; c <= 6; ++c)
       if (std::abs(v[static_cast<std::size_t>(c)]) > 36000)
-        fail("column " + std::to_string(c + 1) + ": " + std::to_string(v[static_cast<std::size_t>(c)]) +
+        fail("column " + std::to_string(c + 1) + ": " +
+             std::to_string(v[static_cast<std::size_t>(c)]) +
              " degrees is out of range (+-36000)");
     k.p_W = {v[1], v[2], v[3]};
     const double deg = kPi / 180;
@@ -204,11 +224,14 @@ Trajectory LoadTrajectoryCsv(const std::filesystem::path& file) {
     }
     keys.push_back(k);
   }
-  if (keys.empty()) throw std::runtime_error(file.string() + ": no keyframes; expected rows of " + expected);
+  if (keys.empty())
+    throw std::runtime_error(file.string() + ": no keyframes; expected rows of " +
+                             expected);
   return Trajectory(std::move(keys));
 }
 
-ScriptedDevice::ScriptedDevice(Trajectory trajectory, std::string name) : trajectory_(std::move(trajectory)) {
+ScriptedDevice::ScriptedDevice(Trajectory trajectory, std::string name)
+    : trajectory_(std::move(trajectory)) {
   caps_.name = std::move(name);
   caps_.input_dof = 6;
   caps_.output_dof = 6;

@@ -23,7 +23,8 @@ struct Keyframe {
 class Trajectory {
  public:
   Trajectory() = default;
-  explicit Trajectory(std::vector<Keyframe> keys);  // throws std::invalid_argument if unordered or empty
+  explicit Trajectory(
+      std::vector<Keyframe> keys);  // throws std::invalid_argument if unordered or empty
   const std::vector<Keyframe>& keys() const { return keys_; }
   double duration_s() const { return keys_.empty() ? 0 : keys_.back().t_s; }
   /// The pose at time t; never allocates.
@@ -39,13 +40,15 @@ class Trajectory {
 struct ScriptTarget {
   Vector3 p_W = Vector3::Zero();
   Vector3 n_W = Vector3::UnitZ();
-  Vector3 axis_W = Vector3::Zero();  // zero: use n_W
-  Vector3 along_W = Vector3::Zero(); // a tangent for slides (zero: any)
-  Vector3 tool_axis_W = Vector3::Zero();  // the working end's direction if not axis_W (a tilt)
-  Vector3 shank_W = Vector3::Zero();      // where the shank leans (the tool frame's -x), zero: any
-  double insert_depth_mm = 4.0;      // how far below the target `insert` goes
-  double insert_offset_mm = 0.3;     // how far off the target, along n, `insert` moves
-  int object = -1;                   // the scene object the target is on, when known
+  Vector3 axis_W = Vector3::Zero();   // zero: use n_W
+  Vector3 along_W = Vector3::Zero();  // a tangent for slides (zero: any)
+  Vector3 tool_axis_W =
+      Vector3::Zero();  // the working end's direction if not axis_W (a tilt)
+  Vector3 shank_W =
+      Vector3::Zero();           // where the shank leans (the tool frame's -x), zero: any
+  double insert_depth_mm = 4.0;  // how far below the target `insert` goes
+  double insert_offset_mm = 0.3;  // how far off the target, along n, `insert` moves
+  int object = -1;                // the scene object the target is on, when known
 };
 
 /// The tool's orientation a trajectory starts from: its +z along the tool axis
@@ -66,8 +69,8 @@ const std::vector<std::string>& ScriptNames();
 ///         up in 1.5 s (every 4 s), insert_offset_mm off the target along n;
 ///  random smooth seeded motion within 3 mm of the target that keeps touching.
 /// Throws std::invalid_argument for an unknown name (listing the known ones).
-Trajectory MakeScript(const std::string& name, const ScriptTarget& target, double duration_s,
-                      std::uint64_t seed = 1);
+Trajectory MakeScript(const std::string& name, const ScriptTarget& target,
+                      double duration_s, std::uint64_t seed = 1);
 
 /// A CSV trajectory: a header line, then `t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg`
 /// with an optional `buttons` column. Throws std::runtime_error naming the file,

@@ -17,37 +17,51 @@ std::optional<DeclaredDiagnosis> ReadDiagnosis(YamlReader& r, const YAML::Node& 
   if (!r.IsMap(n, "'diagnosis'")) return std::nullopt;
   r.CheckKeys(n, {"periodontitis", "stage", "extent", "tick"}, "'diagnosis'");
   DeclaredDiagnosis d;
-  if (n["periodontitis"]) d.periodontitis = r.Bool(n["periodontitis"], "periodontitis", true);
+  if (n["periodontitis"])
+    d.periodontitis = r.Bool(n["periodontitis"], "periodontitis", true);
   if (d.periodontitis) {
     if (!n["stage"] || !n["extent"]) {
-      r.Error(n, "a periodontitis diagnosis needs 'stage' (I, II, III, IV) and 'extent' (localized, generalized)");
+      r.Error(n,
+              "a periodontitis diagnosis needs 'stage' (I, II, III, IV) and 'extent' "
+              "(localized, generalized)");
       return std::nullopt;
     }
-    const std::string st = r.Text(n["stage"], "stage"), ex = r.Text(n["extent"], "extent");
+    const std::string st = r.Text(n["stage"], "stage"),
+                      ex = r.Text(n["extent"], "extent");
     const auto stage = StageFromString(st);
     const auto extent = ExtentFromString(ex);
-    if (!stage || *stage == Stage::kNone) r.Error(n["stage"], "'stage' must be I, II, III or IV, not '" + st + "'");
+    if (!stage || *stage == Stage::kNone)
+      r.Error(n["stage"], "'stage' must be I, II, III or IV, not '" + st + "'");
     if (!extent || *extent == Extent::kNone)
-      r.Error(n["extent"], "'extent' must be localized or generalized" + Suggest(ex, {"localized", "generalized"}));
+      r.Error(n["extent"], "'extent' must be localized or generalized" +
+                               Suggest(ex, {"localized", "generalized"}));
     if (stage) d.stage = *stage;
     if (extent) d.extent = *extent;
   }
-  if (n["tick"]) d.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
+  if (n["tick"])
+    d.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
   return d;
 }
 
 // One line of `findings:`; a caries list gives one finding per surface.
 void ReadFinding(YamlReader& r, const YAML::Node& n, std::vector<Finding>* out) {
   if (!r.IsMap(n, "a finding")) return;
-  r.CheckKeys(n, {"tooth", "caries", "calculus", "inflamed", "status", "region", "lesion", "present", "tick"}, "a finding");
+  r.CheckKeys(n,
+              {"tooth", "caries", "calculus", "inflamed", "status", "region", "lesion",
+               "present", "tick"},
+              "a finding");
   Finding f;
-  if (n["tick"]) f.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
+  if (n["tick"])
+    f.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
   if (n["present"]) f.present = r.Bool(n["present"], "present", true);
   int kinds = 0;
-  for (const char* k : {"caries", "calculus", "inflamed", "status", "lesion"}) kinds += n[k] ? 1 : 0;
+  for (const char* k : {"caries", "calculus", "inflamed", "status", "lesion"})
+    kinds += n[k] ? 1 : 0;
   if (kinds != 1) {
-    r.Error(n, "a finding is one of: {tooth: 36, caries: [O, B]}, {tooth: 16, calculus: true}, {tooth: 31, inflamed: "
-               "true}, {tooth: 24, status: 3} or {region: tongue_dorsum, lesion: ulcer}");
+    r.Error(n,
+            "a finding is one of: {tooth: 36, caries: [O, B]}, {tooth: 16, calculus: "
+            "true}, {tooth: 31, inflamed: "
+            "true}, {tooth: 24, status: 3} or {region: tongue_dorsum, lesion: ulcer}");
     return;
   }
   if (n["lesion"]) {
@@ -55,7 +69,8 @@ void ReadFinding(YamlReader& r, const YAML::Node& n, std::vector<Finding>* out) 
     f.lesion = r.Text(n["lesion"], "lesion");
     const auto& kinds_known = LesionKinds();
     if (std::find(kinds_known.begin(), kinds_known.end(), f.lesion) == kinds_known.end())
-      r.Error(n["lesion"], "unknown lesion '" + f.lesion + "'" + Suggest(f.lesion, kinds_known));
+      r.Error(n["lesion"],
+              "unknown lesion '" + f.lesion + "'" + Suggest(f.lesion, kinds_known));
     if (!n["region"]) {
       r.Error(n, "a lesion needs its 'region', e.g. tongue_lateral_border_left");
       return;
@@ -63,11 +78,13 @@ void ReadFinding(YamlReader& r, const YAML::Node& n, std::vector<Finding>* out) 
     f.region = r.Text(n["region"], "region");
     const auto& regions = InspectionRegionNames();
     if (std::find(regions.begin(), regions.end(), f.region) == regions.end())
-      r.Error(n["region"], "unknown region '" + f.region + "'" + Suggest(f.region, regions));
+      r.Error(n["region"],
+              "unknown region '" + f.region + "'" + Suggest(f.region, regions));
     out->push_back(f);
     return;
   }
-  if (n["region"]) r.Error(n["region"], "'region' goes with 'lesion'; tooth findings name a 'tooth'");
+  if (n["region"])
+    r.Error(n["region"], "'region' goes with 'lesion'; tooth findings name a 'tooth'");
   if (!n["tooth"]) {
     r.Error(n, "a tooth finding needs 'tooth', an FDI number");
     return;
@@ -86,12 +103,15 @@ void ReadFinding(YamlReader& r, const YAML::Node& n, std::vector<Finding>* out) 
     f.kind = Finding::Kind::kCaries;
     const YAML::Node c = n["caries"];
     std::vector<YAML::Node> items;
-    if (c.IsSequence()) for (const YAML::Node& i : c) items.push_back(i);
-    else items.push_back(c);
+    if (c.IsSequence())
+      for (const YAML::Node& i : c) items.push_back(i);
+    else
+      items.push_back(c);
     for (const YAML::Node& i : items) {
       const auto surface = SurfaceFromCode(i.IsScalar() ? i.Scalar() : "");
       if (!surface) {
-        r.Error(i, "unknown surface '" + (i.IsScalar() ? i.Scalar() : "") + "' (M, D, B, L, O)");
+        r.Error(i, "unknown surface '" + (i.IsScalar() ? i.Scalar() : "") +
+                       "' (M, D, B, L, O)");
         continue;
       }
       f.surface = *surface;
@@ -112,9 +132,12 @@ void ReadView(YamlReader& r, const YAML::Node& n, std::vector<ViewSample>* out) 
   ViewSample v;
   v.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
   double xyz[3] = {0, 0, 0};
-  if (r.Numbers(n["eye"], "eye", 3, -1e4, 1e4, xyz, "mm", "x, y, z")) v.eye = Vector3(xyz[0], xyz[1], xyz[2]);
-  if (r.Numbers(n["at"], "at", 3, -1e4, 1e4, xyz, "mm", "x, y, z")) v.focal = Vector3(xyz[0], xyz[1], xyz[2]);
-  if (n["up"] && r.Numbers(n["up"], "up", 3, -1, 1, xyz, "", "x, y, z")) v.up = Vector3(xyz[0], xyz[1], xyz[2]);
+  if (r.Numbers(n["eye"], "eye", 3, -1e4, 1e4, xyz, "mm", "x, y, z"))
+    v.eye = Vector3(xyz[0], xyz[1], xyz[2]);
+  if (r.Numbers(n["at"], "at", 3, -1e4, 1e4, xyz, "mm", "x, y, z"))
+    v.focal = Vector3(xyz[0], xyz[1], xyz[2]);
+  if (n["up"] && r.Numbers(n["up"], "up", 3, -1, 1, xyz, "", "x, y, z"))
+    v.up = Vector3(xyz[0], xyz[1], xyz[2]);
   if (n["angle"]) v.view_angle_deg = r.Number(n["angle"], "angle", 1, 170, 30, "degrees");
   out->push_back(v);
 }
@@ -124,16 +147,24 @@ void ReadView(YamlReader& r, const YAML::Node& n, std::vector<ViewSample>* out) 
 Answers LoadAnswers(const fs::path& file) {
   YamlReader r(file);
   Answers a;
-  const YAML::Node root = LoadYamlMap(r, "answers file", "an answers file is a map with 'chart:' or 'entries:', and 'diagnosis:'");
-  r.CheckKeys(root, {"chart", "entries", "diagnosis", "findings", "submitted", "views"}, "the answers");
+  const YAML::Node root = LoadYamlMap(
+      r, "answers file",
+      "an answers file is a map with 'chart:' or 'entries:', and 'diagnosis:'");
+  r.CheckKeys(root, {"chart", "entries", "diagnosis", "findings", "submitted", "views"},
+              "the answers");
   if (const YAML::Node vs = root["views"]) {
     if (!vs.IsSequence())
-      r.Error(vs, "'views' must be a list of {tick: N, eye: [x, y, z], at: [x, y, z], up: [x, y, z], angle: deg}");
+      r.Error(vs,
+              "'views' must be a list of {tick: N, eye: [x, y, z], at: [x, y, z], up: "
+              "[x, y, z], angle: deg}");
     else
       for (const YAML::Node& n : vs) ReadView(r, n, &a.views);
   }
   if (const YAML::Node fs = root["findings"]) {
-    if (!fs.IsSequence()) r.Error(fs, "'findings' must be a list, e.g. [{tooth: 36, caries: [O]}, {region: tongue_dorsum, lesion: ulcer}]");
+    if (!fs.IsSequence())
+      r.Error(fs,
+              "'findings' must be a list, e.g. [{tooth: 36, caries: [O]}, {region: "
+              "tongue_dorsum, lesion: ulcer}]");
     else
       for (const YAML::Node& n : fs) ReadFinding(r, n, &a.findings);
   }
@@ -152,22 +183,28 @@ Answers LoadAnswers(const fs::path& file) {
       if (!r.IsMap(t, "a tooth's chart")) continue;
       r.CheckKeys(t, {"pd", "bleeding"}, "a tooth's chart");
       double pd[6] = {0, 0, 0, 0, 0, 0};
-      const bool have_pd = t["pd"] && r.Numbers(t["pd"], "pd", 6, 0, 15, pd, "mm", "depths at MB, B, DB, ML, L, DL");
+      const bool have_pd = t["pd"] && r.Numbers(t["pd"], "pd", 6, 0, 15, pd, "mm",
+                                                "depths at MB, B, DB, ML, L, DL");
       std::array<bool, 6> bled{};
       if (const YAML::Node b = t["bleeding"]) {
-        if (!b.IsSequence()) r.Error(b, "'bleeding' must be a list of sites, e.g. [MB, DL]");
+        if (!b.IsSequence())
+          r.Error(b, "'bleeding' must be a list of sites, e.g. [MB, DL]");
         else
           for (const YAML::Node& s : b) {
             const int site = s.IsScalar() ? SiteFromCode(s.Scalar()) : -1;
-            if (site < 0) r.Error(s, "unknown site '" + (s.IsScalar() ? s.Scalar() : "") + "' (MB, B, DB, ML, L, DL)");
-            else bled[static_cast<std::size_t>(site)] = true;
+            if (site < 0)
+              r.Error(s, "unknown site '" + (s.IsScalar() ? s.Scalar() : "") +
+                             "' (MB, B, DB, ML, L, DL)");
+            else
+              bled[static_cast<std::size_t>(site)] = true;
           }
       }
       for (int s = 0; s < 6; ++s) {
         ChartEntry e;
         e.site = {fdi, s};
         if (have_pd) {
-          if (pd[s] != std::floor(pd[s])) r.Error(t["pd"][s], "depths are whole millimetres");
+          if (pd[s] != std::floor(pd[s]))
+            r.Error(t["pd"][s], "depths are whole millimetres");
           e.pd_mm = static_cast<int>(pd[s]);
         }
         e.bleeding = bled[static_cast<std::size_t>(s)];
@@ -177,7 +214,9 @@ Answers LoadAnswers(const fs::path& file) {
   }
   if (const YAML::Node entries = root["entries"]) {
     if (!entries.IsSequence()) {
-      r.Error(entries, "'entries' must be a list of {site: \"46 DB\", pd: 5, bleeding: true, tick: 1234}");
+      r.Error(entries,
+              "'entries' must be a list of {site: \"46 DB\", pd: 5, bleeding: true, "
+              "tick: 1234}");
     } else {
       for (const YAML::Node& n : entries) {
         if (!r.IsMap(n, "an entry")) continue;
@@ -196,7 +235,8 @@ Answers LoadAnswers(const fs::path& file) {
         e.site.site = SiteFromCode(code);
         if (n["pd"]) e.pd_mm = r.Integer(n["pd"], "pd", 0, 15, 0);
         if (n["bleeding"]) e.bleeding = r.Bool(n["bleeding"], "bleeding", false);
-        if (n["tick"]) e.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
+        if (n["tick"])
+          e.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
         a.entries.push_back(e);
       }
     }
@@ -208,7 +248,8 @@ Answers LoadAnswers(const fs::path& file) {
 
 void SaveAnswers(const Answers& a, const fs::path& file) {
   std::ostringstream o;
-  o << "# What the student entered, with the tick of each entry (sulcus-cli lesson report reads it).\n";
+  o << "# What the student entered, with the tick of each entry (sulcus-cli lesson "
+       "report reads it).\n";
   o << (a.entries.empty() ? "entries: []\n" : "entries:\n");
   for (const ChartEntry& e : a.entries) {
     o << "  - {site: \"" << e.site.ToString() << "\"";
@@ -220,7 +261,8 @@ void SaveAnswers(const Answers& a, const fs::path& file) {
   if (a.diagnosis) {
     const DeclaredDiagnosis& d = *a.diagnosis;
     o << "diagnosis: {periodontitis: " << (d.periodontitis ? "true" : "false");
-    if (d.periodontitis) o << ", stage: " << ToString(d.stage) << ", extent: " << ToString(d.extent);
+    if (d.periodontitis)
+      o << ", stage: " << ToString(d.stage) << ", extent: " << ToString(d.extent);
     if (d.tick != kAfterReading) o << ", tick: " << d.tick;
     o << "}\n";
   }
@@ -228,27 +270,41 @@ void SaveAnswers(const Answers& a, const fs::path& file) {
   for (const Finding& f : a.findings) {
     o << "  - {";
     switch (f.kind) {
-      case Finding::Kind::kLesion: o << "region: " << f.region << ", lesion: " << f.lesion; break;
-      case Finding::Kind::kCaries: o << "tooth: " << f.fdi << ", caries: " << SurfaceCode(f.surface); break;
-      case Finding::Kind::kCalculus: o << "tooth: " << f.fdi << ", calculus: true"; break;
-      case Finding::Kind::kInflamed: o << "tooth: " << f.fdi << ", inflamed: true"; break;
-      case Finding::Kind::kStatus: o << "tooth: " << f.fdi << ", status: " << f.status; break;
+      case Finding::Kind::kLesion:
+        o << "region: " << f.region << ", lesion: " << f.lesion;
+        break;
+      case Finding::Kind::kCaries:
+        o << "tooth: " << f.fdi << ", caries: " << SurfaceCode(f.surface);
+        break;
+      case Finding::Kind::kCalculus:
+        o << "tooth: " << f.fdi << ", calculus: true";
+        break;
+      case Finding::Kind::kInflamed:
+        o << "tooth: " << f.fdi << ", inflamed: true";
+        break;
+      case Finding::Kind::kStatus:
+        o << "tooth: " << f.fdi << ", status: " << f.status;
+        break;
     }
     if (!f.present) o << ", present: false";
     if (f.tick != kAfterReading) o << ", tick: " << f.tick;
     o << "}\n";
   }
   if (a.submitted) {
-    if (*a.submitted == kAfterReading) o << "submitted: true\n";
-    else o << "submitted: " << *a.submitted << "\n";
+    if (*a.submitted == kAfterReading)
+      o << "submitted: true\n";
+    else
+      o << "submitted: " << *a.submitted << "\n";
   }
   if (!a.views.empty()) o << "views:\n";
   char line[256];
   for (const ViewSample& v : a.views) {
     std::snprintf(line, sizeof line,
-                  "  - {tick: %llu, eye: [%.3f, %.3f, %.3f], at: [%.3f, %.3f, %.3f], up: [%.4f, %.4f, %.4f], angle: %.2f}\n",
-                  static_cast<unsigned long long>(v.tick), v.eye.x(), v.eye.y(), v.eye.z(), v.focal.x(), v.focal.y(),
-                  v.focal.z(), v.up.x(), v.up.y(), v.up.z(), v.view_angle_deg);
+                  "  - {tick: %llu, eye: [%.3f, %.3f, %.3f], at: [%.3f, %.3f, %.3f], up: "
+                  "[%.4f, %.4f, %.4f], angle: %.2f}\n",
+                  static_cast<unsigned long long>(v.tick), v.eye.x(), v.eye.y(),
+                  v.eye.z(), v.focal.x(), v.focal.y(), v.focal.z(), v.up.x(), v.up.y(),
+                  v.up.z(), v.view_angle_deg);
     o << line;
   }
   const fs::path tmp = file.string() + ".tmp";

@@ -1,5 +1,7 @@
 #include "core/lesson/attempt.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -7,17 +9,15 @@
 #include <fstream>
 #include <random>
 
-#include <yaml-cpp/yaml.h>
-
-#include "core/scene/yaml_reader.h"
-
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
+#include "core/scene/yaml_reader.h"
 
 namespace sulcus {
 
-AttemptFolder NewAttemptFolder(const std::filesystem::path& results, const std::string& student) {
+AttemptFolder NewAttemptFolder(const std::filesystem::path& results,
+                               const std::string& student) {
   const std::time_t now = std::time(nullptr);
   std::tm tm{};
   gmtime_r(&now, &tm);
@@ -27,7 +27,8 @@ AttemptFolder NewAttemptFolder(const std::filesystem::path& results, const std::
   std::string name = stamp;
   for (char c : student) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
   AttemptFolder f{results / "attempts" / name, iso};
-  for (int n = 2; std::filesystem::exists(f.dir); ++n) f.dir = results / "attempts" / (name + "-" + std::to_string(n));
+  for (int n = 2; std::filesystem::exists(f.dir); ++n)
+    f.dir = results / "attempts" / (name + "-" + std::to_string(n));
   std::filesystem::create_directories(f.dir);
   return f;
 }
@@ -44,7 +45,8 @@ Answers AnswersOf(const LessonResult& r) {
   return a;
 }
 
-std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder, const std::filesystem::path& report_dir,
+std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
+                         const std::filesystem::path& report_dir,
                          const std::filesystem::path& results_db) {
   SaveAnswers(AnswersOf(r), folder.answers());
   ReportInfo info;
@@ -52,7 +54,8 @@ std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder, con
   info.started = folder.started;
   WriteReport(r, info, report_dir);
   ResultsDb db(results_db);
-  info.attempt_id = db.Store(r, folder.started, info.recording, folder.answers().string(), report_dir.string());
+  info.attempt_id = db.Store(r, folder.started, info.recording, folder.answers().string(),
+                             report_dir.string());
   WriteReport(r, info, report_dir);  // again, now naming its attempt
   return info.attempt_id;
 }
@@ -61,28 +64,36 @@ namespace fs = std::filesystem;
 
 void WriteAttemptMarker(const AttemptFolder& folder, const AttemptMarker& m) {
   YAML::Emitter e;
-  e << YAML::Comment("A Sulcus attempt: what it takes to rebuild it if it was not finished") << YAML::BeginMap;
+  e << YAML::Comment(
+           "A Sulcus attempt: what it takes to rebuild it if it was not finished")
+    << YAML::BeginMap;
   e << YAML::Key << "lesson" << YAML::Value << m.lesson.string();
   e << YAML::Key << "student" << YAML::Value << m.student;
   e << YAML::Key << "mode" << YAML::Value << m.mode;
   e << YAML::Key << "seed" << YAML::Value << m.seed;
   e << YAML::Key << "started" << YAML::Value << m.started;
   e << YAML::EndMap;
-  const fs::path file = folder.dir / "attempt.yaml", tmp = folder.dir / "attempt.yaml.tmp";
+  const fs::path file = folder.dir / "attempt.yaml",
+                 tmp = folder.dir / "attempt.yaml.tmp";
   {
     std::ofstream out(tmp);
     out << e.c_str() << "\n";
-    if (!out.flush()) throw std::runtime_error(tmp.string() + ": cannot write the attempt's marker");
+    if (!out.flush())
+      throw std::runtime_error(tmp.string() + ": cannot write the attempt's marker");
   }
   std::error_code ec;
   fs::rename(tmp, file, ec);
-  if (ec) throw std::runtime_error(file.string() + ": cannot write the attempt's marker: " + ec.message());
+  if (ec)
+    throw std::runtime_error(file.string() +
+                             ": cannot write the attempt's marker: " + ec.message());
 }
 
 AttemptMarker ReadAttemptMarker(const fs::path& dir) {
   YamlReader r(dir / "attempt.yaml");
-  const YAML::Node root = LoadYamlMap(r, "attempt marker", "a map with lesson, student, mode, seed and started");
-  r.CheckKeys(root, {"lesson", "student", "mode", "seed", "started"}, "the attempt marker");
+  const YAML::Node root = LoadYamlMap(
+      r, "attempt marker", "a map with lesson, student, mode, seed and started");
+  r.CheckKeys(root, {"lesson", "student", "mode", "seed", "started"},
+              "the attempt marker");
   AttemptMarker m;
   for (const char* k : {"lesson", "student", "mode", "started"})
     if (!root[k]) r.Error(root, std::string("the attempt marker needs '") + k + "'");
@@ -90,9 +101,11 @@ AttemptMarker ReadAttemptMarker(const fs::path& dir) {
   if (root["student"]) m.student = r.Text(root["student"], "student");
   if (root["mode"]) {
     m.mode = r.Text(root["mode"], "mode");
-    if (m.mode != "practice" && m.mode != "assessment") r.Error(root["mode"], "'mode' must be practice or assessment");
+    if (m.mode != "practice" && m.mode != "assessment")
+      r.Error(root["mode"], "'mode' must be practice or assessment");
   }
-  if (root["seed"]) m.seed = static_cast<std::uint64_t>(r.Number(root["seed"], "seed", 0, 9.0e15, 0));
+  if (root["seed"])
+    m.seed = static_cast<std::uint64_t>(r.Number(root["seed"], "seed", 0, 9.0e15, 0));
   if (root["started"]) m.started = r.Text(root["started"], "started");
   if (!r.errors().empty()) throw SceneLoadError(r.errors());
   return m;
@@ -114,7 +127,8 @@ std::vector<fs::path> UnfinishedAttempts(const fs::path& results) {
   return out;
 }
 
-RecoveredAttempt RecoverAttempt(const fs::path& dir, const fs::path& results, const fs::path& cache_dir,
+RecoveredAttempt RecoverAttempt(const fs::path& dir, const fs::path& results,
+                                const fs::path& cache_dir,
                                 const BuildProgress& progress) {
   try {
     const AttemptMarker m = ReadAttemptMarker(dir);
@@ -126,8 +140,11 @@ RecoveredAttempt RecoverAttempt(const fs::path& dir, const fs::path& results, co
     o.seed = m.seed;
     o.cache_dir = cache_dir;
     o.progress = progress;
-    o.mode = m.mode == "assessment" ? LessonSpec::Mode::kAssessment : LessonSpec::Mode::kPractice;
-    o.ending = "Sulcus stopped before the attempt was kept; it was rebuilt from its recording and entries";
+    o.mode = m.mode == "assessment" ? LessonSpec::Mode::kAssessment
+                                    : LessonSpec::Mode::kPractice;
+    o.ending =
+        "Sulcus stopped before the attempt was kept; it was rebuilt from its recording "
+        "and entries";
     AttemptOutcome out = RunAttempt(m.lesson, o);
     LessonResult& r = out.result;
     const std::int64_t id = KeepAttempt(r, folder, dir, results / "results.db");
@@ -150,13 +167,16 @@ class EntrySaver final : public TickConsumer {
   EntrySaver(const LessonRun& lesson, fs::path file, std::vector<std::string>* notes)
       : lesson_(lesson), file_(std::move(file)), notes_(notes) {}
   void OnTick(const TickRecord&) override { SaveIfNew(); }
-  void OnEnd() override { SaveIfNew(); }  // a scripted student charts when the probing ends
+  void OnEnd() override {
+    SaveIfNew();
+  }  // a scripted student charts when the probing ends
 
  private:
   void SaveIfNew() {
-    if (lesson_.entries().size() == saved_ && lesson_.declared().has_value() == declared_ &&
-        lesson_.findings().size() == findings_ && lesson_.submitted().has_value() == submitted_ &&
-        lesson_.views().size() == views_)
+    if (lesson_.entries().size() == saved_ &&
+        lesson_.declared().has_value() == declared_ &&
+        lesson_.findings().size() == findings_ &&
+        lesson_.submitted().has_value() == submitted_ && lesson_.views().size() == views_)
       return;
     saved_ = lesson_.entries().size();
     declared_ = lesson_.declared().has_value();
@@ -172,7 +192,9 @@ class EntrySaver final : public TickConsumer {
     try {
       SaveAnswers(a, file_);
     } catch (const std::exception& e) {
-      if (!failed_) notes_->push_back(std::string("the entries cannot be saved as they go: ") + e.what());
+      if (!failed_)
+        notes_->push_back(std::string("the entries cannot be saved as they go: ") +
+                          e.what());
       failed_ = true;
     }
   }
@@ -188,11 +210,13 @@ class EntrySaver final : public TickConsumer {
 
 SceneSpec LessonScene(const LessonSpec& spec, std::uint64_t seed) {
   SceneSpec scene = LoadSceneSpec(spec.scene);
-  if (spec.case_spec.generated) scene = ApplyCase(scene, spec.teeth, spec.case_spec, seed);
+  if (spec.case_spec.generated)
+    scene = ApplyCase(scene, spec.teeth, spec.case_spec, seed);
   return scene;
 }
 
-AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const AttemptOptions& o) {
+AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
+                          const AttemptOptions& o) {
   using Clock = std::chrono::steady_clock;
   AttemptOutcome out;
   out.spec = LoadLessonSpec(lesson_file);
@@ -210,7 +234,9 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
   const CompiledScene& scene = *out.scene;
 
   if (o.mode) out.spec.mode = *o.mode;
-  if (o.keep_in) WriteAttemptMarker(*o.keep_in, {lesson_file, o.student, ToString(spec.mode), out.seed, o.keep_in->started});
+  if (o.keep_in)
+    WriteAttemptMarker(*o.keep_in, {lesson_file, o.student, ToString(spec.mode), out.seed,
+                                    o.keep_in->started});
   LessonRun lesson(spec, scene, o.student, spec.case_spec.generated ? out.seed : 0);
   std::unique_ptr<ScriptedHand> student;
   DeviceSpec device;
@@ -225,7 +251,10 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
   SessionOptions so;
   so.record = o.record;
   so.device_name = device.name;
-  so.max_ticks = spec.time_limit_s > 0 ? static_cast<std::uint64_t>((spec.time_limit_s + 1) * scene.spec.rate_hz) : 0;
+  so.max_ticks =
+      spec.time_limit_s > 0
+          ? static_cast<std::uint64_t>((spec.time_limit_s + 1) * scene.spec.rate_hz)
+          : 0;
   Session session(scene, std::move(device), so);
   session.AddConsumer(&lesson);
   if (student && o.answers.empty()) {
@@ -257,7 +286,9 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const Attemp
   for (const ChartEntry& e : lesson.entries()) {
     const bool known = std::any_of(out.result.sites.begin(), out.result.sites.end(),
                                    [&](const SiteResult& s) { return s.site == e.site; });
-    if (!known) out.answers.entries.push_back(e);  // entries for sites outside the path are kept too
+    if (!known)
+      out.answers.entries.push_back(
+          e);  // entries for sites outside the path are kept too
   }
   return out;
 }

@@ -26,19 +26,23 @@ struct AttemptFolder {
   std::filesystem::path recording() const { return dir / "recording.rec"; }
   std::filesystem::path answers() const { return dir / "answers.yaml"; }
 };
-AttemptFolder NewAttemptFolder(const std::filesystem::path& results, const std::string& student);
+AttemptFolder NewAttemptFolder(const std::filesystem::path& results,
+                               const std::string& student);
 
 struct AttemptOptions {
   std::string student = "student";
   /// student:NAME (ScriptedStudentNames), scripted:NAME|FILE.csv, replay:FILE.
   std::string device = "student:careful";
-  std::filesystem::path answers;         // an answers file (overrides a scripted student's entries)
-  std::optional<std::uint64_t> seed;     // a generated case's seed (default: the lesson's, or drawn)
-  std::filesystem::path record;          // where to record the attempt (empty: no recording)
-  std::filesystem::path cache_dir;       // meshes and sphere-trees
-  BuildProgress progress;                // the scene's build progress
+  std::filesystem::path
+      answers;  // an answers file (overrides a scripted student's entries)
+  std::optional<std::uint64_t>
+      seed;  // a generated case's seed (default: the lesson's, or drawn)
+  std::filesystem::path record;     // where to record the attempt (empty: no recording)
+  std::filesystem::path cache_dir;  // meshes and sphere-trees
+  BuildProgress progress;           // the scene's build progress
   std::optional<LessonSpec::Mode> mode;  // the lesson's own unless given
-  std::string ending;                    // how it ended, if it ends before its last step (LessonRun::SetEnding)
+  std::string
+      ending;  // how it ended, if it ends before its last step (LessonRun::SetEnding)
   /// Kept as it goes: the attempt's marker is written in this folder when it
   /// starts and its entries (answers.yaml) are rewritten after each one, so that
   /// an attempt cut short by a stopped program can be rebuilt (RecoverAttempt).
@@ -52,16 +56,17 @@ struct AttemptOutcome {
   LessonSpec spec;
   std::unique_ptr<CompiledScene> scene;
   LessonResult result;
-  Answers answers;      // what was entered, with ticks
+  Answers answers;  // what was entered, with ticks
   std::uint64_t seed = 0;
   std::uint64_t ticks = 0;
-  double run_s = 0;     // wall time of the run (not the lesson's own time)
+  double run_s = 0;  // wall time of the run (not the lesson's own time)
   double compile_s = 0;
   std::vector<std::string> notes;
 };
 
 /// Throws SceneLoadError, std::invalid_argument, RecordingError, std::runtime_error.
-AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file, const AttemptOptions& options);
+AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
+                          const AttemptOptions& options);
 
 /// What the student entered, every tick resolved: each site's entry and the declaration.
 Answers AnswersOf(const LessonResult& r);
@@ -70,7 +75,8 @@ Answers AnswersOf(const LessonResult& r);
 /// then its row in `results_db`, then the report again naming the attempt; so
 /// a database that fails loses nothing. Returns the attempt's id. Throws
 /// ResultsError (database) or std::runtime_error (files).
-std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder, const std::filesystem::path& report_dir,
+std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
+                         const std::filesystem::path& report_dir,
                          const std::filesystem::path& results_db);
 
 /// What an attempt in progress needs to be rebuilt if the program stops before
@@ -91,7 +97,8 @@ AttemptMarker ReadAttemptMarker(const std::filesystem::path& dir);
 /// Attempt folders under `results`/attempts that were started (a marker) and
 /// never kept (no report), oldest first; those whose recovery failed before
 /// (a recovery.txt saying why) are left out.
-std::vector<std::filesystem::path> UnfinishedAttempts(const std::filesystem::path& results);
+std::vector<std::filesystem::path> UnfinishedAttempts(
+    const std::filesystem::path& results);
 
 /// Rebuilds an unfinished attempt from its recording and entries, scores it as
 /// far as it went (incomplete unless every step was done), and keeps it in the
@@ -102,8 +109,10 @@ struct RecoveredAttempt {
   std::int64_t id = 0;
   LessonResult result;
 };
-RecoveredAttempt RecoverAttempt(const std::filesystem::path& dir, const std::filesystem::path& results,
-                                const std::filesystem::path& cache_dir, const BuildProgress& progress = {});
+RecoveredAttempt RecoverAttempt(const std::filesystem::path& dir,
+                                const std::filesystem::path& results,
+                                const std::filesystem::path& cache_dir,
+                                const BuildProgress& progress = {});
 
 /// The scene a lesson runs on for a seed (its case applied when it has one).
 SceneSpec LessonScene(const LessonSpec& spec, std::uint64_t seed);

@@ -25,7 +25,9 @@ std::string List(const std::vector<int>& teeth) {
 
 }  // namespace
 
-const char* SiteCode(int site) { return site >= 0 && site < kSitesPerTooth ? kCodes[site] : "?"; }
+const char* SiteCode(int site) {
+  return site >= 0 && site < kSitesPerTooth ? kCodes[site] : "?";
+}
 
 int SiteFromCode(const std::string& code) {
   for (int i = 0; i < kSitesPerTooth; ++i)
@@ -45,7 +47,9 @@ ToothChart* PerioChart::Find(int fdi) {
     if (t.fdi == fdi) return &t;
   return nullptr;
 }
-const ToothChart* PerioChart::Find(int fdi) const { return const_cast<PerioChart*>(this)->Find(fdi); }
+const ToothChart* PerioChart::Find(int fdi) const {
+  return const_cast<PerioChart*>(this)->Find(fdi);
+}
 
 bool AdjacentTeeth(int a, int b) {
   const int qa = a / 10, qb = b / 10, pa = a % 10, pb = b % 10;
@@ -57,18 +61,26 @@ bool AdjacentTeeth(int a, int b) {
 
 const char* ToString(Stage s) {
   switch (s) {
-    case Stage::kI: return "I";
-    case Stage::kII: return "II";
-    case Stage::kIII: return "III";
-    case Stage::kIV: return "IV";
-    default: return "none";
+    case Stage::kI:
+      return "I";
+    case Stage::kII:
+      return "II";
+    case Stage::kIII:
+      return "III";
+    case Stage::kIV:
+      return "IV";
+    default:
+      return "none";
   }
 }
 const char* ToString(Extent e) {
   switch (e) {
-    case Extent::kLocalized: return "localized";
-    case Extent::kGeneralized: return "generalized";
-    default: return "none";
+    case Extent::kLocalized:
+      return "localized";
+    case Extent::kGeneralized:
+      return "generalized";
+    default:
+      return "none";
   }
 }
 std::optional<Stage> StageFromString(const std::string& s) {
@@ -84,11 +96,16 @@ std::optional<Extent> ExtentFromString(const std::string& s) {
 
 const char* ToString(Diagnosis::Kind k) {
   switch (k) {
-    case Diagnosis::Kind::kNotAssessable: return "not assessable";
-    case Diagnosis::Kind::kHealth: return "periodontal health";
-    case Diagnosis::Kind::kGingivitisLocalized: return "localized gingivitis";
-    case Diagnosis::Kind::kGingivitisGeneralized: return "generalized gingivitis";
-    case Diagnosis::Kind::kPeriodontitis: return "periodontitis";
+    case Diagnosis::Kind::kNotAssessable:
+      return "not assessable";
+    case Diagnosis::Kind::kHealth:
+      return "periodontal health";
+    case Diagnosis::Kind::kGingivitisLocalized:
+      return "localized gingivitis";
+    case Diagnosis::Kind::kGingivitisGeneralized:
+      return "generalized gingivitis";
+    case Diagnosis::Kind::kPeriodontitis:
+      return "periodontitis";
   }
   return "?";
 }
@@ -135,67 +152,89 @@ Diagnosis Classify2017(const PerioChart& chart) {
   d.bop_pct = present > 0 ? 100.0 * bleeding / (6.0 * present) : 0;
   d.worst_interdental_cal_mm = worst_interdental;
   if (!TwoNonAdjacent(measured)) {
-    d.path.push_back("fewer than 2 non-adjacent teeth measured (" + List(measured) + "): not assessable");
+    d.path.push_back("fewer than 2 non-adjacent teeth measured (" + List(measured) +
+                     "): not assessable");
     return d;
   }
   const bool by_interdental = TwoNonAdjacent(interdental_loss);
   const bool by_oral = oral_loss.size() >= 2;
-  std::snprintf(line, sizeof line, "interdental CAL >= 1 mm at teeth %s: %s", List(interdental_loss).c_str(),
-                by_interdental ? "at 2 or more non-adjacent teeth" : "not at 2 non-adjacent teeth");
+  std::snprintf(
+      line, sizeof line, "interdental CAL >= 1 mm at teeth %s: %s",
+      List(interdental_loss).c_str(),
+      by_interdental ? "at 2 or more non-adjacent teeth" : "not at 2 non-adjacent teeth");
   d.path.push_back(line);
   if (!by_interdental) {
-    std::snprintf(line, sizeof line, "buccal/oral CAL >= 3 mm with PD > 3 mm at teeth %s: %s", List(oral_loss).c_str(),
-                  by_oral ? "2 or more" : "fewer than 2");
+    std::snprintf(line, sizeof line,
+                  "buccal/oral CAL >= 3 mm with PD > 3 mm at teeth %s: %s",
+                  List(oral_loss).c_str(), by_oral ? "2 or more" : "fewer than 2");
     d.path.push_back(line);
   }
   if (!by_interdental && !by_oral) {
-    if (pseudo_pocket) d.path.push_back("PD >= 4 mm without attachment loss: pseudo-pocket, not periodontitis");
-    std::snprintf(line, sizeof line, "not a periodontitis case; bleeding on probing %.1f %% of sites", d.bop_pct);
+    if (pseudo_pocket)
+      d.path.push_back(
+          "PD >= 4 mm without attachment loss: pseudo-pocket, not periodontitis");
+    std::snprintf(line, sizeof line,
+                  "not a periodontitis case; bleeding on probing %.1f %% of sites",
+                  d.bop_pct);
     d.path.push_back(line);
-    d.kind = d.bop_pct < 10 ? Diagnosis::Kind::kHealth
+    d.kind = d.bop_pct < 10    ? Diagnosis::Kind::kHealth
              : d.bop_pct <= 30 ? Diagnosis::Kind::kGingivitisLocalized
                                : Diagnosis::Kind::kGingivitisGeneralized;
-    d.path.push_back(std::string("BOP < 10 %: health; 10-30 %: localized gingivitis; > 30 %: generalized: ") +
-                     ToString(d.kind));
+    d.path.push_back(
+        std::string(
+            "BOP < 10 %: health; 10-30 %: localized gingivitis; > 30 %: generalized: ") +
+        ToString(d.kind));
     return d;
   }
   d.kind = Diagnosis::Kind::kPeriodontitis;
   const int worst = worst_interdental >= 1 ? worst_interdental : worst_any;
   d.stage = worst >= 5 ? Stage::kIII : worst >= 3 ? Stage::kII : Stage::kI;
-  std::snprintf(line, sizeof line, "worst interdental CAL %d mm: stage %s (1-2 mm I, 3-4 mm II, >= 5 mm III)", worst,
-                ToString(d.stage));
+  std::snprintf(
+      line, sizeof line,
+      "worst interdental CAL %d mm: stage %s (1-2 mm I, 3-4 mm II, >= 5 mm III)", worst,
+      ToString(d.stage));
   d.path.push_back(line);
   int band_lo = d.stage == Stage::kIII ? 5 : d.stage == Stage::kII ? 3 : 1;
   int band_hi = d.stage == Stage::kIII ? 1000 : d.stage == Stage::kII ? 4 : 2;
   if (d.stage == Stage::kII) {
     int furcation = 0;
-    for (const ToothChart& t : chart.teeth) furcation = std::max(furcation, t.present ? t.furcation : 0);
+    for (const ToothChart& t : chart.teeth)
+      furcation = std::max(furcation, t.present ? t.furcation : 0);
     if (TwoNonAdjacent(deep_pd) || furcation >= 2) {
       d.stage = Stage::kIII;
       d.path.push_back(TwoNonAdjacent(deep_pd)
-                           ? "complexity: PD >= 6 mm at 2 or more non-adjacent teeth (" + List(deep_pd) + "): stage III"
+                           ? "complexity: PD >= 6 mm at 2 or more non-adjacent teeth (" +
+                                 List(deep_pd) + "): stage III"
                            : "complexity: furcation class II or III: stage III");
     } else {
-      d.path.push_back("complexity: PD >= 6 mm at " + List(deep_pd) + " (not at 2 non-adjacent teeth), no furcation "
+      d.path.push_back("complexity: PD >= 6 mm at " + List(deep_pd) +
+                       " (not at 2 non-adjacent teeth), no furcation "
                        "class II or III: stays stage II");
     }
   }
   if (worst >= 5)
-    d.path.push_back("stage IV not assessed: it needs the teeth lost to periodontitis, mobility and the bite, "
-                     "which the chart does not hold");
+    d.path.push_back(
+        "stage IV not assessed: it needs the teeth lost to periodontitis, mobility and "
+        "the bite, "
+        "which the chart does not hold");
   int in_band = 0;
   for (const ToothChart& t : chart.teeth) {
     if (!t.present) continue;
     int tooth_worst = -100;
     for (int s = 0; s < kSitesPerTooth; ++s)
-      if (IsInterdental(s) && t.sites[s].measured()) tooth_worst = std::max(tooth_worst, *t.sites[s].cal_mm());
+      if (IsInterdental(s) && t.sites[s].measured())
+        tooth_worst = std::max(tooth_worst, *t.sites[s].cal_mm());
     if (tooth_worst >= band_lo && tooth_worst <= band_hi) ++in_band;
   }
   d.extent_pct = present > 0 ? 100.0 * in_band / present : 0;
   d.extent = d.extent_pct < 30 ? Extent::kLocalized : Extent::kGeneralized;
-  std::snprintf(line, sizeof line, "extent: %d of %d teeth (%.1f %%) have their worst interdental CAL in the %d%s mm "
-                "band: %s (< 30 %% localized)", in_band, present, d.extent_pct, band_lo,
-                band_hi >= 1000 ? "+" : ("-" + std::to_string(band_hi)).c_str(), ToString(d.extent));
+  std::snprintf(
+      line, sizeof line,
+      "extent: %d of %d teeth (%.1f %%) have their worst interdental CAL in the %d%s mm "
+      "band: %s (< 30 %% localized)",
+      in_band, present, d.extent_pct, band_lo,
+      band_hi >= 1000 ? "+" : ("-" + std::to_string(band_hi)).c_str(),
+      ToString(d.extent));
   d.path.push_back(line);
   return d;
 }

@@ -62,16 +62,24 @@ std::optional<Stage> StageFromString(const std::string& s);
 std::optional<Extent> ExtentFromString(const std::string& s);
 
 struct Diagnosis {
-  enum class Kind { kNotAssessable, kHealth, kGingivitisLocalized, kGingivitisGeneralized, kPeriodontitis };
+  enum class Kind {
+    kNotAssessable,
+    kHealth,
+    kGingivitisLocalized,
+    kGingivitisGeneralized,
+    kPeriodontitis
+  };
   Kind kind = Kind::kNotAssessable;
   Stage stage = Stage::kNone;
   Extent extent = Extent::kNone;
-  double bop_pct = 0;           // bleeding sites / (6 x teeth present)
+  double bop_pct = 0;  // bleeding sites / (6 x teeth present)
   int worst_interdental_cal_mm = 0;
-  double extent_pct = 0;        // share of teeth in the band that set the stage
-  bool stage_iv_assessable = false;  // needs teeth lost and why, mobility, bite: not in the chart
-  std::vector<std::string> path;     // the decision tree's steps, one line each
-  std::string Summary() const;       // "periodontitis stage III, localized" / "localized gingivitis" / ...
+  double extent_pct = 0;  // share of teeth in the band that set the stage
+  bool stage_iv_assessable =
+      false;  // needs teeth lost and why, mobility, bite: not in the chart
+  std::vector<std::string> path;  // the decision tree's steps, one line each
+  std::string Summary()
+      const;  // "periodontitis stage III, localized" / "localized gingivitis" / ...
 };
 const char* ToString(Diagnosis::Kind k);
 

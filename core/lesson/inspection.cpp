@@ -50,7 +50,8 @@ struct Nearest {
   double d = 1e9;
   Vector3 centre = Vector3::Zero();
 };
-void NearestLeaf(const SphereTree& t, std::size_t i, const Vector3& p, double reach, Nearest* out) {
+void NearestLeaf(const SphereTree& t, std::size_t i, const Vector3& p, double reach,
+                 Nearest* out) {
   const Vector3 c = t.center(i);
   const double d = (p - c).norm() - t.r[i];
   if (d > reach || d > out->d) return;
@@ -59,16 +60,26 @@ void NearestLeaf(const SphereTree& t, std::size_t i, const Vector3& p, double re
     out->centre = c;
     return;
   }
-  for (int k = 0; k < t.child_count[i]; ++k) NearestLeaf(t, static_cast<std::size_t>(t.first_child[i] + k), p, reach, out);
+  for (int k = 0; k < t.child_count[i]; ++k)
+    NearestLeaf(t, static_cast<std::size_t>(t.first_child[i] + k), p, reach, out);
 }
 
 }  // namespace
 
 const std::vector<std::string>& InspectionRegionNames() {
-  static const std::vector<std::string> names = {
-      "lip_upper",     "lip_lower",      "cheek_right",   "cheek_left",   "gingiva_upper",
-      "gingiva_lower", "tongue_dorsum",  "tongue_lateral_border_right", "tongue_lateral_border_left",
-      "tongue_ventral", "floor_of_mouth", "palate",       "soft_palate"};
+  static const std::vector<std::string> names = {"lip_upper",
+                                                 "lip_lower",
+                                                 "cheek_right",
+                                                 "cheek_left",
+                                                 "gingiva_upper",
+                                                 "gingiva_lower",
+                                                 "tongue_dorsum",
+                                                 "tongue_lateral_border_right",
+                                                 "tongue_lateral_border_left",
+                                                 "tongue_ventral",
+                                                 "floor_of_mouth",
+                                                 "palate",
+                                                 "soft_palate"};
   return names;
 }
 
@@ -94,10 +105,12 @@ std::string RegionLabel(const std::string& region) {
 std::vector<std::string> SceneRegions(const SceneSpec& scene) {
   std::vector<std::string> have;
   for (const ObjectSpec& o : scene.objects) {
-    if (o.kind == ObjectSpec::Kind::kGingiva) have.push_back(o.fdi / 10 <= 2 ? "gingiva_upper" : "gingiva_lower");
+    if (o.kind == ObjectSpec::Kind::kGingiva)
+      have.push_back(o.fdi / 10 <= 2 ? "gingiva_upper" : "gingiva_lower");
     if (o.kind != ObjectSpec::Kind::kAnatomy) continue;
     if (o.anatomy == "tongue") {
-      for (const char* r : {"tongue_dorsum", "tongue_lateral_border_right", "tongue_lateral_border_left", "tongue_ventral"})
+      for (const char* r : {"tongue_dorsum", "tongue_lateral_border_right",
+                            "tongue_lateral_border_left", "tongue_ventral"})
         have.push_back(r);
     } else if (o.anatomy == "jaw_upper" || o.anatomy == "jaw_lower") {
       have.push_back(o.anatomy == "jaw_upper" ? "gingiva_upper" : "gingiva_lower");
@@ -116,7 +129,9 @@ std::string LesionRegion(const std::string& anatomy, const std::string& lesion_r
   return anatomy;
 }
 
-const char* SurfaceCode(ToothSurface s) { return kSurfaceCodes[static_cast<std::size_t>(s)]; }
+const char* SurfaceCode(ToothSurface s) {
+  return kSurfaceCodes[static_cast<std::size_t>(s)];
+}
 
 std::optional<ToothSurface> SurfaceFromCode(const std::string& code) {
   for (std::size_t i = 0; i < kSurfaceCodes.size(); ++i)
@@ -126,27 +141,42 @@ std::optional<ToothSurface> SurfaceFromCode(const std::string& code) {
 
 const char* WhoStatusName(int code) {
   switch (code) {
-    case 0: return "sound";
-    case 1: return "decayed";
-    case 2: return "filled, with decay";
-    case 3: return "filled, no decay";
-    case 4: return "missing, due to caries";
-    case 5: return "missing, any other reason";
-    case 6: return "fissure sealant";
-    case 7: return "crown or implant";
-    case 8: return "unerupted";
-    case 9: return "not recorded";
+    case 0:
+      return "sound";
+    case 1:
+      return "decayed";
+    case 2:
+      return "filled, with decay";
+    case 3:
+      return "filled, no decay";
+    case 4:
+      return "missing, due to caries";
+    case 5:
+      return "missing, any other reason";
+    case 6:
+      return "fissure sealant";
+    case 7:
+      return "crown or implant";
+    case 8:
+      return "unerupted";
+    case 9:
+      return "not recorded";
   }
   return "?";
 }
 
 const char* ToString(Finding::Kind k) {
   switch (k) {
-    case Finding::Kind::kStatus: return "status";
-    case Finding::Kind::kCaries: return "caries";
-    case Finding::Kind::kCalculus: return "calculus";
-    case Finding::Kind::kInflamed: return "inflamed gingiva";
-    case Finding::Kind::kLesion: return "lesion";
+    case Finding::Kind::kStatus:
+      return "status";
+    case Finding::Kind::kCaries:
+      return "caries";
+    case Finding::Kind::kCalculus:
+      return "calculus";
+    case Finding::Kind::kInflamed:
+      return "inflamed gingiva";
+    case Finding::Kind::kLesion:
+      return "lesion";
   }
   return "?";
 }
@@ -154,11 +184,17 @@ const char* ToString(Finding::Kind k) {
 std::string Finding::ToString() const {
   std::string s = present ? "" : "withdrawn: ";
   switch (kind) {
-    case Kind::kStatus: return s + "status " + std::to_string(status) + " (" + WhoStatusName(status) + ") at " + std::to_string(fdi);
-    case Kind::kCaries: return s + "caries " + std::to_string(fdi) + " " + SurfaceCode(surface);
-    case Kind::kCalculus: return s + "calculus " + std::to_string(fdi);
-    case Kind::kInflamed: return s + "inflamed gingiva " + std::to_string(fdi);
-    case Kind::kLesion: return s + (lesion.empty() ? "lesion" : lesion) + " on " + RegionLabel(region);
+    case Kind::kStatus:
+      return s + "status " + std::to_string(status) + " (" + WhoStatusName(status) +
+             ") at " + std::to_string(fdi);
+    case Kind::kCaries:
+      return s + "caries " + std::to_string(fdi) + " " + SurfaceCode(surface);
+    case Kind::kCalculus:
+      return s + "calculus " + std::to_string(fdi);
+    case Kind::kInflamed:
+      return s + "inflamed gingiva " + std::to_string(fdi);
+    case Kind::kLesion:
+      return s + (lesion.empty() ? "lesion" : lesion) + " on " + RegionLabel(region);
   }
   return s;
 }
@@ -173,25 +209,38 @@ ToothRecord* Odontogram::Find(int fdi) {
     if (t.fdi == fdi) return &t;
   return nullptr;
 }
-const ToothRecord* Odontogram::Find(int fdi) const { return const_cast<Odontogram*>(this)->Find(fdi); }
+const ToothRecord* Odontogram::Find(int fdi) const {
+  return const_cast<Odontogram*>(this)->Find(fdi);
+}
 
 bool Odontogram::Apply(const Finding& f) {
   if (f.kind == Finding::Kind::kLesion) {
-    if (f.present) lesions[f.region] = f.lesion;
-    else lesions.erase(f.region);
+    if (f.present)
+      lesions[f.region] = f.lesion;
+    else
+      lesions.erase(f.region);
     return true;
   }
   ToothRecord* t = Find(f.fdi);
   if (!t) return false;
   switch (f.kind) {
     case Finding::Kind::kStatus:
-      if (f.present) t->status = f.status;
-      else t->status.reset();
+      if (f.present)
+        t->status = f.status;
+      else
+        t->status.reset();
       break;
-    case Finding::Kind::kCaries: t->caries[static_cast<std::size_t>(f.surface)] = f.present; break;
-    case Finding::Kind::kCalculus: t->calculus = f.present; break;
-    case Finding::Kind::kInflamed: t->inflamed = f.present; break;
-    case Finding::Kind::kLesion: break;
+    case Finding::Kind::kCaries:
+      t->caries[static_cast<std::size_t>(f.surface)] = f.present;
+      break;
+    case Finding::Kind::kCalculus:
+      t->calculus = f.present;
+      break;
+    case Finding::Kind::kInflamed:
+      t->inflamed = f.present;
+      break;
+    case Finding::Kind::kLesion:
+      break;
   }
   return true;
 }
@@ -206,19 +255,23 @@ Odontogram EmptyOdontogram(const std::vector<int>& teeth) {
   return o;
 }
 
-Odontogram TrueOdontogram(const SceneSpec& scene, const std::vector<int>& teeth, const std::vector<std::string>& regions) {
+Odontogram TrueOdontogram(const SceneSpec& scene, const std::vector<int>& teeth,
+                          const std::vector<std::string>& regions) {
   Odontogram o = EmptyOdontogram(teeth);
   for (const ObjectSpec& obj : scene.objects) {
     if (obj.kind == ObjectSpec::Kind::kTooth) {
       ToothRecord* t = o.Find(obj.fdi);
       if (!t) continue;
       for (std::size_t s = 0; s < 5; ++s) t->caries[s] = obj.caries_mm[s] > 0;
-      t->calculus = std::any_of(obj.calculus.begin(), obj.calculus.end(), [](int c) { return c > 0; });
-      t->inflamed = std::any_of(obj.inflamed.begin(), obj.inflamed.end(), [](bool b) { return b; });
+      t->calculus = std::any_of(obj.calculus.begin(), obj.calculus.end(),
+                                [](int c) { return c > 0; });
+      t->inflamed =
+          std::any_of(obj.inflamed.begin(), obj.inflamed.end(), [](bool b) { return b; });
       t->status = t->Status();
     } else if (obj.kind == ObjectSpec::Kind::kAnatomy && !obj.lesion_kind.empty()) {
       const std::string r = LesionRegion(obj.anatomy, obj.lesion_region);
-      if (std::find(regions.begin(), regions.end(), r) != regions.end()) o.lesions[r] = obj.lesion_kind;
+      if (std::find(regions.begin(), regions.end(), r) != regions.end())
+        o.lesions[r] = obj.lesion_kind;
     }
   }
   return o;
@@ -245,7 +298,8 @@ InspectionTracker::InspectionTracker(const LessonSpec& spec, const CompiledScene
     }
   dwell_ticks_.assign(units_.size(), 0);
   rate_hz_ = scene.spec.rate_hz > 0 ? scene.spec.rate_hz : 1000;
-  dwell_needed_ = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::lround(spec.rubric.touch_dwell_s * rate_hz_)));
+  dwell_needed_ = std::max<std::uint64_t>(
+      1, static_cast<std::uint64_t>(std::lround(spec.rubric.touch_dwell_s * rate_hz_)));
   tip_radius_ = MakeProbe(scene.spec.probe).tip_radius_mm;
 
   const auto& objs = scene.spec.objects;
@@ -261,23 +315,28 @@ InspectionTracker::InspectionTracker(const LessonSpec& spec, const CompiledScene
     } else if (o.kind == ObjectSpec::Kind::kGingiva) {
       role.unit = UnitOf(o.fdi / 10 <= 2 ? "gingiva_upper" : "gingiva_lower");
     } else if (o.kind == ObjectSpec::Kind::kAnatomy) {
-      if (o.anatomy == "tongue") role.tongue = true;
-      else if (o.anatomy == "jaw_upper") role.unit = UnitOf("gingiva_upper");
-      else if (o.anatomy == "jaw_lower") role.unit = UnitOf("gingiva_lower");
-      else role.unit = UnitOf(o.anatomy);
+      if (o.anatomy == "tongue")
+        role.tongue = true;
+      else if (o.anatomy == "jaw_upper")
+        role.unit = UnitOf("gingiva_upper");
+      else if (o.anatomy == "jaw_lower")
+        role.unit = UnitOf("gingiva_lower");
+      else
+        role.unit = UnitOf(o.anatomy);
       if (!o.lesion_kind.empty() && i < scene.meshes.size()) {
         const std::string where = LesionRegion(o.anatomy, o.lesion_region);
         const SurfacePoint p = RegionSpot(o.anatomy, o.lesion_region, scene.meshes[i]);
-        lesions_.push_back({where, static_cast<int>(i), o.X_WO * p.point, (o.X_WO.rotation() * p.normal).normalized(),
-                            o.lesion_mm});
+        lesions_.push_back({where, static_cast<int>(i), o.X_WO * p.point,
+                            (o.X_WO.rotation() * p.normal).normalized(), o.lesion_mm});
       }
     }
   }
-  // Where each unit is, for the views (made here, once: not in the window's first frame with a view).
+  // Where each unit is, for the views (made here, once: not in the window's first frame
+  // with a view).
   for (const InspectionUnit& u : units_) spots_.push_back(ApproachOf(scene_, u, teeth_));
   for (const CariesLesion& c : SceneCariesLesions(scene.spec))
-    lesions_.push_back({std::to_string(objs[static_cast<std::size_t>(c.tooth)].fdi) + " " +
-                            SurfaceCode(static_cast<ToothSurface>(c.surface)),
+    lesions_.push_back({std::to_string(objs[static_cast<std::size_t>(c.tooth)].fdi) +
+                            " " + SurfaceCode(static_cast<ToothSurface>(c.surface)),
                         c.tooth, c.centre_W, c.normal_W.normalized(), c.radius_mm});
 }
 
@@ -290,7 +349,8 @@ int InspectionTracker::UnitOf(const std::string& region) const {
 int InspectionTracker::UnitOf(int fdi, ToothSurface s) const {
   const auto it = std::find(teeth_.begin(), teeth_.end(), fdi);
   if (it == teeth_.end()) return -1;
-  return first_tooth_unit_ + 5 * static_cast<int>(it - teeth_.begin()) + static_cast<int>(s);
+  return first_tooth_unit_ + 5 * static_cast<int>(it - teeth_.begin()) +
+         static_cast<int>(s);
 }
 
 std::vector<int> InspectionTracker::StepUnits(const StepSpec& step) const {
@@ -300,11 +360,13 @@ std::vector<int> InspectionTracker::StepUnits(const StepSpec& step) const {
   for (int fdi : step.teeth)
     for (int s = 0; s < 5; ++s)
       if (step.surfaces & (1u << s))
-        if (const int u = UnitOf(fdi, static_cast<ToothSurface>(s)); u >= 0) out.push_back(u);
+        if (const int u = UnitOf(fdi, static_cast<ToothSurface>(s)); u >= 0)
+          out.push_back(u);
   return out;
 }
 
-void InspectionTracker::OnTick(const TickRecord& r, const std::vector<std::uint8_t>& in_contact) {
+void InspectionTracker::OnTick(const TickRecord& r,
+                               const std::vector<std::uint8_t>& in_contact) {
   const Vector3 tip_W = r.X_WG.translation();
   const double reach = tip_radius_ + 0.5;
   tip_unit_ = -1;
@@ -324,24 +386,27 @@ void InspectionTracker::OnTick(const TickRecord& r, const std::vector<std::uint8
     int unit = role.unit;
     if (role.tooth >= 0) {
       // In the tooth's own frame (+x mesial, +y buccal, +z occlusal).
-      const Vector3 p = ArchMirror(o.mirrored, p_O), nrm = ArchMirror(o.mirrored, normal_O);
+      const Vector3 p = ArchMirror(o.mirrored, p_O),
+                    nrm = ArchMirror(o.mirrored, normal_O);
       ToothSurface s;
       if (nrm.z() > 0.6 || p.z() > role.top_z - 1.0) {
         s = ToothSurface::kOcclusal;
       } else {
         const double phi = std::atan2(p.y(), p.x()), c = std::cos(phi);
-        s = c > std::sqrt(0.5) ? ToothSurface::kMesial : c < -std::sqrt(0.5) ? ToothSurface::kDistal
-            : p.y() >= 0        ? ToothSurface::kBuccal
-                                : ToothSurface::kLingual;
+        s = c > std::sqrt(0.5)    ? ToothSurface::kMesial
+            : c < -std::sqrt(0.5) ? ToothSurface::kDistal
+            : p.y() >= 0          ? ToothSurface::kBuccal
+                                  : ToothSurface::kLingual;
       }
       unit = first_tooth_unit_ + 5 * role.tooth + static_cast<int>(s);
     } else if (role.tongue) {
       const Vector3 n_W = o.X_WO.rotation() * normal_O;
       const std::string part = TongueRegion(n_W);
-      unit = UnitOf(part == "dorsum"            ? "tongue_dorsum"
-                    : part == "ventral surface" ? "tongue_ventral"
-                    : n_W.x() > 0               ? "tongue_lateral_border_left"  // +x: the patient's left
-                                                : "tongue_lateral_border_right");
+      unit =
+          UnitOf(part == "dorsum"            ? "tongue_dorsum"
+                 : part == "ventral surface" ? "tongue_ventral"
+                 : n_W.x() > 0 ? "tongue_lateral_border_left"  // +x: the patient's left
+                               : "tongue_lateral_border_right");
     }
     if (unit < 0) continue;
     best = n.d;
@@ -364,7 +429,8 @@ void InspectionTracker::OnTick(const TickRecord& r, const std::vector<std::uint8
   // normal while the tip is on it and its object is touched.
   const double limit = spec_.rubric.lesion_force_n;
   for (Lesion& l : lesions_) {
-    const bool on = l.object >= 0 && static_cast<std::size_t>(l.object) < in_contact.size() &&
+    const bool on = l.object >= 0 &&
+                    static_cast<std::size_t>(l.object) < in_contact.size() &&
                     in_contact[static_cast<std::size_t>(l.object)] &&
                     (tip_W - l.centre_W).norm() <= l.radius_mm + tip_radius_ + 0.3;
     const double press = on ? r.force_W.dot(l.normal_W) : 0.0;
@@ -382,15 +448,18 @@ void InspectionTracker::OnTick(const TickRecord& r, const std::vector<std::uint8
   }
 }
 
-bool InspectionTracker::Hidden(int fdi, const Vector3& eye_W, const Vector3& spot_W) const {
+bool InspectionTracker::Hidden(int fdi, const Vector3& eye_W,
+                               const Vector3& spot_W) const {
   const bool upper = fdi / 10 == 1 || fdi / 10 == 2;
-  for (std::size_t i = 0; i < scene_.spec.objects.size() && i < scene_.trees.size(); ++i) {
+  for (std::size_t i = 0; i < scene_.spec.objects.size() && i < scene_.trees.size();
+       ++i) {
     const ObjectSpec& o = scene_.spec.objects[i];
     // The arch's teeth, deposits, gingiva and jaw; the lips, cheeks and tongue
     // do not hide (retracted, as the window shows them see-through when in
     // the way), nor does the other arch (faded in the window's occlusal views).
     bool hides = false;
-    if (o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva || o.kind == ObjectSpec::Kind::kCalculus)
+    if (o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva ||
+        o.kind == ObjectSpec::Kind::kCalculus)
       hides = (o.fdi / 10 == 1 || o.fdi / 10 == 2) == upper;
     else if (o.kind == ObjectSpec::Kind::kAnatomy)
       hides = o.anatomy == (upper ? "jaw_upper" : "jaw_lower");
@@ -410,10 +479,14 @@ void InspectionTracker::OnView(const ViewSample& v) {
     const Vector3 to = spots_[i]->p - v.eye;
     const double d = to.norm();
     if (d < 1e-9 || d > 150) continue;
-    // Inside the cone (the window is wider than tall: the vertical angle is the narrower), facing the camera.
-    if (std::acos(std::clamp(to.dot(ahead) / (d * ahead.norm()), -1.0, 1.0)) > half) continue;
+    // Inside the cone (the window is wider than tall: the vertical angle is the
+    // narrower), facing the camera.
+    if (std::acos(std::clamp(to.dot(ahead) / (d * ahead.norm()), -1.0, 1.0)) > half)
+      continue;
     if (spots_[i]->n.dot(-to) <= 0) continue;
-    if (units_[i].region.empty() && Hidden(units_[i].fdi, v.eye, spots_[i]->p + kViewClearMm * spots_[i]->n)) continue;
+    if (units_[i].region.empty() &&
+        Hidden(units_[i].fdi, v.eye, spots_[i]->p + kViewClearMm * spots_[i]->n))
+      continue;
     units_[i].seen = true;
     units_[i].seen_tick = v.tick;
   }
@@ -423,7 +496,8 @@ std::vector<LesionPress> InspectionTracker::presses() const {
   std::vector<LesionPress> out = presses_;
   for (const Lesion& l : lesions_)
     if (l.pressing) out.push_back({l.where, l.peak, l.peak_tick});
-  std::sort(out.begin(), out.end(), [](const LesionPress& a, const LesionPress& b) { return a.tick < b.tick; });
+  std::sort(out.begin(), out.end(),
+            [](const LesionPress& a, const LesionPress& b) { return a.tick < b.tick; });
   return out;
 }
 

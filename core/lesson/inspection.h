@@ -28,7 +28,8 @@ struct TickRecord;
 /// tongue_lateral_border_left, tongue_ventral, floor_of_mouth, palate,
 /// soft_palate.
 const std::vector<std::string>& InspectionRegionNames();
-/// In words: "the upper lip", "the right buccal mucosa", "the tongue's left lateral border".
+/// In words: "the upper lip", "the right buccal mucosa", "the tongue's left lateral
+/// border".
 std::string RegionLabel(const std::string& region);
 /// The regions a scene has: its anatomy objects' (the tongue's four parts)
 /// and the gingiva of each arch that has gingiva or a jaw.
@@ -52,18 +53,20 @@ struct Finding {
   enum class Kind { kStatus, kCaries, kCalculus, kInflamed, kLesion };
   std::uint64_t tick = kAfterReading;
   Kind kind = Kind::kCaries;
-  int fdi = 0;                                   // teeth
+  int fdi = 0;                                     // teeth
   ToothSurface surface = ToothSurface::kOcclusal;  // kCaries
-  int status = 0;                                // kStatus: WHO code
-  std::string region, lesion;                    // kLesion: where and which kind (ulcer, ...)
+  int status = 0;                                  // kStatus: WHO code
+  std::string region, lesion;  // kLesion: where and which kind (ulcer, ...)
   bool present = true;
-  std::string ToString() const;  // "caries 36 O", "lesion ulcer on tongue_lateral_border_left"
+  std::string ToString()
+      const;  // "caries 36 O", "lesion ulcer on tongue_lateral_border_left"
 };
 const char* ToString(Finding::Kind k);
 
 struct ToothRecord {
   int fdi = 0;
-  std::optional<int> status;  // as recorded; empty: not recorded (1 when caries is, else 0)
+  std::optional<int>
+      status;  // as recorded; empty: not recorded (1 when caries is, else 0)
   std::array<bool, 5> caries{};
   bool calculus = false, inflamed = false;
   int Status() const;  // the recorded status, or the one the caries marks imply
@@ -83,7 +86,8 @@ Odontogram EmptyOdontogram(const std::vector<int>& teeth);
 /// The scene's truth over the lesson's teeth and regions: carious surfaces,
 /// calculus (any deposit), inflamed gingiva (any site), status 1 for a tooth
 /// with caries and 0 otherwise (scenes have no fillings yet), the lesions.
-Odontogram TrueOdontogram(const SceneSpec& scene, const std::vector<int>& teeth, const std::vector<std::string>& regions);
+Odontogram TrueOdontogram(const SceneSpec& scene, const std::vector<int>& teeth,
+                          const std::vector<std::string>& regions);
 
 /// What an inspection covers: a region, or one surface of one tooth.
 struct InspectionUnit {
@@ -94,7 +98,7 @@ struct InspectionUnit {
   bool touched = false;
   std::uint64_t first_tick = 0;  // when the tip had dwelt on it long enough
   double dwell_s = 0;
-  bool seen = false;             // in a recorded view (window attempts)
+  bool seen = false;  // in a recorded view (window attempts)
   std::uint64_t seen_tick = 0;
 };
 
@@ -119,15 +123,19 @@ struct ViewSample {
 /// its way in (zero: off the surface and up the axis). Empty when the scene
 /// lacks the unit's object.
 struct UnitApproach {
-  Vector3 p = Vector3::Zero(), n = Vector3::UnitZ(), axis = Vector3::UnitZ(), shank = Vector3::Zero();
+  Vector3 p = Vector3::Zero(), n = Vector3::UnitZ(), axis = Vector3::UnitZ(),
+          shank = Vector3::Zero();
   Vector3 pre = Vector3::Zero();
   bool region = false;
 };
-std::optional<UnitApproach> ApproachOf(const CompiledScene& scene, const InspectionUnit& unit, const std::vector<int>& teeth);
+std::optional<UnitApproach> ApproachOf(const CompiledScene& scene,
+                                       const InspectionUnit& unit,
+                                       const std::vector<int>& teeth);
 /// Other spots on a tooth's mesial or distal surface than ApproachOf's (nearer
 /// the buccal, nearer the contact, and from the lingual side), for a hand whose
 /// way to the first is blocked by the neighbour. Empty for other surfaces.
-std::vector<UnitApproach> ProximalSpots(const CompiledScene& scene, int fdi, ToothSurface s);
+std::vector<UnitApproach> ProximalSpots(const CompiledScene& scene, int fdi,
+                                        ToothSurface s);
 
 /// A lesion pressed harder than the lesson's limit: one episode, at its peak.
 struct LesionPress {
@@ -163,7 +171,7 @@ class InspectionTracker {
   std::vector<LesionPress> presses() const;
   double tip_radius_mm() const { return tip_radius_; }
 
- /// How far off a unit's surface its line of sight is checked from (the
+  /// How far off a unit's surface its line of sight is checked from (the
   /// spheres of its own object and its neighbours cover the surface from outside).
   static constexpr double kViewClearMm = 1.0;
 
@@ -179,18 +187,21 @@ class InspectionTracker {
     double peak = 0;
     std::uint64_t peak_tick = 0;
   };
-  // What an object stands for: a tooth (its teeth index), a region, the tongue (split), nothing.
+  // What an object stands for: a tooth (its teeth index), a region, the tongue (split),
+  // nothing.
   struct ObjectRole {
     int tooth = -1;
     int unit = -1;
     bool tongue = false;
-    double top_z = 0;  // a tooth's crown top (its frame): within 1 mm of it is occlusal (incisal)
+    double top_z =
+        0;  // a tooth's crown top (its frame): within 1 mm of it is occlusal (incisal)
   };
   const LessonSpec& spec_;
   const CompiledScene& scene_;
   std::vector<InspectionUnit> units_;
   std::vector<std::optional<UnitApproach>> spots_;  // per unit, where it is (for views)
-  std::vector<int> teeth_;  // the lesson's, in units_ order (5 units each after the regions)
+  std::vector<int>
+      teeth_;  // the lesson's, in units_ order (5 units each after the regions)
   int first_tooth_unit_ = 0;
   std::vector<ObjectRole> roles_;
   std::vector<RigidTransform> X_OW_;

@@ -17,21 +17,27 @@ using Target = UnitApproach;
 
 const Vector3 kAnterior = Vector3::UnitY(), kUp = Vector3::UnitZ();
 
-int FindObject(const SceneSpec& s, ObjectSpec::Kind kind, int fdi, const std::string& anatomy = "") {
+int FindObject(const SceneSpec& s, ObjectSpec::Kind kind, int fdi,
+               const std::string& anatomy = "") {
   for (std::size_t i = 0; i < s.objects.size(); ++i) {
     const ObjectSpec& o = s.objects[i];
-    if (o.kind == kind && (kind == ObjectSpec::Kind::kAnatomy ? o.anatomy == anatomy : o.fdi == fdi))
+    if (o.kind == kind &&
+        (kind == ObjectSpec::Kind::kAnatomy ? o.anatomy == anatomy : o.fdi == fdi))
       return static_cast<int>(i);
   }
   return -1;
 }
 
 // A point on a tooth's (or its collar's) outer surface at angle phi (tooth
-// frame, 0 mesial, 90 degrees buccal) and height z, with its horizontal normal, in the world.
-bool SideSpot(const CompiledScene& scene, int object, double phi, double z, Vector3* p_W, Vector3* n_W) {
+// frame, 0 mesial, 90 degrees buccal) and height z, with its horizontal normal, in the
+// world.
+bool SideSpot(const CompiledScene& scene, int object, double phi, double z, Vector3* p_W,
+              Vector3* n_W) {
   const ObjectSpec& o = scene.spec.objects[static_cast<std::size_t>(object)];
-  // A mirrored object's mesh is the tooth frame's mirrored in x: the angle mirrors instead.
-  const double r = OuterRadius(scene.meshes[static_cast<std::size_t>(object)], o.mirrored ? kPi - phi : phi, z);
+  // A mirrored object's mesh is the tooth frame's mirrored in x: the angle mirrors
+  // instead.
+  const double r = OuterRadius(scene.meshes[static_cast<std::size_t>(object)],
+                               o.mirrored ? kPi - phi : phi, z);
   if (r <= 0) return false;
   const Vector3 dir(std::cos(phi), std::sin(phi), 0);
   *p_W = o.X_WO * ArchMirror(o.mirrored, Vector3(r * dir.x(), r * dir.y(), z));
@@ -39,9 +45,12 @@ bool SideSpot(const CompiledScene& scene, int object, double phi, double z, Vect
   return true;
 }
 
-Vector3 OcclusalOf(const ObjectSpec& o) { return (o.X_WO.rotation() * Vector3::UnitZ()).normalized(); }
+Vector3 OcclusalOf(const ObjectSpec& o) {
+  return (o.X_WO.rotation() * Vector3::UnitZ()).normalized();
+}
 
-std::optional<Target> ToothTarget(const CompiledScene& scene, int fdi, ToothSurface s, double phi_deg = -1) {
+std::optional<Target> ToothTarget(const CompiledScene& scene, int fdi, ToothSurface s,
+                                  double phi_deg = -1) {
   const int i = FindObject(scene.spec, ObjectSpec::Kind::kTooth, fdi);
   if (i < 0) return std::nullopt;
   const ObjectSpec& o = scene.spec.objects[static_cast<std::size_t>(i)];
@@ -59,10 +68,11 @@ std::optional<Target> ToothTarget(const CompiledScene& scene, int fdi, ToothSurf
     t.p = o.X_WO * ArchMirror(o.mirrored, sp.point);
     t.n = (o.X_WO.rotation() * ArchMirror(o.mirrored, sp.normal)).normalized();
     t.axis = (occlusal + 0.5 * kAnterior).normalized();
-    t.shank = -(o.X_WO.rotation() * ArchMirror(o.mirrored, Vector3::UnitY()));  // lingually
+    t.shank =
+        -(o.X_WO.rotation() * ArchMirror(o.mirrored, Vector3::UnitY()));  // lingually
     return t;
   }
-  const double phi = phi_deg >= 0                   ? phi_deg * kPi / 180
+  const double phi = phi_deg >= 0                  ? phi_deg * kPi / 180
                      : s == ToothSurface::kBuccal  ? kPi / 2
                      : s == ToothSurface::kLingual ? 3 * kPi / 2
                      : s == ToothSurface::kMesial  ? 35 * kPi / 180
@@ -70,27 +80,35 @@ std::optional<Target> ToothTarget(const CompiledScene& scene, int fdi, ToothSurf
   if (!SideSpot(scene, i, phi, 0.5 * top, &t.p, &t.n)) return std::nullopt;
   // Up past the crown's bulge; on the buccal side no farther out than the
   // vestibule allows.
-  t.axis = (occlusal + (s == ToothSurface::kBuccal ? 0.1 : 0.3) * t.n + 0.4 * kAnterior).normalized();
+  t.axis = (occlusal + (s == ToothSurface::kBuccal ? 0.1 : 0.3) * t.n + 0.4 * kAnterior)
+               .normalized();
   t.shank = -t.n;
   return t;
 }
 
-std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string& region, const std::vector<int>& teeth) {
+std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string& region,
+                                   const std::vector<int>& teeth) {
   Target t;
   if (region == "gingiva_upper" || region == "gingiva_lower") {
     // The attached gingiva: palatal of the upper first molars (open to the
     // middle of the mouth), lingual of the lower central incisors (the lower
     // lip lies over their labial gingiva: a probe reaching it presses the lip).
     const bool upper = region == "gingiva_upper";
-    for (int fdi : upper ? std::vector<int>{16, 26, 15, 25} : std::vector<int>{41, 31, 42, 32}) {
+    for (int fdi :
+         upper ? std::vector<int>{16, 26, 15, 25} : std::vector<int>{41, 31, 42, 32}) {
       const int i = FindObject(scene.spec, ObjectSpec::Kind::kGingiva, fdi);
-      if (i < 0 || (!teeth.empty() && std::find(teeth.begin(), teeth.end(), fdi) == teeth.end())) continue;
+      if (i < 0 ||
+          (!teeth.empty() && std::find(teeth.begin(), teeth.end(), fdi) == teeth.end()))
+        continue;
       // The attached gingiva 1 mm below the CEJ, above the bone crest (below
       // it the gingiva draws into the jaw), or 0.5 mm below where the floor is
       // shallower; the working end leaning out past the crown's bulge.
-      const auto spot = [&](double z) { return SideSpot(scene, i, 3 * kPi / 2, z, &t.p, &t.n); };
+      const auto spot = [&](double z) {
+        return SideSpot(scene, i, 3 * kPi / 2, z, &t.p, &t.n);
+      };
       if (!spot(-1.0) && !spot(-0.5)) continue;
-      const Vector3 occlusal = OcclusalOf(scene.spec.objects[static_cast<std::size_t>(i)]);
+      const Vector3 occlusal =
+          OcclusalOf(scene.spec.objects[static_cast<std::size_t>(i)]);
       t.axis = (occlusal + 0.35 * t.n).normalized();
       t.shank = kAnterior;
       t.region = true;
@@ -138,12 +156,14 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
       const auto world_bounds = [&](int obj) {
         Aabb b;
         const ObjectSpec& oo = scene.spec.objects[static_cast<std::size_t>(obj)];
-        for (const Vector3& v : scene.meshes[static_cast<std::size_t>(obj)].vertices()) b.Extend(oo.X_WO * v);
+        for (const Vector3& v : scene.meshes[static_cast<std::size_t>(obj)].vertices())
+          b.Extend(oo.X_WO * v);
         return b;
       };
       const Aabb gum = world_bounds(k), tg = world_bounds(tongue);
       const double gap_y = 0.5 * (gum.min.y() + tg.max.y());
-      aim = anatomy == "floor_of_mouth" ? Vector3(0, gap_y, -1e3) : Vector3(0, tg.max.y() - 1.0, -1e3);
+      aim = anatomy == "floor_of_mouth" ? Vector3(0, gap_y, -1e3)
+                                        : Vector3(0, tg.max.y() - 1.0, -1e3);
       facing = anatomy == "floor_of_mouth" ? kUp : Vector3(-kUp);
     }
   }
@@ -159,8 +179,9 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
       // Nearest in height and along the arch; across it the surface decides.
       const Vector3 d = pW - *aim;
       const double cost = anatomy.rfind("lip", 0) == 0 ? d.x() * d.x() + d.z() * d.z()
-                          : aim->z() < -100         ? d.x() * d.x() + d.y() * d.y() - 1e-3 * nW.dot(facing)
-                                                    : d.y() * d.y() + d.z() * d.z();
+                          : aim->z() < -100
+                              ? d.x() * d.x() + d.y() * d.y() - 1e-3 * nW.dot(facing)
+                              : d.y() * d.y() + d.z() * d.z();
       if (cost < best) {
         best = cost;
         sp = {mesh.vertices()[v], normals[v].normalized()};
@@ -198,19 +219,24 @@ std::optional<Target> RegionTarget(const CompiledScene& scene, const std::string
 
 }  // namespace
 
-std::vector<UnitApproach> ProximalSpots(const CompiledScene& scene, int fdi, ToothSurface s) {
+std::vector<UnitApproach> ProximalSpots(const CompiledScene& scene, int fdi,
+                                        ToothSurface s) {
   std::vector<UnitApproach> out;
   if (s != ToothSurface::kMesial && s != ToothSurface::kDistal) return out;
   // Toward the buccal, toward the contact, then the same from the lingual side
   // (inside the proximal sector, within 45 degrees of the mesial or distal).
-  const std::vector<double> mesial = {28, 42, 325, 332, 318}, distal = {152, 138, 215, 208, 222};
+  const std::vector<double> mesial = {28, 42, 325, 332, 318},
+                            distal = {152, 138, 215, 208, 222};
   for (double phi : s == ToothSurface::kMesial ? mesial : distal)
     if (auto t = ToothTarget(scene, fdi, s, phi)) out.push_back(*t);
   return out;
 }
 
-std::optional<UnitApproach> ApproachOf(const CompiledScene& scene, const InspectionUnit& unit, const std::vector<int>& teeth) {
-  return unit.region.empty() ? ToothTarget(scene, unit.fdi, unit.surface) : RegionTarget(scene, unit.region, teeth);
+std::optional<UnitApproach> ApproachOf(const CompiledScene& scene,
+                                       const InspectionUnit& unit,
+                                       const std::vector<int>& teeth) {
+  return unit.region.empty() ? ToothTarget(scene, unit.fdi, unit.surface)
+                             : RegionTarget(scene, unit.region, teeth);
 }
 
 }  // namespace sulcus

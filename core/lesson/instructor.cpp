@@ -22,25 +22,33 @@ std::string ReadHash(const std::filesystem::path& file) {
 
 }  // namespace
 
-InstructorLock::InstructorLock(std::filesystem::path file) : file_(std::move(file)) { InitSodium(); }
+InstructorLock::InstructorLock(std::filesystem::path file) : file_(std::move(file)) {
+  InitSodium();
+}
 
 bool InstructorLock::is_set() const { return !ReadHash(file_).empty(); }
 
 void InstructorLock::Set(const std::string& passphrase) {
-  if (is_set()) throw std::runtime_error("the instructor's passphrase is already set (" + file_.string() + ")");
+  if (is_set())
+    throw std::runtime_error("the instructor's passphrase is already set (" +
+                             file_.string() + ")");
   if (passphrase.size() < kMinLength)
-    throw std::runtime_error("the passphrase needs at least " + std::to_string(kMinLength) + " characters");
+    throw std::runtime_error("the passphrase needs at least " +
+                             std::to_string(kMinLength) + " characters");
   char hash[crypto_pwhash_STRBYTES];
-  if (crypto_pwhash_str(hash, passphrase.data(), passphrase.size(), crypto_pwhash_OPSLIMIT_INTERACTIVE,
+  if (crypto_pwhash_str(hash, passphrase.data(), passphrase.size(),
+                        crypto_pwhash_OPSLIMIT_INTERACTIVE,
                         crypto_pwhash_MEMLIMIT_INTERACTIVE) != 0)
     throw std::runtime_error("out of memory while hashing the passphrase");
   std::error_code ec;
-  if (file_.has_parent_path()) std::filesystem::create_directories(file_.parent_path(), ec);
+  if (file_.has_parent_path())
+    std::filesystem::create_directories(file_.parent_path(), ec);
   const std::filesystem::path tmp = file_.string() + ".tmp";
   {
     std::ofstream out(tmp, std::ios::trunc);
     out << hash << '\n';
-    if (!out) throw std::runtime_error(file_.string() + ": cannot write the passphrase's hash");
+    if (!out)
+      throw std::runtime_error(file_.string() + ": cannot write the passphrase's hash");
   }
   ::chmod(tmp.c_str(), 0600);  // only its owner reads even the hash
   std::filesystem::rename(tmp, file_);
@@ -49,7 +57,8 @@ void InstructorLock::Set(const std::string& passphrase) {
 bool InstructorLock::Check(const std::string& passphrase) const {
   const std::string hash = ReadHash(file_);
   if (hash.empty()) return false;
-  return crypto_pwhash_str_verify(hash.c_str(), passphrase.data(), passphrase.size()) == 0;
+  return crypto_pwhash_str_verify(hash.c_str(), passphrase.data(), passphrase.size()) ==
+         0;
 }
 
 }  // namespace sulcus

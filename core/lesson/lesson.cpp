@@ -39,8 +39,9 @@ bool InArc(double deg, bool buccal) {
   return d >= kArcFromDeg && d <= kArcToDeg;
 }
 
-RubricLine Line(const char* category, const SiteRef* site, int fdi, RubricLine::Status status, double credit,
-                std::string message, std::uint64_t tick) {
+RubricLine Line(const char* category, const SiteRef* site, int fdi,
+                RubricLine::Status status, double credit, std::string message,
+                std::uint64_t tick) {
   RubricLine l;
   l.category = category;
   if (site) l.site = *site;
@@ -58,10 +59,14 @@ using S = RubricLine::Status;
 
 const char* ToString(RubricLine::Status s) {
   switch (s) {
-    case S::kPass: return "pass";
-    case S::kPartial: return "partial";
-    case S::kFail: return "fail";
-    case S::kInfo: return "info";
+    case S::kPass:
+      return "pass";
+    case S::kPartial:
+      return "partial";
+    case S::kFail:
+      return "fail";
+    case S::kInfo:
+      return "info";
   }
   return "?";
 }
@@ -77,12 +82,14 @@ const LessonGeometry::Tooth* LessonGeometry::Find(int fdi) const {
   return nullptr;
 }
 
-LessonGeometry MakeLessonGeometry(const CompiledScene& scene, const std::vector<int>& teeth) {
+LessonGeometry MakeLessonGeometry(const CompiledScene& scene,
+                                  const std::vector<int>& teeth) {
   LessonGeometry g;
   const auto& objs = scene.spec.objects;
   auto has_tooth = [&](int fdi) {
-    return std::any_of(objs.begin(), objs.end(),
-                       [&](const ObjectSpec& o) { return o.kind == ObjectSpec::Kind::kTooth && o.fdi == fdi; });
+    return std::any_of(objs.begin(), objs.end(), [&](const ObjectSpec& o) {
+      return o.kind == ObjectSpec::Kind::kTooth && o.fdi == fdi;
+    });
   };
   for (int fdi : teeth) {
     LessonGeometry::Tooth t;
@@ -94,7 +101,8 @@ LessonGeometry MakeLessonGeometry(const CompiledScene& scene, const std::vector<
         t.X_WT = objs[i].X_WO;
         t.mirrored = objs[i].mirrored;
       }
-      if (objs[i].kind == ObjectSpec::Kind::kGingiva && objs[i].fdi == fdi) gum = &objs[i];
+      if (objs[i].kind == ObjectSpec::Kind::kGingiva && objs[i].fdi == fdi)
+        gum = &objs[i];
     }
     if (t.object < 0 || !gum) continue;
     GingivaParams p;
@@ -106,17 +114,20 @@ LessonGeometry MakeLessonGeometry(const CompiledScene& scene, const std::vector<
     t.sulcus_r = m.sulcus_r;
     t.site_angle = m.site_angle;
     const int q = fdi / 10, pos = fdi % 10;
-    t.mesial_contact = pos == 1 ? has_tooth((q % 2 == 1 ? q + 1 : q - 1) * 10 + 1) : has_tooth(q * 10 + pos - 1);
+    t.mesial_contact = pos == 1 ? has_tooth((q % 2 == 1 ? q + 1 : q - 1) * 10 + 1)
+                                : has_tooth(q * 10 + pos - 1);
     t.distal_contact = has_tooth(q * 10 + pos + 1);
     g.teeth.push_back(std::move(t));
   }
   return g;
 }
 
-LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene, std::string student, std::uint64_t case_seed)
+LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene,
+                     std::string student, std::uint64_t case_seed)
     : spec_(spec),
       scene_(scene),
-      geometry_(spec.inspection() ? LessonGeometry{} : MakeLessonGeometry(scene, spec.teeth)),
+      geometry_(spec.inspection() ? LessonGeometry{}
+                                  : MakeLessonGeometry(scene, spec.teeth)),
       student_(std::move(student)),
       case_seed_(case_seed),
       rate_hz_(scene.spec.rate_hz > 0 ? scene.spec.rate_hz : 1000) {
@@ -130,18 +141,20 @@ LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene, std::st
       r.truth_bleeding = t->sites[s.site].bleeding;
     }
     const LessonGeometry::Tooth* g = geometry_.Find(s.fdi);
-    r.interproximal_contact =
-        g && IsInterdental(s.site) && (IsMesial(s.site) ? g->mesial_contact : g->distal_contact);
+    r.interproximal_contact = g && IsInterdental(s.site) &&
+                              (IsMesial(s.site) ? g->mesial_contact : g->distal_contact);
     sites_.push_back(r);
   }
   for (const StepSpec& st : spec.steps) step_results_.push_back({st.id, st.instruction});
   in_contact_.assign(scene.spec.objects.size(), 0);
   surfaces_.resize(geometry_.teeth.size());
   for (std::size_t i = 0; i < geometry_.teeth.size(); ++i)
-    for (SurfaceTrack& s : surfaces_[i]) s.bins.assign(geometry_.teeth[i].margin_z.size(), false);
+    for (SurfaceTrack& s : surfaces_[i])
+      s.bins.assign(geometry_.teeth[i].margin_z.size(), false);
   if (spec.inspection()) {
     inspection_.emplace(spec_, scene);
-    for (const StepSpec& st : spec_.steps) step_units_.push_back(inspection_->StepUnits(st));
+    for (const StepSpec& st : spec_.steps)
+      step_units_.push_back(inspection_->StepUnits(st));
     odontogram_ = EmptyOdontogram(spec_.teeth);
     truth_ = TrueOdontogram(scene.spec, spec_.teeth, spec_.regions);
   }
@@ -159,7 +172,9 @@ int LessonRun::SiteIndex(const SiteRef& s) const {
 }
 
 bool LessonRun::SiteInStep(const StepSpec& st, const SiteRef& s) const {
-  if (!st.teeth.empty() && std::find(st.teeth.begin(), st.teeth.end(), s.fdi) == st.teeth.end()) return false;
+  if (!st.teeth.empty() &&
+      std::find(st.teeth.begin(), st.teeth.end(), s.fdi) == st.teeth.end())
+    return false;
   const bool buccal = s.site < 3;
   if (st.surface == StepSpec::Surface::kBuccal && !buccal) return false;
   if (st.surface == StepSpec::Surface::kLingual && buccal) return false;
@@ -178,14 +193,17 @@ bool LessonRun::StepComplete(const StepSpec& st) const {
   for (const SiteResult& r : sites_) {
     if (!SiteInStep(st, r.site)) continue;
     if (st.complete == StepSpec::Complete::kRead && !r.reached_mm) return false;
-    if (st.complete == StepSpec::Complete::kCharted && !(r.entry && r.entry->pd_mm)) return false;
+    if (st.complete == StepSpec::Complete::kCharted && !(r.entry && r.entry->pd_mm))
+      return false;
   }
   return true;
 }
 
 void LessonRun::Advance(std::uint64_t tick) {
-  if (spec_.time_limit_s > 0 && static_cast<double>(tick - first_tick_) > spec_.time_limit_s * rate_hz_) {
-    if (!timed_out_) feedback_.push_back(Format("%.0f s: the lesson's time is up", spec_.time_limit_s));
+  if (spec_.time_limit_s > 0 &&
+      static_cast<double>(tick - first_tick_) > spec_.time_limit_s * rate_hz_) {
+    if (!timed_out_)
+      feedback_.push_back(Format("%.0f s: the lesson's time is up", spec_.time_limit_s));
     timed_out_ = true;
   }
   while (!timed_out_ && step_ < static_cast<int>(spec_.steps.size())) {
@@ -193,17 +211,21 @@ void LessonRun::Advance(std::uint64_t tick) {
     StepResult& res = step_results_[step_];
     if (StepComplete(st)) {
       res.completed = true;
-      res.ended_tick = std::max(tick, res.started_tick);  // entries may carry earlier ticks
+      res.ended_tick =
+          std::max(tick, res.started_tick);  // entries may carry earlier ticks
       ++step_;
-      if (step_ < static_cast<int>(spec_.steps.size())) step_results_[step_].started_tick = tick;
+      if (step_ < static_cast<int>(spec_.steps.size()))
+        step_results_[step_].started_tick = tick;
       continue;
     }
-    if (st.time_limit_s > 0 && static_cast<double>(tick - res.started_tick) > st.time_limit_s * rate_hz_) {
+    if (st.time_limit_s > 0 &&
+        static_cast<double>(tick - res.started_tick) > st.time_limit_s * rate_hz_) {
       res.timed_out = true;
       res.ended_tick = tick;
       feedback_.push_back("step '" + st.id + "': time is up, on to the next");
       ++step_;
-      if (step_ < static_cast<int>(spec_.steps.size())) step_results_[step_].started_tick = tick;
+      if (step_ < static_cast<int>(spec_.steps.size()))
+        step_results_[step_].started_tick = tick;
       continue;
     }
     break;
@@ -216,7 +238,8 @@ std::optional<SiteRef> LessonRun::next_site() const {
   for (const SiteResult& r : sites_) {
     if (!SiteInStep(st, r.site)) continue;
     if (st.complete == StepSpec::Complete::kRead && !r.reached_mm) return r.site;
-    if (st.complete == StepSpec::Complete::kCharted && !(r.entry && r.entry->pd_mm)) return r.site;
+    if (st.complete == StepSpec::Complete::kCharted && !(r.entry && r.entry->pd_mm))
+      return r.site;
   }
   return std::nullopt;
 }
@@ -244,7 +267,8 @@ void LessonRun::Track(const TickRecord& r) {
     const double radial = std::abs(std::hypot(p.x(), p.y()) - t.sulcus_r[k]);
     if (radial > 0.9 || depth < 0.3 || depth > pocket + 0.6) continue;
     const bool buccal = p.y() >= 0;
-    if (depth >= 0.5) surfaces_[i][buccal ? 0 : 1].bins[static_cast<std::size_t>(k)] = true;
+    if (depth >= 0.5)
+      surfaces_[i][buccal ? 0 : 1].bins[static_cast<std::size_t>(k)] = true;
     // Interproximal sites: did the tip reach the col under the contact?
     if (depth >= 1.0) {
       for (int s : {0, 2, 3, 5}) {
@@ -269,9 +293,12 @@ void LessonRun::Track(const TickRecord& r) {
   const LessonGeometry::Tooth& t = geometry_.teeth[static_cast<std::size_t>(best)];
   int nearest = 0;
   for (int s = 1; s < 6; ++s)
-    if (AngleDistance(best_phi, t.site_angle[s]) < AngleDistance(best_phi, t.site_angle[nearest])) nearest = s;
+    if (AngleDistance(best_phi, t.site_angle[s]) <
+        AngleDistance(best_phi, t.site_angle[nearest]))
+      nearest = s;
   tip_site_ = SiteRef{t.fdi, nearest};
-  const double c = std::clamp(std::abs(r.X_WG.rotation().col(2).dot(t.X_WT.rotation().col(2))), 0.0, 1.0);
+  const double c = std::clamp(
+      std::abs(r.X_WG.rotation().col(2).dot(t.X_WT.rotation().col(2))), 0.0, 1.0);
   tip_angle_deg_ = std::acos(c) * kDeg;
   const bool buccal = std::sin(best_phi) >= 0;
   SurfaceTrack& st = surfaces_[static_cast<std::size_t>(best)][buccal ? 0 : 1];
@@ -287,10 +314,13 @@ void LessonRun::Track(const TickRecord& r) {
   // Up-and-down strokes: turns of the depth with a little hysteresis.
   const double h = kStrokeHysteresisMm;
   if (st.direction == 0) {
-    if (depth > st.ext_depth + h) st.direction = 1;
-    else if (depth < st.ext_depth - h) st.direction = -1;
+    if (depth > st.ext_depth + h)
+      st.direction = 1;
+    else if (depth < st.ext_depth - h)
+      st.direction = -1;
     if (st.direction != 0) st.ext_depth = depth;
-  } else if ((st.direction > 0 && depth > st.ext_depth) || (st.direction < 0 && depth < st.ext_depth)) {
+  } else if ((st.direction > 0 && depth > st.ext_depth) ||
+             (st.direction < 0 && depth < st.ext_depth)) {
     st.ext_depth = depth;
   } else if (std::abs(depth - st.ext_depth) > h) {
     st.swing_sum += std::abs(st.ext_depth - st.turn_depth);
@@ -310,14 +340,16 @@ void LessonRun::OnTick(const TickRecord& r) {
   last_tick_ = r.tick;
   // The probing force: along the probe's axis, as the readings score it.
   if (r.tick % LessonResult::kTraceEvery == 0)
-    force_trace_.push_back({r.tick, static_cast<float>(std::max(0.0, r.force_W.dot(r.X_WG.rotation().col(2))))});
+    force_trace_.push_back({r.tick, static_cast<float>(std::max(
+                                        0.0, r.force_W.dot(r.X_WG.rotation().col(2))))});
   for (int i = 0; i < r.num_events; ++i) {
     const HapticEvent& e = r.events[i];
     switch (e.kind) {
       case EventKind::kContactBegan:
       case EventKind::kContactEnded:
         if (e.object >= 0 && static_cast<std::size_t>(e.object) < in_contact_.size())
-          in_contact_[static_cast<std::size_t>(e.object)] = e.kind == EventKind::kContactBegan;
+          in_contact_[static_cast<std::size_t>(e.object)] =
+              e.kind == EventKind::kContactBegan;
         break;
       case EventKind::kProbeReading: {
         const ReadingPayload& p = e.payload.reading;
@@ -333,8 +365,9 @@ void LessonRun::OnTick(const TickRecord& r) {
           s.entered_tick = p.entered_tick;
           s.left_tick = e.tick;
           if (spec_.practice())
-            feedback_.push_back(Format("%s: the tip reached %.1f mm; the true depth is %d mm", s.site.ToString().c_str(),
-                                       p.depth_mm, s.truth_mm));
+            feedback_.push_back(
+                Format("%s: the tip reached %.1f mm; the true depth is %d mm",
+                       s.site.ToString().c_str(), p.depth_mm, s.truth_mm));
           else
             feedback_.push_back(s.site.ToString() + ": read");
         } else {
@@ -362,24 +395,31 @@ void LessonRun::OnTick(const TickRecord& r) {
       case EventKind::kCalculusTouched: {
         const CalculusPayload& c = e.payload.calculus;
         const std::string where = std::to_string(c.fdi) + " " + SiteCode(c.site);
-        if (std::none_of(felt_.begin(), felt_.end(), [&](const RubricLine& l) { return l.fdi == c.fdi && l.message.find(where) != std::string::npos; }))
-          felt_.push_back(Line("findings", nullptr, c.fdi, S::kInfo, 0,
-                               Format("calculus felt at %s (%.2f N)", where.c_str(), c.force_n), e.tick));
+        if (std::none_of(felt_.begin(), felt_.end(), [&](const RubricLine& l) {
+              return l.fdi == c.fdi && l.message.find(where) != std::string::npos;
+            }))
+          felt_.push_back(Line(
+              "findings", nullptr, c.fdi, S::kInfo, 0,
+              Format("calculus felt at %s (%.2f N)", where.c_str(), c.force_n), e.tick));
         break;
       }
       case EventKind::kTissueDamage:
         damage_.push_back({Line("damage", nullptr, 0, S::kFail, 0,
                                 Format("%.2f N on %s, above its limit of %.2f N",
-                                       e.payload.damage.force_n, ObjectName(scene_.spec, e.object).c_str(),
+                                       e.payload.damage.force_n,
+                                       ObjectName(scene_.spec, e.object).c_str(),
                                        e.payload.damage.limit_n),
                                 e.tick),
                            -1});
         break;
-      default: break;
+      default:
+        break;
     }
   }
-  if (inspection_) FollowInspection(r);
-  else Track(r);
+  if (inspection_)
+    FollowInspection(r);
+  else
+    Track(r);
   Advance(r.tick);
 }
 
@@ -388,17 +428,24 @@ void LessonRun::FollowInspection(const TickRecord& r) {
   // Practice: the truth of a surface or region when it is first examined (only
   // where there is something to find; assessment says nothing).
   if (spec_.practice() && inspection_->tip_unit() >= 0) {
-    const InspectionUnit& unit = inspection_->units()[static_cast<std::size_t>(inspection_->tip_unit())];
+    const InspectionUnit& unit =
+        inspection_->units()[static_cast<std::size_t>(inspection_->tip_unit())];
     if (unit.touched && unit.first_tick == r.tick) {
       if (!unit.region.empty()) {
         const auto it = truth_.lesions.find(unit.region);
-        if (it != truth_.lesions.end()) feedback_.push_back(RegionLabel(unit.region) + ": there is " + it->second + " here");
+        if (it != truth_.lesions.end())
+          feedback_.push_back(RegionLabel(unit.region) + ": there is " + it->second +
+                              " here");
       } else if (const ToothRecord* t = truth_.Find(unit.fdi)) {
         if (t->caries[static_cast<std::size_t>(unit.surface)])
-          feedback_.push_back(unit.Name() + ": a carious lesion here (softer, it may catch the tip)");
-        const bool side = unit.surface == ToothSurface::kBuccal || unit.surface == ToothSurface::kLingual;
-        if (side && t->calculus) feedback_.push_back(std::to_string(unit.fdi) + ": calculus on this tooth");
-        if (side && t->inflamed) feedback_.push_back(std::to_string(unit.fdi) + ": its gingiva is inflamed");
+          feedback_.push_back(unit.Name() +
+                              ": a carious lesion here (softer, it may catch the tip)");
+        const bool side = unit.surface == ToothSurface::kBuccal ||
+                          unit.surface == ToothSurface::kLingual;
+        if (side && t->calculus)
+          feedback_.push_back(std::to_string(unit.fdi) + ": calculus on this tooth");
+        if (side && t->inflamed)
+          feedback_.push_back(std::to_string(unit.fdi) + ": its gingiva is inflamed");
       }
     }
   }
@@ -408,7 +455,9 @@ void LessonRun::FollowInspection(const TickRecord& r) {
   const int u = inspection_->tip_unit();
   if (u < 0 || done()) return;
   const auto& units = inspection_->units();
-  if (!units[static_cast<std::size_t>(u)].touched || units[static_cast<std::size_t>(u)].first_tick != r.tick) return;
+  if (!units[static_cast<std::size_t>(u)].touched ||
+      units[static_cast<std::size_t>(u)].first_tick != r.tick)
+    return;
   const int n = static_cast<int>(spec_.steps.size());
   auto in_step = [&](int k, int unit) {
     const auto& us = step_units_[static_cast<std::size_t>(k)];
@@ -421,8 +470,10 @@ void LessonRun::FollowInspection(const TickRecord& r) {
   const int next = step_ + 1;
   if (next >= n || !in_step(next, u)) return;
   int examined = 0;
-  for (int m : step_units_[static_cast<std::size_t>(next)]) examined += units[static_cast<std::size_t>(m)].touched;
-  if (2 * examined < static_cast<int>(step_units_[static_cast<std::size_t>(next)].size())) return;
+  for (int m : step_units_[static_cast<std::size_t>(next)])
+    examined += units[static_cast<std::size_t>(m)].touched;
+  if (2 * examined < static_cast<int>(step_units_[static_cast<std::size_t>(next)].size()))
+    return;
   LeaveStepsUntil(next, r.tick);
 }
 
@@ -433,12 +484,15 @@ void LessonRun::LeaveStepsUntil(int later, std::uint64_t tick) {
     res.skipped = true;
     res.ended_tick = std::max(tick, res.started_tick);
     for (int m : step_units_[static_cast<std::size_t>(step_)])
-      if (!units[static_cast<std::size_t>(m)].touched) res.missed.push_back(units[static_cast<std::size_t>(m)].Name());
+      if (!units[static_cast<std::size_t>(m)].touched)
+        res.missed.push_back(units[static_cast<std::size_t>(m)].Name());
     if (later < static_cast<int>(spec_.steps.size()))
-      feedback_.push_back("step '" + res.id + "' left for '" + spec_.steps[static_cast<std::size_t>(later)].id +
+      feedback_.push_back("step '" + res.id + "' left for '" +
+                          spec_.steps[static_cast<std::size_t>(later)].id +
                           "' before it was done");
     ++step_;
-    if (step_ < static_cast<int>(spec_.steps.size())) step_results_[static_cast<std::size_t>(step_)].started_tick = tick;
+    if (step_ < static_cast<int>(spec_.steps.size()))
+      step_results_[static_cast<std::size_t>(step_)].started_tick = tick;
   }
 }
 
@@ -460,8 +514,11 @@ void LessonRun::Submit(std::uint64_t tick) {
   if (inspection_ && !done()) {
     int record = -1;
     for (int k = step_; k < static_cast<int>(spec_.steps.size()) && record < 0; ++k)
-      if (spec_.steps[static_cast<std::size_t>(k)].complete == StepSpec::Complete::kRecorded) record = k;
-    if (record > step_ && !StepComplete(spec_.steps[static_cast<std::size_t>(step_)])) LeaveStepsUntil(record, *submitted_);
+      if (spec_.steps[static_cast<std::size_t>(k)].complete ==
+          StepSpec::Complete::kRecorded)
+        record = k;
+    if (record > step_ && !StepComplete(spec_.steps[static_cast<std::size_t>(step_)]))
+      LeaveStepsUntil(record, *submitted_);
   }
   Advance(*submitted_);
 }
@@ -482,7 +539,8 @@ void LessonRun::Enter(const ChartEntry& e) {
   if (idx >= 0) {
     SiteResult& s = sites_[static_cast<std::size_t>(idx)];
     ChartEntry merged = e;
-    if (!merged.pd_mm && s.entry) merged.pd_mm = s.entry->pd_mm;  // bleeding alone keeps the depth
+    if (!merged.pd_mm && s.entry)
+      merged.pd_mm = s.entry->pd_mm;  // bleeding alone keeps the depth
     s.entry = merged;
   }
   Advance(e.tick == kAfterReading ? last_tick_ : e.tick);
@@ -499,7 +557,8 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
 
   // Entries entered "after the reading" take the tick after the site's last reading.
   for (SiteResult& s : out.sites)
-    if (s.entry && s.entry->tick == kAfterReading) s.entry->tick = s.reached_mm ? s.left_tick + 1 : last_tick_;
+    if (s.entry && s.entry->tick == kAfterReading)
+      s.entry->tick = s.reached_mm ? s.left_tick + 1 : last_tick_;
 
   int charted = 0, within1 = 0, exact = 0, proximal = 0, in_band = 0, read = 0;
   double bias = 0, bias_prox = 0;
@@ -507,59 +566,81 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
     const SiteRef& site = s.site;
     const std::string name = site.ToString();
     if (!s.reached_mm) {
-      L.push_back(Line("technique", &site, 0, S::kFail, 0, name + ": not probed", last_tick_));
+      L.push_back(
+          Line("technique", &site, 0, S::kFail, 0, name + ": not probed", last_tick_));
     } else {
       ++read;
       const double reached = *s.reached_mm, err = reached - s.truth_mm;
       const double a = std::abs(err);
-      const S st = a <= rb.technique_full_mm ? S::kPass : a <= rb.technique_partial_mm ? S::kPartial : S::kFail;
-      L.push_back(Line("technique", &site, 0, st, st == S::kPass ? 1 : st == S::kPartial ? 0.5 : 0,
-                       Format("%s: the tip reached %.1f mm, the true depth is %d mm (%+.1f mm)%s", name.c_str(), reached,
-                              s.truth_mm, err,
-                              err < -rb.technique_full_mm  ? ": stopped short of the floor"
-                              : err > rb.technique_full_mm ? ": pushed through the floor"
-                                                           : ""),
-                       s.reading_tick));
+      const S st = a <= rb.technique_full_mm      ? S::kPass
+                   : a <= rb.technique_partial_mm ? S::kPartial
+                                                  : S::kFail;
+      L.push_back(
+          Line("technique", &site, 0, st,
+               st == S::kPass      ? 1
+               : st == S::kPartial ? 0.5
+                                   : 0,
+               Format("%s: the tip reached %.1f mm, the true depth is %d mm (%+.1f mm)%s",
+                      name.c_str(), reached, s.truth_mm, err,
+                      err < -rb.technique_full_mm  ? ": stopped short of the floor"
+                      : err > rb.technique_full_mm ? ": pushed through the floor"
+                                                   : ""),
+               s.reading_tick));
       // Force at the floor.
       const double f = s.peak_force_n;
       if (f >= rb.force_low_n && f <= rb.force_high_n) {
         ++in_band;
         L.push_back(Line("force", &site, 0, S::kPass, 1,
-                         Format("%s: %.2f N at the floor, in the band %.2f-%.2f N", name.c_str(), f, rb.force_low_n,
-                                rb.force_high_n),
+                         Format("%s: %.2f N at the floor, in the band %.2f-%.2f N",
+                                name.c_str(), f, rb.force_low_n, rb.force_high_n),
                          s.reading_tick));
       } else if (f < rb.force_low_n) {
         L.push_back(Line("force", &site, 0, S::kPartial, 0.5,
-                         Format("%s: %.2f N at the floor, lighter than %.2f N: the floor may not have been felt",
+                         Format("%s: %.2f N at the floor, lighter than %.2f N: the floor "
+                                "may not have been felt",
                                 name.c_str(), f, rb.force_low_n),
                          s.reading_tick));
       } else if (f <= rb.force_damage_n) {
         L.push_back(Line("force", &site, 0, S::kPartial, 0.5,
-                         Format("%s: %.2f N at the floor, heavier than %.2f N: healthy gingiva may bleed falsely",
+                         Format("%s: %.2f N at the floor, heavier than %.2f N: healthy "
+                                "gingiva may bleed falsely",
                                 name.c_str(), f, rb.force_high_n),
                          s.reading_tick));
       } else {
         L.push_back(Line("force", &site, 0, S::kFail, 0,
-                         Format("%s: %.2f N at the floor, above %.2f N", name.c_str(), f, rb.force_damage_n),
+                         Format("%s: %.2f N at the floor, above %.2f N", name.c_str(), f,
+                                rb.force_damage_n),
                          s.reading_tick));
       }
       const bool damaged = f > rb.force_damage_n;
-      L.push_back(Line("damage", &site, 0, damaged ? S::kFail : S::kPass, damaged ? 0 : 1,
-                       damaged ? Format("%s: %.2f N drove the tip into the attachment: tissue damage", name.c_str(), f)
-                               : name + ": no tissue damage",
-                       s.reading_tick));
+      L.push_back(Line(
+          "damage", &site, 0, damaged ? S::kFail : S::kPass, damaged ? 0 : 1,
+          damaged ? Format("%s: %.2f N drove the tip into the attachment: tissue damage",
+                           name.c_str(), f)
+                  : name + ": no tissue damage",
+          s.reading_tick));
       // Angulation, or the col under the contact.
       if (s.interproximal_contact) {
-        L.push_back(Line("angulation", &site, 0, s.col_reached ? S::kPass : S::kFail, s.col_reached ? 1 : 0,
-                         s.col_reached ? name + ": the tip reached the col under the contact"
-                                       : name + ": the tip did not reach the col under the contact (tilt it under "
-                                                "the contact point)",
-                         s.reading_tick));
+        L.push_back(Line(
+            "angulation", &site, 0, s.col_reached ? S::kPass : S::kFail,
+            s.col_reached ? 1 : 0,
+            s.col_reached
+                ? name + ": the tip reached the col under the contact"
+                : name +
+                      ": the tip did not reach the col under the contact (tilt it under "
+                      "the contact point)",
+            s.reading_tick));
       } else {
         const double ang = s.angle_deg;
-        const S st2 = ang <= rb.angle_full_deg ? S::kPass : ang <= rb.angle_pass_deg ? S::kPartial : S::kFail;
-        L.push_back(Line("angulation", &site, 0, st2, st2 == S::kPass ? 1 : st2 == S::kPartial ? 0.5 : 0,
-                         Format("%s: the probe %.1f degrees off the long axis (full credit within %.0f, pass within "
+        const S st2 = ang <= rb.angle_full_deg   ? S::kPass
+                      : ang <= rb.angle_pass_deg ? S::kPartial
+                                                 : S::kFail;
+        L.push_back(Line("angulation", &site, 0, st2,
+                         st2 == S::kPass      ? 1
+                         : st2 == S::kPartial ? 0.5
+                                              : 0,
+                         Format("%s: the probe %.1f degrees off the long axis (full "
+                                "credit within %.0f, pass within "
                                 "%.0f)",
                                 name.c_str(), ang, rb.angle_full_deg, rb.angle_pass_deg),
                          s.reading_tick));
@@ -567,20 +648,25 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
       // Bleeding.
       const bool marked = s.entry && s.entry->bleeding;
       if (s.bled && marked) {
-        L.push_back(Line("bleeding", &site, 0, S::kPass, 1, name + ": bleeding seen and charted", s.bleed_tick));
+        L.push_back(Line("bleeding", &site, 0, S::kPass, 1,
+                         name + ": bleeding seen and charted", s.bleed_tick));
       } else if (s.bled) {
-        L.push_back(Line("bleeding", &site, 0, S::kFail, 0, name + ": bled on probing, not charted", s.bleed_tick));
+        L.push_back(Line("bleeding", &site, 0, S::kFail, 0,
+                         name + ": bled on probing, not charted", s.bleed_tick));
       } else if (marked) {
-        L.push_back(Line("bleeding", &site, 0, S::kFail, 0, name + ": bleeding charted where none was seen",
-                         s.entry->tick));
+        L.push_back(Line("bleeding", &site, 0, S::kFail, 0,
+                         name + ": bleeding charted where none was seen", s.entry->tick));
       } else {
-        L.push_back(Line("bleeding", &site, 0, S::kPass, 1, name + ": no bleeding, none charted", s.reading_tick));
+        L.push_back(Line("bleeding", &site, 0, S::kPass, 1,
+                         name + ": no bleeding, none charted", s.reading_tick));
       }
       if (s.bled && std::max(s.bleed_force_n, s.peak_force_n) > rb.force_high_n)
-        L.push_back(Line("bleeding", &site, 0, S::kInfo, 0,
-                         Format("%s: bleeding possibly caused by probing force (%.2f N, above %.2f N)", name.c_str(),
-                                std::max(s.bleed_force_n, s.peak_force_n), rb.force_high_n),
-                         s.bleed_tick));
+        L.push_back(Line(
+            "bleeding", &site, 0, S::kInfo, 0,
+            Format("%s: bleeding possibly caused by probing force (%.2f N, above %.2f N)",
+                   name.c_str(), std::max(s.bleed_force_n, s.peak_force_n),
+                   rb.force_high_n),
+            s.bleed_tick));
     }
     // The entry: against what was reached (reading) and against the truth (charting).
     if (s.entry && s.entry->pd_mm) {
@@ -589,19 +675,28 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
       if (s.reached_mm) {
         const double err = entered - *s.reached_mm, a = std::abs(err);
         const S st = a <= 0.5 ? S::kPass : a <= 1.5 ? S::kPartial : S::kFail;
-        L.push_back(Line("reading", &site, 0, st, st == S::kPass ? 1 : st == S::kPartial ? 0.5 : 0,
-                         Format("%s: entered %d mm where the probe reached %.1f mm (%+.1f mm)", name.c_str(), entered,
-                                *s.reached_mm, err),
-                         s.entry->tick));
+        L.push_back(
+            Line("reading", &site, 0, st,
+                 st == S::kPass      ? 1
+                 : st == S::kPartial ? 0.5
+                                     : 0,
+                 Format("%s: entered %d mm where the probe reached %.1f mm (%+.1f mm)",
+                        name.c_str(), entered, *s.reached_mm, err),
+                 s.entry->tick));
       } else {
-        L.push_back(Line("reading", &site, 0, S::kFail, 0,
-                         Format("%s: entered %d mm without probing the site", name.c_str(), entered), s.entry->tick));
+        L.push_back(Line(
+            "reading", &site, 0, S::kFail, 0,
+            Format("%s: entered %d mm without probing the site", name.c_str(), entered),
+            s.entry->tick));
       }
       const int diff = entered - s.truth_mm;
       const S st = diff == 0 ? S::kPass : std::abs(diff) == 1 ? S::kPartial : S::kFail;
-      L.push_back(Line("charting", &site, 0, st, st == S::kPass ? 1 : st == S::kPartial ? 0.5 : 0,
-                       Format("%s: charted %d mm, the true depth is %d mm (%+d mm)", name.c_str(), entered, s.truth_mm,
-                              diff),
+      L.push_back(Line("charting", &site, 0, st,
+                       st == S::kPass      ? 1
+                       : st == S::kPartial ? 0.5
+                                           : 0,
+                       Format("%s: charted %d mm, the true depth is %d mm (%+d mm)",
+                              name.c_str(), entered, s.truth_mm, diff),
                        s.entry->tick));
       within1 += std::abs(diff) <= 1;
       exact += diff == 0;
@@ -619,8 +714,10 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
     const LessonGeometry::Tooth& t = geometry_.teeth[i];
     for (int side = 0; side < 2; ++side) {
       const bool buccal = side == 0;
-      const bool asked = std::any_of(sites_.begin(), sites_.end(),
-                                     [&](const SiteResult& s) { return s.site.fdi == t.fdi && (s.site.site < 3) == buccal; });
+      const bool asked =
+          std::any_of(sites_.begin(), sites_.end(), [&](const SiteResult& s) {
+            return s.site.fdi == t.fdi && (s.site.site < 3) == buccal;
+          });
       if (!asked) continue;
       const SurfaceTrack& st = surfaces_[i][static_cast<std::size_t>(side)];
       SurfaceCoverage c;
@@ -635,7 +732,8 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
         c.bins.push_back(st.bins[static_cast<std::size_t>(k)]);
       }
       c.swept = total > 0 ? static_cast<double>(swept) / total : 0;
-      c.touch_share = st.in_ticks > 0 ? static_cast<double>(st.touch_ticks) / st.in_ticks : 0;
+      c.touch_share =
+          st.in_ticks > 0 ? static_cast<double>(st.touch_ticks) / st.in_ticks : 0;
       c.strokes = st.strokes;
       c.stroke_mm = st.strokes > 0 ? st.swing_sum / st.strokes : 0;
       c.first_tick = st.first;
@@ -643,12 +741,16 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
       const char* surface = buccal ? "buccal" : "lingual";
       const bool ok = c.swept >= rb.coverage_min;
       // A surface short of the minimum keeps at most half its credit, in proportion.
-      L.push_back(Line("coverage", nullptr, t.fdi, ok ? S::kPass : S::kFail, ok ? 1 : 0.5 * c.swept / rb.coverage_min,
-                       Format("%d %s: %.0f %% of the sulcus swept (at least %.0f %%), %d strokes of %.1f mm, the tip "
-                              "on the tooth %.0f %% of the time%s",
-                              t.fdi, surface, 100 * c.swept, 100 * rb.coverage_min, c.strokes, c.stroke_mm,
-                              100 * c.touch_share, ok ? "" : ": spot-probing misses pockets; walk the probe around"),
-                       st.any ? st.last : last_tick_));
+      L.push_back(
+          Line("coverage", nullptr, t.fdi, ok ? S::kPass : S::kFail,
+               ok ? 1 : 0.5 * c.swept / rb.coverage_min,
+               Format("%d %s: %.0f %% of the sulcus swept (at least %.0f %%), %d strokes "
+                      "of %.1f mm, the tip "
+                      "on the tooth %.0f %% of the time%s",
+                      t.fdi, surface, 100 * c.swept, 100 * rb.coverage_min, c.strokes,
+                      c.stroke_mm, 100 * c.touch_share,
+                      ok ? "" : ": spot-probing misses pockets; walk the probe around"),
+               st.any ? st.last : last_tick_));
       out.coverage.push_back(std::move(c));
     }
   }
@@ -657,14 +759,17 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
   std::string unread, uncharted;
   for (const SiteResult& s : out.sites) {
     if (!s.reached_mm) unread += (unread.empty() ? "" : ", ") + s.site.ToString();
-    if (!(s.entry && s.entry->pd_mm)) uncharted += (uncharted.empty() ? "" : ", ") + s.site.ToString();
+    if (!(s.entry && s.entry->pd_mm))
+      uncharted += (uncharted.empty() ? "" : ", ") + s.site.ToString();
   }
   const double total = std::max(1, out.sites_total);
-  L.push_back(Line("completeness", nullptr, 0, read == out.sites_total ? S::kPass : S::kFail, read / total,
-                   Format("%d of %d sites probed%s%s", read, out.sites_total, unread.empty() ? "" : "; not probed: ",
-                          unread.c_str()),
+  L.push_back(Line("completeness", nullptr, 0,
+                   read == out.sites_total ? S::kPass : S::kFail, read / total,
+                   Format("%d of %d sites probed%s%s", read, out.sites_total,
+                          unread.empty() ? "" : "; not probed: ", unread.c_str()),
                    last_tick_));
-  L.push_back(Line("completeness", nullptr, 0, charted == out.sites_total ? S::kPass : S::kFail, charted / total,
+  L.push_back(Line("completeness", nullptr, 0,
+                   charted == out.sites_total ? S::kPass : S::kFail, charted / total,
                    Format("%d of %d sites charted%s%s", charted, out.sites_total,
                           uncharted.empty() ? "" : "; not charted: ", uncharted.c_str()),
                    last_tick_));
@@ -687,30 +792,44 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
   out.chart_dx = Classify2017(out.student_chart);
   out.declared = declared_;
   const bool chart_agrees = out.chart_dx.Summary() == out.true_dx.Summary();
-  L.push_back(Line("diagnosis", nullptr, 0, S::kInfo, 0,
-                   "your chart gives " + out.chart_dx.Summary() + "; the true chart " + out.true_dx.Summary() +
-                       (chart_agrees ? "" : " (the difference comes from the measurements)"),
-                   last_tick_));
+  L.push_back(
+      Line("diagnosis", nullptr, 0, S::kInfo, 0,
+           "your chart gives " + out.chart_dx.Summary() + "; the true chart " +
+               out.true_dx.Summary() +
+               (chart_agrees ? "" : " (the difference comes from the measurements)"),
+           last_tick_));
   if (declared_) {
-    const std::uint64_t tick = declared_->tick == kAfterReading ? last_tick_ : declared_->tick;
+    const std::uint64_t tick =
+        declared_->tick == kAfterReading ? last_tick_ : declared_->tick;
     double credit = 0;
     const bool truth_perio = out.true_dx.kind == Diagnosis::Kind::kPeriodontitis;
     if (truth_perio && declared_->periodontitis) {
-      credit = 0.5 * (declared_->stage == out.true_dx.stage) + 0.5 * (declared_->extent == out.true_dx.extent);
+      credit = 0.5 * (declared_->stage == out.true_dx.stage) +
+               0.5 * (declared_->extent == out.true_dx.extent);
     } else {
       credit = truth_perio == declared_->periodontitis ? 1 : 0;
     }
-    const bool matches_chart =
-        out.chart_dx.kind == Diagnosis::Kind::kPeriodontitis && declared_->periodontitis &&
-        declared_->stage == out.chart_dx.stage && declared_->extent == out.chart_dx.extent;
-    L.push_back(Line("diagnosis", nullptr, 0, credit >= 1 ? S::kPass : credit > 0 ? S::kPartial : S::kFail, credit,
-                     "declared " + declared_->Summary() + "; the true chart gives " + out.true_dx.Summary() +
-                         (credit < 1 && matches_chart ? " (your declaration follows your chart: check the readings)"
-                          : credit < 1 ? " (your chart gives " + out.chart_dx.Summary() + ": check the staging rules)"
-                                       : ""),
-                     tick));
+    const bool matches_chart = out.chart_dx.kind == Diagnosis::Kind::kPeriodontitis &&
+                               declared_->periodontitis &&
+                               declared_->stage == out.chart_dx.stage &&
+                               declared_->extent == out.chart_dx.extent;
+    L.push_back(
+        Line("diagnosis", nullptr, 0,
+             credit >= 1  ? S::kPass
+             : credit > 0 ? S::kPartial
+                          : S::kFail,
+             credit,
+             "declared " + declared_->Summary() + "; the true chart gives " +
+                 out.true_dx.Summary() +
+                 (credit < 1 && matches_chart
+                      ? " (your declaration follows your chart: check the readings)"
+                  : credit < 1 ? " (your chart gives " + out.chart_dx.Summary() +
+                                     ": check the staging rules)"
+                               : ""),
+             tick));
   } else {
-    L.push_back(Line("diagnosis", nullptr, 0, S::kFail, 0, "no diagnosis declared", last_tick_));
+    L.push_back(
+        Line("diagnosis", nullptr, 0, S::kFail, 0, "no diagnosis declared", last_tick_));
   }
 
   out.sites_read = read;
@@ -738,7 +857,9 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
   in.presses = inspection_->presses();
   in.views = views_;
   const bool viewed = !views_.empty();
-  auto seconds = [&](std::uint64_t tick) { return static_cast<double>(tick - std::min(tick, first_tick_)) / rate_hz_; };
+  auto seconds = [&](std::uint64_t tick) {
+    return static_cast<double>(tick - std::min(tick, first_tick_)) / rate_hz_;
+  };
 
   // Coverage: the units the steps name (all of them when no step names any).
   std::vector<bool> scored(in.units.size(), false);
@@ -748,12 +869,16 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
   if (!any) scored.assign(in.units.size(), true);
   for (const InspectionUnit& u : in.units) {
     if (!u.region.empty() && scored[static_cast<std::size_t>(&u - in.units.data())])
-      L.push_back(Line("coverage", nullptr, 0, u.touched ? S::kPass : S::kFail, u.touched ? 1 : 0,
-                       (u.touched ? Format("%s: examined at %.1f s (%.1f s on it)", RegionLabel(u.region).c_str(),
-                                           seconds(u.first_tick), u.dwell_s)
-                                  : RegionLabel(u.region) + ": not examined") +
-                           (!viewed ? "" : u.seen ? Format("; in view at %.1f s", seconds(u.seen_tick)) : "; never in view"),
-                       u.touched ? u.first_tick : last_tick_));
+      L.push_back(Line(
+          "coverage", nullptr, 0, u.touched ? S::kPass : S::kFail, u.touched ? 1 : 0,
+          (u.touched
+               ? Format("%s: examined at %.1f s (%.1f s on it)",
+                        RegionLabel(u.region).c_str(), seconds(u.first_tick), u.dwell_s)
+               : RegionLabel(u.region) + ": not examined") +
+              (!viewed  ? ""
+               : u.seen ? Format("; in view at %.1f s", seconds(u.seen_tick))
+                        : "; never in view"),
+          u.touched ? u.first_tick : last_tick_));
   }
   for (int fdi : spec_.teeth) {
     int asked = 0, done = 0, unseen = 0;
@@ -769,23 +894,32 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
         ++done;
         last = std::max(last, unit.first_tick);
       } else {
-        missed += (missed.empty() ? "" : ", ") + std::string(SurfaceCode(static_cast<ToothSurface>(s)));
+        missed += (missed.empty() ? "" : ", ") +
+                  std::string(SurfaceCode(static_cast<ToothSurface>(s)));
       }
     }
     if (asked == 0) continue;
-    L.push_back(Line("coverage", nullptr, fdi, done == asked ? S::kPass : done > 0 ? S::kPartial : S::kFail,
-                     static_cast<double>(done) / asked,
-                     (done == asked ? Format("%d: every surface examined (%d)", fdi, asked)
-                                    : Format("%d: %s not examined (%d of %d surfaces)", fdi, missed.c_str(), done, asked)) +
-                         (!viewed        ? ""
-                          : unseen == 0 ? "; every surface in view"
-                                        : Format("; %d surface%s never in view", unseen, unseen == 1 ? "" : "s")),
-                     done == asked ? last : last_tick_));
+    L.push_back(
+        Line("coverage", nullptr, fdi,
+             done == asked ? S::kPass
+             : done > 0    ? S::kPartial
+                           : S::kFail,
+             static_cast<double>(done) / asked,
+             (done == asked ? Format("%d: every surface examined (%d)", fdi, asked)
+                            : Format("%d: %s not examined (%d of %d surfaces)", fdi,
+                                     missed.c_str(), done, asked)) +
+                 (!viewed       ? ""
+                  : unseen == 0 ? "; every surface in view"
+                                : Format("; %d surface%s never in view", unseen,
+                                         unseen == 1 ? "" : "s")),
+             done == asked ? last : last_tick_));
   }
 
   if (!viewed)
-    L.push_back(Line("coverage", nullptr, 0, S::kInfo, 0,
-                     "no view was recorded (a headless attempt): what the view showed is not scored", last_tick_));
+    L.push_back(Line(
+        "coverage", nullptr, 0, S::kInfo, 0,
+        "no view was recorded (a headless attempt): what the view showed is not scored",
+        last_tick_));
 
   // Sequence: each step examined in its turn.
   for (std::size_t k = 0; k < out.steps.size(); ++k) {
@@ -794,21 +928,26 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
     std::string missed;
     for (const std::string& m : st.missed) missed += (missed.empty() ? "" : ", ") + m;
     if (st.completed)
-      L.push_back(Line("sequence", nullptr, 0, S::kPass, 1, "'" + st.id + "': examined in its turn", st.ended_tick));
+      L.push_back(Line("sequence", nullptr, 0, S::kPass, 1,
+                       "'" + st.id + "': examined in its turn", st.ended_tick));
     else if (st.skipped)
-      L.push_back(Line("sequence", nullptr, 0, S::kFail, 0,
-                       "'" + st.id + "': left for a later step with " + missed + " not examined", st.ended_tick));
+      L.push_back(
+          Line("sequence", nullptr, 0, S::kFail, 0,
+               "'" + st.id + "': left for a later step with " + missed + " not examined",
+               st.ended_tick));
     else
-      L.push_back(Line("sequence", nullptr, 0, S::kFail, 0, "'" + st.id + "': not finished", last_tick_));
+      L.push_back(Line("sequence", nullptr, 0, S::kFail, 0,
+                       "'" + st.id + "': not finished", last_tick_));
   }
 
   // Findings against the truth: every finding and every miss named.
   std::map<std::string, std::uint64_t> when;  // a unit's last finding
   for (const Finding& f : in.findings) {
-    const std::string key = f.kind == Finding::Kind::kLesion ? "lesion " + f.region
-                            : f.kind == Finding::Kind::kCaries
-                                ? "caries " + std::to_string(f.fdi) + " " + SurfaceCode(f.surface)
-                                : std::string(ToString(f.kind)) + " " + std::to_string(f.fdi);
+    const std::string key =
+        f.kind == Finding::Kind::kLesion ? "lesion " + f.region
+        : f.kind == Finding::Kind::kCaries
+            ? "caries " + std::to_string(f.fdi) + " " + SurfaceCode(f.surface)
+            : std::string(ToString(f.kind)) + " " + std::to_string(f.fdi);
     when[key] = f.tick;
   }
   const std::uint64_t end_tick = submitted_ ? *submitted_ : last_tick_;
@@ -816,47 +955,59 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
     const auto it = when.find(key);
     return it != when.end() ? it->second : end_tick;
   };
-  auto judge = [&](FindingScore& sc, bool truth, bool said, const std::string& key, const std::string& what,
-                   const char* found, const char* missed, const char* wrong) {
+  auto judge = [&](FindingScore& sc, bool truth, bool said, const std::string& key,
+                   const std::string& what, const char* found, const char* missed,
+                   const char* wrong) {
     if (truth && said) {
       ++sc.tp;
-      L.push_back(Line("findings", nullptr, 0, S::kPass, 1, what + ": " + found, tick_of(key)));
+      L.push_back(
+          Line("findings", nullptr, 0, S::kPass, 1, what + ": " + found, tick_of(key)));
     } else if (truth) {
       ++sc.fn;
-      L.push_back(Line("findings", nullptr, 0, S::kFail, 0, what + ": " + missed, end_tick));
+      L.push_back(
+          Line("findings", nullptr, 0, S::kFail, 0, what + ": " + missed, end_tick));
     } else if (said) {
       ++sc.fp;
-      L.push_back(Line("findings", nullptr, 0, S::kFail, 0, what + ": " + wrong, tick_of(key)));
+      L.push_back(
+          Line("findings", nullptr, 0, S::kFail, 0, what + ": " + wrong, tick_of(key)));
     } else {
       ++sc.tn;
     }
   };
-  FindingScore caries{"caries"}, calculus{"calculus"}, inflamed{"inflamed gingiva"}, lesion{"lesion"}, status{"status"};
+  FindingScore caries{"caries"}, calculus{"calculus"}, inflamed{"inflamed gingiva"},
+      lesion{"lesion"}, status{"status"};
   for (const ToothRecord& t : in.truth.teeth) {
     const ToothRecord* r = in.recorded.Find(t.fdi);
     ToothRecord none;
     none.fdi = t.fdi;
     if (!r) r = &none;
     for (int s = 0; s < 5; ++s) {
-      const std::string name = std::to_string(t.fdi) + " " + SurfaceCode(static_cast<ToothSurface>(s));
-      judge(caries, t.caries[static_cast<std::size_t>(s)], r->caries[static_cast<std::size_t>(s)], "caries " + name,
-            name, "caries found", "caries missed", "caries recorded on a sound surface");
+      const std::string name =
+          std::to_string(t.fdi) + " " + SurfaceCode(static_cast<ToothSurface>(s));
+      judge(caries, t.caries[static_cast<std::size_t>(s)],
+            r->caries[static_cast<std::size_t>(s)], "caries " + name, name,
+            "caries found", "caries missed", "caries recorded on a sound surface");
     }
     const std::string tooth = std::to_string(t.fdi);
-    judge(calculus, t.calculus, r->calculus, "calculus " + tooth, tooth, "calculus found", "calculus missed",
-          "calculus recorded where there is none");
-    judge(inflamed, t.inflamed, r->inflamed, "inflamed gingiva " + tooth, tooth, "inflamed gingiva found",
-          "inflamed gingiva missed", "gingiva recorded as inflamed where it is healthy");
+    judge(calculus, t.calculus, r->calculus, "calculus " + tooth, tooth, "calculus found",
+          "calculus missed", "calculus recorded where there is none");
+    judge(inflamed, t.inflamed, r->inflamed, "inflamed gingiva " + tooth, tooth,
+          "inflamed gingiva found", "inflamed gingiva missed",
+          "gingiva recorded as inflamed where it is healthy");
     // Status: the WHO code recorded (or implied by the caries marks) against the truth's.
     const int want = t.Status(), got = r->Status();
-    if (want != 0 && got == want) ++status.tp;
-    else if (want != 0) ++status.fn;
-    else if (got != 0) ++status.fp;
-    else ++status.tn;
+    if (want != 0 && got == want)
+      ++status.tp;
+    else if (want != 0)
+      ++status.fn;
+    else if (got != 0)
+      ++status.fp;
+    else
+      ++status.tn;
     if (r->status && got != want)
       L.push_back(Line("findings", nullptr, t.fdi, S::kFail, 0,
-                       Format("%d: status %d (%s) recorded; it is %d (%s)", t.fdi, got, WhoStatusName(got), want,
-                              WhoStatusName(want)),
+                       Format("%d: status %d (%s) recorded; it is %d (%s)", t.fdi, got,
+                              WhoStatusName(got), want, WhoStatusName(want)),
                        tick_of("status " + tooth)));
   }
   for (const std::string& region : spec_.regions) {
@@ -866,23 +1017,29 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
     if (truth && said && t->second != r->second) {
       ++lesion.tp;
       L.push_back(Line("findings", nullptr, 0, S::kPartial, 0.5,
-                       what + ": a lesion found, recorded as " + r->second + "; it is " + t->second + " (look again)",
+                       what + ": a lesion found, recorded as " + r->second + "; it is " +
+                           t->second + " (look again)",
                        tick_of("lesion " + region)));
       continue;
     }
-    judge(lesion, truth, said, "lesion " + region, what, ("a " + (truth ? t->second : std::string()) + " found").c_str(),
-          ("a " + (truth ? t->second : std::string()) + " missed").c_str(), "a lesion recorded on healthy mucosa");
+    judge(lesion, truth, said, "lesion " + region, what,
+          ("a " + (truth ? t->second : std::string()) + " found").c_str(),
+          ("a " + (truth ? t->second : std::string()) + " missed").c_str(),
+          "a lesion recorded on healthy mucosa");
   }
   for (FindingScore* sc : {&caries, &calculus, &inflamed, &lesion, &status}) {
     in.scores.push_back(*sc);
     if (sc->kind == "status") continue;
-    L.push_back(Line("findings", nullptr, 0, S::kInfo, 0,
-                     Format("%s: sensitivity %.0f %% (%d of %d found), specificity %.0f %% (%d false)", sc->kind.c_str(),
-                            100 * sc->sensitivity(), sc->tp, sc->tp + sc->fn, 100 * sc->specificity(), sc->fp),
-                     end_tick));
+    L.push_back(Line(
+        "findings", nullptr, 0, S::kInfo, 0,
+        Format("%s: sensitivity %.0f %% (%d of %d found), specificity %.0f %% (%d false)",
+               sc->kind.c_str(), 100 * sc->sensitivity(), sc->tp, sc->tp + sc->fn,
+               100 * sc->specificity(), sc->fp),
+        end_tick));
   }
   if (!submitted_)
-    L.push_back(Line("findings", nullptr, 0, S::kInfo, 0, "the findings were not submitted as complete", last_tick_));
+    L.push_back(Line("findings", nullptr, 0, S::kInfo, 0,
+                     "the findings were not submitted as complete", last_tick_));
   L.insert(L.end(), felt_.begin(), felt_.end());
 
   // Damage: force on tissue above its limit, force into a lesion above the gentle limit.
@@ -893,15 +1050,19 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
   }
   for (const LesionPress& p : in.presses) {
     damaged = true;
-    const bool tooth = !p.where.empty() && std::isdigit(static_cast<unsigned char>(p.where[0]));
-    L.push_back(Line("damage", nullptr, 0, S::kFail, 0,
-                     Format("%s: %.2f N into the lesion, above the gentle %.2f N%s", tooth ? p.where.c_str()
-                                                                                            : RegionLabel(p.where).c_str(),
-                            p.force_n, rb.lesion_force_n,
-                            tooth ? " (a tip forced into demineralised enamel cavitates it)" : ""),
-                     p.tick));
+    const bool tooth =
+        !p.where.empty() && std::isdigit(static_cast<unsigned char>(p.where[0]));
+    L.push_back(Line(
+        "damage", nullptr, 0, S::kFail, 0,
+        Format("%s: %.2f N into the lesion, above the gentle %.2f N%s",
+               tooth ? p.where.c_str() : RegionLabel(p.where).c_str(), p.force_n,
+               rb.lesion_force_n,
+               tooth ? " (a tip forced into demineralised enamel cavitates it)" : ""),
+        p.tick));
   }
-  if (!damaged) L.push_back(Line("damage", nullptr, 0, S::kPass, 1, "no tissue damaged, no lesion pressed hard", last_tick_));
+  if (!damaged)
+    L.push_back(Line("damage", nullptr, 0, S::kPass, 1,
+                     "no tissue damaged, no lesion pressed hard", last_tick_));
 }
 
 LessonResult LessonRun::Finish() const {
@@ -920,45 +1081,63 @@ LessonResult LessonRun::Finish() const {
   out.steps = step_results_;
   out.first_tick = first_tick_;
   out.last_tick = last_tick_;
-  out.duration_s = ticks_ > 0 ? static_cast<double>(last_tick_ - first_tick_ + 1) / rate_hz_ : 0;
+  out.duration_s =
+      ticks_ > 0 ? static_cast<double>(last_tick_ - first_tick_ + 1) / rate_hz_ : 0;
   out.force_trace = force_trace_;
   out.feedback = feedback_;
   out.sites_total = static_cast<int>(sites_.size());
   out.complete = step_ >= static_cast<int>(spec_.steps.size()) && !timed_out_;
   if (!out.complete)
-    out.ended = !ending_.empty() ? ending_ : timed_out_ ? "the time limit was reached" : "it ended before the last step";
+    out.ended = !ending_.empty() ? ending_
+                : timed_out_     ? "the time limit was reached"
+                                 : "it ended before the last step";
   out.interruptions = interruptions_;
   out.kind = ToString(spec_.kind);
-  if (inspection_) ScoreInspection(out);
-  else ScoreProbing(out);
+  if (inspection_)
+    ScoreInspection(out);
+  else
+    ScoreProbing(out);
   auto& L = out.lines;
 
   // Time and steps.
-  L.push_back(Line("time", nullptr, 0, S::kInfo, 0, Format("%.1f s in all", out.duration_s), last_tick_));
+  L.push_back(Line("time", nullptr, 0, S::kInfo, 0,
+                   Format("%.1f s in all", out.duration_s), last_tick_));
   if (!out.complete)
-    L.push_back(Line("time", nullptr, 0, S::kInfo, 0, "incomplete: " + out.ended, last_tick_));
+    L.push_back(
+        Line("time", nullptr, 0, S::kInfo, 0, "incomplete: " + out.ended, last_tick_));
   for (const LessonResult::Interruption& i : out.interruptions) {
-    const double lost_s = static_cast<double>(i.lost_tick - std::min(i.lost_tick, first_tick_)) / rate_hz_;
-    L.push_back(Line("time", nullptr, 0, S::kInfo, 0,
-                     i.back_tick ? Format("the device stopped answering at %.1f s and was back %.1f s later", lost_s,
-                                          static_cast<double>(i.back_tick - i.lost_tick) / rate_hz_)
-                                 : Format("the device stopped answering at %.1f s and did not come back", lost_s),
-                     i.lost_tick));
+    const double lost_s =
+        static_cast<double>(i.lost_tick - std::min(i.lost_tick, first_tick_)) / rate_hz_;
+    L.push_back(Line(
+        "time", nullptr, 0, S::kInfo, 0,
+        i.back_tick
+            ? Format("the device stopped answering at %.1f s and was back %.1f s later",
+                     lost_s, static_cast<double>(i.back_tick - i.lost_tick) / rate_hz_)
+            : Format("the device stopped answering at %.1f s and did not come back",
+                     lost_s),
+        i.lost_tick));
   }
   for (const StepResult& st : out.steps)
-    L.push_back(Line("time", nullptr, 0, S::kInfo, 0,
-                     Format("step '%s': %s in %.1f s", st.id.c_str(),
-                            st.completed ? "done" : st.timed_out ? "timed out" : st.skipped ? "left unfinished" : "not finished",
-                            static_cast<double>((st.ended_tick ? st.ended_tick : last_tick_) - st.started_tick) /
-                                rate_hz_),
-                     st.ended_tick ? st.ended_tick : last_tick_));
+    L.push_back(
+        Line("time", nullptr, 0, S::kInfo, 0,
+             Format("step '%s': %s in %.1f s", st.id.c_str(),
+                    st.completed   ? "done"
+                    : st.timed_out ? "timed out"
+                    : st.skipped   ? "left unfinished"
+                                   : "not finished",
+                    static_cast<double>((st.ended_tick ? st.ended_tick : last_tick_) -
+                                        st.started_tick) /
+                        rate_hz_),
+             st.ended_tick ? st.ended_tick : last_tick_));
 
   // Scores.
   const std::map<std::string, double> weights = {
-      {"technique", rb.technique}, {"reading", rb.reading},     {"charting", rb.charting},
-      {"force", rb.force},         {"angulation", rb.angulation}, {"coverage", rb.coverage},
-      {"bleeding", rb.bleeding},   {"completeness", rb.completeness}, {"diagnosis", rb.diagnosis},
-      {"damage", rb.DamageWeight()}, {"findings", rb.findings}, {"sequence", rb.sequence}};
+      {"technique", rb.technique},   {"reading", rb.reading},
+      {"charting", rb.charting},     {"force", rb.force},
+      {"angulation", rb.angulation}, {"coverage", rb.coverage},
+      {"bleeding", rb.bleeding},     {"completeness", rb.completeness},
+      {"diagnosis", rb.diagnosis},   {"damage", rb.DamageWeight()},
+      {"findings", rb.findings},     {"sequence", rb.sequence}};
   std::map<std::string, std::pair<double, int>> sums;
   for (const RubricLine& l : L) {
     if (l.status == S::kInfo) continue;

@@ -30,7 +30,6 @@
 
 namespace sulcus {
 
-
 /// What the student entered for one site, as a clinician calls it out.
 struct ChartEntry {
   std::uint64_t tick = kAfterReading;
@@ -49,11 +48,12 @@ struct DeclaredDiagnosis {
 
 struct RubricLine {
   enum class Status { kPass, kPartial, kFail, kInfo };
-  std::string category;  // technique, reading, charting, force, angulation, coverage, bleeding, completeness, damage, diagnosis, time
+  std::string category;  // technique, reading, charting, force, angulation, coverage,
+                         // bleeding, completeness, damage, diagnosis, time
   std::optional<SiteRef> site;
-  int fdi = 0;           // the tooth of a site or surface line (0: the lesson)
+  int fdi = 0;  // the tooth of a site or surface line (0: the lesson)
   Status status = Status::kInfo;
-  double credit = 0;     // 0..1 (info lines do not count)
+  double credit = 0;  // 0..1 (info lines do not count)
   std::string message;
   std::uint64_t tick = 0;  // the moment that caused the line
 };
@@ -89,17 +89,23 @@ struct SurfaceCoverage {
 struct StepResult {
   std::string id, instruction;
   bool completed = false, timed_out = false;
-  bool skipped = false;             // inspection: left for a later step before it was done
-  std::vector<std::string> missed{};  // inspection: what it had not examined when it ended
+  bool skipped = false;  // inspection: left for a later step before it was done
+  std::vector<std::string>
+      missed{};  // inspection: what it had not examined when it ended
   std::uint64_t started_tick = 0, ended_tick = 0;
 };
 
 /// Sensitivity and specificity of one kind of finding against the truth.
 struct FindingScore {
-  std::string kind;  // caries (per tooth surface), calculus, inflamed gingiva (per tooth), lesion (per region), status (per tooth)
+  std::string kind;  // caries (per tooth surface), calculus, inflamed gingiva (per
+                     // tooth), lesion (per region), status (per tooth)
   int tp = 0, fn = 0, fp = 0, tn = 0;
-  double sensitivity() const { return tp + fn > 0 ? static_cast<double>(tp) / (tp + fn) : 1.0; }
-  double specificity() const { return fp + tn > 0 ? static_cast<double>(tn) / (fp + tn) : 1.0; }
+  double sensitivity() const {
+    return tp + fn > 0 ? static_cast<double>(tp) / (tp + fn) : 1.0;
+  }
+  double specificity() const {
+    return fp + tn > 0 ? static_cast<double>(tn) / (fp + tn) : 1.0;
+  }
 };
 
 /// What an inspection lesson adds to the result.
@@ -108,11 +114,11 @@ struct InspectionResult {
   std::vector<int> teeth;
   std::vector<InspectionUnit> units;  // regions, then five surfaces per tooth
   Odontogram truth, recorded;
-  std::vector<Finding> findings;      // as entered, ticks resolved
+  std::vector<Finding> findings;  // as entered, ticks resolved
   std::optional<std::uint64_t> submitted_tick;
-  std::vector<FindingScore> scores;   // caries, calculus, inflamed gingiva, lesion, status
-  std::vector<LesionPress> presses;   // lesions pressed harder than the rubric's limit
-  std::vector<ViewSample> views;      // the window's camera as it moved (empty: headless)
+  std::vector<FindingScore> scores;  // caries, calculus, inflamed gingiva, lesion, status
+  std::vector<LesionPress> presses;  // lesions pressed harder than the rubric's limit
+  std::vector<ViewSample> views;     // the window's camera as it moved (empty: headless)
 };
 
 struct LessonResult {
@@ -137,13 +143,15 @@ struct LessonResult {
   PerioChart true_chart, student_chart;
   Diagnosis true_dx, chart_dx;
   std::optional<DeclaredDiagnosis> declared;
-  std::vector<std::pair<std::uint64_t, float>> force_trace;  // (tick, force along the probe, N) every kTraceEvery ticks
-  std::vector<std::string> feedback;                         // what the student was told (practice)
+  std::vector<std::pair<std::uint64_t, float>>
+      force_trace;  // (tick, force along the probe, N) every kTraceEvery ticks
+  std::vector<std::string> feedback;  // what the student was told (practice)
   /// Every step done. An attempt that ended before (the window closed, the
   /// program stopped, the device was lost) is kept and scored as far as it went.
   bool complete = false;
   std::string ended;  // how an incomplete attempt ended ("" when complete)
-  /// The device stopped answering at lost_tick and came back at back_tick (0: it did not).
+  /// The device stopped answering at lost_tick and came back at back_tick (0: it did
+  /// not).
   struct Interruption {
     std::uint64_t lost_tick = 0, back_tick = 0;
   };
@@ -166,12 +174,14 @@ struct LessonGeometry {
   std::vector<Tooth> teeth;
   const Tooth* Find(int fdi) const;
 };
-LessonGeometry MakeLessonGeometry(const CompiledScene& scene, const std::vector<int>& teeth);
+LessonGeometry MakeLessonGeometry(const CompiledScene& scene,
+                                  const std::vector<int>& teeth);
 
 class LessonRun final : public TickConsumer {
  public:
   /// `scene` is the compiled scene the lesson runs on (with its case applied).
-  LessonRun(const LessonSpec& spec, const CompiledScene& scene, std::string student = "", std::uint64_t case_seed = 0);
+  LessonRun(const LessonSpec& spec, const CompiledScene& scene, std::string student = "",
+            std::uint64_t case_seed = 0);
 
   // The stream.
   void OnTick(const TickRecord& r) override;
@@ -190,7 +200,9 @@ class LessonRun final : public TickConsumer {
   // Live state.
   int current_step() const { return step_; }  // == steps().size() when all are done
   const std::vector<StepResult>& steps() const { return step_results_; }
-  bool done() const { return step_ >= static_cast<int>(spec_.steps.size()) || timed_out_; }
+  bool done() const {
+    return step_ >= static_cast<int>(spec_.steps.size()) || timed_out_;
+  }
   /// The next site of the path that the current step asks for and is not yet read.
   std::optional<SiteRef> next_site() const;
   /// Where the tip is now: the site whose sulcus holds it, if any.
@@ -209,12 +221,16 @@ class LessonRun final : public TickConsumer {
   /// The odontogram as recorded so far (inspection lessons).
   const Odontogram& odontogram() const { return odontogram_; }
   /// Inspection lessons: the tracker (null for probing lessons).
-  const InspectionTracker* inspection() const { return inspection_ ? &*inspection_ : nullptr; }
+  const InspectionTracker* inspection() const {
+    return inspection_ ? &*inspection_ : nullptr;
+  }
   /// Inspection lessons: the current step's regions and surfaces not yet examined.
   std::vector<std::string> pending() const;
 
   /// The device is not answering now (a kDeviceLost without its kDeviceBack).
-  bool device_lost() const { return !interruptions_.empty() && interruptions_.back().back_tick == 0; }
+  bool device_lost() const {
+    return !interruptions_.empty() && interruptions_.back().back_tick == 0;
+  }
   /// How the attempt ended when it ends before its last step (kept in the result).
   void SetEnding(std::string why) { ending_ = std::move(why); }
 
@@ -260,9 +276,11 @@ class LessonRun final : public TickConsumer {
     int strokes = 0, direction = 0;
     bool any = false;
   };
-  std::vector<std::array<SurfaceTrack, 2>> surfaces_;  // per geometry tooth: buccal, lingual
-  std::vector<std::pair<RubricLine, int>> damage_;     // tissue_damage events (line, site index or -1)
-  std::vector<RubricLine> felt_;                       // calculus deposits met (info), the first time each
+  std::vector<std::array<SurfaceTrack, 2>>
+      surfaces_;  // per geometry tooth: buccal, lingual
+  std::vector<std::pair<RubricLine, int>>
+      damage_;                    // tissue_damage events (line, site index or -1)
+  std::vector<RubricLine> felt_;  // calculus deposits met (info), the first time each
   // Inspection lessons.
   std::optional<InspectionTracker> inspection_;
   std::vector<std::vector<int>> step_units_;  // per step, its units

@@ -9,8 +9,8 @@
 #include "core/anatomy/tooth.h"
 #include "core/lesson/inspection.h"
 #include "core/lesson/lesson_spec.h"
-#include "core/scene/yaml_reader.h"
 #include "core/scene/scene.h"
+#include "core/scene/yaml_reader.h"
 
 namespace sulcus {
 namespace {
@@ -43,45 +43,66 @@ std::vector<int> ReadTeeth(YamlReader& r, const YAML::Node& n, const std::string
 
 void ReadRubric(YamlReader& r, const YAML::Node& n, RubricSpec* p) {
   if (!r.IsMap(n, "'rubric'")) return;
-  r.CheckKeys(n, {"weights", "technique_full_mm", "technique_partial_mm", "force_band_n", "force_damage_n",
-                  "angle_full_deg", "angle_pass_deg", "col_reach_mm", "coverage_min", "lesion_force_n", "touch_dwell_s"},
+  r.CheckKeys(n,
+              {"weights", "technique_full_mm", "technique_partial_mm", "force_band_n",
+               "force_damage_n", "angle_full_deg", "angle_pass_deg", "col_reach_mm",
+               "coverage_min", "lesion_force_n", "touch_dwell_s"},
               "'rubric'");
   if (const YAML::Node w = n["weights"]; w && r.IsMap(w, "'weights'")) {
     const std::vector<std::pair<std::string, double*>> weights = {
-        {"technique", &p->technique}, {"reading", &p->reading},       {"charting", &p->charting},
-        {"force", &p->force},         {"angulation", &p->angulation}, {"coverage", &p->coverage},
-        {"bleeding", &p->bleeding},   {"completeness", &p->completeness}, {"diagnosis", &p->diagnosis},
-        {"findings", &p->findings},   {"sequence", &p->sequence},     {"damage", &p->damage}};
+        {"technique", &p->technique},   {"reading", &p->reading},
+        {"charting", &p->charting},     {"force", &p->force},
+        {"angulation", &p->angulation}, {"coverage", &p->coverage},
+        {"bleeding", &p->bleeding},     {"completeness", &p->completeness},
+        {"diagnosis", &p->diagnosis},   {"findings", &p->findings},
+        {"sequence", &p->sequence},     {"damage", &p->damage}};
     std::vector<std::string> names;
     for (const auto& [k, v] : weights) names.push_back(k);
     r.CheckKeys(w, names, "'weights'");
     for (const auto& [k, v] : weights)
       if (w[k]) *v = r.Number(w[k], k, 0, 1000, std::max(0.0, *v), "points");
   }
-  if (n["technique_full_mm"]) p->technique_full_mm = r.Number(n["technique_full_mm"], "technique_full_mm", 0, 5, 0.5, "mm");
+  if (n["technique_full_mm"])
+    p->technique_full_mm =
+        r.Number(n["technique_full_mm"], "technique_full_mm", 0, 5, 0.5, "mm");
   if (n["technique_partial_mm"])
-    p->technique_partial_mm = r.Number(n["technique_partial_mm"], "technique_partial_mm", 0, 5, 1, "mm");
+    p->technique_partial_mm =
+        r.Number(n["technique_partial_mm"], "technique_partial_mm", 0, 5, 1, "mm");
   if (p->technique_partial_mm < p->technique_full_mm)
     r.Error(n, "'technique_partial_mm' must be at least 'technique_full_mm'");
   if (const YAML::Node b = n["force_band_n"]) {
     double band[2] = {p->force_low_n, p->force_high_n};
-    if (r.Numbers(b, "force_band_n", 2, 0, 5, band, "N", "the lowest and highest force of full credit, N")) {
-      if (band[0] >= band[1]) r.Error(b, "'force_band_n' must be [low, high] with low < high");
+    if (r.Numbers(b, "force_band_n", 2, 0, 5, band, "N",
+                  "the lowest and highest force of full credit, N")) {
+      if (band[0] >= band[1])
+        r.Error(b, "'force_band_n' must be [low, high] with low < high");
       p->force_low_n = band[0];
       p->force_high_n = band[1];
     }
   }
-  if (n["force_damage_n"]) p->force_damage_n = r.Number(n["force_damage_n"], "force_damage_n", 0, 10, 0.5, "N");
-  if (p->force_damage_n < p->force_high_n) r.Error(n, "'force_damage_n' must be at least the band's high end");
-  if (n["angle_full_deg"]) p->angle_full_deg = r.Number(n["angle_full_deg"], "angle_full_deg", 0, 90, 5, "degrees");
-  if (n["angle_pass_deg"]) p->angle_pass_deg = r.Number(n["angle_pass_deg"], "angle_pass_deg", 0, 90, 10, "degrees");
-  if (n["col_reach_mm"]) p->col_reach_mm = r.Number(n["col_reach_mm"], "col_reach_mm", 0.1, 10, 2.5, "mm");
-  if (n["coverage_min"]) p->coverage_min = r.Number(n["coverage_min"], "coverage_min", 0, 1, 0.8, "share");
-  if (n["lesion_force_n"]) p->lesion_force_n = r.Number(n["lesion_force_n"], "lesion_force_n", 0.01, 10, 0.5, "N");
-  if (n["touch_dwell_s"]) p->touch_dwell_s = r.Number(n["touch_dwell_s"], "touch_dwell_s", 0.001, 5, 0.1, "s");
+  if (n["force_damage_n"])
+    p->force_damage_n = r.Number(n["force_damage_n"], "force_damage_n", 0, 10, 0.5, "N");
+  if (p->force_damage_n < p->force_high_n)
+    r.Error(n, "'force_damage_n' must be at least the band's high end");
+  if (n["angle_full_deg"])
+    p->angle_full_deg =
+        r.Number(n["angle_full_deg"], "angle_full_deg", 0, 90, 5, "degrees");
+  if (n["angle_pass_deg"])
+    p->angle_pass_deg =
+        r.Number(n["angle_pass_deg"], "angle_pass_deg", 0, 90, 10, "degrees");
+  if (n["col_reach_mm"])
+    p->col_reach_mm = r.Number(n["col_reach_mm"], "col_reach_mm", 0.1, 10, 2.5, "mm");
+  if (n["coverage_min"])
+    p->coverage_min = r.Number(n["coverage_min"], "coverage_min", 0, 1, 0.8, "share");
+  if (n["lesion_force_n"])
+    p->lesion_force_n =
+        r.Number(n["lesion_force_n"], "lesion_force_n", 0.01, 10, 0.5, "N");
+  if (n["touch_dwell_s"])
+    p->touch_dwell_s = r.Number(n["touch_dwell_s"], "touch_dwell_s", 0.001, 5, 0.1, "s");
 }
 
-std::vector<std::string> ReadRegions(YamlReader& r, const YAML::Node& n, const std::string& key) {
+std::vector<std::string> ReadRegions(YamlReader& r, const YAML::Node& n,
+                                     const std::string& key) {
   std::vector<std::string> out;
   if (!n.IsSequence()) {
     r.Error(n, "'" + key + "' must be a list of regions, e.g. [lip_upper, lip_lower]");
@@ -90,8 +111,10 @@ std::vector<std::string> ReadRegions(YamlReader& r, const YAML::Node& n, const s
   const auto& names = InspectionRegionNames();
   for (const YAML::Node& item : n) {
     const std::string v = item.IsScalar() ? item.Scalar() : "";
-    if (std::find(names.begin(), names.end(), v) == names.end()) r.Error(item, "unknown region '" + v + "'" + Suggest(v, names));
-    else out.push_back(v);
+    if (std::find(names.begin(), names.end(), v) == names.end())
+      r.Error(item, "unknown region '" + v + "'" + Suggest(v, names));
+    else
+      out.push_back(v);
   }
   return out;
 }
@@ -101,89 +124,137 @@ void ReadStep(YamlReader& r, const YAML::Node& n, std::size_t index, LessonSpec*
   s.line = n.Mark().line + 1;
   if (!r.IsMap(n, "a step")) return;
   const bool inspection = spec->inspection();
-  if (inspection) r.CheckKeys(n, {"id", "instruction", "complete", "teeth", "regions", "surfaces", "time_limit_s"}, "a step");
-  else r.CheckKeys(n, {"id", "instruction", "complete", "teeth", "surface", "time_limit_s"}, "a step");
+  if (inspection)
+    r.CheckKeys(
+        n,
+        {"id", "instruction", "complete", "teeth", "regions", "surfaces", "time_limit_s"},
+        "a step");
+  else
+    r.CheckKeys(n, {"id", "instruction", "complete", "teeth", "surface", "time_limit_s"},
+                "a step");
   s.id = n["id"] ? r.Text(n["id"], "id") : "step " + std::to_string(index + 1);
   if (n["instruction"]) {
     s.instruction = r.Text(n["instruction"], "instruction");
   } else {
-    r.Error(n, "a step needs an 'instruction' (what the student is asked to do, one or two sentences)");
+    r.Error(n,
+            "a step needs an 'instruction' (what the student is asked to do, one or two "
+            "sentences)");
   }
-  const std::vector<std::string> kinds = inspection ? std::vector<std::string>{"touched", "recorded"}
-                                                     : std::vector<std::string>{"read", "charted", "diagnosis"};
+  const std::vector<std::string> kinds =
+      inspection ? std::vector<std::string>{"touched", "recorded"}
+                 : std::vector<std::string>{"read", "charted", "diagnosis"};
   if (n["complete"]) {
     const std::string c = r.Text(n["complete"], "complete");
     if (std::find(kinds.begin(), kinds.end(), c) == kinds.end())
-      r.Error(n["complete"], "unknown completion '" + c + "' for " + (inspection ? "an inspection" : "a probing") +
+      r.Error(n["complete"], "unknown completion '" + c + "' for " +
+                                 (inspection ? "an inspection" : "a probing") +
                                  " lesson" + Suggest(c, kinds));
-    else if (c == "read") s.complete = StepSpec::Complete::kRead;
-    else if (c == "charted") s.complete = StepSpec::Complete::kCharted;
-    else if (c == "diagnosis") s.complete = StepSpec::Complete::kDiagnosis;
-    else if (c == "touched") s.complete = StepSpec::Complete::kTouched;
-    else s.complete = StepSpec::Complete::kRecorded;
+    else if (c == "read")
+      s.complete = StepSpec::Complete::kRead;
+    else if (c == "charted")
+      s.complete = StepSpec::Complete::kCharted;
+    else if (c == "diagnosis")
+      s.complete = StepSpec::Complete::kDiagnosis;
+    else if (c == "touched")
+      s.complete = StepSpec::Complete::kTouched;
+    else
+      s.complete = StepSpec::Complete::kRecorded;
   } else if (inspection) {
-    r.Error(n, "a step needs 'complete': touched (its regions and surfaces examined) or recorded (findings submitted)");
+    r.Error(n,
+            "a step needs 'complete': touched (its regions and surfaces examined) or "
+            "recorded (findings submitted)");
   } else {
-    r.Error(n, "a step needs 'complete': read (its sites probed), charted (entered) or diagnosis (declared)");
+    r.Error(n,
+            "a step needs 'complete': read (its sites probed), charted (entered) or "
+            "diagnosis (declared)");
   }
   if (n["regions"]) s.regions = ReadRegions(r, n["regions"], "regions");
   if (const YAML::Node sf = n["surfaces"]) {
     s.surfaces = 0;
-    if (!sf.IsSequence()) r.Error(sf, "'surfaces' must be a list of tooth surfaces, e.g. [B, L, O] (M, D, B, L, O)");
+    if (!sf.IsSequence())
+      r.Error(
+          sf,
+          "'surfaces' must be a list of tooth surfaces, e.g. [B, L, O] (M, D, B, L, O)");
     else
       for (const YAML::Node& item : sf) {
         const auto surface = SurfaceFromCode(item.IsScalar() ? item.Scalar() : "");
-        if (!surface) r.Error(item, "unknown surface '" + (item.IsScalar() ? item.Scalar() : "") + "' (M, D, B, L, O)");
-        else s.surfaces |= 1u << static_cast<int>(*surface);
+        if (!surface)
+          r.Error(item, "unknown surface '" + (item.IsScalar() ? item.Scalar() : "") +
+                            "' (M, D, B, L, O)");
+        else
+          s.surfaces |= 1u << static_cast<int>(*surface);
       }
   }
-  if (inspection && s.complete == StepSpec::Complete::kTouched && !n["regions"] && !n["teeth"])
+  if (inspection && s.complete == StepSpec::Complete::kTouched && !n["regions"] &&
+      !n["teeth"])
     r.Error(n, "a 'touched' step names what it examines: 'regions', 'teeth' or both");
   if (n["teeth"]) s.teeth = ReadTeeth(r, n["teeth"], "teeth");
   if (n["surface"]) {
     const std::string v = r.Text(n["surface"], "surface");
     const std::vector<std::string> surfaces = {"all", "buccal", "lingual"};
-    if (v == "all") s.surface = StepSpec::Surface::kAll;
-    else if (v == "buccal") s.surface = StepSpec::Surface::kBuccal;
-    else if (v == "lingual" || v == "palatal") s.surface = StepSpec::Surface::kLingual;
-    else r.Error(n["surface"], "unknown surface '" + v + "'" + Suggest(v, surfaces));
+    if (v == "all")
+      s.surface = StepSpec::Surface::kAll;
+    else if (v == "buccal")
+      s.surface = StepSpec::Surface::kBuccal;
+    else if (v == "lingual" || v == "palatal")
+      s.surface = StepSpec::Surface::kLingual;
+    else
+      r.Error(n["surface"], "unknown surface '" + v + "'" + Suggest(v, surfaces));
   }
-  if (n["time_limit_s"]) s.time_limit_s = r.Number(n["time_limit_s"], "time_limit_s", 1, 36000, 0, "s");
+  if (n["time_limit_s"])
+    s.time_limit_s = r.Number(n["time_limit_s"], "time_limit_s", 1, 36000, 0, "s");
   spec->steps.push_back(std::move(s));
 }
 
 int PathRank(int fdi) {
-  // Position along the usual charting path (the buccal pass; the lingual pass reverses it).
+  // Position along the usual charting path (the buccal pass; the lingual pass reverses
+  // it).
   const int q = fdi / 10, p = fdi % 10;
   switch (q) {
-    case 1: return 100 - p;  // 18 .. 11
-    case 2: return 100 + p;  // 21 .. 28
-    case 4: return 300 - p;  // 48 .. 41
-    case 3: return 300 + p;  // 31 .. 38
+    case 1:
+      return 100 - p;  // 18 .. 11
+    case 2:
+      return 100 + p;  // 21 .. 28
+    case 4:
+      return 300 - p;  // 48 .. 41
+    case 3:
+      return 300 + p;  // 31 .. 38
   }
   return 1000;
 }
 
 }  // namespace
 
-std::string SiteRef::ToString() const { return std::to_string(fdi) + " " + SiteCode(site); }
+std::string SiteRef::ToString() const {
+  return std::to_string(fdi) + " " + SiteCode(site);
+}
 
 const char* ToString(StepSpec::Complete c) {
   switch (c) {
-    case StepSpec::Complete::kRead: return "read";
-    case StepSpec::Complete::kCharted: return "charted";
-    case StepSpec::Complete::kDiagnosis: return "diagnosis";
-    case StepSpec::Complete::kTouched: return "touched";
-    case StepSpec::Complete::kRecorded: return "recorded";
+    case StepSpec::Complete::kRead:
+      return "read";
+    case StepSpec::Complete::kCharted:
+      return "charted";
+    case StepSpec::Complete::kDiagnosis:
+      return "diagnosis";
+    case StepSpec::Complete::kTouched:
+      return "touched";
+    case StepSpec::Complete::kRecorded:
+      return "recorded";
   }
   return "?";
 }
 
-const char* ToString(LessonSpec::Mode m) { return m == LessonSpec::Mode::kPractice ? "practice" : "assessment"; }
-const char* ToString(LessonSpec::Kind k) { return k == LessonSpec::Kind::kProbing ? "probing" : "inspection"; }
+const char* ToString(LessonSpec::Mode m) {
+  return m == LessonSpec::Mode::kPractice ? "practice" : "assessment";
+}
+const char* ToString(LessonSpec::Kind k) {
+  return k == LessonSpec::Kind::kProbing ? "probing" : "inspection";
+}
 
 std::vector<SiteRef> StandardPath(std::vector<int> teeth) {
-  std::sort(teeth.begin(), teeth.end(), [](int a, int b) { return PathRank(a) < PathRank(b); });
+  std::sort(teeth.begin(), teeth.end(),
+            [](int a, int b) { return PathRank(a) < PathRank(b); });
   std::vector<SiteRef> path;
   for (int jaw = 0; jaw < 2; ++jaw) {
     std::vector<int> arch;
@@ -193,11 +264,13 @@ std::vector<SiteRef> StandardPath(std::vector<int> teeth) {
     // first is the one toward the right (distal in quadrants 1 and 4).
     for (int t : arch) {
       const bool right = t / 10 == 1 || t / 10 == 4;
-      for (int s : right ? std::array{2, 1, 0} : std::array{0, 1, 2}) path.push_back({t, s});
+      for (int s : right ? std::array{2, 1, 0} : std::array{0, 1, 2})
+        path.push_back({t, s});
     }
     for (auto it = arch.rbegin(); it != arch.rend(); ++it) {
       const bool right = *it / 10 == 1 || *it / 10 == 4;
-      for (int s : right ? std::array{3, 4, 5} : std::array{5, 4, 3}) path.push_back({*it, s});
+      for (int s : right ? std::array{3, 4, 5} : std::array{5, 4, 3})
+        path.push_back({*it, s});
     }
   }
   return path;
@@ -216,16 +289,20 @@ PerioChart TrueChart(const SceneSpec& scene, const std::vector<int>& teeth) {
         t.sites[s].recession_mm = o.recession_mm[s] - kHealthyMarginAboveCejMm;
         t.sites[s].bleeding = o.bleeding[s];
       }
-      for (const auto& [entrance, hamp] : o.furcation) t.furcation = std::max(t.furcation, hamp);
+      for (const auto& [entrance, hamp] : o.furcation)
+        t.furcation = std::max(t.furcation, hamp);
       chart.teeth.push_back(t);
     }
   }
   return chart;
 }
 
-SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth, const CaseSpec& c, std::uint64_t seed) {
+SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
+                    const CaseSpec& c, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
-  auto uniform = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  auto uniform = [&](int lo, int hi) {
+    return std::uniform_int_distribution<int>(lo, hi)(rng);
+  };
   // The deepest attachment loss the stage asks for (whole mm of CAL at the worst site).
   const int cal_lo = c.stage == Stage::kI ? 1 : c.stage == Stage::kII ? 3 : 5;
   const int cal_hi = c.stage == Stage::kI ? 2 : c.stage == Stage::kII ? 4 : 7;
@@ -235,19 +312,25 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth, const
     std::vector<int> order = teeth;
     std::shuffle(order.begin(), order.end(), rng);
     const int n = static_cast<int>(teeth.size());
-    const int diseased = c.extent == Extent::kLocalized ? 1 : std::max(1, uniform((n + 1) / 2, n));
+    const int diseased =
+        c.extent == Extent::kLocalized ? 1 : std::max(1, uniform((n + 1) / 2, n));
     for (ObjectSpec& o : s.objects) {
-      if (o.kind != ObjectSpec::Kind::kTooth && o.kind != ObjectSpec::Kind::kGingiva) continue;
+      if (o.kind != ObjectSpec::Kind::kTooth && o.kind != ObjectSpec::Kind::kGingiva)
+        continue;
       if (std::find(teeth.begin(), teeth.end(), o.fdi) == teeth.end()) continue;
-      if (o.kind == ObjectSpec::Kind::kGingiva) continue;  // refreshed from the tooth below
-      const bool sick = std::find(order.begin(), order.begin() + diseased, o.fdi) != order.begin() + diseased;
+      if (o.kind == ObjectSpec::Kind::kGingiva)
+        continue;  // refreshed from the tooth below
+      const bool sick = std::find(order.begin(), order.begin() + diseased, o.fdi) !=
+                        order.begin() + diseased;
       o.has_sites = true;
       const double max_loss = MaxAttachmentLoss(Dimensions(FdiTooth::Parse(o.fdi)));
       for (int site = 0; site < 6; ++site) {
         double pd, rec;
         if (sick) {
-          const int cal = IsInterdental(site) ? uniform(cal_lo, cal_hi) : uniform(1, std::min(cal_lo, 3));
-          rec = uniform(0, 2);  // the scene's recession: 0 keeps the margin 1.5 mm above the CEJ
+          const int cal = IsInterdental(site) ? uniform(cal_lo, cal_hi)
+                                              : uniform(1, std::min(cal_lo, 3));
+          rec = uniform(
+              0, 2);  // the scene's recession: 0 keeps the margin 1.5 mm above the CEJ
           // Charted CAL = pd + rec - 1.5 with the half rounding down = pd + rec - 2.
           pd = std::max(1, cal - static_cast<int>(rec) + 2);
         } else {
@@ -271,13 +354,17 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth, const
         }
     }
     const Diagnosis d = Classify2017(TrueChart(s, teeth));
-    if (d.kind == Diagnosis::Kind::kPeriodontitis && d.stage == c.stage && d.extent == c.extent) return s;
+    if (d.kind == Diagnosis::Kind::kPeriodontitis && d.stage == c.stage &&
+        d.extent == c.extent)
+      return s;
   }
-  throw std::runtime_error(std::string("no case of stage ") + ToString(c.stage) + ", " + ToString(c.extent) +
-                           " can be drawn on these teeth (try another extent or more teeth)");
+  throw std::runtime_error(
+      std::string("no case of stage ") + ToString(c.stage) + ", " + ToString(c.extent) +
+      " can be drawn on these teeth (try another extent or more teeth)");
 }
 
-SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64_t seed, const fs::path& out) {
+SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64_t seed,
+                        const fs::path& out) {
   const SceneSpec base = LoadSceneSpec(lesson.scene);
   const SceneSpec cased = ApplyCase(base, lesson.teeth, c, seed);
   YAML::Node root;
@@ -290,33 +377,43 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
   const fs::path from = fs::weakly_canonical(lesson.scene.parent_path(), ec);
   const fs::path to = fs::weakly_canonical(fs::absolute(out).parent_path(), ec);
   bool meshes = false;
-  for (const YAML::Node& o : root["objects"]) meshes |= o.IsMap() && o["mesh"].IsDefined();
+  for (const YAML::Node& o : root["objects"])
+    meshes |= o.IsMap() && o["mesh"].IsDefined();
   if (meshes && from != to)
-    throw std::runtime_error(out.string() + ": " + lesson.scene.string() +
-                             " names mesh files relative to its folder; save the case in " + from.string());
-  const std::string what = std::string("stage ") + ToString(c.stage) + ", " + ToString(c.extent) + ", seed " +
-                           std::to_string(seed);
-  const std::string name = (base.name.empty() ? lesson.scene.stem().string() : base.name) + " (case: " + what + ")";
+    throw std::runtime_error(
+        out.string() + ": " + lesson.scene.string() +
+        " names mesh files relative to its folder; save the case in " + from.string());
+  const std::string what = std::string("stage ") + ToString(c.stage) + ", " +
+                           ToString(c.extent) + ", seed " + std::to_string(seed);
+  const std::string name =
+      (base.name.empty() ? lesson.scene.stem().string() : base.name) + " (case: " + what +
+      ")";
   root["name"] = name;
-  root["description"] = "Periodontitis " + what + ", drawn by Sulcus on " + lesson.scene.filename().string() +
-                        " for the lesson " + lesson.file.filename().string() + ".";
+  root["description"] = "Periodontitis " + what + ", drawn by Sulcus on " +
+                        lesson.scene.filename().string() + " for the lesson " +
+                        lesson.file.filename().string() + ".";
   for (YAML::Node o : root["objects"]) {
     if (!o.IsMap() || !o["tooth"]) continue;
     const int fdi = o["tooth"].as<int>(0);
-    if (std::find(lesson.teeth.begin(), lesson.teeth.end(), fdi) == lesson.teeth.end()) continue;
+    if (std::find(lesson.teeth.begin(), lesson.teeth.end(), fdi) == lesson.teeth.end())
+      continue;
     for (const ObjectSpec& t : cased.objects) {
       if (t.kind != ObjectSpec::Kind::kTooth || t.fdi != fdi) continue;
-      YAML::Node pockets(YAML::NodeType::Sequence), recession(YAML::NodeType::Sequence), bleeding(YAML::NodeType::Sequence);
+      YAML::Node pockets(YAML::NodeType::Sequence), recession(YAML::NodeType::Sequence),
+          bleeding(YAML::NodeType::Sequence);
       for (int s = 0; s < 6; ++s) {
         pockets.push_back(t.pocket_mm[s]);
         recession.push_back(t.recession_mm[s]);
         if (t.bleeding[s]) bleeding.push_back(kSiteCodes[s]);
       }
-      for (YAML::Node* n : {&pockets, &recession, &bleeding}) n->SetStyle(YAML::EmitterStyle::Flow);
+      for (YAML::Node* n : {&pockets, &recession, &bleeding})
+        n->SetStyle(YAML::EmitterStyle::Flow);
       o["pockets_mm"] = pockets;
       o["recession_mm"] = recession;
-      if (bleeding.size() > 0) o["bleeding"] = bleeding;
-      else o.remove("bleeding");
+      if (bleeding.size() > 0)
+        o["bleeding"] = bleeding;
+      else
+        o.remove("bleeding");
     }
   }
   YAML::Emitter e;
@@ -326,23 +423,28 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
     std::ofstream f(tmp);
     f << "# " << name << "\n"
       << "# A generated periodontitis case (" << what << ") written by Sulcus from\n"
-      << "# " << lesson.scene.filename().string() << "; the lesson " << lesson.file.filename().string()
-      << " draws the same case from the same seed.\n"
+      << "# " << lesson.scene.filename().string() << "; the lesson "
+      << lesson.file.filename().string() << " draws the same case from the same seed.\n"
       << e.c_str() << "\n";
     if (!f.flush()) throw std::runtime_error(tmp.string() + ": cannot write the scene");
   }
   fs::rename(tmp, out, ec);
-  if (ec) throw std::runtime_error(out.string() + ": cannot write the scene: " + ec.message());
+  if (ec)
+    throw std::runtime_error(out.string() + ": cannot write the scene: " + ec.message());
   // Read back: the file must give the chart that was drawn.
   SceneSpec back = LoadSceneSpec(out);
-  const PerioChart want = TrueChart(cased, lesson.teeth), got = TrueChart(back, lesson.teeth);
+  const PerioChart want = TrueChart(cased, lesson.teeth),
+                   got = TrueChart(back, lesson.teeth);
   for (std::size_t t = 0; t < want.teeth.size(); ++t)
     for (int s = 0; s < kSitesPerTooth; ++s) {
       const auto& a = want.teeth[t].sites[s];
       const auto& b = t < got.teeth.size() ? got.teeth[t].sites[s] : a;
-      if (t >= got.teeth.size() || a.pd_mm != b.pd_mm || a.recession_mm != b.recession_mm || a.bleeding != b.bleeding)
-        throw std::runtime_error(out.string() + ": the saved scene does not read back as the drawn case (tooth " +
-                                 std::to_string(want.teeth[t].fdi) + ")");
+      if (t >= got.teeth.size() || a.pd_mm != b.pd_mm ||
+          a.recession_mm != b.recession_mm || a.bleeding != b.bleeding)
+        throw std::runtime_error(
+            out.string() +
+            ": the saved scene does not read back as the drawn case (tooth " +
+            std::to_string(want.teeth[t].fdi) + ")");
     }
   return back;
 }
@@ -364,29 +466,39 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   YamlReader r(file);
   LessonSpec spec;
   spec.file = file;
-  const YAML::Node root = LoadYamlMap(r, "lesson file", "a lesson is a map with at least 'scene:' and 'steps:'");
+  const YAML::Node root = LoadYamlMap(
+      r, "lesson file", "a lesson is a map with at least 'scene:' and 'steps:'");
   if (const YAML::Node k = root["kind"]) {
     const std::string v = r.Text(k, "kind");
-    if (v == "inspection") spec.kind = LessonSpec::Kind::kInspection;
-    else if (v != "probing") r.Error(k, "unknown kind '" + v + "'" + Suggest(v, {"probing", "inspection"}));
+    if (v == "inspection")
+      spec.kind = LessonSpec::Kind::kInspection;
+    else if (v != "probing")
+      r.Error(k, "unknown kind '" + v + "'" + Suggest(v, {"probing", "inspection"}));
   }
   if (spec.inspection())
-    r.CheckKeys(root, {"kind", "name", "description", "scene", "mode", "probe", "teeth", "regions", "steps", "rubric",
-                       "time_limit_s"},
+    r.CheckKeys(root,
+                {"kind", "name", "description", "scene", "mode", "probe", "teeth",
+                 "regions", "steps", "rubric", "time_limit_s"},
                 "an inspection lesson");
   else
-    r.CheckKeys(root, {"kind", "name", "description", "scene", "mode", "probe", "teeth", "path", "steps", "rubric",
-                       "time_limit_s", "case"},
+    r.CheckKeys(root,
+                {"kind", "name", "description", "scene", "mode", "probe", "teeth", "path",
+                 "steps", "rubric", "time_limit_s", "case"},
                 "the lesson");
   if (root["name"]) spec.name = r.Text(root["name"], "name");
   if (root["description"]) spec.description = r.Text(root["description"], "description");
   if (root["mode"]) {
     const std::string m = r.Text(root["mode"], "mode");
-    if (m == "practice") spec.mode = LessonSpec::Mode::kPractice;
-    else if (m == "assessment") spec.mode = LessonSpec::Mode::kAssessment;
-    else r.Error(root["mode"], "unknown mode '" + m + "'" + Suggest(m, {"practice", "assessment"}));
+    if (m == "practice")
+      spec.mode = LessonSpec::Mode::kPractice;
+    else if (m == "assessment")
+      spec.mode = LessonSpec::Mode::kAssessment;
+    else
+      r.Error(root["mode"],
+              "unknown mode '" + m + "'" + Suggest(m, {"practice", "assessment"}));
   }
-  if (root["time_limit_s"]) spec.time_limit_s = r.Number(root["time_limit_s"], "time_limit_s", 1, 36000, 0, "s");
+  if (root["time_limit_s"])
+    spec.time_limit_s = r.Number(root["time_limit_s"], "time_limit_s", 1, 36000, 0, "s");
   if (root["rubric"]) ReadRubric(r, root["rubric"], &spec.rubric);
   if (const YAML::Node c = root["case"]; c && r.IsMap(c, "'case'")) {
     r.CheckKeys(c, {"stage", "extent", "seed"}, "'case'");
@@ -395,21 +507,27 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
       const std::string st = r.Text(c["stage"], "stage");
       const auto stage = StageFromString(st);
       if (!stage || *stage == Stage::kNone || *stage == Stage::kIV)
-        r.Error(c["stage"], "'stage' must be I, II or III (stage IV needs patient facts a scene does not give yet)");
-      else spec.case_spec.stage = *stage;
+        r.Error(c["stage"],
+                "'stage' must be I, II or III (stage IV needs patient facts a scene does "
+                "not give yet)");
+      else
+        spec.case_spec.stage = *stage;
     }
     if (c["extent"]) {
       const std::string ex = r.Text(c["extent"], "extent");
       const auto extent = ExtentFromString(ex);
       if (!extent || *extent == Extent::kNone)
-        r.Error(c["extent"], "'extent' must be localized or generalized" + Suggest(ex, {"localized", "generalized"}));
-      else spec.case_spec.extent = *extent;
+        r.Error(c["extent"], "'extent' must be localized or generalized" +
+                                 Suggest(ex, {"localized", "generalized"}));
+      else
+        spec.case_spec.extent = *extent;
     }
     if (const YAML::Node seed = c["seed"]) {
       if (seed.IsScalar() && seed.Scalar() == "random") {
         spec.case_spec.random_seed = true;
       } else {
-        spec.case_spec.seed = static_cast<std::uint64_t>(r.Number(seed, "seed", 0, 9.0e15, 1));
+        spec.case_spec.seed =
+            static_cast<std::uint64_t>(r.Number(seed, "seed", 0, 9.0e15, 1));
       }
     } else {
       spec.case_spec.random_seed = true;
@@ -419,7 +537,9 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   SceneSpec scene;
   bool scene_ok = false;
   if (!root["scene"]) {
-    r.Error(root, "a lesson needs 'scene:', the scene file it runs on (relative to the lesson's folder)");
+    r.Error(root,
+            "a lesson needs 'scene:', the scene file it runs on (relative to the "
+            "lesson's folder)");
   } else {
     spec.scene = (folder / r.Text(root["scene"], "scene")).lexically_normal();
     try {
@@ -435,13 +555,18 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
     for (const ObjectSpec& o : scene.objects)
       if (o.kind == ObjectSpec::Kind::kTooth) scene_teeth.push_back(o.fdi);
     if (!spec.inspection() && (!scene.gingiva || !scene.HasEffect(Effect::kProbingDepth)))
-      r.Error(root["scene"], "a probing lesson needs a scene with 'gingiva: true' and the probing_depth effect");
+      r.Error(root["scene"],
+              "a probing lesson needs a scene with 'gingiva: true' and the probing_depth "
+              "effect");
   }
-  auto in_scene = [&](int fdi) { return std::find(scene_teeth.begin(), scene_teeth.end(), fdi) != scene_teeth.end(); };
+  auto in_scene = [&](int fdi) {
+    return std::find(scene_teeth.begin(), scene_teeth.end(), fdi) != scene_teeth.end();
+  };
   if (root["probe"]) {
     spec.probe = r.Text(root["probe"], "probe");
     if (scene_ok && spec.probe != scene.probe)
-      r.Error(root["probe"], "the lesson expects the probe '" + spec.probe + "' but its scene holds '" + scene.probe + "'");
+      r.Error(root["probe"], "the lesson expects the probe '" + spec.probe +
+                                 "' but its scene holds '" + scene.probe + "'");
   } else if (scene_ok) {
     spec.probe = scene.probe;
   }
@@ -449,19 +574,23 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
     spec.teeth = ReadTeeth(r, root["teeth"], "teeth");
     for (std::size_t i = 0; i < spec.teeth.size(); ++i)
       if (scene_ok && !in_scene(spec.teeth[i]))
-        r.Error(root["teeth"][i], "tooth " + std::to_string(spec.teeth[i]) + " is not in the scene " +
+        r.Error(root["teeth"][i], "tooth " + std::to_string(spec.teeth[i]) +
+                                      " is not in the scene " +
                                       spec.scene.filename().string());
   } else {
     spec.teeth = scene_teeth;
   }
   if (spec.inspection()) {
-    const std::vector<std::string> have = scene_ok ? SceneRegions(scene) : std::vector<std::string>{};
+    const std::vector<std::string> have =
+        scene_ok ? SceneRegions(scene) : std::vector<std::string>{};
     if (root["regions"]) {
       spec.regions = ReadRegions(r, root["regions"], "regions");
       for (std::size_t i = 0; i < spec.regions.size(); ++i)
-        if (scene_ok && std::find(have.begin(), have.end(), spec.regions[i]) == have.end())
-          r.Error(root["regions"][i], "the scene " + spec.scene.filename().string() + " has no " +
-                                          RegionLabel(spec.regions[i]) + " (" + spec.regions[i] + ")");
+        if (scene_ok &&
+            std::find(have.begin(), have.end(), spec.regions[i]) == have.end())
+          r.Error(root["regions"][i], "the scene " + spec.scene.filename().string() +
+                                          " has no " + RegionLabel(spec.regions[i]) +
+                                          " (" + spec.regions[i] + ")");
     } else {
       spec.regions = have;
     }
@@ -475,9 +604,13 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
       for (const YAML::Node& item : p) {
         SiteRef s;
         if (!item.IsScalar() || !ParseSite(item.Scalar(), &s)) {
-          r.Error(item, "a path entry is a tooth and a site, such as \"46 DB\" (sites MB, B, DB, ML, L, DL)");
-        } else if (std::find(spec.teeth.begin(), spec.teeth.end(), s.fdi) == spec.teeth.end()) {
-          r.Error(item, "tooth " + std::to_string(s.fdi) + " of the path is not one of the lesson's teeth");
+          r.Error(item,
+                  "a path entry is a tooth and a site, such as \"46 DB\" (sites MB, B, "
+                  "DB, ML, L, DL)");
+        } else if (std::find(spec.teeth.begin(), spec.teeth.end(), s.fdi) ==
+                   spec.teeth.end()) {
+          r.Error(item, "tooth " + std::to_string(s.fdi) +
+                            " of the path is not one of the lesson's teeth");
         } else if (!seen.insert({s.fdi, s.site}).second) {
           r.Error(item, "site " + s.ToString() + " is twice in the path");
         } else {
@@ -496,11 +629,15 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
       for (std::size_t i = 0; i < spec.steps.size(); ++i) {
         for (int t : spec.steps[i].teeth)
           if (std::find(spec.teeth.begin(), spec.teeth.end(), t) == spec.teeth.end())
-            r.Error(spec.steps[i].line, 1, "step '" + spec.steps[i].id + "': tooth " + std::to_string(t) +
-                                                " is not one of the lesson's teeth");
+            r.Error(spec.steps[i].line, 1,
+                    "step '" + spec.steps[i].id + "': tooth " + std::to_string(t) +
+                        " is not one of the lesson's teeth");
         for (const std::string& g : spec.steps[i].regions)
-          if (std::find(spec.regions.begin(), spec.regions.end(), g) == spec.regions.end())
-            r.Error(spec.steps[i].line, 1, "step '" + spec.steps[i].id + "': " + g + " is not one of the lesson's regions");
+          if (std::find(spec.regions.begin(), spec.regions.end(), g) ==
+              spec.regions.end())
+            r.Error(spec.steps[i].line, 1,
+                    "step '" + spec.steps[i].id + "': " + g +
+                        " is not one of the lesson's regions");
       }
     }
   } else {

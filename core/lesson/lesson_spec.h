@@ -28,19 +28,22 @@ struct SiteRef {
 /// defaults from the probing literature (lessons/README.md has the sources).
 struct RubricSpec {
   // Weights of the categories.
-  double technique = 20, reading = 15, charting = 15, force = 15, angulation = 10, coverage = 10, bleeding = 5,
-         completeness = 10, diagnosis = 10;
+  double technique = 20, reading = 15, charting = 15, force = 15, angulation = 10,
+         coverage = 10, bleeding = 5, completeness = 10, diagnosis = 10;
   // Tolerances.
   double technique_full_mm = 0.5, technique_partial_mm = 1.0;  // |reached - truth|
   double force_low_n = 0.15, force_high_n = 0.30, force_damage_n = 0.50;
   double angle_full_deg = 5, angle_pass_deg = 10;  // facial and oral mid-sites
-  double col_reach_mm = 2.5;  // interproximal: the tip within this of the contact's line, along the sulcus
-  double coverage_min = 0.80;                      // share of a surface's sulcus arc swept
+  double col_reach_mm =
+      2.5;  // interproximal: the tip within this of the contact's line, along the sulcus
+  double coverage_min = 0.80;  // share of a surface's sulcus arc swept
   // Inspection lessons.
   double findings = 40, sequence = 10;
-  double damage = -1;            // < 0: as much as force
-  double lesion_force_n = 0.5;   // pressing a lesion harder than this is damage (it cavitates)
-  double touch_dwell_s = 0.1;    // the tip resting on a region or surface this long counts as examining it
+  double damage = -1;  // < 0: as much as force
+  double lesion_force_n =
+      0.5;  // pressing a lesion harder than this is damage (it cavitates)
+  double touch_dwell_s =
+      0.1;  // the tip resting on a region or surface this long counts as examining it
   double DamageWeight() const { return damage >= 0 ? damage : force; }
 };
 
@@ -68,7 +71,8 @@ struct CaseSpec {
   bool generated = false;
   Stage stage = Stage::kIII;
   Extent extent = Extent::kLocalized;
-  bool random_seed = false;  // `seed: random`: drawn at the start of each attempt, then stored with it
+  bool random_seed =
+      false;  // `seed: random`: drawn at the start of each attempt, then stored with it
   std::uint64_t seed = 1;
 };
 
@@ -80,14 +84,15 @@ struct LessonSpec {
   std::string name, description;
   std::filesystem::path scene;  // resolved against the lesson's folder
   enum class Mode { kPractice, kAssessment } mode = Mode::kPractice;
-  std::string probe;            // the probe the lesson expects (the scene's, checked)
-  std::vector<int> teeth;       // in the scene; default: every tooth with sites
-  std::vector<SiteRef> path;    // default: the standard charting path over `teeth`
+  std::string probe;          // the probe the lesson expects (the scene's, checked)
+  std::vector<int> teeth;     // in the scene; default: every tooth with sites
+  std::vector<SiteRef> path;  // default: the standard charting path over `teeth`
   std::vector<StepSpec> steps;
   RubricSpec rubric;
-  double time_limit_s = 0;      // 0: none
+  double time_limit_s = 0;  // 0: none
   CaseSpec case_spec;
-  std::vector<std::string> regions;  // inspection: the regions examined (default: every one the scene has)
+  std::vector<std::string>
+      regions;  // inspection: the regions examined (default: every one the scene has)
   bool inspection() const { return kind == Kind::kInspection; }
   bool practice() const { return mode == Mode::kPractice; }
 };
@@ -101,7 +106,8 @@ LessonSpec LoadLessonSpec(const std::filesystem::path& file);
 
 /// The lesson files (.yaml) of each folder, each folder's sorted by name; a
 /// folder that is missing or unreadable gives none.
-std::vector<std::filesystem::path> LessonFiles(const std::vector<std::filesystem::path>& dirs);
+std::vector<std::filesystem::path> LessonFiles(
+    const std::vector<std::filesystem::path>& dirs);
 
 /// The usual charting path (Open Dental's): upper buccal 18 -> 28, upper palatal
 /// 28 -> 18, lower buccal 48 -> 38, lower lingual 38 -> 48, over the given teeth.
@@ -110,7 +116,8 @@ std::vector<SiteRef> StandardPath(std::vector<int> teeth);
 /// The scene with a generated case applied: pockets, recession and bleeding of
 /// the lesson's teeth drawn from `seed` until the true chart classifies as asked
 /// (at most a few thousand draws; throws std::runtime_error when none fits).
-SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth, const CaseSpec& c, std::uint64_t seed);
+SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
+                    const CaseSpec& c, std::uint64_t seed);
 
 /// Writes the scene the lesson runs on with its case drawn for `stage`,
 /// `extent` and `seed` as a scene file of its own at `out` (the lesson's scene
@@ -119,7 +126,8 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth, const
 /// its true chart checked against the drawn one. An instructor's fixed case for
 /// lessons without `case:`. Throws std::runtime_error naming the file (a scene
 /// that names mesh files can only be saved in its own folder), SceneLoadError.
-SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64_t seed, const std::filesystem::path& out);
+SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64_t seed,
+                        const std::filesystem::path& out);
 
 /// The scene's true chart over `teeth` (clinical recession: the scene's
 /// recession minus the healthy margin's 1.5 mm above the CEJ).

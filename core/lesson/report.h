@@ -16,8 +16,8 @@
 namespace sulcus {
 
 struct ReportInfo {
-  std::string recording;     // the attempt's recording (for replay), may be empty
-  std::string started;       // when the attempt started, ISO 8601
+  std::string recording;        // the attempt's recording (for replay), may be empty
+  std::string started;          // when the attempt started, ISO 8601
   std::int64_t attempt_id = 0;  // in the results database, 0 when not stored
 };
 
@@ -26,6 +26,7 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info);
 
 /// Writes report.json and report.html into `dir` (created), each through a
 /// temporary file and a rename, so a report is whole or absent.
-void WriteReport(const LessonResult& r, const ReportInfo& info, const std::filesystem::path& dir);
+void WriteReport(const LessonResult& r, const ReportInfo& info,
+                 const std::filesystem::path& dir);
 
 }  // namespace sulcus

@@ -96,7 +96,8 @@ class Stmt {
  public:
   Stmt(sqlite3* db, const char* sql, const fs::path& file) : db_(db) {
     if (sqlite3_prepare_v2(db, sql, -1, &s_, nullptr) != SQLITE_OK)
-      throw ResultsError(file.string() + ": " + sqlite3_errmsg(db) + " (in: " + sql + ")");
+      throw ResultsError(file.string() + ": " + sqlite3_errmsg(db) + " (in: " + sql +
+                         ")");
   }
   ~Stmt() { sqlite3_finalize(s_); }
   Stmt& Bind(int i, const std::string& v) {
@@ -139,7 +140,9 @@ class Stmt {
   sqlite3_stmt* s_ = nullptr;
 };
 
-std::string DeclaredText(const LessonResult& r) { return r.declared ? r.declared->Summary() : "nothing"; }
+std::string DeclaredText(const LessonResult& r) {
+  return r.declared ? r.declared->Summary() : "nothing";
+}
 
 std::string Csv(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
@@ -152,15 +155,18 @@ std::string Csv(const std::string& s) {
 
 fs::path DefaultResultsDir() {
   if (const char* d = std::getenv("SULCUS_RESULTS_DIR"); d && *d) return d;
-  if (const char* x = std::getenv("XDG_DATA_HOME"); x && *x) return fs::path(x) / "sulcus";
-  if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".local/share/sulcus";
+  if (const char* x = std::getenv("XDG_DATA_HOME"); x && *x)
+    return fs::path(x) / "sulcus";
+  if (const char* h = std::getenv("HOME"); h && *h)
+    return fs::path(h) / ".local/share/sulcus";
   return fs::temp_directory_path() / "sulcus-results";
 }
 
 ResultsDb::ResultsDb(const fs::path& file) : file_(file) {
   std::error_code ec;
   if (file.has_parent_path()) fs::create_directories(file.parent_path(), ec);
-  if (sqlite3_open_v2(file.string().c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+  if (sqlite3_open_v2(file.string().c_str(), &db_,
+                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
                       nullptr) != SQLITE_OK) {
     const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
     sqlite3_close(db_);
@@ -174,8 +180,9 @@ ResultsDb::ResultsDb(const fs::path& file) : file_(file) {
     Exec("PRAGMA foreign_keys=ON");
     const int version = schema_version();
     if (version > kResultsSchemaVersion)
-      throw ResultsError(file.string() + ": the results database has schema version " + std::to_string(version) +
-                         "; this Sulcus knows up to " + std::to_string(kResultsSchemaVersion) +
+      throw ResultsError(file.string() + ": the results database has schema version " +
+                         std::to_string(version) + "; this Sulcus knows up to " +
+                         std::to_string(kResultsSchemaVersion) +
                          " (it was written by a newer Sulcus; it is left untouched)");
     for (int v = version; v < kResultsSchemaVersion; ++v) {
       Exec("BEGIN IMMEDIATE");
@@ -203,7 +210,8 @@ void ResultsDb::Exec(const std::string& sql) const {
     const std::string why = err ? err : "unknown error";
     sqlite3_free(err);
     if (why.find("not a database") != std::string::npos)
-      throw ResultsError(file_.string() + ": not a Sulcus results database (file is not a database)");
+      throw ResultsError(file_.string() +
+                         ": not a Sulcus results database (file is not a database)");
     throw ResultsError(file_.string() + ": " + why);
   }
 }
@@ -220,8 +228,9 @@ std::string ResultsDb::IntegrityCheck() const {
   return out;
 }
 
-std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started, const std::string& recording,
-                              const std::string& answers, const std::string& report_dir) {
+std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
+                              const std::string& recording, const std::string& answers,
+                              const std::string& report_dir) {
   Exec("BEGIN IMMEDIATE");
   try {
     {
@@ -229,51 +238,97 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
       s.Bind(1, r.student).Step(file_);
     }
     {
-      Stmt s(db_, "INSERT INTO lessons(file, name) VALUES (?, ?) ON CONFLICT(file) DO UPDATE SET name = excluded.name",
+      Stmt s(db_,
+             "INSERT INTO lessons(file, name) VALUES (?, ?) ON CONFLICT(file) DO UPDATE "
+             "SET name = excluded.name",
              file_);
       s.Bind(1, r.lesson_file).Bind(2, r.lesson_name).Step(file_);
     }
     Stmt a(db_,
-           "INSERT INTO attempts(student_id, lesson_id, started, mode, scene_file, generated_case, case_seed, total, "
-           "duration_s, sites_total, sites_read, sites_charted, within_1mm_pct, bias_mm, force_in_band_pct, true_dx, "
-           "chart_dx, declared_dx, recording, answers, report_dir, complete, ended) VALUES ((SELECT id FROM students "
-           "WHERE name = ?), (SELECT id FROM lessons WHERE file = ?), ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, "
+           "INSERT INTO attempts(student_id, lesson_id, started, mode, scene_file, "
+           "generated_case, case_seed, total, "
+           "duration_s, sites_total, sites_read, sites_charted, within_1mm_pct, bias_mm, "
+           "force_in_band_pct, true_dx, "
+           "chart_dx, declared_dx, recording, answers, report_dir, complete, ended) "
+           "VALUES ((SELECT id FROM students "
+           "WHERE name = ?), (SELECT id FROM lessons WHERE file = ?), ?, ?, ?, ?, ?, ?, "
+           "?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, "
            "?, ?, ?, ?)",
            file_);
-    a.Bind(1, r.student).Bind(2, r.lesson_file).Bind(3, started).Bind(4, r.mode).Bind(5, r.scene_file);
-    a.Bind(6, r.generated_case ? 1 : 0).Bind(7, static_cast<std::int64_t>(r.case_seed)).Bind(8, r.total);
-    a.Bind(9, r.duration_s).Bind(10, r.sites_total).Bind(11, r.sites_read).Bind(12, r.sites_charted);
-    a.Bind(13, r.within_1mm_pct).Bind(14, r.bias_mm).Bind(15, r.force_in_band_pct).Bind(16, r.true_dx.Summary());
-    a.Bind(17, r.chart_dx.Summary()).Bind(18, DeclaredText(r)).Bind(19, recording).Bind(20, answers);
+    a.Bind(1, r.student)
+        .Bind(2, r.lesson_file)
+        .Bind(3, started)
+        .Bind(4, r.mode)
+        .Bind(5, r.scene_file);
+    a.Bind(6, r.generated_case ? 1 : 0)
+        .Bind(7, static_cast<std::int64_t>(r.case_seed))
+        .Bind(8, r.total);
+    a.Bind(9, r.duration_s)
+        .Bind(10, r.sites_total)
+        .Bind(11, r.sites_read)
+        .Bind(12, r.sites_charted);
+    a.Bind(13, r.within_1mm_pct)
+        .Bind(14, r.bias_mm)
+        .Bind(15, r.force_in_band_pct)
+        .Bind(16, r.true_dx.Summary());
+    a.Bind(17, r.chart_dx.Summary())
+        .Bind(18, DeclaredText(r))
+        .Bind(19, recording)
+        .Bind(20, answers);
     a.Bind(21, report_dir).Bind(22, r.complete ? 1 : 0).Bind(23, r.ended).Step(file_);
     const std::int64_t id = sqlite3_last_insert_rowid(db_);
     Stmt site(db_,
-              "INSERT INTO attempt_sites(attempt_id, fdi, site, truth_mm, reached_mm, entered_mm, peak_force_n, "
-              "angle_deg, col_reached, bled, bleeding_charted, reading_tick) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+              "INSERT INTO attempt_sites(attempt_id, fdi, site, truth_mm, reached_mm, "
+              "entered_mm, peak_force_n, "
+              "angle_deg, col_reached, bled, bleeding_charted, reading_tick) VALUES (?, "
+              "?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
               file_);
     for (const SiteResult& s : r.sites) {
       site.Bind(1, id).Bind(2, s.site.fdi).Bind(3, s.site.site).Bind(4, s.truth_mm);
-      if (s.reached_mm) site.Bind(5, *s.reached_mm); else site.BindNull(5);
-      if (s.entry && s.entry->pd_mm) site.Bind(6, *s.entry->pd_mm); else site.BindNull(6);
-      site.Bind(7, s.peak_force_n).Bind(8, s.angle_deg).Bind(9, s.col_reached ? 1 : 0).Bind(10, s.bled ? 1 : 0);
-      site.Bind(11, s.entry && s.entry->bleeding ? 1 : 0).Bind(12, static_cast<std::int64_t>(s.reading_tick));
+      if (s.reached_mm)
+        site.Bind(5, *s.reached_mm);
+      else
+        site.BindNull(5);
+      if (s.entry && s.entry->pd_mm)
+        site.Bind(6, *s.entry->pd_mm);
+      else
+        site.BindNull(6);
+      site.Bind(7, s.peak_force_n)
+          .Bind(8, s.angle_deg)
+          .Bind(9, s.col_reached ? 1 : 0)
+          .Bind(10, s.bled ? 1 : 0);
+      site.Bind(11, s.entry && s.entry->bleeding ? 1 : 0)
+          .Bind(12, static_cast<std::int64_t>(s.reading_tick));
       site.Step(file_);
       site.Reset();
     }
-    Stmt score(db_, "INSERT INTO attempt_scores(attempt_id, category, credit, weight) VALUES (?, ?, ?, ?)", file_);
+    Stmt score(db_,
+               "INSERT INTO attempt_scores(attempt_id, category, credit, weight) VALUES "
+               "(?, ?, ?, ?)",
+               file_);
     for (const auto& [cat, credit] : r.category_credit) {
-      score.Bind(1, id).Bind(2, cat).Bind(3, credit).Bind(4, r.category_weight.at(cat)).Step(file_);
+      score.Bind(1, id)
+          .Bind(2, cat)
+          .Bind(3, credit)
+          .Bind(4, r.category_weight.at(cat))
+          .Step(file_);
       score.Reset();
     }
     Stmt line(db_,
-              "INSERT INTO attempt_lines(attempt_id, seq, category, fdi, site, status, credit, tick, message) VALUES "
+              "INSERT INTO attempt_lines(attempt_id, seq, category, fdi, site, status, "
+              "credit, tick, message) VALUES "
               "(?, ?, ?, ?, ?, ?, ?, ?, ?)",
               file_);
     int seq = 0;
     for (const RubricLine& l : r.lines) {
       line.Bind(1, id).Bind(2, seq++).Bind(3, l.category).Bind(4, l.fdi);
-      if (l.site) line.Bind(5, l.site->site); else line.BindNull(5);
-      line.Bind(6, std::string(ToString(l.status))).Bind(7, l.credit).Bind(8, static_cast<std::int64_t>(l.tick));
+      if (l.site)
+        line.Bind(5, l.site->site);
+      else
+        line.BindNull(5);
+      line.Bind(6, std::string(ToString(l.status)))
+          .Bind(7, l.credit)
+          .Bind(8, static_cast<std::int64_t>(l.tick));
       line.Bind(9, l.message).Step(file_);
       line.Reset();
     }
@@ -296,9 +351,12 @@ void ResultsDb::SetReportDir(std::int64_t id, const std::string& dir) {
 
 namespace {
 constexpr const char* kAttemptSelect =
-    "SELECT a.id, s.name, l.name, l.file, a.scene_file, a.mode, a.started, a.case_seed, a.generated_case, a.total, "
-    "a.duration_s, a.within_1mm_pct, a.bias_mm, a.force_in_band_pct, a.sites_total, a.sites_read, a.sites_charted, "
-    "a.true_dx, a.chart_dx, a.declared_dx, a.recording, a.answers, a.report_dir, a.complete, a.ended FROM attempts a JOIN students s ON "
+    "SELECT a.id, s.name, l.name, l.file, a.scene_file, a.mode, a.started, a.case_seed, "
+    "a.generated_case, a.total, "
+    "a.duration_s, a.within_1mm_pct, a.bias_mm, a.force_in_band_pct, a.sites_total, "
+    "a.sites_read, a.sites_charted, "
+    "a.true_dx, a.chart_dx, a.declared_dx, a.recording, a.answers, a.report_dir, "
+    "a.complete, a.ended FROM attempts a JOIN students s ON "
     "s.id = a.student_id JOIN lessons l ON l.id = a.lesson_id ";
 
 AttemptRow ReadAttempt(const Stmt& s) {
@@ -332,8 +390,12 @@ AttemptRow ReadAttempt(const Stmt& s) {
 }
 }  // namespace
 
-std::vector<AttemptRow> ResultsDb::Attempts(const std::string& student, const std::string& lesson_file) const {
-  Stmt s(db_, (std::string(kAttemptSelect) + "WHERE (?1 = '' OR s.name = ?1) AND (?2 = '' OR l.file = ?2) ORDER BY a.id").c_str(),
+std::vector<AttemptRow> ResultsDb::Attempts(const std::string& student,
+                                            const std::string& lesson_file) const {
+  Stmt s(db_,
+         (std::string(kAttemptSelect) +
+          "WHERE (?1 = '' OR s.name = ?1) AND (?2 = '' OR l.file = ?2) ORDER BY a.id")
+             .c_str(),
          file_);
   s.Bind(1, student).Bind(2, lesson_file);
   std::vector<AttemptRow> out;
@@ -348,11 +410,15 @@ std::optional<AttemptRow> ResultsDb::Attempt(std::int64_t id) const {
   return ReadAttempt(s);
 }
 
-std::vector<SiteRow> ResultsDb::Sites(const std::string& student, const std::string& lesson_file) const {
+std::vector<SiteRow> ResultsDb::Sites(const std::string& student,
+                                      const std::string& lesson_file) const {
   Stmt s(db_,
-         "SELECT t.attempt_id, s.name, a.started, t.fdi, t.site, t.truth_mm, t.reached_mm, t.entered_mm, t.peak_force_n "
-         "FROM attempt_sites t JOIN attempts a ON a.id = t.attempt_id JOIN students s ON s.id = a.student_id JOIN "
-         "lessons l ON l.id = a.lesson_id WHERE (?1 = '' OR s.name = ?1) AND (?2 = '' OR l.file = ?2) ORDER BY "
+         "SELECT t.attempt_id, s.name, a.started, t.fdi, t.site, t.truth_mm, "
+         "t.reached_mm, t.entered_mm, t.peak_force_n "
+         "FROM attempt_sites t JOIN attempts a ON a.id = t.attempt_id JOIN students s ON "
+         "s.id = a.student_id JOIN "
+         "lessons l ON l.id = a.lesson_id WHERE (?1 = '' OR s.name = ?1) AND (?2 = '' OR "
+         "l.file = ?2) ORDER BY "
          "t.attempt_id, t.fdi, t.site",
          file_);
   s.Bind(1, student).Bind(2, lesson_file);
@@ -383,7 +449,10 @@ std::vector<std::string> ResultsDb::Students() const {
 int ResultsDb::DeleteStudent(const std::string& student) {
   Exec("BEGIN IMMEDIATE");
   try {
-    Stmt d(db_, "DELETE FROM attempts WHERE student_id = (SELECT id FROM students WHERE name = ?)", file_);
+    Stmt d(db_,
+           "DELETE FROM attempts WHERE student_id = (SELECT id FROM students WHERE name "
+           "= ?)",
+           file_);
     d.Bind(1, student).Step(file_);
     const int n = sqlite3_changes(db_);
     Stmt s(db_, "DELETE FROM students WHERE name = ?", file_);
@@ -400,21 +469,27 @@ int ResultsDb::DeleteStudent(const std::string& student) {
 }
 
 void ExportAttemptsCsv(const std::vector<AttemptRow>& rows, std::ostream& o) {
-  o << "attempt,student,lesson,lesson_file,mode,started,case_seed,total,duration_s,sites_total,sites_read,"
-       "sites_charted,within_1mm_pct,bias_mm,force_in_band_pct,true_dx,chart_dx,declared_dx,complete,ended,recording,report_dir\n";
+  o << "attempt,student,lesson,lesson_file,mode,started,case_seed,total,duration_s,sites_"
+       "total,sites_read,"
+       "sites_charted,within_1mm_pct,bias_mm,force_in_band_pct,true_dx,chart_dx,declared_"
+       "dx,complete,ended,recording,report_dir\n";
   for (const AttemptRow& a : rows)
-    o << a.id << ',' << Csv(a.student) << ',' << Csv(a.lesson_name) << ',' << Csv(a.lesson_file) << ',' << a.mode << ','
-      << a.started << ',' << a.case_seed << ',' << a.total << ',' << a.duration_s << ',' << a.sites_total << ','
-      << a.sites_read << ',' << a.sites_charted << ',' << a.within_1mm_pct << ',' << a.bias_mm << ','
-      << a.force_in_band_pct << ',' << Csv(a.true_dx) << ',' << Csv(a.chart_dx) << ',' << Csv(a.declared_dx) << ','
-      << (a.complete ? 1 : 0) << ',' << Csv(a.ended) << ',' << Csv(a.recording) << ',' << Csv(a.report_dir) << '\n';
+    o << a.id << ',' << Csv(a.student) << ',' << Csv(a.lesson_name) << ','
+      << Csv(a.lesson_file) << ',' << a.mode << ',' << a.started << ',' << a.case_seed
+      << ',' << a.total << ',' << a.duration_s << ',' << a.sites_total << ','
+      << a.sites_read << ',' << a.sites_charted << ',' << a.within_1mm_pct << ','
+      << a.bias_mm << ',' << a.force_in_band_pct << ',' << Csv(a.true_dx) << ','
+      << Csv(a.chart_dx) << ',' << Csv(a.declared_dx) << ',' << (a.complete ? 1 : 0)
+      << ',' << Csv(a.ended) << ',' << Csv(a.recording) << ',' << Csv(a.report_dir)
+      << '\n';
 }
 
 void ExportSitesCsv(const std::vector<SiteRow>& rows, std::ostream& o) {
-  o << "attempt,student,started,tooth,site,truth_mm,reached_mm,entered_mm,signed_error_mm,peak_force_n\n";
+  o << "attempt,student,started,tooth,site,truth_mm,reached_mm,entered_mm,signed_error_"
+       "mm,peak_force_n\n";
   for (const SiteRow& r : rows) {
-    o << r.attempt << ',' << Csv(r.student) << ',' << r.started << ',' << r.fdi << ',' << SiteCode(r.site) << ','
-      << r.truth_mm << ',';
+    o << r.attempt << ',' << Csv(r.student) << ',' << r.started << ',' << r.fdi << ','
+      << SiteCode(r.site) << ',' << r.truth_mm << ',';
     if (r.reached_mm) o << *r.reached_mm;
     o << ',';
     if (r.entered_mm) o << *r.entered_mm;

@@ -32,7 +32,8 @@ struct AttemptRow {
   std::string student, lesson_name, lesson_file, scene_file, mode, started;
   std::uint64_t case_seed = 0;
   bool generated_case = false;
-  double total = 0, duration_s = 0, within_1mm_pct = 0, bias_mm = 0, force_in_band_pct = 0;
+  double total = 0, duration_s = 0, within_1mm_pct = 0, bias_mm = 0,
+         force_in_band_pct = 0;
   int sites_total = 0, sites_read = 0, sites_charted = 0;
   std::string true_dx, chart_dx, declared_dx;
   std::string recording, answers, report_dir;
@@ -60,14 +61,17 @@ class ResultsDb {
   ResultsDb& operator=(const ResultsDb&) = delete;
 
   /// Stores one attempt in one transaction; returns its id.
-  std::int64_t Store(const LessonResult& r, const std::string& started, const std::string& recording,
-                     const std::string& answers, const std::string& report_dir);
+  std::int64_t Store(const LessonResult& r, const std::string& started,
+                     const std::string& recording, const std::string& answers,
+                     const std::string& report_dir);
   /// Sets where an attempt's report lives (after it was written with the id in it).
   void SetReportDir(std::int64_t id, const std::string& dir);
 
-  std::vector<AttemptRow> Attempts(const std::string& student = "", const std::string& lesson_file = "") const;
+  std::vector<AttemptRow> Attempts(const std::string& student = "",
+                                   const std::string& lesson_file = "") const;
   std::optional<AttemptRow> Attempt(std::int64_t id) const;
-  std::vector<SiteRow> Sites(const std::string& student = "", const std::string& lesson_file = "") const;
+  std::vector<SiteRow> Sites(const std::string& student = "",
+                             const std::string& lesson_file = "") const;
   std::vector<std::string> Students() const;
   /// Deletes every attempt of a student and the student (one transaction);
   /// returns how many attempts went. Their recordings and reports stay on disk.

@@ -24,7 +24,8 @@ class Clearance {
   explicit Clearance(const CompiledScene& scene) {
     std::vector<CollisionWorld::Object> objects;
     for (std::size_t i = 0; i < scene.trees.size(); ++i)
-      if (!scene.trees[i].empty()) objects.push_back({&scene.trees[i], scene.spec.objects[i].X_WO});
+      if (!scene.trees[i].empty())
+        objects.push_back({&scene.trees[i], scene.spec.objects[i].X_WO});
     world_ = std::make_unique<CollisionWorld>(scene.tool_tree, objects);
   }
   // The instrument at a pose is `margin` clear of every tree.
@@ -32,13 +33,18 @@ class Clearance {
     ContactPair pair;
     QueryLimits limits;
     limits.stop_when_full = true;
-    return FindContacts(*world_, RigidTransform(q, p), margin, scratch_.get(), &pair, 1, limits).pairs == 0;
+    return FindContacts(*world_, RigidTransform(q, p), margin, scratch_.get(), &pair, 1,
+                        limits)
+               .pairs == 0;
   }
   // Free along the hand's way from one pose to another, position and
   // orientation interpolated as the device plays a move (every 0.5 mm and 3 degrees).
-  bool PathFree(const Vector3& a, const Quaternion& qa, const Vector3& b, const Quaternion& qb, double margin) const {
+  bool PathFree(const Vector3& a, const Quaternion& qa, const Vector3& b,
+                const Quaternion& qb, double margin) const {
     const double turn = qa.angularDistance(qb);
-    const int n = std::max(1, static_cast<int>(std::ceil(std::max((b - a).norm() / 0.5, turn / (3 * std::numbers::pi / 180)))));
+    const int n =
+        std::max(1, static_cast<int>(std::ceil(std::max(
+                        (b - a).norm() / 0.5, turn / (3 * std::numbers::pi / 180)))));
     for (int i = 0; i <= n; ++i) {
       const double s = static_cast<double>(i) / n;
       if (!Free(a + s * (b - a), qa.slerp(s, qb), margin)) return false;
@@ -50,13 +56,17 @@ class Clearance {
   // a waypoint near the middle, turned partway; or through the middle of the
   // mouth or in front of the lips, turning there. The waypoints between (empty
   // when the straight way is clear); nullopt when none is found.
-  std::optional<std::vector<RigidTransform>> Route(const RigidTransform& A, const RigidTransform& B, const Vector3& hub,
-                                                   const Vector3& front, double margin) const {
+  std::optional<std::vector<RigidTransform>> Route(const RigidTransform& A,
+                                                   const RigidTransform& B,
+                                                   const Vector3& hub,
+                                                   const Vector3& front,
+                                                   double margin) const {
     const Vector3 pa = A.translation(), pb = B.translation();
     const Quaternion qa(A.rotation()), qb(B.rotation());
     if (PathFree(pa, qa, pb, qb, margin)) return std::vector<RigidTransform>{};
     const Vector3 ua = qa * Vector3::UnitZ(), ub = qb * Vector3::UnitZ();
-    std::vector<double> la_ok = {0}, lb_ok = {0};  // how far each pose goes straight up its axis
+    std::vector<double> la_ok = {0},
+                        lb_ok = {0};  // how far each pose goes straight up its axis
     for (double l : {2.0, 4.0, 7.0, 10.0, 15.0}) {
       if (!PathFree(pa, qa, pa + l * ua, qa, margin)) break;
       la_ok.push_back(l);
@@ -65,7 +75,8 @@ class Clearance {
       if (!PathFree(pb + l * ub, qb, pb, qb, margin)) break;
       lb_ok.push_back(l);
     }
-    auto with_lifts = [&](const Vector3& a1, const Vector3& b1, std::vector<RigidTransform> between) {
+    auto with_lifts = [&](const Vector3& a1, const Vector3& b1,
+                          std::vector<RigidTransform> between) {
       std::vector<RigidTransform> w;
       if ((a1 - pa).norm() > 0) w.emplace_back(qa, a1);
       w.insert(w.end(), between.begin(), between.end());
@@ -90,11 +101,13 @@ class Clearance {
       const double r = i < 100 ? 6.0 : i < 200 ? 12.0 : 20.0;
       const Vector3 m = mid + r * Vector3(u(rng), u(rng), u(rng));
       const Quaternion qm = qa.slerp(0.5 + 0.4 * u(rng), qb);
-      if (Free(m, qm, margin) && PathFree(a1, qa, m, qm, margin) && PathFree(m, qm, b1, qb, margin))
+      if (Free(m, qm, margin) && PathFree(a1, qa, m, qm, margin) &&
+          PathFree(m, qm, b1, qb, margin))
         return with_lifts(a1, b1, {RigidTransform(qm, m)});
     }
     for (const Vector3& via : {hub, front})
-      if (PathFree(a1, qa, via, qa, margin) && PathFree(via, qa, via, qb, margin) && PathFree(via, qb, b1, qb, margin))
+      if (PathFree(a1, qa, via, qa, margin) && PathFree(via, qa, via, qb, margin) &&
+          PathFree(via, qb, b1, qb, margin))
         return with_lifts(a1, b1, {RigidTransform(qa, via), RigidTransform(qb, via)});
     return std::nullopt;
   }
@@ -107,19 +120,23 @@ class Clearance {
 }  // namespace
 
 const std::vector<std::string>& ScriptedInspectorNames() {
-  static const std::vector<std::string> names = {"thorough", "skipping", "mistaken", "rough"};
+  static const std::vector<std::string> names = {"thorough", "skipping", "mistaken",
+                                                 "rough"};
   return names;
 }
 
-ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& spec, const CompiledScene& scene)
+ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& spec,
+                                     const CompiledScene& scene)
     : name_(name) {
   const auto& names = ScriptedInspectorNames();
   if (std::find(names.begin(), names.end(), name) == names.end()) {
     std::string known;
     for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
-    throw std::invalid_argument("unknown scripted inspector '" + name + "'; known: " + known);
+    throw std::invalid_argument("unknown scripted inspector '" + name +
+                                "'; known: " + known);
   }
-  if (!spec.inspection()) throw std::invalid_argument("a scripted inspector takes inspection lessons only");
+  if (!spec.inspection())
+    throw std::invalid_argument("a scripted inspector takes inspection lessons only");
   const InspectionTracker units(spec, scene);
   seen_.assign(units.units().size(), false);
   truth_ = TrueOdontogram(scene.spec, spec.teeth, spec.regions);
@@ -139,7 +156,8 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
       false_.push_back(f);
       break;
     }
-    for (auto it = truth_.teeth.rbegin(); it != truth_.teeth.rend() && missed_.empty(); ++it)
+    for (auto it = truth_.teeth.rbegin(); it != truth_.teeth.rend() && missed_.empty();
+         ++it)
       for (int s = 4; s >= 0; --s)
         if (it->caries[static_cast<std::size_t>(s)]) {
           Finding f;
@@ -164,16 +182,22 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
           std::find(step.begin(), step.end(), u) == step.end())
         step.push_back(u);
     std::vector<int> buccal, occlusal, lingual, rest;
-    // Toward the midline (17 to 11) each tooth's distal comes first; away from it, its mesial.
-    const bool to_midline = st.teeth.size() > 1 && st.teeth.back() % 10 < st.teeth.front() % 10;
+    // Toward the midline (17 to 11) each tooth's distal comes first; away from it, its
+    // mesial.
+    const bool to_midline =
+        st.teeth.size() > 1 && st.teeth.back() % 10 < st.teeth.front() % 10;
     const ToothSurface first = to_midline ? ToothSurface::kDistal : ToothSurface::kMesial,
                        last = to_midline ? ToothSurface::kMesial : ToothSurface::kDistal;
     for (int fdi : st.teeth) {
       for (ToothSurface s : {first, ToothSurface::kBuccal, last})
-        if (const int u = units.UnitOf(fdi, s); std::find(step.begin(), step.end(), u) != step.end()) buccal.push_back(u);
-      if (const int u = units.UnitOf(fdi, ToothSurface::kOcclusal); std::find(step.begin(), step.end(), u) != step.end())
+        if (const int u = units.UnitOf(fdi, s);
+            std::find(step.begin(), step.end(), u) != step.end())
+          buccal.push_back(u);
+      if (const int u = units.UnitOf(fdi, ToothSurface::kOcclusal);
+          std::find(step.begin(), step.end(), u) != step.end())
         occlusal.insert(occlusal.begin(), u);
-      if (const int u = units.UnitOf(fdi, ToothSurface::kLingual); std::find(step.begin(), step.end(), u) != step.end())
+      if (const int u = units.UnitOf(fdi, ToothSurface::kLingual);
+          std::find(step.begin(), step.end(), u) != step.end())
         lingual.push_back(u);
     }
     for (int u : step)
@@ -181,7 +205,8 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
           std::find(occlusal.begin(), occlusal.end(), u) == occlusal.end() &&
           std::find(lingual.begin(), lingual.end(), u) == lingual.end())
         rest.push_back(u);
-    for (const std::vector<int>* part : {&rest, &buccal, &occlusal, &lingual}) order.insert(order.end(), part->begin(), part->end());
+    for (const std::vector<int>* part : {&rest, &buccal, &occlusal, &lingual})
+      order.insert(order.end(), part->begin(), part->end());
   }
   bool rough_tongue = false, rough_lesion = false;
   auto move = [&](const Vector3& p, const Quaternion& q, double s) {
@@ -204,11 +229,13 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
   // In front of the lips: where the hand takes the instrument out to turn it.
   double front_y = hub.y();
   for (std::size_t i = 0; i < scene.meshes.size(); ++i)
-    for (const Vector3& v : scene.meshes[i].vertices()) front_y = std::max(front_y, (scene.spec.objects[i].X_WO * v).y());
+    for (const Vector3& v : scene.meshes[i].vertices())
+      front_y = std::max(front_y, (scene.spec.objects[i].X_WO * v).y());
   const Vector3 front(hub.x(), front_y + 25.0, hub.z());
   for (int u : order) {
     const InspectionUnit& unit = units.units()[static_cast<std::size_t>(u)];
-    if (std::find(skipped_.begin(), skipped_.end(), unit.Name()) != skipped_.end()) continue;
+    if (std::find(skipped_.begin(), skipped_.end(), unit.Name()) != skipped_.end())
+      continue;
     std::optional<UnitApproach> t = ApproachOf(scene, unit, spec.teeth);
     if (!t) continue;
     double press_n = 0.2;  // how hard the hand rests the tip on it
@@ -232,7 +259,8 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
     }
     // Off the surface before going in (clear of the cusps around an occlusal
     // fossa), coming to it down the tool's axis.
-    const double clear = unit.surface == ToothSurface::kOcclusal && unit.region.empty() ? 2.5 : 1.0;
+    const double clear =
+        unit.surface == ToothSurface::kOcclusal && unit.region.empty() ? 2.5 : 1.0;
     // The way of holding the instrument: the surface's own approach turned
     // about the working end's axis (roll), leaning toward the front of the
     // mouth or the tooth, tilted off the normal; of these, those from which the
@@ -243,7 +271,8 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
     // spot of that surface; where nothing is free at all, less clearance.
     std::vector<UnitApproach> spots = {*t};
     if (!t->region && (name != "rough" || !rough_lesion))
-      for (const UnitApproach& a : ProximalSpots(scene, unit.fdi, unit.surface)) spots.push_back(a);
+      for (const UnitApproach& a : ProximalSpots(scene, unit.fdi, unit.surface))
+        spots.push_back(a);
     struct Candidate {
       UnitApproach spot;
       Quaternion q;
@@ -253,8 +282,10 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
     };
     std::vector<Candidate> cands;
     const bool have_prev = !moves_.empty();
-    const Vector3 prev_p = have_prev ? Vector3(moves_.back().X_WH.translation()) : Vector3::Zero();
-    const Quaternion prev_q = have_prev ? Quaternion(moves_.back().X_WH.rotation()) : Quaternion::Identity();
+    const Vector3 prev_p =
+        have_prev ? Vector3(moves_.back().X_WH.translation()) : Vector3::Zero();
+    const Quaternion prev_q =
+        have_prev ? Quaternion(moves_.back().X_WH.rotation()) : Quaternion::Identity();
     for (double margin : {0.3, 0.1, 0.02}) {
       for (const UnitApproach& spot : spots) {
         const Vector3 off = spot.p + clear * spot.n;
@@ -263,7 +294,8 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
             for (double lean : {0.0, 0.4, 0.8, 1.2, -0.4, -0.8}) {
               ScriptTarget st;
               st.n_W = spot.n;
-              st.tool_axis_W = (spot.axis + lean * Vector3::UnitY() + tilt * spot.n).normalized();
+              st.tool_axis_W =
+                  (spot.axis + lean * Vector3::UnitY() + tilt * spot.n).normalized();
               st.shank_W = Eigen::AngleAxisd(roll, st.tool_axis_W) * spot.shank;
               const Quaternion qc = ScriptOrientation(st);
               if (!clearance.Free(off, qc, margin)) continue;
@@ -274,24 +306,29 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
                   break;
                 }
               const Vector3 ab = off + d * st.tool_axis_W;
-              const bool straight = have_prev && clearance.PathFree(prev_p, prev_q, ab, qc, 0.1);
-              cands.push_back({spot, qc, ab, d, have_prev ? prev_q.angularDistance(qc) : 0.0, straight});
+              const bool straight =
+                  have_prev && clearance.PathFree(prev_p, prev_q, ab, qc, 0.1);
+              cands.push_back({spot, qc, ab, d,
+                               have_prev ? prev_q.angularDistance(qc) : 0.0, straight});
             }
         if (!cands.empty()) break;
       }
       if (!cands.empty()) break;
     }
-    std::stable_sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) {
-      if (a.straight != b.straight) return a.straight;
-      if ((a.d >= 3) != (b.d >= 3)) return a.d >= 3;
-      return a.turn < b.turn;
-    });
+    std::stable_sort(cands.begin(), cands.end(),
+                     [](const Candidate& a, const Candidate& b) {
+                       if (a.straight != b.straight) return a.straight;
+                       if ((a.d >= 3) != (b.d >= 3)) return a.d >= 3;
+                       return a.turn < b.turn;
+                     });
     // The first of them the hand can get to with the whole instrument clear.
     const Candidate* pick = cands.empty() ? nullptr : &cands.front();
     std::optional<std::vector<RigidTransform>> route;
     if (have_prev && !first)
       for (std::size_t k = 0; k < cands.size() && k < 40; ++k)
-        if ((route = clearance.Route(moves_.back().X_WH, RigidTransform(cands[k].q, cands[k].above), hub, front, 0.05))) {
+        if ((route = clearance.Route(moves_.back().X_WH,
+                                     RigidTransform(cands[k].q, cands[k].above), hub,
+                                     front, 0.05))) {
           pick = &cands[k];
           break;
         }
@@ -307,7 +344,8 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
       st.tool_axis_W = t->axis;
       st.shank_W = t->shank;
       q = ScriptOrientation(st);
-      above = t->pre.squaredNorm() > 0 ? t->pre : Vector3(t->p + clear * t->n + 8.0 * t->axis);
+      above = t->pre.squaredNorm() > 0 ? t->pre
+                                       : Vector3(t->p + clear * t->n + 8.0 * t->axis);
     }
     const Vector3 off = t->p + clear * t->n, in = t->p - 0.5 * t->n;
     if (first) {
@@ -316,7 +354,8 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
       // to the surface.
       const Vector3 up = q * Vector3::UnitZ();
       Vector3 start = above + 10.0 * up;
-      for (const Vector3& dir : {up, Vector3(Vector3::UnitY()), Vector3((up + Vector3::UnitY()).normalized())}) {
+      for (const Vector3& dir : {up, Vector3(Vector3::UnitY()),
+                                 Vector3((up + Vector3::UnitY()).normalized())}) {
         bool found = false;
         for (double l : {10.0, 15.0, 20.0, 30.0, 40.0})
           if (clearance.PathFree(above + l * dir, q, above, q, 0.3)) {
@@ -332,14 +371,17 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
     } else {
       // The way there (Clearance::Route); where none is found, straight, or
       // between regions through the middle of the mouth.
-      if (!pick) route = clearance.Route(moves_.back().X_WH, RigidTransform(q, above), hub, front, 0.05);
+      if (!pick)
+        route = clearance.Route(moves_.back().X_WH, RigidTransform(q, above), hub, front,
+                                0.05);
       if (route)
         for (const RigidTransform& w : *route) {
           const double len = (w.translation() - moves_.back().X_WH.translation()).norm();
           move(w.translation(), Quaternion(w.rotation()), std::max(0.25, len / 60.0));
         }
       else if (t->region || last_region)
-        move(hub, q, std::max(0.25, (hub - moves_.back().X_WH.translation()).norm() / 60.0));
+        move(hub, q,
+             std::max(0.25, (hub - moves_.back().X_WH.translation()).norm() / 60.0));
     }
     last_region = t->region;
     const double travel = (above - moves_.back().X_WH.translation()).norm();
@@ -366,16 +408,21 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
     moves_.push_back(stroke);
     move(above, q, std::max(0.2, (off - above).norm() / 40.0));
   }
-  if (moves_.empty()) throw std::invalid_argument("the lesson has nothing this inspector can reach");
+  if (moves_.empty())
+    throw std::invalid_argument("the lesson has nothing this inspector can reach");
   move(moves_.back().X_WH.translation(), Quaternion(moves_.back().X_WH.rotation()), 0.3);
 }
 
-std::unique_ptr<ScriptedHand> MakeScriptedHand(const std::string& name, const LessonSpec& spec, const CompiledScene& scene) {
+std::unique_ptr<ScriptedHand> MakeScriptedHand(const std::string& name,
+                                               const LessonSpec& spec,
+                                               const CompiledScene& scene) {
   if (spec.inspection()) return std::make_unique<ScriptedInspector>(name, spec, scene);
   return std::make_unique<ScriptedStudent>(name, spec, scene);
 }
 
-std::unique_ptr<Device> ScriptedInspector::MakeDevice() const { return MakeHandDevice(moves_, "student:" + name_); }
+std::unique_ptr<Device> ScriptedInspector::MakeDevice() const {
+  return MakeHandDevice(moves_, "student:" + name_);
+}
 
 void ScriptedInspector::OnTick(const TickRecord& r) {
   last_tick_ = r.tick;
@@ -385,7 +432,9 @@ void ScriptedInspector::OnTick(const TickRecord& r) {
     return a.kind == b.kind && a.fdi == b.fdi && a.surface == b.surface;
   };
   auto record = [&](Finding f) {
-    if (std::any_of(missed_.begin(), missed_.end(), [&](const Finding& m) { return is(m, f); })) return;
+    if (std::any_of(missed_.begin(), missed_.end(),
+                    [&](const Finding& m) { return is(m, f); }))
+      return;
     f.tick = r.tick;
     lesson_->Record(f);
   };
@@ -416,7 +465,8 @@ void ScriptedInspector::OnTick(const TickRecord& r) {
     if (unit.surface == ToothSurface::kBuccal || unit.surface == ToothSurface::kLingual) {
       const bool other_seen = [&] {
         const int other = lesson_->inspection()->UnitOf(
-            unit.fdi, unit.surface == ToothSurface::kBuccal ? ToothSurface::kLingual : ToothSurface::kBuccal);
+            unit.fdi, unit.surface == ToothSurface::kBuccal ? ToothSurface::kLingual
+                                                            : ToothSurface::kBuccal);
         return other >= 0 && seen_[static_cast<std::size_t>(other)];
       }();
       if (other_seen) continue;  // recorded already

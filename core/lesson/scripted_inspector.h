@@ -28,8 +28,10 @@ const std::vector<std::string>& ScriptedInspectorNames();
 
 class ScriptedInspector final : public ScriptedHand {
  public:
-  /// Throws std::invalid_argument for an unknown name or a lesson that is not an inspection.
-  ScriptedInspector(const std::string& name, const LessonSpec& spec, const CompiledScene& scene);
+  /// Throws std::invalid_argument for an unknown name or a lesson that is not an
+  /// inspection.
+  ScriptedInspector(const std::string& name, const LessonSpec& spec,
+                    const CompiledScene& scene);
   const std::string& name() const { return name_; }
   std::unique_ptr<Device> MakeDevice() const override;
   /// The units (InspectionUnit::Name) this inspector leaves out on purpose.

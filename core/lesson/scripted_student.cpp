@@ -14,7 +14,9 @@ constexpr double kPi = std::numbers::pi;
 
 struct ToothFrame {
   const LessonGeometry::Tooth* g;
-  Vector3 World(const Vector3& p_T) const { return g->X_WT * ArchMirror(g->mirrored, p_T); }
+  Vector3 World(const Vector3& p_T) const {
+    return g->X_WT * ArchMirror(g->mirrored, p_T);
+  }
   Vector3 Axis() const { return g->X_WT.rotation().col(2); }
   int Segments() const { return static_cast<int>(g->margin_z.size()); }
   int SegmentAt(double phi) const {
@@ -38,18 +40,22 @@ struct ToothFrame {
   // Near a contact, the handle leans away from it so that the tip goes under
   // the contact point into the col (up to kColTiltDeg at the contact).
   Quaternion Tool(double phi, double tilt_deg) const {
-    auto dir = [&](const Vector3& v_T) { return Vector3(g->X_WT.rotation() * ArchMirror(g->mirrored, v_T)); };
+    auto dir = [&](const Vector3& v_T) {
+      return Vector3(g->X_WT.rotation() * ArchMirror(g->mirrored, v_T));
+    };
     const Vector3 out_W = dir(Vector3(std::cos(phi), std::sin(phi), 0));
     const Vector3 tangent_W = dir(Vector3(-std::sin(phi), std::cos(phi), 0));
     const double t = tilt_deg * kPi / 180;
     Vector3 axis = std::cos(t) * Axis() + std::sin(t) * out_W;
-    for (const auto& [contact, has] : {std::pair{0.0, g->mesial_contact}, std::pair{kPi, g->distal_contact}}) {
+    for (const auto& [contact, has] :
+         {std::pair{0.0, g->mesial_contact}, std::pair{kPi, g->distal_contact}}) {
       if (!has) continue;
       double d = std::remainder(phi - contact, 2 * kPi);  // signed, -pi..pi
       const double near = 1.0 - std::abs(d) / (kColZoneDeg * kPi / 180);
       if (near <= 0) continue;
       const double lean = kColTiltDeg * kPi / 180 * near;
-      axis += std::tan(lean) * (d >= 0 ? 1.0 : -1.0) * tangent_W;  // away from the contact
+      axis +=
+          std::tan(lean) * (d >= 0 ? 1.0 : -1.0) * tangent_W;  // away from the contact
     }
     return Quaternion::FromTwoVectors(Vector3::UnitZ(), axis.normalized());
   }
@@ -59,17 +65,20 @@ struct ToothFrame {
 }  // namespace
 
 const std::vector<std::string>& ScriptedStudentNames() {
-  static const std::vector<std::string> names = {"careful", "rough", "misreading", "spot", "lazy"};
+  static const std::vector<std::string> names = {"careful", "rough", "misreading", "spot",
+                                                 "lazy"};
   return names;
 }
 
-ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec, const CompiledScene& scene)
+ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec,
+                                 const CompiledScene& scene)
     : name_(name), spec_(spec) {
   const auto& names = ScriptedStudentNames();
   if (std::find(names.begin(), names.end(), name) == names.end()) {
     std::string known;
     for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
-    throw std::invalid_argument("unknown scripted student '" + name + "'; known: " + known);
+    throw std::invalid_argument("unknown scripted student '" + name +
+                                "'; known: " + known);
   }
   const LessonGeometry geometry = MakeLessonGeometry(scene, spec.teeth);
   // The teeth and surfaces in path order.
@@ -80,11 +89,13 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
   std::vector<Pass> passes;
   for (const SiteRef& s : spec.path) {
     const bool buccal = s.site < 3;
-    if (passes.empty() || passes.back().fdi != s.fdi || passes.back().buccal != buccal) passes.push_back({s.fdi, buccal});
+    if (passes.empty() || passes.back().fdi != s.fdi || passes.back().buccal != buccal)
+      passes.push_back({s.fdi, buccal});
   }
   std::vector<int> order;
   for (const Pass& p : passes)
-    if (std::find(order.begin(), order.end(), p.fdi) == order.end()) order.push_back(p.fdi);
+    if (std::find(order.begin(), order.end(), p.fdi) == order.end())
+      order.push_back(p.fdi);
   if (name == "lazy" && order.size() >= 2) skipped_.push_back(order[1]);
   if (name == "misreading") {
     for (std::size_t i = 0; i < order.size() && misread_.size() < 3; ++i)
@@ -95,7 +106,8 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
         }
   }
   const double target_n = name == "rough" ? 2.0 : 0.20;
-  const double past_floor_mm = name == "rough" ? 1.5 : 0.5;  // the deepest a stroke goes if it feels nothing
+  const double past_floor_mm =
+      name == "rough" ? 1.5 : 0.5;  // the deepest a stroke goes if it feels nothing
   const double tilt_deg = 4.0;
   const double lift_mm = 12.0;  // above the margin: clear of every crown
   auto move = [&](const Vector3& p, const Quaternion& q, double s) {
@@ -117,11 +129,13 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
     // lifts out under a contact, where the crowns meet above the sulcus.
     const double distal = pass.buccal ? kPi * 172 / 180 : kPi * 188 / 180;
     const double mesial = pass.buccal ? kPi * 8 / 180 : kPi * 352 / 180;
-    const double enter = g->site_angle[pass.buccal ? 2 : 5], leave = g->site_angle[pass.buccal ? 0 : 3];
+    const double enter = g->site_angle[pass.buccal ? 2 : 5],
+                 leave = g->site_angle[pass.buccal ? 0 : 3];
     const double r = g->sulcus_r[f.SegmentAt(kPi / 2)];
     auto arc = [&](double a, double b, double spacing) {
       std::vector<double> v;
-      const int n = std::max(1, static_cast<int>(std::ceil(std::abs(b - a) * r / spacing)));
+      const int n =
+          std::max(1, static_cast<int>(std::ceil(std::abs(b - a) * r / spacing)));
       for (int i = 1; i <= n; ++i) v.push_back(a + (b - a) * i / n);
       return v;
     };
@@ -131,21 +145,27 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
     };
     std::vector<Stop> stops;
     if (name == "spot") {
-      for (int s : pass.buccal ? std::array{2, 1, 0} : std::array{5, 4, 3}) stops.push_back({g->site_angle[s], true});
+      for (int s : pass.buccal ? std::array{2, 1, 0} : std::array{5, 4, 3})
+        stops.push_back({g->site_angle[s], true});
     } else {
       stops.push_back({enter, true});
       for (double phi : arc(enter, distal, 0.8)) stops.push_back({phi, true});
-      // Strokes 0.8 mm apart, and one at each site's own angle (where a clinician reads it).
+      // Strokes 0.8 mm apart, and one at each site's own angle (where a clinician reads
+      // it).
       std::vector<double> walk = arc(distal, mesial, 0.8);
-      for (int s : pass.buccal ? std::array{0, 1, 2} : std::array{3, 4, 5}) walk.push_back(g->site_angle[s]);
-      std::sort(walk.begin(), walk.end(), [&](double a, double b) { return std::abs(a - distal) < std::abs(b - distal); });
+      for (int s : pass.buccal ? std::array{0, 1, 2} : std::array{3, 4, 5})
+        walk.push_back(g->site_angle[s]);
+      std::sort(walk.begin(), walk.end(), [&](double a, double b) {
+        return std::abs(a - distal) < std::abs(b - distal);
+      });
       for (double phi : walk) stops.push_back({phi, true});
       for (double phi : arc(mesial, leave, 0.8)) stops.push_back({phi, false});
     }
     const double phi0 = stops.front().phi;
     const Quaternion q0 = f.Tool(phi0, tilt_deg);
     move(f.Sulcus(phi0, -lift_mm, 2.5), q0, first ? 0.0 : 0.6);
-    if (first) move(f.Sulcus(phi0, -lift_mm, 2.5), q0, 0.6);  // the ramp-in, away from everything
+    if (first)
+      move(f.Sulcus(phi0, -lift_mm, 2.5), q0, 0.6);  // the ramp-in, away from everything
     first = false;
     move(f.Sulcus(phi0, -1.0), q0, 0.8);
     for (const Stop& stop : stops) {
@@ -169,7 +189,8 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
     move(f.Sulcus(phi1, -1.0), f.Tool(phi1, tilt_deg), 0.5);
     move(f.Sulcus(phi1, -lift_mm, 2.5), f.Tool(phi1, tilt_deg), 0.6);
   }
-  if (moves_.empty()) throw std::invalid_argument("the lesson has no teeth this student can reach");
+  if (moves_.empty())
+    throw std::invalid_argument("the lesson has no teeth this student can reach");
   move(moves_.back().X_WH.translation(), Quaternion(moves_.back().X_WH.rotation()), 0.5);
 }
 
@@ -178,7 +199,8 @@ namespace {
 // Plays a student's moves by loop time, feeling the force written back.
 class StudentDevice final : public Device {
  public:
-  explicit StudentDevice(std::vector<ScriptedStudent::Move> moves, std::string name) : moves_(std::move(moves)) {
+  explicit StudentDevice(std::vector<ScriptedStudent::Move> moves, std::string name)
+      : moves_(std::move(moves)) {
     caps_.name = std::move(name);
     caps_.output_dof = 3;
     caps_.max_force_n = 3.3;
@@ -190,7 +212,8 @@ class StudentDevice final : public Device {
   // What the hand feels of a stroke: the force against its way down (the
   // floor), not the gingiva's and the tooth's sideways push.
   void Write(const Vector3& force_W, const Vector3&) noexcept override {
-    force_n_ = i_ < moves_.size() ? -force_W.dot(top_set_ ? down_ : Down(moves_[i_])) : 0.0;
+    force_n_ =
+        i_ < moves_.size() ? -force_W.dot(top_set_ ? down_ : Down(moves_[i_])) : 0.0;
     force_W_ = force_W;
   }
   bool Read(double t_s, DeviceSample* out) noexcept override {
@@ -203,13 +226,16 @@ class StudentDevice final : public Device {
         if (phase_t_ == 0) from_ = pose_;
         phase_t_ += dt;
         const double s = m.duration_s > 0 ? std::min(1.0, phase_t_ / m.duration_s) : 1.0;
-        const Quaternion q = Quaternion(from_.rotation()).slerp(s, Quaternion(m.X_WH.rotation()));
-        pose_ = RigidTransform(q, from_.translation() + s * (m.X_WH.translation() - from_.translation()));
+        const Quaternion q =
+            Quaternion(from_.rotation()).slerp(s, Quaternion(m.X_WH.rotation()));
+        pose_ = RigidTransform(
+            q, from_.translation() + s * (m.X_WH.translation() - from_.translation()));
         if (s < 1.0 && !(m.stop_force_n > 0 && force_W_.norm() >= m.stop_force_n)) break;
         Next();
         break;
       }
-      // A stroke: in at its speed until the force is felt, a rest at the bottom, back at 20 mm/s.
+      // A stroke: in at its speed until the force is felt, a rest at the bottom, back at
+      // 20 mm/s.
       if (!top_set_) {
         const bool aimed = m.aim_W.squaredNorm() > 0;
         top_ = aimed ? pose_ : m.X_WH;
@@ -253,7 +279,9 @@ class StudentDevice final : public Device {
 
  private:
   static Vector3 Down(const ScriptedStudent::Move& m) {
-    return m.direction_W.squaredNorm() > 0 ? m.direction_W.normalized() : Vector3(-(m.X_WH.rotation() * Vector3::UnitZ()));
+    return m.direction_W.squaredNorm() > 0
+               ? m.direction_W.normalized()
+               : Vector3(-(m.X_WH.rotation() * Vector3::UnitZ()));
   }
   void Next() {
     ++i_;
@@ -277,20 +305,25 @@ class StudentDevice final : public Device {
 
 }  // namespace
 
-std::unique_ptr<Device> MakeHandDevice(std::vector<ScriptedStudent::Move> moves, std::string name) {
+std::unique_ptr<Device> MakeHandDevice(std::vector<ScriptedStudent::Move> moves,
+                                       std::string name) {
   return std::make_unique<StudentDevice>(std::move(moves), std::move(name));
 }
 
-std::unique_ptr<Device> ScriptedStudent::MakeDevice() const { return MakeHandDevice(moves_, "student:" + name_); }
+std::unique_ptr<Device> ScriptedStudent::MakeDevice() const {
+  return MakeHandDevice(moves_, "student:" + name_);
+}
 
 void ScriptedStudent::OnTick(const TickRecord& r) {
   last_tick_ = r.tick;
   for (int i = 0; i < r.num_events; ++i) {
     const HapticEvent& e = r.events[i];
     if (e.kind != EventKind::kProbeReading && e.kind != EventKind::kBleeding) continue;
-    const SiteRef s = e.kind == EventKind::kProbeReading ? SiteRef{e.payload.reading.fdi, e.payload.reading.site}
-                                                          : SiteRef{e.payload.bleeding.fdi, e.payload.bleeding.site};
-    auto it = std::find_if(seen_.begin(), seen_.end(), [&](const Seen& x) { return x.site == s; });
+    const SiteRef s = e.kind == EventKind::kProbeReading
+                          ? SiteRef{e.payload.reading.fdi, e.payload.reading.site}
+                          : SiteRef{e.payload.bleeding.fdi, e.payload.bleeding.site};
+    auto it = std::find_if(seen_.begin(), seen_.end(),
+                           [&](const Seen& x) { return x.site == s; });
     if (it == seen_.end()) it = seen_.insert(seen_.end(), {s, 0, false, 0});
     if (e.kind == EventKind::kBleeding) {
       it->bled = true;
@@ -308,7 +341,8 @@ void ScriptedStudent::OnEnd() {
   PerioChart chart;
   for (int fdi : spec_.teeth) chart.teeth.push_back({.fdi = fdi});
   for (const SiteRef& s : spec_.path) {
-    const auto it = std::find_if(seen_.begin(), seen_.end(), [&](const Seen& x) { return x.site == s; });
+    const auto it = std::find_if(seen_.begin(), seen_.end(),
+                                 [&](const Seen& x) { return x.site == s; });
     if (it == seen_.end() || it->deepest <= 0) continue;
     ChartEntry e;
     e.site = s;
@@ -318,7 +352,8 @@ void ScriptedStudent::OnEnd() {
     e.pd_mm = pd;
     e.bleeding = it->bled;
     lesson_->Enter(e);
-    if (ToothChart* t = chart.Find(s.fdi)) t->sites[s.site] = {pd, lesson_->recession_mm(s), it->bled};
+    if (ToothChart* t = chart.Find(s.fdi))
+      t->sites[s.site] = {pd, lesson_->recession_mm(s), it->bled};
   }
   const Diagnosis mine = Classify2017(chart);
   DeclaredDiagnosis d;

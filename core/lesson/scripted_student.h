@@ -37,12 +37,15 @@ class ScriptedHand : public TickConsumer {
 
 /// The scripted student (probing lessons) or inspector (inspection lessons)
 /// called `name`. Throws std::invalid_argument for a name the kind does not have.
-std::unique_ptr<ScriptedHand> MakeScriptedHand(const std::string& name, const LessonSpec& spec, const CompiledScene& scene);
+std::unique_ptr<ScriptedHand> MakeScriptedHand(const std::string& name,
+                                               const LessonSpec& spec,
+                                               const CompiledScene& scene);
 
 class ScriptedStudent final : public ScriptedHand {
  public:
   /// Throws std::invalid_argument for an unknown name.
-  ScriptedStudent(const std::string& name, const LessonSpec& spec, const CompiledScene& scene);
+  ScriptedStudent(const std::string& name, const LessonSpec& spec,
+                  const CompiledScene& scene);
   const std::string& name() const { return name_; }
   /// A fresh device that plays this student's hand (it reacts to the force
   /// written to it, so it is deterministic for a given scene and build).
@@ -51,12 +54,14 @@ class ScriptedStudent final : public ScriptedHand {
   /// tool's axis until a force is felt (or a depth is reached), then back.
   struct Move {
     bool stroke = false;
-    RigidTransform X_WH;            // the end pose (a stroke: its top)
-    double duration_s = 0;          // a move's
-    double max_depth_mm = 0;        // a stroke's: from its top along the axis
-    double target_force_n = 0.22;   // a stroke stops going down at this force
-    Vector3 direction_W = Vector3::Zero();  // a stroke's way in (zero: down the tool's axis)
-    double speed_mm_s = 12, hold_s = 0.1;   // a stroke's speed in and how long it rests at the bottom
+    RigidTransform X_WH;           // the end pose (a stroke: its top)
+    double duration_s = 0;         // a move's
+    double max_depth_mm = 0;       // a stroke's: from its top along the axis
+    double target_force_n = 0.22;  // a stroke stops going down at this force
+    Vector3 direction_W =
+        Vector3::Zero();  // a stroke's way in (zero: down the tool's axis)
+    double speed_mm_s = 12,
+           hold_s = 0.1;  // a stroke's speed in and how long it rests at the bottom
     /// A move's: the hand stops it where it feels this much force (0: never),
     /// as a hand coming down to a surface stops when it meets it.
     double stop_force_n = 0;
@@ -95,6 +100,7 @@ class ScriptedStudent final : public ScriptedHand {
 
 /// A device that plays a list of moves (ScriptedStudent::Move) by loop time,
 /// feeling the force written back (a stroke stops when it feels its force).
-std::unique_ptr<Device> MakeHandDevice(std::vector<ScriptedStudent::Move> moves, std::string name);
+std::unique_ptr<Device> MakeHandDevice(std::vector<ScriptedStudent::Move> moves,
+                                       std::string name);
 
 }  // namespace sulcus

@@ -1,16 +1,18 @@
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <sstream>
 #include <thread>
-
-#include <unistd.h>
 
 #include "core/anatomy/arch.h"
 #include "core/anatomy/findings.h"
@@ -24,9 +26,6 @@
 #include "core/spheretree/cache.h"
 #include "core/spheretree/tree_files.h"
 
-#include <fstream>
-#include <iterator>
-
 namespace sulcus {
 
 namespace {
@@ -34,21 +33,26 @@ namespace {
 // A tooth's gingiva parameters: its sites and, for a share (crest_drop_mm >
 // 0), the bone crest it reaches, along the world's vertical toward the crown
 // in its (unmirrored) tooth frame placed at X_WO.
-GingivaParams GingivaParamsOf(int fdi, bool mirrored, const RigidTransform& X_WO, const std::array<double, 6>& pocket_mm,
-                              const std::array<double, 6>& recession_mm, double crest_drop_mm) {
+GingivaParams GingivaParamsOf(int fdi, bool mirrored, const RigidTransform& X_WO,
+                              const std::array<double, 6>& pocket_mm,
+                              const std::array<double, 6>& recession_mm,
+                              double crest_drop_mm) {
   GingivaParams p;
   p.pocket_mm = pocket_mm;
   p.recession_mm = recession_mm;
   if (crest_drop_mm > 0) {
     const Vector3 v(0, 0, FdiTooth::Parse(fdi).upper() ? -1.0 : 1.0);
     p.crest_drop_mm = crest_drop_mm;
-    p.crest_up = (Vector3(mirrored ? -1 : 1, 1, 1).asDiagonal() * (X_WO.rotation().transpose() * v)).normalized();
+    p.crest_up = (Vector3(mirrored ? -1 : 1, 1, 1).asDiagonal() *
+                  (X_WO.rotation().transpose() * v))
+                     .normalized();
   }
   return p;
 }
 
 GingivaParams GingivaOf(const ObjectSpec& o) {
-  return GingivaParamsOf(o.fdi, o.mirrored, o.X_WO, o.pocket_mm, o.recession_mm, o.share_crest_drop_mm);
+  return GingivaParamsOf(o.fdi, o.mirrored, o.X_WO, o.pocket_mm, o.recession_mm,
+                         o.share_crest_drop_mm);
 }
 
 // A share's neighbour `s` as its generator sees it: its collar's parameters,
@@ -58,7 +62,8 @@ GingivaParams NeighbourParams(const ObjectSpec& o, const GingivaNeighbourSpec& s
                          o.share_crest_drop_mm > 0 ? s.crest_drop_mm : 0);
 }
 
-void NeighbourFrame(const ObjectSpec& o, const GingivaNeighbourSpec& s, Matrix3* A, Vector3* b) {
+void NeighbourFrame(const ObjectSpec& o, const GingivaNeighbourSpec& s, Matrix3* A,
+                    Vector3* b) {
   const Matrix3 mirror_self = Vector3(o.mirrored ? -1 : 1, 1, 1).asDiagonal();
   const Matrix3 mirror = Vector3(s.mirrored ? -1 : 1, 1, 1).asDiagonal();
   const Matrix3 Rt = s.X_WO.rotation().transpose();
@@ -110,7 +115,8 @@ std::string GeneratorKey(const ObjectSpec& o) {
     case ObjectSpec::Kind::kTooth:
       k << "tooth|" << o.fdi << '|' << o.mirrored;
       for (int s = 0; s < 5; ++s)
-        if (o.cavity_mm[s] > 0) k << "|cavity " << s << ':' << o.caries_mm[s] << ':' << o.cavity_mm[s];
+        if (o.cavity_mm[s] > 0)
+          k << "|cavity " << s << ':' << o.caries_mm[s] << ':' << o.cavity_mm[s];
       break;
     case ObjectSpec::Kind::kGingiva: {
       // What the generator sees, in the tooth's unmirrored frame (the cache
@@ -120,8 +126,8 @@ std::string GeneratorKey(const ObjectSpec& o) {
       k << "gingiva " << kGingivaShareVersion << "|unmirrored|" << ToothShapeKey(o.fdi);
       for (int i = 0; i < 6; ++i) k << '|' << g.pocket_mm[i] << '|' << g.recession_mm[i];
       if (g.crest_drop_mm > 0)
-        k << "|crest " << g.crest_drop_mm << '|' << Placed(g.crest_up.x()) << '|' << Placed(g.crest_up.y()) << '|'
-          << Placed(g.crest_up.z());
+        k << "|crest " << g.crest_drop_mm << '|' << Placed(g.crest_up.x()) << '|'
+          << Placed(g.crest_up.y()) << '|' << Placed(g.crest_up.z());
       std::vector<std::string> next;
       for (const GingivaNeighbourSpec& n : o.gingiva_neighbours) {
         std::ostringstream e;
@@ -134,27 +140,31 @@ std::string GeneratorKey(const ObjectSpec& o) {
         for (int r = 0; r < 3; ++r)
           for (int c = 0; c < 3; ++c) e << '|' << Placed(A(r, c));
         for (int r = 0; r < 3; ++r) e << '|' << Placed(b[r]);
-        for (int i = 0; i < 6; ++i) e << '|' << p.pocket_mm[i] << '|' << p.recession_mm[i];
-        e << '|' << p.crest_drop_mm << '|' << Placed(p.crest_up.x()) << '|' << Placed(p.crest_up.y()) << '|'
-          << Placed(p.crest_up.z());
+        for (int i = 0; i < 6; ++i)
+          e << '|' << p.pocket_mm[i] << '|' << p.recession_mm[i];
+        e << '|' << p.crest_drop_mm << '|' << Placed(p.crest_up.x()) << '|'
+          << Placed(p.crest_up.y()) << '|' << Placed(p.crest_up.z());
         next.push_back(e.str());
       }
-      std::sort(next.begin(), next.end());  // (the order of the neighbours does not shape the share)
+      std::sort(next.begin(),
+                next.end());  // (the order of the neighbours does not shape the share)
       for (const std::string& e : next) k << e;
       break;
     }
     case ObjectSpec::Kind::kCalculus:
-      k << "calculus " << kCalculusVersion << '|' << o.fdi << '|' << o.mirrored << '|' << o.calculus_site << '|' << o.calculus[o.calculus_site]
-        << '|' << o.with_gingiva;
+      k << "calculus " << kCalculusVersion << '|' << o.fdi << '|' << o.mirrored << '|'
+        << o.calculus_site << '|' << o.calculus[o.calculus_site] << '|' << o.with_gingiva;
       for (int i = 0; i < 6; ++i) k << '|' << o.pocket_mm[i] << '|' << o.recession_mm[i];
       break;
     case ObjectSpec::Kind::kAnatomy:
       k << "anatomy " << kSoftTissueVersion << '|' << o.anatomy << '|' << o.mouth_open_mm;
       for (const auto& [fdi, drop] : o.crest_drop_mm) k << '|' << fdi << ':' << drop;
       for (const auto& [fdi, classes] : o.furcation_of)
-        for (const auto& [entrance, hamp] : classes) k << '|' << fdi << entrance << ':' << hamp;
+        for (const auto& [entrance, hamp] : classes)
+          k << '|' << fdi << entrance << ':' << hamp;
       break;
-    default: return {};
+    default:
+      return {};
   }
   return k.str();
 }
@@ -169,14 +179,18 @@ std::optional<TriangleMesh> ReadCachedMesh(const std::filesystem::path& file) {
   in.read(magic, 8);
   in.read(reinterpret_cast<char*>(&nv), 8);
   in.read(reinterpret_cast<char*>(&nf), 8);
-  if (!in || std::memcmp(magic, kMeshMagic, 8) != 0 || nv > (1u << 26) || nf > (1u << 27)) return std::nullopt;
+  if (!in || std::memcmp(magic, kMeshMagic, 8) != 0 || nv > (1u << 26) || nf > (1u << 27))
+    return std::nullopt;
   std::vector<Vector3> v(nv);
   std::vector<TriangleMesh::Face> f(nf);
-  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(nv * sizeof(Vector3)));
-  in.read(reinterpret_cast<char*>(f.data()), static_cast<std::streamsize>(nf * sizeof(TriangleMesh::Face)));
+  in.read(reinterpret_cast<char*>(v.data()),
+          static_cast<std::streamsize>(nv * sizeof(Vector3)));
+  in.read(reinterpret_cast<char*>(f.data()),
+          static_cast<std::streamsize>(nf * sizeof(TriangleMesh::Face)));
   in.read(reinterpret_cast<char*>(&checksum), 8);
   if (!in) return std::nullopt;
-  const std::uint64_t sum = Fnv1a(f.data(), nf * sizeof(TriangleMesh::Face), Fnv1a(v.data(), nv * sizeof(Vector3)));
+  const std::uint64_t sum = Fnv1a(f.data(), nf * sizeof(TriangleMesh::Face),
+                                  Fnv1a(v.data(), nv * sizeof(Vector3)));
   if (sum != checksum) return std::nullopt;
   for (const auto& face : f)
     for (int i : face)
@@ -207,8 +221,9 @@ template <typename Write>
 void WriteCacheFile(const std::filesystem::path& file, Write write) {
   std::error_code ec;
   std::filesystem::create_directories(file.parent_path(), ec);
-  const std::filesystem::path tmp = file.string() + ".tmp" + std::to_string(::getpid()) + "-" +
-                                    std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id()));
+  const std::filesystem::path tmp =
+      file.string() + ".tmp" + std::to_string(::getpid()) + "-" +
+      std::to_string(std::hash<std::thread::id>{}(std::this_thread::get_id()));
   {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) return;  // an unwritable cache only costs time
@@ -223,7 +238,8 @@ void WriteCachedArray(const std::vector<T>& items, const std::filesystem::path& 
     const std::uint64_t n = items.size();
     const std::uint64_t sum = Fnv1a(items.data(), n * sizeof(T));
     out.write(reinterpret_cast<const char*>(&n), 8);
-    out.write(reinterpret_cast<const char*>(items.data()), static_cast<std::streamsize>(n * sizeof(T)));
+    out.write(reinterpret_cast<const char*>(items.data()),
+              static_cast<std::streamsize>(n * sizeof(T)));
     out.write(reinterpret_cast<const char*>(&sum), 8);
   });
 }
@@ -234,7 +250,8 @@ void WriteCachedMesh(const TriangleMesh& m, const std::filesystem::path& file) {
     out.write(kMeshMagic, 8);
     out.write(reinterpret_cast<const char*>(&nv), 8);
     out.write(reinterpret_cast<const char*>(&nf), 8);
-    out.write(reinterpret_cast<const char*>(m.vertices().data()), static_cast<std::streamsize>(nv * sizeof(Vector3)));
+    out.write(reinterpret_cast<const char*>(m.vertices().data()),
+              static_cast<std::streamsize>(nv * sizeof(Vector3)));
     out.write(reinterpret_cast<const char*>(m.faces().data()),
               static_cast<std::streamsize>(nf * sizeof(TriangleMesh::Face)));
     const std::uint64_t sum = Fnv1a(m.faces().data(), nf * sizeof(TriangleMesh::Face),
@@ -256,8 +273,9 @@ std::vector<CariesLesion> SceneCariesLesions(const SceneSpec& spec) {
       if (o.caries_mm[s] <= 0) continue;
       if (!tooth) tooth = GenerateTooth(o.fdi);
       const SurfacePoint p = CariesSpot(*tooth, static_cast<ToothSurface>(s));
-      out.push_back({i, o.X_WO * ArchMirror(o.mirrored, p.point), o.X_WO.rotation() * ArchMirror(o.mirrored, p.normal),
-                     o.caries_mm[s], s});
+      out.push_back({i, o.X_WO * ArchMirror(o.mirrored, p.point),
+                     o.X_WO.rotation() * ArchMirror(o.mirrored, p.normal), o.caries_mm[s],
+                     s});
     }
   }
   return out;
@@ -266,7 +284,8 @@ std::vector<CariesLesion> SceneCariesLesions(const SceneSpec& spec) {
 namespace {
 
 // What the scene's effects need: damage limits, probing sites, soft objects.
-void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<CollisionWorld::Object>& soft_objects) {
+void BuildEffectsModel(CompiledScene* scene, int soft_first,
+                       const std::vector<CollisionWorld::Object>& soft_objects) {
   EffectsModel& m = scene->effects;
   const auto& objs = scene->spec.objects;
   const SceneSpec& spec = scene->spec;
@@ -285,10 +304,11 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
   if (m.on.surface_texture) {
     for (int i = 0; i < static_cast<int>(objs.size()); ++i) {
       const ObjectSpec& o = objs[i];
-      m.texture_kind.push_back(i >= soft_first                          ? TextureKind::kNone
-                               : o.kind == ObjectSpec::Kind::kTooth     ? TextureKind::kTooth
-                               : o.kind == ObjectSpec::Kind::kCalculus  ? TextureKind::kCalculus
-                                                                        : TextureKind::kNone);
+      m.texture_kind.push_back(i >= soft_first                      ? TextureKind::kNone
+                               : o.kind == ObjectSpec::Kind::kTooth ? TextureKind::kTooth
+                               : o.kind == ObjectSpec::Kind::kCalculus
+                                   ? TextureKind::kCalculus
+                                   : TextureKind::kNone);
       // Mirrored teeth keep z: the tooth frame's height is the same either way.
       m.X_OW.push_back(o.X_WO.inverse());
     }
@@ -300,7 +320,8 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
   const SphereTree& tool = scene->tool_tree;
   m.tool_working_end.assign(tool.size(), 0);
   for (std::size_t i = 0; i < tool.size(); ++i)
-    m.tool_working_end[i] = tool.IsLeaf(i) && tool.center(i).norm() <= EffectsModel::kWorkingEndMm;
+    m.tool_working_end[i] =
+        tool.IsLeaf(i) && tool.center(i).norm() <= EffectsModel::kWorkingEndMm;
   m.soft_first = soft_first;
   const bool sites = spec.gingiva && (m.on.probing_depth || m.on.bleeding_on_probing);
   // Every collar's model, once: a lone collar's leaves that reach into a
@@ -316,7 +337,8 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
     const Vector3 c = ArchMirror(objs[j].mirrored, objs[j].X_WO.inverse() * c_W);
     const int k = g.SegmentAt(std::atan2(c.y(), c.x()));
     const double r_in = g.sulcus_r[k] + 0.5 * GingivaParams{}.gap_mm;
-    return std::hypot(c.x(), c.y()) - r < r_in && c.z() - r < g.margin_z[k] && c.z() + r > g.floor_z[k];
+    return std::hypot(c.x(), c.y()) - r < r_in && c.z() - r < g.margin_z[k] &&
+           c.z() + r > g.floor_z[k];
   };
   // Under a neighbour's part of the col: within its sulcus' outer wall and
   // at or below its floor (a share of the arch's gingiva meets the
@@ -361,7 +383,8 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
         for (const GingivaShareField::CutPlane& c : cuts) {
           if (site.num_cuts == static_cast<int>(site.cut_q_W.size())) break;
           site.cut_q_W[site.num_cuts] = o.X_WO * ArchMirror(o.mirrored, c.q);
-          site.cut_n_W[site.num_cuts] = o.X_WO.rotation() * ArchMirror(o.mirrored, c.normal);
+          site.cut_n_W[site.num_cuts] =
+              o.X_WO.rotation() * ArchMirror(o.mirrored, c.normal);
           ++site.num_cuts;
         }
         site.margin_W = o.X_WO * ArchMirror(o.mirrored, g.margin[s]);
@@ -377,35 +400,46 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first, const std::vector<C
       std::vector<int> neighbours;
       for (const GingivaNeighbourSpec& nb : o.gingiva_neighbours)
         for (int j = 0; j < static_cast<int>(objs.size()); ++j)
-          if (objs[j].kind == ObjectSpec::Kind::kGingiva && objs[j].fdi == nb.fdi && models[j]) neighbours.push_back(j);
+          if (objs[j].kind == ObjectSpec::Kind::kGingiva && objs[j].fdi == nb.fdi &&
+              models[j])
+            neighbours.push_back(j);
       std::vector<float> k(t.size(), static_cast<float>(kGingivaWallStiffness));
       for (std::size_t n = 0; n < t.size(); ++n) {
         const Vector3 c = ArchMirror(o.mirrored, t.center(n));
         const double r = t.r[n];
-        if (c.z() + r <= g.FloorAt(std::atan2(c.y(), c.x())) + 0.25) k[n] = static_cast<float>(kPocketFloorStiffness);
+        if (c.z() + r <= g.FloorAt(std::atan2(c.y(), c.x())) + 0.25)
+          k[n] = static_cast<float>(kPocketFloorStiffness);
         for (const int j : neighbours)
-          if (under_floor(j, o.X_WO * t.center(n), r)) k[n] = static_cast<float>(kPocketFloorStiffness);
+          if (under_floor(j, o.X_WO * t.center(n), r))
+            k[n] = static_cast<float>(kPocketFloorStiffness);
         // (a share of the arch's gingiva has every neighbour's sulcus carved out already)
-        if (o.gingiva_neighbours.empty() && in_other_sulcus(i, o.X_WO * t.center(n), r)) k[n] = 0;
+        if (o.gingiva_neighbours.empty() && in_other_sulcus(i, o.X_WO * t.center(n), r))
+          k[n] = 0;
       }
       m.soft_leaf_stiffness.push_back(std::move(k));
     }
   }
-  if (!soft_objects.empty()) m.soft_world = std::make_unique<CollisionWorld>(scene->tool_tree, soft_objects);
+  if (!soft_objects.empty())
+    m.soft_world = std::make_unique<CollisionWorld>(scene->tool_tree, soft_objects);
 }
 
 }  // namespace
 
-TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::path& cache_dir,
-                                  std::vector<Vector3>* normals, bool seen, std::vector<char>* caps) {
+TriangleMesh MakeObjectMeshCached(const ObjectSpec& o,
+                                  const std::filesystem::path& cache_dir,
+                                  std::vector<Vector3>* normals, bool seen,
+                                  std::vector<char>* caps) {
   seen = seen && o.kind == ObjectSpec::Kind::kGingiva && !o.gingiva_neighbours.empty();
   std::string key = GeneratorKey(o);
   if (key.empty() || cache_dir.empty()) return MakeObjectMesh(o, normals, seen, caps);
-  if (seen) key += "|seen " + std::to_string(kSeenGingivaVersion) + "|" + std::to_string(kSeenWallMm);
+  if (seen)
+    key += "|seen " + std::to_string(kSeenGingivaVersion) + "|" +
+           std::to_string(kSeenWallMm);
   // A gingiva is cached unmirrored (its key is in that frame) and mirrored here.
   const bool mirror_here = o.kind == ObjectSpec::Kind::kGingiva && o.mirrored;
   char name[32];
-  std::snprintf(name, sizeof name, "%016llx.mesh", static_cast<unsigned long long>(Fnv1a(key.data(), key.size())));
+  std::snprintf(name, sizeof name, "%016llx.mesh",
+                static_cast<unsigned long long>(Fnv1a(key.data(), key.size())));
   const std::filesystem::path file = cache_dir / "meshes" / name;
   std::filesystem::path normals_file = file, caps_file = file;
   normals_file.replace_extension(".normals");
@@ -413,7 +447,9 @@ TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::pa
   if (auto cached = ReadCachedMesh(file)) {
     // (no normals file, or one that does not fit: drawn from the faces; no
     // caps file: none marked)
-    if (normals) *normals = ArchMirror(mirror_here, ReadCachedArray<Vector3>(normals_file, cached->num_vertices()));
+    if (normals)
+      *normals = ArchMirror(
+          mirror_here, ReadCachedArray<Vector3>(normals_file, cached->num_vertices()));
     if (caps) *caps = ReadCachedArray<char>(caps_file, cached->num_faces());
     return ArchMirror(mirror_here, std::move(*cached));
   }
@@ -421,7 +457,8 @@ TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::pa
   std::vector<char> made_caps;
   TriangleMesh m = MakeObjectMesh(o, &made_normals, seen, &made_caps);
   // (the normals and caps first: a reader that finds the mesh finds them)
-  if (!made_normals.empty()) WriteCachedArray(ArchMirror(mirror_here, made_normals), normals_file);
+  if (!made_normals.empty())
+    WriteCachedArray(ArchMirror(mirror_here, made_normals), normals_file);
   if (!made_caps.empty()) WriteCachedArray(made_caps, caps_file);
   if (caps) *caps = made_caps;
   WriteCachedMesh(ArchMirror(mirror_here, m), file);
@@ -429,7 +466,8 @@ TriangleMesh MakeObjectMeshCached(const ObjectSpec& o, const std::filesystem::pa
   return m;
 }
 
-TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, bool seen, std::vector<char>* caps) {
+TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, bool seen,
+                            std::vector<char>* caps) {
   if (normals) normals->clear();
   if (caps) caps->clear();
   switch (o.kind) {
@@ -440,9 +478,12 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, 
     }
     case ObjectSpec::Kind::kGingiva: {
       const ToothModel tooth = GenerateTooth(o.fdi);
-      if (o.gingiva_neighbours.empty()) return ArchMirror(o.mirrored, GenerateGingiva(tooth, GingivaOf(o)).mesh);
+      if (o.gingiva_neighbours.empty())
+        return ArchMirror(o.mirrored, GenerateGingiva(tooth, GingivaOf(o)).mesh);
       const ShareNeighbours nb(o);
-      GingivaModel g = GenerateGingiva(tooth, GingivaOf(o), nb.next, 0.3, seen ? GingivaSurface::kSeen : GingivaSurface::kFelt);
+      GingivaModel g =
+          GenerateGingiva(tooth, GingivaOf(o), nb.next, 0.3,
+                          seen ? GingivaSurface::kSeen : GingivaSurface::kFelt);
       if (normals) *normals = ArchMirror(o.mirrored, std::move(g.normals));
       if (caps) *caps = std::move(g.caps);
       return ArchMirror(o.mirrored, std::move(g.mesh));
@@ -451,10 +492,13 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, 
       const ToothModel tooth = GenerateTooth(o.fdi);
       std::optional<GingivaModel> g;
       if (o.with_gingiva) g = GenerateGingiva(tooth, GingivaOf(o));
-      return ArchMirror(o.mirrored, MakeCalculus(tooth, g ? &*g : nullptr, o.calculus_site, o.calculus[o.calculus_site] == 2));
+      return ArchMirror(o.mirrored,
+                        MakeCalculus(tooth, g ? &*g : nullptr, o.calculus_site,
+                                     o.calculus[o.calculus_site] == 2));
     }
     case ObjectSpec::Kind::kAnatomy:
-      return MakeSoftTissue(o.anatomy, ArchParams{.upper_lift_mm = o.mouth_open_mm}, o.crest_drop_mm, o.furcation_of);
+      return MakeSoftTissue(o.anatomy, ArchParams{.upper_lift_mm = o.mouth_open_mm},
+                            o.crest_drop_mm, o.furcation_of);
     case ObjectSpec::Kind::kMesh: {
       TriangleMesh m = LoadMesh(o.mesh);
       // Scene meshes are in millimetres: a mouth is about 60 mm across. A mesh of
@@ -463,17 +507,21 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, 
       const Aabb b = m.Bounds();
       const double across = (b.max - b.min).norm();
       if (across > kMaxSceneObjectMm)
-        throw MeshError(o.mesh.string(), "is " + std::to_string(static_cast<long long>(across)) +
-                                             " mm across; a scene object may be at most " +
-                                             std::to_string(static_cast<int>(kMaxSceneObjectMm)) +
-                                             " mm (is the mesh in another unit than millimetres?)");
+        throw MeshError(o.mesh.string(),
+                        "is " + std::to_string(static_cast<long long>(across)) +
+                            " mm across; a scene object may be at most " +
+                            std::to_string(static_cast<int>(kMaxSceneObjectMm)) +
+                            " mm (is the mesh in another unit than millimetres?)");
       return m;
     }
     case ObjectSpec::Kind::kBox:
-      return MakeBox(o.size, std::max(1, static_cast<int>(std::ceil(o.size.maxCoeff() / 2))));
-    case ObjectSpec::Kind::kSphere: return MakeIcosphere(o.radius_mm, 4);
+      return MakeBox(o.size,
+                     std::max(1, static_cast<int>(std::ceil(o.size.maxCoeff() / 2))));
+    case ObjectSpec::Kind::kSphere:
+      return MakeIcosphere(o.radius_mm, 4);
     case ObjectSpec::Kind::kCylinder:
-      return MakeCylinder(o.radius_mm, o.height_mm, 48, std::max(1, static_cast<int>(o.height_mm / 2)));
+      return MakeCylinder(o.radius_mm, o.height_mm, 48,
+                          std::max(1, static_cast<int>(o.height_mm / 2)));
   }
   return {};
 }
@@ -484,7 +532,8 @@ namespace {
 // among them, and returns when all have returned (each takes its jobs itself).
 template <typename Work>
 void OnEachCore(int jobs, const Work& work) {
-  const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1, std::max(jobs, 1));
+  const int threads = std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 1,
+                                 std::max(jobs, 1));
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) pool.emplace_back(work);
   work();
@@ -493,7 +542,8 @@ void OnEachCore(int jobs, const Work& work) {
 
 }  // namespace
 
-SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::path& cache_dir,
+SeenGingiva BuildSeenGingiva(const CompiledScene& scene,
+                             const std::filesystem::path& cache_dir,
                              const BuildProgress& progress) {
   const auto& objects = scene.spec.objects;
   const int n = static_cast<int>(objects.size());
@@ -506,10 +556,14 @@ SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::
   std::vector<int> jobs, twin(n, -1);
   std::map<std::string, int> first;
   for (int i = 0; i < n; ++i) {
-    if (objects[i].kind != ObjectSpec::Kind::kGingiva || objects[i].gingiva_neighbours.empty()) continue;
+    if (objects[i].kind != ObjectSpec::Kind::kGingiva ||
+        objects[i].gingiva_neighbours.empty())
+      continue;
     const auto [it, added] = first.try_emplace(GeneratorKey(objects[i]), i);
-    if (added) jobs.push_back(i);
-    else twin[i] = it->second;
+    if (added)
+      jobs.push_back(i);
+    else
+      twin[i] = it->second;
   }
   const int count = static_cast<int>(jobs.size());
   std::mutex mutex;
@@ -521,10 +575,13 @@ SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::
     for (int job = next++; job < count && !halt; job = next++) {
       const int i = jobs[job];
       try {
-        out.meshes[i] = MakeObjectMeshCached(objects[i], cache_dir, &out.normals[i], true, &out.caps[i]);
+        out.meshes[i] = MakeObjectMeshCached(objects[i], cache_dir, &out.normals[i], true,
+                                             &out.caps[i]);
         std::lock_guard lock(mutex);
         ++made;
-        if (progress && !progress(objects[i].name, static_cast<double>(made) / std::max(count, 1))) halt = true;
+        if (progress &&
+            !progress(objects[i].name, static_cast<double>(made) / std::max(count, 1)))
+          halt = true;
       } catch (...) {
         std::lock_guard lock(mutex);
         if (!failure) failure = std::current_exception();
@@ -545,7 +602,8 @@ SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::
   return out;
 }
 
-std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::filesystem::path& cache_dir,
+std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
+                                            const std::filesystem::path& cache_dir,
                                             const BuildProgress& progress) {
   auto scene = std::make_unique<CompiledScene>();
   scene->spec = spec;
@@ -554,7 +612,9 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   const bool compliance = spec.HasEffect(Effect::kGingivaCompliance);
   // Soft objects (gingiva, under gingiva_compliance) go last: the engine's hard
   // world is the objects before them, with the same indices as the scene's.
-  auto soft = [&](const ObjectSpec& o) { return compliance && o.tissue == Tissue::kGingiva; };
+  auto soft = [&](const ObjectSpec& o) {
+    return compliance && o.tissue == Tissue::kGingiva;
+  };
   std::stable_partition(scene->spec.objects.begin(), scene->spec.objects.end(),
                         [&](const ObjectSpec& o) { return !soft(o); });
   const int n = static_cast<int>(spec.objects.size());
@@ -594,7 +654,8 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
       for (int job = next_mesh++; job < jobs && !halt; job = next_mesh++) {
         const int i = mesh_order[job];
         try {
-          scene->meshes[i] = MakeObjectMeshCached(scene->spec.objects[i], cache_dir, &scene->normals[i]);
+          scene->meshes[i] =
+              MakeObjectMeshCached(scene->spec.objects[i], cache_dir, &scene->normals[i]);
           std::lock_guard lock(mesh_mutex);
           report(made++, scene->spec.objects[i].name, 0.1);
         } catch (...) {
@@ -609,7 +670,8 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
     for (int i = 0; i < n; ++i) {
       if (twin[i] < 0) continue;
       const int j = twin[i];
-      const bool mirror = scene->spec.objects[i].mirrored != scene->spec.objects[j].mirrored;
+      const bool mirror =
+          scene->spec.objects[i].mirrored != scene->spec.objects[j].mirrored;
       scene->meshes[i] = ArchMirror(mirror, scene->meshes[j]);
       scene->normals[i] = ArchMirror(mirror, scene->normals[j]);
       report(made++, scene->spec.objects[i].name, 0.1);
@@ -631,7 +693,8 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   // mirrored ones go after all the others, so that their twin is built first.
   std::vector<int> order(n);
   for (int i = 0; i < n; ++i) order[i] = i;
-  std::stable_partition(order.begin(), order.end(), [&](int i) { return !scene->spec.objects[i].mirrored; });
+  std::stable_partition(order.begin(), order.end(),
+                        [&](int i) { return !scene->spec.objects[i].mirrored; });
   std::vector<double> done(n + 1, 0.0);
   std::mutex progress_mutex;
   std::atomic<int> next{0};
@@ -650,20 +713,24 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
       };
       try {
         if (job == 0) {
-          scene->tool_tree = LoadOrBuildSphereTree(scene->tool_mesh, ToolTreeParams(), cache_dir, inner);
+          scene->tool_tree =
+              LoadOrBuildSphereTree(scene->tool_mesh, ToolTreeParams(), cache_dir, inner);
           inner("tool", 1.0);
         } else {
           // The partitioned list's own settings: spec.objects is in the file's order.
           const int i = order[job - 1];
           const ObjectSpec& o = scene->spec.objects[i];
           if (o.mirrored) {
-            SphereTree t = LoadOrBuildSphereTree(ArchMirror(true, scene->meshes[i]), o.trees, cache_dir, inner);
+            SphereTree t = LoadOrBuildSphereTree(ArchMirror(true, scene->meshes[i]),
+                                                 o.trees, cache_dir, inner);
             for (double& x : t.x) x = -x;
             scene->trees[i] = std::move(t);
           } else {
-            scene->trees[i] = LoadOrBuildSphereTree(scene->meshes[i], o.trees, cache_dir, inner);
+            scene->trees[i] =
+                LoadOrBuildSphereTree(scene->meshes[i], o.trees, cache_dir, inner);
           }
-          if (scene->spec.leaf_planes) scene->planes[i] = FitLeafPlanes(scene->meshes[i], scene->trees[i]);
+          if (scene->spec.leaf_planes)
+            scene->planes[i] = FitLeafPlanes(scene->meshes[i], scene->trees[i]);
           inner(o.name, 1.0);
         }
       } catch (...) {
@@ -680,11 +747,14 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
   int soft_first = n;
   while (soft_first > 0 && soft(objs[soft_first - 1])) --soft_first;
   std::vector<CollisionWorld::Object> hard, soft_objects;
-  for (int i = 0; i < n; ++i) (i < soft_first ? hard : soft_objects).push_back({&scene->trees[i], objs[i].X_WO, &scene->planes[i]});
+  for (int i = 0; i < n; ++i)
+    (i < soft_first ? hard : soft_objects)
+        .push_back({&scene->trees[i], objs[i].X_WO, &scene->planes[i]});
   scene->model = std::make_unique<EngineModel>(scene->tool_tree, hard, spec.haptics);
   // Friction on the hard objects (soft gingiva is springs, not constraints).
   if (spec.HasEffect(Effect::kFriction))
-    for (int i = 0; i < soft_first; ++i) scene->model->friction.push_back(objs[i].material.friction);
+    for (int i = 0; i < soft_first; ++i)
+      scene->model->friction.push_back(objs[i].material.friction);
   BuildEffectsModel(scene.get(), soft_first, soft_objects);
   scene->tree_seconds = std::chrono::duration<double>(Clock::now() - t_trees).count();
   return scene;
@@ -694,7 +764,8 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::fi
 
 namespace sulcus {
 
-ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& script, int object) {
+ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& script,
+                              int object) {
   const auto& objects = scene.spec.objects;
   if (objects.empty()) throw std::invalid_argument("the scene has no objects to touch");
   if (object < 0) {
@@ -704,7 +775,8 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
     object = 0;
     auto rank = [&](const ObjectSpec& o) {
       const bool lower = FdiTooth::Parse(o.fdi).quadrant >= 3;
-      const double depth = script == "insert" && scene.spec.gingiva ? o.pocket_mm[1] : 0.0;
+      const double depth =
+          script == "insert" && scene.spec.gingiva ? o.pocket_mm[1] : 0.0;
       return std::pair(lower, depth);
     };
     std::optional<std::pair<bool, double>> best;
@@ -717,7 +789,8 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
     }
   }
 
-  if (object >= static_cast<int>(objects.size())) throw std::invalid_argument("no object " + std::to_string(object));
+  if (object >= static_cast<int>(objects.size()))
+    throw std::invalid_argument("no object " + std::to_string(object));
   const ObjectSpec& o = objects[object];
   const TriangleMesh& mesh = scene.meshes[object];
   const Matrix3& R = o.X_WO.rotation();
@@ -731,8 +804,10 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
     t.n_W = R * Vector3::UnitY();
     t.axis_W = R * Vector3::UnitZ();
     t.along_W = R * Vector3::UnitX();
-    t.tool_axis_W = R * Vector3(0, 0.15, 1).normalized();  // tilted buccally, as a clinician does
-    t.shank_W = R * Vector3(0, -1, 0);  // the shank over the crown, not out through the cheek
+    t.tool_axis_W =
+        R * Vector3(0, 0.15, 1).normalized();  // tilted buccally, as a clinician does
+    t.shank_W =
+        R * Vector3(0, -1, 0);  // the shank over the crown, not out through the cheek
     t.insert_offset_mm = 0;
     // How deep to go: press the probe down this path, tick by tick through the
     // engine and the scene's effects, until it feels the clinical probing force
@@ -754,9 +829,12 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
       HapticLoop loop(*scene.model, &press, lo, list);
       for (int i = 0; from + i * step <= to; ++i) {
         loop.Tick(false);
-        const double depth = from + i * step;  // a touch above the floor's last millimetre is not the floor
+        const double depth =
+            from +
+            i * step;  // a touch above the floor's last millimetre is not the floor
         const TickRecord& r = loop.last_record();
-        if (depth >= o.pocket_mm[1] - 1.0 && r.force_W.dot(r.X_WG.rotation().col(2)) >= 0.22) {
+        if (depth >= o.pocket_mm[1] - 1.0 &&
+            r.force_W.dot(r.X_WG.rotation().col(2)) >= 0.22) {
           t.insert_depth_mm = depth;
           break;
         }
@@ -768,7 +846,8 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
     double best_score = -1e300;
     const bool insert = script == "insert";
     for (const Vector3& v : mesh.vertices()) {
-      const double score = insert ? (std::abs(v.z()) < 0.6 ? v.y() : -1e300) : v.z() - 0.2 * v.norm();
+      const double score =
+          insert ? (std::abs(v.z()) < 0.6 ? v.y() : -1e300) : v.z() - 0.2 * v.norm();
       if (score > best_score) {
         best_score = score;
         best = v;
@@ -792,7 +871,8 @@ ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& scr
 
 std::uint64_t HashFile(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes((std::istreambuf_iterator<char>(in)),
+                          std::istreambuf_iterator<char>());
   return Fnv1a(bytes.data(), bytes.size());
 }
 

@@ -1,13 +1,10 @@
 #include "core/scene/scene.h"
 
-#include <cstdio>
-
-#include "core/anatomy/findings.h"
-
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <numbers>
@@ -15,6 +12,7 @@
 #include <sstream>
 
 #include "core/anatomy/arch.h"
+#include "core/anatomy/findings.h"
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
@@ -29,10 +27,13 @@ struct TissueName {
   const char* name;
   Tissue tissue;
 };
-constexpr TissueName kTissues[] = {{"enamel", Tissue::kEnamel}, {"root", Tissue::kRoot},     {"gingiva", Tissue::kGingiva},
-                                   {"bone", Tissue::kBone},     {"tongue", Tissue::kTongue}, {"cheek", Tissue::kCheek},
-                                   {"palate", Tissue::kPalate}, {"lip", Tissue::kLip},       {"mucosa", Tissue::kMucosa},
-                                   {"metal", Tissue::kMetal},   {"calculus", Tissue::kCalculus}};
+constexpr TissueName kTissues[] = {
+    {"enamel", Tissue::kEnamel},    {"root", Tissue::kRoot},
+    {"gingiva", Tissue::kGingiva},  {"bone", Tissue::kBone},
+    {"tongue", Tissue::kTongue},    {"cheek", Tissue::kCheek},
+    {"palate", Tissue::kPalate},    {"lip", Tissue::kLip},
+    {"mucosa", Tissue::kMucosa},    {"metal", Tissue::kMetal},
+    {"calculus", Tissue::kCalculus}};
 struct EffectName {
   const char* name;
   Effect effect;
@@ -46,7 +47,8 @@ constexpr EffectName kEffects[] = {{"contact", Effect::kContact},
                                    {"tissue_damage", Effect::kTissueDamage},
                                    {"caries_catch", Effect::kCariesCatch},
                                    {"calculus", Effect::kCalculus}};
-const std::vector<std::string> kProbes = {"williams", "unc15", "who", "explorer23", "explorer1112"};
+const std::vector<std::string> kProbes = {"williams", "unc15", "who", "explorer23",
+                                          "explorer1112"};
 
 using Reader = YamlReader;
 
@@ -60,7 +62,8 @@ std::vector<std::string> Names(const auto& table) {
 // each(surface index, key, value) for every known surface; a node that is not
 // a map gets `not_a_map`, an unknown surface an error with a suggestion.
 template <class Each>
-void ForEachSurface(Reader& r, const YAML::Node& c, const std::string& not_a_map, Each each) {
+void ForEachSurface(Reader& r, const YAML::Node& c, const std::string& not_a_map,
+                    Each each) {
   if (!c) return;
   if (!c.IsMap()) {
     r.Error(c, not_a_map);
@@ -71,7 +74,8 @@ void ForEachSurface(Reader& r, const YAML::Node& c, const std::string& not_a_map
     const std::string surface = it->first.Scalar();
     const auto at = std::find(surfaces.begin(), surfaces.end(), surface);
     if (at == surfaces.end()) {
-      r.Error(it->first, "unknown surface '" + surface + "'" + Suggest(surface, surfaces) + " (" + Join(surfaces) + ")");
+      r.Error(it->first, "unknown surface '" + surface + "'" +
+                             Suggest(surface, surfaces) + " (" + Join(surfaces) + ")");
       continue;
     }
     each(static_cast<std::size_t>(at - surfaces.begin()), it->first, it->second);
@@ -80,8 +84,8 @@ void ForEachSurface(Reader& r, const YAML::Node& c, const std::string& not_a_map
 
 // A `spheretree` map over the values in *p (the scene's, for an object's own).
 // `gingiva` (the collars' sub-map) is read by the caller where it is allowed.
-void ReadTreeParams(Reader& r, const YAML::Node& t, const std::string& where, bool gingiva_allowed,
-                    SphereTreeParams* p) {
+void ReadTreeParams(Reader& r, const YAML::Node& t, const std::string& where,
+                    bool gingiva_allowed, SphereTreeParams* p) {
   if (!r.IsMap(t, where)) return;
   std::vector<std::string> keys = {"levels", "branch", "leaves", "target_error_mm"};
   if (gingiva_allowed) keys.push_back("gingiva");
@@ -89,17 +93,20 @@ void ReadTreeParams(Reader& r, const YAML::Node& t, const std::string& where, bo
   if (t["levels"]) p->levels = r.Integer(t["levels"], "levels", 1, 8, p->levels);
   if (t["branch"]) p->branching = r.Integer(t["branch"], "branch", 2, 32, p->branching);
   if (t["leaves"]) p->leaves = r.Integer(t["leaves"], "leaves", 1, 1 << 20, p->leaves);
-  if (t["target_error_mm"]) p->target_error_mm = r.Number(t["target_error_mm"], "target_error_mm", 1e-4, 10, 0, "mm");
+  if (t["target_error_mm"])
+    p->target_error_mm =
+        r.Number(t["target_error_mm"], "target_error_mm", 1e-4, 10, 0, "mm");
   const std::size_t capacity = LeafCapacity(p->levels, p->branching);
   if (p->target_error_mm == 0 && static_cast<std::size_t>(p->leaves) > capacity) {
-    r.Error(t, "in " + where + ": " + std::to_string(p->leaves) + " leaves do not fit in " +
-                   std::to_string(p->levels) + " levels of " + std::to_string(p->branching) + " (at most " +
+    r.Error(t, "in " + where + ": " + std::to_string(p->leaves) +
+                   " leaves do not fit in " + std::to_string(p->levels) + " levels of " +
+                   std::to_string(p->branching) + " (at most " +
                    std::to_string(capacity) + "); raise 'levels'");
   }
 }
 
-void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int index, SceneSpec* spec,
-                std::set<std::string>* names) {
+void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int index,
+                SceneSpec* spec, std::set<std::string>* names) {
   ObjectSpec o;
   o.file_index = index;
   o.line = n.Mark().line + 1;
@@ -107,9 +114,12 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   o.mouth_open_mm = spec->mouth_open_mm;
   o.trees = spec->trees;
   if (!r.IsMap(n, "an object")) return;
-  r.CheckKeys(n, {"name", "tooth", "mesh", "box", "sphere", "cylinder", "anatomy", "height_mm", "at", "turn_deg", "tissue",
-                  "stiffness_n_per_mm", "friction", "damage_limit_n", "pockets_mm", "recession_mm", "bleeding",
-                  "inflamed", "caries_mm", "cavity_mm", "calculus", "furcation", "lesion", "spheretree"},
+  r.CheckKeys(n, {"name",     "tooth",          "mesh",       "box",
+                  "sphere",   "cylinder",       "anatomy",    "height_mm",
+                  "at",       "turn_deg",       "tissue",     "stiffness_n_per_mm",
+                  "friction", "damage_limit_n", "pockets_mm", "recession_mm",
+                  "bleeding", "inflamed",       "caries_mm",  "cavity_mm",
+                  "calculus", "furcation",      "lesion",     "spheretree"},
               "an object");
   if (n["spheretree"]) {
     ReadTreeParams(r, n["spheretree"], "an object's 'spheretree'", false, &o.trees);
@@ -120,8 +130,11 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     if (n[k]) kinds.push_back(k);
   }
   if (kinds.size() != 1) {
-    r.Error(n, kinds.empty() ? "an object needs one of: tooth, mesh, box, sphere, cylinder, anatomy"
-                             : "an object has exactly one of tooth, mesh, box, sphere, cylinder, anatomy; found " + Join(kinds));
+    r.Error(n, kinds.empty()
+                   ? "an object needs one of: tooth, mesh, box, sphere, cylinder, anatomy"
+                   : "an object has exactly one of tooth, mesh, box, sphere, cylinder, "
+                     "anatomy; found " +
+                         Join(kinds));
     return;
   }
   const std::string kind = kinds[0];
@@ -142,11 +155,16 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     const std::string rel = r.Text(n["mesh"], "mesh");
     const fs::path full = (folder / rel).lexically_normal();
     const std::string base = folder.lexically_normal().string();
-    if (fs::path(rel).is_absolute() || full.string().rfind(base, 0) != 0 || rel.find("..") != std::string::npos) {
-      r.Error(n["mesh"], "mesh path '" + rel + "' leaves the scene's folder; put the mesh beside the scene file");
+    if (fs::path(rel).is_absolute() || full.string().rfind(base, 0) != 0 ||
+        rel.find("..") != std::string::npos) {
+      r.Error(n["mesh"],
+              "mesh path '" + rel +
+                  "' leaves the scene's folder; put the mesh beside the scene file");
     } else if (std::error_code ec; !fs::exists(full, ec)) {
-      r.Error(n["mesh"], ec ? "mesh file '" + rel.substr(0, 200) + "' cannot be looked up: " + ec.message()
-                            : "mesh file '" + rel + "' not found (looked for " + full.string() + ")");
+      r.Error(n["mesh"], ec ? "mesh file '" + rel.substr(0, 200) +
+                                  "' cannot be looked up: " + ec.message()
+                            : "mesh file '" + rel + "' not found (looked for " +
+                                  full.string() + ")");
     }
     o.mesh = full;
     o.name = fs::path(rel).stem().string();
@@ -155,16 +173,18 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     o.anatomy = r.Text(n["anatomy"], "anatomy");
     const auto& known = SoftTissueNames();
     if (std::find(known.begin(), known.end(), o.anatomy) == known.end()) {
-      r.Error(n["anatomy"], "unknown anatomy '" + o.anatomy + "'" + Suggest(o.anatomy, known) + " (known: " + Join(known) + ")");
+      r.Error(n["anatomy"], "unknown anatomy '" + o.anatomy + "'" +
+                                Suggest(o.anatomy, known) + " (known: " + Join(known) +
+                                ")");
     }
     o.name = o.anatomy;
     std::replace(o.name.begin(), o.name.end(), '_', ' ');
-    o.tissue = o.anatomy == "tongue"                                       ? Tissue::kTongue
-               : o.anatomy == "palate" || o.anatomy == "soft_palate"        ? Tissue::kPalate
-               : o.anatomy.rfind("cheek", 0) == 0                          ? Tissue::kCheek
-               : o.anatomy.rfind("lip", 0) == 0                            ? Tissue::kLip
-               : o.anatomy == "floor_of_mouth"                             ? Tissue::kMucosa
-                                                                           : Tissue::kBone;
+    o.tissue = o.anatomy == "tongue"                                 ? Tissue::kTongue
+               : o.anatomy == "palate" || o.anatomy == "soft_palate" ? Tissue::kPalate
+               : o.anatomy.rfind("cheek", 0) == 0                    ? Tissue::kCheek
+               : o.anatomy.rfind("lip", 0) == 0                      ? Tissue::kLip
+               : o.anatomy == "floor_of_mouth"                       ? Tissue::kMucosa
+                                                                     : Tissue::kBone;
   } else if (kind == "box") {
     o.kind = ObjectSpec::Kind::kBox;
     double s[3] = {1, 1, 1};
@@ -173,7 +193,8 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     o.name = "box " + std::to_string(index + 1);
   } else {
     o.kind = kind == "sphere" ? ObjectSpec::Kind::kSphere : ObjectSpec::Kind::kCylinder;
-    o.radius_mm = r.Number(n[kind], kind, 1e-3, 100, 1, "mm (a mouth is about 60 mm across)");
+    o.radius_mm =
+        r.Number(n[kind], kind, 1e-3, 100, 1, "mm (a mouth is about 60 mm across)");
     if (kind == "cylinder") {
       if (n["height_mm"]) {
         o.height_mm = r.Number(n["height_mm"], "height_mm", 1e-3, 200, 1, "mm");
@@ -183,9 +204,11 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     }
     o.name = kind + " " + std::to_string(index + 1);
   }
-  if (kind != "cylinder" && n["height_mm"]) r.Error(n["height_mm"], "'height_mm' is for cylinders only");
+  if (kind != "cylinder" && n["height_mm"])
+    r.Error(n["height_mm"], "'height_mm' is for cylinders only");
   if (n["name"]) o.name = r.Text(n["name"], "name");
-  if (!names->insert(o.name).second) r.Error(n["name"] ? n["name"] : n, "two objects are named '" + o.name + "'");
+  if (!names->insert(o.name).second)
+    r.Error(n["name"] ? n["name"] : n, "two objects are named '" + o.name + "'");
   o.X_WO = r.Pose(n, "at", "turn_deg");
   // An upper tooth placed by hand stands crown down, as in the mouth (its frame
   // turned half a turn about y: occlusal down, buccal still +y), unless the
@@ -193,8 +216,11 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (kind == "tooth" && !n["turn_deg"] && o.fdi > 0 && !(spec->arch && !n["at"])) {
     try {
       if (FdiTooth::Parse(o.fdi).upper())
-        o.X_WO = o.X_WO * RigidTransform(Eigen::AngleAxisd(std::numbers::pi, Vector3::UnitY()).toRotationMatrix(),
-                                         Vector3::Zero());
+        o.X_WO =
+            o.X_WO *
+            RigidTransform(
+                Eigen::AngleAxisd(std::numbers::pi, Vector3::UnitY()).toRotationMatrix(),
+                Vector3::Zero());
     } catch (const std::invalid_argument&) {
       // reported with the tooth
     }
@@ -202,7 +228,9 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (kind == "tooth" && spec->arch && !n["at"] && !n["turn_deg"] && o.fdi > 0) {
     try {
       const FdiTooth t = FdiTooth::Parse(o.fdi);
-      for (const PlacedTooth& p : PlaceArch(t.upper(), ArchParams{.upper_lift_mm = spec->mouth_open_mm, .third_molars = t.position == 8})) {
+      for (const PlacedTooth& p :
+           PlaceArch(t.upper(), ArchParams{.upper_lift_mm = spec->mouth_open_mm,
+                                .third_molars = t.position == 8})) {
         if (p.tooth.fdi == o.fdi) {
           o.X_WO = p.X_WT;
           o.mirrored = p.mirrored;
@@ -221,46 +249,65 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
         found = true;
       }
     }
-    if (!found) r.Error(n["tissue"], "unknown tissue '" + t + "'" + Suggest(t, Names(kTissues)));
+    if (!found)
+      r.Error(n["tissue"], "unknown tissue '" + t + "'" + Suggest(t, Names(kTissues)));
   } else if (kind != "tooth" && kind != "anatomy") {
     r.Error(n, "'" + o.name + "' needs a 'tissue' (" + Join(Names(kTissues)) + ")");
   }
   o.material = DefaultMaterial(o.tissue);
   // Keys of the design that this version does not use: refused, never ignored.
   if (n["stiffness_n_per_mm"])
-    r.Error(n["stiffness_n_per_mm"], "'stiffness_n_per_mm' is not used by this version of Sulcus (hard objects are "
-                                     "rigid; gingiva_compliance sets the gingiva's own); remove it");
-  if (n["friction"]) o.material.friction = r.Number(n["friction"], "friction", 0, 2, o.material.friction, "");
-  if (n["damage_limit_n"]) o.material.damage_limit_n = r.Number(n["damage_limit_n"], "damage_limit_n", 0, 1e9, 1, "N");
+    r.Error(
+        n["stiffness_n_per_mm"],
+        "'stiffness_n_per_mm' is not used by this version of Sulcus (hard objects are "
+        "rigid; gingiva_compliance sets the gingiva's own); remove it");
+  if (n["friction"])
+    o.material.friction =
+        r.Number(n["friction"], "friction", 0, 2, o.material.friction, "");
+  if (n["damage_limit_n"])
+    o.material.damage_limit_n =
+        r.Number(n["damage_limit_n"], "damage_limit_n", 0, 1e9, 1, "N");
 
   if (const YAML::Node& l = n["lesion"]) {
     // lesion: {kind: ulcer, region: lateral_border_left, size_mm: 3}
     if (kind != "anatomy") {
-      r.Error(l, "'lesion' is for soft tissue ('anatomy' objects); a tooth's findings are caries_mm and calculus");
+      r.Error(l,
+              "'lesion' is for soft tissue ('anatomy' objects); a tooth's findings are "
+              "caries_mm and calculus");
     } else if (!l.IsMap()) {
-      r.Error(l, "'lesion' must be a map, e.g. {kind: ulcer, region: lateral_border_left, size_mm: 3}");
+      r.Error(l,
+              "'lesion' must be a map, e.g. {kind: ulcer, region: lateral_border_left, "
+              "size_mm: 3}");
     } else {
       r.CheckKeys(l, {"kind", "region", "size_mm"}, "'lesion'");
       const auto regions = LesionRegions(o.anatomy);
-      if (regions.empty()) r.Error(l, "no lesion on '" + o.anatomy + "': it is bone; lesions are for soft tissue");
+      if (regions.empty())
+        r.Error(l, "no lesion on '" + o.anatomy +
+                       "': it is bone; lesions are for soft tissue");
       if (!l["kind"]) {
         r.Error(l, "a lesion needs 'kind' (" + Join(LesionKinds()) + ")");
       } else {
         o.lesion_kind = r.Text(l["kind"], "kind");
-        if (std::find(LesionKinds().begin(), LesionKinds().end(), o.lesion_kind) == LesionKinds().end())
-          r.Error(l["kind"], "unknown lesion '" + o.lesion_kind + "'" + Suggest(o.lesion_kind, LesionKinds()));
+        if (std::find(LesionKinds().begin(), LesionKinds().end(), o.lesion_kind) ==
+            LesionKinds().end())
+          r.Error(l["kind"], "unknown lesion '" + o.lesion_kind + "'" +
+                                 Suggest(o.lesion_kind, LesionKinds()));
       }
       if (l["region"]) {
         o.lesion_region = r.Text(l["region"], "region");
-        if (!regions.empty() && std::find(regions.begin(), regions.end(), o.lesion_region) == regions.end())
-          r.Error(l["region"], "'" + o.anatomy + "' has no region '" + o.lesion_region + "'" +
-                                   Suggest(o.lesion_region, regions));
+        if (!regions.empty() &&
+            std::find(regions.begin(), regions.end(), o.lesion_region) == regions.end())
+          r.Error(l["region"], "'" + o.anatomy + "' has no region '" + o.lesion_region +
+                                   "'" + Suggest(o.lesion_region, regions));
       } else if (regions.size() > 1) {
-        r.Error(l, "a lesion on the " + o.anatomy + " needs 'region' (" + Join(regions) + ")");
+        r.Error(l, "a lesion on the " + o.anatomy + " needs 'region' (" + Join(regions) +
+                       ")");
       } else if (!regions.empty()) {
         o.lesion_region = regions[0];
       }
-      o.lesion_mm = l["size_mm"] ? r.Number(l["size_mm"], "size_mm", 0.5, 15, 2, "mm (the lesion's radius)") : 2.0;
+      o.lesion_mm = l["size_mm"] ? r.Number(l["size_mm"], "size_mm", 0.5, 15, 2,
+                                            "mm (the lesion's radius)")
+                                 : 2.0;
     }
   }
   if (const YAML::Node& f = n["furcation"]; f && kind == "tooth" && o.fdi > 0) {
@@ -272,34 +319,40 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
       // reported with the tooth
     }
     if (!f.IsMap()) {
-      r.Error(f, "'furcation' must map entrances to Hamp classes 0 to 3, e.g. {B: 2, L: 1}");
+      r.Error(f,
+              "'furcation' must map entrances to Hamp classes 0 to 3, e.g. {B: 2, L: 1}");
     } else if (entrances.empty()) {
       r.Error(f, "tooth " + std::to_string(o.fdi) + " has one root: no furcation");
     } else {
       for (auto it = f.begin(); it != f.end(); ++it) {
         const std::string e = it->first.Scalar();
         if (std::find(entrances.begin(), entrances.end(), e) == entrances.end()) {
-          r.Error(it->first, "tooth " + std::to_string(o.fdi) + " has no furcation entrance '" + e + "' (its entrances: " +
-                                 Join(entrances) + ")");
+          r.Error(it->first, "tooth " + std::to_string(o.fdi) +
+                                 " has no furcation entrance '" + e +
+                                 "' (its entrances: " + Join(entrances) + ")");
         } else {
           o.furcation[e] = r.Integer(it->second, "furcation class", 0, 3, 0);
         }
       }
     }
   }
-  for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm", "cavity_mm", "calculus", "furcation"}) {
-    if (n[key] && kind != "tooth") r.Error(n[key], std::string("'") + key + "' is for teeth only");
+  for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed",
+                          "caries_mm", "cavity_mm", "calculus", "furcation"}) {
+    if (n[key] && kind != "tooth")
+      r.Error(n[key], std::string("'") + key + "' is for teeth only");
   }
   if (kind == "tooth") {
     if (n["pockets_mm"]) {
       o.has_sites = true;
       if (r.Numbers(n["pockets_mm"], "pockets_mm", 6, 0, 15, o.pocket_mm.data(), "mm",
-                    "depths at MB, B, DB, ML, L, DL in mm") && root_length > 0) {
+                    "depths at MB, B, DB, ML, L, DL in mm") &&
+          root_length > 0) {
         for (int i = 0; i < 6; ++i) {
           if (o.pocket_mm[i] >= root_length) {
             std::ostringstream s;
-            s << "pocket of " << o.pocket_mm[i] << " mm at site " << kSiteCodes[i] << " is deeper than the root of tooth "
-              << o.fdi << " (" << root_length << " mm)";
+            s << "pocket of " << o.pocket_mm[i] << " mm at site " << kSiteCodes[i]
+              << " is deeper than the root of tooth " << o.fdi << " (" << root_length
+              << " mm)";
             r.Error(n["pockets_mm"][i], s.str());
           }
         }
@@ -312,7 +365,8 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     for (const char* key : {"bleeding", "inflamed"}) {
       const YAML::Node& b = n[key];
       if (!b) continue;
-      std::array<bool, 6>& flags = std::string(key) == "bleeding" ? o.bleeding : o.inflamed;
+      std::array<bool, 6>& flags =
+          std::string(key) == "bleeding" ? o.bleeding : o.inflamed;
       if (!b.IsSequence()) {
         r.Error(b, std::string("'") + key + "' must be a list of sites, e.g. [MB, DL]");
         continue;
@@ -322,53 +376,65 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
         const auto it = std::find(kSiteCodes.begin(), kSiteCodes.end(), code);
         if (it == kSiteCodes.end()) {
           r.Error(site, "unknown site '" + code + "'" +
-                            Suggest(code, std::vector<std::string>(kSiteCodes.begin(), kSiteCodes.end())));
+                            Suggest(code, std::vector<std::string>(kSiteCodes.begin(),
+                                                                   kSiteCodes.end())));
         } else {
           flags[it - kSiteCodes.begin()] = true;
         }
       }
     }
-    ForEachSurface(r, n["caries_mm"], "'caries_mm' must map surfaces to lesion sizes, e.g. {occlusal: 2.0}",
+    ForEachSurface(r, n["caries_mm"],
+                   "'caries_mm' must map surfaces to lesion sizes, e.g. {occlusal: 2.0}",
                    [&](std::size_t s, const YAML::Node&, const YAML::Node& value) {
                      o.caries_mm[s] = r.Number(value, "caries_mm", 0.1, 8, 1, "mm");
                    });
     // cavity_mm: {occlusal: 0.8}: the lesion there is cavitated, this deep.
-    ForEachSurface(r, n["cavity_mm"], "'cavity_mm' must map surfaces to cavity depths, e.g. {occlusal: 0.8}",
-                   [&](std::size_t s, const YAML::Node& key, const YAML::Node& value) {
-                     o.cavity_mm[s] = r.Number(value, "cavity_mm", 0.1, kMaxCavityMm, 0.5, "mm");
-                     if (o.caries_mm[s] <= 0) {
-                       r.Error(key, "a cavity is in a carious lesion: give 'caries_mm' a " + key.Scalar() + " lesion first");
-                     } else if (o.cavity_mm[s] > o.caries_mm[s]) {
-                       char m[160];
-                       std::snprintf(m, sizeof m,
-                                     "a cavity %.1f mm deep in a lesion of %.1f mm: the depth is at most the lesion's size",
-                                     o.cavity_mm[s], o.caries_mm[s]);
-                       r.Error(value, m);
-                     }
-                   });
+    ForEachSurface(
+        r, n["cavity_mm"],
+        "'cavity_mm' must map surfaces to cavity depths, e.g. {occlusal: 0.8}",
+        [&](std::size_t s, const YAML::Node& key, const YAML::Node& value) {
+          o.cavity_mm[s] = r.Number(value, "cavity_mm", 0.1, kMaxCavityMm, 0.5, "mm");
+          if (o.caries_mm[s] <= 0) {
+            r.Error(key, "a cavity is in a carious lesion: give 'caries_mm' a " +
+                             key.Scalar() + " lesion first");
+          } else if (o.cavity_mm[s] > o.caries_mm[s]) {
+            char m[160];
+            std::snprintf(m, sizeof m,
+                          "a cavity %.1f mm deep in a lesion of %.1f mm: the depth is at "
+                          "most the lesion's size",
+                          o.cavity_mm[s], o.caries_mm[s]);
+            r.Error(value, m);
+          }
+        });
     if (const YAML::Node& c = n["calculus"]) {
       // calculus: {supra: [L, DL], sub: [MB]}
       if (!c.IsMap()) {
-        r.Error(c, "'calculus' must map 'supra' and 'sub' to lists of sites, e.g. {supra: [L], sub: [MB]}");
+        r.Error(c,
+                "'calculus' must map 'supra' and 'sub' to lists of sites, e.g. {supra: "
+                "[L], sub: [MB]}");
       } else {
         for (auto it = c.begin(); it != c.end(); ++it) {
           const std::string where = it->first.Scalar();
           if (where != "supra" && where != "sub") {
-            r.Error(it->first, "unknown calculus position '" + where + "'" + Suggest(where, {"supra", "sub"}) +
-                                   " (supra: above the gingival margin, sub: in the sulcus)");
+            r.Error(it->first,
+                    "unknown calculus position '" + where + "'" +
+                        Suggest(where, {"supra", "sub"}) +
+                        " (supra: above the gingival margin, sub: in the sulcus)");
             continue;
           }
           if (!it->second.IsSequence()) {
             r.Error(it->second, "'" + where + "' must be a list of sites, e.g. [MB, DL]");
             continue;
           }
-          const YAML::Node sites = it->second;  // a copy: the iterator's pair is a temporary
+          const YAML::Node sites =
+              it->second;  // a copy: the iterator's pair is a temporary
           for (const YAML::Node& site : sites) {
             const std::string code = site.IsScalar() ? site.Scalar() : "";
             const auto at = std::find(kSiteCodes.begin(), kSiteCodes.end(), code);
             if (at == kSiteCodes.end()) {
               r.Error(site, "unknown site '" + code + "'" +
-                                Suggest(code, std::vector<std::string>(kSiteCodes.begin(), kSiteCodes.end())));
+                                Suggest(code, std::vector<std::string>(
+                                                  kSiteCodes.begin(), kSiteCodes.end())));
             } else if (o.calculus[at - kSiteCodes.begin()] != 0) {
               r.Error(site, "site " + code + " has calculus named twice");
             } else {
@@ -386,7 +452,9 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
 
 std::vector<std::string> FurcationEntrances(int fdi) {
   const FdiTooth t = FdiTooth::Parse(fdi);
-  if (t.position >= 6) return t.upper() ? std::vector<std::string>{"B", "M", "D"} : std::vector<std::string>{"B", "L"};
+  if (t.position >= 6)
+    return t.upper() ? std::vector<std::string>{"B", "M", "D"}
+                     : std::vector<std::string>{"B", "L"};
   if (t.upper() && t.position == 4) return {"M", "D"};
   return {};
 }
@@ -402,14 +470,16 @@ std::map<int, double> CrestDrops(const SceneSpec& spec) {
     double drop = 0;
     if (t.has_sites) {
       double loss = 0;
-      for (int s = 0; s < 6; ++s) loss = std::max(loss, t.pocket_mm[s] + t.recession_mm[s]);
+      for (int s = 0; s < 6; ++s)
+        loss = std::max(loss, t.pocket_mm[s] + t.recession_mm[s]);
       drop = CrestDropMm(loss);
     }
     int worst = 0;
     for (const auto& [entrance, hamp] : t.furcation) worst = std::max(worst, hamp);
     if (worst > 0) {
       static constexpr double kBelowEntrance[4] = {0, 0.5, 1.5, 3.0};
-      drop = std::max({drop, CrestDropMm(0), FurcationRoofMm(t.fdi) + kBelowEntrance[worst]});
+      drop = std::max(
+          {drop, CrestDropMm(0), FurcationRoofMm(t.fdi) + kBelowEntrance[worst]});
     }
     if (drop > 0) drops[t.fdi] = drop;
   }
@@ -421,11 +491,13 @@ std::map<int, double> CrestDrops(const SceneSpec& spec) {
 void FollowAttachmentLoss(SceneSpec* spec) {
   const std::map<int, double> drops = CrestDrops(*spec);
   for (ObjectSpec& jaw : spec->objects) {
-    if (jaw.kind != ObjectSpec::Kind::kAnatomy || jaw.anatomy.rfind("jaw", 0) != 0) continue;
+    if (jaw.kind != ObjectSpec::Kind::kAnatomy || jaw.anatomy.rfind("jaw", 0) != 0)
+      continue;
     jaw.crest_drop_mm = drops;
     jaw.furcation_of.clear();
     for (const ObjectSpec& t : spec->objects)
-      if (t.kind == ObjectSpec::Kind::kTooth && !t.furcation.empty()) jaw.furcation_of[t.fdi] = t.furcation;
+      if (t.kind == ObjectSpec::Kind::kTooth && !t.furcation.empty())
+        jaw.furcation_of[t.fdi] = t.furcation;
     // A jaw whose crest has dropped below a furcation (the bone between the
     // roots modelled, whole or as its class leaves it), with no tree of its
     // own: finer than the default, whose leaves (a few millimetres across the
@@ -437,7 +509,8 @@ void FollowAttachmentLoss(SceneSpec* spec) {
     bool furcation_above_crest = false;
     for (const auto& [fdi, drop] : drops)
       furcation_above_crest = furcation_above_crest || (FurcationAboveCrest(fdi, drop) &&
-                                                        FdiTooth::Parse(fdi).upper() == (jaw.anatomy == "jaw_upper"));
+                                                        FdiTooth::Parse(fdi).upper() ==
+                                                            (jaw.anatomy == "jaw_upper"));
     if (furcation_above_crest && !jaw.own_trees && jaw.trees.target_error_mm == 0 &&
         jaw.trees.leaves < kFurcationJawLeaves) {
       jaw.trees.levels = std::max(jaw.trees.levels, 5);
@@ -450,7 +523,8 @@ void LinkGingivaNeighbours(SceneSpec* spec) {
   auto adjacent = [](int a, int b) {
     const int qa = a / 10, pa = a % 10, qb = b / 10, pb = b % 10;
     if (qa == qb) return std::abs(pa - pb) == 1;
-    const bool same_jaw = (qa <= 2) == (qb <= 2) && qa >= 1 && qa <= 4 && qb >= 1 && qb <= 4;
+    const bool same_jaw =
+        (qa <= 2) == (qb <= 2) && qa >= 1 && qa <= 4 && qb >= 1 && qb <= 4;
     return same_jaw && pa == 1 && pb == 1;
   };
   auto width = [](int fdi) {
@@ -474,14 +548,16 @@ void LinkGingivaNeighbours(SceneSpec* spec) {
       if (n.kind != ObjectSpec::Kind::kGingiva || !adjacent(g.fdi, n.fdi)) continue;
       const double apart = (n.X_WO.translation() - g.X_WO.translation()).norm();
       if (apart > 0.5 * (width(g.fdi) + width(n.fdi)) + 2.0) continue;
-      g.gingiva_neighbours.push_back({n.fdi, n.mirrored, n.X_WO, n.pocket_mm, n.recession_mm, crest(n.fdi)});
+      g.gingiva_neighbours.push_back(
+          {n.fdi, n.mirrored, n.X_WO, n.pocket_mm, n.recession_mm, crest(n.fdi)});
     }
     if (!g.gingiva_neighbours.empty()) g.share_crest_drop_mm = crest(g.fdi);
   }
 }
 
 std::string SceneError::ToString() const {
-  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message;
+  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " +
+         message;
 }
 
 SceneLoadError::SceneLoadError(std::vector<SceneError> errors)
@@ -510,14 +586,19 @@ Material DefaultMaterial(Tissue t) {
   // Stiffness: hard tissue rigid, soft tissue compliant (approx.); damage limits
   // as the clinical literature gives them (0.5 N tongue and cheek, 0.30 N gingiva).
   switch (t) {
-    case Tissue::kGingiva: return {0.3, 0.3, 0.30};
+    case Tissue::kGingiva:
+      return {0.3, 0.3, 0.30};
     case Tissue::kTongue:
     case Tissue::kCheek:
     case Tissue::kLip:
-    case Tissue::kMucosa: return {0.1, 0.4, 0.5};
-    case Tissue::kPalate: return {1.0, 0.3, 1.0};
-    case Tissue::kCalculus: return {1e9, 0.2, 1e9};  // hard and rough
-    default: return {};
+    case Tissue::kMucosa:
+      return {0.1, 0.4, 0.5};
+    case Tissue::kPalate:
+      return {1.0, 0.3, 1.0};
+    case Tissue::kCalculus:
+      return {1e9, 0.2, 1e9};  // hard and rough
+    default:
+      return {};
   }
 }
 
@@ -525,11 +606,14 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
   Reader r(file);
   SceneSpec spec;
   spec.file = file;
-  const YAML::Node root = LoadYamlMap(r, "scene file", "a scene is a map with at least 'objects:'");
-  r.CheckKeys(root, {"name", "description", "tool", "haptics", "effects", "spheretree", "arch", "gingiva", "mouth_open_mm",
-                     "objects"},
+  const YAML::Node root =
+      LoadYamlMap(r, "scene file", "a scene is a map with at least 'objects:'");
+  r.CheckKeys(root,
+              {"name", "description", "tool", "haptics", "effects", "spheretree", "arch",
+               "gingiva", "mouth_open_mm", "objects"},
               "the scene");
-  if (root["mouth_open_mm"]) spec.mouth_open_mm = r.Number(root["mouth_open_mm"], "mouth_open_mm", 0, 50, 0, "mm");
+  if (root["mouth_open_mm"])
+    spec.mouth_open_mm = r.Number(root["mouth_open_mm"], "mouth_open_mm", 0, 50, 0, "mm");
   if (const YAML::Node b = root["arch"]) spec.arch = r.Bool(b, "arch", false);
   if (const YAML::Node g = root["gingiva"]) {
     bool v = false;
@@ -538,8 +622,10 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     } else if (g.IsScalar() && YAML::convert<bool>::decode(g, v)) {
       spec.gingiva = v;
     } else {
-      r.Error(g, "'gingiva' must be true (a collar around every tooth), arch (one gingiva per arch, joined "
-                 "between neighbouring teeth) or false");
+      r.Error(g,
+              "'gingiva' must be true (a collar around every tooth), arch (one gingiva "
+              "per arch, joined "
+              "between neighbouring teeth) or false");
     }
   }
   if (root["name"]) spec.name = r.Text(root["name"], "name");
@@ -549,33 +635,50 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     if (tool["probe"]) {
       spec.probe = r.Text(tool["probe"], "probe");
       if (std::find(kProbes.begin(), kProbes.end(), spec.probe) == kProbes.end()) {
-        r.Error(tool["probe"], "unknown probe '" + spec.probe + "'" + Suggest(spec.probe, kProbes));
+        r.Error(tool["probe"],
+                "unknown probe '" + spec.probe + "'" + Suggest(spec.probe, kProbes));
       }
     }
     spec.X_TG = r.Pose(tool, "grip_at", "grip_turn_deg");
   }
   if (const YAML::Node h = root["haptics"]; h && r.IsMap(h, "'haptics'")) {
-    r.CheckKeys(h, {"k_t_n_per_mm", "k_r_nmm_per_rad", "max_force_n", "max_torque_nmm", "rate_hz", "surface", "solve_pairs"}, "'haptics'");
+    r.CheckKeys(h,
+                {"k_t_n_per_mm", "k_r_nmm_per_rad", "max_force_n", "max_torque_nmm",
+                 "rate_hz", "surface", "solve_pairs"},
+                "'haptics'");
     EngineParams& p = spec.haptics;
-    if (h["k_t_n_per_mm"]) p.k_t = r.Number(h["k_t_n_per_mm"], "k_t_n_per_mm", 1e-3, 100, p.k_t, "N/mm");
-    if (h["k_r_nmm_per_rad"]) p.k_r = r.Number(h["k_r_nmm_per_rad"], "k_r_nmm_per_rad", 1e-3, 1e6, p.k_r, "N*mm/rad");
-    if (h["max_force_n"]) p.max_force_n = r.Number(h["max_force_n"], "max_force_n", 0, 50, p.max_force_n, "N");
-    if (h["max_torque_nmm"]) p.max_torque_nmm = r.Number(h["max_torque_nmm"], "max_torque_nmm", 0, 5000, p.max_torque_nmm, "N*mm");
+    if (h["k_t_n_per_mm"])
+      p.k_t = r.Number(h["k_t_n_per_mm"], "k_t_n_per_mm", 1e-3, 100, p.k_t, "N/mm");
+    if (h["k_r_nmm_per_rad"])
+      p.k_r =
+          r.Number(h["k_r_nmm_per_rad"], "k_r_nmm_per_rad", 1e-3, 1e6, p.k_r, "N*mm/rad");
+    if (h["max_force_n"])
+      p.max_force_n =
+          r.Number(h["max_force_n"], "max_force_n", 0, 50, p.max_force_n, "N");
+    if (h["max_torque_nmm"])
+      p.max_torque_nmm = r.Number(h["max_torque_nmm"], "max_torque_nmm", 0, 5000,
+                                  p.max_torque_nmm, "N*mm");
     if (h["solve_pairs"]) {
-      p.solve_pairs = r.Integer(h["solve_pairs"], "solve_pairs", 0, p.max_pairs, p.solve_pairs);
+      p.solve_pairs =
+          r.Integer(h["solve_pairs"], "solve_pairs", 0, p.max_pairs, p.solve_pairs);
       if (p.solve_pairs > 0 && p.solve_pairs < 16) {
-        r.Error(h["solve_pairs"], "'solve_pairs' must be 0 (no limit) or at least 16 (a probe resting on a tooth "
-                                  "alone meets a dozen pairs)");
+        r.Error(h["solve_pairs"],
+                "'solve_pairs' must be 0 (no limit) or at least 16 (a probe resting on a "
+                "tooth "
+                "alone meets a dozen pairs)");
       }
     }
-    if (h["rate_hz"]) spec.rate_hz = r.Number(h["rate_hz"], "rate_hz", 100, 10000, spec.rate_hz, "Hz");
+    if (h["rate_hz"])
+      spec.rate_hz = r.Number(h["rate_hz"], "rate_hz", 100, 10000, spec.rate_hz, "Hz");
     if (const YAML::Node s = h["surface"]) {
       const std::string v = s.IsScalar() ? s.Scalar() : "";
       if (v == "planes" || v == "spheres") {
         spec.leaf_planes = v == "planes";
       } else {
-        r.Error(s, "'surface' must be 'planes' (leaf spheres clipped by planes fitted to the mesh, the default) or "
-                   "'spheres' (the leaf spheres alone)");
+        r.Error(s,
+                "'surface' must be 'planes' (leaf spheres clipped by planes fitted to "
+                "the mesh, the default) or "
+                "'spheres' (the leaf spheres alone)");
       }
     }
   }
@@ -594,7 +697,8 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
             }
           }
         }
-        if (!found) r.Error(item, "unknown effect '" + name + "'" + Suggest(name, Names(kEffects)));
+        if (!found)
+          r.Error(item, "unknown effect '" + name + "'" + Suggest(name, Names(kEffects)));
       }
     }
   }
@@ -613,7 +717,8 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
   } else {
     std::set<std::string> names;
     const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
-    for (std::size_t i = 0; i < objects.size(); ++i) ReadObject(r, objects[i], folder, static_cast<int>(i), &spec, &names);
+    for (std::size_t i = 0; i < objects.size(); ++i)
+      ReadObject(r, objects[i], folder, static_cast<int>(i), &spec, &names);
   }
   FollowAttachmentLoss(&spec);
   if (spec.gingiva) {
@@ -634,9 +739,12 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
         const ToothDimensions d = Dimensions(FdiTooth::Parse(t.fdi));
         for (int s = 0; s < 6; ++s) {
           // (a pocket deeper than the root is reported with the tooth already)
-          if (g.pocket_mm[s] < d.longest_root() && g.pocket_mm[s] + g.recession_mm[s] > MaxAttachmentLoss(d)) {
-            r.Error(t.line, t.column, "tooth " + std::to_string(t.fdi) + ": pocket plus recession at site " + kSiteCodes[s] +
-                                   " leaves less than 1 mm of attached root for the gingiva");
+          if (g.pocket_mm[s] < d.longest_root() &&
+              g.pocket_mm[s] + g.recession_mm[s] > MaxAttachmentLoss(d)) {
+            r.Error(t.line, t.column,
+                    "tooth " + std::to_string(t.fdi) +
+                        ": pocket plus recession at site " + kSiteCodes[s] +
+                        " leaves less than 1 mm of attached root for the gingiva");
           }
         }
       } catch (const std::invalid_argument&) {
@@ -648,7 +756,8 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
   }
   // A deposit object per calculus site, on its tooth (sized in mm, so a few
   // levels of a small tree fit it).
-  std::vector<ObjectSpec> deposits;  // appended after the loop: the tooth references stay valid
+  std::vector<ObjectSpec>
+      deposits;  // appended after the loop: the tooth references stay valid
   for (const ObjectSpec& t : spec.objects) {
     if (t.kind != ObjectSpec::Kind::kTooth) continue;
     for (int s = 0; s < 6; ++s) {

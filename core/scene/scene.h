@@ -40,26 +40,49 @@ class SceneLoadError : public std::runtime_error {
   std::vector<SceneError> errors_;
 };
 
-enum class Tissue { kEnamel, kRoot, kGingiva, kBone, kTongue, kCheek, kPalate, kLip, kMucosa, kMetal, kCalculus };
+enum class Tissue {
+  kEnamel,
+  kRoot,
+  kGingiva,
+  kBone,
+  kTongue,
+  kCheek,
+  kPalate,
+  kLip,
+  kMucosa,
+  kMetal,
+  kCalculus
+};
 const char* ToString(Tissue t);
 
 /// What the engine uses of a tissue. Defaults per tissue in DefaultMaterial.
 struct Material {
   double stiffness_n_per_mm = 1e9;  // effectively rigid
   double friction = 0.1;
-  double damage_limit_n = 1e9;      // contact force above which the tissue is hurt
+  double damage_limit_n = 1e9;  // contact force above which the tissue is hurt
 };
 Material DefaultMaterial(Tissue t);
 
 /// The effects a scene may ask for (docs/architecture.md, "Effects on demand").
-enum class Effect { kContact, kGingivaCompliance, kFriction, kSurfaceTexture, kProbingDepth,
-                    kBleedingOnProbing, kTissueDamage, kCariesCatch, kCalculus };
+enum class Effect {
+  kContact,
+  kGingivaCompliance,
+  kFriction,
+  kSurfaceTexture,
+  kProbingDepth,
+  kBleedingOnProbing,
+  kTissueDamage,
+  kCariesCatch,
+  kCalculus
+};
 const char* ToString(Effect e);
 
 /// Probing sites in charting order.
-inline constexpr std::array<const char*, 6> kSiteCodes = {"MB", "B", "DB", "ML", "L", "DL"};
+inline constexpr std::array<const char*, 6> kSiteCodes = {"MB", "B", "DB",
+                                                          "ML", "L", "DL"};
 /// Tooth surfaces for caries.
-inline constexpr std::array<const char*, 5> kSurfaces = {"mesial", "distal", "buccal", "lingual", "occlusal"};
+inline constexpr std::array<const char*, 5> kSurfaces = {"mesial", "distal", "buccal",
+                                                         "lingual", "occlusal"};
 
 /// A gingiva's neighbour on the arch (LinkGingivaNeighbours): what its share
 /// of the gingiva needs of the next tooth's.
@@ -72,20 +95,31 @@ struct GingivaNeighbourSpec {
 };
 
 struct ObjectSpec {
-  enum class Kind { kTooth, kMesh, kBox, kSphere, kCylinder, kGingiva, kAnatomy, kCalculus } kind = Kind::kTooth;
+  enum class Kind {
+    kTooth,
+    kMesh,
+    kBox,
+    kSphere,
+    kCylinder,
+    kGingiva,
+    kAnatomy,
+    kCalculus
+  } kind = Kind::kTooth;
   std::string name;
-  int fdi = 0;                       // kTooth, kGingiva (the tooth it surrounds)
-  bool mirrored = false;             // kTooth, kGingiva placed on the arch (arch.h)
-  std::string anatomy;               // kAnatomy: tongue, palate, cheek_left, ... (soft_tissue.h)
-  double mouth_open_mm = 0;          // the scene's: upper teeth and tissues raised by this
-  std::map<int, double> crest_drop_mm;  // kAnatomy jaws: the bone crest below each tooth's CEJ (soft_tissue.h)
-  std::map<int, std::map<std::string, int>> furcation_of;  // kAnatomy jaws: each tooth's furcation classes (soft_tissue.h)
-  std::filesystem::path mesh;        // kMesh, resolved against the scene's folder
-  Vector3 size = Vector3::Zero();    // kBox, mm
+  int fdi = 0;               // kTooth, kGingiva (the tooth it surrounds)
+  bool mirrored = false;     // kTooth, kGingiva placed on the arch (arch.h)
+  std::string anatomy;       // kAnatomy: tongue, palate, cheek_left, ... (soft_tissue.h)
+  double mouth_open_mm = 0;  // the scene's: upper teeth and tissues raised by this
+  std::map<int, double> crest_drop_mm;  // kAnatomy jaws: the bone crest below each
+                                        // tooth's CEJ (soft_tissue.h)
+  std::map<int, std::map<std::string, int>>
+      furcation_of;  // kAnatomy jaws: each tooth's furcation classes (soft_tissue.h)
+  std::filesystem::path mesh;           // kMesh, resolved against the scene's folder
+  Vector3 size = Vector3::Zero();       // kBox, mm
   double radius_mm = 0, height_mm = 0;  // kSphere, kCylinder
   RigidTransform X_WO;
-  SphereTreeParams trees;            // the scene's, or the object's own `spheretree`
-  bool own_trees = false;            // the object named its own `spheretree`
+  SphereTreeParams trees;  // the scene's, or the object's own `spheretree`
+  bool own_trees = false;  // the object named its own `spheretree`
   Tissue tissue = Tissue::kEnamel;
   Material material;
   // Clinical truth per site (teeth): pocket depth, recession, bleeding on probing.
@@ -93,8 +127,9 @@ struct ObjectSpec {
   std::array<double, 6> pocket_mm{};
   std::array<double, 6> recession_mm{};
   std::array<bool, 6> bleeding{};
-  std::array<bool, 6> inflamed{};    // gingiva inflamed at the site
-  // Caries by surface (mesial, distal, buccal, lingual, occlusal): lesion size in mm, 0 for none.
+  std::array<bool, 6> inflamed{};  // gingiva inflamed at the site
+  // Caries by surface (mesial, distal, buccal, lingual, occlusal): lesion size in mm, 0
+  // for none.
   std::array<double, 5> caries_mm{};
   // Cavitated lesions by surface: the cavity's depth in mm at its centre, 0 for
   // a lesion whose surface is intact (every cavity is in a lesion of caries_mm).
@@ -114,7 +149,8 @@ struct ObjectSpec {
   bool with_gingiva = false;
   // kAnatomy: a soft-tissue lesion (soft_tissue.h), empty kind for none.
   std::string lesion_kind, lesion_region;
-  double lesion_mm = 0;  // radius         // kCalculus: the scene has gingiva (the deposit sits by its margin)
+  double lesion_mm = 0;      // radius         // kCalculus: the scene has gingiva (the
+                             // deposit sits by its margin)
   int line = 0, column = 0;  // where the object is declared
   // Its place in the file's `objects` list (0-based); -1 for what the scene adds
   // (the gingival collars, which carry their tooth's `fdi`). The compiled scene
@@ -133,14 +169,18 @@ struct SceneSpec {
   // mesh (true), or the leaf spheres alone (`haptics: {surface: spheres}`).
   bool leaf_planes = true;
   std::vector<Effect> effects = {Effect::kContact};
-  bool HasEffect(Effect e) const { return std::find(effects.begin(), effects.end(), e) != effects.end(); }
-  SphereTreeParams trees;  // the scene's `spheretree`: every object's unless it names its own
-  bool arch = false;     // teeth without `at` stand on the dental arches
+  bool HasEffect(Effect e) const {
+    return std::find(effects.begin(), effects.end(), e) != effects.end();
+  }
+  SphereTreeParams
+      trees;          // the scene's `spheretree`: every object's unless it names its own
+  bool arch = false;  // teeth without `at` stand on the dental arches
   bool gingiva = false;  // a gingival collar around every tooth, with its sites' truth
   // `gingiva: arch`: the collars joined into one gingiva per arch (papillae,
   // col; LinkGingivaNeighbours) instead of a collar each.
   bool gingiva_joined = false;
-  double mouth_open_mm = 0;  // raises the upper arch (and palate) so instruments fit between the arches
+  double mouth_open_mm =
+      0;  // raises the upper arch (and palate) so instruments fit between the arches
   std::vector<ObjectSpec> objects;
 };
 
@@ -191,29 +231,34 @@ void LinkGingivaNeighbours(SceneSpec* spec);
 /// `seen`: for a share of an arch's gingiva, the surface the eye sees instead
 /// of the one the probe feels (GingivaSurface in core/anatomy/gingiva.h);
 /// other objects are the same either way.
-/// `caps`: for a share, per face 1 on its flat cap toward a neighbour (GingivaModel::caps); empty otherwise.
-TriangleMesh MakeObjectMesh(const ObjectSpec& object, std::vector<Vector3>* normals = nullptr, bool seen = false,
+/// `caps`: for a share, per face 1 on its flat cap toward a neighbour
+/// (GingivaModel::caps); empty otherwise.
+TriangleMesh MakeObjectMesh(const ObjectSpec& object,
+                            std::vector<Vector3>* normals = nullptr, bool seen = false,
                             std::vector<char>* caps = nullptr);
 
 /// The same, with generated meshes cached in `cache_dir`/meshes keyed by a hash
 /// of what generates them (a corrupt file is regenerated, never trusted).
-TriangleMesh MakeObjectMeshCached(const ObjectSpec& object, const std::filesystem::path& cache_dir,
-                                  std::vector<Vector3>* normals = nullptr, bool seen = false,
-                                  std::vector<char>* caps = nullptr);
+TriangleMesh MakeObjectMeshCached(const ObjectSpec& object,
+                                  const std::filesystem::path& cache_dir,
+                                  std::vector<Vector3>* normals = nullptr,
+                                  bool seen = false, std::vector<char>* caps = nullptr);
 
 /// A compiled scene: everything the engine needs, immutable after construction.
 struct CompiledScene {
   SceneSpec spec;
-  std::vector<TriangleMesh> meshes;       // per object, in the object frame
+  std::vector<TriangleMesh> meshes;  // per object, in the object frame
   // Per object: per vertex of its mesh, the normal to draw it with (object
   // frame; empty: from its faces). Shares of an arch's gingiva have them.
   std::vector<std::vector<Vector3>> normals;
-  std::vector<SphereTree> trees;          // per object
-  std::vector<LeafPlanes> planes;         // per object: its leaves' clipping planes (empty: spheres)
+  std::vector<SphereTree> trees;  // per object
+  std::vector<LeafPlanes>
+      planes;              // per object: its leaves' clipping planes (empty: spheres)
   TriangleMesh tool_mesh;  // the probe's collision part (anatomy/probe.h), tip frame
   SphereTree tool_tree;
-  std::unique_ptr<EngineModel> model;  // the hard objects: spec.objects[0 .. effects.soft_first)
-  EffectsModel effects;                // what the scene's effects need (soft objects last)
+  std::unique_ptr<EngineModel>
+      model;             // the hard objects: spec.objects[0 .. effects.soft_first)
+  EffectsModel effects;  // what the scene's effects need (soft objects last)
   // Wall time of the two stages of CompileScene, each on all cores (cache hits included).
   double mesh_seconds = 0, tree_seconds = 0;
 };
@@ -223,15 +268,17 @@ inline constexpr double kGingivaWallStiffness = 0.05, kPocketFloorStiffness = 2.
 
 /// Builds meshes and sphere-trees (through the cache in `cache_dir`) and the
 /// engine model. Progress is reported per object.
-std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec, const std::filesystem::path& cache_dir,
+std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
+                                            const std::filesystem::path& cache_dir,
                                             const BuildProgress& progress = {});
 
 /// What the window draws for the shares of an arch's gingiva: per object of
 /// the compiled scene, the seen gingiva's mesh and normals (the sulcus closed
 /// round the tooth, the papillae full: GingivaSurface::kSeen), empty for every
 /// other object, which is drawn as the engine has it. Built through the cache
-/// (one worker per core; a share's mirrored twin is its mesh mirrored, as in CompileScene); about
-/// as long as the shares' meshes in CompileScene when the cache is cold.
+/// (one worker per core; a share's mirrored twin is its mesh mirrored, as in
+/// CompileScene); about as long as the shares' meshes in CompileScene when the cache is
+/// cold.
 struct SeenGingiva {
   std::vector<TriangleMesh> meshes;
   std::vector<std::vector<Vector3>> normals;
@@ -241,14 +288,16 @@ struct SeenGingiva {
   // coinciding caps would show as a dark plane between the teeth).
   std::vector<std::vector<char>> caps;
 };
-SeenGingiva BuildSeenGingiva(const CompiledScene& scene, const std::filesystem::path& cache_dir,
+SeenGingiva BuildSeenGingiva(const CompiledScene& scene,
+                             const std::filesystem::path& cache_dir,
                              const BuildProgress& progress = {});
 
 /// Where a named scripted trajectory works in a compiled scene: on object
 /// `object` (-1: the first tooth, else the first object). For teeth, `insert`
 /// starts at the buccal surface at the CEJ with the working end along the long
 /// axis, and the others at the top of the crown; for other objects, their top.
-ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& script, int object = -1);
+ScriptTarget FindScriptTarget(const CompiledScene& scene, const std::string& script,
+                              int object = -1);
 
 /// The caries lesions of the scene's teeth in the world (object: the tooth's
 /// index), where caries_catch feels them and lessons score pressing them.

@@ -25,7 +25,8 @@ inline int Levenshtein(const std::string& a, const std::string& b) {
   for (std::size_t i = 1; i <= a.size(); ++i) {
     cur[0] = static_cast<int>(i);
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      cur[j] = std::min(
+          {prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
     }
     std::swap(prev, cur);
   }
@@ -39,7 +40,8 @@ inline std::string Join(const std::vector<std::string>& v) {
 }
 
 // "; did you mean 'x'?" for a close match, else the list of what is expected.
-inline std::string Suggest(const std::string& word, const std::vector<std::string>& options) {
+inline std::string Suggest(const std::string& word,
+                           const std::vector<std::string>& options) {
   std::string best;
   int best_d = 1 << 30;
   for (const auto& o : options) {
@@ -49,7 +51,8 @@ inline std::string Suggest(const std::string& word, const std::vector<std::strin
       best = o;
     }
   }
-  if (best_d <= std::max<int>(2, static_cast<int>(word.size()) / 3)) return "; did you mean '" + best + "'?";
+  if (best_d <= std::max<int>(2, static_cast<int>(word.size()) / 3))
+    return "; did you mean '" + best + "'?";
   return " (expected one of: " + Join(options) + ")";
 }
 
@@ -60,14 +63,17 @@ class YamlReader {
   void Error(const YAML::Mark& m, const std::string& message) {
     errors_.push_back({file_.string(), m.line + 1, m.column + 1, message});
   }
-  void Error(const YAML::Node& n, const std::string& message) { Error(n.Mark(), message); }
+  void Error(const YAML::Node& n, const std::string& message) {
+    Error(n.Mark(), message);
+  }
   void Error(int line, int column, const std::string& message) {
     errors_.push_back({file_.string(), line, column, message});
   }
   std::vector<SceneError>& errors() { return errors_; }
 
   // Every key of `map` must be in `allowed`.
-  void CheckKeys(const YAML::Node& map, const std::vector<std::string>& allowed, const std::string& where) {
+  void CheckKeys(const YAML::Node& map, const std::vector<std::string>& allowed,
+                 const std::string& where) {
     for (auto it = map.begin(); it != map.end(); ++it) {
       const std::string key = it->first.Scalar();
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
@@ -83,24 +89,26 @@ class YamlReader {
   }
 
   // A number in [lo, hi]; records an error and returns fallback otherwise.
-  double Number(const YAML::Node& n, const std::string& key, double lo, double hi, double fallback,
-                const std::string& unit = "") {
+  double Number(const YAML::Node& n, const std::string& key, double lo, double hi,
+                double fallback, const std::string& unit = "") {
     if (!n.IsScalar()) {
-      Error(n, "'" + key + "' must be a number" + (unit.empty() ? "" : " (" + unit + ")"));
+      Error(n,
+            "'" + key + "' must be a number" + (unit.empty() ? "" : " (" + unit + ")"));
       return fallback;
     }
     double v;
     try {
       v = n.as<double>();
     } catch (const YAML::Exception&) {
-      Error(n, "'" + key + "' must be a number" + (unit.empty() ? "" : " (" + unit + ")") + ", found '" +
-                   n.Scalar() + "'");
+      Error(n, "'" + key + "' must be a number" +
+                   (unit.empty() ? "" : " (" + unit + ")") + ", found '" + n.Scalar() +
+                   "'");
       return fallback;
     }
     if (!std::isfinite(v) || v < lo || v > hi) {
       std::ostringstream s;
-      s << "'" << key << "' is " << n.Scalar() << (unit.empty() ? "" : " " + unit) << ", expected " << lo << " to "
-        << hi;
+      s << "'" << key << "' is " << n.Scalar() << (unit.empty() ? "" : " " + unit)
+        << ", expected " << lo << " to " << hi;
       Error(n, s.str());
       return fallback;
     }
@@ -134,8 +142,9 @@ class YamlReader {
   }
 
   // A list of `count` numbers in [lo, hi].
-  bool Numbers(const YAML::Node& n, const std::string& key, std::size_t count, double lo, double hi, double* out,
-               const std::string& unit, const std::string& meaning) {
+  bool Numbers(const YAML::Node& n, const std::string& key, std::size_t count, double lo,
+               double hi, double* out, const std::string& unit,
+               const std::string& meaning) {
     if (!n.IsSequence() || n.size() != count) {
       Error(n, "'" + key + "' must be a list of " + std::to_string(count) + " numbers" +
                    (meaning.empty() ? "" : " (" + meaning + ")") +
@@ -153,9 +162,11 @@ class YamlReader {
 
   RigidTransform Pose(const YAML::Node& map, const char* at_key, const char* turn_key) {
     double at[3] = {0, 0, 0}, turn[3] = {0, 0, 0};
-    if (map[at_key]) Numbers(map[at_key], at_key, 3, -1000, 1000, at, "mm", "x, y, z in mm");
+    if (map[at_key])
+      Numbers(map[at_key], at_key, 3, -1000, 1000, at, "mm", "x, y, z in mm");
     if (map[turn_key]) {
-      Numbers(map[turn_key], turn_key, 3, -360, 360, turn, "degrees", "turns about x, y, z in degrees");
+      Numbers(map[turn_key], turn_key, 3, -360, 360, turn, "degrees",
+              "turns about x, y, z in degrees");
     }
     constexpr double kDeg = std::numbers::pi / 180;
     Vector6 q;
@@ -169,16 +180,18 @@ class YamlReader {
   std::vector<SceneError> errors_;
 };
 
-
 /// Reads `r`'s file as a YAML map. Throws SceneLoadError, with the file named,
 /// when it is missing ("no such " + kind), unreadable, not YAML, or not a map
 /// (`not_a_map` says what it should be).
-inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind, const std::string& not_a_map) {
+inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind,
+                              const std::string& not_a_map) {
   const std::filesystem::path& file = r.file_;
   std::ifstream in(file);
   if (!in) {
     std::error_code ec;
-    r.errors().push_back({file.string(), 0, 0, std::filesystem::exists(file, ec) ? "cannot be read" : "no such " + kind});
+    r.errors().push_back(
+        {file.string(), 0, 0,
+         std::filesystem::exists(file, ec) ? "cannot be read" : "no such " + kind});
     throw SceneLoadError(r.errors());
   }
   std::stringstream text;

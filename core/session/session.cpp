@@ -5,7 +5,8 @@
 
 namespace sulcus {
 
-Session::Session(const CompiledScene& scene, DeviceSpec device, const SessionOptions& options)
+Session::Session(const CompiledScene& scene, DeviceSpec device,
+                 const SessionOptions& options)
     : scene_(scene),
       device_(std::move(device.device)),
       replayed_(std::move(device.replayed)),
@@ -13,7 +14,9 @@ Session::Session(const CompiledScene& scene, DeviceSpec device, const SessionOpt
       options_(options) {
   if (!device_) throw std::invalid_argument("a session needs a device");
   LoopOptions lo;
-  lo.rate_hz = options.rate_hz > 0 ? options.rate_hz : replayed_ ? replayed_->header.rate_hz : scene.spec.rate_hz;
+  lo.rate_hz = options.rate_hz > 0 ? options.rate_hz
+               : replayed_         ? replayed_->header.rate_hz
+                                   : scene.spec.rate_hz;
   lo.force_scale = options.force_scale;
   effects_ = MakeEffects(scene.effects);
   effect_list_ = EffectPointers(effects_);
@@ -114,7 +117,9 @@ void Session::RunOffline(const std::function<void(const HapticLoop&)>& each) {
     }
     const auto t0 = std::chrono::steady_clock::now();
     loop_->Tick(overrun);
-    last_step_us_ = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+    last_step_us_ =
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0)
+            .count();
     offline_step_us_.Add(last_step_us_);
     Deliver(loop_->last_record());
     if (each) each(*loop_);

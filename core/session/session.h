@@ -37,14 +37,17 @@ class TickConsumer {
 };
 
 struct SessionOptions {
-  double rate_hz = 0;                 // 0: the scene's (a replay: the recording's)
-  std::uint64_t max_ticks = 0;        // 0: until Stop() or the device has no more input
-  bool realtime = true;               // ask for real-time priority (live)
-  double spin_us = -1;                // the haptic thread's polled end of each wait (ThreadOptions::spin_us)
-  bool stop_when_device_finished = true;  // live: end when a script or replay ends (the window keeps going)
-  bool free_run = false;              // live: no sleeping between ticks (a scripted student or replay as fast as possible)
-  std::filesystem::path record;       // record every tick here (empty: no recording)
-  std::string device_name;            // for the recording's header
+  double rate_hz = 0;           // 0: the scene's (a replay: the recording's)
+  std::uint64_t max_ticks = 0;  // 0: until Stop() or the device has no more input
+  bool realtime = true;         // ask for real-time priority (live)
+  double spin_us =
+      -1;  // the haptic thread's polled end of each wait (ThreadOptions::spin_us)
+  bool stop_when_device_finished =
+      true;  // live: end when a script or replay ends (the window keeps going)
+  bool free_run = false;  // live: no sleeping between ticks (a scripted student or replay
+                          // as fast as possible)
+  std::filesystem::path record;  // record every tick here (empty: no recording)
+  std::string device_name;       // for the recording's header
   double force_scale = 1.0;
 };
 
@@ -52,21 +55,23 @@ struct SessionOptions {
 struct DeviceSpec {
   std::unique_ptr<Device> device;
   std::unique_ptr<Recording> replayed;  // for replay:FILE, the recording it plays
-  std::string name;                     // what to call it ("scripted:insert", "replay of scripted:poke")
-  std::vector<std::string> notes;       // warnings to show (a replay of another scene version, ...)
+  std::string name;  // what to call it ("scripted:insert", "replay of scripted:poke")
+  std::vector<std::string>
+      notes;  // warnings to show (a replay of another scene version, ...)
 };
 
 /// "scripted:NAME" (a named trajectory on `object`, -1: the first tooth; see
 /// MakeScript), "scripted:FILE.csv" or "replay:FILE". Throws std::invalid_argument
 /// for another spelling, RecordingError or std::runtime_error for a bad file.
-DeviceSpec MakeDevice(const std::string& spelling, const CompiledScene& scene, double seconds, std::uint64_t seed = 1,
-                      int object = -1);
+DeviceSpec MakeDevice(const std::string& spelling, const CompiledScene& scene,
+                      double seconds, std::uint64_t seed = 1, int object = -1);
 
 class Session final : private TickSink {
  public:
   /// The scene must outlive the session. A replayed recording (DeviceSpec) is
   /// passed along so that its commands and lateness are re-applied offline.
-  Session(const CompiledScene& scene, DeviceSpec device, const SessionOptions& options = {});
+  Session(const CompiledScene& scene, DeviceSpec device,
+          const SessionOptions& options = {});
   ~Session() override;
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;

@@ -135,15 +135,17 @@ class Nnls {
   double largest_product() const { return largest_product_; }
 
  private:
-  Eigen::Map<const Col> Column(int j) const { return Eigen::Map<const Col>(cols_ + static_cast<std::size_t>(j) * R); }
+  Eigen::Map<const Col> Column(int j) const {
+    return Eigen::Map<const Col>(cols_ + static_cast<std::size_t>(j) * R);
+  }
 
   // z = argmin |e - C_P z| (e the last unit vector) by a QR of C_P made with
   // classical Gram-Schmidt applied twice (as stable as Householder's for these
   // at most R columns of R rows, and with fixed-size storage and no blocking,
   // several times cheaper); false when C_P is rank deficient.
   bool LeastSquares(double* z) const {
-    double q[R][R];      // orthonormal columns q[i][0..R)
-    double rr[R][R];     // upper triangle: rr[j][i], j <= i
+    double q[R][R];   // orthonormal columns q[i][0..R)
+    double rr[R][R];  // upper triangle: rr[j][i], j <= i
     for (int i = 0; i < k_; ++i) {
       const double* c = cols_ + static_cast<std::size_t>(passive_[i]) * R;
       double v[R];
@@ -220,11 +222,16 @@ class Nnls {
 
 const char* ToString(QpStatus status) {
   switch (status) {
-    case QpStatus::kSolved: return "solved";
-    case QpStatus::kInfeasibleRelaxed: return "infeasible (least violation)";
-    case QpStatus::kIterationLimit: return "iteration limit";
-    case QpStatus::kTooManyConstraints: return "too many constraints";
-    case QpStatus::kBadInput: return "bad input";
+    case QpStatus::kSolved:
+      return "solved";
+    case QpStatus::kInfeasibleRelaxed:
+      return "infeasible (least violation)";
+    case QpStatus::kIterationLimit:
+      return "iteration limit";
+    case QpStatus::kTooManyConstraints:
+      return "too many constraints";
+    case QpStatus::kBadInput:
+      return "bad input";
   }
   return "?";
 }
@@ -236,8 +243,9 @@ QpSolver::QpSolver(int max_constraints)
       in_set_(capacity_ + 1),
       blocked_(capacity_ + 1) {}
 
-const QpSolution& QpSolver::Solve(const double* A, const double* b, int m, const Vector6& g,
-                                  const Vector6& q0, const std::int32_t* warm, int num_warm) noexcept {
+const QpSolution& QpSolver::Solve(const double* A, const double* b, int m,
+                                  const Vector6& g, const Vector6& q0,
+                                  const std::int32_t* warm, int num_warm) noexcept {
   QpSolution& s = solution_;
   s = QpSolution{};
   s.q = q0;
@@ -262,7 +270,8 @@ const QpSolution& QpSolver::Solve(const double* A, const double* b, int m, const
     double* col = columns_.data() + static_cast<std::size_t>(i) * 7;
     scale_[i] = norm;
     // (A NaN or infinite norm or b fails the test below, checked once after the loop.)
-    finite = finite && norm < std::numeric_limits<double>::infinity() && std::abs(b[i]) < std::numeric_limits<double>::infinity();
+    finite = finite && norm < std::numeric_limits<double>::infinity() &&
+             std::abs(b[i]) < std::numeric_limits<double>::infinity();
     const double inv = norm >= 1e-300 ? 1.0 / norm : 0.0;
     if (norm < 1e-300) zero_rows = std::max(zero_rows, b[i]);
     Eigen::Map<Vector6> column(col);
@@ -343,7 +352,8 @@ const QpSolution& QpSolver::Solve(const double* A, const double* b, int m, const
     const double* col = columns_.data() + static_cast<std::size_t>(s.active[i]) * 7;
     const Eigen::Map<const Vector6> e(col);
     stationarity -= s.lambda[i] * e;
-    complementarity = std::max(complementarity, std::abs(s.lambda[i] * (e.dot(x) - col[6])));
+    complementarity =
+        std::max(complementarity, std::abs(s.lambda[i] * (e.dot(x) - col[6])));
   }
   for (int i = 0; i < m && !violation_known; ++i) {
     const double* col = columns_.data() + static_cast<std::size_t>(i) * 7;
@@ -356,7 +366,8 @@ const QpSolution& QpSolver::Solve(const double* A, const double* b, int m, const
   }
   const double size = 1.0 + x.lpNorm<Eigen::Infinity>();
   s.max_violation = std::max(0.0, violation);
-  s.kkt_residual = std::max(stationarity.lpNorm<Eigen::Infinity>(), complementarity) / size;
+  s.kkt_residual =
+      std::max(stationarity.lpNorm<Eigen::Infinity>(), complementarity) / size;
   for (int i = 0; i < s.num_active; ++i) {
     // Report multipliers for the rows as given: lambda_orig = lambda / s_i.
     s.lambda[i] /= scale_[s.active[i]];

@@ -31,9 +31,10 @@ namespace sulcus {
 enum class QpStatus : std::uint8_t {
   kSolved,             // optimal; KKT residual checked
   kInfeasibleRelaxed,  // no q satisfies every row: least-violating q returned
-  kIterationLimit,     // stopped at the cap; q is the last iterate (feasible for the active set)
-  kTooManyConstraints, // m above the capacity given at construction; q = q0
-  kBadInput,           // a non-finite or non-positive input; q = q0
+  kIterationLimit,  // stopped at the cap; q is the last iterate (feasible for the active
+                    // set)
+  kTooManyConstraints,  // m above the capacity given at construction; q = q0
+  kBadInput,            // a non-finite or non-positive input; q = q0
 };
 
 const char* ToString(QpStatus status);
@@ -47,8 +48,9 @@ struct QpSolution {
   int iterations = 0;  // columns added to the active set (outer iterations)
   int num_active = 0;
   std::array<std::int32_t, kQpMaxActive> active{};  // rows with a positive multiplier
-  std::array<double, kQpMaxActive> lambda{};        // their multipliers, for A q >= b as given
-  double kkt_residual = 0;   // max of stationarity, complementarity, dual infeasibility (relative)
+  std::array<double, kQpMaxActive> lambda{};  // their multipliers, for A q >= b as given
+  double kkt_residual =
+      0;  // max of stationarity, complementarity, dual infeasibility (relative)
   double max_violation = 0;  // max over rows of (b - A q) / |row of A G^-1/2|, >= 0
 };
 

@@ -17,7 +17,7 @@ namespace sulcus {
 
 struct QpInstances {
   int n = 6, m = 0, sequences = 0, frames = 0;
-  std::vector<double> g;  // n
+  std::vector<double> g;     // n
   std::vector<double> data;  // per frame: q_h[n], A[m*n], b[m]
 
   std::size_t FrameStride() const { return static_cast<std::size_t>(n) * (1 + m) + m; }
@@ -26,7 +26,9 @@ struct QpInstances {
   }
   const double* QH(int s, int t) const { return Frame(s, t); }
   const double* A(int s, int t) const { return Frame(s, t) + n; }
-  const double* B(int s, int t) const { return Frame(s, t) + n + static_cast<std::size_t>(n) * m; }
+  const double* B(int s, int t) const {
+    return Frame(s, t) + n + static_cast<std::size_t>(n) * m;
+  }
 };
 
 class QpFileError : public std::runtime_error {

@@ -60,12 +60,13 @@ Piece MakePiece(const Vector3& a, const Vector3& b, const Vector3& c) {
 
 // Farthest corner of a piece from c (squared).
 double FarCorner2(const Piece& p, const Vector3& c) {
-  return std::max({(p.v[0] - c).squaredNorm(), (p.v[1] - c).squaredNorm(), (p.v[2] - c).squaredNorm()});
+  return std::max({(p.v[0] - c).squaredNorm(), (p.v[1] - c).squaredNorm(),
+                   (p.v[2] - c).squaredNorm()});
 }
 
 // Splits every face into n^2 similar pieces, n chosen so that edges are <= h.
-std::vector<Piece> Subdivide(const TriangleMesh& mesh, double h, std::vector<Vector3>* normals,
-                             double orientation) {
+std::vector<Piece> Subdivide(const TriangleMesh& mesh, double h,
+                             std::vector<Vector3>* normals, double orientation) {
   std::vector<Piece> pieces;
   for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
     const auto& face = mesh.faces()[f];
@@ -74,7 +75,9 @@ std::vector<Piece> Subdivide(const TriangleMesh& mesh, double h, std::vector<Vec
     const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
     const int n = std::max(1, static_cast<int>(std::ceil(longest / h)));
     const Vector3 normal = orientation * mesh.FaceNormal(f);
-    auto at = [&](int i, int j) { return Vector3(a + (b - a) * i / n + (c - a) * j / n); };
+    auto at = [&](int i, int j) {
+      return Vector3(a + (b - a) * i / n + (c - a) * j / n);
+    };
     for (int i = 0; i < n; ++i) {
       for (int j = 0; i + j < n; ++j) {
         pieces.push_back(MakePiece(at(i, j), at(i + 1, j), at(i, j + 1)));
@@ -208,7 +211,8 @@ bool Circumcenter(const Vector3 (&p)[4], Vector3* center) {
   const double den = 2.0 * a.dot(b.cross(c));
   if (!(std::abs(den) > 1e-12 * a.norm() * b.norm() * c.norm())) return false;
   *center = p[0] + (a.squaredNorm() * b.cross(c) + b.squaredNorm() * c.cross(a) +
-                    c.squaredNorm() * a.cross(b)) / den;
+                    c.squaredNorm() * a.cross(b)) /
+                       den;
   return center->allFinite();
 }
 
@@ -217,8 +221,9 @@ bool Circumcenter(const Vector3 (&p)[4], Vector3* center) {
 // the way from each sample to its pole, so that thin and sharp regions have
 // shallow spheres too. Only centres inside the solid are kept.
 std::vector<Candidate> MedialCandidates(const std::vector<Vector3>& samples,
-                                        const std::vector<Vector3>& normals, double diag, double thin_cell,
-                                        const MeshOracle& oracle, const Reporter& report) {
+                                        const std::vector<Vector3>& normals, double diag,
+                                        double thin_cell, const MeshOracle& oracle,
+                                        const Reporter& report) {
   using Vb = CGAL::Triangulation_vertex_base_with_info_3<std::int32_t, K>;
   using Tds = CGAL::Triangulation_data_structure_3<Vb>;
   using Delaunay = CGAL::Delaunay_triangulation_3<K, Tds>;
@@ -261,7 +266,8 @@ std::vector<Candidate> MedialCandidates(const std::vector<Vector3>& samples,
     if (best[s] > 0) {
       const double reach = std::sqrt(best[s]);
       points_to_try.push_back({pole[s], reach});
-      for (double f : {0.15, 0.45}) points_to_try.push_back({samples[s] + f * (pole[s] - samples[s]), f * reach});
+      for (double f : {0.15, 0.45})
+        points_to_try.push_back({samples[s] + f * (pole[s] - samples[s]), f * reach});
     }
   }
   // The deepest-looking point in each cell of the grid: neighbours that close
@@ -273,7 +279,8 @@ std::vector<Candidate> MedialCandidates(const std::vector<Vector3>& samples,
   out.reserve(points_to_try.size());
   const double min_depth = 1e-7 * diag;
   for (std::size_t i = 0; i < points_to_try.size(); ++i) {
-    if (i % 2048 == 0) report("medial axis: depths", 0.25 + 0.75 * i / points_to_try.size());
+    if (i % 2048 == 0)
+      report("medial axis: depths", 0.25 + 0.75 * i / points_to_try.size());
     const Vector3& p = points_to_try[i].c;
     if (!oracle.Inside(p)) continue;
     const double depth = oracle.Distance(p);
@@ -291,8 +298,9 @@ struct CoverLists {
   std::vector<float> need;  // protrusion bound needed for the item, ascending per list
 };
 
-CoverLists ComputeCovers(const std::vector<Candidate>& cands, const std::vector<Piece>& pieces,
-                         const PieceBvh& bvh, double eps_max) {
+CoverLists ComputeCovers(const std::vector<Candidate>& cands,
+                         const std::vector<Piece>& pieces, const PieceBvh& bvh,
+                         double eps_max) {
   CoverLists lists;
   lists.start.reserve(cands.size() + 1);
   lists.start.push_back(0);
@@ -302,7 +310,8 @@ CoverLists ComputeCovers(const std::vector<Candidate>& cands, const std::vector<
     bvh.ForEachEnclosed(c.c, c.depth + eps_max, [&](std::int32_t p) {
       const double r2 = FarCorner2(pieces[p], c.c);
       // Rounded up so that a prefix never claims a piece it does not enclose.
-      found.push_back({std::nextafter(static_cast<float>(std::sqrt(r2) - c.depth), 1e30f), p});
+      found.push_back(
+          {std::nextafter(static_cast<float>(std::sqrt(r2) - c.depth), 1e30f), p});
     });
     std::sort(found.begin(), found.end());
     for (const auto& [need, p] : found) {
@@ -318,8 +327,9 @@ CoverLists ComputeCovers(const std::vector<Candidate>& cands, const std::vector<
 // eps, or within limit[piece] where that is larger (pieces whose best possible
 // bound is above eps). Returns the chosen candidates, or nothing when the pieces
 // cannot be covered or need more than `budget` spheres.
-std::vector<std::int32_t> GreedyCover(const CoverLists& lists, double eps, std::size_t num_pieces,
-                                      std::size_t budget, const std::vector<float>* limit = nullptr) {
+std::vector<std::int32_t> GreedyCover(const CoverLists& lists, double eps,
+                                      std::size_t num_pieces, std::size_t budget,
+                                      const std::vector<float>* limit = nullptr) {
   const auto n = static_cast<std::int32_t>(lists.start.size() - 1);
   // The usable part of each list, in CSR form.
   std::vector<std::int64_t> start(n + 1, 0);
@@ -341,7 +351,8 @@ std::vector<std::int32_t> GreedyCover(const CoverLists& lists, double eps, std::
   }
   std::vector<char> covered(num_pieces, 0);
   std::size_t uncovered = num_pieces;
-  using Entry = std::pair<std::int64_t, std::int32_t>;  // (count, -index): ties -> lower index
+  using Entry =
+      std::pair<std::int64_t, std::int32_t>;  // (count, -index): ties -> lower index
   std::priority_queue<Entry> heap;
   for (std::int32_t i = 0; i < n; ++i) {
     if (start[i + 1] > start[i]) heap.push({start[i + 1] - start[i], -i});
@@ -393,8 +404,9 @@ constexpr float kFloorSlack = 1.3f;
 
 // `reach_eps` > 0 is a bound at which every piece was reachable before (the
 // previous round's lists): the bracket starts there.
-MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands, const std::vector<Piece>& pieces,
-                            std::size_t budget, double start_eps, double reach_eps, double diag,
+MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
+                            const std::vector<Piece>& pieces, std::size_t budget,
+                            double start_eps, double reach_eps, double diag,
                             const std::function<void()>& tick) {
   const PieceBvh bvh(pieces);
   MinMaxCover out;
@@ -404,7 +416,8 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands, const std::vect
       out.lists = ComputeCovers(cands, pieces, bvh, eps);
       out.lists_eps = eps;
       out.limits = PieceFloors(out.lists, pieces.size());
-      for (float& f : out.limits) f = std::nextafter(kFloorSlack * f, std::numeric_limits<float>::infinity());
+      for (float& f : out.limits)
+        f = std::nextafter(kFloorSlack * f, std::numeric_limits<float>::infinity());
     }
     return GreedyCover(out.lists, eps, pieces.size(), budget, &out.limits);
   };
@@ -432,9 +445,9 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands, const std::vect
   return out;
 }
 
-
 // Splits the marked pieces into four at their edge midpoints.
-std::vector<Piece> SplitPieces(const std::vector<Piece>& pieces, const std::vector<char>& split) {
+std::vector<Piece> SplitPieces(const std::vector<Piece>& pieces,
+                               const std::vector<char>& split) {
   std::vector<Piece> out;
   out.reserve(pieces.size() + 3 * std::count(split.begin(), split.end(), 1));
   for (std::size_t i = 0; i < pieces.size(); ++i) {
@@ -443,7 +456,8 @@ std::vector<Piece> SplitPieces(const std::vector<Piece>& pieces, const std::vect
       out.push_back(p);
       continue;
     }
-    const Vector3 a = 0.5 * (p.v[0] + p.v[1]), b = 0.5 * (p.v[1] + p.v[2]), c = 0.5 * (p.v[2] + p.v[0]);
+    const Vector3 a = 0.5 * (p.v[0] + p.v[1]), b = 0.5 * (p.v[1] + p.v[2]),
+                  c = 0.5 * (p.v[2] + p.v[0]);
     out.push_back(MakePiece(p.v[0], a, c));
     out.push_back(MakePiece(p.v[1], b, a));
     out.push_back(MakePiece(p.v[2], c, b));
@@ -521,7 +535,8 @@ class CandidateIndex {
     std::partial_sum(start_.begin(), start_.end(), start_.begin());
     items_.resize(cands.size());
     std::vector<std::int64_t> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t i = 0; i < cands.size(); ++i) items_[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
+    for (std::size_t i = 0; i < cands.size(); ++i)
+      items_[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
   }
 
   const std::vector<Candidate>& cands() const { return cands_; }
@@ -531,14 +546,20 @@ class CandidateIndex {
   void ForEachNear(const Vector3& p, double radius, Fn&& fn) const {
     int lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
-      lo[k] = std::clamp(static_cast<int>(std::floor((p[k] - radius - box_.min[k]) / cell_)), 0, dims_[k] - 1);
-      hi[k] = std::clamp(static_cast<int>(std::floor((p[k] + radius - box_.min[k]) / cell_)), 0, dims_[k] - 1);
+      lo[k] =
+          std::clamp(static_cast<int>(std::floor((p[k] - radius - box_.min[k]) / cell_)),
+                     0, dims_[k] - 1);
+      hi[k] =
+          std::clamp(static_cast<int>(std::floor((p[k] + radius - box_.min[k]) / cell_)),
+                     0, dims_[k] - 1);
     }
     for (int x = lo[0]; x <= hi[0]; ++x) {
       for (int y = lo[1]; y <= hi[1]; ++y) {
         for (int z = lo[2]; z <= hi[2]; ++z) {
-          const std::int64_t cell = (static_cast<std::int64_t>(z) * dims_[1] + y) * dims_[0] + x;
-          for (std::int64_t i = start_[cell]; i < start_[cell + 1]; ++i) fn(cands_[items_[i]]);
+          const std::int64_t cell =
+              (static_cast<std::int64_t>(z) * dims_[1] + y) * dims_[0] + x;
+          for (std::int64_t i = start_[cell]; i < start_[cell + 1]; ++i)
+            fn(cands_[items_[i]]);
         }
       }
     }
@@ -548,7 +569,8 @@ class CandidateIndex {
   std::int64_t CellOf(const Vector3& p) const {
     int idx[3];
     for (int k = 0; k < 3; ++k) {
-      idx[k] = std::clamp(static_cast<int>((p[k] - box_.min[k]) / cell_), 0, dims_[k] - 1);
+      idx[k] =
+          std::clamp(static_cast<int>((p[k] - box_.min[k]) / cell_), 0, dims_[k] - 1);
     }
     return (static_cast<std::int64_t>(idx[2]) * dims_[1] + idx[1]) * dims_[0] + idx[0];
   }
@@ -564,8 +586,8 @@ class CandidateIndex {
 // Moves a leaf's centre to the candidate (or, with toward_ball, a point toward
 // the smallest ball around its pieces, which costs mesh queries) that encloses
 // the same pieces with the least protrusion. Sorts its pieces, farthest first.
-void RefineLeaf(Leaf* leaf, const std::vector<Piece>& pieces, const CandidateIndex& index, const MeshOracle& oracle,
-                bool toward_ball) {
+void RefineLeaf(Leaf* leaf, const std::vector<Piece>& pieces, const CandidateIndex& index,
+                const MeshOracle& oracle, bool toward_ball) {
   using MTraits = CGAL::Min_sphere_of_spheres_d_traits_3<K, double, CGAL::Tag_true>;
   using MinSphere = CGAL::Min_sphere_of_spheres_d<MTraits>;
   Leaf& l = *leaf;
@@ -592,7 +614,8 @@ void RefineLeaf(Leaf* leaf, const std::vector<Piece>& pieces, const CandidateInd
   // Toward the smallest enclosing ball of the pieces' corners.
   std::vector<MTraits::Sphere> corners;
   for (std::int32_t p : l.pieces) {
-    for (const Vector3& v : pieces[p].v) corners.emplace_back(K::Point_3(v.x(), v.y(), v.z()), 0.0);
+    for (const Vector3& v : pieces[p].v)
+      corners.emplace_back(K::Point_3(v.x(), v.y(), v.z()), 0.0);
   }
   MinSphere ms(corners.begin(), corners.end());
   auto it = ms.center_cartesian_begin();
@@ -614,13 +637,15 @@ void RefineLeaf(Leaf* leaf, const std::vector<Piece>& pieces, const CandidateInd
   }
 }
 
-void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, const CandidateIndex& index,
-                  const MeshOracle& oracle, bool toward_ball = true) {
+void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
+                  const CandidateIndex& index, const MeshOracle& oracle,
+                  bool toward_ball = true) {
   for (Leaf& l : *leaves) RefineLeaf(&l, pieces, index, oracle, toward_ball);
 }
 
 // Each leaf's radius (its bound at depth 0), with a hair for round-off.
-std::vector<double> LeafRadii(const std::vector<Leaf>& leaves, const std::vector<Piece>& pieces) {
+std::vector<double> LeafRadii(const std::vector<Leaf>& leaves,
+                              const std::vector<Piece>& pieces) {
   std::vector<double> radius(leaves.size());
   for (std::size_t i = 0; i < leaves.size(); ++i) {
     radius[i] = CoverError(leaves[i].c, 0.0, pieces, leaves[i].pieces) * (1 + 1e-12);
@@ -635,8 +660,9 @@ std::vector<double> LeafRadii(const std::vector<Leaf>& leaves, const std::vector
 // with the widest margin (so no leaf grows and the ones whose far pieces are
 // taken shrink), then re-centres the leaves on their pieces. Every step keeps
 // each piece inside its leaf, so coverage stays complete.
-void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces, const CandidateIndex& index,
-                  const MeshOracle& oracle, std::size_t max_pieces, int rounds) {
+void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces,
+                  const CandidateIndex& index, const MeshOracle& oracle,
+                  std::size_t max_pieces, int rounds) {
   for (int round = 0; round < rounds; ++round) {
     const std::vector<double> radius = LeafRadii(*leaves, *pieces);
     // 1. Split the pieces near each leaf's radius.
@@ -648,8 +674,9 @@ void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces, const C
       for (std::int32_t p : l.pieces) {
         owner[p] = static_cast<std::int32_t>(i);
         const Piece& piece = (*pieces)[p];
-        const double edge = std::max({(piece.v[1] - piece.v[0]).norm(), (piece.v[2] - piece.v[1]).norm(),
-                                      (piece.v[0] - piece.v[2]).norm()});
+        const double edge =
+            std::max({(piece.v[1] - piece.v[0]).norm(), (piece.v[2] - piece.v[1]).norm(),
+                      (piece.v[0] - piece.v[2]).norm()});
         if (std::sqrt(FarCorner2(piece, l.c)) >= radius[i] - 0.5 * edge) {
           split[p] = 1;
           ++n_split;
@@ -668,7 +695,8 @@ void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces, const C
     // 2. Each piece to the enclosing leaf with the widest margin.
     std::vector<double> best_margin(pieces->size());
     for (std::size_t p = 0; p < pieces->size(); ++p) {
-      best_margin[p] = radius[owner[p]] - std::sqrt(FarCorner2((*pieces)[p], (*leaves)[owner[p]].c));
+      best_margin[p] =
+          radius[owner[p]] - std::sqrt(FarCorner2((*pieces)[p], (*leaves)[owner[p]].c));
     }
     const PieceBvh bvh(*pieces);
     for (std::size_t i = 0; i < leaves->size(); ++i) {
@@ -682,7 +710,8 @@ void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces, const C
       });
     }
     for (Leaf& l : *leaves) l.pieces.clear();
-    for (std::size_t p = 0; p < pieces->size(); ++p) (*leaves)[owner[p]].pieces.push_back(static_cast<std::int32_t>(p));
+    for (std::size_t p = 0; p < pieces->size(); ++p)
+      (*leaves)[owner[p]].pieces.push_back(static_cast<std::int32_t>(p));
     std::erase_if(*leaves, [](const Leaf& l) { return l.pieces.empty(); });
     // 3. Re-centre.
     RefineLeaves(leaves, *pieces, index, oracle);
@@ -692,8 +721,9 @@ void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces, const C
 // Cuts a leaf in two across the longest side of its pieces' box, then (three
 // times) re-centres both halves and gives each piece to the half that encloses it
 // with the smaller bound. `e` gets the halves' bounds.
-void SplitInTwo(const Leaf& leaf, const std::vector<Piece>& pieces, const CandidateIndex& index,
-                const MeshOracle& oracle, std::vector<Leaf>* out, double e[2], bool toward_ball = true) {
+void SplitInTwo(const Leaf& leaf, const std::vector<Piece>& pieces,
+                const CandidateIndex& index, const MeshOracle& oracle,
+                std::vector<Leaf>* out, double e[2], bool toward_ball = true) {
   std::vector<Leaf>& halves = *out;
   Aabb box;
   for (std::int32_t p : leaf.pieces) box.Extend(pieces[p].centroid);
@@ -702,8 +732,9 @@ void SplitInTwo(const Leaf& leaf, const std::vector<Piece>& pieces, const Candid
   std::vector<std::int32_t> order = leaf.pieces;
   const auto mid = order.begin() + static_cast<std::ptrdiff_t>(order.size() / 2);
   std::nth_element(order.begin(), mid, order.end(), [&](std::int32_t a, std::int32_t b) {
-    return pieces[a].centroid[axis] != pieces[b].centroid[axis] ? pieces[a].centroid[axis] < pieces[b].centroid[axis]
-                                                                : a < b;
+    return pieces[a].centroid[axis] != pieces[b].centroid[axis]
+               ? pieces[a].centroid[axis] < pieces[b].centroid[axis]
+               : a < b;
   });
   halves.clear();
   halves.push_back({leaf.c, leaf.depth, {order.begin(), mid}});
@@ -721,13 +752,15 @@ void SplitInTwo(const Leaf& leaf, const std::vector<Piece>& pieces, const Candid
     halves[1].pieces = std::move(mine[1]);
     RefineLeaves(&halves, pieces, index, oracle, toward_ball);
   }
-  for (int k = 0; k < 2; ++k) e[k] = CoverError(halves[k].c, halves[k].depth, pieces, halves[k].pieces);
+  for (int k = 0; k < 2; ++k)
+    e[k] = CoverError(halves[k].c, halves[k].depth, pieces, halves[k].pieces);
 }
 
 // For each leaf, the other leaves that could take one of its pieces with a bound
 // of at most `cap`: those whose spheres, grown by cap, meet its own.
 std::vector<std::vector<std::int32_t>> NeighbourLists(const std::vector<Leaf>& leaves,
-                                                      const std::vector<double>& radius, double cap) {
+                                                      const std::vector<double>& radius,
+                                                      double cap) {
   std::vector<std::vector<std::int32_t>> near(leaves.size());
   for (std::size_t i = 0; i < leaves.size(); ++i) {
     for (std::size_t j = i + 1; j < leaves.size(); ++j) {
@@ -743,8 +776,10 @@ std::vector<std::vector<std::int32_t>> NeighbourLists(const std::vector<Leaf>& l
 // The neighbour (an index into `near`) that takes piece q for the least growth
 // of its radius (new_r, per neighbour), none past a bound of `cap`; false when
 // none can. Also gives the piece's far-corner distance from that neighbour.
-bool CheapestTaker(const Piece& q, const std::vector<Leaf>& leaves, const std::vector<std::int32_t>& near,
-                   const std::vector<double>& new_r, double cap, std::size_t* at, double* growth, double* dist) {
+bool CheapestTaker(const Piece& q, const std::vector<Leaf>& leaves,
+                   const std::vector<std::int32_t>& near,
+                   const std::vector<double>& new_r, double cap, std::size_t* at,
+                   double* growth, double* dist) {
   *growth = std::numeric_limits<double>::infinity();
   for (std::size_t a = 0; a < near.size(); ++a) {
     const Leaf& l = leaves[near[a]];
@@ -772,13 +807,14 @@ bool CheapestTaker(const Piece& q, const std::vector<Leaf>& leaves, const std::v
 // that gain. No leaf grows past `cap`, and a removed leaf's pieces all go to
 // neighbours grown to hold them, so coverage stays complete. Plans and cuts
 // are kept from round to round for the leaves whose neighbourhood did not change.
-void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, const CandidateIndex& index,
-                const MeshOracle& oracle, double cap, std::size_t budget, int rounds) {
+void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
+                const CandidateIndex& index, const MeshOracle& oracle, double cap,
+                std::size_t budget, int rounds) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   struct Removal {
     double cost = kInf;
-    double gave_up_at = kInf;             // planning stopped once the cost passed this
-    std::vector<std::int32_t> target;     // per piece of the leaf, the neighbour taking it
+    double gave_up_at = kInf;          // planning stopped once the cost passed this
+    std::vector<std::int32_t> target;  // per piece of the leaf, the neighbour taking it
     std::vector<std::int32_t> receivers;  // the distinct targets, sorted
   };
   struct Cut {
@@ -827,7 +863,8 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
       for (std::int32_t q : (*leaves)[i].pieces) {
         std::size_t at = 0;
         double growth = 0, dist = 0;
-        if (!CheapestTaker(pieces[q], *leaves, near[i], new_r, cap, &at, &growth, &dist)) {
+        if (!CheapestTaker(pieces[q], *leaves, near[i], new_r, cap, &at, &growth,
+                           &dist)) {
           placed = false;
           break;
         }
@@ -847,7 +884,8 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
       r.cost = cost;
       r.receivers = r.target;
       std::sort(r.receivers.begin(), r.receivers.end());
-      r.receivers.erase(std::unique(r.receivers.begin(), r.receivers.end()), r.receivers.end());
+      r.receivers.erase(std::unique(r.receivers.begin(), r.receivers.end()),
+                        r.receivers.end());
     }
     std::vector<std::int32_t> by_cost(n), by_gain(n);
     std::iota(by_cost.begin(), by_cost.end(), 0);
@@ -888,7 +926,9 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
       std::int32_t k = -1;
       for (std::size_t g = next_gain; g < n && k < 0; ++g) {
         const std::int32_t c = by_gain[g];
-        if (!touched[c] && c != i && !std::binary_search(r.receivers.begin(), r.receivers.end(), c)) k = c;
+        if (!touched[c] && c != i &&
+            !std::binary_search(r.receivers.begin(), r.receivers.end(), c))
+          k = c;
       }
       if (k < 0 || cuts[k].gain <= r.cost + 1e-9 * radius[i]) break;
       touched[i] = 1;
@@ -922,12 +962,14 @@ void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, con
 // growth, as many as pay (its shrink, to the next farthest piece, above the
 // neighbours' total growth). No neighbour grows past `cap` (a bound); every
 // piece stays inside the leaf that holds it, so coverage stays complete.
-void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, const CandidateIndex& index,
-                 const MeshOracle& oracle, double cap, int rounds) {
+void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
+                 const CandidateIndex& index, const MeshOracle& oracle, double cap,
+                 int rounds) {
   const std::size_t n = leaves->size();
   for (int round = 0; round < rounds; ++round) {
     std::vector<double> radius = LeafRadii(*leaves, pieces);
-    const std::vector<std::vector<std::int32_t>> near = NeighbourLists(*leaves, radius, cap);
+    const std::vector<std::vector<std::int32_t>> near =
+        NeighbourLists(*leaves, radius, cap);
     std::vector<char> changed(n, 0);
     double total_gain = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -935,7 +977,8 @@ void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, co
       if (leaf.pieces.size() < 2 || near[i].empty()) continue;
       std::vector<std::pair<double, std::int32_t>> by_far;
       by_far.reserve(leaf.pieces.size());
-      for (std::int32_t q : leaf.pieces) by_far.push_back({std::sqrt(FarCorner2(pieces[q], leaf.c)), q});
+      for (std::int32_t q : leaf.pieces)
+        by_far.push_back({std::sqrt(FarCorner2(pieces[q], leaf.c)), q});
       std::sort(by_far.begin(), by_far.end(), std::greater<>());
       // Give the farthest pieces away one by one, each to its cheapest taker;
       // remember the best prefix.
@@ -951,7 +994,9 @@ void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, co
       for (std::size_t k = 0; k < by_far.size() / 3; ++k) {
         Move m{};
         double g = 0;
-        if (!CheapestTaker(pieces[by_far[k].second], *leaves, near[i], new_r, cap, &m.at, &g, &m.dist)) break;
+        if (!CheapestTaker(pieces[by_far[k].second], *leaves, near[i], new_r, cap, &m.at,
+                           &g, &m.dist))
+          break;
         growth += g;
         new_r[m.at] = std::max(new_r[m.at], m.dist);
         moves.push_back(m);
@@ -969,7 +1014,8 @@ void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, co
         changed[j] = 1;
       }
       leaf.pieces.clear();
-      for (std::size_t k = best_k; k < by_far.size(); ++k) leaf.pieces.push_back(by_far[k].second);
+      for (std::size_t k = best_k; k < by_far.size(); ++k)
+        leaf.pieces.push_back(by_far[k].second);
       radius[i] = by_far[best_k].first;
       changed[i] = 1;
       total_gain += best_net;
@@ -984,17 +1030,20 @@ void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces, co
 // Spends the leaf budget on the leaves with the largest protrusion bound, each
 // cut by SplitInTwo. A cut that does not lower the bound by 5 % is not made; a
 // round patch rarely gains from two spheres, so this mostly splits long ones.
-void SplitLeavesInTwo(std::vector<Leaf>* leaves, std::size_t budget, const std::vector<Piece>& pieces,
-                      const CandidateIndex& index, const MeshOracle& oracle) {
+void SplitLeavesInTwo(std::vector<Leaf>* leaves, std::size_t budget,
+                      const std::vector<Piece>& pieces, const CandidateIndex& index,
+                      const MeshOracle& oracle) {
   std::vector<double> error(leaves->size());
   std::vector<char> final_leaf(leaves->size(), 0);
   for (std::size_t i = 0; i < leaves->size(); ++i) {
-    error[i] = CoverError((*leaves)[i].c, (*leaves)[i].depth, pieces, (*leaves)[i].pieces);
+    error[i] =
+        CoverError((*leaves)[i].c, (*leaves)[i].depth, pieces, (*leaves)[i].pieces);
   }
   while (leaves->size() < budget) {
     std::size_t worst = leaves->size();
     for (std::size_t i = 0; i < leaves->size(); ++i) {
-      if (!final_leaf[i] && (worst == leaves->size() || error[i] > error[worst])) worst = i;
+      if (!final_leaf[i] && (worst == leaves->size() || error[i] > error[worst]))
+        worst = i;
     }
     if (worst == leaves->size()) break;
     const Leaf& leaf = (*leaves)[worst];
@@ -1019,7 +1068,8 @@ void SplitLeavesInTwo(std::vector<Leaf>* leaves, std::size_t budget, const std::
 
 // Splits items (indices into centres) into at most `parts` groups by recursive
 // bisection along the longest axis of their bounding box, sizes proportional.
-void SplitGroup(std::vector<std::int32_t> items, int parts, const std::vector<Vector3>& centers,
+void SplitGroup(std::vector<std::int32_t> items, int parts,
+                const std::vector<Vector3>& centers,
                 std::vector<std::vector<std::int32_t>>* out) {
   if (items.empty()) return;
   if (parts <= 1 || items.size() == 1) {
@@ -1031,7 +1081,8 @@ void SplitGroup(std::vector<std::int32_t> items, int parts, const std::vector<Ve
   int axis;
   box.extent().maxCoeff(&axis);
   std::sort(items.begin(), items.end(), [&](std::int32_t a, std::int32_t b) {
-    return centers[a][axis] != centers[b][axis] ? centers[a][axis] < centers[b][axis] : a < b;
+    return centers[a][axis] != centers[b][axis] ? centers[a][axis] < centers[b][axis]
+                                                : a < b;
   });
   const int left_parts = parts / 2;
   const std::size_t cut = items.size() * left_parts / parts;
@@ -1041,19 +1092,22 @@ void SplitGroup(std::vector<std::int32_t> items, int parts, const std::vector<Ve
 
 }  // namespace
 
-SphereTree BuildTreeFromLeaves(const std::vector<Vector3>& centers, const std::vector<double>& radii,
-                               int levels, int branching) {
+SphereTree BuildTreeFromLeaves(const std::vector<Vector3>& centers,
+                               const std::vector<double>& radii, int levels,
+                               int branching) {
   if (centers.empty() || centers.size() != radii.size()) {
     throw SphereTreeError("a tree needs at least one leaf, with one radius per centre");
   }
   const std::size_t capacity = LeafCapacity(levels, branching);
   if (centers.size() > capacity) {
     throw SphereTreeError(std::to_string(centers.size()) + " leaves do not fit in " +
-                          std::to_string(levels) + " levels of " + std::to_string(branching));
+                          std::to_string(levels) + " levels of " +
+                          std::to_string(branching));
   }
   Aabb bounds;
   for (const Vector3& c : centers) bounds.Extend(c);
-  const double extent = std::max(bounds.LargestExtent(), *std::max_element(radii.begin(), radii.end()));
+  const double extent =
+      std::max(bounds.LargestExtent(), *std::max_element(radii.begin(), radii.end()));
   SphereTree tree;
   tree.levels = levels;
   tree.branching = branching;
@@ -1069,7 +1123,8 @@ SphereTree BuildTreeFromLeaves(const std::vector<Vector3>& centers, const std::v
     if (below[node].size() == 1 || lvl == levels - 1) continue;  // a leaf
     // As many children as allowed: balanced groups of n / branching leaves each
     // fit a child subtree, since n <= branching * capacity.
-    const int parts = static_cast<int>(std::min<std::size_t>(branching, below[node].size()));
+    const int parts =
+        static_cast<int>(std::min<std::size_t>(branching, below[node].size()));
     std::vector<std::vector<std::int32_t>> groups;
     SplitGroup(below[node], parts, centers, &groups);
     tree.first_child[node] = static_cast<std::int32_t>(tree.size());
@@ -1112,7 +1167,6 @@ SphereTree BuildTreeFromLeaves(const std::vector<Vector3>& centers, const std::v
   return tree;
 }
 
-
 std::size_t LeafCapacity(int levels, int branching) {
   std::size_t capacity = 1;
   for (int l = 1; l < levels; ++l) capacity *= static_cast<std::size_t>(branching);
@@ -1123,8 +1177,8 @@ std::string SphereTreeParams::ToString() const {
   std::ostringstream s;
   s.precision(17);
   s << "levels=" << levels << " branch=" << branching << " leaves=" << leaves
-    << " target_error_mm=" << target_error_mm << " samples=" << samples << " seed=" << seed
-    << " spend=" << (spend == Spend::kMean ? "mean" : "worst");
+    << " target_error_mm=" << target_error_mm << " samples=" << samples
+    << " seed=" << seed << " spend=" << (spend == Spend::kMean ? "mean" : "worst");
   return s.str();
 }
 
@@ -1133,10 +1187,12 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   const auto t0 = Clock::now();
   const Reporter report(progress);
   if (params.levels < 1 || params.levels > 8) {
-    throw SphereTreeError("levels " + std::to_string(params.levels) + " is out of range (expected 1 to 8)");
+    throw SphereTreeError("levels " + std::to_string(params.levels) +
+                          " is out of range (expected 1 to 8)");
   }
   if (params.branching < 2 || params.branching > 32) {
-    throw SphereTreeError("branching " + std::to_string(params.branching) + " is out of range (expected 2 to 32)");
+    throw SphereTreeError("branching " + std::to_string(params.branching) +
+                          " is out of range (expected 2 to 32)");
   }
   const std::size_t capacity = LeafCapacity(params.levels, params.branching);
   if (params.target_error_mm < 0 || !std::isfinite(params.target_error_mm)) {
@@ -1144,16 +1200,17 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   }
   if (params.target_error_mm == 0 &&
       (params.leaves < 1 || static_cast<std::size_t>(params.leaves) > capacity)) {
-    throw SphereTreeError("leaf budget " + std::to_string(params.leaves) + " does not fit in " +
-                          std::to_string(params.levels) + " levels of " +
-                          std::to_string(params.branching) + " (at most " +
-                          std::to_string(capacity) + " leaves)");
+    throw SphereTreeError("leaf budget " + std::to_string(params.leaves) +
+                          " does not fit in " + std::to_string(params.levels) +
+                          " levels of " + std::to_string(params.branching) +
+                          " (at most " + std::to_string(capacity) + " leaves)");
   }
   const MeshReport check = mesh.Check();
   if (!check.closed() || !check.manifold()) {
     throw SphereTreeError("the mesh must be a closed, manifold surface (" +
                           std::to_string(check.boundary_edges) + " boundary and " +
-                          std::to_string(check.nonmanifold_edges) + " non-manifold edges)");
+                          std::to_string(check.nonmanifold_edges) +
+                          " non-manifold edges)");
   }
   const double extent = check.bounds.LargestExtent();
   const double diag = check.bounds.extent().norm();
@@ -1164,14 +1221,16 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
 
   // 1. Pieces and samples.
   const std::size_t budget = params.target_error_mm > 0 ? capacity : params.leaves;
-  const int wanted = params.samples > 0 ? params.samples
-                                        : std::min(60000, std::max(3000, 8 * static_cast<int>(budget)));
+  const int wanted = params.samples > 0
+                         ? params.samples
+                         : std::min(60000, std::max(3000, 8 * static_cast<int>(budget)));
   double h = std::sqrt(check.area / (0.433 * wanted));
   std::vector<Vector3> normals;
   std::vector<Piece> pieces = Subdivide(mesh, h, &normals, orientation);
   // Long thin faces: coarser pieces, down to one per face (a mesh of more faces
   // than that keeps one piece each).
-  while (pieces.size() > 4u * static_cast<std::size_t>(wanted) && pieces.size() > mesh.num_faces()) {
+  while (pieces.size() > 4u * static_cast<std::size_t>(wanted) &&
+         pieces.size() > mesh.num_faces()) {
     h *= 1.5;
     normals.clear();
     pieces = Subdivide(mesh, h, &normals, orientation);
@@ -1194,8 +1253,10 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   const Reporter medial_report([&](std::string_view stage, double f) {
     return !progress || progress(stage, 0.02 + 0.38 * f);
   });
-  const std::vector<Candidate> cands = MedialCandidates(samples, normals, diag, 0.25 * h, oracle, medial_report);
-  if (cands.empty()) throw SphereTreeError("no point of the medial axis was found inside the mesh");
+  const std::vector<Candidate> cands =
+      MedialCandidates(samples, normals, diag, 0.25 * h, oracle, medial_report);
+  if (cands.empty())
+    throw SphereTreeError("no point of the medial axis was found inside the mesh");
   const double seconds_medial = Seconds(t0);
 
   // 3. Cover. With a budget: the smallest bound whose greedy cover fits it,
@@ -1230,22 +1291,25 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
     }
     cover.chosen = GreedyCover(cover.lists, eps, pieces.size(), capacity);
     if (cover.chosen.empty()) {
-      throw SphereTreeError("a protrusion of at most " + std::to_string(eps) +
-                            " mm needs more leaves than " + std::to_string(params.levels) +
-                            " levels of " + std::to_string(params.branching) + " hold (" +
-                            std::to_string(capacity) + "); allow more levels or a larger error");
+      throw SphereTreeError(
+          "a protrusion of at most " + std::to_string(eps) +
+          " mm needs more leaves than " + std::to_string(params.levels) + " levels of " +
+          std::to_string(params.branching) + " hold (" + std::to_string(capacity) +
+          "); allow more levels or a larger error");
     }
   } else {
     cover = CoverWithBudget(cands, pieces, budget, 0.02 * h, 0.0, diag, tick);
     if (refine_binding(cover.lists, 0.6 * cover.eps)) {
-      cover = CoverWithBudget(cands, pieces, budget, 0.02 * h, cover.lists_eps, diag, tick);
+      cover =
+          CoverWithBudget(cands, pieces, budget, 0.02 * h, cover.lists_eps, diag, tick);
     }
   }
 
   // 4. Leaves: each piece to the leaf that encloses it best, leaves re-centred,
   // then tightened (and, with a budget, the leaves that frees spent).
   const CandidateIndex index(cands, 0.5 * h);
-  auto make_leaves = [&](const std::vector<std::int32_t>& chosen, std::vector<Piece>* work) {
+  auto make_leaves = [&](const std::vector<std::int32_t>& chosen,
+                         std::vector<Piece>* work) {
     std::vector<Leaf> out;
     out.reserve(budget);
     for (std::int32_t i : chosen) out.push_back({cands[i].c, cands[i].depth, {}});
@@ -1263,7 +1327,8 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
     // Then trade leaves, and the pieces at their borders, where that lowers the
     // sum of bounds most, no leaf beyond the worst one now.
     double worst = 0;
-    for (const Leaf& l : out) worst = std::max(worst, CoverError(l.c, l.depth, *work, l.pieces));
+    for (const Leaf& l : out)
+      worst = std::max(worst, CoverError(l.c, l.depth, *work, l.pieces));
     SwapLeaves(&out, *work, index, oracle, worst, budget, 40);
     TradePieces(&out, *work, index, oracle, worst, 10);
     SwapLeaves(&out, *work, index, oracle, worst, budget, 40);
@@ -1276,10 +1341,13 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   // When every piece is covered at (nearly) its own best bound with leaves to
   // spare, the pieces are what limits the fit (smooth, coarsely meshed solids):
   // cover again on pieces a quarter the size, if that gives more leaves.
-  if (params.target_error_mm == 0 && leaves.size() < budget * 9 / 10 && cover_pieces.size() <= max_pieces) {
+  if (params.target_error_mm == 0 && leaves.size() < budget * 9 / 10 &&
+      cover_pieces.size() <= max_pieces) {
     report("tighten", 0.85);
-    std::vector<Piece> work = SplitPieces(cover_pieces, std::vector<char>(cover_pieces.size(), 1));
-    const MinMaxCover finer = CoverWithBudget(cands, work, budget, 0.02 * h, cover.lists_eps, diag, tick);
+    std::vector<Piece> work =
+        SplitPieces(cover_pieces, std::vector<char>(cover_pieces.size(), 1));
+    const MinMaxCover finer =
+        CoverWithBudget(cands, work, budget, 0.02 * h, cover.lists_eps, diag, tick);
     std::vector<Leaf> trial = make_leaves(finer.chosen, &work);
     if (trial.size() > leaves.size()) {
       leaves = std::move(trial);
@@ -1290,7 +1358,8 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   std::vector<double> radii;
   double bound = 0;
   for (const Leaf& l : leaves) {
-    const double r = CoverError(l.c, 0.0, pieces, l.pieces) * (1 + 1e-12) + 1e-12 * extent;  // at depth 0: the radius
+    const double r = CoverError(l.c, 0.0, pieces, l.pieces) * (1 + 1e-12) +
+                     1e-12 * extent;  // at depth 0: the radius
     centers.push_back(l.c);
     radii.push_back(r);
     bound = std::max(bound, r - l.depth);

@@ -64,13 +64,13 @@ std::size_t LeafCapacity(int levels, int branching);
 
 /// What a build did and measured.
 struct SphereTreeBuildStats {
-  std::size_t surface_pieces = 0;   // sub-triangles the cover is computed on
+  std::size_t surface_pieces = 0;  // sub-triangles the cover is computed on
   std::size_t medial_candidates = 0;
   std::size_t leaves = 0;
-  double error_bound_mm = 0;        // max over leaves of (radius - depth of centre)
+  double error_bound_mm = 0;  // max over leaves of (radius - depth of centre)
   double seconds_total = 0;
-  double seconds_medial = 0;        // sampling, Delaunay, poles, depths
-  double seconds_cover = 0;         // set cover and refinement
+  double seconds_medial = 0;  // sampling, Delaunay, poles, depths
+  double seconds_cover = 0;   // set cover and refinement
   double seconds_hierarchy = 0;
 };
 
@@ -101,7 +101,8 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
 /// longest axis, parents the smallest spheres enclosing their children (so every
 /// child lies inside its parent). For trees made by hand (tools, test scenes).
 /// Throws SphereTreeError when the leaves do not fit.
-SphereTree BuildTreeFromLeaves(const std::vector<Vector3>& centers, const std::vector<double>& radii,
-                               int levels = 4, int branching = 8);
+SphereTree BuildTreeFromLeaves(const std::vector<Vector3>& centers,
+                               const std::vector<double>& radii, int levels = 4,
+                               int branching = 8);
 
 }  // namespace sulcus

@@ -13,7 +13,8 @@ namespace sulcus {
 std::uint64_t MeshContentHash(const TriangleMesh& mesh);
 
 /// The key of a tree: mesh content, parameters and the builder's version.
-std::uint64_t SphereTreeCacheKey(const TriangleMesh& mesh, const SphereTreeParams& params);
+std::uint64_t SphereTreeCacheKey(const TriangleMesh& mesh,
+                                 const SphereTreeParams& params);
 
 /// $SULCUS_CACHE_DIR, else $XDG_CACHE_HOME/sulcus, else ~/.cache/sulcus.
 std::filesystem::path DefaultCacheDir();
@@ -21,7 +22,7 @@ std::filesystem::path DefaultCacheDir();
 struct CacheOutcome {
   enum class Kind { kHit, kBuilt, kRebuiltCorrupt } kind = Kind::kBuilt;
   std::filesystem::path file;
-  std::string warning;  // why a cached file was not trusted, when it was not
+  std::string warning;         // why a cached file was not trusted, when it was not
   SphereTreeBuildStats stats;  // of the build, when one ran
 };
 
@@ -31,6 +32,7 @@ struct CacheOutcome {
 /// tree is still returned.
 SphereTree LoadOrBuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& params,
                                  const std::filesystem::path& cache_dir,
-                                 const BuildProgress& progress = {}, CacheOutcome* outcome = nullptr);
+                                 const BuildProgress& progress = {},
+                                 CacheOutcome* outcome = nullptr);
 
 }  // namespace sulcus

@@ -31,7 +31,8 @@ MeshOracle::MeshOracle(const TriangleMesh& input) : impl_(std::make_unique<Impl>
   Mesh& m = impl_->mesh;
   std::vector<Mesh::Vertex_index> vi;
   vi.reserve(input.num_vertices());
-  for (const Vector3& v : input.vertices()) vi.push_back(m.add_vertex(Point(v.x(), v.y(), v.z())));
+  for (const Vector3& v : input.vertices())
+    vi.push_back(m.add_vertex(Point(v.x(), v.y(), v.z())));
   for (const auto& f : input.faces()) {
     // Faces Surface_mesh refuses (non-manifold) cannot be here: callers validate.
     m.add_face(vi[f[0]], vi[f[1]], vi[f[2]]);

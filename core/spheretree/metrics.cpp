@@ -47,7 +47,8 @@ std::vector<Vector3> SurfaceSamples(const TriangleMesh& mesh, int n, std::uint64
     }
     const auto& face = mesh.faces()[f];
     const auto& vs = mesh.vertices();
-    out.push_back(vs[face[0]] + u * (vs[face[1]] - vs[face[0]]) + v * (vs[face[2]] - vs[face[0]]));
+    out.push_back(vs[face[0]] + u * (vs[face[1]] - vs[face[0]]) +
+                  v * (vs[face[2]] - vs[face[0]]));
   }
   return out;
 }
@@ -62,7 +63,8 @@ TreeMetrics EvaluateSphereTree(const TriangleMesh& mesh, const SphereTree& tree,
   const MeshReport report = mesh.Check();
   out.largest_extent_mm = report.bounds.LargestExtent();
   out.volume_mm3 = std::abs(report.volume);
-  const std::vector<Vector3> surface = SurfaceSamples(mesh, params.surface_samples, params.seed);
+  const std::vector<Vector3> surface =
+      SurfaceSamples(mesh, params.surface_samples, params.seed);
   out.surface_samples = surface.size();
   const std::vector<Vector3> dirs = SphereDirections(params.points_per_sphere);
   const double tolerance = 1e-9 * out.largest_extent_mm;  // containment round-off
@@ -72,7 +74,8 @@ TreeMetrics EvaluateSphereTree(const TriangleMesh& mesh, const SphereTree& tree,
   std::vector<double> protrusion(n, 0.0), depth(n, -1.0);
   std::vector<std::int32_t> parent(n, -1);
   for (std::size_t i = 0; i < n; ++i) {
-    for (int c = 0; c < tree.child_count[i]; ++c) parent[tree.first_child[i] + c] = static_cast<std::int32_t>(i);
+    for (int c = 0; c < tree.child_count[i]; ++c)
+      parent[tree.first_child[i] + c] = static_cast<std::int32_t>(i);
     const Vector3 c = tree.center(i);
     if (oracle.Inside(c)) depth[i] = oracle.Distance(c);
     if (depth[i] >= tree.r[i]) continue;  // entirely inside the solid
@@ -100,7 +103,8 @@ TreeMetrics EvaluateSphereTree(const TriangleMesh& mesh, const SphereTree& tree,
     // How many spheres of the cut hold p.
     auto holding = [&](const Vector3& p) {
       int count = 0;
-      for (std::int32_t i : cut) count += (p - tree.center(i)).norm() <= tree.r[i] + tolerance;
+      for (std::int32_t i : cut)
+        count += (p - tree.center(i)).norm() <= tree.r[i] + tolerance;
       return count;
     };
     std::size_t holders = 0;
@@ -110,7 +114,8 @@ TreeMetrics EvaluateSphereTree(const TriangleMesh& mesh, const SphereTree& tree,
       holders += count;
     }
     m.overlap = static_cast<double>(holders) / static_cast<double>(surface.size());
-    m.coverage = 1.0 - static_cast<double>(m.uncovered_samples) / static_cast<double>(surface.size());
+    m.coverage = 1.0 - static_cast<double>(m.uncovered_samples) /
+                           static_cast<double>(surface.size());
 
     // Union volume outside the solid: sample each ball uniformly and weight a point
     // by 1 / (number of balls holding it), so overlaps count once.
@@ -124,7 +129,8 @@ TreeMetrics EvaluateSphereTree(const TriangleMesh& mesh, const SphereTree& tree,
           d = Vector3(2 * Uniform(rng) - 1, 2 * Uniform(rng) - 1, 2 * Uniform(rng) - 1);
         } while (d.squaredNorm() > 1);
         const Vector3 p = tree.center(i) + tree.r[i] * d;
-        if (depth[i] > 0 && (p - tree.center(i)).norm() <= depth[i]) continue;  // inner ball
+        if (depth[i] > 0 && (p - tree.center(i)).norm() <= depth[i])
+          continue;  // inner ball
         if (oracle.Inside(p)) continue;
         sum += 1.0 / std::max(1, holding(p));
       }

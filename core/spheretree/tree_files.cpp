@@ -58,7 +58,8 @@ void WriteSph(const SphereTree& tree, const fs::path& path) {
     if (n < 0) {
       out << "0 0 0 -1 0\n";
     } else {
-      out << tree.x[n] << ' ' << tree.y[n] << ' ' << tree.z[n] << ' ' << tree.r[n] << " 1\n";
+      out << tree.x[n] << ' ' << tree.y[n] << ' ' << tree.z[n] << ' ' << tree.r[n]
+          << " 1\n";
     }
   }
   out.close();
@@ -90,8 +91,10 @@ SphereTree ReadSph(const fs::path& path, const Vector3& offset) {
     line_no = std::max(line_no, 1);
     fail("empty file, expected 'levels branch' on the first line");
   }
-  if (levels < 1 || levels > 10) fail("levels " + std::to_string(levels) + " out of range (1 to 10)");
-  if (branching < 2 || branching > 32) fail("branch " + std::to_string(branching) + " out of range (2 to 32)");
+  if (levels < 1 || levels > 10)
+    fail("levels " + std::to_string(levels) + " out of range (1 to 10)");
+  if (branching < 2 || branching > 32)
+    fail("branch " + std::to_string(branching) + " out of range (2 to 32)");
   const std::size_t full = FullSize(levels, branching);
   if (full > 50'000'000) fail("tree too large");
   // Every node takes a line of at least four numbers ("0 0 0 0"): a header that
@@ -99,8 +102,9 @@ SphereTree ReadSph(const fs::path& path, const Vector3& offset) {
   std::error_code size_ec;
   const std::uintmax_t bytes = fs::file_size(path, size_ec);
   if (!size_ec && full > bytes / 8 + 1)
-    fail(std::to_string(levels) + " levels of " + std::to_string(branching) + " need " + std::to_string(full) +
-         " node lines; a file of " + std::to_string(bytes) + " bytes cannot hold them");
+    fail(std::to_string(levels) + " levels of " + std::to_string(branching) + " need " +
+         std::to_string(full) + " node lines; a file of " + std::to_string(bytes) +
+         " bytes cannot hold them");
 
   struct Slot {
     double x, y, z, r;
@@ -120,21 +124,24 @@ SphereTree ReadSph(const fs::path& path, const Vector3& offset) {
       values.push_back(v);
     }
     if (values.size() != 4 && values.size() != 5 && values.size() != 10) {
-      fail("expected 'x y z r occupancy' (4, 5 or 10 numbers), found " + std::to_string(values.size()));
+      fail("expected 'x y z r occupancy' (4, 5 or 10 numbers), found " +
+           std::to_string(values.size()));
     }
     for (double v : values) {
       if (!std::isfinite(v)) fail("non-finite number");
     }
-    // Millimetres: a sphere 100 m across or 100 m away is no tooth's (and would overflow what measures it).
+    // Millimetres: a sphere 100 m across or 100 m away is no tooth's (and would overflow
+    // what measures it).
     for (int k = 0; k < 4; ++k)
       if (std::abs(values[static_cast<std::size_t>(k)]) > 1e5)
-        fail("'" + std::to_string(values[static_cast<std::size_t>(k)]) + "' mm is out of range (at most 100000 mm)");
+        fail("'" + std::to_string(values[static_cast<std::size_t>(k)]) +
+             "' mm is out of range (at most 100000 mm)");
     slots.push_back({values[0], values[1], values[2], values[3]});
   }
   if (slots.size() < full) {
-    fail("file ends after " + std::to_string(slots.size()) + " of the " + std::to_string(full) +
-         " node lines that " + std::to_string(levels) + " levels of " + std::to_string(branching) +
-         " need");
+    fail("file ends after " + std::to_string(slots.size()) + " of the " +
+         std::to_string(full) + " node lines that " + std::to_string(levels) +
+         " levels of " + std::to_string(branching) + " need");
   }
   if (!(slots[0].r > 0)) {
     line_no = 2;
@@ -171,13 +178,17 @@ SphereTree ReadSph(const fs::path& path, const Vector3& offset) {
 void WriteTreeBinary(const SphereTree& tree, std::uint64_t key, const fs::path& path) {
   tree.Validate();
   std::string buf(kMagic, sizeof kMagic);
-  auto put = [&](const void* p, std::size_t n) { buf.append(static_cast<const char*>(p), n); };
-  const std::uint32_t header[4] = {kBinaryVersion, static_cast<std::uint32_t>(tree.levels),
+  auto put = [&](const void* p, std::size_t n) {
+    buf.append(static_cast<const char*>(p), n);
+  };
+  const std::uint32_t header[4] = {kBinaryVersion,
+                                   static_cast<std::uint32_t>(tree.levels),
                                    static_cast<std::uint32_t>(tree.branching),
                                    static_cast<std::uint32_t>(tree.size())};
   put(header, sizeof header);
   put(&key, sizeof key);
-  for (const auto* v : {&tree.x, &tree.y, &tree.z, &tree.r}) put(v->data(), v->size() * sizeof(double));
+  for (const auto* v : {&tree.x, &tree.y, &tree.z, &tree.r})
+    put(v->data(), v->size() * sizeof(double));
   put(tree.first_child.data(), tree.size() * sizeof(std::int32_t));
   put(tree.child_count.data(), tree.size());
   put(tree.level.data(), tree.size());
@@ -194,22 +205,27 @@ void WriteTreeBinary(const SphereTree& tree, std::uint64_t key, const fs::path& 
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
-  if (ec) throw TreeFileError(path.string() + ": cannot be replaced (" + ec.message() + ")");
+  if (ec)
+    throw TreeFileError(path.string() + ": cannot be replaced (" + ec.message() + ")");
 }
 
 SphereTree ReadTreeBinary(const fs::path& path, std::uint64_t expected_key) {
   const std::string name = path.string();
   std::ifstream in(path, std::ios::binary);
   if (!in) throw TreeFileError(name + ": cannot be opened");
-  const std::string buf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  constexpr std::size_t kHead = sizeof kMagic + 4 * sizeof(std::uint32_t) + sizeof(std::uint64_t);
-  if (buf.size() < kHead + sizeof(std::uint64_t)) throw TreeFileError(name + ": truncated (too short for a header)");
-  if (std::memcmp(buf.data(), kMagic, sizeof kMagic) != 0) throw TreeFileError(name + ": not a Sulcus sphere-tree file");
+  const std::string buf((std::istreambuf_iterator<char>(in)),
+                        std::istreambuf_iterator<char>());
+  constexpr std::size_t kHead =
+      sizeof kMagic + 4 * sizeof(std::uint32_t) + sizeof(std::uint64_t);
+  if (buf.size() < kHead + sizeof(std::uint64_t))
+    throw TreeFileError(name + ": truncated (too short for a header)");
+  if (std::memcmp(buf.data(), kMagic, sizeof kMagic) != 0)
+    throw TreeFileError(name + ": not a Sulcus sphere-tree file");
   std::uint32_t header[4];
   std::memcpy(header, buf.data() + sizeof kMagic, sizeof header);
   if (header[0] != kBinaryVersion) {
-    throw TreeFileError(name + ": format version " + std::to_string(header[0]) + ", expected " +
-                        std::to_string(kBinaryVersion));
+    throw TreeFileError(name + ": format version " + std::to_string(header[0]) +
+                        ", expected " + std::to_string(kBinaryVersion));
   }
   std::uint64_t key;
   std::memcpy(&key, buf.data() + sizeof kMagic + sizeof header, sizeof key);
@@ -221,9 +237,12 @@ SphereTree ReadTreeBinary(const fs::path& path, std::uint64_t expected_key) {
   }
   std::uint64_t stored;
   std::memcpy(&stored, buf.data() + kHead + body, sizeof stored);
-  if (stored != Fnv1a(buf.data(), kHead + body)) throw TreeFileError(name + ": checksum mismatch (corrupt)");
-  if (key != expected_key) throw TreeFileError(name + ": built for another mesh or other parameters");
-  if (n == 0) throw TreeFileError(name + ": holds no spheres (a tree has at least its root)");
+  if (stored != Fnv1a(buf.data(), kHead + body))
+    throw TreeFileError(name + ": checksum mismatch (corrupt)");
+  if (key != expected_key)
+    throw TreeFileError(name + ": built for another mesh or other parameters");
+  if (n == 0)
+    throw TreeFileError(name + ": holds no spheres (a tree has at least its root)");
   SphereTree tree;
   tree.levels = static_cast<int>(header[1]);
   tree.branching = static_cast<int>(header[2]);

@@ -29,16 +29,19 @@ void WriteSph(const SphereTree& tree, const std::filesystem::path& path);
 /// unused. `offset` is added to every centre: his toolkit can recentre a model on
 /// its bounding box, so to read such a file back in the mesh's frame, pass the
 /// centre of the mesh's bounding box. Throws TreeFileError naming file and line.
-SphereTree ReadSph(const std::filesystem::path& path, const Vector3& offset = Vector3::Zero());
+SphereTree ReadSph(const std::filesystem::path& path,
+                   const Vector3& offset = Vector3::Zero());
 
 /// The binary cache format: magic, version, the cache key, the arrays, and a
 /// checksum; written to a temporary file and renamed, so a crash leaves no
 /// half-written tree. Reading verifies everything and throws TreeFileError on any
 /// mismatch (corrupt, truncated, other version, other key).
-void WriteTreeBinary(const SphereTree& tree, std::uint64_t key, const std::filesystem::path& path);
+void WriteTreeBinary(const SphereTree& tree, std::uint64_t key,
+                     const std::filesystem::path& path);
 SphereTree ReadTreeBinary(const std::filesystem::path& path, std::uint64_t expected_key);
 
 /// 64-bit FNV-1a over bytes; used for mesh content hashes and checksums.
-std::uint64_t Fnv1a(const void* data, std::size_t size, std::uint64_t seed = 0xcbf29ce484222325ull);
+std::uint64_t Fnv1a(const void* data, std::size_t size,
+                    std::uint64_t seed = 0xcbf29ce484222325ull);
 
 }  // namespace sulcus

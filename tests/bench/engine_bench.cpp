@@ -49,7 +49,8 @@ void CollisionBench(benchmark::State& state, bool reference) {
     if (reference) {
       found = static_cast<int>(FindContactsReference(world, X, 0.05).size());
     } else {
-      const CollisionStats cs = FindContacts(world, X, 0.05, &scratch, out.data(), static_cast<int>(out.size()));
+      const CollisionStats cs = FindContacts(world, X, 0.05, &scratch, out.data(),
+                                             static_cast<int>(out.size()));
       found = cs.pairs;
       tests += cs.node_tests;
     }
@@ -76,15 +77,17 @@ void BM_FrameByPairs(benchmark::State& state) {
   const auto model = s.Model();
   EngineData d(*model);
   ResetTool(RigidTransform(Matrix3::Identity(), Vector3(0, 0, 0.5)), &d);
-  for (int i = 0; i < 200; ++i) Step(*model, RigidTransform(Matrix3::Identity(), Vector3(0, 0, 0.5 - 0.005 * i)), &d);
+  for (int i = 0; i < 200; ++i)
+    Step(*model, RigidTransform(Matrix3::Identity(), Vector3(0, 0, 0.5 - 0.005 * i)), &d);
   std::vector<double> us;
   us.reserve(1 << 16);
   double pairs = 0;
   long frame = 0;
   for (auto _ : state) {
     const double t = frame++ * 0.001;
-    const RigidTransform X(Eigen::AngleAxisd(0.02 * std::sin(3 * t), Vector3::UnitZ()).toRotationMatrix(),
-                           Vector3(2 * std::sin(t), std::cos(0.7 * t), -0.5));
+    const RigidTransform X(
+        Eigen::AngleAxisd(0.02 * std::sin(3 * t), Vector3::UnitZ()).toRotationMatrix(),
+        Vector3(2 * std::sin(t), std::cos(0.7 * t), -0.5));
     const auto t0 = Clock::now();
     Step(*model, X, &d);
     us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
@@ -96,7 +99,14 @@ void BM_FrameByPairs(benchmark::State& state) {
   state.counters["pen_faults"] = static_cast<double>(d.faults.penetration);
   Percentiles(state, us);
 }
-BENCHMARK(BM_FrameByPairs)->Arg(2)->Arg(5)->Arg(7)->Arg(16)->Arg(19)->Unit(benchmark::kMicrosecond)->MinTime(1.0);
+BENCHMARK(BM_FrameByPairs)
+    ->Arg(2)
+    ->Arg(5)
+    ->Arg(7)
+    ->Arg(16)
+    ->Arg(19)
+    ->Unit(benchmark::kMicrosecond)
+    ->MinTime(1.0);
 
 // The probe in the full mouth: sliding over a tooth, pressing 0.3 mm.
 void BM_FrameProbeInFullMouth(benchmark::State& state) {
@@ -105,7 +115,9 @@ void BM_FrameProbeInFullMouth(benchmark::State& state) {
   EngineData d(model);
   // Over tooth 5's buccal face (+y of the tooth frame), shaft along +y.
   const RigidTransform X_WO = m.tooth_poses[5];
-  const Matrix3 R = X_WO.rotation() * Quaternion::FromTwoVectors(Vector3::UnitZ(), Vector3::UnitY()).toRotationMatrix();
+  const Matrix3 R =
+      X_WO.rotation() *
+      Quaternion::FromTwoVectors(Vector3::UnitZ(), Vector3::UnitY()).toRotationMatrix();
   // The probe's end face (its origin) 0.3 mm under the ellipsoid's buccal surface.
   auto device = [&](long f) {
     const double t = f * 0.001, x = 1.5 * std::sin(t), z = 4 * std::sin(0.5 * t);
@@ -127,8 +139,11 @@ void BM_FrameProbeInFullMouth(benchmark::State& state) {
     pairs += d.num_pairs;
     active += d.active_contacts;
     if (std::getenv("SULCUS_DEBUG_SWEEPS") && d.faults.sweep != before) {
-      std::fprintf(stderr, "frame %ld: status %s lin %d pairs %d;", frame, ToString(d.qp_status), d.linearizations, d.num_pairs);
-      for (int k = 0; k < d.sweeps; ++k) std::fprintf(stderr, " [margin %.4f move %.4f]", d.sweep_margin_mm[k], d.sweep_move_mm[k]);
+      std::fprintf(stderr, "frame %ld: status %s lin %d pairs %d;", frame,
+                   ToString(d.qp_status), d.linearizations, d.num_pairs);
+      for (int k = 0; k < d.sweeps; ++k)
+        std::fprintf(stderr, " [margin %.4f move %.4f]", d.sweep_margin_mm[k],
+                     d.sweep_move_mm[k]);
       std::fprintf(stderr, "\n");
     }
   }

@@ -16,7 +16,8 @@ TriangleMesh Ellipsoid(const Vector3& semi_axes, int subdivisions) {
 }
 
 SphereTree Tree(const TriangleMesh& mesh) {
-  return LoadOrBuildSphereTree(mesh, SphereTreeParams{}, std::filesystem::path(SULCUS_BENCH_CACHE));
+  return LoadOrBuildSphereTree(mesh, SphereTreeParams{},
+                               std::filesystem::path(SULCUS_BENCH_CACHE));
 }
 
 }  // namespace
@@ -43,36 +44,43 @@ const MouthProxy& Mouth() {
     for (int arch = 0; arch < 2; ++arch) {
       for (int i = 0; i < 16; ++i) {
         const double x = i < 8 ? -xs[7 - i] : xs[i - 8];
-        const Matrix3 R = Eigen::AngleAxisd(std::atan(-2 * x / 40), Vector3::UnitZ()).toRotationMatrix();
+        const Matrix3 R = Eigen::AngleAxisd(std::atan(-2 * x / 40), Vector3::UnitZ())
+                              .toRotationMatrix();
         const RigidTransform X(R, Vector3(x, -x * x / 40, arch ? 12 : -12));
         m->tooth_poses.push_back(X);
         m->objects.push_back({&m->tooth, X});
       }
     }
-    m->objects.push_back({&m->jaw, RigidTransform(Matrix3::Identity(), Vector3(0, -10, -28.5))});
+    m->objects.push_back(
+        {&m->jaw, RigidTransform(Matrix3::Identity(), Vector3(0, -10, -28.5))});
     return m;
   }();
   return *mouth;
 }
 
-std::vector<RigidTransform> MouthProxy::ContactPoses(int n, unsigned seed, int only_tooth) const {
+std::vector<RigidTransform> MouthProxy::ContactPoses(int n, unsigned seed,
+                                                     int only_tooth) const {
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<int> tooth(0, static_cast<int>(tooth_poses.size()) - 1);
-  std::uniform_int_distribution<int> face(0, static_cast<int>(tooth_mesh.num_faces()) - 1);
+  std::uniform_int_distribution<int> face(0,
+                                          static_cast<int>(tooth_mesh.num_faces()) - 1);
   std::vector<RigidTransform> out;
   for (int i = 0; i < n; ++i) {
     int f = face(rng);
     // Buccal and lingual faces only: mesial and distal ones face the neighbours.
     while (std::abs(tooth_mesh.FaceNormal(f).y()) < 0.7) f = face(rng);
     const auto& t = tooth_mesh.faces()[f];
-    const Vector3 p = (tooth_mesh.vertices()[t[0]] + tooth_mesh.vertices()[t[1]] + tooth_mesh.vertices()[t[2]]) / 3;
+    const Vector3 p = (tooth_mesh.vertices()[t[0]] + tooth_mesh.vertices()[t[1]] +
+                       tooth_mesh.vertices()[t[2]]) /
+                      3;
     const Vector3 nrm = tooth_mesh.FaceNormal(f);
     const int which = tooth(rng);
     const RigidTransform& X_WO = tooth_poses[only_tooth >= 0 ? only_tooth : which];
     const Vector3 n_W = X_WO.rotation() * nrm;
     const Vector3 tip = X_WO * p - 0.02 * n_W;
     // Shaft (tool +z) along the outward normal.
-    const Matrix3 R = Quaternion::FromTwoVectors(Vector3::UnitZ(), n_W).toRotationMatrix();
+    const Matrix3 R =
+        Quaternion::FromTwoVectors(Vector3::UnitZ(), n_W).toRotationMatrix();
     out.emplace_back(R, tip);  // the probe's end face is its origin
   }
   return out;

@@ -22,7 +22,8 @@ struct MouthProxy {
   /// Poses of the probe resting on buccal or lingual tooth surfaces: end face 0.02 mm
   /// into the surface, shaft along the outward normal (seeded). `only_tooth` >= 0
   /// keeps them on that tooth.
-  std::vector<RigidTransform> ContactPoses(int n, unsigned seed, int only_tooth = -1) const;
+  std::vector<RigidTransform> ContactPoses(int n, unsigned seed,
+                                           int only_tooth = -1) const;
 };
 
 /// Built on first use (a few seconds cold, instant from the cache).

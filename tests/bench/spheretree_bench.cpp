@@ -26,7 +26,8 @@ void Report(benchmark::State& state, const SphereTree& tree) {
   const TreeMetrics m = EvaluateSphereTree(Mesh5k(), tree, e);
   state.counters["leaves"] = static_cast<double>(tree.NumLeaves());
   state.counters["prot_max_%"] = 100 * m.leaves().protrusion_max_mm / m.largest_extent_mm;
-  state.counters["prot_mean_%"] = 100 * m.leaves().protrusion_mean_mm / m.largest_extent_mm;
+  state.counters["prot_mean_%"] =
+      100 * m.leaves().protrusion_mean_mm / m.largest_extent_mm;
   state.counters["coverage_%"] = 100 * m.leaves().coverage;
 }
 
@@ -40,7 +41,11 @@ void BM_BuildMedial(benchmark::State& state) {
   }
   Report(state, tree);
 }
-BENCHMARK(BM_BuildMedial)->Arg(64)->Arg(512)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_BuildMedial)
+    ->Arg(64)
+    ->Arg(512)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(2);
 
 void BM_BuildOctreeReference(benchmark::State& state) {
   SphereTree tree;

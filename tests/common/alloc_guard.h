@@ -1,7 +1,7 @@
 #pragma once
 // Counts heap allocations made by the current thread while a guard is alive
-// (docs/architecture.md, "Rules the code keeps"; after Drake's LimitMalloc). Linking sulcus_test_common
-// replaces the global operator new/delete with counting versions.
+// (docs/architecture.md, "Rules the code keeps"; after Drake's LimitMalloc). Linking
+// sulcus_test_common replaces the global operator new/delete with counting versions.
 //
 //   AllocationGuard guard;
 //   Step(model, &data);

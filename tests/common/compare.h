@@ -1,7 +1,7 @@
 #pragma once
-// Floating-point comparison for tests (docs/architecture.md, "Rules the code keeps"): one helper for scalars
-// and matrices, absolute or relative, with tolerances that carry a name and a
-// reason. Never EXPECT_EQ a computed double.
+// Floating-point comparison for tests (docs/architecture.md, "Rules the code keeps"): one
+// helper for scalars and matrices, absolute or relative, with tolerances that carry a
+// name and a reason. Never EXPECT_EQ a computed double.
 
 #include <gtest/gtest.h>
 
@@ -29,8 +29,8 @@ inline constexpr double kFloat32 = 1e-6;
 inline constexpr double kAccumulated = 1e-9;
 }  // namespace tol
 
-inline ::testing::AssertionResult CompareScalars(double a, double b, double tolerance,
-                                                 ToleranceType type = ToleranceType::kAbsolute) {
+inline ::testing::AssertionResult CompareScalars(
+    double a, double b, double tolerance, ToleranceType type = ToleranceType::kAbsolute) {
   if (!std::isfinite(a) || !std::isfinite(b)) {
     if (a == b) return ::testing::AssertionSuccess();  // same infinity
     return ::testing::AssertionFailure() << a << " vs " << b << ": non-finite";
@@ -48,13 +48,12 @@ inline ::testing::AssertionResult CompareScalars(double a, double b, double tole
 /// Compares two matrices entry by entry. Fails on a shape mismatch, a NaN, or
 /// the first entry outside the tolerance, printing both matrices.
 template <typename DerivedA, typename DerivedB>
-::testing::AssertionResult CompareMatrices(const Eigen::MatrixBase<DerivedA>& a,
-                                           const Eigen::MatrixBase<DerivedB>& b,
-                                           double tolerance,
-                                           ToleranceType type = ToleranceType::kAbsolute) {
+::testing::AssertionResult CompareMatrices(
+    const Eigen::MatrixBase<DerivedA>& a, const Eigen::MatrixBase<DerivedB>& b,
+    double tolerance, ToleranceType type = ToleranceType::kAbsolute) {
   if (a.rows() != b.rows() || a.cols() != b.cols()) {
-    return ::testing::AssertionFailure() << "shape " << a.rows() << "x" << a.cols() << " vs "
-                                         << b.rows() << "x" << b.cols();
+    return ::testing::AssertionFailure() << "shape " << a.rows() << "x" << a.cols()
+                                         << " vs " << b.rows() << "x" << b.cols();
   }
   for (Eigen::Index i = 0; i < a.rows(); ++i) {
     for (Eigen::Index j = 0; j < a.cols(); ++j) {

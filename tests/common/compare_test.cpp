@@ -9,7 +9,8 @@ TEST(CompareScalars, AbsoluteAndRelative) {
   EXPECT_TRUE(CompareScalars(1.0, 1.0 + 5e-13, tol::kRoundTrip));
   EXPECT_FALSE(CompareScalars(1.0, 1.0 + 5e-12, tol::kRoundTrip));
   // 1e6 vs 1e6 + 1e-7: absolute error 1e-7 fails 1e-12, relative error 1e-13 passes.
-  EXPECT_FALSE(CompareScalars(1e6, 1e6 + 1e-7, tol::kRoundTrip, ToleranceType::kAbsolute));
+  EXPECT_FALSE(
+      CompareScalars(1e6, 1e6 + 1e-7, tol::kRoundTrip, ToleranceType::kAbsolute));
   EXPECT_TRUE(CompareScalars(1e6, 1e6 + 1e-7, tol::kRoundTrip, ToleranceType::kRelative));
 }
 

@@ -7,14 +7,16 @@
 
 namespace sulcus::test {
 
-inline std::filesystem::path OutputPath(const std::string& folder, const std::string& name = "") {
+inline std::filesystem::path OutputPath(const std::string& folder,
+                                        const std::string& name = "") {
   const std::filesystem::path dir = std::filesystem::path(SULCUS_TEST_OUTPUT) / folder;
   std::filesystem::create_directories(dir);
   return name.empty() ? dir : dir / name;
 }
 
 /// The same folder's subfolder `name`, emptied: a test that starts from nothing.
-inline std::filesystem::path FreshOutputPath(const std::string& folder, const std::string& name) {
+inline std::filesystem::path FreshOutputPath(const std::string& folder,
+                                             const std::string& name) {
   const std::filesystem::path dir = OutputPath(folder, name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);

@@ -36,10 +36,13 @@ int main(int argc, char** argv) {
   std::sort(files.begin(), files.end());
   for (const fs::path& f : files) {
     std::ifstream in(f, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string bytes((std::istreambuf_iterator<char>(in)),
+                            std::istreambuf_iterator<char>());
     std::fprintf(stderr, "%s: %s\n", t->name, f.filename().c_str());
-    sulcus::fuzz::RunOne(*t, reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+    sulcus::fuzz::RunOne(*t, reinterpret_cast<const std::uint8_t*>(bytes.data()),
+                         bytes.size());
   }
-  std::printf("%s: %zu inputs, each accepted or cleanly refused\n", t->name, files.size());
+  std::printf("%s: %zu inputs, each accepted or cleanly refused\n", t->name,
+              files.size());
   return files.empty() ? 1 : 0;
 }

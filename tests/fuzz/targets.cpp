@@ -25,7 +25,8 @@ namespace fs = std::filesystem;
 // One folder per process (fuzzers run jobs in parallel), in memory when it can be.
 const fs::path& WorkDir() {
   static const fs::path dir = [] {
-    const fs::path base = fs::exists("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
+    const fs::path base =
+        fs::exists("/dev/shm") ? fs::path("/dev/shm") : fs::temp_directory_path();
     fs::path d = base / ("sulcus-fuzz-" + std::to_string(getpid()));
     fs::create_directories(d);
     return d;
@@ -61,14 +62,16 @@ void Read(const Target& t, const fs::path& file) {
     // The cache is checksummed: take the key from the file and fix the checksum
     // up, so that the fuzzer reaches the structure behind it.
     std::ifstream in(file, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string bytes((std::istreambuf_iterator<char>(in)),
+                      std::istreambuf_iterator<char>());
     std::uint64_t key = 0;
     constexpr std::size_t kKeyAt = 8 + 16;
     if (bytes.size() >= kKeyAt + 8 + 8) {
       std::memcpy(&key, bytes.data() + kKeyAt, 8);
       const std::uint64_t sum = Fnv1a(bytes.data(), bytes.size() - 8);
       std::memcpy(bytes.data() + bytes.size() - 8, &sum, 8);
-      std::ofstream(file, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      std::ofstream(file, std::ios::binary | std::ios::trunc)
+          .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     }
     ReadTreeBinary(file, key);
   } else if (n == "recording") {
@@ -84,9 +87,12 @@ void Read(const Target& t, const fs::path& file) {
 
 const std::vector<Target>& Targets() {
   static const std::vector<Target> targets = {
-      {"scene", ".yaml"},     {"lesson", ".yaml"},   {"answers", ".yaml"},     {"mesh_stl", ".stl"},
-      {"mesh_obj", ".obj"},   {"mesh_ply", ".ply"},  {"mesh_off", ".off"},     {"sph", ".sph"},
-      {"tree_cache", ".bin"}, {"recording", ".rec"}, {"trajectory_csv", ".csv"},
+      {"scene", ".yaml"},         {"lesson", ".yaml"},
+      {"answers", ".yaml"},       {"mesh_stl", ".stl"},
+      {"mesh_obj", ".obj"},       {"mesh_ply", ".ply"},
+      {"mesh_off", ".off"},       {"sph", ".sph"},
+      {"tree_cache", ".bin"},     {"recording", ".rec"},
+      {"trajectory_csv", ".csv"},
   };
   return targets;
 }
@@ -105,7 +111,9 @@ fs::path LessonDir() {
     fs::create_directories(lessons);
     fs::create_directories(scenes);
     for (const auto& e : fs::directory_iterator(fs::path(SULCUS_SOURCE_DIR) / "scenes"))
-      if (e.path().extension() == ".yaml") fs::copy_file(e.path(), scenes / e.path().filename(), fs::copy_options::overwrite_existing);
+      if (e.path().extension() == ".yaml")
+        fs::copy_file(e.path(), scenes / e.path().filename(),
+                      fs::copy_options::overwrite_existing);
     return lessons;
   }();
   return dir;

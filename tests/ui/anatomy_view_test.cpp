@@ -12,8 +12,8 @@
 #include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
 #include "core/scene/scene.h"
-#include "ui/mesh_view.h"
 #include "tests/common/output.h"
+#include "ui/mesh_view.h"
 
 namespace sulcus::ui {
 namespace {
@@ -66,8 +66,10 @@ TEST(AnatomyView, MolarsUpperAndLower) {
   ToothModel lower = GenerateTooth(36);
   ToothModel upper = GenerateTooth(26);
   upper.mesh.Transform(Matrix3::Identity(), Vector3(14, 0, 0));
-  const double drawn = RenderToPng({{&lower.mesh, {0.93, 0.91, 0.84}, 1.0}, {&upper.mesh, {0.93, 0.91, 0.84}, 1.0}},
-                                   Shot("molars_36_26.png"), 1000, 700, "Generated molars 36 (2 roots) and 26 (3 roots)");
+  const double drawn = RenderToPng(
+      {{&lower.mesh, {0.93, 0.91, 0.84}, 1.0}, {&upper.mesh, {0.93, 0.91, 0.84}, 1.0}},
+      Shot("molars_36_26.png"), 1000, 700,
+      "Generated molars 36 (2 roots) and 26 (3 roots)");
   EXPECT_GT(drawn, 0.1);
 }
 
@@ -77,26 +79,30 @@ TEST(AnatomyView, ProbeAtAMolar) {
   TriangleMesh p = probe.mesh;
   // The tip at the buccal cervix, the working end along the tooth's long axis.
   p.Transform(Matrix3::Identity(), Vector3(0, 5.6, -1.0));
-  const double drawn = RenderToPng({{&tooth.mesh, {0.93, 0.91, 0.84}, 1.0}, {&p, {0.75, 0.78, 0.82}, 1.0}},
-                                   Shot("probe_at_46.png"), 1000, 800, "Williams probe at tooth 46");
-  EXPECT_GT(drawn, 0.02);  // a 100 mm probe beside a 21 mm tooth: the frame is mostly background
+  const double drawn =
+      RenderToPng({{&tooth.mesh, {0.93, 0.91, 0.84}, 1.0}, {&p, {0.75, 0.78, 0.82}, 1.0}},
+                  Shot("probe_at_46.png"), 1000, 800, "Williams probe at tooth 46");
+  EXPECT_GT(drawn,
+            0.02);  // a 100 mm probe beside a 21 mm tooth: the frame is mostly background
 }
 
 TEST(AnatomyView, LowerArch) {
   std::vector<TriangleMesh> teeth;
-  for (const PlacedTooth& p : PlaceArch(false)) teeth.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
+  for (const PlacedTooth& p : PlaceArch(false))
+    teeth.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
   std::vector<ShadedMesh> shaded;
   for (const TriangleMesh& t : teeth) shaded.push_back({&t, {0.93, 0.91, 0.84}, 1.0});
-  const double drawn = RenderToPng(shaded, Shot("lower_arch.png"), 1200, 800, "Generated lower arch, 37 to 47");
+  const double drawn = RenderToPng(shaded, Shot("lower_arch.png"), 1200, 800,
+                                   "Generated lower arch, 37 to 47");
   EXPECT_GT(drawn, 0.1);
 }
-
 
 // The tongue in the lower arch with the floor of the mouth, from in front and
 // above (as an examiner sees it with the mouth open), and from the side.
 TEST(AnatomyView, TongueInTheLowerArch) {
   std::vector<TriangleMesh> meshes;
-  for (const PlacedTooth& p : PlaceArch(false)) meshes.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
+  for (const PlacedTooth& p : PlaceArch(false))
+    meshes.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
   const std::size_t teeth = meshes.size();
   meshes.push_back(MakeSoftTissue("tongue"));
   meshes.push_back(MakeSoftTissue("floor_of_mouth"));
@@ -121,8 +127,9 @@ TEST(AnatomyView, TongueInTheLowerArch) {
     for (std::size_t i = teeth; i < turned.size(); ++i) {
       shaded[i].color[0] = 0.85, shaded[i].color[1] = 0.45, shaded[i].color[2] = 0.48;
     }
-    const double drawn = RenderToPng(shaded, Shot(std::string("tongue_") + view + ".png"), 1000, 800,
-                                     std::string("Tongue and floor of the mouth in the lower arch, ") + view);
+    const double drawn = RenderToPng(
+        shaded, Shot(std::string("tongue_") + view + ".png"), 1000, 800,
+        std::string("Tongue and floor of the mouth in the lower arch, ") + view);
     EXPECT_GT(drawn, 0.1);
   }
 }
@@ -132,9 +139,11 @@ TEST(AnatomyView, LipsAndCheeksAroundTheOpenMouth) {
   const ArchParams open{.upper_lift_mm = 20};
   std::vector<TriangleMesh> meshes;
   for (bool upper : {false, true})
-    for (const PlacedTooth& p : PlaceArch(upper, open)) meshes.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
+    for (const PlacedTooth& p : PlaceArch(upper, open))
+      meshes.push_back(PlacedMesh(p, GenerateTooth(p.tooth.fdi).mesh));
   const std::size_t teeth = meshes.size();
-  for (const char* name : {"lip_upper", "lip_lower", "cheek_left", "cheek_right", "tongue"})
+  for (const char* name :
+       {"lip_upper", "lip_lower", "cheek_left", "cheek_right", "tongue"})
     meshes.push_back(MakeSoftTissue(name, open));
   // From in front, 10 degrees above the occlusal plane.
   const Matrix3 R = FromTheFront(-10);
@@ -142,9 +151,12 @@ TEST(AnatomyView, LipsAndCheeksAroundTheOpenMouth) {
   std::vector<ShadedMesh> shaded;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     shaded.push_back({&meshes[i], {0.93, 0.91, 0.84}, 1.0});
-    if (i >= teeth) shaded.back().color[0] = 0.85, shaded.back().color[1] = 0.5, shaded.back().color[2] = 0.52;
+    if (i >= teeth)
+      shaded.back().color[0] = 0.85, shaded.back().color[1] = 0.5,
+      shaded.back().color[2] = 0.52;
   }
-  const double drawn = RenderToPng(shaded, Shot("lips_front.png"), 1000, 800, "Lips, cheeks and tongue, mouth open 20 mm");
+  const double drawn = RenderToPng(shaded, Shot("lips_front.png"), 1000, 800,
+                                   "Lips, cheeks and tongue, mouth open 20 mm");
   EXPECT_GT(drawn, 0.1);
 }
 
@@ -153,7 +165,9 @@ TEST(AnatomyView, LipsAndCheeksAroundTheOpenMouth) {
 // cut to the tooth's neighbourhood.
 TEST(AnatomyView, FurcationClasses) {
   const std::vector<PlacedTooth> placed = PlaceArch(false);
-  const PlacedTooth p = *std::find_if(placed.begin(), placed.end(), [](const PlacedTooth& t) { return t.tooth.fdi == 46; });
+  const PlacedTooth p =
+      *std::find_if(placed.begin(), placed.end(),
+                    [](const PlacedTooth& t) { return t.tooth.fdi == 46; });
   const RigidTransform X_TW = p.X_WT.inverse();
   const double roof = FurcationRoofMm(46);
   const double below[4] = {0, 0.5, 1.5, 3.0};
@@ -165,10 +179,13 @@ TEST(AnatomyView, FurcationClasses) {
   R = Straight(R);
   std::vector<TriangleMesh> meshes;
   for (int hamp = 1; hamp <= 3; ++hamp) {
-    TriangleMesh jaw = MakeSoftTissue("jaw_lower", {}, {{46, roof + below[hamp]}}, {{46, {{"B", hamp}, {"L", 0}}}});
+    TriangleMesh jaw = MakeSoftTissue("jaw_lower", {}, {{46, roof + below[hamp]}},
+                                      {{46, {{"B", hamp}, {"L", 0}}}});
     jaw.Transform(X_TW.rotation(), X_TW.translation());
-    jaw = ClipByPlanes(jaw, {{Vector3(6.5, 0, 0), Vector3::UnitX()}, {Vector3(-6.5, 0, 0), -Vector3::UnitX()},
-                             {Vector3(0, 12, 0), Vector3::UnitY()}, {Vector3(0, -12, 0), -Vector3::UnitY()},
+    jaw = ClipByPlanes(jaw, {{Vector3(6.5, 0, 0), Vector3::UnitX()},
+                             {Vector3(-6.5, 0, 0), -Vector3::UnitX()},
+                             {Vector3(0, 12, 0), Vector3::UnitY()},
+                             {Vector3(0, -12, 0), -Vector3::UnitY()},
                              {Vector3(0, 0, -11), -Vector3::UnitZ()}});
     TriangleMesh tooth = GenerateTooth(46).mesh;
     for (TriangleMesh* m : {&jaw, &tooth}) {
@@ -180,10 +197,13 @@ TEST(AnatomyView, FurcationClasses) {
   std::vector<ShadedMesh> shaded;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     shaded.push_back({&meshes[i], {0.93, 0.91, 0.84}, 1.0});
-    if (i % 2 == 0) shaded.back().color[0] = 0.9, shaded.back().color[1] = 0.82, shaded.back().color[2] = 0.7;  // bone
+    if (i % 2 == 0)
+      shaded.back().color[0] = 0.9, shaded.back().color[1] = 0.82,
+      shaded.back().color[2] = 0.7;  // bone
   }
   const double drawn = RenderToPng(shaded, Shot("furcation_classes.png"), 1200, 600,
-                                   "46 from the buccal side: furcation class I, II, III (bone 0.5, 1.5, 3 mm below the entrance)");
+                                   "46 from the buccal side: furcation class I, II, III "
+                                   "(bone 0.5, 1.5, 3 mm below the entrance)");
   EXPECT_GT(drawn, 0.1);
 }
 
@@ -191,17 +211,21 @@ TEST(AnatomyView, FurcationClasses) {
 // inspection scene builds them, from in front and a little below, close: the
 // papillae between the incisors and the scalloped margin.
 TEST(AnatomyView, GingivaOfTheUpperFront) {
-  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
+  const SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
   const fs::path cache = OutputPath("cache");
   std::vector<TriangleMesh> meshes;
-  std::vector<std::vector<Vector3>> normals;  // (the shares': drawn with them, as the scene view draws them)
+  std::vector<std::vector<Vector3>>
+      normals;             // (the shares': drawn with them, as the scene view draws them)
   std::vector<int> kinds;  // 0 tooth, 1 gingiva or jaw
   // From in front, 5 degrees below the occlusal plane: looking a little up
   // at the upper teeth.
   const Matrix3 R = FromTheFront(5);
   for (const ObjectSpec& o : spec.objects) {
-    const bool front = o.fdi == 13 || o.fdi == 12 || o.fdi == 11 || o.fdi == 21 || o.fdi == 22 || o.fdi == 23;
-    const bool tooth = o.kind == ObjectSpec::Kind::kTooth, gingiva = o.kind == ObjectSpec::Kind::kGingiva;
+    const bool front = o.fdi == 13 || o.fdi == 12 || o.fdi == 11 || o.fdi == 21 ||
+                       o.fdi == 22 || o.fdi == 23;
+    const bool tooth = o.kind == ObjectSpec::Kind::kTooth,
+               gingiva = o.kind == ObjectSpec::Kind::kGingiva;
     if (!((tooth || gingiva) && front) && o.anatomy != "jaw_upper") continue;
     std::vector<Vector3> n;
     TriangleMesh m = MakeObjectMeshCached(o, cache, &n, /*seen=*/true);
@@ -213,19 +237,29 @@ TEST(AnatomyView, GingivaOfTheUpperFront) {
     meshes.push_back(std::move(m));
     kinds.push_back(tooth ? 0 : 1);
   }
-  ASSERT_EQ(meshes.size(), 13u) << "six teeth, their six shares of the gingiva and the upper jaw";
-  EXPECT_EQ(std::count_if(normals.begin(), normals.end(), [](const auto& n) { return !n.empty(); }), 6)
+  ASSERT_EQ(meshes.size(), 13u)
+      << "six teeth, their six shares of the gingiva and the upper jaw";
+  EXPECT_EQ(std::count_if(normals.begin(), normals.end(),
+                          [](const auto& n) { return !n.empty(); }),
+            6)
       << "each share of the gingiva has its normals";
   for (TriangleMesh& m : meshes) m.Transform(R, Vector3::Zero());
   std::vector<ShadedMesh> shaded;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     // (with the scene view's crease angle: a share's flat cut against its
     // neighbour stays sharp instead of darkening the seam)
-    shaded.push_back({&meshes[i], {0.93, 0.91, 0.84}, 1.0, normals[i].empty() ? nullptr : &normals[i], kCreaseDeg});
-    if (kinds[i] == 1) shaded.back().color[0] = 0.85, shaded.back().color[1] = 0.5, shaded.back().color[2] = 0.52;
+    shaded.push_back({&meshes[i],
+                      {0.93, 0.91, 0.84},
+                      1.0,
+                      normals[i].empty() ? nullptr : &normals[i],
+                      kCreaseDeg});
+    if (kinds[i] == 1)
+      shaded.back().color[0] = 0.85, shaded.back().color[1] = 0.5,
+      shaded.back().color[2] = 0.52;
   }
-  const double drawn = RenderToPng(shaded, Shot("gingiva_upper_front.png"), 1200, 800,
-                                   "Upper front teeth 13 to 23 in their gingiva, from in front");
+  const double drawn =
+      RenderToPng(shaded, Shot("gingiva_upper_front.png"), 1200, 800,
+                  "Upper front teeth 13 to 23 in their gingiva, from in front");
   EXPECT_GT(drawn, 0.1);
 }
 

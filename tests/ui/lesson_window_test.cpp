@@ -4,6 +4,7 @@
 // the chart is filled through real key events; the diagnosis is declared; the
 // report is shown, saved and stored. Practice shows the truth, assessment does
 // not and locks the aids. Screenshots go to test-output/ui.
+#include <QVTKOpenGLNativeWidget.h>
 #include <gtest/gtest.h>
 
 #include <QApplication>
@@ -12,13 +13,11 @@
 #include <QElapsedTimer>
 #include <QKeyEvent>
 #include <QMessageBox>
+#include <QRegularExpression>
 #include <QSurfaceFormat>
 #include <QTabWidget>
 #include <QTableWidget>
-#include <QRegularExpression>
 #include <QTextBrowser>
-#include <QVTKOpenGLNativeWidget.h>
-
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -32,9 +31,9 @@
 #include "core/lesson/results.h"
 #include "tests/common/output.h"
 #include "ui/chart_widget.h"
-#include "ui/odontogram_widget.h"
-#include "ui/main_window.h"
 #include "ui/instructor_dialog.h"
+#include "ui/main_window.h"
+#include "ui/odontogram_widget.h"
 #include "ui/progress_dialog.h"
 #include "ui/start_dialog.h"
 
@@ -58,19 +57,23 @@ bool WaitFor(F done, int limit_ms = 240000) {
   return true;
 }
 
-void Key(QWidget* w, int key, const QString& text, Qt::KeyboardModifiers mods = Qt::NoModifier) {
+void Key(QWidget* w, int key, const QString& text,
+         Qt::KeyboardModifiers mods = Qt::NoModifier) {
   QKeyEvent press(QEvent::KeyPress, key, mods, text);
   QApplication::sendEvent(w, &press);
   QKeyEvent release(QEvent::KeyRelease, key, mods, text);
   QApplication::sendEvent(w, &release);
 }
 
-bool Save(QWidget* w, const std::string& name) { return w->grab().save(QString::fromStdString(Out(name).string())); }
+bool Save(QWidget* w, const std::string& name) {
+  return w->grab().save(QString::fromStdString(Out(name).string()));
+}
 
 TEST(StartPage, ListsTheLessonsAndABrokenOneAsBroken) {
   const fs::path extra = Out("instructor");
   fs::create_directories(extra);
-  std::ofstream(extra / "broken.yaml") << "name: broken\nscene: nowhere.yaml\nsteps: [{instruction: x, complete: reed}]\n";
+  std::ofstream(extra / "broken.yaml")
+      << "name: broken\nscene: nowhere.yaml\nsteps: [{instruction: x, complete: reed}]\n";
   StartDialog d({Lessons(), extra}, Out("start_results.db"));
   d.SetStudent("Ada");
   d.show();
@@ -81,7 +84,8 @@ TEST(StartPage, ListsTheLessonsAndABrokenOneAsBroken) {
       broken = it.broken;
       EXPECT_NE(it.errors.find("broken.yaml:3:"), std::string::npos) << it.errors;
     }
-    if (it.file.filename() == "periodontal_probing.yaml") shipped = !it.broken && !it.description.empty();
+    if (it.file.filename() == "periodontal_probing.yaml")
+      shipped = !it.broken && !it.description.empty();
   }
   EXPECT_TRUE(broken);
   EXPECT_TRUE(shipped);
@@ -95,7 +99,8 @@ TEST(StartPage, ListsTheLessonsAndABrokenOneAsBroken) {
 TEST(StartPage, ALessonThatDrawsItsCaseOffersTheLastCaseAgainAndAGivenSeed) {
   const fs::path db_file = Out("start_case_results.db");
   fs::remove(db_file);
-  const fs::path case_lesson = fs::absolute(Lessons() / "periodontal_probing_case.yaml").lexically_normal();
+  const fs::path case_lesson =
+      fs::absolute(Lessons() / "periodontal_probing_case.yaml").lexically_normal();
   {
     ResultsDb db(db_file);
     LessonResult r;
@@ -114,12 +119,14 @@ TEST(StartPage, ALessonThatDrawsItsCaseOffersTheLastCaseAgainAndAGivenSeed) {
   d.show();
   ASSERT_TRUE(d.SelectLesson(Lessons() / "periodontal_probing.yaml"));
   QApplication::processEvents();
-  EXPECT_FALSE(d.ChooseCase(StartDialog::CaseChoice::kSeed, 7)) << "a lesson with a fixed scene has no case to choose";
+  EXPECT_FALSE(d.ChooseCase(StartDialog::CaseChoice::kSeed, 7))
+      << "a lesson with a fixed scene has no case to choose";
   EXPECT_FALSE(d.seed().has_value());
 
   ASSERT_TRUE(d.SelectLesson(case_lesson));
   QApplication::processEvents();
-  EXPECT_FALSE(d.seed().has_value()) << "by default the lesson's own: a new case (seed: random)";
+  EXPECT_FALSE(d.seed().has_value())
+      << "by default the lesson's own: a new case (seed: random)";
   ASSERT_TRUE(d.ChooseCase(StartDialog::CaseChoice::kLast));
   ASSERT_TRUE(d.seed().has_value());
   EXPECT_EQ(*d.seed(), 4242u) << "the student's last case again";
@@ -166,7 +173,8 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   w.resize(1366, 768);
   w.show();
   {
-    // A figure, not a check: display frames a second with the thread at 1 kHz (the mouse device).
+    // A figure, not a check: display frames a second with the thread at 1 kHz (the mouse
+    // device).
     MainWindow::LessonStart live = CarefulStudent();
     live.device = "mouse";
     live.free_run = false;
@@ -175,8 +183,10 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
     QElapsedTimer t;
     t.start();
     WaitFor([&] { return t.elapsed() > 3000; });
-    std::printf("figure: %.1f display frames a second under Xvfb with the haptic thread at 1 kHz\n",
-                (w.frames() - f0) * 1000.0 / t.elapsed());
+    std::printf(
+        "figure: %.1f display frames a second under Xvfb with the haptic thread at 1 "
+        "kHz\n",
+        (w.frames() - f0) * 1000.0 / t.elapsed());
     ASSERT_TRUE(w.FinishLesson(false));
   }
   ASSERT_TRUE(w.StartLesson(CarefulStudent()));
@@ -185,25 +195,34 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   EXPECT_FALSE(w.HelpHtml().contains("odontogram"));
   ASSERT_NE(w.lesson(), nullptr);
   EXPECT_FALSE(w.aids_locked());
-  EXPECT_TRUE(WaitFor([&] { return w.lesson_text().contains("Step 1 of 4"); })) << w.lesson_text().toStdString();
+  EXPECT_TRUE(WaitFor([&] { return w.lesson_text().contains("Step 1 of 4"); }))
+      << w.lesson_text().toStdString();
   // Halfway round the buccal sulci: the lesson in progress.
   ASSERT_TRUE(WaitFor([&] { return w.lesson()->Finish().sites_read >= 6; }));
   EXPECT_TRUE(Save(&w, "lesson_in_progress.png"));
-  ASSERT_TRUE(WaitFor([&] { return w.lesson()->current_step() >= 2; })) << "both probing steps done";
+  ASSERT_TRUE(WaitFor([&] { return w.lesson()->current_step() >= 2; }))
+      << "both probing steps done";
   ChartEverything(w);
   EXPECT_EQ(w.chart()->entered(), 24);
-  EXPECT_EQ(w.lesson()->current_step(), 3) << "the chart step is done: on to the diagnosis; " << [&] {
-    const LessonResult now = w.lesson()->Finish();
-    std::string why = "ticks " + std::to_string(now.first_tick) + ".." + std::to_string(now.last_tick) +
-                      ", charted " + std::to_string(now.sites_charted) + (now.complete ? "" : ", " + now.ended);
-    for (const StepResult& st : now.steps)
-      why += "; " + st.id + (st.completed ? " done" : st.timed_out ? " timed out" : " open");
-    for (const std::string& f : now.feedback) why += "; " + f;
-    return why;
-  }();
+  EXPECT_EQ(w.lesson()->current_step(), 3)
+      << "the chart step is done: on to the diagnosis; " << [&] {
+           const LessonResult now = w.lesson()->Finish();
+           std::string why = "ticks " + std::to_string(now.first_tick) + ".." +
+                             std::to_string(now.last_tick) + ", charted " +
+                             std::to_string(now.sites_charted) +
+                             (now.complete ? "" : ", " + now.ended);
+           for (const StepResult& st : now.steps)
+             why += "; " + st.id +
+                    (st.completed   ? " done"
+                     : st.timed_out ? " timed out"
+                                    : " open");
+           for (const std::string& f : now.feedback) why += "; " + f;
+           return why;
+         }();
   EXPECT_TRUE(Save(&w, "lesson_charted.png"));
   bool truth_shown = false;
-  for (const std::string& f : w.lesson()->feedback()) truth_shown |= f.find("the true depth is") != std::string::npos;
+  for (const std::string& f : w.lesson()->feedback())
+    truth_shown |= f.find("the true depth is") != std::string::npos;
   EXPECT_TRUE(truth_shown) << "practice: the truth after each site";
   EXPECT_TRUE(w.chart()->shows_truth()) << "practice: the chart's true-PD row";
   DeclaredDiagnosis d;
@@ -213,19 +232,24 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   QElapsedTimer finish;
   finish.start();
   ASSERT_TRUE(w.FinishLesson());
-  std::printf("figure: %lld ms from the last entry to the report on screen (scored, saved, stored)\n",
-              static_cast<long long>(finish.elapsed()));
+  std::printf(
+      "figure: %lld ms from the last entry to the report on screen (scored, saved, "
+      "stored)\n",
+      static_cast<long long>(finish.elapsed()));
   ASSERT_TRUE(w.last_result());
   const LessonResult& r = *w.last_result();
   EXPECT_EQ(r.sites_read, 24);
   EXPECT_EQ(r.sites_charted, 24);
   EXPECT_GE(r.total, 95.0);
   EXPECT_EQ(r.declared->Summary(), "periodontitis stage III, localized");
-  for (const RubricLine& l : r.lines) EXPECT_NE(l.status, RubricLine::Status::kFail) << l.message;
+  for (const RubricLine& l : r.lines)
+    EXPECT_NE(l.status, RubricLine::Status::kFail) << l.message;
   EXPECT_TRUE(fs::exists(w.last_report()));
   ASSERT_NE(w.report_dialog(), nullptr);
   EXPECT_TRUE(w.report_dialog()->isVisible());
-  EXPECT_TRUE(w.report_dialog()->findChild<QTextBrowser*>("report")->toPlainText().contains("Every line of the score"));
+  EXPECT_TRUE(
+      w.report_dialog()->findChild<QTextBrowser*>("report")->toPlainText().contains(
+          "Every line of the score"));
   QApplication::processEvents();
   EXPECT_TRUE(Save(w.report_dialog(), "lesson_report.png"));
   ResultsDb db(Out("results") / "results.db");
@@ -246,12 +270,16 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   const Recording rec = ReadRecording(rows.back().recording);
   const TickRecord* frame = w.replay_frame();
   ASSERT_NE(frame, nullptr);
-  EXPECT_EQ(frame->X_WG.translation(), rec.frames[line->tick].X_WG.translation()) << "the recorded tool, at that tick";
-  EXPECT_EQ(frame->sample.X_WH.translation(), rec.frames[line->tick].sample.X_WH.translation()) << "and the ghost";
+  EXPECT_EQ(frame->X_WG.translation(), rec.frames[line->tick].X_WG.translation())
+      << "the recorded tool, at that tick";
+  EXPECT_EQ(frame->sample.X_WH.translation(),
+            rec.frames[line->tick].sample.X_WH.translation())
+      << "and the ghost";
   w.report_dialog()->hide();
   QApplication::processEvents();
   EXPECT_GT(w.plot_rows(), 10) << "the force trace of the last seconds up to the cursor";
-  EXPECT_LE(w.minimumSizeHint().height(), 740) << "with the replay's timeline the window still fits 768 px";
+  EXPECT_LE(w.minimumSizeHint().height(), 740)
+      << "with the replay's timeline the window still fits 768 px";
   EXPECT_TRUE(Save(&w, "replay_at_46DB.png"));
   w.SetReplayPlaying(true);
   const std::uint64_t from = w.replay_tick();
@@ -259,11 +287,15 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   w.CloseReplay();
   EXPECT_FALSE(w.replaying());
 
-  // That attempt as a demonstration: its probe moves as a ghost beside the live one, tick for tick.
+  // That attempt as a demonstration: its probe moves as a ghost beside the live one, tick
+  // for tick.
   ASSERT_TRUE(w.SetDemonstration(rows.back().recording));
-  ASSERT_TRUE(WaitFor([&] { return w.last_snapshot().tick > 500 && w.ghost_pose().has_value(); }, 60000));
+  ASSERT_TRUE(WaitFor(
+      [&] { return w.last_snapshot().tick > 500 && w.ghost_pose().has_value(); }, 60000));
   const std::uint64_t now = w.last_snapshot().tick;
-  EXPECT_EQ(w.ghost_pose()->translation(), rec.frames[std::min<std::size_t>(now, rec.frames.size() - 1)].X_WG.translation());
+  EXPECT_EQ(
+      w.ghost_pose()->translation(),
+      rec.frames[std::min<std::size_t>(now, rec.frames.size() - 1)].X_WG.translation());
   EXPECT_TRUE(Save(&w, "demonstration_ghost.png"));
   ASSERT_TRUE(w.SetDemonstration({}));
   EXPECT_FALSE(w.ghost_pose().has_value());
@@ -287,16 +319,20 @@ TEST(InspectionWindow, TheInspectionLessonFromItsStartToTheReport) {
   ASSERT_NE(w.lesson(), nullptr);
   ASSERT_NE(w.odontogram(), nullptr);
   EXPECT_TRUE(w.odontogram()->isVisible());
-  // F1 helps with the examination: the order, gentle touch, the odontogram's keys, submitting.
-  for (const char* about : {"tooth by tooth", "0.5 N", "odontogram", "M D B L O", "Submit the findings"})
+  // F1 helps with the examination: the order, gentle touch, the odontogram's keys,
+  // submitting.
+  for (const char* about :
+       {"tooth by tooth", "0.5 N", "odontogram", "M D B L O", "Submit the findings"})
     EXPECT_TRUE(w.HelpHtml().contains(about)) << about;
   EXPECT_FALSE(w.HelpHtml().contains("<b>Charting</b>"));
   EXPECT_FALSE(w.chart()->isVisible()) << "no periodontal chart in an inspection";
   // (The hand may have finished the first step, the lips, before the window
   // has drawn its first frame: any step will do.)
-  EXPECT_TRUE(WaitFor([&] { return w.lesson_text().contains(QRegularExpression("Step \\d+ of 11")); }))
+  EXPECT_TRUE(WaitFor([&] {
+    return w.lesson_text().contains(QRegularExpression("Step \\d+ of 11"));
+  })) << w.lesson_text().toStdString();
+  ASSERT_TRUE(WaitFor([&] { return w.lesson()->current_step() >= 7; }, 600000))
       << w.lesson_text().toStdString();
-  ASSERT_TRUE(WaitFor([&] { return w.lesson()->current_step() >= 7; }, 600000)) << w.lesson_text().toStdString();
   QApplication::processEvents();
   EXPECT_TRUE(Save(&w, "inspection_in_progress.png"));
   // The hand has finished (the scripted moves take about 190 s of lesson time).
@@ -329,9 +365,11 @@ TEST(InspectionWindow, TheInspectionLessonFromItsStartToTheReport) {
   EXPECT_GT(seen, 10) << "the camera followed the teeth the lesson asked for";
   for (const FindingScore& sc : r.inspection.scores) EXPECT_EQ(sc.fp, 0) << sc.kind;
   for (const RubricLine& l : r.lines)
-    EXPECT_EQ(l.message.find("status"), std::string::npos) << "the status entered is right: " << l.message;
+    EXPECT_EQ(l.message.find("status"), std::string::npos)
+        << "the status entered is right: " << l.message;
   ASSERT_NE(w.report_dialog(), nullptr);
-  const QString text = w.report_dialog()->findChild<QTextBrowser*>("report")->toPlainText();
+  const QString text =
+      w.report_dialog()->findChild<QTextBrowser*>("report")->toPlainText();
   EXPECT_TRUE(text.contains("Odontogram")) << text.left(400).toStdString();
   EXPECT_TRUE(text.contains("sensitivity"));
   QApplication::processEvents();
@@ -345,14 +383,17 @@ TEST(InspectionWindow, TheInspectionLessonFromItsStartToTheReport) {
   // (the thorough inspector leaves a step with a proximal surface unexamined).
   const RubricLine* line = nullptr;
   for (const RubricLine& l : r.lines)
-    if (l.status == RubricLine::Status::kFail && l.tick > r.first_tick && !line) line = &l;
+    if (l.status == RubricLine::Status::kFail && l.tick > r.first_tick && !line)
+      line = &l;
   ASSERT_NE(line, nullptr) << "no failed line with a moment";
-  emit w.report_dialog()->findChild<QTextBrowser*>("report")->anchorClicked(QUrl(QString("#t%1").arg(line->tick)));
+  emit w.report_dialog()->findChild<QTextBrowser*>("report")->anchorClicked(
+      QUrl(QString("#t%1").arg(line->tick)));
   ASSERT_TRUE(w.replaying());
   EXPECT_EQ(w.replay_tick(), line->tick);
   const Recording rec = ReadRecording(rows.back().recording);
   ASSERT_NE(w.replay_frame(), nullptr);
-  EXPECT_EQ(w.replay_frame()->X_WG.translation(), rec.frames[line->tick].X_WG.translation());
+  EXPECT_EQ(w.replay_frame()->X_WG.translation(),
+            rec.frames[line->tick].X_WG.translation());
   w.report_dialog()->hide();
   QApplication::processEvents();
   EXPECT_TRUE(Save(&w, "inspection_replay_at_line.png"));
@@ -397,12 +438,14 @@ TEST(Instructor, RefusesAWrongPassphraseAndShowsEveryStudentWithTheRightOne) {
     o.cache_dir = std::getenv("SULCUS_CACHE_DIR");
     for (const char* who : {"ada", "grace", "linus"}) {
       o.student = who;
-      db.Store(RunAttempt(Lessons() / "periodontal_probing.yaml", o).result, "2026-12-01T00:00:00Z", "", "", "");
+      db.Store(RunAttempt(Lessons() / "periodontal_probing.yaml", o).result,
+               "2026-12-01T00:00:00Z", "", "", "");
     }
   }
   MainWindow w;
   w.show();
-  ASSERT_NE(w.OpenInstructor("the cohort's passphrase", dir), nullptr) << "first use sets it";
+  ASSERT_NE(w.OpenInstructor("the cohort's passphrase", dir), nullptr)
+      << "first use sets it";
   for (QWidget* top : QApplication::topLevelWidgets())
     if (auto* d = dynamic_cast<InstructorDialog*>(top)) d->close();
   EXPECT_EQ(w.OpenInstructor("a student's guess", dir), nullptr);
@@ -424,17 +467,21 @@ TEST(Instructor, RefusesAWrongPassphraseAndShowsEveryStudentWithTheRightOne) {
   // A case drawn on the practice lesson's teeth, previewed, saved as a scene.
   const fs::path lesson = Lessons() / "periodontal_probing.yaml";
   ASSERT_TRUE(view->DrawCase(lesson, Stage::kII, Extent::kGeneralized, 11));
-  EXPECT_TRUE(view->case_summary().contains("periodontitis stage II, generalized")) << view->case_summary().toStdString();
+  EXPECT_TRUE(view->case_summary().contains("periodontitis stage II, generalized"))
+      << view->case_summary().toStdString();
   const LessonSpec spec = LoadLessonSpec(lesson);
   CaseSpec c;
   c.generated = true;
   c.stage = Stage::kII;
   c.extent = Extent::kGeneralized;
-  const PerioChart truth = TrueChart(ApplyCase(LoadSceneSpec(spec.scene), spec.teeth, c, 11), spec.teeth);
+  const PerioChart truth =
+      TrueChart(ApplyCase(LoadSceneSpec(spec.scene), spec.teeth, c, 11), spec.teeth);
   for (const ToothChart& t : truth.teeth)
     for (int site = 0; site < kSitesPerTooth; ++site) {
-      EXPECT_EQ(view->case_chart()->depth({t.fdi, site}), t.sites[site].pd_mm) << t.fdi << " " << site;
-      EXPECT_EQ(view->case_chart()->bleeding({t.fdi, site}), t.sites[site].bleeding) << t.fdi << " " << site;
+      EXPECT_EQ(view->case_chart()->depth({t.fdi, site}), t.sites[site].pd_mm)
+          << t.fdi << " " << site;
+      EXPECT_EQ(view->case_chart()->bleeding({t.fdi, site}), t.sites[site].bleeding)
+          << t.fdi << " " << site;
     }
   if (auto* tabs = d->findChild<QTabWidget*>()) tabs->setCurrentIndex(tabs->count() - 1);
   QApplication::processEvents();
@@ -442,10 +489,12 @@ TEST(Instructor, RefusesAWrongPassphraseAndShowsEveryStudentWithTheRightOne) {
   const fs::path saved = Out("case_stage_ii.yaml");
   fs::remove(saved);
   ASSERT_TRUE(view->SaveCase(saved)) << view->case_summary().toStdString();
-  EXPECT_EQ(Classify2017(TrueChart(LoadSceneSpec(saved), spec.teeth)).Summary(), "periodontitis stage II, generalized");
+  EXPECT_EQ(Classify2017(TrueChart(LoadSceneSpec(saved), spec.teeth)).Summary(),
+            "periodontitis stage II, generalized");
   // A new draw replaces the old one.
   ASSERT_TRUE(view->DrawCase(lesson, Stage::kIII, Extent::kLocalized, 5));
-  EXPECT_TRUE(view->case_summary().contains("stage III, localized")) << view->case_summary().toStdString();
+  EXPECT_TRUE(view->case_summary().contains("stage III, localized"))
+      << view->case_summary().toStdString();
   EXPECT_FALSE(view->case_summary().contains("stage II,"));
 }
 
@@ -462,7 +511,8 @@ TEST(LessonWindow, AssessmentShowsNoTruthAndLocksTheAids) {
   ASSERT_NE(translucent, nullptr);
   EXPECT_FALSE(translucent->isEnabled()) << "the aids cannot be turned on";
   ASSERT_TRUE(WaitFor([&] { return w.lesson()->current_step() >= 2; }));
-  for (const std::string& f : w.lesson()->feedback()) EXPECT_EQ(f.find("true depth"), std::string::npos) << f;
+  for (const std::string& f : w.lesson()->feedback())
+    EXPECT_EQ(f.find("true depth"), std::string::npos) << f;
   EXPECT_FALSE(w.chart()->shows_truth()) << "assessment: no true-PD row";
   EXPECT_TRUE(Save(&w, "assessment_in_progress.png"));
   ChartEverything(w);
@@ -472,7 +522,8 @@ TEST(LessonWindow, AssessmentShowsNoTruthAndLocksTheAids) {
   EXPECT_EQ(r.sites_charted, 24);
   EXPECT_FALSE(r.declared) << "no diagnosis was declared";
   bool undeclared = false;
-  for (const RubricLine& l : r.lines) undeclared |= l.category == "diagnosis" && l.message == "no diagnosis declared";
+  for (const RubricLine& l : r.lines)
+    undeclared |= l.category == "diagnosis" && l.message == "no diagnosis declared";
   EXPECT_TRUE(undeclared);
   EXPECT_FALSE(w.aids_locked()) << "the workbench again after the lesson";
 }
@@ -503,7 +554,8 @@ TEST(LessonWindow, AClosedWindowKeepsTheAttemptAsIncompleteAndAStoppedOneIsRecov
   folder = fs::path(rows[0].recording).parent_path();
   EXPECT_TRUE(fs::exists(folder / "answers.yaml"));
   EXPECT_EQ(LoadAnswers(folder / "answers.yaml").entries.size(), 2u);
-  EXPECT_TRUE(UnfinishedAttempts(results).empty()) << "a kept attempt is not recovered again";
+  EXPECT_TRUE(UnfinishedAttempts(results).empty())
+      << "a kept attempt is not recovered again";
 
   // The same attempt as if Sulcus had stopped before keeping it: no report, no row.
   fs::remove(folder / "report.json");
@@ -525,7 +577,8 @@ TEST(LessonWindow, AClosedWindowKeepsTheAttemptAsIncompleteAndAStoppedOneIsRecov
   rows = again.Attempts("Closing Student");
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_FALSE(rows[0].complete);
-  EXPECT_NE(rows[0].ended.find("rebuilt from its recording"), std::string::npos) << rows[0].ended;
+  EXPECT_NE(rows[0].ended.find("rebuilt from its recording"), std::string::npos)
+      << rows[0].ended;
   EXPECT_EQ(rows[0].sites_charted, 2);
   EXPECT_EQ(w.RecoverUnfinishedAttempts(results), 0);
 }
@@ -533,7 +586,8 @@ TEST(LessonWindow, AClosedWindowKeepsTheAttemptAsIncompleteAndAStoppedOneIsRecov
 // A device the test unplugs and plugs back in, around the scripted student's hand.
 class UnpluggableDevice final : public Device {
  public:
-  UnpluggableDevice(std::unique_ptr<Device> hand, std::atomic<bool>* unplugged) : hand_(std::move(hand)), unplugged_(unplugged) {}
+  UnpluggableDevice(std::unique_ptr<Device> hand, std::atomic<bool>* unplugged)
+      : hand_(std::move(hand)), unplugged_(unplugged) {}
   const DeviceCaps& caps() const override { return hand_->caps(); }
   void Start() override { hand_->Start(); }
   void Stop() noexcept override { hand_->Stop(); }
@@ -573,11 +627,13 @@ TEST(LessonWindow, ADeviceUnpluggedMidLessonShowsTheBannerKeepsTheAttemptAndResu
   EXPECT_TRUE(w.banner_text().isEmpty());
   unplugged = true;
   ASSERT_TRUE(WaitFor([&] { return w.banner_text().contains("stopped answering"); }));
-  EXPECT_TRUE(w.banner_text().contains("Nothing is lost")) << w.banner_text().toStdString();
+  EXPECT_TRUE(w.banner_text().contains("Nothing is lost"))
+      << w.banner_text().toStdString();
   EXPECT_TRUE(Save(&w, "device_unplugged.png"));
   unplugged = false;
   ASSERT_TRUE(WaitFor([&] { return w.banner_text().isEmpty(); }));
-  EXPECT_FALSE(UnpluggableDevice::pushed_while_gone_.load()) << "no force went out while it was unplugged";
+  EXPECT_FALSE(UnpluggableDevice::pushed_while_gone_.load())
+      << "no force went out while it was unplugged";
   const LessonResult sofar = w.lesson()->Finish();
   ASSERT_EQ(sofar.interruptions.size(), 1u);
   EXPECT_GT(sofar.interruptions[0].back_tick, sofar.interruptions[0].lost_tick);
@@ -596,6 +652,7 @@ int main(int argc, char** argv) {
   QApplication::setOrganizationName("SulcusTests");
   QApplication::setApplicationName("lesson_window_test");
   ::testing::InitGoogleTest(&argc, argv);
-  std::filesystem::remove_all(sulcus::test::OutputPath("ui", "results"));  // every run starts with no attempts
+  std::filesystem::remove_all(
+      sulcus::test::OutputPath("ui", "results"));  // every run starts with no attempts
   return RUN_ALL_TESTS();
 }

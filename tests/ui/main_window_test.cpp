@@ -3,7 +3,10 @@
 // window's state.
 #include "ui/main_window.h"
 
+#include <QVTKOpenGLNativeWidget.h>
 #include <gtest/gtest.h>
+#include <vtkCamera.h>
+#include <vtkRenderer.h>
 
 #include <QApplication>
 #include <QElapsedTimer>
@@ -11,19 +14,15 @@
 #include <QMessageBox>
 #include <QMouseEvent>
 #include <QSurfaceFormat>
-#include <QVTKOpenGLNativeWidget.h>
-#include <vtkCamera.h>
-#include <vtkRenderer.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include "core/anatomy/soft_tissue.h"
 #include "core/haptics/recording.h"
+#include "tests/common/output.h"
 #include "ui/mouse_device.h"
 #include "ui/scene_view.h"
-#include "tests/common/output.h"
 
 namespace sulcus::ui {
 namespace {
@@ -43,7 +42,8 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
   w.resize(1280, 800);
   w.show();
   w.SetDevice("scripted:poke");
-  ASSERT_TRUE(w.OpenScene(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml", true));
+  ASSERT_TRUE(w.OpenScene(
+      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml", true));
   ASSERT_NE(w.scene(), nullptr);
   RunFor(300);
   ASSERT_TRUE(w.SaveScreenshot(Out("start_view.png")));
@@ -62,12 +62,17 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
   EXPECT_TRUE(w.running());
   EXPECT_GT(travel, 2.0) << "the device tool moved";
   EXPECT_GT(s.tick, 1000u);
-  EXPECT_DOUBLE_EQ(w.gauge_force(), std::max(0.0, s.force_W.dot(s.X_WG.rotation().col(2))))
+  EXPECT_DOUBLE_EQ(w.gauge_force(),
+                   std::max(0.0, s.force_W.dot(s.X_WG.rotation().col(2))))
       << "the gauge shows the engine's force along the probe";
-  EXPECT_TRUE(w.status_text().contains("Haptic rate 1000 Hz")) << w.status_text().toStdString();
-  EXPECT_TRUE(w.device_help().contains("scripted:poke, not your hand")) << w.device_help().toStdString();
-  EXPECT_FALSE(w.device_help().contains("Ctrl+drag")) << "the footer describes the device that runs";
-  EXPECT_LE(w.minimumSizeHint().height(), 740) << "fits a 1366 x 768 laptop screen with its panel";
+  EXPECT_TRUE(w.status_text().contains("Haptic rate 1000 Hz"))
+      << w.status_text().toStdString();
+  EXPECT_TRUE(w.device_help().contains("scripted:poke, not your hand"))
+      << w.device_help().toStdString();
+  EXPECT_FALSE(w.device_help().contains("Ctrl+drag"))
+      << "the footer describes the device that runs";
+  EXPECT_LE(w.minimumSizeHint().height(), 740)
+      << "fits a 1366 x 768 laptop screen with its panel";
   EXPECT_TRUE(w.LookAtTooth(44));
   EXPECT_FALSE(w.LookAtTooth(11));
   ASSERT_TRUE(w.SaveScreenshot(Out("probe_on_tooth.png")));
@@ -86,7 +91,8 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
   };
   QElapsedTimer waited;
   waited.start();
-  while (!at_floor() && waited.elapsed() < 30000) QApplication::processEvents(QEventLoop::AllEvents, 5);
+  while (!at_floor() && waited.elapsed() < 30000)
+    QApplication::processEvents(QEventLoop::AllEvents, 5);
   ASSERT_TRUE(at_floor()) << "t = " << w.last_snapshot().time_s;
   // The floor pushes back along the probe with the clinical probing force,
   // which the gauge shows; the whole force the hand feels also holds the
@@ -100,41 +106,53 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
     EXPECT_LE(s.force_W.norm(), 0.5) << "the wall's push on the shank is gentle";
   }
   {
-    // The plot fills as display frames come: wait for it, not for a time (a loaded machine draws fewer frames).
+    // The plot fills as display frames come: wait for it, not for a time (a loaded
+    // machine draws fewer frames).
     QElapsedTimer plot_wait;
     plot_wait.start();
-    while (w.plot_rows() < 5 && plot_wait.elapsed() < 60000) QApplication::processEvents(QEventLoop::AllEvents, 5);
+    while (w.plot_rows() < 5 && plot_wait.elapsed() < 60000)
+      QApplication::processEvents(QEventLoop::AllEvents, 5);
   }
   EXPECT_GE(w.plot_rows(), 5) << "the VTK chart holds the last seconds";
   ASSERT_TRUE(w.SaveScreenshot(Out("probe_in_sulcus.png")));
   RunFor(1500);  // out again: the reading
   ASSERT_TRUE(w.last_reading().startsWith("reading ")) << w.last_reading().toStdString();
-  EXPECT_NEAR(w.last_reading().section(' ', 1, 1).toDouble(), 4.0, 0.3) << "the scene's 4 mm pocket at 46 B";
+  EXPECT_NEAR(w.last_reading().section(' ', 1, 1).toDouble(), 4.0, 0.3)
+      << "the scene's 4 mm pocket at 46 B";
   EXPECT_TRUE(w.last_reading().contains("at 46 B (")) << w.last_reading().toStdString();
 
   // The mouse and keyboard device: Ctrl + drag moves the tool, W moves it +y.
   w.SetDevice("mouse");
   ASSERT_NE(w.mouse(), nullptr);
-  EXPECT_TRUE(w.device_help().contains("Ctrl+drag moves the tool")) << w.device_help().toStdString();
+  EXPECT_TRUE(w.device_help().contains("Ctrl+drag moves the tool"))
+      << w.device_help().toStdString();
   const Vector3 tool_before = w.mouse()->pose().translation();
   QWidget* view = w.view_widget();
   const QPoint c = view->rect().center();
-  QMouseEvent press(QEvent::MouseButtonPress, c, Qt::LeftButton, Qt::LeftButton, Qt::ControlModifier);
-  QMouseEvent move(QEvent::MouseMove, c + QPoint(60, 0), Qt::NoButton, Qt::LeftButton, Qt::ControlModifier);
-  QMouseEvent release(QEvent::MouseButtonRelease, c + QPoint(60, 0), Qt::LeftButton, Qt::NoButton, Qt::ControlModifier);
+  QMouseEvent press(QEvent::MouseButtonPress, c, Qt::LeftButton, Qt::LeftButton,
+                    Qt::ControlModifier);
+  QMouseEvent move(QEvent::MouseMove, c + QPoint(60, 0), Qt::NoButton, Qt::LeftButton,
+                   Qt::ControlModifier);
+  QMouseEvent release(QEvent::MouseButtonRelease, c + QPoint(60, 0), Qt::LeftButton,
+                      Qt::NoButton, Qt::ControlModifier);
   QApplication::sendEvent(view, &press);
   QApplication::sendEvent(view, &move);
   QApplication::sendEvent(view, &release);
   const Vector3 dragged = w.mouse()->pose().translation();
-  EXPECT_GT((dragged - tool_before).norm(), 1.0) << "60 pixels of Ctrl + drag move the tool millimetres";
+  EXPECT_GT((dragged - tool_before).norm(), 1.0)
+      << "60 pixels of Ctrl + drag move the tool millimetres";
   QKeyEvent key(QEvent::KeyPress, Qt::Key_W, Qt::NoModifier);
   QApplication::sendEvent(view, &key);
-  EXPECT_NEAR(w.mouse()->pose().translation().y() - dragged.y(), 0.1, 1e-9) << "0.1 mm a press";
+  EXPECT_NEAR(w.mouse()->pose().translation().y() - dragged.y(), 0.1, 1e-9)
+      << "0.1 mm a press";
   QKeyEvent fine(QEvent::KeyPress, Qt::Key_W, Qt::AltModifier);
   QApplication::sendEvent(view, &fine);
-  EXPECT_NEAR(w.mouse()->pose().translation().y() - dragged.y(), 0.12, 1e-9) << "with Alt, 0.02 mm";
+  EXPECT_NEAR(w.mouse()->pose().translation().y() - dragged.y(), 0.12, 1e-9)
+      << "with Alt, 0.02 mm";
   RunFor(100);
-  EXPECT_LT((w.last_snapshot().X_WH.translation() - w.mouse()->pose().translation()).norm(), 1e-9)
+  EXPECT_LT(
+      (w.last_snapshot().X_WH.translation() - w.mouse()->pose().translation()).norm(),
+      1e-9)
       << "the haptic thread reads what the window set";
 
   // Recording on and off: the file holds the session's ticks.
@@ -155,14 +173,16 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
 
   // A scene with errors: a dialog lists them; the loaded scene stays.
   const fs::path bad = Out("bad_scene.yaml");
-  std::ofstream(bad) << "objects:\n  - tooth: 19\n  - tooth: 46\n    pockets_mm: [2, 2, 2, 2, 2]\n  - box: [1, 1]\n";
+  std::ofstream(bad) << "objects:\n  - tooth: 19\n  - tooth: 46\n    pockets_mm: [2, 2, "
+                        "2, 2, 2]\n  - box: [1, 1]\n";
   const CompiledScene* before = w.scene();
   EXPECT_FALSE(w.OpenScene(bad, true));
   EXPECT_EQ(w.scene(), before);
   ASSERT_NE(w.error_dialog(), nullptr);
   EXPECT_TRUE(w.error_dialog()->isVisible());
   const QString listed = w.error_dialog()->informativeText();
-  EXPECT_TRUE(listed.contains(QString::fromStdString(bad.string() + ":2:"))) << listed.toStdString();
+  EXPECT_TRUE(listed.contains(QString::fromStdString(bad.string() + ":2:")))
+      << listed.toStdString();
   EXPECT_TRUE(listed.contains("FDI 19 does not exist")) << listed.toStdString();
   EXPECT_TRUE(listed.contains("found 5")) << listed.toStdString();
   EXPECT_TRUE(listed.contains("needs a 'tissue'")) << listed.toStdString();
@@ -177,14 +197,17 @@ TEST(MainWindow, TheFullMouthIsSeenFromWhereADentistLooks) {
   w.resize(1280, 760);
   w.show();
   w.SetDevice("mouse");
-  ASSERT_TRUE(w.OpenScene(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml", true));
+  ASSERT_TRUE(
+      w.OpenScene(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml", true));
   RunFor(200);
-  // Looking at a lower molar from the buccal side passes through the cheek: it turns see-through.
+  // Looking at a lower molar from the buccal side passes through the cheek: it turns
+  // see-through.
   ASSERT_TRUE(w.LookAtTooth(36));
   EXPECT_GE(w.view()->see_through(), 1) << "the cheek in front of 36";
   RunFor(100);
   ASSERT_TRUE(w.SaveScreenshot(Out("full_mouth_36.png")));
-  // The occlusal view looks down on the lower arch, the incisors at the top of the picture.
+  // The occlusal view looks down on the lower arch, the incisors at the top of the
+  // picture.
   w.view()->View(SceneView::Side::kOcclusal);
   double up[3], from[3], to[3];
   w.renderer()->GetActiveCamera()->GetViewUp(up);
@@ -202,7 +225,8 @@ TEST(MainWindow, TheMouthFromTheFrontEachArchAndTheFindingsUpClose) {
   w.resize(1280, 760);
   w.show();
   w.SetDevice("mouse");
-  ASSERT_TRUE(w.OpenScene(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml", true));
+  ASSERT_TRUE(
+      w.OpenScene(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml", true));
   RunFor(200);
   SceneView* v = w.view();
   // From the front with the lips and cheeks held back.
@@ -236,12 +260,14 @@ TEST(MainWindow, TheMouthFromTheFrontEachArchAndTheFindingsUpClose) {
     return RigidTransform();
   };
   const RigidTransform X36 = tooth_at(36);
-  v->LookAt(X36 * Vector3(0, 1.5, 6), X36.rotation() * Vector3(0, 0.8, 1), 22, X36.rotation() * Vector3(1, 0, 0));
+  v->LookAt(X36 * Vector3(0, 1.5, 6), X36.rotation() * Vector3(0, 0.8, 1), 22,
+            X36.rotation() * Vector3(1, 0, 0));
   RunFor(100);
   ASSERT_TRUE(w.SaveScreenshot(Out("caries_36.png")));
   // Calculus on the lingual surfaces of the lower incisors, seen from behind them.
   const RigidTransform X31 = tooth_at(31);
-  v->LookAt(X31 * Vector3(-2.5, -2, 1.5), X31.rotation() * Vector3(0, -1, 0.9), 26, X31.rotation() * Vector3(0, 0, 1));
+  v->LookAt(X31 * Vector3(-2.5, -2, 1.5), X31.rotation() * Vector3(0, -1, 0.9), 26,
+            X31.rotation() * Vector3(0, 0, 1));
   RunFor(100);
   ASSERT_TRUE(w.SaveScreenshot(Out("calculus_31_41.png")));
   // The ulcer on the tongue's left lateral border, from above its left side.
@@ -255,14 +281,16 @@ TEST(MainWindow, TheMouthFromTheFrontEachArchAndTheFindingsUpClose) {
   ASSERT_TRUE(w.SaveScreenshot(Out("ulcer_tongue.png")));
   // The probing sextant: recession and deep pockets at 46, its furcation above the
   // bone (7 mm pockets and 1 mm recession), seen through translucent gingiva.
-  ASSERT_TRUE(w.OpenScene(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml", true));
+  ASSERT_TRUE(w.OpenScene(
+      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml", true));
   RunFor(200);
   ASSERT_TRUE(w.LookAtTooth(46));
   RunFor(100);
   ASSERT_TRUE(w.SaveScreenshot(Out("sextant_46.png")));
   w.SetGingivaTranslucent(true);
   const RigidTransform X46 = tooth_at(46);
-  w.view()->LookAt(X46 * Vector3(0, 0, -2.5), X46.rotation() * Vector3(0, 1, 0.15), 40, X46.rotation() * Vector3(0, 0, 1));
+  w.view()->LookAt(X46 * Vector3(0, 0, -2.5), X46.rotation() * Vector3(0, 1, 0.15), 40,
+                   X46.rotation() * Vector3(0, 0, 1));
   RunFor(100);
   ASSERT_TRUE(w.SaveScreenshot(Out("furcation_46.png")));
 }

@@ -1,13 +1,12 @@
 #include "ui/mesh_view.h"
 
 #include <gtest/gtest.h>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
 
 #include <filesystem>
 
 #include "core/geometry/primitives.h"
-
-#include <vtkDataArray.h>
-#include <vtkPointData.h>
 
 namespace sulcus::ui {
 namespace {
@@ -36,7 +35,8 @@ TEST(MeshView, GivenNormalsAreDrawnWhereTheyFitTheFaces) {
   ASSERT_EQ(poly->GetNumberOfPoints(), static_cast<vtkIdType>(sphere.num_vertices()));
   // (points are made corner by corner: the source array names each one's vertex)
   auto source = [](vtkPolyData* p, vtkIdType i) {
-    return static_cast<std::size_t>(p->GetPointData()->GetArray(kSourceVertexArray)->GetTuple1(i));
+    return static_cast<std::size_t>(
+        p->GetPointData()->GetArray(kSourceVertexArray)->GetTuple1(i));
   };
   double n[3];
   for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i) {
@@ -50,7 +50,8 @@ TEST(MeshView, GivenNormalsAreDrawnWhereTheyFitTheFaces) {
   for (vtkIdType i = 0; i < fallback->GetNumberOfPoints(); ++i) {
     fallback->GetPointData()->GetNormals()->GetTuple(i, n);
     const std::size_t v = source(fallback, i);
-    EXPECT_GT(Vector3(n[0], n[1], n[2]).dot(exact[v]), 0.9) << "drawn from its faces: " << v;
+    EXPECT_GT(Vector3(n[0], n[1], n[2]).dot(exact[v]), 0.9)
+        << "drawn from its faces: " << v;
     checked += v == 0;
   }
   EXPECT_EQ(checked, 1);
@@ -64,14 +65,15 @@ TEST(MeshView, GivenNormalsAreDrawnWhereTheyFitTheFaces) {
 }
 
 TEST(MeshView, RendersCalibrationSolidsToPng) {
-  const fs::path png = fs::path(SULCUS_TEST_OUTPUT) / "screenshots" / "calibration_solids.png";
+  const fs::path png =
+      fs::path(SULCUS_TEST_OUTPUT) / "screenshots" / "calibration_solids.png";
   fs::create_directories(png.parent_path());
   TriangleMesh torus = MakeTorus(10, 3, 64, 32);
   TriangleMesh sphere = MakeIcosphere(5, 4);
   sphere.Transform(Matrix3::Identity(), Vector3(0, 0, 8));
-  const double drawn = RenderToPng({{&torus, {0.93, 0.91, 0.84}, 1.0},
-                                    {&sphere, {0.85, 0.45, 0.45}, 0.6}},
-                                   png, 800, 600, "Sulcus calibration solids");
+  const double drawn =
+      RenderToPng({{&torus, {0.93, 0.91, 0.84}, 1.0}, {&sphere, {0.85, 0.45, 0.45}, 0.6}},
+                  png, 800, 600, "Sulcus calibration solids");
   ASSERT_TRUE(fs::exists(png));
   // The solids fill a good part of the frame once the camera frames them.
   EXPECT_GT(drawn, 0.15);

@@ -65,7 +65,8 @@ HDstring hdGetErrorString(HDErrorCode errorCode);
 void hdEnable(HDenum cap);
 void hdStartScheduler(void);
 void hdStopScheduler(void);
-HDSchedulerHandle hdScheduleAsynchronous(HDSchedulerCallback pCallback, void* pUserData, HDushort nPriority);
+HDSchedulerHandle hdScheduleAsynchronous(HDSchedulerCallback pCallback, void* pUserData,
+                                         HDushort nPriority);
 void hdUnschedule(HDSchedulerHandle hHandle);
 void hdBeginFrame(HHD hHD);
 void hdEndFrame(HHD hHD);

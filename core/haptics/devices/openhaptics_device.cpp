@@ -14,12 +14,14 @@ HDCallbackCode HDCALLBACK ServoTrampoline(void* self) {
 
 bool IsNonFatal(HDErrorCode code) {
   return code == HD_EXCEEDED_MAX_FORCE || code == HD_EXCEEDED_MAX_FORCE_IMPULSE ||
-         code == HD_EXCEEDED_MAX_VELOCITY || code == HD_WARM_MOTORS || code == HD_FORCE_ERROR;
+         code == HD_EXCEEDED_MAX_VELOCITY || code == HD_WARM_MOTORS ||
+         code == HD_FORCE_ERROR;
 }
 
 std::string Describe(const HDErrorInfo& e) {
   char code[64];
-  std::snprintf(code, sizeof code, " (HDAPI error 0x%04x, internal %d)", e.errorCode, e.internalErrorCode);
+  std::snprintf(code, sizeof code, " (HDAPI error 0x%04x, internal %d)", e.errorCode,
+                e.internalErrorCode);
   const char* text = hdGetErrorString(e.errorCode);
   return std::string(text ? text : "unknown error") + code;
 }
@@ -34,7 +36,8 @@ HDErrorInfo FirstError() {
 
 }  // namespace
 
-OpenHapticsDevice::OpenHapticsDevice(const OpenHapticsOptions& options) : options_(options) {
+OpenHapticsDevice::OpenHapticsDevice(const OpenHapticsOptions& options)
+    : options_(options) {
   caps_.name = "OpenHaptics";
 }
 
@@ -42,13 +45,17 @@ OpenHapticsDevice::~OpenHapticsDevice() { Stop(); }
 
 void OpenHapticsDevice::Start() {
   if (started_) return;
-  const char* config = options_.config_name.empty() ? HD_DEFAULT_DEVICE : options_.config_name.c_str();
+  const char* config =
+      options_.config_name.empty() ? HD_DEFAULT_DEVICE : options_.config_name.c_str();
   handle_ = hdInitDevice(config);
-  const std::string which = options_.config_name.empty() ? "the default device" : "'" + options_.config_name + "'";
+  const std::string which = options_.config_name.empty()
+                                ? "the default device"
+                                : "'" + options_.config_name + "'";
   if (const HDErrorInfo e = FirstError(); e.errorCode != HD_SUCCESS)
-    throw DeviceError("OpenHaptics: cannot open " + which + ": " + Describe(e) +
-                      ". Is the device plugged in, its driver running and the device calibrated? "
-                      "(`sulcus-cli devices` lists what is plugged in.)");
+    throw DeviceError(
+        "OpenHaptics: cannot open " + which + ": " + Describe(e) +
+        ". Is the device plugged in, its driver running and the device calibrated? "
+        "(`sulcus-cli devices` lists what is plugged in.)");
   const char* model = hdGetString(HD_DEVICE_MODEL_TYPE);
   caps_.name = std::string("OpenHaptics: ") + (model ? model : "unknown model");
   HDint input_dof = 6, output_dof = 3;
@@ -57,7 +64,8 @@ void OpenHapticsDevice::Start() {
   HDdouble max_force = 0;
   hdGetDoublev(HD_NOMINAL_MAX_FORCE, &max_force);
   caps_.input_dof = input_dof;
-  caps_.output_dof = options_.max_torque_nmm > 0 && output_dof >= 6 ? 6 : std::min(output_dof, 3);
+  caps_.output_dof =
+      options_.max_torque_nmm > 0 && output_dof >= 6 ? 6 : std::min(output_dof, 3);
   caps_.max_force_n = max_force > 0 ? max_force : 0;
   caps_.max_torque_nmm = caps_.output_dof == 6 ? options_.max_torque_nmm : 0;
   hdEnable(HD_FORCE_OUTPUT);
@@ -66,7 +74,8 @@ void OpenHapticsDevice::Start() {
   if (const HDErrorInfo e = FirstError(); e.errorCode != HD_SUCCESS) {
     hdUnschedule(schedule_);
     hdDisableDevice(handle_);
-    throw DeviceError("OpenHaptics: cannot start the servo loop for " + which + ": " + Describe(e));
+    throw DeviceError("OpenHaptics: cannot start the servo loop for " + which + ": " +
+                      Describe(e));
   }
   started_ = true;
 }
@@ -90,12 +99,15 @@ unsigned int OpenHapticsDevice::Servo() noexcept {
   const bool faulted = faulted_.load(std::memory_order_relaxed);
   // The boundary's own clamp: never more than the device's nominal force.
   if (faulted || !w.force_D.allFinite() || !w.torque_D.allFinite()) w = Wrench{};
-  if (w.force_D.norm() > caps_.max_force_n) w.force_D *= caps_.max_force_n / w.force_D.norm();
-  if (w.torque_D.norm() > caps_.max_torque_nmm) w.torque_D *= caps_.max_torque_nmm / std::max(w.torque_D.norm(), 1e-300);
+  if (w.force_D.norm() > caps_.max_force_n)
+    w.force_D *= caps_.max_force_n / w.force_D.norm();
+  if (w.torque_D.norm() > caps_.max_torque_nmm)
+    w.torque_D *= caps_.max_torque_nmm / std::max(w.torque_D.norm(), 1e-300);
   const HDdouble force[3] = {w.force_D.x(), w.force_D.y(), w.force_D.z()};
   hdSetDoublev(HD_CURRENT_FORCE, force);
   if (caps_.output_dof == 6) {
-    const HDdouble torque[3] = {w.torque_D.x(), w.torque_D.y(), w.torque_D.z()};  // N*mm = mN*m
+    const HDdouble torque[3] = {w.torque_D.x(), w.torque_D.y(),
+                                w.torque_D.z()};  // N*mm = mN*m
     hdSetDoublev(HD_CURRENT_TORQUE, torque);
   }
   hdEndFrame(handle_);

@@ -23,10 +23,10 @@
 namespace sulcus {
 
 struct OpenHapticsOptions {
-  std::string config_name;                  // empty: the default device
-  RigidTransform X_WD;                      // the device's base frame in the world
-  RigidTransform X_ST;                      // the tool (tip) frame in the stylus frame
-  double max_torque_nmm = 0;                // 0: no torque output (3-DoF devices); else the limit
+  std::string config_name;    // empty: the default device
+  RigidTransform X_WD;        // the device's base frame in the world
+  RigidTransform X_ST;        // the tool (tip) frame in the stylus frame
+  double max_torque_nmm = 0;  // 0: no torque output (3-DoF devices); else the limit
 };
 
 class OpenHapticsDevice final : public Device {
@@ -45,10 +45,16 @@ class OpenHapticsDevice final : public Device {
   /// Error-free servo frames after a fatal error before the device counts as back.
   static constexpr int kResumeFrames = 500;
 
-  std::uint64_t servo_ticks() const { return servo_ticks_.load(std::memory_order_relaxed); }
-  std::uint64_t warnings() const { return warnings_.load(std::memory_order_relaxed); }  // non-fatal errors
+  std::uint64_t servo_ticks() const {
+    return servo_ticks_.load(std::memory_order_relaxed);
+  }
+  std::uint64_t warnings() const {
+    return warnings_.load(std::memory_order_relaxed);
+  }  // non-fatal errors
   std::uint64_t fatal_errors() const { return fatal_.load(std::memory_order_relaxed); }
-  std::uint32_t last_error_code() const { return last_error_.load(std::memory_order_relaxed); }
+  std::uint32_t last_error_code() const {
+    return last_error_.load(std::memory_order_relaxed);
+  }
 
   /// The servo callback (public for the C trampoline).
   unsigned int Servo() noexcept;
@@ -72,9 +78,9 @@ class OpenHapticsDevice final : public Device {
   TripleBuffer<Reading> readings_;  // servo -> haptic thread
   TripleBuffer<Wrench> wrenches_;   // haptic thread -> servo
   std::uint64_t last_serial_ = 0;
-  RigidTransform last_X_WS_;        // the stylus in W at the last reading (haptic thread)
+  RigidTransform last_X_WS_;  // the stylus in W at the last reading (haptic thread)
   std::atomic<bool> faulted_{false};
-  int clean_frames_ = 0;            // servo thread: error-free frames since the last fatal error
+  int clean_frames_ = 0;  // servo thread: error-free frames since the last fatal error
   std::atomic<std::uint64_t> servo_ticks_{0}, warnings_{0}, fatal_{0};
   std::atomic<std::uint32_t> last_error_{0};
 };

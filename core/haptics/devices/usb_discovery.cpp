@@ -10,9 +10,11 @@ namespace sulcus {
 namespace {
 
 constexpr const char* kSpaceMouseBackend =
-    "6-DoF input without force feedback; Sulcus has no 3D-mouse backend yet, use the mouse and keyboard";
+    "6-DoF input without force feedback; Sulcus has no 3D-mouse backend yet, use the "
+    "mouse and keyboard";
 
-UsbDeviceInfo Info(libusb_device* dev, const libusb_device_descriptor& d, const KnownUsbDevice& k) {
+UsbDeviceInfo Info(libusb_device* dev, const libusb_device_descriptor& d,
+                   const KnownUsbDevice& k) {
   UsbDeviceInfo info;
   info.vendor = d.idVendor;
   info.product = d.idProduct;
@@ -34,10 +36,14 @@ std::string Hex4(unsigned v) {
 const std::vector<KnownUsbDevice>& KnownUsbDevices() {
   static const std::vector<KnownUsbDevice> known = {
       {0x0301, 0x2988, "3D Systems (Geomagic) Touch, USB",
-       "OpenHaptics (build Sulcus with the OpenHaptics SDK and the Touch device driver installed)"},
-      {0x0403, 0xCB48, "Novint Falcon", "no Sulcus backend (3-DoF; would need libnifalcon)"},
-      {0x1451, -1, "Force Dimension device", "no Sulcus backend (would need the Force Dimension SDK)"},
-      // 3Dconnexion under Logitech's vendor id: only its known 3D mice (0x046D is Logitech's id).
+       "OpenHaptics (build Sulcus with the OpenHaptics SDK and the Touch device driver "
+       "installed)"},
+      {0x0403, 0xCB48, "Novint Falcon",
+       "no Sulcus backend (3-DoF; would need libnifalcon)"},
+      {0x1451, -1, "Force Dimension device",
+       "no Sulcus backend (would need the Force Dimension SDK)"},
+      // 3Dconnexion under Logitech's vendor id: only its known 3D mice (0x046D is
+      // Logitech's id).
       {0x046D, 0xC603, "3Dconnexion SpaceMouse Plus XT", kSpaceMouseBackend},
       {0x046D, 0xC605, "3Dconnexion CadMan", kSpaceMouseBackend},
       {0x046D, 0xC606, "3Dconnexion SpaceMouse Classic", kSpaceMouseBackend},
@@ -78,7 +84,8 @@ UsbScan ScanUsb() {
     for (ssize_t i = 0; i < n; ++i) {
       libusb_device_descriptor d{};
       if (libusb_get_device_descriptor(list[i], &d) != 0) continue;
-      if (const auto k = IdentifyUsb(d.idVendor, d.idProduct)) scan.known.push_back(Info(list[i], d, *k));
+      if (const auto k = IdentifyUsb(d.idVendor, d.idProduct))
+        scan.known.push_back(Info(list[i], d, *k));
     }
     libusb_free_device_list(list, 1);
   }
@@ -90,20 +97,26 @@ std::string DescribeScan(const UsbScan& scan) {
   std::string out;
   if (!scan.usb_available) {
     out += "USB cannot be read here (" + scan.error +
-           "), so no haptic device can be found. Sulcus runs without one: the window's mouse and "
+           "), so no haptic device can be found. Sulcus runs without one: the window's "
+           "mouse and "
            "keyboard device, or a scripted or replayed device.\n";
     return out;
   }
   if (scan.known.empty()) {
-    out += "No haptic or 6-DoF device is plugged in (" + std::to_string(scan.devices_seen) +
-           " USB devices seen, none known to Sulcus). Sulcus runs without one: the window's mouse and keyboard "
+    out += "No haptic or 6-DoF device is plugged in (" +
+           std::to_string(scan.devices_seen) +
+           " USB devices seen, none known to Sulcus). Sulcus runs without one: the "
+           "window's mouse and keyboard "
            "device, or a scripted or replayed device.\n";
     return out;
   }
   for (const UsbDeviceInfo& d : scan.known)
-    out += d.name + " (" + Hex4(d.vendor) + ":" + Hex4(d.product) + ", bus " + std::to_string(d.bus) + " device " +
-           std::to_string(d.address) + "): " + d.backend + "\n";
-  out += "If a device is listed but cannot be opened, install resources/udev/70-sulcus-haptics.rules (see its header).\n";
+    out += d.name + " (" + Hex4(d.vendor) + ":" + Hex4(d.product) + ", bus " +
+           std::to_string(d.bus) + " device " + std::to_string(d.address) +
+           "): " + d.backend + "\n";
+  out +=
+      "If a device is listed but cannot be opened, install "
+      "resources/udev/70-sulcus-haptics.rules (see its header).\n";
   return out;
 }
 
@@ -116,7 +129,8 @@ struct UsbWatcher::Impl {
   std::atomic<bool> stop{false};
   std::thread events;
 
-  static int LIBUSB_CALL OnHotplug(libusb_context*, libusb_device* dev, libusb_hotplug_event event, void* self) {
+  static int LIBUSB_CALL OnHotplug(libusb_context*, libusb_device* dev,
+                                   libusb_hotplug_event event, void* self) {
     auto* impl = static_cast<Impl*>(self);
     libusb_device_descriptor d{};
     if (libusb_get_device_descriptor(dev, &d) != 0) return 0;
@@ -139,9 +153,10 @@ UsbWatcher::UsbWatcher(Callback callback) : impl_(std::make_unique<Impl>()) {
   }
   const int err = libusb_hotplug_register_callback(
       impl_->ctx,
-      static_cast<libusb_hotplug_event>(LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED | LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT),
-      LIBUSB_HOTPLUG_ENUMERATE, LIBUSB_HOTPLUG_MATCH_ANY, LIBUSB_HOTPLUG_MATCH_ANY, LIBUSB_HOTPLUG_MATCH_ANY,
-      &Impl::OnHotplug, impl_.get(), &impl_->handle);
+      static_cast<libusb_hotplug_event>(LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED |
+                                        LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT),
+      LIBUSB_HOTPLUG_ENUMERATE, LIBUSB_HOTPLUG_MATCH_ANY, LIBUSB_HOTPLUG_MATCH_ANY,
+      LIBUSB_HOTPLUG_MATCH_ANY, &Impl::OnHotplug, impl_.get(), &impl_->handle);
   if (err != LIBUSB_SUCCESS) {
     impl_->error = libusb_strerror(static_cast<libusb_error>(err));
     return;

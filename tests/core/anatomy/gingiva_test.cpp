@@ -20,16 +20,19 @@ namespace {
 
 // The highest crossing of the vertical line through (x, y) with the mesh
 // (below `below`).
-std::optional<double> TopHit(const TriangleMesh& mesh, double x, double y, double below = 1e9) {
+std::optional<double> TopHit(const TriangleMesh& mesh, double x, double y,
+                             double below = 1e9) {
   std::optional<double> best;
   const auto& v = mesh.vertices();
   for (const auto& f : mesh.faces()) {
     const Vector3 &a = v[f[0]], &b = v[f[1]], &c = v[f[2]];
-    const double d = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+    const double d =
+        (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
     if (std::abs(d) < 1e-14) continue;
     const double u = ((x - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (y - a.y())) / d;
     const double w = ((b.x() - a.x()) * (y - a.y()) - (x - a.x()) * (b.y() - a.y())) / d;
-    if (u < -1e-9 || w < -1e-9 || u + w > 1 + 1e-9) continue;  // an edge belongs to both faces
+    if (u < -1e-9 || w < -1e-9 || u + w > 1 + 1e-9)
+      continue;  // an edge belongs to both faces
     const double z = a.z() + u * (b.z() - a.z()) + w * (c.z() - a.z());
     if (z < below && (!best || z > *best)) best = z;
   }
@@ -37,7 +40,8 @@ std::optional<double> TopHit(const TriangleMesh& mesh, double x, double y, doubl
 }
 
 TEST(Gingiva, PocketFloorLiesAtTheDepthBelowTheMarginMeasuredOnTheMesh) {
-  // Every permanent tooth (third molars included), with pockets of 2 to 7 mm and recession.
+  // Every permanent tooth (third molars included), with pockets of 2 to 7 mm and
+  // recession.
   std::vector<int> teeth;
   for (int q = 1; q <= 4; ++q)
     for (int p = 1; p <= 8; ++p) teeth.push_back(10 * q + p);
@@ -59,14 +63,17 @@ TEST(Gingiva, PocketFloorLiesAtTheDepthBelowTheMarginMeasuredOnTheMesh) {
       const Vector3 wall = g.margin[s] + (0.5 * p.gap_mm + 0.02) * dir;
       const auto margin = TopHit(g.mesh, wall.x(), wall.y());
       ASSERT_TRUE(margin);
-      EXPECT_NEAR(*margin, g.margin[s].z(), 0.1) << "the site lies on the margin; tooth " << fdi << " site " << s;
-      EXPECT_NEAR(*margin - *floor, p.pocket_mm[s], 0.1) << "tooth " << fdi << " site " << s;
+      EXPECT_NEAR(*margin, g.margin[s].z(), 0.1)
+          << "the site lies on the margin; tooth " << fdi << " site " << s;
+      EXPECT_NEAR(*margin - *floor, p.pocket_mm[s], 0.1)
+          << "tooth " << fdi << " site " << s;
       // The probe tip (0.5 mm across) fits: no point of the tooth comes within
       // 0.25 mm of the site's vertical line between the margin and the floor.
       double closest = 1e9;
       for (const Vector3& v : tooth.mesh.vertices())
         if (v.z() >= *floor && v.z() <= *margin)
-          closest = std::min(closest, std::hypot(v.x() - g.margin[s].x(), v.y() - g.margin[s].y()));
+          closest = std::min(
+              closest, std::hypot(v.x() - g.margin[s].x(), v.y() - g.margin[s].y()));
       EXPECT_GE(closest, 0.25) << "tooth " << fdi << " site " << s;
     }
   }
@@ -90,7 +97,8 @@ TEST(Gingiva, MarginFollowsTheCejAndRecession) {
 // over a canine, 1.5 over a molar (measured on the tables: from the sulcus'
 // outer wall to the collar's outer face at the buccal site).
 TEST(Gingiva, ThicknessFollowsTheToothUnlessGiven) {
-  for (const auto& [fdi, mm] : std::vector<std::pair<int, double>>{{11, 1.0}, {31, 1.0}, {13, 1.2}, {45, 1.5}, {46, 1.5}}) {
+  for (const auto& [fdi, mm] : std::vector<std::pair<int, double>>{
+           {11, 1.0}, {31, 1.0}, {13, 1.2}, {45, 1.5}, {46, 1.5}}) {
     const GingivaModel g = GenerateGingiva(GenerateTooth(fdi), {});
     const int buccal = g.SegmentAt(g.site_angle[1]);
     EXPECT_NEAR(g.outer_r[buccal] - g.wall_r[buccal], mm, 1e-6) << fdi;
@@ -151,7 +159,8 @@ TEST(Findings, CariesSitsOnTheSurfaceItNames) {
 
 TEST(Findings, InflammationAtTheNamedSitesOnly) {
   const GingivaModel g = GenerateGingiva(GenerateTooth(46));
-  const std::vector<double> w = InflammationCoverage(g.mesh.vertices(), {false, true, false, false, false, false});  // B
+  const std::vector<double> w = InflammationCoverage(
+      g.mesh.vertices(), {false, true, false, false, false, false});  // B
   for (std::size_t i = 0; i < w.size(); ++i) {
     const Vector3& v = g.mesh.vertices()[i];
     const double th = std::atan2(v.y(), v.x());  // B is at +pi/2
@@ -188,7 +197,9 @@ TEST(Findings, CalculusSitsOnTheToothAboveOrInTheSulcus) {
       for (const Vector3& v : c.vertices()) centre += v;
       centre /= static_cast<double>(c.num_vertices());
       const double th = std::atan2(centre.y(), centre.x());
-      EXPECT_LT(std::abs(std::remainder(th - SiteAngles()[site], 2 * std::numbers::pi)), 0.05) << site;
+      EXPECT_LT(std::abs(std::remainder(th - SiteAngles()[site], 2 * std::numbers::pi)),
+                0.05)
+          << site;
       if (sub) {
         EXPECT_GT(centre.z(), g.floor[site].z()) << site;
         EXPECT_LT(centre.z(), g.margin[site].z()) << site;
@@ -216,7 +227,8 @@ struct ArchRun {
   std::vector<ToothModel> teeth;
   std::vector<GingivaModel> collars;
   std::vector<GingivaParams> params;
-  // 44 to 47, with these sites' pockets and recession (44's, 45's, 46's, 47's), or the defaults.
+  // 44 to 47, with these sites' pockets and recession (44's, 45's, 46's, 47's), or the
+  // defaults.
   explicit ArchRun(const std::vector<GingivaParams>& given = {}) {
     for (const PlacedTooth& p : PlaceArch(false))
       if (p.tooth.fdi >= 44 && p.tooth.fdi <= 47) placed.push_back(p);
@@ -230,7 +242,8 @@ struct ArchRun {
   // The teeth `fdis` of one arch (in arch order), with default collars.
   ArchRun(bool upper, const std::vector<int>& fdis) {
     for (const PlacedTooth& p : PlaceArch(upper))
-      if (std::find(fdis.begin(), fdis.end(), p.tooth.fdi) != fdis.end()) placed.push_back(p);
+      if (std::find(fdis.begin(), fdis.end(), p.tooth.fdi) != fdis.end())
+        placed.push_back(p);
     for (const PlacedTooth& p : placed) {
       teeth.push_back(GenerateTooth(p.tooth.fdi));
       params.emplace_back();
@@ -238,7 +251,9 @@ struct ArchRun {
     }
   }
   GingivaNeighbour Link(std::size_t i, std::size_t j) const {
-    auto mirror = [&](std::size_t k) { return Matrix3(Vector3(placed[k].mirrored ? -1 : 1, 1, 1).asDiagonal()); };
+    auto mirror = [&](std::size_t k) {
+      return Matrix3(Vector3(placed[k].mirrored ? -1 : 1, 1, 1).asDiagonal());
+    };
     GingivaNeighbour n;
     n.tooth = &teeth[j];
     n.gingiva = &collars[j];
@@ -272,7 +287,8 @@ TEST(Gingiva, ArchSharesAreSolidsThatMeetFaceToFace) {
   std::mt19937 rng(7);
   for (std::size_t i = 0; i + 1 < arch.placed.size(); ++i) {
     const std::vector<GingivaNeighbour> li = arch.Links(i), lj = arch.Links(i + 1);
-    const GingivaShareField fi(arch.teeth[i], arch.collars[i], li), fj(arch.teeth[i + 1], arch.collars[i + 1], lj);
+    const GingivaShareField fi(arch.teeth[i], arch.collars[i], li),
+        fj(arch.teeth[i + 1], arch.collars[i + 1], lj);
     const GingivaNeighbour to_j = arch.Link(i, i + 1);
     const std::vector<GingivaNeighbour> only{to_j};
     const GingivaShareField cut_ij(arch.teeth[i], arch.collars[i], only);
@@ -281,18 +297,21 @@ TEST(Gingiva, ArchSharesAreSolidsThatMeetFaceToFace) {
     double worst = 0;
     for (int k = 0; k < 40000; ++k) {
       const Aabb& b = fi.box();
-      const Vector3 p = b.min + Vector3(u(rng), u(rng), u(rng)).cwiseProduct(b.max - b.min);
+      const Vector3 p =
+          b.min + Vector3(u(rng), u(rng), u(rng)).cwiseProduct(b.max - b.min);
       if (std::abs(cut_ij.Cut(p)) > 0.3) continue;
       ++near;
       const double a = fi.Uncut(p), c = fj.Uncut(to_j.A * p + to_j.b);
       tissue += a < 0;
       // (within 1 mm of the surface, where the isosurface is drawn: farther
       // out the fillets may fold in a third tooth's terms on one side only)
-      if (std::min(std::abs(a), std::abs(c)) < 1.0) worst = std::max(worst, std::abs(a - c));
+      if (std::min(std::abs(a), std::abs(c)) < 1.0)
+        worst = std::max(worst, std::abs(a - c));
     }
     EXPECT_GT(near, 500);
     EXPECT_GT(tissue, 20) << "the gingiva reaches the cut";
-    EXPECT_LT(worst, 0.02) << arch.placed[i].tooth.fdi << "|" << arch.placed[i + 1].tooth.fdi;
+    EXPECT_LT(worst, 0.02) << arch.placed[i].tooth.fdi << "|"
+                           << arch.placed[i + 1].tooth.fdi;
 
     // The two meshes end on the cut in the same rim: each rim vertex of one
     // lies on the other's rim (each is its own share's surface cut exactly by
@@ -301,11 +320,16 @@ TEST(Gingiva, ArchSharesAreSolidsThatMeetFaceToFace) {
     const GingivaShareField::CutPlane c = cut_ij.cuts().front();
     auto rim = [&](const TriangleMesh& m, bool other) {
       std::vector<std::pair<Vector3, Vector3>> edges;
-      auto here = [&](const Vector3& v) { return other ? Vector3(to_j.A.transpose() * (v - to_j.b)) : v; };
-      auto on = [&](const Vector3& v) { return std::abs((v - c.q).dot(c.normal)) < 1e-6; };
+      auto here = [&](const Vector3& v) {
+        return other ? Vector3(to_j.A.transpose() * (v - to_j.b)) : v;
+      };
+      auto on = [&](const Vector3& v) {
+        return std::abs((v - c.q).dot(c.normal)) < 1e-6;
+      };
       for (const TriangleMesh::Face& f : m.faces())
         for (int k = 0; k < 3; ++k) {
-          const Vector3 a = here(m.vertices()[f[k]]), b = here(m.vertices()[f[(k + 1) % 3]]);
+          const Vector3 a = here(m.vertices()[f[k]]),
+                        b = here(m.vertices()[f[(k + 1) % 3]]);
           if (on(a) && on(b) && f[k] < f[(k + 1) % 3]) edges.emplace_back(a, b);
         }
       return edges;
@@ -315,7 +339,8 @@ TEST(Gingiva, ArchSharesAreSolidsThatMeetFaceToFace) {
     ASSERT_GT(rim_j.size(), 20u);
     auto to_segment = [](const Vector3& p, const std::pair<Vector3, Vector3>& e) {
       const Vector3 d = e.second - e.first;
-      const double t = std::clamp((p - e.first).dot(d) / std::max(d.squaredNorm(), 1e-18), 0.0, 1.0);
+      const double t =
+          std::clamp((p - e.first).dot(d) / std::max(d.squaredNorm(), 1e-18), 0.0, 1.0);
       return (p - e.first - t * d).norm();
     };
     // (every vertex on the plane is on the rim: the caps are triangulated
@@ -334,8 +359,10 @@ TEST(Gingiva, ArchSharesAreSolidsThatMeetFaceToFace) {
       close += best < 0.02;
       far = std::max(far, best);
     }
-    std::printf("rim %d|%d: %d of %zu vertices within 0.02 mm of the other's rim, farthest %.3f mm\n",
-                arch.placed[i].tooth.fdi, arch.placed[i + 1].tooth.fdi, close, ends.size(), far);
+    std::printf(
+        "rim %d|%d: %d of %zu vertices within 0.02 mm of the other's rim, farthest %.3f "
+        "mm\n",
+        arch.placed[i].tooth.fdi, arch.placed[i + 1].tooth.fdi, close, ends.size(), far);
     // (a few where a move was taken back, or at the papilla's rolled tip,
     // where the field's gradient turns within a step)
     EXPECT_GT(close, 0.8 * static_cast<double>(ends.size()));
@@ -349,25 +376,31 @@ TEST(Gingiva, ShareNormalsAreTheSurfacesAndAgreeAcrossTheSeam) {
   // same normal there: the seam does not show in the shading.
   const ArchRun arch;
   std::vector<GingivaModel> shares;
-  for (std::size_t i = 0; i < arch.placed.size(); ++i) shares.push_back(GenerateGingiva(arch.teeth[i], {}, arch.Links(i)));
+  for (std::size_t i = 0; i < arch.placed.size(); ++i)
+    shares.push_back(GenerateGingiva(arch.teeth[i], {}, arch.Links(i)));
   for (std::size_t i = 0; i < shares.size(); ++i) {
     const GingivaModel& g = shares[i];
     ASSERT_EQ(g.normals.size(), g.mesh.num_vertices());
     const std::vector<Vector3> sums = g.mesh.VertexNormalSums();
-    const std::vector<ClipPlane> cuts = GingivaShareField(arch.teeth[i], arch.collars[i], arch.Links(i)).cuts();
+    const std::vector<ClipPlane> cuts =
+        GingivaShareField(arch.teeth[i], arch.collars[i], arch.Links(i)).cuts();
     int unit = 0, along = 0, off_rim = 0;
     for (std::size_t v = 0; v < sums.size(); ++v) {
       const Vector3& n = g.normals[v];
       if (std::abs(n.norm() - 1) < 1e-9) ++unit;
       // (not at a rim, whose faces' mean turns halfway into the flat cap)
       const Vector3& p = g.mesh.vertices()[v];
-      if (std::any_of(cuts.begin(), cuts.end(), [&](const ClipPlane& c) { return std::abs((p - c.q).dot(c.normal)) < 1e-6; }))
+      if (std::any_of(cuts.begin(), cuts.end(), [&](const ClipPlane& c) {
+            return std::abs((p - c.q).dot(c.normal)) < 1e-6;
+          }))
         continue;
       ++off_rim;
       if (n.dot(sums[v].normalized()) > 0.7) ++along;
     }
-    std::printf("share %d: %d of %zu normals unit, %d of %d off the rims within 45 degrees of the faces' mean\n",
-                arch.placed[i].tooth.fdi, unit, sums.size(), along, off_rim);
+    std::printf(
+        "share %d: %d of %zu normals unit, %d of %d off the rims within 45 degrees of "
+        "the faces' mean\n",
+        arch.placed[i].tooth.fdi, unit, sums.size(), along, off_rim);
     EXPECT_GT(unit, 0.99 * static_cast<double>(sums.size()));
     EXPECT_GT(along, 0.95 * off_rim);
   }
@@ -386,13 +419,16 @@ TEST(Gingiva, ShareNormalsAreTheSurfacesAndAgreeAcrossTheSeam) {
         const Vector3 q = back * (mj.vertices()[b] - to_j.b);
         if ((p - q).norm() > 0.02) continue;
         ++pairs;
-        const double c = std::clamp(shares[i].normals[a].dot(back * shares[i + 1].normals[b]), -1.0, 1.0);
+        const double c = std::clamp(
+            shares[i].normals[a].dot(back * shares[i + 1].normals[b]), -1.0, 1.0);
         agree += c > std::cos(10 * std::numbers::pi / 180);
         worst_deg = std::max(worst_deg, std::acos(c) * 180 / std::numbers::pi);
       }
     }
-    std::printf("seam %d|%d: %d vertex pairs within 0.02 mm, %d with normals within 10 degrees, worst %.1f degrees\n",
-                arch.placed[i].tooth.fdi, arch.placed[i + 1].tooth.fdi, pairs, agree, worst_deg);
+    std::printf(
+        "seam %d|%d: %d vertex pairs within 0.02 mm, %d with normals within 10 degrees, "
+        "worst %.1f degrees\n",
+        arch.placed[i].tooth.fdi, arch.placed[i + 1].tooth.fdi, pairs, agree, worst_deg);
     // (How many rim vertices coincide depends on the two shares' tessellation
     // and on the size of their caps: 12 to 20 per seam on today's teeth and
     // gingiva 1.5 mm thick; enough for the normals' agreement to be measured.)
@@ -417,7 +453,8 @@ TEST(Gingiva, UnderAContactTheSulciMeetAboveTheCol) {
   const Matrix3 back = to46.A.transpose();  // 46's frame to 45's
   const GingivaModel& g45 = arch.collars[i45];
   const GingivaModel& g46 = arch.collars[i46];
-  const std::size_t distal = g45.sulcus_r.size() / 2;  // 45's distal is -x, 46's mesial +x
+  const std::size_t distal =
+      g45.sulcus_r.size() / 2;  // 45's distal is -x, 46's mesial +x
   const Vector3 d45(-g45.sulcus_r[distal], 0, g45.floor_z[distal]);
   const Vector3 m46 = back * (Vector3(g46.sulcus_r[0], 0, g46.floor_z[0]) - to46.b);
   Vector3 mid = 0.5 * (d45 + m46);
@@ -445,7 +482,8 @@ TEST(Gingiva, OnTheArchEverySiteReadsItsOwnDepthBesideADeeperNeighbour) {
     return p;
   };
   const ArchRun arch({params({2, 1, 2, 2, 2, 2}, {}), params({3, 2, 4, 3, 2, 3}, {}),
-                      params({5, 4, 7, 5, 4, 6}, {1, 1, 1, 0, 0, 0}), params({6, 4, 5, 4, 3, 5}, {})});
+                      params({5, 4, 7, 5, 4, 6}, {1, 1, 1, 0, 0, 0}),
+                      params({6, 4, 5, 4, 3, 5}, {})});
   std::vector<TriangleMesh> shares;
   for (std::size_t i = 0; i < arch.placed.size(); ++i)
     shares.push_back(GenerateGingiva(arch.teeth[i], arch.params[i], arch.Links(i)).mesh);
@@ -461,7 +499,8 @@ TEST(Gingiva, OnTheArchEverySiteReadsItsOwnDepthBesideADeeperNeighbour) {
     }
     const GingivaModel& g = arch.collars[i];
     const std::vector<GingivaNeighbour> links = arch.Links(i);
-    const GingivaShareField field(arch.teeth[i], arch.collars[i], links);  // (for its cuts)
+    const GingivaShareField field(arch.teeth[i], arch.collars[i],
+                                  links);  // (for its cuts)
     for (int s = 0; s < 6; ++s) {
       std::optional<double> floor;
       for (const TriangleMesh& m : here) {
@@ -480,7 +519,8 @@ TEST(Gingiva, OnTheArchEverySiteReadsItsOwnDepthBesideADeeperNeighbour) {
       // lie a few hundredths from where the field has it. Straight out from a
       // line angle beside a contact would be the neighbour's sulcus.)
       const Vector3 dir(0, s < 3 ? 1 : -1, 0);
-      const double out = (0.5 * arch.params[i].gap_mm + 0.3) / std::abs(std::sin(g.site_angle[s]));
+      const double out =
+          (0.5 * arch.params[i].gap_mm + 0.3) / std::abs(std::sin(g.site_angle[s]));
       const Vector3 wall = g.margin[s] + out * dir;
       std::optional<double> top;
       for (const TriangleMesh& m : here) {
@@ -493,12 +533,17 @@ TEST(Gingiva, OnTheArchEverySiteReadsItsOwnDepthBesideADeeperNeighbour) {
       const double expected = g.margin[s].z() - 0.4 * beyond;
       // A site within half a millimetre of a cut lies under the contact,
       // where the margin beside it is the papilla's, up to a millimetre higher.
-      const bool under_contact = field.Cut(g.margin[s]) > -GingivaShareField::kUnderContactMm;
-      std::printf("margin %d site %d: mesh %.2f expected %.2f%s (truth %.2f, %.2f mm beyond the wall, %.2f mm from the cut)\n",
-                  arch.placed[i].tooth.fdi, s, *top, expected, under_contact ? " to +1" : "", g.margin[s].z(), beyond,
-                  -field.Cut(g.margin[s]));
-      EXPECT_GE(*top, expected - 0.25) << "tooth " << arch.placed[i].tooth.fdi << " site " << s;
-      EXPECT_LE(*top, expected + (under_contact ? 1.0 : 0.25)) << "tooth " << arch.placed[i].tooth.fdi << " site " << s;
+      const bool under_contact =
+          field.Cut(g.margin[s]) > -GingivaShareField::kUnderContactMm;
+      std::printf(
+          "margin %d site %d: mesh %.2f expected %.2f%s (truth %.2f, %.2f mm beyond the "
+          "wall, %.2f mm from the cut)\n",
+          arch.placed[i].tooth.fdi, s, *top, expected, under_contact ? " to +1" : "",
+          g.margin[s].z(), beyond, -field.Cut(g.margin[s]));
+      EXPECT_GE(*top, expected - 0.25)
+          << "tooth " << arch.placed[i].tooth.fdi << " site " << s;
+      EXPECT_LE(*top, expected + (under_contact ? 1.0 : 0.25))
+          << "tooth " << arch.placed[i].tooth.fdi << " site " << s;
     }
     // Under each contact (from the line angles' sites to the contact, along
     // the sulcus' middle): a floor everywhere, never below the deeper
@@ -509,21 +554,26 @@ TEST(Gingiva, OnTheArchEverySiteReadsItsOwnDepthBesideADeeperNeighbour) {
       if (j >= arch.placed.size()) continue;
       const GingivaNeighbour to = arch.Link(i, j);
       for (int s = 0; s < 6; ++s)
-        deepest = std::min(deepest, (to.A.transpose() * (arch.collars[j].floor[s] - to.b)).z());
+        deepest =
+            std::min(deepest, (to.A.transpose() * (arch.collars[j].floor[s] - to.b)).z());
     }
     const int n = static_cast<int>(g.sulcus_r.size());
     for (int k = 0; k < n; ++k) {
       const double th = 2 * std::numbers::pi * k / n, c = std::cos(th);
-      if (std::abs(c) < std::cos(std::numbers::pi / 4) - 1e-9) continue;  // buccal and lingual: above
-      if ((c > 0 && i == 0) || (c < 0 && i + 1 == arch.placed.size())) continue;  // no neighbour that way
+      if (std::abs(c) < std::cos(std::numbers::pi / 4) - 1e-9)
+        continue;  // buccal and lingual: above
+      if ((c > 0 && i == 0) || (c < 0 && i + 1 == arch.placed.size()))
+        continue;  // no neighbour that way
       const double r = g.sulcus_r[k];
       std::optional<double> floor;
       for (const TriangleMesh& m : here) {
         const auto h = TopHit(m, r * c, r * std::sin(th), g.margin_z[k] - 0.3);
         if (h && (!floor || *h > *floor)) floor = h;
       }
-      ASSERT_TRUE(floor) << arch.placed[i].tooth.fdi << " at " << th * 180 / std::numbers::pi << " degrees";
-      EXPECT_GE(*floor, deepest - 0.15) << arch.placed[i].tooth.fdi << " at " << th * 180 / std::numbers::pi << " degrees";
+      ASSERT_TRUE(floor) << arch.placed[i].tooth.fdi << " at "
+                         << th * 180 / std::numbers::pi << " degrees";
+      EXPECT_GE(*floor, deepest - 0.15) << arch.placed[i].tooth.fdi << " at "
+                                        << th * 180 / std::numbers::pi << " degrees";
     }
   }
 }
@@ -546,32 +596,42 @@ namespace {
 // and 1 mm either side of it.
 TEST(Gingiva, TheMidlinePapillaHasNoNotch) {
   for (const bool upper : {true, false}) {
-    const ArchRun arch(upper, upper ? std::vector<int>{11, 21} : std::vector<int>{41, 31});
+    const ArchRun arch(upper,
+                       upper ? std::vector<int>{11, 21} : std::vector<int>{41, 31});
     const std::vector<PlacedTooth>& placed = arch.placed;
     ASSERT_EQ(placed.size(), 2u);
     ASSERT_NE(placed[0].mirrored, placed[1].mirrored);
     const std::vector<GingivaNeighbour> links[2] = {arch.Links(0), arch.Links(1)};
-    const GingivaShareField fields[2] = {{arch.teeth[0], arch.collars[0], links[0]}, {arch.teeth[1], arch.collars[1], links[1]}};
+    const GingivaShareField fields[2] = {{arch.teeth[0], arch.collars[0], links[0]},
+                                         {arch.teeth[1], arch.collars[1], links[1]}};
     // (the world's x = 0 is the midline; +y labial, the crowns toward z = 0)
-    const double cej_z = 0.5 * (placed[0].X_WT.translation().z() + placed[1].X_WT.translation().z());
+    const double cej_z =
+        0.5 * (placed[0].X_WT.translation().z() + placed[1].X_WT.translation().z());
     const double toward_crown = upper ? -1 : 1;
     auto outermost = [&](double x, double z) {
       const std::size_t k = (x < 0) == (placed[0].X_WT.translation().x() < 0) ? 0 : 1;
       const RigidTransform X_TW = placed[k].X_WT.inverse();
-      const double y0 = upper ? 0.0 : -2.0;  // (the lower arch lies 2 mm behind the upper)
+      const double y0 =
+          upper ? 0.0 : -2.0;  // (the lower arch lies 2 mm behind the upper)
       for (double y = y0 + 6; y > y0 - 2; y -= 0.02)
-        if (fields[k].Uncut(ArchMirror(placed[k].mirrored, X_TW * Vector3(x, y, z))) < 0) return y - y0;
+        if (fields[k].Uncut(ArchMirror(placed[k].mirrored, X_TW * Vector3(x, y, z))) < 0)
+          return y - y0;
       return -1e9;
     };
     int compared = 0;
     for (const double below_cej : {0.6, 0.8, 1.0, 1.2, 1.5, 1.9, 2.5}) {
       const double z = cej_z + toward_crown * below_cej;
-      const double mid = outermost(0, z), left = outermost(-1, z), right = outermost(1, z);
+      const double mid = outermost(0, z), left = outermost(-1, z),
+                   right = outermost(1, z);
       if (left < -1e8 || right < -1e8) continue;  // (past the margin beside the papilla)
-      ASSERT_GT(mid, -1e8) << "no gingiva at the midline " << below_cej << " mm toward the crowns";
-      std::printf("%s %.1f mm toward the crowns from the CEJ: the gingiva reaches %.2f at the midline, %.2f and %.2f 1 mm either side\n",
-                  upper ? "11|21" : "41|31", below_cej, mid, left, right);
-      EXPECT_GE(mid, std::min(left, right) - 0.3) << (upper ? "upper" : "lower") << " at " << below_cej << " mm";
+      ASSERT_GT(mid, -1e8) << "no gingiva at the midline " << below_cej
+                           << " mm toward the crowns";
+      std::printf(
+          "%s %.1f mm toward the crowns from the CEJ: the gingiva reaches %.2f at the "
+          "midline, %.2f and %.2f 1 mm either side\n",
+          upper ? "11|21" : "41|31", below_cej, mid, left, right);
+      EXPECT_GE(mid, std::min(left, right) - 0.3)
+          << (upper ? "upper" : "lower") << " at " << below_cej << " mm";
       ++compared;
     }
     EXPECT_GE(compared, 3) << (upper ? "upper" : "lower");
@@ -595,10 +655,13 @@ TEST(Gingiva, TheSeenGingivaClosesTheSulcusAndFillsThePapillae) {
     std::vector<std::vector<GingivaNeighbour>> links;
     for (std::size_t i = 0; i < n; ++i) links.push_back(arch.Links(i));
     for (std::size_t i = 0; i < n; ++i) {
-      const GingivaModel g = GenerateGingiva(arch.teeth[i], {}, links[i], 0.3, GingivaSurface::kSeen);
+      const GingivaModel g =
+          GenerateGingiva(arch.teeth[i], {}, links[i], 0.3, GingivaSurface::kSeen);
       EXPECT_TRUE(g.mesh.Check().IsSolid()) << arch.placed[i].tooth.fdi;
       EXPECT_EQ(g.normals.size(), g.mesh.num_vertices());
-      for (int s = 0; s < 6; ++s) EXPECT_EQ(g.floor[s], arch.collars[i].floor[s]) << "the site truth is the felt gingiva's";
+      for (int s = 0; s < 6; ++s)
+        EXPECT_EQ(g.floor[s], arch.collars[i].floor[s])
+            << "the site truth is the felt gingiva's";
       seen.push_back(g.mesh);
     }
     for (std::size_t i = 0; i < n; ++i) {
@@ -610,11 +673,13 @@ TEST(Gingiva, TheSeenGingivaClosesTheSulcusAndFillsThePapillae) {
       for (int k = 0; k < segments; ++k) {
         const double th = 2 * std::numbers::pi * k / segments;
         for (double z = c.floor_z[k] + 0.3; z <= c.margin_z[k] - 0.3; z += 0.25)
-          path.emplace_back(c.sulcus_r[k] * std::cos(th), c.sulcus_r[k] * std::sin(th), z);
+          path.emplace_back(c.sulcus_r[k] * std::cos(th), c.sulcus_r[k] * std::sin(th),
+                            z);
       }
       ASSERT_GT(path.size(), 300u);
       std::vector<bool> held(path.size(), false);
-      // In any share of the seen gingiva, or in a neighbour's tooth: each in its own frame.
+      // In any share of the seen gingiva, or in a neighbour's tooth: each in its own
+      // frame.
       for (std::size_t j = 0; j < n; ++j) {
         std::vector<Vector3> there = path;
         if (j != i) {
@@ -622,8 +687,10 @@ TEST(Gingiva, TheSeenGingivaClosesTheSulcusAndFillsThePapillae) {
           for (Vector3& p : there) p = to_j.A * p + to_j.b;
         }
         const std::vector<bool> in_share = InsideSolid(seen[j], there);
-        const std::vector<bool> in_tooth = j != i ? InsideSolid(arch.teeth[j].mesh, there) : std::vector<bool>(there.size());
-        for (std::size_t k = 0; k < path.size(); ++k) held[k] = held[k] || in_share[k] || in_tooth[k];
+        const std::vector<bool> in_tooth = j != i ? InsideSolid(arch.teeth[j].mesh, there)
+                                                  : std::vector<bool>(there.size());
+        for (std::size_t k = 0; k < path.size(); ++k)
+          held[k] = held[k] || in_share[k] || in_tooth[k];
       }
       int open_felt = 0, closed_seen = 0;
       for (std::size_t k = 0; k < path.size(); ++k) {
@@ -631,27 +698,36 @@ TEST(Gingiva, TheSeenGingivaClosesTheSulcusAndFillsThePapillae) {
         closed_seen += held[k];
       }
       const double m = static_cast<double>(path.size());
-      std::printf("%d: %zu points on the probe's path, %.1f %% open in the felt gingiva, %.1f %% closed in the seen one\n",
-                  arch.placed[i].tooth.fdi, path.size(), 100 * open_felt / m, 100 * closed_seen / m);
-      EXPECT_GT(open_felt, 0.95 * m) << arch.placed[i].tooth.fdi << ": the felt sulcus is open";
-      EXPECT_GT(closed_seen, 0.95 * m) << arch.placed[i].tooth.fdi << ": the seen sulcus is closed";
+      std::printf(
+          "%d: %zu points on the probe's path, %.1f %% open in the felt gingiva, %.1f %% "
+          "closed in the seen one\n",
+          arch.placed[i].tooth.fdi, path.size(), 100 * open_felt / m,
+          100 * closed_seen / m);
+      EXPECT_GT(open_felt, 0.95 * m)
+          << arch.placed[i].tooth.fdi << ": the felt sulcus is open";
+      EXPECT_GT(closed_seen, 0.95 * m)
+          << arch.placed[i].tooth.fdi << ": the seen sulcus is closed";
       // The free gingiva thins to its margin in the seen gingiva: buccally and
       // lingually, 0.3 mm toward the root from the margin, from the tooth's
       // surface out to the gingiva's outer face (the felt one holds the sulcus
       // and its full thickness there).
-      const GingivaShareField seen_field(arch.teeth[i], c, links[i], GingivaSurface::kSeen);
+      const GingivaShareField seen_field(arch.teeth[i], c, links[i],
+                                         GingivaSurface::kSeen);
       for (const int site : {1, 4}) {
         const double th = c.site_angle[site], z = c.margin[site].z() - 0.3;
         const double r0 = OuterRadius(arch.teeth[i].mesh, th, z);
         auto thickness = [&](const GingivaShareField& f) {
           double outermost = -1;
           for (double r = r0; r < r0 + 4; r += 0.02)
-            if (f.Uncut(Vector3(r * std::cos(th), r * std::sin(th), z)) < 0) outermost = r - r0;
+            if (f.Uncut(Vector3(r * std::cos(th), r * std::sin(th), z)) < 0)
+              outermost = r - r0;
           return outermost;
         };
         const double felt_t = thickness(felt), seen_t = thickness(seen_field);
-        std::printf("%d %s: the gingiva's outer face %.2f mm from the tooth 0.3 mm below the margin, felt %.2f\n",
-                    arch.placed[i].tooth.fdi, site == 1 ? "B" : "L", seen_t, felt_t);
+        std::printf(
+            "%d %s: the gingiva's outer face %.2f mm from the tooth 0.3 mm below the "
+            "margin, felt %.2f\n",
+            arch.placed[i].tooth.fdi, site == 1 ? "B" : "L", seen_t, felt_t);
         EXPECT_GT(felt_t, 1.5) << arch.placed[i].tooth.fdi << " site " << site;
         EXPECT_GT(seen_t, 0.2) << arch.placed[i].tooth.fdi << " site " << site;
         EXPECT_LT(seen_t, 1.0) << arch.placed[i].tooth.fdi << " site " << site;

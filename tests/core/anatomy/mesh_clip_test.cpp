@@ -27,7 +27,8 @@ TEST(MeshClip, ASphereCutByTwoPlanesKeepsTheSliceBetweenThemWithFlatCaps) {
   const TriangleMesh sphere = MakeIcosphere(3.0, 4);
   const double full = sphere.Volume();
   // Two planes that do not meet inside it, tilted to the mesh's grid.
-  const Vector3 n1 = Vector3(1, 0.2, 0.1).normalized(), n2 = Vector3(-1, 0.1, -0.2).normalized();
+  const Vector3 n1 = Vector3(1, 0.2, 0.1).normalized(),
+                n2 = Vector3(-1, 0.1, -0.2).normalized();
   const TriangleMesh slice = ClipByPlanes(sphere, {{1.0 * n1, n1}, {1.2 * n2, n2}});
   const MeshReport r = slice.Check();
   EXPECT_TRUE(r.IsSolid());
@@ -43,7 +44,10 @@ TEST(MeshClip, ASphereCutByTwoPlanesKeepsTheSliceBetweenThemWithFlatCaps) {
   EXPECT_GT(on_plane, 20);
   // A spherical cap's volume, taken off twice (the icosphere is a little
   // inside the sphere, so its caps are a little smaller).
-  auto cap = [](double R, double d) { const double h = R - d; return std::numbers::pi * h * h * (3 * R - h) / 3; };
+  auto cap = [](double R, double d) {
+    const double h = R - d;
+    return std::numbers::pi * h * h * (3 * R - h) / 3;
+  };
   const double expected = full - cap(3.0, 1.0) - cap(3.0, 1.2);
   EXPECT_NEAR(r.volume, expected, 0.03 * full);
 }
@@ -53,7 +57,8 @@ TEST(MeshClip, ATorusCutAcrossItsHoleGetsARingShapedCap) {
   // annulus (a loop with a hole), and half the torus is left, plus the
   // annulus' area times 0.05.
   const TriangleMesh torus = MakeTorus(3.0, 1.0, 48, 24);
-  const TriangleMesh half = ClipByPlanes(torus, {{Vector3(0, 0, 0.05), Vector3::UnitZ()}});
+  const TriangleMesh half =
+      ClipByPlanes(torus, {{Vector3(0, 0, 0.05), Vector3::UnitZ()}});
   const MeshReport r = half.Check();
   EXPECT_TRUE(r.IsSolid());
   EXPECT_EQ(r.components, 1u);
@@ -70,7 +75,8 @@ TEST(MeshClip, ATorusCutAcrossItsHoleGetsARingShapedCap) {
 
 TEST(MeshClip, APlaneThatMissesKeepsOrEmptiesTheMesh) {
   const TriangleMesh box = MakeBox(Vector3(2, 2, 2));
-  EXPECT_NEAR(ClipByPlanes(box, {{Vector3(5, 0, 0), Vector3::UnitX()}}).Volume(), 8.0, 1e-9);
+  EXPECT_NEAR(ClipByPlanes(box, {{Vector3(5, 0, 0), Vector3::UnitX()}}).Volume(), 8.0,
+              1e-9);
   EXPECT_EQ(ClipByPlanes(box, {{Vector3(-5, 0, 0), Vector3::UnitX()}}).num_faces(), 0u);
 }
 
@@ -78,7 +84,8 @@ TEST(MeshClip, AnOpenMeshIsRefused) {
   const TriangleMesh box = MakeBox(Vector3(2, 2, 2));
   std::vector<TriangleMesh::Face> faces = box.faces();
   faces.pop_back();
-  EXPECT_THROW(ClipByPlanes(TriangleMesh(box.vertices(), faces), {{Vector3::Zero(), Vector3::UnitX()}}),
+  EXPECT_THROW(ClipByPlanes(TriangleMesh(box.vertices(), faces),
+                            {{Vector3::Zero(), Vector3::UnitX()}}),
                std::invalid_argument);
 }
 

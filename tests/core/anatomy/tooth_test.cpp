@@ -49,8 +49,9 @@ class EveryTooth : public ::testing::TestWithParam<int> {};
 TEST_P(EveryTooth, IsAValidSolidWithClinicalDimensions) {
   const ToothModel m = GenerateTooth(GetParam());
   const MeshReport r = m.mesh.Check();
-  EXPECT_TRUE(r.IsSolid()) << "closed " << r.closed() << " manifold " << r.manifold() << " oriented "
-                           << r.oriented() << " degenerate " << r.degenerate_faces;
+  EXPECT_TRUE(r.IsSolid()) << "closed " << r.closed() << " manifold " << r.manifold()
+                           << " oriented " << r.oriented() << " degenerate "
+                           << r.degenerate_faces;
   EXPECT_EQ(r.num_faces, 5120u);  // about the paper's 4,000 at the default resolution
   EXPECT_EQ(r.euler_characteristic, 2);
   const ToothDimensions& d = m.dimensions;
@@ -71,7 +72,8 @@ TEST(Tooth, CejLiesOnTheSurfaceAndIsScalloped) {
   // On the surface: the nearest mesh vertex is within a triangle's size.
   for (const Vector3& p : m.cej) {
     double nearest = 1e9;
-    for (const Vector3& v : m.mesh.vertices()) nearest = std::min(nearest, (v - p).norm());
+    for (const Vector3& v : m.mesh.vertices())
+      nearest = std::min(nearest, (v - p).norm());
     EXPECT_LT(nearest, 0.6);
   }
   // Higher at the proximal surfaces (x) than at the labial one (y).
@@ -102,9 +104,13 @@ TEST(Tooth, InvalidFdiNumbersNameTheFault) {
     return std::string("accepted");
   };
   EXPECT_EQ(message(19), "FDI 19 does not exist: the tooth digit is 1 to 8");
-  EXPECT_EQ(message(50), "FDI 50 does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)");
+  EXPECT_EQ(
+      message(50),
+      "FDI 50 does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)");
   EXPECT_EQ(message(20), "FDI 20 does not exist: the tooth digit is 1 to 8");
-  EXPECT_EQ(message(5), "FDI 5 does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)");
+  EXPECT_EQ(
+      message(5),
+      "FDI 5 does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)");
   EXPECT_EQ(FdiTooth::Parse(36).type(), ToothType::kFirstMolar);
   EXPECT_FALSE(FdiTooth::Parse(36).upper());
 }
@@ -130,8 +136,10 @@ TEST(Arch, TwentyEightTeethInArchOrderWithProperFrames) {
       EXPECT_NEAR(R.determinant(), 1.0, 1e-12);
       EXPECT_NEAR((R.transpose() * R - Matrix3::Identity()).norm(), 0.0, 1e-12);
       // Mirrored exactly on the patient's lower left and upper right.
-      EXPECT_EQ(p.mirrored, p.tooth.quadrant == 3 || p.tooth.quadrant == 1) << p.tooth.fdi;
-      // Buccal points out of the arch: away from the midline at the molars, forward at the incisors.
+      EXPECT_EQ(p.mirrored, p.tooth.quadrant == 3 || p.tooth.quadrant == 1)
+          << p.tooth.fdi;
+      // Buccal points out of the arch: away from the midline at the molars, forward at
+      // the incisors.
       const Vector3 c = p.X_WT.translation();
       if (p.tooth.position >= 6) {
         EXPECT_GT(p.buccal_W.x() * c.x(), 0) << p.tooth.fdi;
@@ -158,9 +166,11 @@ TEST(Arch, NeighboursTouchAtTheirContacts) {
     const Vector3 shared_a = a_is_mesial_of_b ? a.contact_distal_W : a.contact_mesial_W;
     const Vector3 shared_b = a_is_mesial_of_b ? b.contact_mesial_W : b.contact_distal_W;
     if (a.tooth.position == 1 && b.tooth.position == 1) {
-      EXPECT_NEAR((a.contact_mesial_W - b.contact_mesial_W).norm(), 0.0, 1e-9);  // at the midline
+      EXPECT_NEAR((a.contact_mesial_W - b.contact_mesial_W).norm(), 0.0,
+                  1e-9);  // at the midline
     } else {
-      EXPECT_NEAR((shared_a - shared_b).norm(), 0.0, 1e-9) << a.tooth.fdi << " " << b.tooth.fdi;
+      EXPECT_NEAR((shared_a - shared_b).norm(), 0.0, 1e-9)
+          << a.tooth.fdi << " " << b.tooth.fdi;
     }
   }
   // The first molars are about 45 mm apart (CLINICAL arch size), the incisors in front.
@@ -176,7 +186,8 @@ TEST(Arch, PlacedMirroredTeethStayValidSolids) {
   const auto teeth = PlaceArch(false);
   for (const PlacedTooth& p : teeth) {
     if (!p.mirrored) continue;
-    const TriangleMesh m = PlacedMesh(p, GenerateTooth(p.tooth.fdi, {.resolution = 3}).mesh);
+    const TriangleMesh m =
+        PlacedMesh(p, GenerateTooth(p.tooth.fdi, {.resolution = 3}).mesh);
     EXPECT_TRUE(m.Check().IsSolid()) << p.tooth.fdi;
   }
 }
@@ -199,7 +210,9 @@ TEST(Probe, ValidSolidsWithTheTipAtTheOrigin) {
       EXPECT_NEAR(r.bounds.min.z(), 0.0, 1e-9) << name;  // nothing below the tip's end
     }
     // The collision part is the working end and shank, far shorter than the probe.
-    EXPECT_LT(p.collision_mesh.Bounds().extent().norm(), 0.4 * p.mesh.Bounds().extent().norm()) << name;
+    EXPECT_LT(p.collision_mesh.Bounds().extent().norm(),
+              0.4 * p.mesh.Bounds().extent().norm())
+        << name;
     // The handle rises away from the working end.
     EXPECT_GT(p.mesh.Bounds().max.z(), p.working_length_mm + 20) << name;
   }
@@ -214,7 +227,8 @@ TEST(Probe, MarkingsAsInClinicalMd) {
     }
     return v;
   };
-  EXPECT_EQ(lines(MakeProbe("williams")), (std::vector<double>{1, 2, 3, 5, 7, 8, 9, 10}));  // no 4 or 6
+  EXPECT_EQ(lines(MakeProbe("williams")),
+            (std::vector<double>{1, 2, 3, 5, 7, 8, 9, 10}));  // no 4 or 6
   const ProbeModel unc = MakeProbe("unc15");
   EXPECT_EQ(lines(unc).size(), 15u);
   int bands = 0;

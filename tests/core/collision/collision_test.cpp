@@ -16,14 +16,17 @@ namespace {
 RigidTransform RandomPose(std::mt19937_64& rng, double spread) {
   std::normal_distribution<double> n(0, 1);
   Vector6 q;
-  q << spread * n(rng), spread * n(rng), spread * n(rng), 3 * n(rng), 3 * n(rng), 3 * n(rng);
+  q << spread * n(rng), spread * n(rng), spread * n(rng), 3 * n(rng), 3 * n(rng),
+      3 * n(rng);
   return RigidTransform::FromConfiguration(q);
 }
 
 void ExpectSamePairs(std::vector<ContactPair> ref, const ContactPair* fast_begin, int n) {
   ASSERT_EQ(static_cast<int>(ref.size()), n);
   // Each returns its own traversal order: compare as sets, by key.
-  auto by_key = [](const ContactPair& x, const ContactPair& y) { return x.key() < y.key(); };
+  auto by_key = [](const ContactPair& x, const ContactPair& y) {
+    return x.key() < y.key();
+  };
   std::vector<ContactPair> fast(fast_begin, fast_begin + n);
   std::sort(ref.begin(), ref.end(), by_key);
   std::sort(fast.begin(), fast.end(), by_key);
@@ -41,7 +44,8 @@ TEST(Collision, FastMatchesReferenceOnRandomPoses) {
   p.leaves = 512;
   p.samples = 3000;
   scene.Add(BuildSphereTree(MakeTorus(6, 2.5, 40, 20), p), RigidTransform::Identity());
-  scene.Add(test::MakeBlock(5, 5, -1, 0, 0.5, 0.4), RigidTransform(Matrix3::Identity(), Vector3(0, 0, -4)));
+  scene.Add(test::MakeBlock(5, 5, -1, 0, 0.5, 0.4),
+            RigidTransform(Matrix3::Identity(), Vector3(0, 0, -4)));
   const CollisionWorld world(*scene.tool, scene.objects);
   CollisionScratch scratch;
   std::vector<ContactPair> out(20000);
@@ -51,7 +55,8 @@ TEST(Collision, FastMatchesReferenceOnRandomPoses) {
     const RigidTransform X = RandomPose(rng, 6);
     for (double margin : {0.0, 0.3}) {
       const auto ref = FindContactsReference(world, X, margin);
-      const CollisionStats s = FindContacts(world, X, margin, &scratch, out.data(), 20000);
+      const CollisionStats s =
+          FindContacts(world, X, margin, &scratch, out.data(), 20000);
       EXPECT_FALSE(s.overflow);
       ExpectSamePairs(ref, out.data(), s.pairs);
       with_contacts += !ref.empty();
@@ -63,7 +68,8 @@ TEST(Collision, FastMatchesReferenceOnRandomPoses) {
 TEST(Collision, MarginReportsNearPairsWithTheirGap) {
   test::Scene scene;
   scene.tool = std::make_unique<SphereTree>(test::MakeProbe());
-  scene.Add(test::MakeBlock(2, 2, -0.5, -0.5, 0.5, 0.5), RigidTransform::Identity());  // top at z = 0
+  scene.Add(test::MakeBlock(2, 2, -0.5, -0.5, 0.5, 0.5),
+            RigidTransform::Identity());  // top at z = 0
   const CollisionWorld world(*scene.tool, scene.objects);
   CollisionScratch scratch;
   std::vector<ContactPair> out(1000);
@@ -84,8 +90,9 @@ TEST(Collision, OverflowIsReportedNotWritten) {
   const CollisionWorld world(*scene.tool, scene.objects);
   CollisionScratch scratch;
   std::vector<ContactPair> out(50);
-  const CollisionStats s = FindContacts(world, RigidTransform(Matrix3::Identity(), Vector3(0, 0, -0.1)),
-                                        0.0, &scratch, out.data(), 50);
+  const CollisionStats s =
+      FindContacts(world, RigidTransform(Matrix3::Identity(), Vector3(0, 0, -0.1)), 0.0,
+                   &scratch, out.data(), 50);
   EXPECT_EQ(s.pairs, 50);
   EXPECT_TRUE(s.overflow);
 }

@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "core/collision/collision.h"
@@ -20,12 +20,14 @@ namespace sulcus {
 namespace {
 
 // Points spread over every face (barycentric samples).
-std::vector<Vector3> SurfaceSamples(const TriangleMesh& mesh, int per_face, unsigned seed) {
+std::vector<Vector3> SurfaceSamples(const TriangleMesh& mesh, int per_face,
+                                    unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   std::vector<Vector3> out;
   for (const auto& f : mesh.faces()) {
-    const Vector3 a = mesh.vertices()[f[0]], b = mesh.vertices()[f[1]], c = mesh.vertices()[f[2]];
+    const Vector3 a = mesh.vertices()[f[0]], b = mesh.vertices()[f[1]],
+                  c = mesh.vertices()[f[2]];
     for (int k = 0; k < per_face; ++k) {
       double s = u(rng), t = u(rng);
       if (s + t > 1) s = 1 - s, t = 1 - t;
@@ -45,7 +47,8 @@ SphereTree Tree(const TriangleMesh& mesh, int leaves) {
 // Every surface point inside a leaf sphere is on or below that leaf's plane,
 // and every surface point is inside some clipped leaf (the clipped tree still
 // covers the whole surface).
-void ExpectPlanesBoundTheSurface(const TriangleMesh& mesh, const SphereTree& tree, const LeafPlanes& planes) {
+void ExpectPlanesBoundTheSurface(const TriangleMesh& mesh, const SphereTree& tree,
+                                 const LeafPlanes& planes) {
   const std::vector<Vector3> samples = SurfaceSamples(mesh, 6, 7);
   int uncovered = 0, cut = 0;
   for (const Vector3& p : samples) {
@@ -54,7 +57,8 @@ void ExpectPlanesBoundTheSurface(const TriangleMesh& mesh, const SphereTree& tre
       if (!tree.IsLeaf(n) || (p - tree.center(n)).norm() > tree.r[n] + 1e-9) continue;
       bool below = true;
       for (int j = 0; j < LeafPlanes::kMaxPlanes; ++j)
-        below = below && (planes.d[n][j] >= LeafPlanes::kNone || planes.n[n][j].dot(p) <= planes.d[n][j] + 1e-9);
+        below = below && (planes.d[n][j] >= LeafPlanes::kNone ||
+                          planes.n[n][j].dot(p) <= planes.d[n][j] + 1e-9);
       if (!below) ++cut;
       covered = covered || below;
     }
@@ -118,7 +122,9 @@ TEST(LeafPlanes, FastQueryMatchesTheReferenceOnClippedLeaves) {
   const SphereTree obj = Tree(ellipsoid, 64);
   const LeafPlanes planes = FitLeafPlanes(ellipsoid, obj);
   const SphereTree tool = Tree(MakeCylinder(0.4, 8, 12, 8), 32);
-  const RigidTransform X_WO(Eigen::AngleAxisd(0.3, Vector3(1, 1, 0).normalized()).toRotationMatrix(), Vector3(1, -2, 3));
+  const RigidTransform X_WO(
+      Eigen::AngleAxisd(0.3, Vector3(1, 1, 0).normalized()).toRotationMatrix(),
+      Vector3(1, -2, 3));
   const CollisionWorld world(tool, {{&obj, X_WO, &planes}});
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -131,7 +137,8 @@ TEST(LeafPlanes, FastQueryMatchesTheReferenceOnClippedLeaves) {
                            X_WO * Vector3(5 * u(rng), 4.5 * u(rng), 11 * u(rng)));
     const double margin = 0.5 * (1 + u(rng));
     const auto ref = FindContactsReference(world, X, margin);
-    const CollisionStats s = FindContacts(world, X, margin, &scratch, out.data(), static_cast<int>(out.size()));
+    const CollisionStats s = FindContacts(world, X, margin, &scratch, out.data(),
+                                          static_cast<int>(out.size()));
     ASSERT_EQ(static_cast<std::size_t>(s.pairs), ref.size());
     std::vector<std::pair<std::uint64_t, double>> a, b;
     for (int i = 0; i < s.pairs; ++i) a.emplace_back(out[i].key(), out[i].gap);
@@ -146,8 +153,8 @@ TEST(LeafPlanes, FastQueryMatchesTheReferenceOnClippedLeaves) {
       // A clipped leaf's gap is never below its sphere gap (each of its pieces
       // bounds the distance to a part of the sphere).
       const Vector3 cT = X * tool.center(c.tool_leaf);
-      const double sphere = (cT - world.ObjectCenter(0, c.object_leaf)).norm() - tool.r[c.tool_leaf] -
-                            world.ObjectRadius(0, c.object_leaf);
+      const double sphere = (cT - world.ObjectCenter(0, c.object_leaf)).norm() -
+                            tool.r[c.tool_leaf] - world.ObjectRadius(0, c.object_leaf);
       EXPECT_GE(c.gap, sphere - 1e-12);
       if (std::abs(c.gap - sphere) > 1e-12) ++clipped_pairs;
     }
@@ -160,13 +167,18 @@ TEST(LeafPlanes, FastQueryMatchesTheReferenceOnClippedLeaves) {
 // Slides the flat end of an upright 0.4 mm cylinder at a constant device depth
 // of 0.3 mm over the top of a 16 x 16 x 4 mm box, 12 mm at 4 mm/s (1 kHz).
 struct Slide {
-  double ripple_pct = 0, height_ripple_mm = 0, lowest_gap_mm = 1e9, highest_gap_mm = -1e9, worst_pop_n = 0;
+  double ripple_pct = 0, height_ripple_mm = 0, lowest_gap_mm = 1e9, highest_gap_mm = -1e9,
+         worst_pop_n = 0;
   std::uint64_t faults = 0;
 };
-Slide SlideOnTheBox(const LeafPlanes* planes, const SphereTree& plate, const SphereTree& probe, double probe_bottom) {
-  const EngineModel model(probe, {{&plate, RigidTransform::Identity(), planes}}, EngineParams{});
+Slide SlideOnTheBox(const LeafPlanes* planes, const SphereTree& plate,
+                    const SphereTree& probe, double probe_bottom) {
+  const EngineModel model(probe, {{&plate, RigidTransform::Identity(), planes}},
+                          EngineParams{});
   EngineData d(model);
-  auto at = [](double x) { return RigidTransform(Matrix3::Identity(), Vector3(x, 0, 2 - 0.3)); };
+  auto at = [](double x) {
+    return RigidTransform(Matrix3::Identity(), Vector3(x, 0, 2 - 0.3));
+  };
   ResetTool(RigidTransform(Matrix3::Identity(), Vector3(-6, 0, 3)), &d);
   Slide s;
   double fmin = 1e9, fmax = -1e9, fsum = 0, gmin = 1e9, gmax = -1e9;
@@ -179,10 +191,12 @@ Slide SlideOnTheBox(const LeafPlanes* planes, const SphereTree& plate, const Sph
       const double fz = d.force_W.z(), gz = d.X_WG.translation().z();
       fmin = std::min(fmin, fz), fmax = std::max(fmax, fz), fsum += fz;
       gmin = std::min(gmin, gz), gmax = std::max(gmax, gz);
-      const double gap = gz + probe_bottom - 2.0;  // the probe's true end over the true face
+      const double gap =
+          gz + probe_bottom - 2.0;  // the probe's true end over the true face
       s.lowest_gap_mm = std::min(s.lowest_gap_mm, gap);
       s.highest_gap_mm = std::max(s.highest_gap_mm, gap);
-      const double pop = UnexplainedForceChange(last_f, d.force_W, last_h, X.translation(), 1.0);
+      const double pop =
+          UnexplainedForceChange(last_f, d.force_W, last_h, X.translation(), 1.0);
       s.worst_pop_n = std::max(s.worst_pop_n, pop);
     }
     last_f = d.force_W;
@@ -203,7 +217,13 @@ TEST(LeafPlanes, AFlatFaceIsFeltFlatWhereSpheresAreBumps) {
   const LeafPlanes planes = FitLeafPlanes(box, plate);
   const Slide spheres = SlideOnTheBox(nullptr, plate, probe, probe_bottom);
   const Slide clipped = SlideOnTheBox(&planes, plate, probe, probe_bottom);
-  std::printf("spheres: ripple %.2f %% height %.4f gap %.4f..%.4f pop %.3f; clipped: ripple %.3f %% height %.5f gap %.4f..%.4f pop %.3f\n", spheres.ripple_pct, spheres.height_ripple_mm, spheres.lowest_gap_mm, spheres.highest_gap_mm, spheres.worst_pop_n, clipped.ripple_pct, clipped.height_ripple_mm, clipped.lowest_gap_mm, clipped.highest_gap_mm, clipped.worst_pop_n);
+  std::printf(
+      "spheres: ripple %.2f %% height %.4f gap %.4f..%.4f pop %.3f; clipped: ripple %.3f "
+      "%% height %.5f gap %.4f..%.4f pop %.3f\n",
+      spheres.ripple_pct, spheres.height_ripple_mm, spheres.lowest_gap_mm,
+      spheres.highest_gap_mm, spheres.worst_pop_n, clipped.ripple_pct,
+      clipped.height_ripple_mm, clipped.lowest_gap_mm, clipped.highest_gap_mm,
+      clipped.worst_pop_n);
   // The spheres: tens of percent (what the accuracy-cost table shows).
   EXPECT_GT(spheres.ripple_pct, 10.0);
   // Clipped: below what a hand tells apart (7 %), far below in fact; the tool

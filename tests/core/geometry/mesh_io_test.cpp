@@ -22,7 +22,9 @@ fs::path OutDir() {
   return dir;
 }
 
-fs::path Bad(const std::string& name) { return fs::path(SULCUS_TEST_DATA) / "bad" / name; }
+fs::path Bad(const std::string& name) {
+  return fs::path(SULCUS_TEST_DATA) / "bad" / name;
+}
 
 // Expects LoadMesh to throw a MeshError whose message names the file and contains
 // `fault`.
@@ -32,8 +34,10 @@ void ExpectLoadFails(const fs::path& path, const std::string& fault) {
     ADD_FAILURE() << path << " loaded, expected: " << fault;
   } catch (const MeshError& e) {
     const std::string what = e.what();
-    EXPECT_EQ(what.rfind(path.string() + ": ", 0), 0u) << "message does not start with the file: " << what;
-    EXPECT_NE(what.find(fault), std::string::npos) << "message: " << what << "\nexpected: " << fault;
+    EXPECT_EQ(what.rfind(path.string() + ": ", 0), 0u)
+        << "message does not start with the file: " << what;
+    EXPECT_NE(what.find(fault), std::string::npos)
+        << "message: " << what << "\nexpected: " << fault;
     EXPECT_EQ(e.path(), path.string());
   }
 }
@@ -62,7 +66,8 @@ TEST_P(MeshRoundTrip, KeepsGeometryAndTopology) {
   const MeshReport a = mesh.Check(), b = back.Check();
   EXPECT_TRUE(b.IsSolid());
   EXPECT_EQ(b.euler_characteristic, a.euler_characteristic);
-  EXPECT_TRUE(CompareScalars(b.volume, a.volume, fmt.tolerance, ToleranceType::kRelative));
+  EXPECT_TRUE(
+      CompareScalars(b.volume, a.volume, fmt.tolerance, ToleranceType::kRelative));
   // Same faces on the same points, in the same order (STL readers merge equal
   // points, which for a mesh with distinct vertices changes nothing but order).
   for (std::size_t f = 0; f < mesh.num_faces(); ++f) {
@@ -101,17 +106,23 @@ TEST(MeshIo, BadFilesFailWithTheirFault) {
   ExpectLoadFails(Bad("does_not_exist.stl"), "no such file");
   ExpectLoadFails(Bad("empty.stl"), "file is empty");
   ExpectLoadFails(Bad("garbage.off"), "line 1: expected the header 'OFF', found 'this'");
-  ExpectLoadFails(Bad("open.obj"), "open: 3 boundary edge(s) (expected a closed, manifold surface)");
-  ExpectLoadFails(Bad("nonmanifold_edge.obj"), "non-manifold: 1 edge(s) shared by more than two faces");
-  ExpectLoadFails(Bad("pinched_vertex.off"), "non-manifold: 1 vertex(es) where separate sheets touch");
+  ExpectLoadFails(Bad("open.obj"),
+                  "open: 3 boundary edge(s) (expected a closed, manifold surface)");
+  ExpectLoadFails(Bad("nonmanifold_edge.obj"),
+                  "non-manifold: 1 edge(s) shared by more than two faces");
+  ExpectLoadFails(Bad("pinched_vertex.off"),
+                  "non-manifold: 1 vertex(es) where separate sheets touch");
   ExpectLoadFails(Bad("no_faces.obj"), "contains no faces");
   ExpectLoadFails(Bad("nan_vertex.stl"),
                   "triangle 3 corner 1 has a non-finite coordinate (NaN or infinity)");
-  ExpectLoadFails(Bad("truncated.stl"),
-                  "truncated binary STL: the header declares 4 triangles (284 bytes) but the "
-                  "file has 134 bytes");
-  ExpectLoadFails(Bad("bad_index.off"), "face 3 refers to vertex 9, expected an index below 4");
-  ExpectLoadFails(Bad("mesh.txt"), "unsupported extension '.txt' (expected .stl, .obj, .ply or .off)");
+  ExpectLoadFails(
+      Bad("truncated.stl"),
+      "truncated binary STL: the header declares 4 triangles (284 bytes) but the "
+      "file has 134 bytes");
+  ExpectLoadFails(Bad("bad_index.off"),
+                  "face 3 refers to vertex 9, expected an index below 4");
+  ExpectLoadFails(Bad("mesh.txt"),
+                  "unsupported extension '.txt' (expected .stl, .obj, .ply or .off)");
 }
 
 TEST(MeshIo, DirectoryIsNotAMesh) {
@@ -138,7 +149,8 @@ TEST(MeshIo, UnwritablePathFails) {
 
 TEST(MeshIo, ShippedMeshesAreValidSolids) {
   int seen = 0;
-  for (const auto& entry : fs::directory_iterator(fs::path(SULCUS_SOURCE_DIR) / "resources/meshes")) {
+  for (const auto& entry :
+       fs::directory_iterator(fs::path(SULCUS_SOURCE_DIR) / "resources/meshes")) {
     if (!IsSupportedMeshFile(entry.path())) continue;
     ++seen;
     EXPECT_TRUE(LoadMesh(entry.path()).Check().IsSolid()) << entry.path();

@@ -22,7 +22,8 @@ TEST(Mesh, BoxIsAValidSolidWithExactMeasures) {
   EXPECT_EQ(r.num_faces, 6u * 9 * 2);
   EXPECT_EQ(r.components, 1u);
   EXPECT_EQ(r.euler_characteristic, 2);
-  EXPECT_TRUE(CompareScalars(r.volume, 24.0, test::tol::kAccumulated, ToleranceType::kRelative));
+  EXPECT_TRUE(
+      CompareScalars(r.volume, 24.0, test::tol::kAccumulated, ToleranceType::kRelative));
   EXPECT_TRUE(CompareScalars(r.area, 2 * (6 + 8 + 12), test::tol::kAccumulated,
                              ToleranceType::kRelative));
   EXPECT_TRUE(CompareMatrices(r.bounds.min, Vector3(-1, -1.5, -2), 1e-15));

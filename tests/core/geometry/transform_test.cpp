@@ -23,7 +23,8 @@ Matrix3 Rz(double a) { return Eigen::AngleAxisd(a, Vector3::UnitZ()).toRotationM
 // Seeded random configurations; every fourth has beta exactly at +/-90 degrees.
 std::vector<Vector6> RandomConfigurations(int n, unsigned seed) {
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> pos(-100, 100), ang(-kPi, kPi), half(-kPi / 2, kPi / 2);
+  std::uniform_real_distribution<double> pos(-100, 100), ang(-kPi, kPi),
+      half(-kPi / 2, kPi / 2);
   std::vector<Vector6> out;
   for (int i = 0; i < n; ++i) {
     Vector6 q;
@@ -106,19 +107,21 @@ TEST(Transform, CompositionInverseAndPoints) {
     const RigidTransform X_CD = RigidTransform::FromConfiguration(qs[i + 2]);
     const Vector3 p_D = qs[i + 2].head<3>() * 0.1;
     // Composition agrees with 4x4 matrix products and with point mapping.
-    EXPECT_TRUE(CompareMatrices((X_AB * X_BC).ToMatrix4(), X_AB.ToMatrix4() * X_BC.ToMatrix4(),
-                                1e-12, test::ToleranceType::kRelative));
-    EXPECT_TRUE(CompareMatrices((X_AB * X_BC * X_CD) * p_D, X_AB * (X_BC * (X_CD * p_D)), 1e-12,
+    EXPECT_TRUE(CompareMatrices((X_AB * X_BC).ToMatrix4(),
+                                X_AB.ToMatrix4() * X_BC.ToMatrix4(), 1e-12,
                                 test::ToleranceType::kRelative));
+    EXPECT_TRUE(CompareMatrices((X_AB * X_BC * X_CD) * p_D, X_AB * (X_BC * (X_CD * p_D)),
+                                1e-12, test::ToleranceType::kRelative));
     // Associativity.
     EXPECT_TRUE(CompareMatrices(((X_AB * X_BC) * X_CD).ToMatrix4(),
                                 (X_AB * (X_BC * X_CD)).ToMatrix4(), 1e-12,
                                 test::ToleranceType::kRelative));
     // Through a homogeneous matrix and back.
-    EXPECT_TRUE(CompareMatrices(RigidTransform::FromMatrix4(X_AB.ToMatrix4()).ToMatrix4(), X_AB.ToMatrix4(), 0.0));
+    EXPECT_TRUE(CompareMatrices(RigidTransform::FromMatrix4(X_AB.ToMatrix4()).ToMatrix4(),
+                                X_AB.ToMatrix4(), 0.0));
     // Inverse.
-    EXPECT_TRUE(CompareMatrices((X_AB * X_AB.inverse()).ToMatrix4(), Matrix4::Identity(), 1e-12,
-                                test::ToleranceType::kRelative));
+    EXPECT_TRUE(CompareMatrices((X_AB * X_AB.inverse()).ToMatrix4(), Matrix4::Identity(),
+                                1e-12, test::ToleranceType::kRelative));
     EXPECT_TRUE(CompareMatrices(X_AB.inverse() * (X_AB * p_D), p_D, 1e-12,
                                 test::ToleranceType::kRelative));
   }
@@ -128,12 +131,14 @@ TEST(Transform, ExpLogRoundTripAcrossAngles) {
   std::mt19937_64 rng(3);
   std::normal_distribution<double> n(0, 1);
   // Tiny, ordinary and near-pi angles (where acos-based logs lose precision).
-  for (double angle : {0.0, 1e-14, 1e-9, 1e-5, 1e-3, 0.5, 2.0, 3.0, kPi - 1e-6, kPi - 1e-9}) {
+  for (double angle :
+       {0.0, 1e-14, 1e-9, 1e-5, 1e-3, 0.5, 2.0, 3.0, kPi - 1e-6, kPi - 1e-9}) {
     for (int k = 0; k < 20; ++k) {
       const Vector3 axis = Vector3(n(rng), n(rng), n(rng)).normalized();
       const Vector3 w = angle * axis;
       const Matrix3 R = ExpMap(w);
-      ASSERT_TRUE(CompareMatrices(R, Eigen::AngleAxisd(angle, axis).toRotationMatrix(), 1e-14));
+      ASSERT_TRUE(
+          CompareMatrices(R, Eigen::AngleAxisd(angle, axis).toRotationMatrix(), 1e-14));
       ASSERT_TRUE(CompareScalars(R.determinant(), 1.0, 1e-14));
       // Near pi the axis of R is recovered to ~eps / (pi - angle).
       const double tol = angle > 3.1 ? 1e-6 : 1e-12;

@@ -22,7 +22,9 @@ test::Scene ProbeOverBlock() {
   return s;
 }
 
-RigidTransform At(double x, double y, double z) { return {Matrix3::Identity(), Vector3(x, y, z)}; }
+RigidTransform At(double x, double y, double z) {
+  return {Matrix3::Identity(), Vector3(x, y, z)};
+}
 
 TEST(Engine, FreeMotionFollowsTheDeviceWithZeroForce) {
   const test::Scene scene = ProbeOverBlock();
@@ -134,14 +136,16 @@ TEST(Engine, AContactWithMorePairsThanTheSetHoldsNeverFreezesTheTool) {
     const RigidTransform before = d.X_WG;
     Step(*model, i <= 250 ? At(0, 0, 2 - 0.02 * i) : At(0.01 * (i - 250), 0, -3), &d);
     // This frame held the rendered tool where it was.
-    const bool held = d.faults.sweep + d.faults.solver > holds && d.X_WG.ToMatrix4() == before.ToMatrix4();
+    const bool held = d.faults.sweep + d.faults.solver > holds &&
+                      d.X_WG.ToMatrix4() == before.ToMatrix4();
     held_in_a_row = held ? held_in_a_row + 1 : 0;
     most_held_in_a_row = std::max(most_held_in_a_row, held_in_a_row);
   }
   EXPECT_GT(d.faults.sweep, 0u) << "frames must be held for this test to mean anything";
   EXPECT_GE(d.faults.held, 1u);
   EXPECT_LE(most_held_in_a_row, p.max_held_frames + 1);
-  for (int i = 0; i <= 140; ++i) Step(*model, At(1.5, 0, -3 + 0.05 * i), &d);  // out, to 4 mm above
+  for (int i = 0; i <= 140; ++i)
+    Step(*model, At(1.5, 0, -3 + 0.05 * i), &d);  // out, to 4 mm above
   EXPECT_TRUE(CompareMatrices(d.X_WG.ToMatrix4(), At(1.5, 0, 4).ToMatrix4(), 1e-9));
   EXPECT_EQ(d.force_W.norm(), 0.0);
 }
@@ -160,7 +164,8 @@ struct Drag {
 Drag DragAFaceOverAFineBlock(int solve_pairs) {
   test::Scene s;
   s.tool = std::make_unique<SphereTree>(test::MakeFlatFace(8, 8, 0.3, 0.2));
-  s.Add(test::MakeBlock(12, 4, -1.0, -0.2, 0.2, 0.15), RigidTransform::Identity());  // top at z = -0.05
+  s.Add(test::MakeBlock(12, 4, -1.0, -0.2, 0.2, 0.15),
+        RigidTransform::Identity());  // top at z = -0.05
   EngineParams p;
   p.solve_pairs = solve_pairs;
   const auto model = s.Model(p);
@@ -174,11 +179,14 @@ Drag DragAFaceOverAFineBlock(int solve_pairs) {
     if (d.num_pairs > solve_pairs && d.margin_mm > lowest_cap + 1e-12) ++out.over_budget;
     out.worst_penetration = std::max(out.worst_penetration, d.max_penetration_mm);
   };
-  for (int i = 0; i <= 100; ++i) step(At(-8, 0, 1 - 0.015 * i));      // pressed 0.45 mm into the top
-  for (int i = 1; i <= 30; ++i) step(At(-8 + 0.5 * i, 0, -0.5));      // 15 mm at 0.5 mm a frame
-  for (int i = 0; i < 200; ++i) step(At(7, 0, -0.5));                  // held there
+  for (int i = 0; i <= 100; ++i)
+    step(At(-8, 0, 1 - 0.015 * i));  // pressed 0.45 mm into the top
+  for (int i = 1; i <= 30; ++i)
+    step(At(-8 + 0.5 * i, 0, -0.5));                   // 15 mm at 0.5 mm a frame
+  for (int i = 0; i < 200; ++i) step(At(7, 0, -0.5));  // held there
   out.end_x = d.X_WG.translation().x();
-  for (int i = 1; i <= 40; ++i) step(At(7, 0, -0.5 + 0.5 * i));       // lifted, 20 mm at 0.5 mm a frame
+  for (int i = 1; i <= 40; ++i)
+    step(At(7, 0, -0.5 + 0.5 * i));  // lifted, 20 mm at 0.5 mm a frame
   out.free_force = d.force_W.norm();
   out.shortened = d.shortened_frames;
   out.faults = d.faults.total();
@@ -188,10 +196,15 @@ Drag DragAFaceOverAFineBlock(int solve_pairs) {
 TEST(Engine, ACrowdedPlaceShortensTheStepInsteadOfSolvingThousandsOfPairs) {
   const Drag whole = DragAFaceOverAFineBlock(0);
   const Drag budget = DragAFaceOverAFineBlock(512);
-  std::printf("whole set: most pairs %d; budget 512: most pairs %d, frames shortened %llu, end x %.3f, "
-              "penetration %.2g\n", whole.most_pairs, budget.most_pairs,
-              static_cast<unsigned long long>(budget.shortened), budget.end_x, budget.worst_penetration);
-  EXPECT_GT(whole.most_pairs, 2000) << "the drag must be crowded for this test to mean anything";
+  std::printf(
+      "whole set: most pairs %d; budget 512: most pairs %d, frames shortened %llu, end x "
+      "%.3f, "
+      "penetration %.2g\n",
+      whole.most_pairs, budget.most_pairs,
+      static_cast<unsigned long long>(budget.shortened), budget.end_x,
+      budget.worst_penetration);
+  EXPECT_GT(whole.most_pairs, 2000)
+      << "the drag must be crowded for this test to mean anything";
   EXPECT_EQ(whole.shortened, 0u);
   EXPECT_GT(budget.shortened, 0u);
   EXPECT_EQ(budget.over_budget, 0);

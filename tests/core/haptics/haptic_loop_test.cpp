@@ -1,11 +1,11 @@
 // The haptic loop's safety rules, events and commands, driven tick by tick.
 #include "core/haptics/haptic_loop.h"
 
-#include <utility>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "core/haptics/scripted_device.h"
@@ -15,7 +15,9 @@
 namespace sulcus {
 namespace {
 
-RigidTransform At(double x, double y, double z) { return {Matrix3::Identity(), Vector3(x, y, z)}; }
+RigidTransform At(double x, double y, double z) {
+  return {Matrix3::Identity(), Vector3(x, y, z)};
+}
 
 // A device whose pose the test sets; it can stop answering or report NaN.
 class PuppetDevice final : public Device {
@@ -46,7 +48,8 @@ class PuppetDevice final : public Device {
   DeviceCaps caps_;
 };
 
-// A probe over a block whose top is at z = 0 (object 0), and a second block far away (object 1).
+// A probe over a block whose top is at z = 0 (object 0), and a second block far away
+// (object 1).
 test::Scene Blocks() {
   test::Scene s;
   s.tool = std::make_unique<SphereTree>(test::MakeProbe());
@@ -56,7 +59,8 @@ test::Scene Blocks() {
 }
 
 struct Rig {
-  explicit Rig(LoopOptions options = {}) : model(scene.Model()), loop(*model, &device, options) {}
+  explicit Rig(LoopOptions options = {})
+      : model(scene.Model()), loop(*model, &device, options) {}
   // One tick, keeping its events (a tick's record holds them).
   void Tick(bool overrun = false) {
     loop.Tick(overrun);
@@ -73,15 +77,17 @@ struct Rig {
 
 bool Has(const std::vector<HapticEvent>& events, EventKind kind, int object = -2) {
   for (const HapticEvent& e : events)
-    if (e.kind == kind && (object == -2 || (kind == EventKind::kCommand ? e.payload.command.command : e.object) == object))
+    if (e.kind == kind &&
+        (object == -2 ||
+         (kind == EventKind::kCommand ? e.payload.command.command : e.object) == object))
       return true;
   return false;
 }
 
 TEST(HapticLoop, RampsInLinearlyFromZeroAtStart) {
   LoopOptions options;
-  options.safety.slip_n_per_s = 0;  // the ramp alone (the slip limit has its own test)
-  Rig rig(options);  // 1 kHz, ramp 0.5 s = 500 ticks
+  options.safety.slip_n_per_s = 0;   // the ramp alone (the slip limit has its own test)
+  Rig rig(options);                  // 1 kHz, ramp 0.5 s = 500 ticks
   rig.device.pose = At(0, 0, -0.5);  // pressing 0.75 mm below the rest pose: 0.75 N
   for (int i = 0; i < 700; ++i) {
     rig.Tick(false);
@@ -96,9 +102,11 @@ TEST(HapticLoop, ClampsForceToTheSmallerOfSceneAndDeviceLimits) {
   Rig rig;
   rig.loop.Reset(At(0, 0, 2));
   for (int i = 0; i < 1000; ++i) {
-    rig.device.pose = At(0, 0, 2 - 0.01 * i);  // down to 8 mm below the surface: 8 N of spring
+    rig.device.pose =
+        At(0, 0, 2 - 0.01 * i);  // down to 8 mm below the surface: 8 N of spring
     rig.Tick(false);
-    ASSERT_LE(rig.device.force.norm(), 2.0 + 1e-12);  // the puppet's 2 N, below the scene's 3.3 N
+    ASSERT_LE(rig.device.force.norm(),
+              2.0 + 1e-12);  // the puppet's 2 N, below the scene's 3.3 N
   }
   EXPECT_NEAR(rig.device.force.norm(), 2.0, 1e-9);
   rig.loop.Send({HapticCommand::Kind::kSetForceLimit, 0.5});
@@ -140,7 +148,8 @@ TEST(HapticLoop, ADeviceThatSaysItIsGoneGetsZeroForceOnThatTickAndRampsBackIn) {
 
 TEST(HapticLoop, AStartDeepInsideAnObjectRampsTheForceInFromFreeSpaceWithoutAJump) {
   Rig rig;
-  rig.device.pose = At(0.1, 0.1, -1.2);  // the tip 1.2 mm into the block's top, from the first tick
+  rig.device.pose =
+      At(0.1, 0.1, -1.2);  // the tip 1.2 mm into the block's top, from the first tick
   double last = 0, worst_step = 0, most = 0;
   for (int i = 0; i < 1000; ++i) {
     rig.Tick(false);
@@ -159,7 +168,8 @@ TEST(HapticLoop, AStartDeepInsideAnObjectRampsTheForceInFromFreeSpaceWithoutAJum
   EXPECT_LE(most, 2.0 + 1e-9);
   EXPECT_GT(last, 1.0) << "the spring pulls the hand out of the block";
   EXPECT_GE(rig.loop.data().faults.inside, 1u);
-  EXPECT_GT(rig.loop.data().X_WG.translation().z(), -0.01) << "the rendered tool is on top of the block";
+  EXPECT_GT(rig.loop.data().X_WG.translation().z(), -0.01)
+      << "the rendered tool is on top of the block";
 }
 
 TEST(HapticLoop, WatchdogZeroesForceWhenTheDeviceStallsAndRampsBackIn) {
@@ -172,14 +182,16 @@ TEST(HapticLoop, WatchdogZeroesForceWhenTheDeviceStallsAndRampsBackIn) {
   rig.Events();
   rig.device.answering = false;
   for (int i = 0; i < 4; ++i) rig.Tick(false);
-  EXPECT_GT(rig.device.force.norm(), 0.7) << "within the timeout the last reading is held";
+  EXPECT_GT(rig.device.force.norm(), 0.7)
+      << "within the timeout the last reading is held";
   rig.Tick(false);
   EXPECT_EQ(rig.device.force.norm(), 0.0);
   EXPECT_EQ(rig.loop.faults().device_stalls, 1u);
   EXPECT_TRUE(Has(rig.Events(), EventKind::kDeviceLost));
   for (int i = 0; i < 50; ++i) rig.Tick(false);
   EXPECT_EQ(rig.device.force.norm(), 0.0);
-  EXPECT_EQ(rig.loop.faults().device_stalls, 1u) << "one stall is one fault, however long";
+  EXPECT_EQ(rig.loop.faults().device_stalls, 1u)
+      << "one stall is one fault, however long";
   rig.device.answering = true;
   rig.Tick(false);
   EXPECT_EQ(rig.device.force.norm(), 0.0) << "the ramp restarts from zero";
@@ -206,7 +218,8 @@ TEST(HapticLoop, NanPoseIsAFaultWithZeroForceNeverANanForce) {
   rig.device.pose = At(0, 0, -0.5);
   for (int i = 0; i < 600; ++i) rig.Tick(false);
   const Vector3 held = rig.loop.data().X_WG.translation();
-  // (The first tick found the tool 0.5 mm inside the block and brought it out: a fault of its own.)
+  // (The first tick found the tool 0.5 mm inside the block and brought it out: a fault of
+  // its own.)
   const std::uint64_t faults_before = rig.loop.faults().engine;
   rig.device.pose = At(std::numeric_limits<double>::quiet_NaN(), 0, 0);
   rig.Tick(false);
@@ -253,8 +266,10 @@ TEST(HapticLoop, PauseSendsZeroAndResumeRampsIn) {
   rig.Tick(false);
   EXPECT_NEAR(rig.device.force.norm(), 0.75 / 500.0, 1e-4);
   const auto events = rig.Events();
-  EXPECT_TRUE(Has(events, EventKind::kCommand, static_cast<int>(HapticCommand::Kind::kPause)));
-  EXPECT_TRUE(Has(events, EventKind::kCommand, static_cast<int>(HapticCommand::Kind::kResume)));
+  EXPECT_TRUE(
+      Has(events, EventKind::kCommand, static_cast<int>(HapticCommand::Kind::kPause)));
+  EXPECT_TRUE(
+      Has(events, EventKind::kCommand, static_cast<int>(HapticCommand::Kind::kResume)));
 }
 
 TEST(HapticLoop, ForceEventsWithHysteresis) {
@@ -282,31 +297,41 @@ TEST(HapticLoop, AToolSlippingOffAnEdgeIsFeltAsAQuickFallNotAClick) {
   options.safety.ramp_s = 0;
   Rig rig(options);
   rig.loop.Reset(At(0.5, 0, 2));
-  for (int i = 0; i <= 350; ++i) {  // straight down to 1.5 mm below the top: every change explained
+  for (int i = 0; i <= 350;
+       ++i) {  // straight down to 1.5 mm below the top: every change explained
     rig.device.pose = At(0.5, 0, 2 - 0.01 * i);
     rig.Tick(false);
-    EXPECT_NEAR(rig.device.force.norm(), rig.loop.data().force_W.norm(), 1e-9) << "tick " << i;
+    EXPECT_NEAR(rig.device.force.norm(), rig.loop.data().force_W.norm(), 1e-9)
+        << "tick " << i;
   }
   ASSERT_GT(rig.device.force.norm(), 1.0);
   double worst_unexplained = 0, biggest_engine_fall = 0;
   int settled_after = -1;
-  Vector3 last_force = rig.device.force, last_at = rig.device.pose.translation(), last_engine = rig.loop.data().force_W;
+  Vector3 last_force = rig.device.force, last_at = rig.device.pose.translation(),
+          last_engine = rig.loop.data().force_W;
   for (int i = 0; i < 300; ++i) {
-    rig.device.pose = At(0.5 + std::min(3.0, 0.02 * i), 0, -1.5);  // sideways, off the block (its edge at x = 1.5 + r)
+    rig.device.pose = At(0.5 + std::min(3.0, 0.02 * i), 0,
+                         -1.5);  // sideways, off the block (its edge at x = 1.5 + r)
     rig.Tick(false);
     const Vector3 f = rig.device.force, engine = rig.loop.data().force_W;
-    worst_unexplained = std::max(worst_unexplained, UnexplainedForceChange(last_force, f, last_at, rig.device.pose.translation(),
-                                                                            rig.model->params.k_t));
-    biggest_engine_fall = std::max(biggest_engine_fall, last_engine.norm() - engine.norm());
-    if (biggest_engine_fall > 0.5 && settled_after < 0 && (f - engine).norm() < 1e-9) settled_after = i;
+    worst_unexplained =
+        std::max(worst_unexplained, UnexplainedForceChange(last_force, f, last_at,
+                                                           rig.device.pose.translation(),
+                                                           rig.model->params.k_t));
+    biggest_engine_fall =
+        std::max(biggest_engine_fall, last_engine.norm() - engine.norm());
+    if (biggest_engine_fall > 0.5 && settled_after < 0 && (f - engine).norm() < 1e-9)
+      settled_after = i;
     last_force = f;
     last_at = rig.device.pose.translation();
     last_engine = engine;
   }
-  EXPECT_GT(biggest_engine_fall, 0.5) << "the engine's force falls at once when the tool slips off: the case this limits";
+  EXPECT_GT(biggest_engine_fall, 0.5)
+      << "the engine's force falls at once when the tool slips off: the case this limits";
   EXPECT_LE(worst_unexplained, 0.04 + 1e-9) << "no click";
   ASSERT_GE(settled_after, 0);
-  EXPECT_LE(settled_after, 200) << "the force sent is the engine's again within a fraction of a second";
+  EXPECT_LE(settled_after, 200)
+      << "the force sent is the engine's again within a fraction of a second";
 }
 
 TEST(HapticLoop, TickAllocatesNothing) {
@@ -331,7 +356,8 @@ TEST(Trajectory, InterpolatesAndHoldsTheEnds) {
   EXPECT_DOUBLE_EQ(t.Sample(0.25).X_WH.translation().x(), 2.5);
   EXPECT_DOUBLE_EQ(t.Sample(-1).X_WH.translation().x(), 0);
   EXPECT_DOUBLE_EQ(t.Sample(5).X_WH.translation().x(), 10);
-  EXPECT_THROW(Trajectory({{1, Vector3::Zero()}, {1, Vector3::Zero()}}), std::invalid_argument);
+  EXPECT_THROW(Trajectory({{1, Vector3::Zero()}, {1, Vector3::Zero()}}),
+               std::invalid_argument);
 }
 
 TEST(Trajectory, NamedScriptsTouchTheTarget) {

@@ -2,9 +2,9 @@
 // `tsan` preset), recordings and bit-exact replay.
 #include "core/haptics/haptic_thread.h"
 
-#include <atomic>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -13,8 +13,8 @@
 
 #include "core/haptics/recording.h"
 #include "core/haptics/scripted_device.h"
-#include "tests/core/haptics/test_scenes.h"
 #include "tests/common/output.h"
+#include "tests/core/haptics/test_scenes.h"
 
 namespace sulcus {
 namespace {
@@ -46,7 +46,9 @@ ScriptTarget BlockTop() {
 }
 
 TEST(TripleBuffer, ReaderAlwaysSeesACompleteValue) {
-  struct Pair { std::uint64_t a = 0, b = 0; };
+  struct Pair {
+    std::uint64_t a = 0, b = 0;
+  };
   TripleBuffer<Pair> buffer;
   std::atomic<bool> done{false};
   std::thread writer([&] {
@@ -116,9 +118,11 @@ TEST(HapticThread, PollsMostOfAShortPeriodAndAlwaysSleepsATenth) {
   EXPECT_EQ(SpinNs(k10kHz, 30), 30'000);
   EXPECT_EQ(SpinNs(k10kHz, 500), 90'000) << "never more than 90 % of the period";
   // A tick due at 100 us whose predecessor ended at 2 us: poll from 10 us.
-  EXPECT_EQ(PollFrom(2'000, 100'000, k10kHz, 90'000), 12'000) << "a tenth of the period slept after the work";
+  EXPECT_EQ(PollFrom(2'000, 100'000, k10kHz, 90'000), 12'000)
+      << "a tenth of the period slept after the work";
   EXPECT_EQ(PollFrom(2'000, 100'000, k10kHz, 40'000), 60'000);
-  EXPECT_EQ(PollFrom(2'000, 100'000, k10kHz, 0), 100'000) << "spin 0 sleeps the whole wait";
+  EXPECT_EQ(PollFrom(2'000, 100'000, k10kHz, 0), 100'000)
+      << "spin 0 sleeps the whole wait";
   // Long work leaves less than a tenth: sleep until the deadline, never past it.
   EXPECT_EQ(PollFrom(95'000, 100'000, k10kHz, 90'000), 100'000);
   // At 1 kHz, work of 5 us: sleep until 900 us, poll the last 100.
@@ -134,7 +138,9 @@ TEST(HapticThread, RunsAtItsRateWhileAnotherThreadReadsAndCommands) {
   HapticLoop loop(*model, &device, {});
   // Counts the events of every tick, on the haptic thread, as a sink may.
   struct CountingSink final : TickSink {
-    void Push(const TickRecord& r) noexcept override { events.fetch_add(static_cast<std::uint64_t>(r.num_events)); }
+    void Push(const TickRecord& r) noexcept override {
+      events.fetch_add(static_cast<std::uint64_t>(r.num_events));
+    }
     std::atomic<std::uint64_t> events{0};
   } sink;
   ThreadOptions options;
@@ -153,7 +159,8 @@ TEST(HapticThread, RunsAtItsRateWhileAnotherThreadReadsAndCommands) {
       ++snapshots;
       (void)thread.stats().period_us.Percentile(0.99);  // readable at any time
     }
-    if (!commanded && last_tick > 100) commanded = loop.Send({HapticCommand::Kind::kSetForceScale, 0.5});
+    if (!commanded && last_tick > 100)
+      commanded = loop.Send({HapticCommand::Kind::kSetForceScale, 0.5});
     std::this_thread::sleep_for(std::chrono::microseconds(300));
   }
   thread.Join();
@@ -200,8 +207,8 @@ TEST(Recording, ReplayReproducesPosesAndWrenchesBitForBit) {
   ReplayOffline(rec, &loop, [&](std::size_t i, const HapticLoop& l) {
     const TickRecord& want = rec.frames[i];
     const TickRecord& got = l.last_record();
-    const bool same = got.X_WG.ToMatrix4() == want.X_WG.ToMatrix4() && got.force_W == want.force_W &&
-                      got.torque_W == want.torque_W;
+    const bool same = got.X_WG.ToMatrix4() == want.X_WG.ToMatrix4() &&
+                      got.force_W == want.force_W && got.torque_W == want.torque_W;
     if (!same) ++differing;
     if (want.force_W.norm() > 0) ++in_contact;
   });
@@ -233,7 +240,8 @@ TEST(Recording, BadFilesGiveClearErrorsAndTruncationKeepsFrames) {
   fs::resize_file(cut, fs::file_size(file) - 20);
   const Recording partial = ReadRecording(cut);
   EXPECT_EQ(partial.frames.size(), 49u);
-  EXPECT_NE(partial.warning.find("truncated after frame 49"), std::string::npos) << partial.warning;
+  EXPECT_NE(partial.warning.find("truncated after frame 49"), std::string::npos)
+      << partial.warning;
 
   const fs::path text = Out("not.rec");
   std::ofstream(text) << "hello, this is not a recording";
@@ -241,7 +249,8 @@ TEST(Recording, BadFilesGiveClearErrorsAndTruncationKeepsFrames) {
     ReadRecording(text);
     FAIL();
   } catch (const RecordingError& e) {
-    EXPECT_EQ(std::string(e.what()), text.string() + ": not a Sulcus recording (expected 'SULCUSR' at byte 0)");
+    EXPECT_EQ(std::string(e.what()),
+              text.string() + ": not a Sulcus recording (expected 'SULCUSR' at byte 0)");
   }
   // Another version.
   const fs::path v2 = Out("v2.rec");
@@ -256,7 +265,9 @@ TEST(Recording, BadFilesGiveClearErrorsAndTruncationKeepsFrames) {
     ReadRecording(v2);
     FAIL();
   } catch (const RecordingError& e) {
-    EXPECT_EQ(std::string(e.what()), v2.string() + ": byte 12: recording format version 3, this build reads version 2");
+    EXPECT_EQ(std::string(e.what()),
+              v2.string() +
+                  ": byte 12: recording format version 3, this build reads version 2");
   }
   EXPECT_THROW(ReadRecording(Out("missing.rec")), RecordingError);
 
@@ -273,22 +284,28 @@ TEST(Recording, BadFilesGiveClearErrorsAndTruncationKeepsFrames) {
 
 TEST(Trajectory, CsvErrorsNameFileAndLine) {
   const fs::path file = Out("bad.csv");
-  std::ofstream(file) << "t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg\n0,0,0,0,0,0,0\n0.1,1,0,zero,0,0,0\n";
-  try {
-    LoadTrajectoryCsv(file);
-    FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()), file.string() + ":3: column 4 is 'zero', expected a finite number");
-  }
-  std::ofstream(file) << "t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg\n0,0,0,0,0,0,0\n0,1,0,0,0,0\n";
+  std::ofstream(file)
+      << "t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg\n0,0,0,0,0,0,0\n0.1,1,0,zero,0,0,0\n";
   try {
     LoadTrajectoryCsv(file);
     FAIL();
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()),
-              file.string() + ":3: expected 7 or 8 columns (t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg[,buttons]), got 6");
+              file.string() + ":3: column 4 is 'zero', expected a finite number");
   }
-  std::ofstream(file) << "t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg,buttons\n0,0,0,0,0,0,0,0\n1,10,0,0,0,0,90,1\n";
+  std::ofstream(file)
+      << "t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg\n0,0,0,0,0,0,0\n0,1,0,0,0,0\n";
+  try {
+    LoadTrajectoryCsv(file);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              file.string() +
+                  ":3: expected 7 or 8 columns "
+                  "(t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg[,buttons]), got 6");
+  }
+  std::ofstream(file) << "t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg,buttons\n0,0,0,0,0,0,0,"
+                         "0\n1,10,0,0,0,0,90,1\n";
   const Trajectory t = LoadTrajectoryCsv(file);
   EXPECT_DOUBLE_EQ(t.Sample(0.5).X_WH.translation().x(), 5);
   EXPECT_EQ(t.Sample(1).buttons, 1u);

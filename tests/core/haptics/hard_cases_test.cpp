@@ -39,7 +39,9 @@ constexpr double kMaxPenetration = 1e-3;  // mm, the issue's criterion
 constexpr double kMaxKkt = 1e-6;
 constexpr double kRestForceJitter = 1e-6;  // N
 
-RigidTransform Pose(const Vector3& p, const Matrix3& R = Matrix3::Identity()) { return {R, p}; }
+RigidTransform Pose(const Vector3& p, const Matrix3& R = Matrix3::Identity()) {
+  return {R, p};
+}
 
 struct Outcome {
   int frames = 0;
@@ -47,25 +49,27 @@ struct Outcome {
   double max_kkt = 0;
   int nonfinite = 0;
   int bad_status = 0;
-  int force_jumps = 0;        // frames where the force changed more than the continuity bound
+  int force_jumps = 0;  // frames where the force changed more than the continuity bound
   double worst_jump_ratio = 0;
-  int passivity_violations = 0;  // frames where the stretch grew more than the device moved
+  int passivity_violations =
+      0;  // frames where the stretch grew more than the device moved
   double worst_stretch_growth = 0;
-  double rest_jitter = 0;     // max |F - F_last| over the rest phase
+  double rest_jitter = 0;  // max |F - F_last| over the rest phase
   double max_force = 0;
   int max_pairs = 0;
-  int relaxed = 0;            // frames solved as infeasible (least violation)
+  int relaxed = 0;  // frames solved as infeasible (least violation)
   RigidTransform last_graphic;
 };
 
 // G-norm of a configuration step and G^-1-norm of a wrench step.
 double GNorm(const Vector6& dq, const EngineParams& p) {
-  return std::sqrt(p.k_t * dq.head<3>().squaredNorm() + p.k_r * dq.tail<3>().squaredNorm());
+  return std::sqrt(p.k_t * dq.head<3>().squaredNorm() +
+                   p.k_r * dq.tail<3>().squaredNorm());
 }
 
 Outcome RunCase(const test::Scene& scene, const EngineParams& params, int frames,
-            const std::function<RigidTransform(int)>& device, int rest_frames = 0,
-            const RigidTransform* start = nullptr) {
+                const std::function<RigidTransform(int)>& device, int rest_frames = 0,
+                const RigidTransform* start = nullptr) {
   const auto model = scene.Model(params);
   EngineData d(*model);
   ResetTool(start ? *start : device(0), &d);
@@ -82,16 +86,18 @@ Outcome RunCase(const test::Scene& scene, const EngineParams& params, int frames
     const RigidTransform X_WH = device(i);
     Step(*model, X_WH, &d);
     ++o.frames;
-    const bool finite = d.X_WG.rotation().allFinite() && d.X_WG.translation().allFinite() &&
-                        d.force_W.allFinite() && d.torque_W.allFinite();
+    const bool finite = d.X_WG.rotation().allFinite() &&
+                        d.X_WG.translation().allFinite() && d.force_W.allFinite() &&
+                        d.torque_W.allFinite();
     if (!finite) {
       ++o.nonfinite;
       continue;
     }
     // Independent penetration check at the graphic pose.
-    const CollisionStats cs = FindContacts(model->world, d.X_WG, 0.0, &scratch, check.data(),
-                                           static_cast<int>(check.size()));
-    for (int k = 0; k < cs.pairs; ++k) o.max_penetration = std::max(o.max_penetration, -check[k].gap);
+    const CollisionStats cs = FindContacts(model->world, d.X_WG, 0.0, &scratch,
+                                           check.data(), static_cast<int>(check.size()));
+    for (int k = 0; k < cs.pairs; ++k)
+      o.max_penetration = std::max(o.max_penetration, -check[k].gap);
     if (d.qp_status == QpStatus::kInfeasibleRelaxed) {
       ++o.relaxed;
     } else if (d.qp_status != QpStatus::kSolved) {
@@ -105,7 +111,8 @@ Outcome RunCase(const test::Scene& scene, const EngineParams& params, int frames
     // so |dW|_{G^-1} <= 2 |dq_H|_G (plus round-off). Onset and saturation excluded.
     if (last_active > 0 && d.active_contacts > 0 && !d.force_saturated) {
       Vector6 dw;
-      dw << (d.force_W - last_f) / std::sqrt(params.k_t), (d.torque_W - last_t) / std::sqrt(params.k_r);
+      dw << (d.force_W - last_f) / std::sqrt(params.k_t),
+          (d.torque_W - last_t) / std::sqrt(params.k_r);
       const double bound = 2 * GNorm(last_h.DifferenceTo(X_WH), params) + 1e-6;
       const double ratio = dw.norm() / bound;
       o.worst_jump_ratio = std::max(o.worst_jump_ratio, ratio);
@@ -113,7 +120,8 @@ Outcome RunCase(const test::Scene& scene, const EngineParams& params, int frames
     }
     // Rest: the device is still; after half the window to settle, nothing moves.
     const double stretch = GNorm(X_WH.DifferenceTo(d.X_WG), params);
-    const double growth = stretch - last_stretch - GNorm(last_h.DifferenceTo(X_WH), params);
+    const double growth =
+        stretch - last_stretch - GNorm(last_h.DifferenceTo(X_WH), params);
     o.worst_stretch_growth = std::max(o.worst_stretch_growth, growth);
     // Round-off, and the second-order gap between composed rotations and the
     // linearised increments the QP measures.
@@ -154,7 +162,9 @@ void ExpectStable(const Outcome& o, Contact contact, bool allow_relaxed = false)
   ::testing::Test::RecordProperty("max_pairs", o.max_pairs);
 }
 
-double Lerp(double a, double b, double t) { return a + (b - a) * std::clamp(t, 0.0, 1.0); }
+double Lerp(double a, double b, double t) {
+  return a + (b - a) * std::clamp(t, 0.0, 1.0);
+}
 
 test::Scene WithProbe() {
   test::Scene s;
@@ -186,22 +196,30 @@ test::Scene Wedge() {
 
 TEST(HardCases, NarrowSlot) {
   const test::Scene s = NarrowSlot();
-  const Outcome o = RunCase(s, {}, 3300, [](int i) {
-    if (i < 1500) return Pose(Vector3(0, 0, Lerp(3, -4, i / 1500.0)));       // down into the slot
-    if (i < 3000) return Pose(Vector3(std::sin((i - 1500) * 0.01), 0, -4));  // side to side
-    return Pose(Vector3(0.6, 0, -4));                                         // rest against a wall
-  }, 300);
+  const Outcome o = RunCase(
+      s, {}, 3300,
+      [](int i) {
+        if (i < 1500)
+          return Pose(Vector3(0, 0, Lerp(3, -4, i / 1500.0)));  // down into the slot
+        if (i < 3000)
+          return Pose(Vector3(std::sin((i - 1500) * 0.01), 0, -4));  // side to side
+        return Pose(Vector3(0.6, 0, -4));  // rest against a wall
+      },
+      300);
   ExpectStable(o, Contact::kConvex);
   EXPECT_LE(o.rest_jitter, kRestForceJitter);
 }
 
 TEST(HardCases, Wedge) {
   const test::Scene s = Wedge();
-  const Outcome o = RunCase(s, {}, 2600, [](int i) {
-    if (i < 1000) return Pose(Vector3(0, 0, Lerp(4, -3, i / 1000.0)));
-    if (i < 2300) return Pose(Vector3(0, 2 * std::sin((i - 1000) * 0.005), -3));
-    return Pose(Vector3(0, 0, -3));
-  }, 300);
+  const Outcome o = RunCase(
+      s, {}, 2600,
+      [](int i) {
+        if (i < 1000) return Pose(Vector3(0, 0, Lerp(4, -3, i / 1000.0)));
+        if (i < 2300) return Pose(Vector3(0, 2 * std::sin((i - 1000) * 0.005), -3));
+        return Pose(Vector3(0, 0, -3));
+      },
+      300);
   ExpectStable(o, Contact::kNonConvex);
   EXPECT_LE(o.rest_jitter, kRestForceJitter);
 }
@@ -209,9 +227,13 @@ TEST(HardCases, Wedge) {
 TEST(HardCases, DeepPushTenMillimetresInside) {
   test::Scene s = WithProbe();
   s.Add(test::MakeBlock(5, 5, -10, -0.5, 0.5, 0.5), Pose(Vector3::Zero()));
-  const Outcome o = RunCase(s, {}, 900, [](int i) {
-    return Pose(Vector3(0.1, 0.1, Lerp(2, -10, i / 500.0)));  // then held 10 mm inside
-  }, 300);
+  const Outcome o = RunCase(
+      s, {}, 900,
+      [](int i) {
+        return Pose(
+            Vector3(0.1, 0.1, Lerp(2, -10, i / 500.0)));  // then held 10 mm inside
+      },
+      300);
   ExpectStable(o, Contact::kConvex);
   EXPECT_LE(o.rest_jitter, kRestForceJitter);
   EXPECT_NEAR(o.max_force, 3.3, 1e-9);  // saturated at the device limit
@@ -222,11 +244,14 @@ TEST(HardCases, DeepPushTenMillimetresInside) {
 
 TEST(HardCases, SlidingOverASharpEdge) {
   test::Scene s = WithProbe();
-  s.Add(test::MakeBlock(3, 3, -3, -0.5, 0.5, 0.5), Pose(Vector3::Zero()));  // edge at x ~ 3.5
+  s.Add(test::MakeBlock(3, 3, -3, -0.5, 0.5, 0.5),
+        Pose(Vector3::Zero()));  // edge at x ~ 3.5
   const Outcome o = RunCase(s, {}, 3000, [](int i) {
     if (i < 200) return Pose(Vector3(0, 0, Lerp(1, -0.3, i / 200.0)));
-    if (i < 1600) return Pose(Vector3(Lerp(0, 6, (i - 200) / 1400.0), 0, -0.3));  // over the edge
-    return Pose(Vector3(Lerp(6, 0, (i - 1600) / 1400.0), 0, -0.3));  // back into the side face
+    if (i < 1600)
+      return Pose(Vector3(Lerp(0, 6, (i - 200) / 1400.0), 0, -0.3));  // over the edge
+    return Pose(
+        Vector3(Lerp(6, 0, (i - 1600) / 1400.0), 0, -0.3));  // back into the side face
   });
   ExpectStable(o, Contact::kNonConvex);
 }
@@ -249,12 +274,16 @@ TEST(HardCases, FlatFaceOnFlatPlate) {
   test::Scene s;
   s.tool = std::make_unique<SphereTree>(test::MakeFlatFace(12, 12, 0.5, 0.5));
   s.Add(test::MakeBlock(8, 8, -0.5, -0.5, 0.5, 0.5), Pose(Vector3::Zero()));
-  const Outcome o = RunCase(s, {}, 2000, [](int i) {
-    const Matrix3 R = Eigen::AngleAxisd(0.05 * std::sin(i * 0.004), Vector3::UnitZ()).toRotationMatrix();
-    if (i < 500) return Pose(Vector3(0, 0, Lerp(1, -1, i / 500.0)));
-    if (i < 1700) return Pose(Vector3(std::sin((i - 500) * 0.005), 0, -1), R);
-    return Pose(Vector3(0, 0, -1));
-  }, 300);
+  const Outcome o = RunCase(
+      s, {}, 2000,
+      [](int i) {
+        const Matrix3 R = Eigen::AngleAxisd(0.05 * std::sin(i * 0.004), Vector3::UnitZ())
+                              .toRotationMatrix();
+        if (i < 500) return Pose(Vector3(0, 0, Lerp(1, -1, i / 500.0)));
+        if (i < 1700) return Pose(Vector3(std::sin((i - 500) * 0.005), 0, -1), R);
+        return Pose(Vector3(0, 0, -1));
+      },
+      300);
   ExpectStable(o, Contact::kNonConvex);
   EXPECT_GT(o.max_pairs, 200);
   EXPECT_LE(o.rest_jitter, kRestForceJitter);
@@ -268,8 +297,10 @@ TEST(HardCases, ToolAtBetaPlusMinusNinetyDegrees) {
       // The probe lies along x (beta = +/-90 deg: gimbal lock of the paper's
       // angles), pressed down and wobbled about every axis.
       const double t = i * 0.003;
-      const Matrix3 R = RotationFromEuler(0.02 * std::sin(t), beta, 0.02 * std::cos(1.3 * t)) *
-                        Eigen::AngleAxisd(0.02 * std::sin(0.7 * t), Vector3::UnitX()).toRotationMatrix();
+      const Matrix3 R =
+          RotationFromEuler(0.02 * std::sin(t), beta, 0.02 * std::cos(1.3 * t)) *
+          Eigen::AngleAxisd(0.02 * std::sin(0.7 * t), Vector3::UnitX())
+              .toRotationMatrix();
       return Pose(Vector3(0, 0, Lerp(1.5, -0.1, i / 300.0)), R);
     });
     ExpectStable(o, Contact::kNonConvex);
@@ -280,9 +311,13 @@ TEST(HardCases, ContactMakingAndBreakingEveryFrame) {
   test::Scene s = WithProbe();
   s.Add(test::MakeBlock(3, 3, -0.5, -0.5, 0.5, 0.5), Pose(Vector3::Zero()));
   const RigidTransform above = Pose(Vector3(0, 0, 1));
-  const Outcome o = RunCase(s, {}, 2000, [](int i) {
-    return Pose(Vector3(0, 0, 0.25 + (i % 2 ? 0.01 : -0.01)));  // tip 0.01 mm in, then out
-  }, 0, &above);
+  const Outcome o = RunCase(
+      s, {}, 2000,
+      [](int i) {
+        return Pose(
+            Vector3(0, 0, 0.25 + (i % 2 ? 0.01 : -0.01)));  // tip 0.01 mm in, then out
+      },
+      0, &above);
   ExpectStable(o, Contact::kConvex);
   EXPECT_LE(o.max_force, 0.01 + 1e-9);  // never more than the spring of the 0.01 mm dip
 }
@@ -290,7 +325,8 @@ TEST(HardCases, ContactMakingAndBreakingEveryFrame) {
 TEST(HardCases, FastPushAtAThinWallDoesNotPopThrough) {
   for (double per_frame : {22.0, 5.0, 1.0}) {
     test::Scene s = WithProbe();
-    s.Add(test::MakeBlock(0, 6, -6, 20, 0.25, 0.3), Pose(Vector3::Zero()));  // 0.6 mm thick
+    s.Add(test::MakeBlock(0, 6, -6, 20, 0.25, 0.3),
+          Pose(Vector3::Zero()));  // 0.6 mm thick
     const Outcome o = RunCase(s, {}, 200, [per_frame](int i) {
       return Pose(Vector3(std::min(-2.0 + per_frame * std::max(0, i - 10), 20.0), 0, 0));
     });
@@ -309,7 +345,8 @@ TEST(HardCases, ExtremeStiffnessRatios) {
     p.k_r = k_r;
     p.max_torque_nmm = 1e9;
     const Outcome o = RunCase(s, p, 1500, [](int i) {
-      const Matrix3 R = Eigen::AngleAxisd(0.1 * std::sin(i * 0.01), Vector3::UnitX()).toRotationMatrix();
+      const Matrix3 R = Eigen::AngleAxisd(0.1 * std::sin(i * 0.01), Vector3::UnitX())
+                            .toRotationMatrix();
       return Pose(Vector3(0, 0, Lerp(1, -0.5, i / 300.0)), R);
     });
     ExpectStable(o, Contact::kConvex);
@@ -344,7 +381,8 @@ Outcome RandomRun(int frames, unsigned seed) {
   Vector3 pos(0, 0, 1), vel = Vector3::Zero();
   Vector3 rot = Vector3::Zero(), spin = Vector3::Zero();
   return RunCase(s, {}, frames, [&](int) {
-    vel = 0.98 * vel + 0.004 * Vector3(n(rng), n(rng), n(rng)) + Vector3(-0.0005 * pos.x(), -0.0005 * pos.y(), -0.0003);
+    vel = 0.98 * vel + 0.004 * Vector3(n(rng), n(rng), n(rng)) +
+          Vector3(-0.0005 * pos.x(), -0.0005 * pos.y(), -0.0003);
     pos += vel;
     pos = pos.cwiseMax(Vector3(-5, -5, -1.5)).cwiseMin(Vector3(5, 5, 4));
     spin = 0.98 * spin + 0.0005 * Vector3(n(rng), n(rng), n(rng)) - 0.001 * rot;
@@ -371,17 +409,17 @@ TEST(HardCasesSlow, MillionFrameRandomRun) {
 // finite and bounded at every frame, it is not left at zero while the hand is
 // inside, and once the device is out the rendered tool follows it again.
 struct DeepStart {
-  int frames_to_free = -1;        // first frame with the rendered tool in free space
+  int frames_to_free = -1;           // first frame with the rendered tool in free space
   double max_penetration_after = 0;  // from that frame on
-  int zero_force_inside = 0;      // frames with no force while the device was inside
+  int zero_force_inside = 0;         // frames with no force while the device was inside
   double max_force = 0;
   bool finite = true;
-  double end_gap = 0;             // |p_G - p_H| at the end (the device out in free space)
+  double end_gap = 0;  // |p_G - p_H| at the end (the device out in free space)
   std::uint64_t inside_faults = 0;
 };
 
-DeepStart RunDeepStart(const test::Scene& scene, const RigidTransform& inside, const Vector3& out_W, int hold = 300,
-                       int pull = 1200) {
+DeepStart RunDeepStart(const test::Scene& scene, const RigidTransform& inside,
+                       const Vector3& out_W, int hold = 300, int pull = 1200) {
   EngineParams params;
   const auto model = scene.Model(params);
   EngineData d(*model);
@@ -394,16 +432,20 @@ DeepStart RunDeepStart(const test::Scene& scene, const RigidTransform& inside, c
     const double t = std::clamp((i - hold) / static_cast<double>(pull), 0.0, 1.0);
     const RigidTransform X_WH(inside.rotation(), inside.translation() + t * out_W);
     Step(*model, X_WH, &d);
-    r.finite = r.finite && d.force_W.allFinite() && d.torque_W.allFinite() && d.X_WG.translation().allFinite();
+    r.finite = r.finite && d.force_W.allFinite() && d.torque_W.allFinite() &&
+               d.X_WG.translation().allFinite();
     r.max_force = std::max(r.max_force, d.force_W.norm());
-    const CollisionStats at_device = FindContacts(model->world, X_WH, 0.0, &scratch, check.data(), 0, QueryLimits{true, 0});
+    const CollisionStats at_device = FindContacts(model->world, X_WH, 0.0, &scratch,
+                                                  check.data(), 0, QueryLimits{true, 0});
     const bool device_inside = at_device.overflow;
     if (device_inside && d.force_W.norm() == 0) ++r.zero_force_inside;
-    const CollisionStats cs = FindContacts(model->world, d.X_WG, 0.0, &scratch, check.data(), static_cast<int>(check.size()));
+    const CollisionStats cs = FindContacts(model->world, d.X_WG, 0.0, &scratch,
+                                           check.data(), static_cast<int>(check.size()));
     double pen = 0;
     for (int k = 0; k < cs.pairs; ++k) pen = std::max(pen, -check[k].gap);
     if (r.frames_to_free < 0 && pen <= kMaxPenetration) r.frames_to_free = i;
-    if (r.frames_to_free >= 0) r.max_penetration_after = std::max(r.max_penetration_after, pen);
+    if (r.frames_to_free >= 0)
+      r.max_penetration_after = std::max(r.max_penetration_after, pen);
     r.end_gap = (d.X_WG.translation() - X_WH.translation()).norm();
   }
   r.inside_faults = d.faults.inside;
@@ -415,9 +457,11 @@ void ExpectRecovers(const DeepStart& r) {
   EXPECT_GE(r.frames_to_free, 0) << "never in free space";
   EXPECT_LE(r.frames_to_free, 10) << "brought out within a few frames";
   EXPECT_LE(r.max_penetration_after, kMaxPenetration);
-  EXPECT_LE(r.zero_force_inside, 10) << "no force for more than 10 frames while the hand was inside";
+  EXPECT_LE(r.zero_force_inside, 10)
+      << "no force for more than 10 frames while the hand was inside";
   EXPECT_LE(r.max_force, EngineParams{}.max_force_n + 1e-9);
-  EXPECT_LT(r.end_gap, 1e-6) << "out in free space, the rendered tool follows the device again";
+  EXPECT_LT(r.end_gap, 1e-6)
+      << "out in free space, the rendered tool follows the device again";
   EXPECT_GE(r.inside_faults, 1u);
 }
 
@@ -429,14 +473,17 @@ TEST(HardCasesDeepStart, FiveMillimetresInsideABlock) {
 
 TEST(HardCasesDeepStart, AcrossAWallOfTheNarrowSlot) {
   const test::Scene s = NarrowSlot();
-  const Matrix3 tilted = Eigen::AngleAxisd(kPi / 3, Vector3::UnitY()).toRotationMatrix();  // the shaft through a wall
+  const Matrix3 tilted = Eigen::AngleAxisd(kPi / 3, Vector3::UnitY())
+                             .toRotationMatrix();  // the shaft through a wall
   ExpectRecovers(RunDeepStart(s, Pose(Vector3(0, 0, -2), tilted), Vector3(0, 0, 8)));
 }
 
 TEST(HardCasesDeepStart, InsideBothSlabsOfTheWedge) {
   const test::Scene s = Wedge();
-  const Matrix3 across = Eigen::AngleAxisd(kPi / 2, Vector3::UnitY()).toRotationMatrix();  // lying across the wedge
-  // Pulled out sideways, past the slabs' ends: free space whichever side it was brought out on.
+  const Matrix3 across = Eigen::AngleAxisd(kPi / 2, Vector3::UnitY())
+                             .toRotationMatrix();  // lying across the wedge
+  // Pulled out sideways, past the slabs' ends: free space whichever side it was brought
+  // out on.
   ExpectRecovers(RunDeepStart(s, Pose(Vector3(0, 0, 1.5), across), Vector3(0, 12, 0)));
 }
 
@@ -452,15 +499,16 @@ TEST(HardCasesDeepStart, InsideAThinWall) {
 // friction angle the rendered tool sticks where it touched; above it, it slides
 // down the slope until the spring leans on the kinetic cone's edge.
 struct FrictionRun {
-  double slid_mm = 0;           // along the plate, from the first contact to the end
-  double ratio = 0;             // tangential over normal force at the end
+  double slid_mm = 0;  // along the plate, from the first contact to the end
+  double ratio = 0;    // tangential over normal force at the end
   std::uint64_t transitions = 0;
-  double rest_jitter = 0;       // force change over the last 200 frames
+  double rest_jitter = 0;  // force change over the last 200 frames
 };
 
 FrictionRun RunInclined(double tilt_deg, double mu) {
   test::Scene s = WithProbe();
-  const Matrix3 R = Eigen::AngleAxisd(tilt_deg * kPi / 180, Vector3::UnitY()).toRotationMatrix();
+  const Matrix3 R =
+      Eigen::AngleAxisd(tilt_deg * kPi / 180, Vector3::UnitY()).toRotationMatrix();
   // A fine plate (spacing 0.05 mm): the valleys between its spheres lean at most
   // 4 degrees, so they hold the tool far less than the friction does.
   s.Add(test::MakeBlock(3, 3, -0.5, -0.5, 0.05, 0.5), Pose(Vector3::Zero(), R));
@@ -468,17 +516,21 @@ FrictionRun RunInclined(double tilt_deg, double mu) {
   model->friction = {mu};
   EngineData d(*model);
   const Vector3 n = R * Vector3::UnitZ();
-  const Vector3 down_slope = (R * Vector3::UnitX()).z() < 0 ? Vector3(R * Vector3::UnitX()) : Vector3(R * -Vector3::UnitX());
+  const Vector3 down_slope = (R * Vector3::UnitX()).z() < 0
+                                 ? Vector3(R * Vector3::UnitX())
+                                 : Vector3(R * -Vector3::UnitX());
   ResetTool(Pose(Vector3(0, 0, 3)), &d);
   FrictionRun r;
   std::optional<Vector3> touched;
   double z = 3;
   Vector3 last_force = Vector3::Zero();
   for (int i = 0; i < 3000; ++i) {
-    if (!touched || d.X_WG.translation().z() - z < 1.5) z -= 0.002;  // 2 mm/s, to 1.5 mm below the touch
+    if (!touched || d.X_WG.translation().z() - z < 1.5)
+      z -= 0.002;  // 2 mm/s, to 1.5 mm below the touch
     Step(*model, Pose(Vector3(0, 0, z)), &d);
     if (!touched && d.active_contacts > 0) touched = d.X_WG.translation();
-    if (i >= 2800) r.rest_jitter = std::max(r.rest_jitter, (d.force_W - last_force).norm());
+    if (i >= 2800)
+      r.rest_jitter = std::max(r.rest_jitter, (d.force_W - last_force).norm());
     last_force = d.force_W;
   }
   const Vector3 F = d.force_W;
@@ -488,15 +540,19 @@ FrictionRun RunInclined(double tilt_deg, double mu) {
   return r;
 }
 
-TEST(HardCasesFriction, AnInclinedPlateHoldsTheToolBelowTheFrictionAngleAndLetsItSlideAbove) {
+TEST(HardCasesFriction,
+     AnInclinedPlateHoldsTheToolBelowTheFrictionAngleAndLetsItSlideAbove) {
   constexpr double kMu = 0.4;  // friction angle 21.8 degrees; kinetic 0.32 (17.7 degrees)
-  constexpr double kValley = 0.08;  // tan of the steepest valley wall of the plate's spheres (4.6 degrees)
+  constexpr double kValley =
+      0.08;  // tan of the steepest valley wall of the plate's spheres (4.6 degrees)
   const FrictionRun below = RunInclined(12, kMu);
   EXPECT_LT(std::abs(below.slid_mm), 0.01) << "stuck where it touched";
-  EXPECT_NEAR(below.ratio, std::tan(12 * kPi / 180), 0.01) << "the spring leans as the device pushes";
+  EXPECT_NEAR(below.ratio, std::tan(12 * kPi / 180), 0.01)
+      << "the spring leans as the device pushes";
   const FrictionRun above = RunInclined(35, kMu);
   EXPECT_GT(above.slid_mm, 0.1) << "slid down the slope";
-  EXPECT_NEAR(above.ratio, EngineModel::kKineticShare * kMu, kValley) << "on the kinetic cone's edge";
+  EXPECT_NEAR(above.ratio, EngineModel::kKineticShare * kMu, kValley)
+      << "on the kinetic cone's edge";
   const FrictionRun none = RunInclined(35, 0.0);
   EXPECT_GT(none.slid_mm, above.slid_mm + 0.3) << "without friction it slides further";
   EXPECT_LT(none.ratio, kValley) << "and the force is about the plate's normal";
@@ -508,7 +564,8 @@ TEST(HardCasesFriction, AnInclinedPlateHoldsTheToolBelowTheFrictionAngleAndLetsI
 
 TEST(HardCasesFriction, ASteadyDragSlidesSteadilyWithoutBuzzAndStopsWhenTheDeviceStops) {
   test::Scene s = WithProbe();
-  s.Add(test::MakeBlock(6, 2, -0.5, -0.5, 0.05, 0.5), Pose(Vector3::Zero()));  // fine, as above
+  s.Add(test::MakeBlock(6, 2, -0.5, -0.5, 0.05, 0.5),
+        Pose(Vector3::Zero()));  // fine, as above
   auto model = s.Model();
   constexpr double kMu = 0.3;
   model->friction = {kMu};
@@ -519,8 +576,8 @@ TEST(HardCasesFriction, ASteadyDragSlidesSteadilyWithoutBuzzAndStopsWhenTheDevic
   Vector3 last_force = Vector3::Zero();
   double rest_jitter = 0;
   for (int i = 0; i < 2500; ++i) {
-    Vector3 p(-4, 0, Lerp(2, -1, i / 300.0));                     // down, 1 mm into the plate
-    if (i >= 500) p.x() = Lerp(-4, 4, (i - 500) / 1500.0);      // dragged 8 mm at 5.3 mm/s
+    Vector3 p(-4, 0, Lerp(2, -1, i / 300.0));               // down, 1 mm into the plate
+    if (i >= 500) p.x() = Lerp(-4, 4, (i - 500) / 1500.0);  // dragged 8 mm at 5.3 mm/s
     Step(*model, Pose(p), &d);
     if (i >= 900 && i < 2000) {
       const Vector3 F = d.force_W;

@@ -47,10 +47,14 @@ HDErrorInfo hdGetError(void) {
 }
 HDstring hdGetErrorString(HDErrorCode code) {
   switch (code) {
-    case HD_COMM_CONFIG_ERROR: return "Communication configuration error";
-    case HD_DEVICE_FAULT: return "Device fault";
-    case HD_EXCEEDED_MAX_FORCE: return "Exceeded max force";
-    default: return "HDAPI error";
+    case HD_COMM_CONFIG_ERROR:
+      return "Communication configuration error";
+    case HD_DEVICE_FAULT:
+      return "Device fault";
+    case HD_EXCEEDED_MAX_FORCE:
+      return "Exceeded max force";
+    default:
+      return "HDAPI error";
   }
 }
 void hdEnable(HDenum cap) {
@@ -107,5 +111,7 @@ void hdSetDoublev(HDenum name, const HDdouble* v) {
     ++Get().torque_writes;
   }
 }
-HDstring hdGetString(HDenum name) { return name == HD_DEVICE_MODEL_TYPE ? "PHANToM Premium 3.0 6DOF (double)" : ""; }
+HDstring hdGetString(HDenum name) {
+  return name == HD_DEVICE_MODEL_TYPE ? "PHANToM Premium 3.0 6DOF (double)" : "";
+}
 }

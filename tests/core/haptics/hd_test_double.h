@@ -13,9 +13,10 @@
 namespace sulcus::test::hd {
 
 struct State {
-  HDErrorCode init_error = HD_SUCCESS;       // hdInitDevice fails with this
-  HDErrorCode start_error = HD_SUCCESS;      // hdStartScheduler fails with this
-  std::deque<HDErrorCode> servo_errors;      // raised during the next servo ticks, one per tick
+  HDErrorCode init_error = HD_SUCCESS;   // hdInitDevice fails with this
+  HDErrorCode start_error = HD_SUCCESS;  // hdStartScheduler fails with this
+  std::deque<HDErrorCode>
+      servo_errors;  // raised during the next servo ticks, one per tick
   HDdouble transform[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   HDint buttons = 0;
   HDint input_dof = 6, output_dof = 6;
@@ -23,7 +24,8 @@ struct State {
   // What the backend did.
   HDdouble force[3] = {}, torque[3] = {};
   int force_writes = 0, torque_writes = 0;
-  bool scheduler_running = false, device_enabled = false, force_output = false, in_frame = false;
+  bool scheduler_running = false, device_enabled = false, force_output = false,
+       in_frame = false;
   int frames_unbalanced = 0;
   std::vector<std::string> calls;
   // Internal.

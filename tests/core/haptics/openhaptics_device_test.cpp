@@ -6,13 +6,13 @@
 
 #include <algorithm>
 #include <memory>
-#include <vector>
 #include <numbers>
+#include <vector>
 
 #include "core/haptics/haptic_loop.h"
 #include "tests/common/compare.h"
-#include "tests/core/haptics/test_scenes.h"
 #include "tests/core/haptics/hd_test_double.h"
+#include "tests/core/haptics/test_scenes.h"
 
 namespace sulcus {
 namespace {
@@ -22,8 +22,10 @@ namespace hd = test::hd;
 
 OpenHapticsOptions SixDof() {
   OpenHapticsOptions o;
-  o.X_WD = RigidTransform(RotationFromEuler(0, 0, std::numbers::pi / 2), Vector3(100, 0, 0));  // turned 90 deg about z
-  o.X_ST = RigidTransform(Matrix3::Identity(), Vector3(0, 0, -40));  // the tip 40 mm along -z of the stylus
+  o.X_WD = RigidTransform(RotationFromEuler(0, 0, std::numbers::pi / 2),
+                          Vector3(100, 0, 0));  // turned 90 deg about z
+  o.X_ST = RigidTransform(Matrix3::Identity(),
+                          Vector3(0, 0, -40));  // the tip 40 mm along -z of the stylus
   o.max_torque_nmm = 515;
   return o;
 }
@@ -41,8 +43,12 @@ class OpenHaptics : public ::testing::Test {
     EXPECT_TRUE(device->Read(0, &s));
     return device;
   }
-  static Vector3 Force() { return {hd::Get().force[0], hd::Get().force[1], hd::Get().force[2]}; }
-  static Vector3 Torque() { return {hd::Get().torque[0], hd::Get().torque[1], hd::Get().torque[2]}; }
+  static Vector3 Force() {
+    return {hd::Get().force[0], hd::Get().force[1], hd::Get().force[2]};
+  }
+  static Vector3 Torque() {
+    return {hd::Get().torque[0], hd::Get().torque[1], hd::Get().torque[2]};
+  }
 };
 
 TEST_F(OpenHaptics, StartsStopsAndReadsThePoseInTheWorldFrame) {
@@ -63,7 +69,8 @@ TEST_F(OpenHaptics, StartsStopsAndReadsThePoseInTheWorldFrame) {
   hd::Get().buttons = 1;
   hd::RunServo(1);
   ASSERT_TRUE(device.Read(0.001, &s));
-  // W = Rz(90) * (p_S + (0, 0, -40)) + (100, 0, 0): (10, 20, -10) -> (-20, 10, -10) + (100, 0, 0).
+  // W = Rz(90) * (p_S + (0, 0, -40)) + (100, 0, 0): (10, 20, -10) -> (-20, 10, -10) +
+  // (100, 0, 0).
   EXPECT_TRUE(CompareMatrices(s.X_WH.translation(), Vector3(80, 10, -10), 1e-12));
   EXPECT_EQ(s.buttons, 1u);
   EXPECT_FALSE(device.Read(0.002, &s)) << "the same reading again is not fresh";
@@ -71,8 +78,9 @@ TEST_F(OpenHaptics, StartsStopsAndReadsThePoseInTheWorldFrame) {
   device.Stop();
   EXPECT_FALSE(hd::Get().scheduler_running);
   EXPECT_FALSE(hd::Get().device_enabled);
-  const std::vector<std::string> expected = {"hdInitDevice(default)", "hdEnable", "hdScheduleAsynchronous",
-                                             "hdStartScheduler", "hdStopScheduler", "hdUnschedule",
+  const std::vector<std::string> expected = {"hdInitDevice(default)",  "hdEnable",
+                                             "hdScheduleAsynchronous", "hdStartScheduler",
+                                             "hdStopScheduler",        "hdUnschedule",
                                              "hdDisableDevice"};
   EXPECT_EQ(hd::Get().calls, expected);
   EXPECT_EQ(hd::Get().frames_unbalanced, 0);
@@ -170,7 +178,9 @@ TEST_F(OpenHaptics, TheLoopZeroesForceOnTheTickTheDeviceFaultsAndRampsInWhenItIs
     for (int i = 0; i < r.num_events; ++i) events.push_back(r.events[i].kind);
     return Force().norm();
   };
-  auto seen = [&](EventKind k) { return std::find(events.begin(), events.end(), k) != events.end(); };
+  auto seen = [&](EventKind k) {
+    return std::find(events.begin(), events.end(), k) != events.end();
+  };
   hd::Get().transform[14] = 3;  // above the block
   for (int i = 0; i < 50; ++i) tick();
   hd::Get().transform[14] = -0.5;  // pressed 0.5 mm into its top
@@ -186,8 +196,9 @@ TEST_F(OpenHaptics, TheLoopZeroesForceOnTheTickTheDeviceFaultsAndRampsInWhenItIs
   hd::RunServo(1);
   EXPECT_EQ(Force().norm(), 0.0) << "and the next servo frame sends nothing";
   ASSERT_GE(lost.num_events, 1);
-  EXPECT_TRUE(std::any_of(lost.events.begin(), lost.events.begin() + lost.num_events,
-                          [](const HapticEvent& e) { return e.kind == EventKind::kDeviceLost; }));
+  EXPECT_TRUE(
+      std::any_of(lost.events.begin(), lost.events.begin() + lost.num_events,
+                  [](const HapticEvent& e) { return e.kind == EventKind::kDeviceLost; }));
   for (int i = 0; i < OpenHapticsDevice::kResumeFrames - 3; ++i) EXPECT_EQ(tick(), 0.0);
   EXPECT_FALSE(seen(EventKind::kDeviceBack));
   for (int i = 0; i < 5; ++i) tick();
@@ -209,8 +220,10 @@ TEST_F(OpenHaptics, OpenFailureSaysWhatToCheck) {
     FAIL();
   } catch (const DeviceError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "OpenHaptics: cannot open the default device: Communication configuration error (HDAPI error 0x0700, "
-              "internal -7). Is the device plugged in, its driver running and the device calibrated? "
+              "OpenHaptics: cannot open the default device: Communication configuration "
+              "error (HDAPI error 0x0700, "
+              "internal -7). Is the device plugged in, its driver running and the device "
+              "calibrated? "
               "(`sulcus-cli devices` lists what is plugged in.)");
   }
   EXPECT_FALSE(hd::Get().scheduler_running);

@@ -34,17 +34,20 @@ SphereTree MakeFlatFace(int nx, int ny, double spacing, double radius) {
   std::vector<double> r;
   for (int i = 0; i < nx; ++i) {
     for (int j = 0; j < ny; ++j) {
-      c.emplace_back((i - (nx - 1) / 2.0) * spacing, (j - (ny - 1) / 2.0) * spacing, radius);
+      c.emplace_back((i - (nx - 1) / 2.0) * spacing, (j - (ny - 1) / 2.0) * spacing,
+                     radius);
       r.push_back(radius);
     }
   }
   return FromLeaves(c, r);
 }
 
-SphereTree MakeBlock(double hx, double hy, double z0, double z1, double spacing, double radius) {
+SphereTree MakeBlock(double hx, double hy, double z0, double z1, double spacing,
+                     double radius) {
   std::vector<Vector3> c;
   std::vector<double> r;
-  const int nx = static_cast<int>(std::round(2 * hx / spacing)), ny = static_cast<int>(std::round(2 * hy / spacing));
+  const int nx = static_cast<int>(std::round(2 * hx / spacing)),
+            ny = static_cast<int>(std::round(2 * hy / spacing));
   const int nz = std::max(0, static_cast<int>(std::round((z1 - z0) / spacing)));
   for (int i = 0; i <= nx; ++i) {
     for (int j = 0; j <= ny; ++j) {

@@ -19,7 +19,8 @@ SphereTree MakeFlatFace(int nx, int ny, double spacing, double radius);
 
 /// A slab of spheres: centres on a grid over [-hx, hx] x [-hy, hy] x [z0, z1]
 /// (z layers every `spacing`), radius r, in the object's frame.
-SphereTree MakeBlock(double hx, double hy, double z0, double z1, double spacing, double radius);
+SphereTree MakeBlock(double hx, double hy, double z0, double z1, double spacing,
+                     double radius);
 
 /// A scene: owns its trees, and an engine model on them.
 struct Scene {

@@ -3,9 +3,6 @@
 // chart and classification, usable by a lesson without `case:`.
 #include <gtest/gtest.h>
 
-#include "tests/common/meshes.h"
-#include "tests/common/output.h"
-
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +10,8 @@
 #include <sstream>
 
 #include "core/lesson/lesson_spec.h"
+#include "tests/common/meshes.h"
+#include "tests/common/output.h"
 
 namespace sulcus {
 namespace {
@@ -22,7 +21,8 @@ namespace fs = std::filesystem;
 fs::path Dir(const std::string& name) { return test::FreshOutputPath("case", name); }
 
 TEST(CaseScene, ASavedCaseReadsBackAsTheDrawnChartAndALessonCanUseIt) {
-  const LessonSpec lesson = LoadLessonSpec(fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml");
+  const LessonSpec lesson = LoadLessonSpec(fs::path(SULCUS_SOURCE_DIR) / "lessons" /
+                                           "periodontal_probing.yaml");
   ASSERT_FALSE(lesson.case_spec.generated);
   CaseSpec c;
   c.generated = true;
@@ -50,21 +50,26 @@ TEST(CaseScene, ASavedCaseReadsBackAsTheDrawnChartAndALessonCanUseIt) {
   EXPECT_EQ(back.effects, base.effects);
   EXPECT_EQ(back.probe, base.probe);
   EXPECT_EQ(back.haptics.max_force_n, base.haptics.max_force_n);
-  EXPECT_NE(back.name.find("stage II, generalized, seed 11"), std::string::npos) << back.name;
+  EXPECT_NE(back.name.find("stage II, generalized, seed 11"), std::string::npos)
+      << back.name;
   std::ifstream f(out);
   std::string first;
   std::getline(f, first);
   EXPECT_EQ(first.rfind("# ", 0), 0u) << "the case is named in the file's first lines";
 
   // A lesson on the saved scene, without `case:`, loads and charts the same truth.
-  std::ofstream(dir / "lesson.yaml") << "name: fixed case\nscene: sextant_stage_ii.yaml\n"
-                                        "steps:\n  - {id: read, instruction: Probe every site., complete: read}\n";
+  std::ofstream(dir / "lesson.yaml")
+      << "name: fixed case\nscene: sextant_stage_ii.yaml\n"
+         "steps:\n  - {id: read, instruction: Probe every site., complete: read}\n";
   const LessonSpec fixed = LoadLessonSpec(dir / "lesson.yaml");
-  EXPECT_EQ(std::set<int>(fixed.teeth.begin(), fixed.teeth.end()), std::set<int>(lesson.teeth.begin(), lesson.teeth.end()));
-  const PerioChart a = TrueChart(LoadSceneSpec(fixed.scene), lesson.teeth), b = TrueChart(drawn, lesson.teeth);
+  EXPECT_EQ(std::set<int>(fixed.teeth.begin(), fixed.teeth.end()),
+            std::set<int>(lesson.teeth.begin(), lesson.teeth.end()));
+  const PerioChart a = TrueChart(LoadSceneSpec(fixed.scene), lesson.teeth),
+                   b = TrueChart(drawn, lesson.teeth);
   ASSERT_EQ(a.teeth.size(), b.teeth.size());
   for (std::size_t t = 0; t < a.teeth.size(); ++t)
-    for (int s = 0; s < kSitesPerTooth; ++s) EXPECT_EQ(a.teeth[t].sites[s].pd_mm, b.teeth[t].sites[s].pd_mm);
+    for (int s = 0; s < kSitesPerTooth; ++s)
+      EXPECT_EQ(a.teeth[t].sites[s].pd_mm, b.teeth[t].sites[s].pd_mm);
 }
 
 TEST(CaseScene, ASceneWithMeshFilesIsSavedOnlyBesideItself) {
@@ -75,8 +80,10 @@ TEST(CaseScene, ASceneWithMeshFilesIsSavedOnlyBesideItself) {
   std::stringstream text;
   text << in.rdbuf();
   test::WriteTetrahedronStl(src / "block.stl", 4);
-  std::ofstream(src / "scene.yaml") << text.str() << "  - mesh: block.stl\n    tissue: bone\n    at: [0, 0, -40]\n";
-  std::ofstream(src / "lesson.yaml") << "name: x\nscene: scene.yaml\nsteps:\n  - {id: r, instruction: x, complete: read}\n";
+  std::ofstream(src / "scene.yaml")
+      << text.str() << "  - mesh: block.stl\n    tissue: bone\n    at: [0, 0, -40]\n";
+  std::ofstream(src / "lesson.yaml") << "name: x\nscene: scene.yaml\nsteps:\n  - {id: r, "
+                                        "instruction: x, complete: read}\n";
   const LessonSpec lesson = LoadLessonSpec(src / "lesson.yaml");
   CaseSpec c;
   c.generated = true;
@@ -84,17 +91,21 @@ TEST(CaseScene, ASceneWithMeshFilesIsSavedOnlyBesideItself) {
     SaveCaseScene(lesson, c, 3, elsewhere / "case.yaml");
     FAIL() << "saved a scene with relative mesh paths into another folder";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("names mesh files relative to its folder"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("names mesh files relative to its folder"),
+              std::string::npos)
+        << e.what();
   }
   EXPECT_FALSE(fs::exists(elsewhere / "case.yaml"));
   const SceneSpec beside = SaveCaseScene(lesson, c, 3, src / "case.yaml");
-  EXPECT_EQ(beside.objects.size(), LoadSceneSpec(src / "scene.yaml").objects.size()) << "the block is kept";
+  EXPECT_EQ(beside.objects.size(), LoadSceneSpec(src / "scene.yaml").objects.size())
+      << "the block is kept";
   EXPECT_TRUE(fs::exists(src / "case.yaml"));
 }
 
 // Furcation in the scene is the chart's truth, and class II raises stage II to III.
 TEST(CaseScene, AFurcationInTheSceneIsInTheTrueChartAndRaisesTheStage) {
-  const LessonSpec lesson = LoadLessonSpec(fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml");
+  const LessonSpec lesson = LoadLessonSpec(fs::path(SULCUS_SOURCE_DIR) / "lessons" /
+                                           "periodontal_probing.yaml");
   SceneSpec scene = LoadSceneSpec(lesson.scene);
   // A stage II chart: 3-4 mm of interdental CAL at several teeth, no PD >= 6.
   for (ObjectSpec& o : scene.objects) {

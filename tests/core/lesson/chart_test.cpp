@@ -1,8 +1,8 @@
 // The 2017 classification on the worked cases of the clinical notes, and the
 // chart's conventions (CAL, adjacency).
-#include <gtest/gtest.h>
-
 #include "core/lesson/chart.h"
+
+#include <gtest/gtest.h>
 
 namespace sulcus {
 namespace {
@@ -109,7 +109,8 @@ TEST(Staging2017, HealthGeneralizedGingivitisAndNotAssessable) {
   for (ToothChart& t : c.teeth)
     for (int s = 0; s < 3; ++s) t.sites[s].bleeding = true;  // 50 %
   EXPECT_EQ(Classify2017(c).kind, Diagnosis::Kind::kGingivitisGeneralized);
-  EXPECT_EQ(Classify2017(Healthy({46, 47})).kind, Diagnosis::Kind::kNotAssessable) << "two neighbours only";
+  EXPECT_EQ(Classify2017(Healthy({46, 47})).kind, Diagnosis::Kind::kNotAssessable)
+      << "two neighbours only";
   PerioChart generalized = Healthy(TwentyFour());
   for (ToothChart& t : generalized.teeth) Set(&generalized, t.fdi, 0, 4, 3);
   const Diagnosis g = Classify2017(generalized);

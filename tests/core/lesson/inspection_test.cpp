@@ -2,6 +2,8 @@
 // scene's truth, and scripted inspectors with known answers taking it on the
 // full mouth.
 
+#include "core/lesson/inspection.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,7 +13,6 @@
 #include <set>
 
 #include "core/lesson/attempt.h"
-#include "core/lesson/inspection.h"
 #include "core/lesson/report.h"
 #include "core/lesson/scripted_inspector.h"
 #include "core/spheretree/cache.h"
@@ -21,7 +22,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Lesson() { return fs::path(SULCUS_SOURCE_DIR) / "lessons" / "oral_inspection.yaml"; }
+fs::path Lesson() {
+  return fs::path(SULCUS_SOURCE_DIR) / "lessons" / "oral_inspection.yaml";
+}
 fs::path Out(const std::string& name) {
   const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "inspection";
   fs::create_directories(dir);
@@ -35,8 +38,10 @@ fs::path Write(const std::string& name, const std::string& text) {
 
 std::vector<std::string> Errors(const fs::path& file, bool answers = false) {
   try {
-    if (answers) LoadAnswers(file);
-    else LoadLessonSpec(file);
+    if (answers)
+      LoadAnswers(file);
+    else
+      LoadLessonSpec(file);
   } catch (const SceneLoadError& e) {
     std::vector<std::string> v;
     for (const SceneError& x : e.errors()) v.push_back(x.ToString());
@@ -46,55 +51,68 @@ std::vector<std::string> Errors(const fs::path& file, bool answers = false) {
 }
 
 bool AnyContains(const std::vector<std::string>& v, const std::string& what) {
-  return std::any_of(v.begin(), v.end(), [&](const std::string& s) { return s.find(what) != std::string::npos; });
+  return std::any_of(v.begin(), v.end(), [&](const std::string& s) {
+    return s.find(what) != std::string::npos;
+  });
 }
 
 TEST(InspectionLesson, TheShippedLessonIsValid) {
   const LessonSpec spec = LoadLessonSpec(Lesson());
   EXPECT_TRUE(spec.inspection());
   EXPECT_EQ(spec.teeth.size(), 28u);
-  EXPECT_EQ(spec.regions.size(), InspectionRegionNames().size()) << "the scene has every region";
+  EXPECT_EQ(spec.regions.size(), InspectionRegionNames().size())
+      << "the scene has every region";
   ASSERT_EQ(spec.steps.size(), 11u);
-  EXPECT_EQ(spec.steps[1].regions, (std::vector<std::string>{"cheek_right", "cheek_left"}));
+  EXPECT_EQ(spec.steps[1].regions,
+            (std::vector<std::string>{"cheek_right", "cheek_left"}));
   EXPECT_EQ(spec.steps.back().complete, StepSpec::Complete::kRecorded);
   EXPECT_TRUE(spec.path.empty()) << "an inspection has no probing path";
 }
 
 TEST(InspectionLesson, EveryErrorAtOnceWithItsPlace) {
-  const fs::path f = Write("bad_inspection.yaml",
-                           "kind: inspection\n"
-                           "scene: " + (fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml").string() + "\n"
-                           "path: standard\n"
-                           "steps:\n"
-                           "  - instruction: lips\n"
-                           "    complete: read\n"
-                           "    regions: [lip_uper]\n"
-                           "  - instruction: teeth\n"
-                           "    complete: touched\n"
-                           "    teeth: [36]\n"
-                           "    surfaces: [B, X]\n"
-                           "  - instruction: nothing named\n"
-                           "    complete: touched\n");
+  const fs::path f = Write(
+      "bad_inspection.yaml",
+      "kind: inspection\n"
+      "scene: " +
+          (fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml").string() +
+          "\n"
+          "path: standard\n"
+          "steps:\n"
+          "  - instruction: lips\n"
+          "    complete: read\n"
+          "    regions: [lip_uper]\n"
+          "  - instruction: teeth\n"
+          "    complete: touched\n"
+          "    teeth: [36]\n"
+          "    surfaces: [B, X]\n"
+          "  - instruction: nothing named\n"
+          "    complete: touched\n");
   const auto e = Errors(f);
   EXPECT_TRUE(AnyContains(e, ":3:1: unknown key 'path'")) << ::testing::PrintToString(e);
-  EXPECT_TRUE(AnyContains(e, ":6:15: unknown completion 'read' for an inspection lesson")) << ::testing::PrintToString(e);
-  EXPECT_TRUE(AnyContains(e, ":7:15: unknown region 'lip_uper'; did you mean 'lip_upper'?")) << ::testing::PrintToString(e);
-  EXPECT_TRUE(AnyContains(e, ":11:19: unknown surface 'X'")) << ::testing::PrintToString(e);
-  EXPECT_TRUE(AnyContains(e, ":12:5: a 'touched' step names what it examines")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":6:15: unknown completion 'read' for an inspection lesson"))
+      << ::testing::PrintToString(e);
+  EXPECT_TRUE(
+      AnyContains(e, ":7:15: unknown region 'lip_uper'; did you mean 'lip_upper'?"))
+      << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":11:19: unknown surface 'X'"))
+      << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":12:5: a 'touched' step names what it examines"))
+      << ::testing::PrintToString(e);
 }
 
 TEST(Odontogram, FindingsReadAndWriteBackAndBadOnesAreNamed) {
-  const fs::path f = Write("findings.yaml",
-                           "findings:\n"
-                           "  - {tooth: 36, caries: [O, B], tick: 10}\n"
-                           "  - {tooth: 16, calculus: true}\n"
-                           "  - {tooth: 31, inflamed: true, tick: 20}\n"
-                           "  - {tooth: 24, status: 3}\n"
-                           "  - {region: tongue_lateral_border_left, lesion: ulcer, tick: 30}\n"
-                           "  - {tooth: 36, caries: B, present: false, tick: 40}\n"
-                           "submitted: 50\n"
-                           "views:\n"
-                           "  - {tick: 12, eye: [0, 60, 10], at: [0, -20, 10], up: [0, 0, 1], angle: 30}\n");
+  const fs::path f = Write(
+      "findings.yaml",
+      "findings:\n"
+      "  - {tooth: 36, caries: [O, B], tick: 10}\n"
+      "  - {tooth: 16, calculus: true}\n"
+      "  - {tooth: 31, inflamed: true, tick: 20}\n"
+      "  - {tooth: 24, status: 3}\n"
+      "  - {region: tongue_lateral_border_left, lesion: ulcer, tick: 30}\n"
+      "  - {tooth: 36, caries: B, present: false, tick: 40}\n"
+      "submitted: 50\n"
+      "views:\n"
+      "  - {tick: 12, eye: [0, 60, 10], at: [0, -20, 10], up: [0, 0, 1], angle: 30}\n");
   const Answers a = LoadAnswers(f);
   ASSERT_EQ(a.findings.size(), 7u);
   EXPECT_EQ(a.findings[1].surface, ToothSurface::kBuccal);
@@ -106,7 +124,8 @@ TEST(Odontogram, FindingsReadAndWriteBackAndBadOnesAreNamed) {
   Odontogram o = EmptyOdontogram({16, 24, 31, 36});
   for (const Finding& x : a.findings) o.Apply(x);
   EXPECT_TRUE(o.Find(36)->caries[static_cast<int>(ToothSurface::kOcclusal)]);
-  EXPECT_FALSE(o.Find(36)->caries[static_cast<int>(ToothSurface::kBuccal)]) << "withdrawn";
+  EXPECT_FALSE(o.Find(36)->caries[static_cast<int>(ToothSurface::kBuccal)])
+      << "withdrawn";
   EXPECT_EQ(o.Find(36)->Status(), 1) << "decayed, from its caries";
   EXPECT_EQ(o.Find(24)->Status(), 3);
   EXPECT_EQ(o.lesions.at("tongue_lateral_border_left"), "ulcer");
@@ -115,7 +134,8 @@ TEST(Odontogram, FindingsReadAndWriteBackAndBadOnesAreNamed) {
   SaveAnswers(a, back);
   const Answers b = LoadAnswers(back);
   ASSERT_EQ(b.findings.size(), a.findings.size());
-  for (std::size_t i = 0; i < a.findings.size(); ++i) EXPECT_EQ(b.findings[i].ToString(), a.findings[i].ToString()) << i;
+  for (std::size_t i = 0; i < a.findings.size(); ++i)
+    EXPECT_EQ(b.findings[i].ToString(), a.findings[i].ToString()) << i;
   EXPECT_EQ(b.submitted, a.submitted);
   ASSERT_EQ(b.views.size(), 1u);
   EXPECT_EQ(b.views[0].tick, 12u);
@@ -129,10 +149,13 @@ TEST(Odontogram, FindingsReadAndWriteBackAndBadOnesAreNamed) {
                               "  - {tooth: 36}\n"
                               "  - {region: palate, lesion: wart}\n"),
                         true);
-  EXPECT_TRUE(AnyContains(e, ":2:25: unknown surface 'Q'")) << ::testing::PrintToString(e);
-  EXPECT_TRUE(AnyContains(e, ":3:14: unknown region 'tonge_dorsum'")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":2:25: unknown surface 'Q'"))
+      << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":3:14: unknown region 'tonge_dorsum'"))
+      << ::testing::PrintToString(e);
   EXPECT_TRUE(AnyContains(e, ":4:5: a finding is one of")) << ::testing::PrintToString(e);
-  EXPECT_TRUE(AnyContains(e, ":5:30: unknown lesion 'wart'")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(AnyContains(e, ":5:30: unknown lesion 'wart'"))
+      << ::testing::PrintToString(e);
 }
 
 TEST(Odontogram, TheScenesTruth) {
@@ -143,14 +166,17 @@ TEST(Odontogram, TheScenesTruth) {
   for (const ToothRecord& r : t.teeth) {
     for (int s = 0; s < 5; ++s)
       if (r.caries[static_cast<std::size_t>(s)])
-        caries.insert(std::to_string(r.fdi) + " " + SurfaceCode(static_cast<ToothSurface>(s)));
+        caries.insert(std::to_string(r.fdi) + " " +
+                      SurfaceCode(static_cast<ToothSurface>(s)));
     if (r.calculus) calculus.insert(std::to_string(r.fdi));
     if (r.inflamed) inflamed.insert(std::to_string(r.fdi));
   }
   EXPECT_EQ(caries, (std::set<std::string>{"16 O", "26 M", "36 B", "36 O", "45 D"}));
   EXPECT_EQ(calculus, (std::set<std::string>{"16", "31", "41", "46"}));
   EXPECT_EQ(inflamed, (std::set<std::string>{"31", "32", "46"}));
-  EXPECT_EQ(t.lesions, (std::map<std::string, std::string>{{"tongue_lateral_border_left", "ulcer"}}));
+  EXPECT_EQ(
+      t.lesions,
+      (std::map<std::string, std::string>{{"tongue_lateral_border_left", "ulcer"}}));
 }
 
 // One attempt per scripted inspector, taken once and shared.
@@ -161,7 +187,8 @@ const AttemptOutcome& Take(const std::string& who) {
     AttemptOptions o;
     o.student = who;
     o.device = "student:" + who;
-    o.cache_dir = DefaultCacheDir();  // the full mouth, shared with the window and the probing tests
+    o.cache_dir = DefaultCacheDir();  // the full mouth, shared with the window and the
+                                      // probing tests
     it = done.emplace(who, RunAttempt(Lesson(), o)).first;
     WriteReport(it->second.result, {}, Out("report-" + who));
   }
@@ -181,7 +208,8 @@ const FindingScore& Score(const LessonResult& r, const std::string& kind) {
   throw std::runtime_error("no score for " + kind);
 }
 
-std::vector<std::string> Messages(const LessonResult& r, const std::string& category, RubricLine::Status st) {
+std::vector<std::string> Messages(const LessonResult& r, const std::string& category,
+                                  RubricLine::Status st) {
   std::vector<std::string> v;
   for (const RubricLine& l : r.lines)
     if (l.category == category && l.status == st) v.push_back(l.message);
@@ -193,8 +221,9 @@ TEST(Inspectors, TheThoroughOneFindsEverythingItExamines) {
   EXPECT_EQ(r.kind, "inspection");
   std::size_t examined = 0;
   for (const InspectionUnit& u : r.inspection.units) examined += u.touched;
-  EXPECT_GE(examined * 100, r.inspection.units.size() * 95) << "nearly every region and surface: " << examined << " of "
-                                                             << r.inspection.units.size();
+  EXPECT_GE(examined * 100, r.inspection.units.size() * 95)
+      << "nearly every region and surface: " << examined << " of "
+      << r.inspection.units.size();
   // A gentle hand that plans its way: no tissue pressed above its limit, and
   // a near-full score (what it still misses is a proximal surface or two where
   // the neighbour is in the way).
@@ -204,8 +233,9 @@ TEST(Inspectors, TheThoroughOneFindsEverythingItExamines) {
   // Every region: the gingiva and ridge of both arches too (their targets lie
   // on the arch's gingiva, which ends above where a collar did).
   const std::set<std::string> missed = NotExamined(r);
-  for (const char* region : {"gingiva_upper", "gingiva_lower", "lip_upper", "lip_lower", "cheek_right", "cheek_left",
-                             "tongue_dorsum", "floor_of_mouth", "palate", "soft_palate"})
+  for (const char* region :
+       {"gingiva_upper", "gingiva_lower", "lip_upper", "lip_lower", "cheek_right",
+        "cheek_left", "tongue_dorsum", "floor_of_mouth", "palate", "soft_palate"})
     EXPECT_FALSE(missed.count(region)) << region;
   // Every finding it recorded is true (specificity 1 for every kind), and it
   // found every finding on a surface or region it examined.
@@ -214,9 +244,11 @@ TEST(Inspectors, TheThoroughOneFindsEverythingItExamines) {
   EXPECT_EQ(Score(r, "calculus").fn, 0);
   EXPECT_EQ(Score(r, "inflamed gingiva").fn, 0);
   EXPECT_TRUE(r.inspection.submitted_tick.has_value());
-  EXPECT_TRUE(r.complete) << "submitting ends the examination: the steps still open are left, with what they missed";
+  EXPECT_TRUE(r.complete) << "submitting ends the examination: the steps still open are "
+                             "left, with what they missed";
   bool told = false;
-  for (const std::string& f : r.feedback) told |= f.find("36 O: a carious lesion here") != std::string::npos;
+  for (const std::string& f : r.feedback)
+    told |= f.find("36 O: a carious lesion here") != std::string::npos;
   EXPECT_TRUE(told) << "practice: the truth as each surface is examined";
   EXPECT_EQ(Score(r, "caries").fn, 0) << "every carious surface examined and found";
   // Every coverage line names its moment and the truth is in the result.
@@ -234,13 +266,17 @@ TEST(Inspectors, TheViewShowsWhatFacesTheCameraAndNoNeighbourHides) {
   const CompiledScene& scene = *t.scene;
   LessonRun run(t.spec, scene, "viewer");
   const InspectionTracker& tracker = *run.inspection();
-  const int b = tracker.UnitOf(36, ToothSurface::kBuccal), l = tracker.UnitOf(36, ToothSurface::kLingual),
+  const int b = tracker.UnitOf(36, ToothSurface::kBuccal),
+            l = tracker.UnitOf(36, ToothSurface::kLingual),
             d = tracker.UnitOf(36, ToothSurface::kDistal);
   ASSERT_GE(b, 0);
   ASSERT_GE(l, 0);
   ASSERT_GE(d, 0);
-  const auto& unit = [&](int u) -> const InspectionUnit& { return tracker.units()[static_cast<std::size_t>(u)]; };
-  const auto spot = ApproachOf(scene, unit(b), t.spec.teeth), distal = ApproachOf(scene, unit(d), t.spec.teeth);
+  const auto& unit = [&](int u) -> const InspectionUnit& {
+    return tracker.units()[static_cast<std::size_t>(u)];
+  };
+  const auto spot = ApproachOf(scene, unit(b), t.spec.teeth),
+             distal = ApproachOf(scene, unit(d), t.spec.teeth);
   ASSERT_TRUE(spot);
   ASSERT_TRUE(distal);
   auto look = [&](std::uint64_t tick, const Vector3& focal, const Vector3& eye) {
@@ -254,10 +290,12 @@ TEST(Inspectors, TheViewShowsWhatFacesTheCameraAndNoNeighbourHides) {
   // Behind 37, looking forward along the arch at 36's distal spot.
   auto centre = [&](int fdi) {
     for (const ObjectSpec& o : scene.spec.objects)
-      if (o.kind == ObjectSpec::Kind::kTooth && o.fdi == fdi) return Vector3(o.X_WO.translation());
+      if (o.kind == ObjectSpec::Kind::kTooth && o.fdi == fdi)
+        return Vector3(o.X_WO.translation());
     return Vector3(Vector3::Zero());
   };
-  Vector3 from_behind = centre(37) + (centre(37) - centre(36));  // one tooth behind 37, on the arch
+  Vector3 from_behind =
+      centre(37) + (centre(37) - centre(36));  // one tooth behind 37, on the arch
   from_behind.z() = distal->p.z();
   ASSERT_GT(distal->n.dot(from_behind - distal->p), 0) << "the spot faces that way";
   look(3, distal->p, from_behind);
@@ -271,9 +309,13 @@ TEST(Inspectors, TheViewShowsWhatFacesTheCameraAndNoNeighbourHides) {
   EXPECT_FALSE(unit(tracker.UnitOf("palate")).seen) << "outside the view";
   const LessonResult r = run.Finish();
   const auto lines = Messages(r, "coverage", RubricLine::Status::kFail);
-  EXPECT_TRUE(AnyContains(lines, "the hard palate: not examined; never in view")) << ::testing::PrintToString(lines);
-  EXPECT_FALSE(AnyContains(Messages(r, "coverage", RubricLine::Status::kInfo), "no view was recorded"));
-  EXPECT_TRUE(AnyContains(Messages(Take("thorough").result, "coverage", RubricLine::Status::kInfo), "no view was recorded"));
+  EXPECT_TRUE(AnyContains(lines, "the hard palate: not examined; never in view"))
+      << ::testing::PrintToString(lines);
+  EXPECT_FALSE(AnyContains(Messages(r, "coverage", RubricLine::Status::kInfo),
+                           "no view was recorded"));
+  EXPECT_TRUE(AnyContains(
+      Messages(Take("thorough").result, "coverage", RubricLine::Status::kInfo),
+      "no view was recorded"));
 }
 
 // An inspection is rebuilt from its recording and its answers (findings,
@@ -303,8 +345,10 @@ TEST(Inspectors, ARecordedInspectionRebuildsToTheSameResult) {
   EXPECT_EQ(b.inspection.submitted_tick, a.inspection.submitted_tick);
   ASSERT_EQ(b.inspection.units.size(), a.inspection.units.size());
   for (std::size_t i = 0; i < a.inspection.units.size(); ++i) {
-    EXPECT_EQ(b.inspection.units[i].touched, a.inspection.units[i].touched) << a.inspection.units[i].Name();
-    EXPECT_EQ(b.inspection.units[i].first_tick, a.inspection.units[i].first_tick) << a.inspection.units[i].Name();
+    EXPECT_EQ(b.inspection.units[i].touched, a.inspection.units[i].touched)
+        << a.inspection.units[i].Name();
+    EXPECT_EQ(b.inspection.units[i].first_tick, a.inspection.units[i].first_tick)
+        << a.inspection.units[i].Name();
   }
   EXPECT_EQ(Score(b, "caries").fp, Score(a, "caries").fp);
   EXPECT_EQ(b.inspection.views.size(), 1u);
@@ -324,18 +368,21 @@ TEST(Inspectors, TheSkippingOneIsToldWhatItLeftOut) {
   // its turn.)
   const auto sequence = Messages(r, "sequence", RubricLine::Status::kFail);
   bool named = false;
-  for (const auto& m : sequence) named |= m.rfind("'buccal mucosa': left for a later step with", 0) == 0 &&
-                                          m.find("cheek_left") != std::string::npos;
+  for (const auto& m : sequence)
+    named |= m.rfind("'buccal mucosa': left for a later step with", 0) == 0 &&
+             m.find("cheek_left") != std::string::npos;
   EXPECT_TRUE(named) << ::testing::PrintToString(sequence);
   for (const char* tooth : {"36: ", "37: ", "46: ", "47: "}) {
     bool named = false;
-    for (const auto& m : partial) named |= m.rfind(tooth, 0) == 0 && m.find("L") != std::string::npos;
+    for (const auto& m : partial)
+      named |= m.rfind(tooth, 0) == 0 && m.find("L") != std::string::npos;
     EXPECT_TRUE(named) << tooth << "L not named: " << ::testing::PrintToString(partial);
   }
   // The buccal mucosa step was left before it was done, with the left cheek missed.
   bool left = false;
-  for (const StepResult& st : r.steps) left |= st.id == "buccal mucosa" && !st.completed &&
-                                               std::count(st.missed.begin(), st.missed.end(), "cheek_left") == 1;
+  for (const StepResult& st : r.steps)
+    left |= st.id == "buccal mucosa" && !st.completed &&
+            std::count(st.missed.begin(), st.missed.end(), "cheek_left") == 1;
   EXPECT_TRUE(left);
   // The thorough one examined the left cheek.
   EXPECT_FALSE(NotExamined(Take("thorough").result).count("cheek_left"));
@@ -349,11 +396,15 @@ TEST(Inspectors, TheMistakenOneHasBothErrorsNamed) {
   ASSERT_EQ(who.missed_findings().size(), 1u);
   const Finding& wrong = who.false_findings()[0];
   const Finding& missed = who.missed_findings()[0];
-  const std::string wrong_name = std::to_string(wrong.fdi) + " " + SurfaceCode(wrong.surface);
-  const std::string missed_name = std::to_string(missed.fdi) + " " + SurfaceCode(missed.surface);
+  const std::string wrong_name =
+      std::to_string(wrong.fdi) + " " + SurfaceCode(wrong.surface);
+  const std::string missed_name =
+      std::to_string(missed.fdi) + " " + SurfaceCode(missed.surface);
   const auto fails = Messages(r, "findings", RubricLine::Status::kFail);
-  EXPECT_TRUE(AnyContains(fails, wrong_name + ": caries recorded on a sound surface")) << ::testing::PrintToString(fails);
-  EXPECT_TRUE(AnyContains(fails, missed_name + ": caries missed")) << ::testing::PrintToString(fails);
+  EXPECT_TRUE(AnyContains(fails, wrong_name + ": caries recorded on a sound surface"))
+      << ::testing::PrintToString(fails);
+  EXPECT_TRUE(AnyContains(fails, missed_name + ": caries missed"))
+      << ::testing::PrintToString(fails);
   EXPECT_EQ(Score(r, "caries").fp, 1);
   if (!NotExamined(t).count(missed_name)) {
     EXPECT_EQ(Score(r, "caries").fn, Score(t, "caries").fn + 1);
@@ -367,21 +418,25 @@ TEST(Inspectors, TheRoughOneIsScoredForDamageWithItsMoments) {
   const auto damage = Messages(r, "damage", RubricLine::Status::kFail);
   bool tongue = false;
   for (const RubricLine& l : r.lines)
-    if (l.category == "damage" && l.status == RubricLine::Status::kFail && l.message.find("on tongue") != std::string::npos) {
+    if (l.category == "damage" && l.status == RubricLine::Status::kFail &&
+        l.message.find("on tongue") != std::string::npos) {
       tongue = true;
       EXPECT_GT(l.tick, r.first_tick);
     }
   EXPECT_TRUE(tongue) << ::testing::PrintToString(damage);
-  ASSERT_GT(r.inspection.presses.size(), Take("thorough").result.inspection.presses.size())
+  ASSERT_GT(r.inspection.presses.size(),
+            Take("thorough").result.inspection.presses.size())
       << "the tip forced into a carious lesion";
-  const LesionPress& p = *std::max_element(r.inspection.presses.begin(), r.inspection.presses.end(),
-                                           [](const LesionPress& a, const LesionPress& b) { return a.force_n < b.force_n; });
+  const LesionPress& p = *std::max_element(
+      r.inspection.presses.begin(), r.inspection.presses.end(),
+      [](const LesionPress& a, const LesionPress& b) { return a.force_n < b.force_n; });
   EXPECT_GT(p.force_n, 1.0);
   EXPECT_GT(p.force_n, r.rubric.lesion_force_n);
   EXPECT_TRUE(AnyContains(damage, p.where + ": ")) << ::testing::PrintToString(damage);
   EXPECT_TRUE(AnyContains(damage, "into the lesion")) << ::testing::PrintToString(damage);
-  EXPECT_GT(Messages(r, "damage", RubricLine::Status::kFail).size(),
-            Messages(Take("thorough").result, "damage", RubricLine::Status::kFail).size());
+  EXPECT_GT(
+      Messages(r, "damage", RubricLine::Status::kFail).size(),
+      Messages(Take("thorough").result, "damage", RubricLine::Status::kFail).size());
 }
 
 }  // namespace

@@ -24,7 +24,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Lesson() { return fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml"; }
+fs::path Lesson() {
+  return fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml";
+}
 fs::path Out(const std::string& name) {
   const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "lesson";
   fs::create_directories(dir);
@@ -40,8 +42,10 @@ fs::path Write(const std::string& name, const std::string& text) {
 
 std::vector<std::string> Errors(const fs::path& file, bool answers = false) {
   try {
-    if (answers) LoadAnswers(file);
-    else LoadLessonSpec(file);
+    if (answers)
+      LoadAnswers(file);
+    else
+      LoadLessonSpec(file);
   } catch (const SceneLoadError& e) {
     std::vector<std::string> v;
     for (const SceneError& x : e.errors()) v.push_back(x.ToString());
@@ -59,7 +63,8 @@ AttemptOutcome Take(const std::string& student, const fs::path& record = {}) {
   return RunAttempt(Lesson(), o);
 }
 
-std::vector<const RubricLine*> Lines(const LessonResult& r, const std::string& category, RubricLine::Status status) {
+std::vector<const RubricLine*> Lines(const LessonResult& r, const std::string& category,
+                                     RubricLine::Status status) {
   std::vector<const RubricLine*> v;
   for (const RubricLine& l : r.lines)
     if (l.category == category && l.status == status) v.push_back(&l);
@@ -86,43 +91,55 @@ TEST(LessonFile, TheShippedLessonIsValid) {
 }
 
 TEST(LessonFile, EveryErrorAtOnceWithItsPlace) {
-  const fs::path scene = fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
-  const fs::path p = Write("bad.yaml", "name: bad\n"
-                                       "scene: " + scene.string() + "\n"
-                                       "mode: practise\n"
-                                       "teeth: [46, 36]\n"
-                                       "path: [\"46 DB\", \"46 XX\", \"46 DB\"]\n"
-                                       "stepz: []\n"
-                                       "rubric:\n"
-                                       "  force_band_n: [0.3, 0.2]\n"
-                                       "  weights: {technik: 3}\n");
+  const fs::path scene =
+      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
+  const fs::path p = Write("bad.yaml",
+                           "name: bad\n"
+                           "scene: " +
+                               scene.string() +
+                               "\n"
+                               "mode: practise\n"
+                               "teeth: [46, 36]\n"
+                               "path: [\"46 DB\", \"46 XX\", \"46 DB\"]\n"
+                               "stepz: []\n"
+                               "rubric:\n"
+                               "  force_band_n: [0.3, 0.2]\n"
+                               "  weights: {technik: 3}\n");
   const auto e = Errors(p);
   const std::string f = p.string();
-  EXPECT_EQ(e, (std::vector<std::string>{
-                   f + ":6:1: unknown key 'stepz' in the lesson; did you mean 'steps'?",
-                   f + ":3:7: unknown mode 'practise'; did you mean 'practice'?",
-                   f + ":9:13: unknown key 'technik' in 'weights' (expected one of: technique, reading, charting, force, angulation, "
-                       "coverage, bleeding, completeness, diagnosis, findings, sequence, damage)",
-                   f + ":8:17: 'force_band_n' must be [low, high] with low < high",
-                   f + ":4:13: tooth 36 is not in the scene periodontal_probing.yaml",
-                   f + ":5:17: a path entry is a tooth and a site, such as \"46 DB\" (sites MB, B, DB, ML, L, DL)",
-                   f + ":5:26: site 46 DB is twice in the path",
-                   f + ":1:1: a lesson needs 'steps:', a list of what the student does in order"}));
-  EXPECT_EQ(Errors(Write("noscene.yaml", "steps: [{instruction: x, complete: read}]\n")),
-            (std::vector<std::string>{Out("noscene.yaml").string() +
-                                      ":1:1: a lesson needs 'scene:', the scene file it runs on (relative to the "
-                                      "lesson's folder)"}));
+  EXPECT_EQ(
+      e,
+      (std::vector<std::string>{
+          f + ":6:1: unknown key 'stepz' in the lesson; did you mean 'steps'?",
+          f + ":3:7: unknown mode 'practise'; did you mean 'practice'?",
+          f + ":9:13: unknown key 'technik' in 'weights' (expected one of: technique, "
+              "reading, charting, force, angulation, "
+              "coverage, bleeding, completeness, diagnosis, findings, sequence, damage)",
+          f + ":8:17: 'force_band_n' must be [low, high] with low < high",
+          f + ":4:13: tooth 36 is not in the scene periodontal_probing.yaml",
+          f + ":5:17: a path entry is a tooth and a site, such as \"46 DB\" (sites MB, "
+              "B, DB, ML, L, DL)",
+          f + ":5:26: site 46 DB is twice in the path",
+          f + ":1:1: a lesson needs 'steps:', a list of what the student does in "
+              "order"}));
+  EXPECT_EQ(
+      Errors(Write("noscene.yaml", "steps: [{instruction: x, complete: read}]\n")),
+      (std::vector<std::string>{
+          Out("noscene.yaml").string() +
+          ":1:1: a lesson needs 'scene:', the scene file it runs on (relative to the "
+          "lesson's folder)"}));
   const auto missing = Errors(Out("missing.yaml"));
   ASSERT_EQ(missing.size(), 1u);
   EXPECT_NE(missing[0].find("no such lesson file"), std::string::npos);
 }
 
 TEST(Answers, ChartAndEntriesFormsAndTheirErrors) {
-  const fs::path p = Write("answers.yaml", "chart:\n"
-                                           "  46: {pd: [5, 4, 7, 5, 4, 6], bleeding: [MB, DB]}\n"
-                                           "entries:\n"
-                                           "  - {site: \"47 ML\", pd: 4, tick: 1200}\n"
-                                           "diagnosis: {stage: III, extent: localized}\n");
+  const fs::path p = Write("answers.yaml",
+                           "chart:\n"
+                           "  46: {pd: [5, 4, 7, 5, 4, 6], bleeding: [MB, DB]}\n"
+                           "entries:\n"
+                           "  - {site: \"47 ML\", pd: 4, tick: 1200}\n"
+                           "diagnosis: {stage: III, extent: localized}\n");
   const Answers a = LoadAnswers(p);
   ASSERT_EQ(a.entries.size(), 7u);
   EXPECT_EQ(a.entries[2].site.ToString(), "46 DB");
@@ -141,22 +158,25 @@ TEST(Answers, ChartAndEntriesFormsAndTheirErrors) {
     EXPECT_EQ(b.entries[i].bleeding, a.entries[i].bleeding);
     EXPECT_EQ(b.entries[i].tick, a.entries[i].tick);
   }
-  const fs::path bad = Write("answers_bad.yaml", "chart:\n"
-                                                 "  46: {pd: [5, 4, 7], bleeding: [MX]}\n"
-                                                 "diagnosis: {stage: V, extent: local}\n");
+  const fs::path bad = Write("answers_bad.yaml",
+                             "chart:\n"
+                             "  46: {pd: [5, 4, 7], bleeding: [MX]}\n"
+                             "diagnosis: {stage: V, extent: local}\n");
   const std::string f = bad.string();
-  EXPECT_EQ(Errors(bad, true),
-            (std::vector<std::string>{
-                f + ":2:12: 'pd' must be a list of 6 numbers (depths at MB, B, DB, ML, L, DL), found 3",
-                f + ":2:34: unknown site 'MX' (MB, B, DB, ML, L, DL)",
-                f + ":3:20: 'stage' must be I, II, III or IV, not 'V'",
-                f + ":3:31: 'extent' must be localized or generalized (expected one of: localized, generalized)"}));
+  EXPECT_EQ(Errors(bad, true), (std::vector<std::string>{
+                                   f + ":2:12: 'pd' must be a list of 6 numbers (depths "
+                                       "at MB, B, DB, ML, L, DL), found 3",
+                                   f + ":2:34: unknown site 'MX' (MB, B, DB, ML, L, DL)",
+                                   f + ":3:20: 'stage' must be I, II, III or IV, not 'V'",
+                                   f + ":3:31: 'extent' must be localized or generalized "
+                                       "(expected one of: localized, generalized)"}));
 }
 
 TEST(GeneratedCase, DrawsAChartWithTheAskedDiagnosisAndTheSeedRebuildsIt) {
   const LessonSpec spec = LoadLessonSpec(Lesson());
   const SceneSpec scene = LoadSceneSpec(spec.scene);
-  for (const auto& [stage, extent] : {std::pair{Stage::kIII, Extent::kLocalized}, std::pair{Stage::kII, Extent::kGeneralized},
+  for (const auto& [stage, extent] : {std::pair{Stage::kIII, Extent::kLocalized},
+                                      std::pair{Stage::kII, Extent::kGeneralized},
                                       std::pair{Stage::kI, Extent::kGeneralized}}) {
     CaseSpec c;
     c.generated = true;
@@ -174,7 +194,8 @@ TEST(GeneratedCase, DrawsAChartWithTheAskedDiagnosisAndTheSeedRebuildsIt) {
       distinct.insert(key);
       // The same seed, the same case.
       const SceneSpec again = ApplyCase(scene, spec.teeth, c, seed);
-      for (std::size_t i = 0; i < s.objects.size(); ++i) EXPECT_EQ(s.objects[i].pocket_mm, again.objects[i].pocket_mm);
+      for (std::size_t i = 0; i < s.objects.size(); ++i)
+        EXPECT_EQ(s.objects[i].pocket_mm, again.objects[i].pocket_mm);
     }
     EXPECT_GE(distinct.size(), 5u) << "cases cannot be learnt by heart";
   }
@@ -194,7 +215,8 @@ TEST(Students, TheCarefulOneScoresNearlyFull) {
       EXPECT_LE(s.angle_deg, 5.0) << s.site.ToString();
     }
   }
-  for (const RubricLine& l : r.lines) EXPECT_NE(l.status, RubricLine::Status::kFail) << l.message;
+  for (const RubricLine& l : r.lines)
+    EXPECT_NE(l.status, RubricLine::Status::kFail) << l.message;
   EXPECT_GE(r.total, 95.0);
   ASSERT_TRUE(r.declared);
   EXPECT_EQ(r.declared->Summary(), r.true_dx.Summary());
@@ -209,7 +231,8 @@ TEST(Students, TheCarefulOneScoresNearlyFull) {
 
 TEST(Students, TheRoughOneFailsForceAndDamageAndBleedingIsFlagged) {
   const LessonResult r = Take("rough").result;
-  EXPECT_EQ(Lines(r, "force", RubricLine::Status::kFail).size(), 24u) << "2 N at every floor";
+  EXPECT_EQ(Lines(r, "force", RubricLine::Status::kFail).size(), 24u)
+      << "2 N at every floor";
   EXPECT_EQ(Lines(r, "damage", RubricLine::Status::kFail).size(), 24u);
   // The floor is reached everywhere, and 2 N pushes the tip on through it:
   // every site reads deeper than its truth, as a forced probe over-reads.
@@ -218,14 +241,18 @@ TEST(Students, TheRoughOneFailsForceAndDamageAndBleedingIsFlagged) {
     EXPECT_GT(*s.reached_mm, s.truth_mm + 0.5) << s.site.ToString();
   }
   for (const RubricLine* l : Lines(r, "technique", RubricLine::Status::kFail))
-    EXPECT_NE(l->message.find("pushed through the floor"), std::string::npos) << l->message;
+    EXPECT_NE(l->message.find("pushed through the floor"), std::string::npos)
+        << l->message;
   std::set<std::string> bled;
   for (const SiteResult& s : r.sites)
     if (s.bled) bled.insert(s.site.ToString());
-  EXPECT_EQ(bled, (std::set<std::string>{"45 DB", "46 MB", "46 DB", "46 DL", "47 MB", "47 ML"})) << "the scene's";
+  EXPECT_EQ(bled,
+            (std::set<std::string>{"45 DB", "46 MB", "46 DB", "46 DL", "47 MB", "47 ML"}))
+      << "the scene's";
   std::set<std::string> flagged;
   for (const RubricLine& l : r.lines)
-    if (l.category == "bleeding" && l.message.find("possibly caused by probing force") != std::string::npos)
+    if (l.category == "bleeding" &&
+        l.message.find("possibly caused by probing force") != std::string::npos)
       flagged.insert(l.site->ToString());
   EXPECT_EQ(flagged, bled);
   EXPECT_LT(r.total, 80.0);
@@ -243,7 +270,8 @@ TEST(Students, TheMisreadingOneFailsReadingAtExactlyItsThreeSites) {
   const LessonResult r = Take("misreading").result;
   EXPECT_EQ(Sites(Lines(r, "reading", RubricLine::Status::kFail)), expected);
   EXPECT_EQ(Lines(r, "reading", RubricLine::Status::kPass).size(), 21u);
-  EXPECT_TRUE(Lines(r, "technique", RubricLine::Status::kFail).empty()) << "the technique was right";
+  EXPECT_TRUE(Lines(r, "technique", RubricLine::Status::kFail).empty())
+      << "the technique was right";
   EXPECT_TRUE(Lines(r, "technique", RubricLine::Status::kPartial).empty());
   EXPECT_EQ(Sites(Lines(r, "charting", RubricLine::Status::kFail)), expected);
 }
@@ -251,9 +279,12 @@ TEST(Students, TheMisreadingOneFailsReadingAtExactlyItsThreeSites) {
 TEST(Students, TheSpotProberFailsCoverageOnEverySurface) {
   const LessonResult r = Take("spot").result;
   ASSERT_EQ(r.coverage.size(), 8u);
-  for (const SurfaceCoverage& c : r.coverage) EXPECT_LT(c.swept, 0.3) << c.fdi << (c.buccal ? " buccal" : " lingual");
+  for (const SurfaceCoverage& c : r.coverage)
+    EXPECT_LT(c.swept, 0.3) << c.fdi << (c.buccal ? " buccal" : " lingual");
   EXPECT_EQ(Lines(r, "coverage", RubricLine::Status::kFail).size(), 8u);
-  EXPECT_NE(Lines(r, "coverage", RubricLine::Status::kFail)[0]->message.find("spot-probing"), std::string::npos);
+  EXPECT_NE(
+      Lines(r, "coverage", RubricLine::Status::kFail)[0]->message.find("spot-probing"),
+      std::string::npos);
 }
 
 TEST(Students, TheLazyOneSkipsATeethAndCompletenessSaysWhich) {
@@ -261,11 +292,14 @@ TEST(Students, TheLazyOneSkipsATeethAndCompletenessSaysWhich) {
   EXPECT_EQ(r.sites_read, 18);
   const auto incomplete = Lines(r, "completeness", RubricLine::Status::kFail);
   ASSERT_EQ(incomplete.size(), 2u);
-  EXPECT_EQ(incomplete[0]->message, "18 of 24 sites probed; not probed: 46 DB, 46 B, 46 MB, 46 ML, 46 L, 46 DL");
+  EXPECT_EQ(incomplete[0]->message,
+            "18 of 24 sites probed; not probed: 46 DB, 46 B, 46 MB, 46 ML, 46 L, 46 DL");
   std::set<std::string> unprobed;
   for (const RubricLine* l : Lines(r, "technique", RubricLine::Status::kFail))
-    if (l->message.find("not probed") != std::string::npos) unprobed.insert(l->site->ToString());
-  EXPECT_EQ(unprobed, (std::set<std::string>{"46 DB", "46 B", "46 MB", "46 ML", "46 L", "46 DL"}));
+    if (l->message.find("not probed") != std::string::npos)
+      unprobed.insert(l->site->ToString());
+  EXPECT_EQ(unprobed,
+            (std::set<std::string>{"46 DB", "46 B", "46 MB", "46 ML", "46 L", "46 DL"}));
   EXPECT_FALSE(r.steps[0].completed);
 }
 
@@ -281,7 +315,8 @@ TEST(Replay, ARecordedAttemptGivesTheSameReport) {
   const AttemptOutcome again = RunAttempt(Lesson(), o);
   ReportInfo info;
   info.started = "2026-01-01T00:00:00Z";
-  EXPECT_EQ(ReportJson(again.result, info), ReportJson(first.result, info)) << "the same report, byte for byte";
+  EXPECT_EQ(ReportJson(again.result, info), ReportJson(first.result, info))
+      << "the same report, byte for byte";
   EXPECT_EQ(again.result.total, first.result.total);
 
   // The JSON is well formed and says what the result says.
@@ -291,15 +326,17 @@ TEST(Replay, ARecordedAttemptGivesTheSameReport) {
   EXPECT_EQ(j["lines"].size(), first.result.lines.size());
   EXPECT_EQ(j["diagnosis"]["truth"]["stage"].as<std::string>(), "III");
   const std::string html = ReportHtml(first.result, info);
-  for (const char* part : {"<table class=chart>", "Error map", "Force at each site", "Walking stroke", "Every line of the score",
-                           "periodontitis stage III, localized", "<svg"})
+  for (const char* part :
+       {"<table class=chart>", "Error map", "Force at each site", "Walking stroke",
+        "Every line of the score", "periodontitis stage III, localized", "<svg"})
     EXPECT_NE(html.find(part), std::string::npos) << part;
   WriteReport(first.result, info, Out("report"));
   EXPECT_TRUE(fs::exists(Out("report") / "report.html"));
 }
 
 TEST(GeneratedCase, AnAssessmentOnADrawnCaseStoresItsSeedAndRebuilds) {
-  const fs::path lesson = fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing_case.yaml";
+  const fs::path lesson =
+      fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing_case.yaml";
   AttemptOptions o;
   o.device = "student:careful";
   o.seed = 7;
@@ -311,7 +348,8 @@ TEST(GeneratedCase, AnAssessmentOnADrawnCaseStoresItsSeedAndRebuilds) {
   EXPECT_EQ(out.result.case_seed, 7u);
   EXPECT_EQ(out.result.mode, "assessment");
   EXPECT_EQ(out.result.true_dx.Summary(), "periodontitis stage III, localized");
-  for (const std::string& f : out.result.feedback) EXPECT_EQ(f.find("true depth"), std::string::npos) << f;
+  for (const std::string& f : out.result.feedback)
+    EXPECT_EQ(f.find("true depth"), std::string::npos) << f;
   EXPECT_GE(out.result.total, 90.0);
   // The same seed and recording rebuild the same result.
   SaveAnswers(out.answers, Out("case_answers.yaml"));
@@ -332,10 +370,12 @@ TEST(LessonRun, PracticeShowsTheTruthAssessmentDoesNot) {
     r.tick = 10;
     r.num_events = 1;
     r.events[0] = HapticEvent::Of(EventKind::kProbeReading, 0);
-    r.events[0].payload.reading = {.fdi = 46, .site = 2, .depth_mm = 6.8, .peak_force_n = 0.2};
+    r.events[0].payload.reading = {
+        .fdi = 46, .site = 2, .depth_mm = 6.8, .peak_force_n = 0.2};
     lesson.OnTick(r);
     ASSERT_EQ(lesson.feedback().size(), 1u);
-    const bool truth_shown = lesson.feedback()[0].find("true depth is 7 mm") != std::string::npos;
+    const bool truth_shown =
+        lesson.feedback()[0].find("true depth is 7 mm") != std::string::npos;
     EXPECT_EQ(truth_shown, mode == LessonSpec::Mode::kPractice) << lesson.feedback()[0];
     ASSERT_TRUE(lesson.next_site());
     EXPECT_EQ(lesson.next_site()->ToString(), "47 DB") << "the path's first unread site";
@@ -350,15 +390,19 @@ TEST(LessonRun, ALostDeviceIsNamedWithItsMomentsAndTheAttemptIsIncomplete) {
   for (std::uint64_t t = 1; t <= 3000; ++t) {
     r.tick = t;
     r.num_events = 0;
-    if (t == 1000 || t == 2600) r.events[r.num_events++] = HapticEvent::Of(EventKind::kDeviceLost);
+    if (t == 1000 || t == 2600)
+      r.events[r.num_events++] = HapticEvent::Of(EventKind::kDeviceLost);
     if (t == 1500) r.events[r.num_events++] = HapticEvent::Of(EventKind::kDeviceBack);
     lesson.OnTick(r);
     EXPECT_EQ(lesson.device_lost(), (t >= 1000 && t < 1500) || t >= 2600) << t;
   }
-  lesson.SetEnding("the device stopped answering and the lesson was finished before the last step");
+  lesson.SetEnding(
+      "the device stopped answering and the lesson was finished before the last step");
   const LessonResult res = lesson.Finish();
   EXPECT_FALSE(res.complete);
-  EXPECT_EQ(res.ended, "the device stopped answering and the lesson was finished before the last step");
+  EXPECT_EQ(
+      res.ended,
+      "the device stopped answering and the lesson was finished before the last step");
   ASSERT_EQ(res.interruptions.size(), 2u);
   EXPECT_EQ(res.interruptions[0].lost_tick, 1000u);
   EXPECT_EQ(res.interruptions[0].back_tick, 1500u);
@@ -366,9 +410,11 @@ TEST(LessonRun, ALostDeviceIsNamedWithItsMomentsAndTheAttemptIsIncomplete) {
   std::vector<std::string> said;
   for (const RubricLine& l : res.lines)
     if (l.category == "time") said.push_back(l.message);
-  EXPECT_NE(std::find(said.begin(), said.end(), "the device stopped answering at 1.0 s and was back 0.5 s later"),
+  EXPECT_NE(std::find(said.begin(), said.end(),
+                      "the device stopped answering at 1.0 s and was back 0.5 s later"),
             said.end());
-  EXPECT_NE(std::find(said.begin(), said.end(), "the device stopped answering at 2.6 s and did not come back"),
+  EXPECT_NE(std::find(said.begin(), said.end(),
+                      "the device stopped answering at 2.6 s and did not come back"),
             said.end());
   EXPECT_NE(std::find(said.begin(), said.end(), "incomplete: " + res.ended), said.end());
   const std::string json = ReportJson(res, {});
@@ -385,7 +431,8 @@ TEST(Recovery, AnAttemptCutShortByAStoppedProgramIsRebuiltAndKeptAsIncomplete) {
   ASSERT_TRUE(whole.result.complete);
   // The program stops at about the middle: the recording ends there (its last
   // frame cut in half) and the entries saved so far are those made before it.
-  const std::uint64_t cut = whole.result.first_tick + (whole.result.last_tick - whole.result.first_tick) / 2;
+  const std::uint64_t cut =
+      whole.result.first_tick + (whole.result.last_tick - whole.result.first_tick) / 2;
   Answers so_far;
   for (const ChartEntry& e : whole.answers.entries)
     if (e.tick < cut) so_far.entries.push_back(e);
@@ -396,7 +443,8 @@ TEST(Recovery, AnAttemptCutShortByAStoppedProgramIsRebuiltAndKeptAsIncomplete) {
   WriteAttemptMarker(folder, {Lesson(), "ada", "practice", 0, folder.started});
   EXPECT_EQ(ReadAttemptMarker(folder.dir).student, "ada");
 
-  // A folder whose marker is broken is reported once, left as it was, and not tried again.
+  // A folder whose marker is broken is reported once, left as it was, and not tried
+  // again.
   const AttemptFolder broken = NewAttemptFolder(results, "bob");
   std::ofstream(broken.dir / "attempt.yaml") << "lesson: [unclosed\n";
   ASSERT_EQ(UnfinishedAttempts(results), (std::vector<fs::path>{folder.dir, broken.dir}));
@@ -406,7 +454,8 @@ TEST(Recovery, AnAttemptCutShortByAStoppedProgramIsRebuiltAndKeptAsIncomplete) {
 
   const RecoveredAttempt kept = RecoverAttempt(folder.dir, results, Cache());
   EXPECT_FALSE(kept.result.complete);
-  EXPECT_NE(kept.result.ended.find("rebuilt from its recording"), std::string::npos) << kept.result.ended;
+  EXPECT_NE(kept.result.ended.find("rebuilt from its recording"), std::string::npos)
+      << kept.result.ended;
   EXPECT_LT(kept.result.sites_charted, whole.result.sites_charted);
   EXPECT_EQ(kept.result.sites_charted, static_cast<int>(so_far.entries.size()));
   EXPECT_LT(kept.result.last_tick, whole.result.last_tick);
@@ -476,7 +525,8 @@ Killed KillAttemptAt(const std::string& name, std::uint64_t at) {
   int status = 0;
   waitpid(child, &status, 0);
   close(fds[0]);
-  EXPECT_TRUE(told) << "the child ended with " << (WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  EXPECT_TRUE(told) << "the child ended with "
+                    << (WIFEXITED(status) ? WEXITSTATUS(status) : -1);
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
   EXPECT_EQ(UnfinishedAttempts(k.results), std::vector<fs::path>{k.folder.dir});
   EXPECT_EQ(ReadAttemptMarker(k.folder.dir).student, "kim");
@@ -547,7 +597,8 @@ class VanishingDevice final : public Device {
   bool gone_ = false;
 };
 
-TEST(DeviceLoss, ADeviceUnpluggedMidLessonGetsZeroForceAtOnceTheAttemptGoesOnAndTheReportNamesIt) {
+TEST(DeviceLoss,
+     ADeviceUnpluggedMidLessonGetsZeroForceAtOnceTheAttemptGoesOnAndTheReportNamesIt) {
   const LessonSpec spec = LoadLessonSpec(Lesson());
   const auto scene = CompileScene(LessonScene(spec, 0), Cache());
   ScriptedStudent student("careful", spec, *scene);
@@ -558,7 +609,8 @@ TEST(DeviceLoss, ADeviceUnpluggedMidLessonGetsZeroForceAtOnceTheAttemptGoesOnAnd
   device.device = std::make_unique<VanishingDevice>(student.MakeDevice(), kFrom, kTo);
   device.name = "student:careful, unplugged for a second";
   SessionOptions so;
-  so.max_ticks = static_cast<std::uint64_t>((spec.time_limit_s + 1) * scene->spec.rate_hz);
+  so.max_ticks =
+      static_cast<std::uint64_t>((spec.time_limit_s + 1) * scene->spec.rate_hz);
   Session session(*scene, std::move(device), so);
   struct Forces final : TickConsumer {
     std::vector<double> n;
@@ -572,7 +624,8 @@ TEST(DeviceLoss, ADeviceUnpluggedMidLessonGetsZeroForceAtOnceTheAttemptGoesOnAnd
   session.AddConsumer(&forces);
   session.RunOffline();
   const double rate = scene->spec.rate_hz;
-  const auto from = static_cast<std::size_t>(kFrom * rate), to = static_cast<std::size_t>(kTo * rate);
+  const auto from = static_cast<std::size_t>(kFrom * rate),
+             to = static_cast<std::size_t>(kTo * rate);
   ASSERT_GT(forces.n.size(), to + 1000);
   double before = 0;
   for (std::size_t t = from - 1000; t < from; ++t) before = std::max(before, forces.n[t]);
@@ -580,7 +633,8 @@ TEST(DeviceLoss, ADeviceUnpluggedMidLessonGetsZeroForceAtOnceTheAttemptGoesOnAnd
   for (std::size_t t = from; t < to; ++t) ASSERT_EQ(forces.n[t], 0.0) << "tick " << t;
   // Back: the force rises from zero over the ramp (0.5 s), it does not jump.
   EXPECT_EQ(forces.n[to], 0.0);
-  for (std::size_t t = to + 1; t < to + 50; ++t) EXPECT_LT(forces.n[t], 0.05) << "tick " << t;
+  for (std::size_t t = to + 1; t < to + 50; ++t)
+    EXPECT_LT(forces.n[t], 0.05) << "tick " << t;
 
   const LessonResult r = lesson.Finish();
   ASSERT_EQ(r.interruptions.size(), 1u);
@@ -590,7 +644,8 @@ TEST(DeviceLoss, ADeviceUnpluggedMidLessonGetsZeroForceAtOnceTheAttemptGoesOnAnd
   EXPECT_EQ(r.sites_charted, 24);
   ReportInfo info;
   const std::string html = ReportHtml(r, info);
-  EXPECT_NE(html.find("the device stopped answering at 40.0 s and was back 1.0 s later"), std::string::npos);
+  EXPECT_NE(html.find("the device stopped answering at 40.0 s and was back 1.0 s later"),
+            std::string::npos);
 }
 
 }  // namespace

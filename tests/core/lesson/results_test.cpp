@@ -1,6 +1,8 @@
 // The results database: attempts round-trip, schema versions, CSV export, and a
 // writer killed with SIGKILL in the middle of its attempts loses nothing that
 // was committed and leaves a sound database (a real child process).
+#include "core/lesson/results.h"
+
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sqlite3.h>
@@ -14,7 +16,6 @@
 #include <sstream>
 
 #include "core/lesson/instructor.h"
-#include "core/lesson/results.h"
 #include "tests/common/output.h"
 
 namespace sulcus {
@@ -22,7 +23,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Fresh(const std::string& name) { return test::FreshOutputPath("results", name) / "results.db"; }
+fs::path Fresh(const std::string& name) {
+  return test::FreshOutputPath("results", name) / "results.db";
+}
 
 LessonResult Sample(const std::string& student, double total) {
   LessonResult r;
@@ -90,7 +93,9 @@ TEST(Results, IncompleteAttemptsKeepHowTheyEnded) {
   EXPECT_EQ(rows[1].ended, cut.ended);
   std::ostringstream csv;
   ExportAttemptsCsv(rows, csv);
-  EXPECT_NE(csv.str().find(",0,the window was closed before the last step,"), std::string::npos) << csv.str();
+  EXPECT_NE(csv.str().find(",0,the window was closed before the last step,"),
+            std::string::npos)
+      << csv.str();
 }
 
 TEST(Results, VersionOneDatabaseIsMigratedKeepingItsAttempts) {
@@ -104,7 +109,8 @@ TEST(Results, VersionOneDatabaseIsMigratedKeepingItsAttempts) {
     ASSERT_EQ(sqlite3_open(file.c_str(), &h), SQLITE_OK);
     char* err = nullptr;
     ASSERT_EQ(sqlite3_exec(h,
-                           "ALTER TABLE attempts DROP COLUMN complete; ALTER TABLE attempts DROP COLUMN ended; "
+                           "ALTER TABLE attempts DROP COLUMN complete; ALTER TABLE "
+                           "attempts DROP COLUMN ended; "
                            "PRAGMA user_version=1",
                            nullptr, nullptr, &err),
               SQLITE_OK)
@@ -125,9 +131,15 @@ TEST(Results, AttemptsRoundTripAndExport) {
   {
     ResultsDb db(file);
     EXPECT_EQ(db.schema_version(), kResultsSchemaVersion);
-    EXPECT_EQ(db.Store(Sample("ada", 91.5), "2026-12-01T10:00:00Z", "/a.rec", "/a.yaml", "/a"), 1);
-    EXPECT_EQ(db.Store(Sample("ada", 95.0), "2026-12-02T10:00:00Z", "/b.rec", "/b.yaml", "/b"), 2);
-    EXPECT_EQ(db.Store(Sample("grace", 70.25), "2026-12-02T11:00:00Z", "/c.rec", "/c.yaml", "/c"), 3);
+    EXPECT_EQ(
+        db.Store(Sample("ada", 91.5), "2026-12-01T10:00:00Z", "/a.rec", "/a.yaml", "/a"),
+        1);
+    EXPECT_EQ(
+        db.Store(Sample("ada", 95.0), "2026-12-02T10:00:00Z", "/b.rec", "/b.yaml", "/b"),
+        2);
+    EXPECT_EQ(db.Store(Sample("grace", 70.25), "2026-12-02T11:00:00Z", "/c.rec",
+                       "/c.yaml", "/c"),
+              3);
   }
   ResultsDb db(file);  // reopened: nothing to migrate
   EXPECT_EQ(db.Students(), (std::vector<std::string>{"ada", "grace"}));
@@ -146,11 +158,14 @@ TEST(Results, AttemptsRoundTripAndExport) {
   std::ostringstream csv;
   ExportAttemptsCsv(db.Attempts(), csv);
   const std::string text = csv.str();
-  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 4) << "a header and three attempts";
-  EXPECT_NE(csv.str().find("3,grace,Periodontal probing,"), std::string::npos) << csv.str();
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 4)
+      << "a header and three attempts";
+  EXPECT_NE(csv.str().find("3,grace,Periodontal probing,"), std::string::npos)
+      << csv.str();
   std::ostringstream scsv;
   ExportSitesCsv(sites, scsv);
-  EXPECT_NE(scsv.str().find(",46,DB,3,3.1,5,2,"), std::string::npos) << "signed error per site";
+  EXPECT_NE(scsv.str().find(",46,DB,3,3.1,5,2,"), std::string::npos)
+      << "signed error per site";
   EXPECT_EQ(db.IntegrityCheck(), "ok");
 }
 
@@ -162,7 +177,8 @@ TEST(Results, DeletingAStudentTakesTheirAttemptsWithThem) {
   db.Store(Sample("grace", 80), "2026-12-01T12:00:00Z", "", "", "");
   EXPECT_EQ(db.DeleteStudent("ada"), 2);
   EXPECT_EQ(db.Students(), (std::vector<std::string>{"grace"}));
-  EXPECT_EQ(Count(file, "SELECT COUNT(*) FROM attempt_sites"), 24) << "the sites went with their attempts";
+  EXPECT_EQ(Count(file, "SELECT COUNT(*) FROM attempt_sites"), 24)
+      << "the sites went with their attempts";
   EXPECT_EQ(Count(file, "SELECT COUNT(*) FROM attempt_lines"), 120);
   EXPECT_EQ(db.DeleteStudent("nobody"), 0);
 }
@@ -180,10 +196,12 @@ TEST(Instructor, ThePassphraseIsKeptOnlyAsAHash) {
   EXPECT_FALSE(lock.Check(""));
   EXPECT_THROW(lock.Set("another passphrase"), std::runtime_error) << "set once";
   std::ifstream in(file);
-  const std::string stored((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string stored((std::istreambuf_iterator<char>(in)),
+                           std::istreambuf_iterator<char>());
   EXPECT_EQ(stored.find("horse"), std::string::npos);
   EXPECT_EQ(stored.rfind("$argon2id$", 0), 0u) << stored;
-  EXPECT_TRUE(InstructorLock(file).Check("correct horse battery")) << "another process reads the same hash";
+  EXPECT_TRUE(InstructorLock(file).Check("correct horse battery"))
+      << "another process reads the same hash";
 }
 
 TEST(Results, ANewerSchemaIsRefusedAndLeftAlone) {
@@ -199,7 +217,8 @@ TEST(Results, ANewerSchemaIsRefusedAndLeftAlone) {
     ResultsDb db(file);
     FAIL();
   } catch (const ResultsError& e) {
-    EXPECT_NE(std::string(e.what()).find("schema version 99"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("schema version 99"), std::string::npos)
+        << e.what();
   }
   EXPECT_EQ(Count(file, "PRAGMA user_version"), 99);
   const fs::path junk = Fresh("junk");
@@ -218,14 +237,17 @@ TEST(Results, AWriterKilledMidAttemptLosesNothingCommitted) {
     close(fds[0]);
     ResultsDb db(file);
     for (int i = 0;; ++i) {
-      const std::int64_t id = db.Store(Sample("writer", i), "2026-12-01T00:00:00Z", "r", "a", "d");
-      if (write(fds[1], &id, sizeof id) != sizeof id) _exit(2);  // committed: tell the parent
+      const std::int64_t id =
+          db.Store(Sample("writer", i), "2026-12-01T00:00:00Z", "r", "a", "d");
+      if (write(fds[1], &id, sizeof id) != sizeof id)
+        _exit(2);  // committed: tell the parent
     }
   }
   close(fds[1]);
   std::vector<std::int64_t> committed;
   std::int64_t id = 0;
-  while (committed.size() < 25 && read(fds[0], &id, sizeof id) == sizeof id) committed.push_back(id);
+  while (committed.size() < 25 && read(fds[0], &id, sizeof id) == sizeof id)
+    committed.push_back(id);
   usleep(1500);  // into the middle of the next attempt
   kill(child, SIGKILL);
   int status = 0;
@@ -240,14 +262,19 @@ TEST(Results, AWriterKilledMidAttemptLosesNothingCommitted) {
   EXPECT_EQ(db.IntegrityCheck(), "ok");
   const auto rows = db.Attempts("writer");
   ASSERT_GE(rows.size(), committed.size()) << "every committed attempt is there";
-  EXPECT_LE(rows.size(), committed.size() + 1) << "at most the one being committed when killed";
+  EXPECT_LE(rows.size(), committed.size() + 1)
+      << "at most the one being committed when killed";
   for (std::int64_t c : committed) EXPECT_TRUE(db.Attempt(c)) << "attempt " << c;
   // Whole or absent: no attempt without all its sites and lines.
-  EXPECT_EQ(Count(file, "SELECT COUNT(*) FROM attempts a WHERE (SELECT COUNT(*) FROM attempt_sites s WHERE "
-                        "s.attempt_id = a.id) != 24 OR (SELECT COUNT(*) FROM attempt_lines l WHERE l.attempt_id = a.id) "
-                        "!= 120"),
+  EXPECT_EQ(Count(file,
+                  "SELECT COUNT(*) FROM attempts a WHERE (SELECT COUNT(*) FROM "
+                  "attempt_sites s WHERE "
+                  "s.attempt_id = a.id) != 24 OR (SELECT COUNT(*) FROM attempt_lines l "
+                  "WHERE l.attempt_id = a.id) "
+                  "!= 120"),
             0);
-  EXPECT_GT(db.Store(Sample("after", 1), "2026-12-01T00:00:01Z", "r", "a", "d"), 0) << "and it takes new attempts";
+  EXPECT_GT(db.Store(Sample("after", 1), "2026-12-01T00:00:01Z", "r", "a", "d"), 0)
+      << "and it takes new attempts";
 }
 
 }  // namespace

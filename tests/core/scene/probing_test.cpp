@@ -13,8 +13,8 @@
 #include "core/haptics/effects.h"
 #include "core/haptics/scripted_device.h"
 #include "core/scene/scene.h"
-#include "core/spheretree/cache.h"
 #include "core/session/session.h"
+#include "core/spheretree/cache.h"
 #include "tests/common/alloc_guard.h"
 
 namespace sulcus {
@@ -26,8 +26,10 @@ fs::path Cache() { return fs::path(SULCUS_TEST_OUTPUT) / "probing-cache"; }
 
 // Plays `keys` on `scene` offline for `ticks` ticks; `consumer`, if given, sees
 // every tick. The session is returned for its loop's state after the run.
-std::unique_ptr<Session> PlayOffline(const CompiledScene& scene, std::vector<Keyframe> keys, std::uint64_t ticks,
-                                     const std::string& name, TickConsumer* consumer = nullptr) {
+std::unique_ptr<Session> PlayOffline(const CompiledScene& scene,
+                                     std::vector<Keyframe> keys, std::uint64_t ticks,
+                                     const std::string& name,
+                                     TickConsumer* consumer = nullptr) {
   DeviceSpec d;
   d.device = std::make_unique<ScriptedDevice>(Trajectory(std::move(keys)), name);
   SessionOptions so;
@@ -39,7 +41,8 @@ std::unique_ptr<Session> PlayOffline(const CompiledScene& scene, std::vector<Key
 }
 
 TEST(Probing, InsertReadsThePocketDepthAtTooth46Buccal) {
-  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
+  const SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
   const auto scene = CompileScene(spec, Cache());
   const ScriptTarget target = FindScriptTarget(*scene, "insert");
   ASSERT_GE(target.object, 0);
@@ -68,7 +71,8 @@ TEST(Probing, InsertReadsThePocketDepthAtTooth46Buccal) {
     EXPECT_EQ(e.payload.reading.fdi, 46);
     EXPECT_EQ(e.payload.reading.site, 1) << "site B";
     EXPECT_GT(e.payload.reading.peak_force_n, 0.1) << "pressed at the floor";
-    EXPECT_LT(e.payload.reading.axis_angle_deg, 15.0) << "the insert tilts 8.5 degrees buccally";
+    EXPECT_LT(e.payload.reading.axis_angle_deg, 15.0)
+        << "the insert tilts 8.5 degrees buccally";
     EXPECT_LE(e.payload.reading.entered_tick, e.payload.reading.deepest_tick);
     EXPECT_LE(e.payload.reading.deepest_tick, e.tick);
     readings.push_back(e.payload.reading.depth_mm);
@@ -107,9 +111,11 @@ TEST(Probing, AnEffectNotNamedIsNotInTheLoop) {
 // it slide; without friction the same small offset already moves it. And a
 // scene that does not name friction has none in its model.
 TEST(Probing, FrictionHoldsAProbeOnAToothBelowItsConeAndLetsItSlideAbove) {
-  SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
+  SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
   ASSERT_FALSE(spec.HasEffect(Effect::kFriction));
-  EXPECT_TRUE(CompileScene(spec, Cache())->model->friction.empty()) << "not named: no friction in the model";
+  EXPECT_TRUE(CompileScene(spec, Cache())->model->friction.empty())
+      << "not named: no friction in the model";
   auto run = [&](bool friction, double offset_mm) {
     SceneSpec s = spec;
     if (friction) s.effects.push_back(Effect::kFriction);
@@ -128,10 +134,14 @@ TEST(Probing, FrictionHoldsAProbeOnAToothBelowItsConeAndLetsItSlideAbove) {
       const double side = i < 1000 ? 0 : std::min(offset_mm, 0.001 * (i - 1000));
       Step(*scene->model, RigidTransform(R, target.p_W + (2 - down) * n + side * t), &d);
       if (!touched && d.active_contacts > 0) touched = d.X_WG.translation();
-      if (i == 999) touched = d.X_WG.translation();  // where it rests before the sideways move
+      if (i == 999)
+        touched = d.X_WG.translation();  // where it rests before the sideways move
     }
     EXPECT_EQ(d.faults.total(), 0u);
-    return touched ? ((d.X_WG.translation() - *touched) - (d.X_WG.translation() - *touched).dot(n) * n).norm() : -1.0;
+    return touched ? ((d.X_WG.translation() - *touched) -
+                      (d.X_WG.translation() - *touched).dot(n) * n)
+                         .norm()
+                   : -1.0;
   };
   EXPECT_LT(run(true, 0.2), 0.02) << "stuck: the tool stays where it touched";
   EXPECT_GT(run(true, 2.0), 0.5) << "slides once the spring leans past the cone";
@@ -153,7 +163,8 @@ namespace {
 // pocket floor, pressing it; through the soft gingiva of both teeth, past 45's
 // crown, with no engine fault.
 TEST(Probing, UnderTheContactBetween45And46TheTipReachesTheFloor) {
-  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
+  const SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
   const auto scene = CompileScene(spec, Cache());
   const ObjectSpec* tooth = nullptr;
   for (const ObjectSpec& o : scene->spec.objects)
@@ -166,13 +177,19 @@ TEST(Probing, UnderTheContactBetween45And46TheTipReachesTheFloor) {
   // In 46's frame (+x mesial, toward 45; +y buccal; +z occlusal): the sulcus'
   // middle at the mesial point, and its floor there.
   const double floor_z = g.FloorAt(0), r = g.sulcus_r[0];
-  ASSERT_LT(floor_z, g.margin_z[0] - 4.0) << "a deep interproximal pocket (5 and 5 mm at MB and ML)";
-  auto world = [&](const Vector3& p_T) { return Vector3(tooth->X_WO * ArchMirror(tooth->mirrored, p_T)); };
-  const Matrix3 R = tooth->X_WO.rotation() * (tooth->mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1)).asDiagonal();
+  ASSERT_LT(floor_z, g.margin_z[0] - 4.0)
+      << "a deep interproximal pocket (5 and 5 mm at MB and ML)";
+  auto world = [&](const Vector3& p_T) {
+    return Vector3(tooth->X_WO * ArchMirror(tooth->mirrored, p_T));
+  };
+  const Matrix3 R = tooth->X_WO.rotation() *
+                    (tooth->mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1)).asDiagonal();
   const double tilt = 20 * std::numbers::pi / 180;
-  const Vector3 up_T(0, std::sin(tilt), std::cos(tilt));  // the working end toward the shank
-  const Vector3 end_T(r, 0, floor_z - 0.3);               // 0.3 mm past the floor: pressing it
-  const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), (R * up_T).normalized());
+  const Vector3 up_T(0, std::sin(tilt),
+                     std::cos(tilt));        // the working end toward the shank
+  const Vector3 end_T(r, 0, floor_z - 0.3);  // 0.3 mm past the floor: pressing it
+  const Quaternion q =
+      Quaternion::FromTwoVectors(Vector3::UnitZ(), (R * up_T).normalized());
   std::vector<Keyframe> keys;
   const double travel = 9.0, speed = 4.0;  // mm, mm/s
   const int ticks = static_cast<int>(travel / speed * 1000);
@@ -182,11 +199,15 @@ TEST(Probing, UnderTheContactBetween45And46TheTipReachesTheFloor) {
     void OnTick(const TickRecord& rec) override { last = rec; }
     TickRecord last;
   } consumer;
-  const auto session = PlayOffline(*scene, std::move(keys), static_cast<std::uint64_t>(ticks + 400), "interproximal", &consumer);
+  const auto session =
+      PlayOffline(*scene, std::move(keys), static_cast<std::uint64_t>(ticks + 400),
+                  "interproximal", &consumer);
   // Where the rendered tip ended, in 46's frame.
-  const Vector3 tip_T = ArchMirror(tooth->mirrored, tooth->X_WO.inverse() * consumer.last.X_WG.translation());
-  std::printf("tip %.2f %.2f %.2f, floor %.2f at r %.2f, margin %.2f, force %.3f N\n", tip_T.x(), tip_T.y(), tip_T.z(),
-              floor_z, r, g.margin_z[0], consumer.last.force_W.norm());
+  const Vector3 tip_T = ArchMirror(
+      tooth->mirrored, tooth->X_WO.inverse() * consumer.last.X_WG.translation());
+  std::printf("tip %.2f %.2f %.2f, floor %.2f at r %.2f, margin %.2f, force %.3f N\n",
+              tip_T.x(), tip_T.y(), tip_T.z(), floor_z, r, g.margin_z[0],
+              consumer.last.force_W.norm());
   EXPECT_LE(tip_T.z(), floor_z + 0.2) << "the tip reached the floor under the contact";
   EXPECT_GE(tip_T.z(), floor_z - 0.8) << "and pressed it, not through it";
   EXPECT_NEAR(tip_T.x(), r, 0.8) << "in the sulcus, not pushed out of it";
@@ -206,11 +227,13 @@ namespace {
 // through the cheek or lip, so the probe goes down the sulcus of the tooth it
 // was aimed at from a free start: no engine fault, no saturated force.
 TEST(Probing, TheScriptedInsertInTheFullMouthKeepsItsShankOutOfTheCheek) {
-  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
+  const SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
   // The user's cache, as the window uses it: the full mouth is built once for both.
   const auto scene = CompileScene(spec, DefaultCacheDir());
   const ScriptTarget target = FindScriptTarget(*scene, "insert");
-  EXPECT_EQ(scene->spec.objects[target.object].fdi, 46) << "the lower tooth with the deepest buccal pocket";
+  EXPECT_EQ(scene->spec.objects[target.object].fdi, 46)
+      << "the lower tooth with the deepest buccal pocket";
   EXPECT_GT(ScriptOrientation(target).toRotationMatrix().col(0).dot(target.n_W), 0.9)
       << "the tool's +x buccal: its shank (-x) leans lingually";
   DeviceSpec d;
@@ -219,7 +242,9 @@ TEST(Probing, TheScriptedInsertInTheFullMouthKeepsItsShankOutOfTheCheek) {
   so.max_ticks = 4000;
   Session session(*scene, std::move(d), so);
   struct Force final : TickConsumer {
-    void OnTick(const TickRecord& r) override { max_force = std::max(max_force, r.force_W.norm()); }
+    void OnTick(const TickRecord& r) override {
+      max_force = std::max(max_force, r.force_W.norm());
+    }
     double max_force = 0;
   } consumer;
   session.AddConsumer(&consumer);
@@ -240,9 +265,12 @@ namespace {
 // probe reaches a 6 mm pocket at 44 B instead of stopping on the bone 1.5 mm
 // below the CEJ.
 TEST(Probing, ADeepenedPocketHasItsBoneLoweredToo) {
-  SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
+  SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
   for (ObjectSpec& o : spec.objects)
-    if ((o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva) && o.fdi == 44) o.pocket_mm[1] = 6;
+    if ((o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva) &&
+        o.fdi == 44)
+      o.pocket_mm[1] = 6;
   const auto scene = CompileScene(spec, Cache());
   for (const ObjectSpec& o : scene->spec.objects)
     if (o.kind == ObjectSpec::Kind::kAnatomy && o.anatomy == "jaw_lower") {
@@ -258,7 +286,8 @@ TEST(Probing, ADeepenedPocketHasItsBoneLoweredToo) {
   struct Readings final : TickConsumer {
     void OnTick(const TickRecord& r) override {
       for (int i = 0; i < r.num_events; ++i)
-        if (r.events[i].kind == EventKind::kProbeReading) depth.push_back(r.events[i].payload.reading.depth_mm);
+        if (r.events[i].kind == EventKind::kProbeReading)
+          depth.push_back(r.events[i].payload.reading.depth_mm);
     }
     std::vector<double> depth;
   } consumer;
@@ -291,11 +320,14 @@ namespace {
 // walls' faces and top edges are their true planes: the same 512-leaf walls let
 // it down to within the probe's own protrusion. Never below the true limit.
 TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
-  SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard/narrow_slot.yaml");
+  SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard/narrow_slot.yaml");
   auto depth_reached = [&](const CompiledScene& scene) {
     EngineData d(*scene.model);
     ResetTool(RigidTransform(Matrix3::Identity(), Vector3(0, 0, 8)), &d);
-    for (int i = 0; i <= 1200; ++i) Step(*scene.model, RigidTransform(Matrix3::Identity(), Vector3(0, 0, 8 - 0.01 * i)), &d);
+    for (int i = 0; i <= 1200; ++i)
+      Step(*scene.model, RigidTransform(Matrix3::Identity(), Vector3(0, 0, 8 - 0.01 * i)),
+           &d);
     EXPECT_EQ(d.faults.total(), 0u);
     return d.X_WG.translation().z();
   };
@@ -307,7 +339,8 @@ TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
   for (std::size_t i = 0; i < coarse->meshes.size(); ++i) {
     if (coarse->spec.objects[i].name.find("wall") == std::string::npos) continue;
     TriangleMesh m = coarse->meshes[i];
-    m.Transform(coarse->spec.objects[i].X_WO.rotation(), coarse->spec.objects[i].X_WO.translation());
+    m.Transform(coarse->spec.objects[i].X_WO.rotation(),
+                coarse->spec.objects[i].X_WO.translation());
     walls.push_back(std::move(m));
   }
   ASSERT_EQ(walls.size(), 2u);
@@ -332,8 +365,10 @@ TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
     o.trees.levels = 6;
     o.trees.target_error_mm = 0.05;
   }
-  const double fitted = depth_reached(*CompileScene(spec, Cache()));  // built here, then from the cache
-  SceneSpec clipped_spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard/narrow_slot.yaml");
+  const double fitted =
+      depth_reached(*CompileScene(spec, Cache()));  // built here, then from the cache
+  SceneSpec clipped_spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard/narrow_slot.yaml");
   ASSERT_TRUE(clipped_spec.leaf_planes) << "the default";
   const double clipped = depth_reached(*CompileScene(clipped_spec, Cache()));
   // What the fits allow: the worst protrusion of the fitted walls and of the
@@ -346,17 +381,27 @@ TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
   double wall_err = 0;
   for (std::size_t i = 0; i < fine->meshes.size(); ++i)
     if (fine->spec.objects[i].name.find("wall") != std::string::npos)
-      wall_err = std::max(wall_err, EvaluateSphereTree(fine->meshes[i], fine->trees[i], quick).leaves().protrusion_max_mm);
-  const double tool_err = EvaluateSphereTree(fine->tool_mesh, fine->tool_tree, quick).leaves().protrusion_max_mm;
+      wall_err =
+          std::max(wall_err, EvaluateSphereTree(fine->meshes[i], fine->trees[i], quick)
+                                 .leaves()
+                                 .protrusion_max_mm);
+  const double tool_err = EvaluateSphereTree(fine->tool_mesh, fine->tool_tree, quick)
+                              .leaves()
+                              .protrusion_max_mm;
   const ProbeModel probe = MakeProbe(spec.probe);
   const double taper = (0.5 - probe.tip_radius_mm) / probe.working_length_mm;
   const double allowed = (wall_err + tool_err) / taper;
-  std::printf("narrow slot: the exact meshes let the tip down to z = %.2f mm; 512-leaf walls as spheres stop it at "
-              "%.2f; walls fitted to 0.05 mm (worst %.3f mm, probe %.3f mm: %.2f mm of depth) at %.2f; 512-leaf "
-              "walls as clipped leaves (the default) at %.2f (the probe's own protrusion: %.2f mm of depth)\n",
-              truth, with_512, wall_err, tool_err, allowed, fitted, clipped, tool_err / taper);
+  std::printf(
+      "narrow slot: the exact meshes let the tip down to z = %.2f mm; 512-leaf walls as "
+      "spheres stop it at "
+      "%.2f; walls fitted to 0.05 mm (worst %.3f mm, probe %.3f mm: %.2f mm of depth) at "
+      "%.2f; 512-leaf "
+      "walls as clipped leaves (the default) at %.2f (the probe's own protrusion: %.2f "
+      "mm of depth)\n",
+      truth, with_512, wall_err, tool_err, allowed, fitted, clipped, tool_err / taper);
   EXPECT_LT(clipped, with_512 - 3.0) << "clipped leaves open the slot at the default fit";
-  EXPECT_LT(clipped, truth + tool_err / taper + 0.05) << "as far down as the probe's own tree allows";
+  EXPECT_LT(clipped, truth + tool_err / taper + 0.05)
+      << "as far down as the probe's own tree allows";
   EXPECT_GT(clipped, truth - 0.01) << "and never below the true limit";
   EXPECT_GT(with_512, truth + 3.0) << "the default fit closes the slot";
   EXPECT_LT(fitted, with_512 - 2.0) << "the fine fit opens it";
@@ -372,7 +417,6 @@ TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
 
 #include "core/anatomy/findings.h"
 #include "core/anatomy/tooth.h"
-
 #include "tests/common/output.h"
 
 namespace sulcus {
@@ -384,11 +428,14 @@ namespace {
 // caries_catch in its loop at all).
 TEST(Probing, ACariousLesionFeelsSofterAndCatchesTheExplorer) {
   const fs::path dir = test::FreshOutputPath("caries", "catch");
-  auto write = [&](const std::string& name, bool carious) {
-    std::ofstream(dir / name) << "tool:\n  probe: explorer23\neffects: [contact, caries_catch]\nobjects:\n"
-                              << "  - tooth: 36\n" << (carious ? "    caries_mm: {occlusal: 2.5}\n" : "");
-    return dir / name;
-  };
+  auto write =
+      [&](const std::string& name, bool carious) {
+        std::ofstream(dir / name)
+            << "tool:\n  probe: explorer23\neffects: [contact, caries_catch]\nobjects:\n"
+            << "  - tooth: 36\n"
+            << (carious ? "    caries_mm: {occlusal: 2.5}\n" : "");
+        return dir / name;
+      };
   const auto carious = CompileScene(LoadSceneSpec(write("carious.yaml", true)), Cache());
   const auto sound = CompileScene(LoadSceneSpec(write("sound.yaml", false)), Cache());
   ASSERT_EQ(carious->effects.lesions.size(), 1u);
@@ -416,21 +463,29 @@ TEST(Probing, ACariousLesionFeelsSofterAndCatchesTheExplorer) {
       Run out;
       void OnTick(const TickRecord& r) override {
         if (r.tick == 790) out.normal_held = r.force_W.dot(n);
-        if (r.tick == 1490) out.tangential_drawn = -r.force_W.dot(t);  // holding back the draw
-        for (int i = 0; i < r.num_events; ++i) out.catches += r.events[i].kind == EventKind::kCariesCatch;
+        if (r.tick == 1490)
+          out.tangential_drawn = -r.force_W.dot(t);  // holding back the draw
+        for (int i = 0; i < r.num_events; ++i)
+          out.catches += r.events[i].kind == EventKind::kCariesCatch;
       }
     } probe;
     probe.n = n;
     probe.t = t;
-    EXPECT_EQ(PlayOffline(scene, keys, 1500, "press and draw", &probe)->loop().faults().total(), 0u);
+    EXPECT_EQ(
+        PlayOffline(scene, keys, 1500, "press and draw", &probe)->loop().faults().total(),
+        0u);
     return probe.out;
   };
   const Run on = run(*carious), off = run(*sound);
-  std::printf("lesion: normal %.3f N held, %.3f N holding back the draw, %d catch; sound: %.3f N, %.3f N, %d\n",
-              on.normal_held, on.tangential_drawn, on.catches, off.normal_held, off.tangential_drawn, off.catches);
+  std::printf(
+      "lesion: normal %.3f N held, %.3f N holding back the draw, %d catch; sound: %.3f "
+      "N, %.3f N, %d\n",
+      on.normal_held, on.tangential_drawn, on.catches, off.normal_held,
+      off.tangential_drawn, off.catches);
   EXPECT_GT(off.normal_held, 0.3) << "pressed";
   EXPECT_LT(on.normal_held, 0.8 * off.normal_held) << "softer than enamel";
-  EXPECT_GT(on.tangential_drawn, off.tangential_drawn + 0.15) << "the catch holds the tip back";
+  EXPECT_GT(on.tangential_drawn, off.tangential_drawn + 0.15)
+      << "the catch holds the tip back";
   EXPECT_EQ(on.catches, 1);
   EXPECT_EQ(off.catches, 0);
 }
@@ -447,16 +502,21 @@ namespace {
 // cavitated, and goes down into the cavity of one that is.
 TEST(Probing, ACavitatedLesionIsAPitTheExplorerGoesInto) {
   const fs::path dir = test::FreshOutputPath("caries", "cavity");
-  auto compile = [&](const std::string& name, bool cavity) {
-    std::ofstream(dir / name) << "tool:\n  probe: explorer23\neffects: [contact]\nobjects:\n"
-                              << "  - tooth: 36\n    caries_mm: {occlusal: 2.5}\n"
-                              << (cavity ? "    cavity_mm: {occlusal: 1.0}\n" : "");
-    return CompileScene(LoadSceneSpec(dir / name), Cache());
-  };
-  const auto pit = compile("cavitated.yaml", true), intact = compile("intact.yaml", false);
+  auto compile =
+      [&](const std::string& name, bool cavity) {
+        std::ofstream(dir / name)
+            << "tool:\n  probe: explorer23\neffects: [contact]\nobjects:\n"
+            << "  - tooth: 36\n    caries_mm: {occlusal: 2.5}\n"
+            << (cavity ? "    cavity_mm: {occlusal: 1.0}\n" : "");
+        return CompileScene(LoadSceneSpec(dir / name), Cache());
+      };
+  const auto pit = compile("cavitated.yaml", true),
+             intact = compile("intact.yaml", false);
   ASSERT_EQ(intact->effects.lesions.size(), 0u);  // (no caries_catch named)
-  const SurfacePoint spot = CariesSpot(GenerateTooth(36), ToothSurface::kOcclusal);  // the tooth frame is the world here
-  // The mesh: still a valid solid, its surface at the centre 1 mm in, unchanged outside the lesion.
+  const SurfacePoint spot = CariesSpot(
+      GenerateTooth(36), ToothSurface::kOcclusal);  // the tooth frame is the world here
+  // The mesh: still a valid solid, its surface at the centre 1 mm in, unchanged outside
+  // the lesion.
   const MeshReport report = pit->meshes[0].Check();
   EXPECT_TRUE(report.IsSolid());
   double deepest = 0;
@@ -482,8 +542,10 @@ TEST(Probing, ACavitatedLesionIsAPitTheExplorerGoesInto) {
     return (spot.point - session->loop().data().X_WG.translation()).dot(spot.normal);
   };
   const double in_pit = rest(*pit), on_intact = rest(*intact);
-  std::printf("the explorer's tip rests %.2f mm below the intact surface in the cavity, %.2f mm on the intact lesion\n",
-              in_pit, on_intact);
+  std::printf(
+      "the explorer's tip rests %.2f mm below the intact surface in the cavity, %.2f mm "
+      "on the intact lesion\n",
+      in_pit, on_intact);
   EXPECT_LT(on_intact, 0.2);
   EXPECT_GT(in_pit, on_intact + 0.5) << "into the pit";
 }
@@ -496,7 +558,8 @@ TEST(Probing, EnamelAndRootFeelDifferentUnderASlidingTip) {
   const fs::path dir = test::FreshOutputPath("texture", "slide");
   auto compile = [&](bool texture) {
     const fs::path file = dir / (texture ? "on.yaml" : "off.yaml");
-    std::ofstream(file) << "tool:\n  probe: who\neffects: [contact" << (texture ? ", surface_texture" : "")
+    std::ofstream(file) << "tool:\n  probe: who\neffects: [contact"
+                        << (texture ? ", surface_texture" : "")
                         << "]\nobjects:\n  - tooth: 46\n";
     return CompileScene(LoadSceneSpec(file), Cache());
   };
@@ -505,11 +568,14 @@ TEST(Probing, EnamelAndRootFeelDifferentUnderASlidingTip) {
   ASSERT_TRUE(MakeEffects(off->effects).empty());
   const TriangleMesh& tooth = on->meshes[0];  // the tooth frame is the world here
   for (const double z : {3.0, -3.0}) {
-    // The buccal surface at this height, and a slide 0.4 mm inside it from x = -2 to 2 mm.
+    // The buccal surface at this height, and a slide 0.4 mm inside it from x = -2 to 2
+    // mm.
     double y_surface = 0;
     for (const Vector3& v : tooth.vertices())
-      if (std::abs(v.z() - z) < 0.4 && std::abs(v.x()) < 0.5) y_surface = std::max(y_surface, v.y());
-    const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), Vector3(0, 1, 1).normalized());
+      if (std::abs(v.z() - z) < 0.4 && std::abs(v.x()) < 0.5)
+        y_surface = std::max(y_surface, v.y());
+    const Quaternion q =
+        Quaternion::FromTwoVectors(Vector3::UnitZ(), Vector3(0, 1, 1).normalized());
     std::vector<Keyframe> keys;
     for (int i = 0; i <= 1200; i += 10) {
       const double s = std::clamp((i - 200) / 1000.0, 0.0, 1.0);
@@ -532,20 +598,26 @@ TEST(Probing, EnamelAndRootFeelDifferentUnderASlidingTip) {
       const double f = without[t].norm();
       if (f < 0.05) continue;
       const double d = (with[t] - without[t]).dot(without[t] / f);
-      EXPECT_LT((with[t] - without[t] - d * without[t] / f).norm(), 1e-9) << "along the normal only";
-      const Texture& expect = z > 0 ? on->effects.texture.enamel : on->effects.texture.root;
+      EXPECT_LT((with[t] - without[t] - d * without[t] / f).norm(), 1e-9)
+          << "along the normal only";
+      const Texture& expect =
+          z > 0 ? on->effects.texture.enamel : on->effects.texture.root;
       allowed = std::max(allowed, std::min(1.0, f / 0.5) * expect.amplitude_n);
       biggest = std::max(biggest, std::abs(d));
       const int sign = d > 1e-6 ? 1 : d < -1e-6 ? -1 : 0;
       if (sign != 0 && last_sign != 0 && sign != last_sign) ++sign_changes;
       if (sign != 0) last_sign = sign;
     }
-    std::printf("slide at z = %+.0f mm: texture force up to %.4f N (allowed %.4f), %d sign changes\n", z, biggest,
-                allowed, sign_changes);
+    std::printf(
+        "slide at z = %+.0f mm: texture force up to %.4f N (allowed %.4f), %d sign "
+        "changes\n",
+        z, biggest, allowed, sign_changes);
     EXPECT_GT(biggest, 0.5 * allowed) << z;
     EXPECT_LE(biggest, allowed + 1e-9) << z;
-    // 3.2 mm slid in those ticks: about 2 * 3.2 / period sign changes (the tip slides a little less than the device).
-    const double period = z > 0 ? on->effects.texture.enamel.period_mm : on->effects.texture.root.period_mm;
+    // 3.2 mm slid in those ticks: about 2 * 3.2 / period sign changes (the tip slides a
+    // little less than the device).
+    const double period =
+        z > 0 ? on->effects.texture.enamel.period_mm : on->effects.texture.root.period_mm;
     EXPECT_GT(sign_changes, 2 * 1.5 / period) << z;
     EXPECT_LT(sign_changes, 2 * 4.0 / period) << z;
   }
@@ -576,22 +648,27 @@ TEST(Probing, ACalculusDepositIsAnnouncedOnlyWhenTheSceneNamesIt) {
     if (with->spec.objects[i].kind == ObjectSpec::Kind::kTooth) tooth = i;
   }
   ASSERT_GE(deposit, 0);
-  for (const auto& e : MakeEffects(without->effects)) EXPECT_STRNE(e->name(), "calculus") << "not named: not in the loop";
+  for (const auto& e : MakeEffects(without->effects))
+    EXPECT_STRNE(e->name(), "calculus") << "not named: not in the loop";
   // The deposit's centre in the world, and the way out from the tooth's axis there.
   Aabb b;
-  for (const Vector3& v : with->meshes[deposit].vertices()) b.Extend(with->spec.objects[deposit].X_WO * v);
+  for (const Vector3& v : with->meshes[deposit].vertices())
+    b.Extend(with->spec.objects[deposit].X_WO * v);
   const Vector3 c = 0.5 * (b.min + b.max);
   const RigidTransform& X_WT = with->spec.objects[tooth].X_WO;
   const Vector3 up = X_WT.rotation().col(2);
   Vector3 out = c - X_WT.translation();
   out -= out.dot(up) * up;
   out.normalize();
-  const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), (up + 0.2 * out).normalized());
+  const Quaternion q =
+      Quaternion::FromTwoVectors(Vector3::UnitZ(), (up + 0.2 * out).normalized());
   // From 3 mm out to 0.3 mm into the deposit in 0.6 s, held, back out, and in again.
   std::vector<Keyframe> keys;
   for (int i = 0; i <= 2000; i += 10) {
     const double s = i * 0.001, phase = std::fmod(s, 1.0);
-    const double gap = phase < 0.6 ? 3.0 - 3.3 * phase / 0.6 : phase < 0.8 ? -0.3 : -0.3 + 3.3 * (phase - 0.8) / 0.2;
+    const double gap = phase < 0.6   ? 3.0 - 3.3 * phase / 0.6
+                       : phase < 0.8 ? -0.3
+                                     : -0.3 + 3.3 * (phase - 0.8) / 0.2;
     keys.push_back({s, Vector3(c + (gap + 0.6) * out), q, 0});
   }
   auto run = [&](const CompiledScene& scene) {
@@ -599,7 +676,8 @@ TEST(Probing, ACalculusDepositIsAnnouncedOnlyWhenTheSceneNamesIt) {
       std::vector<CalculusPayload> met;
       void OnTick(const TickRecord& r) override {
         for (int i = 0; i < r.num_events; ++i)
-          if (r.events[i].kind == EventKind::kCalculusTouched) met.push_back(r.events[i].payload.calculus);
+          if (r.events[i].kind == EventKind::kCalculusTouched)
+            met.push_back(r.events[i].payload.calculus);
       }
     } count;
     PlayOffline(scene, keys, 2000, "to the deposit and back, twice", &count);
@@ -619,7 +697,8 @@ TEST(Probing, ACalculusDepositIsAnnouncedOnlyWhenTheSceneNamesIt) {
 // an episode ends only when the force falls well below the limit or the tongue
 // is left.
 TEST(Probing, APressHoveringAboutTheDamageLimitIsOneDamageEpisode) {
-  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
+  const SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
   ASSERT_TRUE(spec.HasEffect(Effect::kTissueDamage));
   const auto scene = CompileScene(spec, DefaultCacheDir());
   int tongue = -1;
@@ -627,7 +706,8 @@ TEST(Probing, APressHoveringAboutTheDamageLimitIsOneDamageEpisode) {
     if (scene->spec.objects[i].anatomy == "tongue") tongue = static_cast<int>(i);
   ASSERT_GE(tongue, 0);
   const ObjectSpec& o = scene->spec.objects[static_cast<std::size_t>(tongue)];
-  const SurfacePoint sp = RegionSpot("tongue", "dorsum", scene->meshes[static_cast<std::size_t>(tongue)]);
+  const SurfacePoint sp =
+      RegionSpot("tongue", "dorsum", scene->meshes[static_cast<std::size_t>(tongue)]);
   const Vector3 p = o.X_WO * sp.point, n = (o.X_WO.rotation() * sp.normal).normalized();
   ScriptTarget st;
   st.n_W = n;
@@ -642,28 +722,34 @@ TEST(Probing, APressHoveringAboutTheDamageLimitIsOneDamageEpisode) {
     std::optional<std::uint64_t> at_limit;
   } probe;
   std::vector<Keyframe> down;
-  for (double t = 0; t <= 8.0 + 1e-9; t += 0.005) down.push_back({t, p - (-6.0 + t) * n, q, 0});
+  for (double t = 0; t <= 8.0 + 1e-9; t += 0.005)
+    down.push_back({t, p - (-6.0 + t) * n, q, 0});
   PlayOffline(*scene, std::move(down), 8000, "tongue probe", &probe);
   ASSERT_TRUE(probe.at_limit) << "the probe never pressed the tongue at 0.5 N";
   const double d0 = -6.0 + static_cast<double>(*probe.at_limit) / 1000.0;
   // Then the presses: device depth below the surface point over time.
   auto depth = [d0](double t) {
-    if (t < 1.0) return -6.0 + (d0 + 5.0) * t;                  // down to 1 mm above the press
-    if (t < 2.0) return d0 - 1.0 + (t - 1.0);                   // into the press
-    if (t < 4.0) return d0 + 0.09 * std::sin(2 * std::numbers::pi * 5 * (t - 2.0));  // hovering about the limit
-    if (t < 4.5) return d0 - 5.0 * (t - 4.0);                   // lifted 2.5 mm off
-    if (t < 5.5) return d0 - 2.5 + 2.7 * (t - 4.5);             // pressed again, a little harder
+    if (t < 1.0) return -6.0 + (d0 + 5.0) * t;  // down to 1 mm above the press
+    if (t < 2.0) return d0 - 1.0 + (t - 1.0);   // into the press
+    if (t < 4.0)
+      return d0 + 0.09 * std::sin(2 * std::numbers::pi * 5 *
+                                  (t - 2.0));        // hovering about the limit
+    if (t < 4.5) return d0 - 5.0 * (t - 4.0);        // lifted 2.5 mm off
+    if (t < 5.5) return d0 - 2.5 + 2.7 * (t - 4.5);  // pressed again, a little harder
     if (t < 6.5) return d0 + 0.2;
     return d0 + 0.2 - 5.0 * (t - 6.5);
   };
   std::vector<Keyframe> keys;
-  for (double t = 0; t <= 7.0 + 1e-9; t += 0.005) keys.push_back({t, p - depth(t) * n, q, 0});
+  for (double t = 0; t <= 7.0 + 1e-9; t += 0.005)
+    keys.push_back({t, p - depth(t) * n, q, 0});
   struct Damage final : TickConsumer {
     explicit Damage(int object) : object(object) {}
     void OnTick(const TickRecord& r) override {
       for (int i = 0; i < r.num_events; ++i)
-        if (r.events[i].kind == EventKind::kTissueDamage && r.events[i].object == object) ticks.push_back(r.tick);
-      // Crossings of the limit by the whole force while hovering (the tongue bears it all).
+        if (r.events[i].kind == EventKind::kTissueDamage && r.events[i].object == object)
+          ticks.push_back(r.tick);
+      // Crossings of the limit by the whole force while hovering (the tongue bears it
+      // all).
       const bool above = r.force_W.norm() > 0.5;
       if (r.tick > 2000 && r.tick < 4000 && above != was_above) ++crossings;
       if (r.tick > 2000 && r.tick < 4000) {
@@ -678,16 +764,21 @@ TEST(Probing, APressHoveringAboutTheDamageLimitIsOneDamageEpisode) {
     bool was_above = false;
     double lo = 1e9, hi = 0;
   } consumer(tongue);
-  const auto session = PlayOffline(*scene, std::move(keys), 7600, "tongue press", &consumer);
-  std::printf("force while hovering %.3f to %.3f N, %d crossings of the limit; damage events at", consumer.lo,
-              consumer.hi, consumer.crossings);
-  for (std::uint64_t t : consumer.ticks) std::printf(" %llu", static_cast<unsigned long long>(t));
+  const auto session =
+      PlayOffline(*scene, std::move(keys), 7600, "tongue press", &consumer);
+  std::printf(
+      "force while hovering %.3f to %.3f N, %d crossings of the limit; damage events at",
+      consumer.lo, consumer.hi, consumer.crossings);
+  for (std::uint64_t t : consumer.ticks)
+    std::printf(" %llu", static_cast<unsigned long long>(t));
   std::printf("\n");
-  EXPECT_GE(consumer.crossings, 6) << "the hovering press crosses the limit again and again";
+  EXPECT_GE(consumer.crossings, 6)
+      << "the hovering press crosses the limit again and again";
   ASSERT_EQ(consumer.ticks.size(), 2u) << "one damage episode per press";
   EXPECT_GT(consumer.ticks[0], 1000u);
   EXPECT_LT(consumer.ticks[0], 4000u);
-  EXPECT_GT(consumer.ticks[1], 4500u) << "the second press, after the tip left the tongue";
+  EXPECT_GT(consumer.ticks[1], 4500u)
+      << "the second press, after the tip left the tongue";
   EXPECT_EQ(session->loop().faults().total(), 0u);
 }
 
@@ -706,7 +797,8 @@ namespace {
 // stopped 0.3 mm above the site's floor it feels only the soft gingiva, pushed
 // 0.4 mm past it it presses the firm floor.
 TEST(Probing, EveryInterproximalSiteOnTheArchReadsItselfAtItsDepth) {
-  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
+  const SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
   ASSERT_TRUE(spec.gingiva_joined) << "the probing scene has one gingiva for its sextant";
   const auto scene = CompileScene(spec, Cache());
   int checked = 0;
@@ -716,14 +808,18 @@ TEST(Probing, EveryInterproximalSiteOnTheArchReadsItselfAtItsDepth) {
     gp.pocket_mm = o.pocket_mm;
     gp.recession_mm = o.recession_mm;
     const GingivaModel g = GenerateGingiva(GenerateTooth(o.fdi), gp);
-    auto world = [&](const Vector3& p_T) { return Vector3(o.X_WO * ArchMirror(o.mirrored, p_T)); };
-    const Matrix3 R = o.X_WO.rotation() * (o.mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1)).asDiagonal();
+    auto world = [&](const Vector3& p_T) {
+      return Vector3(o.X_WO * ArchMirror(o.mirrored, p_T));
+    };
+    const Matrix3 R = o.X_WO.rotation() *
+                      (o.mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1)).asDiagonal();
     for (const int s : {0, 2, 3, 5}) {  // MB, DB, ML, DL
       const double th = g.site_angle[s];
       const Vector3 out(std::cos(th), std::sin(th), 0);
       const double tilt = 4 * std::numbers::pi / 180;
       const Vector3 up_T = std::cos(tilt) * Vector3::UnitZ() + std::sin(tilt) * out;
-      const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), (R * up_T).normalized());
+      const Quaternion q =
+          Quaternion::FromTwoVectors(Vector3::UnitZ(), (R * up_T).normalized());
       const Vector3 top = g.margin[s] - 1.0 * Vector3::UnitZ();
       const double pocket = g.margin[s].z() - g.floor[s].z();
       const std::string where = std::to_string(o.fdi) + " site " + std::to_string(s);
@@ -737,20 +833,24 @@ TEST(Probing, EveryInterproximalSiteOnTheArchReadsItselfAtItsDepth) {
         const double down = (pocket - 1.0 + past) / std::cos(tilt);
         keys.push_back({1.6 + down / 4.0, world(top - down * up_T), q, 0});
         keys.push_back({2.1 + down / 4.0, world(top - down * up_T), q, 0});
-        keys.push_back({3.0 + down / 4.0, world(top + 2.0 * up_T), q, 0});  // out of the sulcus: the reading ends
+        keys.push_back({3.0 + down / 4.0, world(top + 2.0 * up_T), q,
+                        0});  // out of the sulcus: the reading ends
         struct Readings final : TickConsumer {
           void OnTick(const TickRecord& r) override {
             for (int i = 0; i < r.num_events; ++i)
-              if (r.events[i].kind == EventKind::kProbeReading) events.push_back(r.events[i]);
+              if (r.events[i].kind == EventKind::kProbeReading)
+                events.push_back(r.events[i]);
           }
           std::vector<HapticEvent> events;
         } consumer;
         const auto ticks = static_cast<std::uint64_t>((3.2 + down / 4.0) * 1000);
-        const auto session = PlayOffline(*scene, std::move(keys), ticks, "site", &consumer);
+        const auto session =
+            PlayOffline(*scene, std::move(keys), ticks, "site", &consumer);
         EXPECT_EQ(session->loop().faults().total(), 0u) << where;
         std::optional<HapticEvent> deepest;
         for (const HapticEvent& e : consumer.events)
-          if (!deepest || e.payload.reading.depth_mm > deepest->payload.reading.depth_mm) deepest = e;
+          if (!deepest || e.payload.reading.depth_mm > deepest->payload.reading.depth_mm)
+            deepest = e;
         return deepest;
       };
       for (const double past : {-0.3, 0.4}) {
@@ -760,9 +860,11 @@ TEST(Probing, EveryInterproximalSiteOnTheArchReadsItselfAtItsDepth) {
         EXPECT_EQ(e->payload.reading.site, s) << where;
         EXPECT_NEAR(e->payload.reading.depth_mm, o.pocket_mm[s] + past, 0.15) << where;
         if (past < 0)
-          EXPECT_LT(e->payload.reading.peak_force_n, 0.15) << where << ": above the floor, only the soft gingiva";
+          EXPECT_LT(e->payload.reading.peak_force_n, 0.15)
+              << where << ": above the floor, only the soft gingiva";
         else
-          EXPECT_GT(e->payload.reading.peak_force_n, 0.3) << where << ": pressing the firm floor";
+          EXPECT_GT(e->payload.reading.peak_force_n, 0.3)
+              << where << ": pressing the firm floor";
       }
       ++checked;
     }
@@ -785,22 +887,30 @@ TEST(Probing, AProbeGoesIntoTheFurcationAsFarAsItsClassLeavesTheBoneOpen) {
   for (int hamp = 1; hamp <= 3; ++hamp) {
     SCOPED_TRACE("class " + std::to_string(hamp));
     const fs::path file = dir / ("class" + std::to_string(hamp) + ".yaml");
-    std::ofstream(file) << "tool:\n  probe: who\narch: true\neffects: [contact]\nobjects:\n  - tooth: 46\n"
+    std::ofstream(file) << "tool:\n  probe: who\narch: true\neffects: "
+                           "[contact]\nobjects:\n  - tooth: 46\n"
                         << "    furcation: {B: " << hamp << "}\n  - anatomy: jaw_lower\n";
     const auto scene = CompileScene(LoadSceneSpec(file), Cache());
     const ObjectSpec& tooth = scene->spec.objects[0];
     ASSERT_EQ(tooth.fdi, 46);
-    const Matrix3 R = tooth.X_WO.rotation() * (tooth.mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1)).asDiagonal();
-    auto world = [&](const Vector3& p_T) { return Vector3(tooth.X_WO * ArchMirror(tooth.mirrored, p_T)); };
+    const Matrix3 R =
+        tooth.X_WO.rotation() *
+        (tooth.mirrored ? Vector3(-1, 1, 1) : Vector3(1, 1, 1)).asDiagonal();
+    auto world = [&](const Vector3& p_T) {
+      return Vector3(tooth.X_WO * ArchMirror(tooth.mirrored, p_T));
+    };
     const double z = -0.5 * (roof + below[hamp] + roof + 0.3);
     // The shank toward the buccal (+y), the ball moving in along -y at 2 mm/s.
-    const Matrix3 R_WG = Quaternion::FromTwoVectors(Vector3::UnitZ(), (R * Vector3::UnitY()).normalized()).toRotationMatrix();
+    const Matrix3 R_WG =
+        Quaternion::FromTwoVectors(Vector3::UnitZ(), (R * Vector3::UnitY()).normalized())
+            .toRotationMatrix();
     const double start = entrance_y + 4.0, end = -entrance_y - 3.0;
     // How far in the exact meshes let it go along that line (bisection).
     std::vector<TriangleMesh> solids;
     for (std::size_t i = 0; i < scene->meshes.size(); ++i) {
       TriangleMesh m = scene->meshes[i];
-      m.Transform(scene->spec.objects[i].X_WO.rotation(), scene->spec.objects[i].X_WO.translation());
+      m.Transform(scene->spec.objects[i].X_WO.rotation(),
+                  scene->spec.objects[i].X_WO.translation());
       solids.push_back(std::move(m));
     }
     // Whether the probe at a pose is free of the exact meshes.
@@ -824,23 +934,30 @@ TEST(Probing, AProbeGoesIntoTheFurcationAsFarAsItsClassLeavesTheBoneOpen) {
     ResetTool(RigidTransform(R_WG, world(Vector3(0, start, z))), &d);
     const int ticks = static_cast<int>((start - end) / 2.0 * 1000);
     for (int i = 0; i <= ticks + 200; ++i)
-      Step(*scene->model, RigidTransform(R_WG, world(Vector3(0, std::max(end, start - 0.002 * i), z))), &d);
+      Step(*scene->model,
+           RigidTransform(R_WG, world(Vector3(0, std::max(end, start - 0.002 * i), z))),
+           &d);
     EXPECT_EQ(d.faults.total(), 0u);
-    const Vector3 tip_T = ArchMirror(tooth.mirrored, tooth.X_WO.inverse() * d.X_WG.translation());
+    const Vector3 tip_T =
+        ArchMirror(tooth.mirrored, tooth.X_WO.inverse() * d.X_WG.translation());
     const double in = entrance_y - tip_T.y();
     // Where the rendered tool stopped, how far it overlaps the exact meshes:
     // how far back out along its way it must move to be free of them.
     const Vector3 out_W = R * Vector3::UnitY();
-    auto free_back = [&](double s) { return free_pose(d.X_WG.rotation(), d.X_WG.translation() + s * out_W); };
+    auto free_back = [&](double s) {
+      return free_pose(d.X_WG.rotation(), d.X_WG.translation() + s * out_W);
+    };
     double overlap = 0;
     if (!free_back(0)) {
       double a = 0, b = 2.0;
       for (int k = 0; k < 16; ++k) (free_back(0.5 * (a + b)) ? b : a) = 0.5 * (a + b);
       overlap = b;
     }
-    std::printf("class %d: the ball's centre %.2f mm in from the entrance (exact meshes along its line: %.2f; tip %.2f %.2f "
-                "%.2f, overlapping them by %.2f mm)\n",
-                hamp, in, exact_in, tip_T.x(), tip_T.y(), tip_T.z(), overlap);
+    std::printf(
+        "class %d: the ball's centre %.2f mm in from the entrance (exact meshes along "
+        "its line: %.2f; tip %.2f %.2f "
+        "%.2f, overlapping them by %.2f mm)\n",
+        hamp, in, exact_in, tip_T.x(), tip_T.y(), tip_T.z(), overlap);
     // No further than the true geometry lets it: where the rendered tool
     // stopped, it is free of the exact meshes (it may slide up or aside off
     // the straight line, over an edge the line meets: class I's bone ends
@@ -853,7 +970,8 @@ TEST(Probing, AProbeGoesIntoTheFurcationAsFarAsItsClassLeavesTheBoneOpen) {
     EXPECT_EQ(scene->spec.objects[1].trees.leaves, kFurcationJawLeaves);
     EXPECT_GT(in, exact_in - 1.0) << "not held far short of it";
     if (hamp > 1) {
-      EXPECT_GT(exact_in, exact_in_before + 0.3) << "a higher class opens the furcation further";
+      EXPECT_GT(exact_in, exact_in_before + 0.3)
+          << "a higher class opens the furcation further";
       EXPECT_GT(in, in_before + 0.3) << "and the probe feels it";
     }
     exact_in_before = exact_in;

@@ -2,16 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <filesystem>
+#include <fstream>
 #include <map>
 
 #include "core/anatomy/mesh_contact.h"
 #include "core/anatomy/soft_tissue.h"
 #include "tests/common/meshes.h"
-
-#include <algorithm>
-#include <array>
-#include <filesystem>
-#include <fstream>
 
 namespace sulcus {
 namespace {
@@ -34,9 +33,10 @@ fs::path Write(const std::string& name, const std::string& yaml) {
 // Each call writes its own file: ctest runs these tests in parallel.
 std::vector<std::string> Errors(const std::string& yaml) {
   static int calls = 0;
-  const fs::path p = Write(std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-                               std::to_string(++calls) + ".yaml",
-                           yaml);
+  const fs::path p =
+      Write(std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+                "_" + std::to_string(++calls) + ".yaml",
+            yaml);
   try {
     LoadSceneSpec(p);
   } catch (const SceneLoadError& e) {
@@ -44,7 +44,8 @@ std::vector<std::string> Errors(const std::string& yaml) {
     for (const SceneError& err : e.errors()) {
       EXPECT_EQ(err.file, p.string());
       EXPECT_EQ(err.ToString().rfind(p.string() + ":", 0), 0u);
-      out.push_back(std::to_string(err.line) + ":" + std::to_string(err.column) + ": " + err.message);
+      out.push_back(std::to_string(err.line) + ":" + std::to_string(err.column) + ": " +
+                    err.message);
     }
     return out;
   }
@@ -57,21 +58,30 @@ TEST(SceneFile, UnknownKeysSuggestTheNearestOne) {
   EXPECT_EQ(Errors("name: x\nobjets:\n  - tooth: 46\n"),
             (Lines{"2:1: unknown key 'objets' in the scene; did you mean 'objects'?",
                    "1:1: a scene needs 'objects:', a list of teeth, meshes or solids"}));
-  EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    pocket_mm: [1, 2, 3, 1, 2, 3]\n"),
-            (Lines{"3:5: unknown key 'pocket_mm' in an object; did you mean 'pockets_mm'?"}));
+  EXPECT_EQ(
+      Errors("objects:\n  - tooth: 46\n    pocket_mm: [1, 2, 3, 1, 2, 3]\n"),
+      (Lines{"3:5: unknown key 'pocket_mm' in an object; did you mean 'pockets_mm'?"}));
   EXPECT_EQ(Errors("haptics:\n  wobble: 3\nobjects: []\n"),
-            (Lines{"2:3: unknown key 'wobble' in 'haptics' (expected one of: k_t_n_per_mm, k_r_nmm_per_rad, "
+            (Lines{"2:3: unknown key 'wobble' in 'haptics' (expected one of: "
+                   "k_t_n_per_mm, k_r_nmm_per_rad, "
                    "max_force_n, max_torque_nmm, rate_hz, surface, solve_pairs)"}));
   EXPECT_EQ(Errors("haptics:\n  surface: smooth\nobjects: []\n"),
-            (Lines{"2:12: 'surface' must be 'planes' (leaf spheres clipped by planes fitted to the mesh, the default) "
+            (Lines{"2:12: 'surface' must be 'planes' (leaf spheres clipped by planes "
+                   "fitted to the mesh, the default) "
                    "or 'spheres' (the leaf spheres alone)"}));
   EXPECT_EQ(Errors("haptics:\n  solve_pairs: 8\nobjects: []\n"),
-            (Lines{"2:16: 'solve_pairs' must be 0 (no limit) or at least 16 (a probe resting on a tooth alone meets "
+            (Lines{"2:16: 'solve_pairs' must be 0 (no limit) or at least 16 (a probe "
+                   "resting on a tooth alone meets "
                    "a dozen pairs)"}));
   EXPECT_EQ(Errors("haptics:\n  solve_pairs: 100000\nobjects: []\n"),
             (Lines{"2:16: 'solve_pairs' is 100000, expected 0 to 16384"}));
-  EXPECT_EQ(LoadSceneSpec(Write("solve_pairs.yaml", "haptics:\n  solve_pairs: 0\nobjects: []\n")).haptics.solve_pairs, 0);
-  EXPECT_EQ(LoadSceneSpec(Write("solve_pairs_64.yaml", "haptics:\n  solve_pairs: 64\nobjects: []\n")).haptics.solve_pairs,
+  EXPECT_EQ(LoadSceneSpec(
+                Write("solve_pairs.yaml", "haptics:\n  solve_pairs: 0\nobjects: []\n"))
+                .haptics.solve_pairs,
+            0);
+  EXPECT_EQ(LoadSceneSpec(Write("solve_pairs_64.yaml",
+                                "haptics:\n  solve_pairs: 64\nobjects: []\n"))
+                .haptics.solve_pairs,
             64);
 }
 
@@ -81,47 +91,59 @@ TEST(SceneFile, WrongTypesAndRanges) {
   EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    pockets_mm: [3, -1, 3, 3, 3, 3]\n"),
             (Lines{"3:21: 'pockets_mm' is -1 mm, expected 0 to 15"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    pockets_mm: [3, 3, 3]\n"),
-            (Lines{"3:17: 'pockets_mm' must be a list of 6 numbers (depths at MB, B, DB, ML, L, DL in mm), found 3"}));
+            (Lines{"3:17: 'pockets_mm' must be a list of 6 numbers (depths at MB, B, DB, "
+                   "ML, L, DL in mm), found 3"}));
   EXPECT_EQ(Errors("gingiva: joined\nobjects: []\n"),
-            (Lines{"1:10: 'gingiva' must be true (a collar around every tooth), arch (one gingiva per arch, joined "
+            (Lines{"1:10: 'gingiva' must be true (a collar around every tooth), arch "
+                   "(one gingiva per arch, joined "
                    "between neighbouring teeth) or false"}));
   EXPECT_EQ(Errors("objects:\n  - box: [1, 2]\n    tissue: bone\n"),
-            (Lines{"2:10: 'box' must be a list of 3 numbers (sizes along x, y, z in mm), found 2"}));
+            (Lines{"2:10: 'box' must be a list of 3 numbers (sizes along x, y, z in mm), "
+                   "found 2"}));
 }
 
 TEST(SceneFile, FrictionIsAnEffectWithACoefficientPerObjectAndTextureIsRefused) {
-  EXPECT_EQ(Errors("effects: [contact, friction]\nobjects:\n  - box: [1, 1, 1]\n    tissue: bone\n    friction: 0.25\n"),
+  EXPECT_EQ(Errors("effects: [contact, friction]\nobjects:\n  - box: [1, 1, 1]\n    "
+                   "tissue: bone\n    friction: 0.25\n"),
             (Lines{"accepted"}));
   EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    friction: 3\n"),
             (Lines{"4:15: 'friction' is 3, expected 0 to 2"}));
-  EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    friction: slippery\n"),
-            (Lines{"4:15: 'friction' must be a number, found 'slippery'"}));
-  EXPECT_EQ(Errors("effects: [contact, surface_texture]\nobjects:\n  - tooth: 46\n"), (Lines{"accepted"}));
+  EXPECT_EQ(
+      Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    friction: slippery\n"),
+      (Lines{"4:15: 'friction' must be a number, found 'slippery'"}));
+  EXPECT_EQ(Errors("effects: [contact, surface_texture]\nobjects:\n  - tooth: 46\n"),
+            (Lines{"accepted"}));
 }
 
 TEST(SceneFile, ClinicalTruthIsChecked) {
   // Tooth 31's root is 12.5 mm long.
   EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    pockets_mm: [3, 13, 3, 3, 3, 3]\n"),
-            (Lines{"3:21: pocket of 13 mm at site B is deeper than the root of tooth 31 (12.5 mm)"}));
-  EXPECT_EQ(Errors("objects:\n  - tooth: 19\n"), (Lines{"2:12: FDI 19 does not exist: the tooth digit is 1 to 8"}));
+            (Lines{"3:21: pocket of 13 mm at site B is deeper than the root of tooth 31 "
+                   "(12.5 mm)"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 19\n"),
+            (Lines{"2:12: FDI 19 does not exist: the tooth digit is 1 to 8"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    bleeding: [MB, BD]\n"),
             (Lines{"3:20: unknown site 'BD'; did you mean 'B'?"}));
-  EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    pockets_mm: [1, 1, 1, 1, 1, 1]\n"),
+  EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    pockets_mm: [1, "
+                   "1, 1, 1, 1, 1]\n"),
             (Lines{"4:17: 'pockets_mm' is for teeth only"}));
 }
 
 TEST(SceneFile, MeshPathsStayInTheSceneFolderAndMustExist) {
   EXPECT_EQ(Errors("objects:\n  - mesh: ../outside.stl\n    tissue: bone\n"),
-            (Lines{"2:11: mesh path '../outside.stl' leaves the scene's folder; put the mesh beside the scene file"}));
+            (Lines{"2:11: mesh path '../outside.stl' leaves the scene's folder; put the "
+                   "mesh beside the scene file"}));
   const Lines missing = Errors("objects:\n  - mesh: nope.stl\n    tissue: bone\n");
   ASSERT_EQ(missing.size(), 1u);
-  EXPECT_EQ(missing[0].rfind("2:11: mesh file 'nope.stl' not found (looked for ", 0), 0u) << missing[0];
+  EXPECT_EQ(missing[0].rfind("2:11: mesh file 'nope.stl' not found (looked for ", 0), 0u)
+      << missing[0];
 }
 
 TEST(SceneFile, AMeshFarTooLargeForAMouthIsRefusedBeforeItsTreesAreBuilt) {
   // A tetrahedron 1,000 mm across: a mesh in another unit, or a slipped scale.
   test::WriteTetrahedronStl(Dir() / "huge.stl", 1000);
-  const SceneSpec spec = LoadSceneSpec(Write("huge_mesh.yaml", "objects:\n  - mesh: huge.stl\n    tissue: bone\n"));
+  const SceneSpec spec = LoadSceneSpec(
+      Write("huge_mesh.yaml", "objects:\n  - mesh: huge.stl\n    tissue: bone\n"));
   bool asked = false;
   try {
     CompileScene(spec, Dir() / "cache-huge", [&](std::string_view stage, double) {
@@ -130,7 +152,8 @@ TEST(SceneFile, AMeshFarTooLargeForAMouthIsRefusedBeforeItsTreesAreBuilt) {
     });
     FAIL() << "compiled a 1,000 mm mesh";
   } catch (const MeshError& e) {
-    EXPECT_NE(std::string(e.what()).find("huge.stl: is 1732 mm across; a scene object may be at most 300 mm"),
+    EXPECT_NE(std::string(e.what()).find(
+                  "huge.stl: is 1732 mm across; a scene object may be at most 300 mm"),
               std::string::npos)
         << e.what();
   }
@@ -140,8 +163,9 @@ TEST(SceneFile, AMeshFarTooLargeForAMouthIsRefusedBeforeItsTreesAreBuilt) {
 }
 
 TEST(SceneFile, EffectsAreValidatedEvenBeforeTheyExist) {
-  EXPECT_EQ(Errors("effects: [contact, probing_dept]\nobjects: []\n"),
-            (Lines{"1:20: unknown effect 'probing_dept'; did you mean 'probing_depth'?"}));
+  EXPECT_EQ(
+      Errors("effects: [contact, probing_dept]\nobjects: []\n"),
+      (Lines{"1:20: unknown effect 'probing_dept'; did you mean 'probing_depth'?"}));
 }
 
 TEST(SceneFile, ManyErrorsAtOnceAndSyntaxErrors) {
@@ -151,10 +175,13 @@ TEST(SceneFile, ManyErrorsAtOnceAndSyntaxErrors) {
       "  - box: [1, 1, 1]\n"
       "  - sphere: -2\n"
       "    tissue: bonne\n");
-  EXPECT_EQ(all, (Lines{"2:12: FDI 99 does not exist: expected 11 to 48 (quadrant 1 to 4, then tooth 1 to 8)",
-                        "3:5: 'box 2' needs a 'tissue' (enamel, root, gingiva, bone, tongue, cheek, palate, lip, "
+  EXPECT_EQ(all, (Lines{"2:12: FDI 99 does not exist: expected 11 to 48 (quadrant 1 to "
+                        "4, then tooth 1 to 8)",
+                        "3:5: 'box 2' needs a 'tissue' (enamel, root, gingiva, bone, "
+                        "tongue, cheek, palate, lip, "
                         "mucosa, metal, calculus)",
-                        "4:13: 'sphere' is -2 mm (a mouth is about 60 mm across), expected 0.001 to 100",
+                        "4:13: 'sphere' is -2 mm (a mouth is about 60 mm across), "
+                        "expected 0.001 to 100",
                         "5:13: unknown tissue 'bonne'; did you mean 'bone'?"}));
   const Lines syntax = Errors("objects:\n  - tooth: [46\n");
   ASSERT_EQ(syntax.size(), 1u);
@@ -185,16 +212,19 @@ TEST(SceneFile, ValuesAreRead) {
   EXPECT_EQ(s.name, "two");
   EXPECT_DOUBLE_EQ(s.haptics.k_t, 0.5);
   EXPECT_DOUBLE_EQ(s.rate_hz, 2000);
-  EXPECT_EQ(s.effects, (std::vector<Effect>{Effect::kContact, Effect::kTissueDamage}));  // contact always
+  EXPECT_EQ(s.effects, (std::vector<Effect>{Effect::kContact,
+                                            Effect::kTissueDamage}));  // contact always
   ASSERT_EQ(s.objects.size(), 2u);
   EXPECT_EQ(s.objects[0].name, "tooth 36");
   EXPECT_NEAR(s.objects[0].X_WO.translation().y(), 2.0, 1e-15);
-  EXPECT_NEAR((s.objects[0].X_WO.rotation() * Vector3::UnitX()).y(), 1.0, 1e-12);  // 90 deg about z
+  EXPECT_NEAR((s.objects[0].X_WO.rotation() * Vector3::UnitX()).y(), 1.0,
+              1e-12);  // 90 deg about z
   EXPECT_DOUBLE_EQ(s.objects[0].pocket_mm[5], 6);
   EXPECT_TRUE(s.objects[0].bleeding[5]);
   EXPECT_FALSE(s.objects[0].bleeding[0]);
   EXPECT_EQ(s.objects[1].tissue, Tissue::kGingiva);
-  EXPECT_DOUBLE_EQ(s.objects[1].material.damage_limit_n, 0.30);  // the gingiva's clinical limit
+  EXPECT_DOUBLE_EQ(s.objects[1].material.damage_limit_n,
+                   0.30);  // the gingiva's clinical limit
 }
 
 // Trees: the scene's `spheretree` for every object, an object's own over it,
@@ -222,18 +252,22 @@ TEST(SceneFile, SphereTreeSettingsPerObjectAndForTheCollars) {
     EXPECT_EQ(s.objects[i].trees.levels, 5);
   }
   EXPECT_EQ(Errors("spheretree: {leaves: 1024}\nobjects:\n  - tooth: 46\n"),
-            (Lines{"1:13: in 'spheretree': 1024 leaves do not fit in 4 levels of 8 (at most 512); raise 'levels'"}));
+            (Lines{"1:13: in 'spheretree': 1024 leaves do not fit in 4 levels of 8 (at "
+                   "most 512); raise 'levels'"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    spheretree: {leafs: 64}\n"),
-            (Lines{"3:18: unknown key 'leafs' in an object's 'spheretree'; did you mean 'leaves'?"}));
+            (Lines{"3:18: unknown key 'leafs' in an object's 'spheretree'; did you mean "
+                   "'leaves'?"}));
   EXPECT_EQ(Errors("spheretree: {gingiva: {gingiva: {}}}\nobjects:\n  - tooth: 46\n"),
-            (Lines{"1:24: unknown key 'gingiva' in 'spheretree: gingiva' (expected one of: levels, branch, leaves, "
+            (Lines{"1:24: unknown key 'gingiva' in 'spheretree: gingiva' (expected one "
+                   "of: levels, branch, leaves, "
                    "target_error_mm)"}));
 }
 
 TEST(SceneFile, ShippedScenesValidate) {
   int seen = 0;
   for (const char* folder : {"scenes", "tests/scenes/hard"}) {
-    for (const auto& entry : fs::directory_iterator(fs::path(SULCUS_SOURCE_DIR) / folder)) {
+    for (const auto& entry :
+         fs::directory_iterator(fs::path(SULCUS_SOURCE_DIR) / folder)) {
       if (entry.path().extension() != ".yaml") continue;
       ++seen;
       EXPECT_NO_THROW(LoadSceneSpec(entry.path())) << entry.path();
@@ -243,8 +277,10 @@ TEST(SceneFile, ShippedScenesValidate) {
 }
 
 TEST(SceneFile, CompilesIntoAnEngineModelThatRuns) {
-  const SceneSpec spec = LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard/narrow_slot.yaml");
-  fs::remove_all(Dir() / "cache");  // an empty cache: every tree is built and reports progress
+  const SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard/narrow_slot.yaml");
+  fs::remove_all(Dir() /
+                 "cache");  // an empty cache: every tree is built and reports progress
   int calls = 0;
   const auto scene = CompileScene(spec, Dir() / "cache", [&](std::string_view, double) {
     ++calls;
@@ -256,9 +292,11 @@ TEST(SceneFile, CompilesIntoAnEngineModelThatRuns) {
   EngineData d(*scene->model);
   // Probe pushed down into the slot: the shaft (1 mm) cannot enter the 0.7 mm gap.
   ResetTool(RigidTransform(Matrix3::Identity(), Vector3(0, 0, 8)), &d);
-  for (int i = 0; i < 400; ++i) Step(*scene->model, RigidTransform(Matrix3::Identity(), Vector3(0, 0, 8 - 0.03 * i)), &d);
+  for (int i = 0; i < 400; ++i)
+    Step(*scene->model, RigidTransform(Matrix3::Identity(), Vector3(0, 0, 8 - 0.03 * i)),
+         &d);
   EXPECT_EQ(d.faults.total(), 0u);
-  EXPECT_GT(d.force_W.z(), 0.5);                       // held up by the walls' tops
+  EXPECT_GT(d.force_W.z(), 0.5);  // held up by the walls' tops
   EXPECT_LT(d.max_penetration_mm, 1e-3);
 }
 
@@ -269,47 +307,66 @@ namespace sulcus {
 namespace {
 
 TEST(SceneFile, ArchGingivaAnatomyCariesAndInflammation) {
-  EXPECT_EQ(Errors("arch: maybe\nobjects:\n  - tooth: 46\n"), (Lines{"1:7: 'arch' must be true or false"}));
+  EXPECT_EQ(Errors("arch: maybe\nobjects:\n  - tooth: 46\n"),
+            (Lines{"1:7: 'arch' must be true or false"}));
   EXPECT_EQ(Errors("objects:\n  - anatomy: tounge\n"),
-            (Lines{"2:14: unknown anatomy 'tounge'; did you mean 'tongue'? (known: jaw_lower, jaw_upper, lip_upper, "
-                   "lip_lower, cheek_left, cheek_right, tongue, floor_of_mouth, palate, soft_palate)"}));
+            (Lines{"2:14: unknown anatomy 'tounge'; did you mean 'tongue'? (known: "
+                   "jaw_lower, jaw_upper, lip_upper, "
+                   "lip_lower, cheek_left, cheek_right, tongue, floor_of_mouth, palate, "
+                   "soft_palate)"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 36\n    caries_mm: {ocllusal: 2}\n"),
-            (Lines{"3:17: unknown surface 'ocllusal'; did you mean 'occlusal'? (mesial, distal, buccal, lingual, "
+            (Lines{"3:17: unknown surface 'ocllusal'; did you mean 'occlusal'? (mesial, "
+                   "distal, buccal, lingual, "
                    "occlusal)"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 36\n    inflamed: [MB, XL]\n"),
             (Lines{"3:20: unknown site 'XL'; did you mean 'ML'?"}));
-  EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    caries_mm: {occlusal: 1}\n"),
+  EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    caries_mm: "
+                   "{occlusal: 1}\n"),
             (Lines{"4:16: 'caries_mm' is for teeth only"}));
   // A cavity is in a lesion, no deeper than the lesion is wide, and no deeper than 2 mm.
-  EXPECT_EQ(Errors("objects:\n  - tooth: 36\n    caries_mm: {occlusal: 1.0}\n"
-                   "    cavity_mm: {occlusal: 1.5, buccal: 0.5, ocllusal: 0.3}\n"),
-            (Lines{"4:27: a cavity 1.5 mm deep in a lesion of 1.0 mm: the depth is at most the lesion's size",
-                   "4:32: a cavity is in a carious lesion: give 'caries_mm' a buccal lesion first",
-                   "4:45: unknown surface 'ocllusal'; did you mean 'occlusal'? (mesial, distal, buccal, lingual, "
-                   "occlusal)"}));
-  EXPECT_EQ(Errors("objects:\n  - tooth: 36\n    caries_mm: {occlusal: 4}\n    cavity_mm: {occlusal: 3}\n").size(), 1u)
+  EXPECT_EQ(
+      Errors("objects:\n  - tooth: 36\n    caries_mm: {occlusal: 1.0}\n"
+             "    cavity_mm: {occlusal: 1.5, buccal: 0.5, ocllusal: 0.3}\n"),
+      (Lines{
+          "4:27: a cavity 1.5 mm deep in a lesion of 1.0 mm: the depth is at most the "
+          "lesion's size",
+          "4:32: a cavity is in a carious lesion: give 'caries_mm' a buccal lesion first",
+          "4:45: unknown surface 'ocllusal'; did you mean 'occlusal'? (mesial, distal, "
+          "buccal, lingual, "
+          "occlusal)"}));
+  EXPECT_EQ(Errors("objects:\n  - tooth: 36\n    caries_mm: {occlusal: 4}\n    "
+                   "cavity_mm: {occlusal: 3}\n")
+                .size(),
+            1u)
       << "deeper than 2 mm";
-  EXPECT_EQ(Errors("gingiva: true\nobjects:\n  - tooth: 31\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
-                   "    recession_mm: [0, 10, 0, 0, 0, 0]\n"),
-            (Lines{"3:5: tooth 31: pocket plus recession at site B leaves less than 1 mm of attached root for the "
-                   "gingiva"}));
+  EXPECT_EQ(
+      Errors(
+          "gingiva: true\nobjects:\n  - tooth: 31\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
+          "    recession_mm: [0, 10, 0, 0, 0, 0]\n"),
+      (Lines{"3:5: tooth 31: pocket plus recession at site B leaves less than 1 mm of "
+             "attached root for the "
+             "gingiva"}));
 
-  // Valid: teeth on the arch (lower left and upper right are mirrored), a collar per tooth
-  // carrying the tooth's truth, soft tissue with its own tissue type.
+  // Valid: teeth on the arch (lower left and upper right are mirrored), a collar per
+  // tooth carrying the tooth's truth, soft tissue with its own tissue type.
   const fs::path p = Write("arch_ok.yaml",
-                           "arch: true\ngingiva: true\nobjects:\n  - tooth: 46\n    pockets_mm: [5, 4, 7, 5, 4, 6]\n"
-                           "    inflamed: [MB]\n    caries_mm: {occlusal: 2.5}\n    cavity_mm: {occlusal: 0.8}\n"
+                           "arch: true\ngingiva: true\nobjects:\n  - tooth: 46\n    "
+                           "pockets_mm: [5, 4, 7, 5, 4, 6]\n"
+                           "    inflamed: [MB]\n    caries_mm: {occlusal: 2.5}\n    "
+                           "cavity_mm: {occlusal: 0.8}\n"
                            "  - tooth: 36\n  - anatomy: tongue\n");
   const SceneSpec s = LoadSceneSpec(p);
   ASSERT_EQ(s.objects.size(), 5u);
   EXPECT_FALSE(s.objects[0].mirrored);
   EXPECT_TRUE(s.objects[1].mirrored);
-  EXPECT_LT(s.objects[0].X_WO.translation().x(), -15) << "46 is on the patient's right (-x)";
+  EXPECT_LT(s.objects[0].X_WO.translation().x(), -15)
+      << "46 is on the patient's right (-x)";
   EXPECT_EQ(s.objects[2].tissue, Tissue::kTongue);
   EXPECT_EQ(s.objects[3].kind, ObjectSpec::Kind::kGingiva);
   EXPECT_EQ(s.objects[3].name, "gingiva 46");
   EXPECT_EQ(s.objects[3].pocket_mm[2], 7.0);
-  EXPECT_EQ(s.objects[4].pocket_mm[0], 2.0) << "a tooth without truth gets healthy 2 mm sulci";
+  EXPECT_EQ(s.objects[4].pocket_mm[0], 2.0)
+      << "a tooth without truth gets healthy 2 mm sulci";
   EXPECT_TRUE(s.objects[0].inflamed[0]);
   EXPECT_EQ(s.objects[0].caries_mm[4], 2.5);
   EXPECT_EQ(s.objects[0].cavity_mm[4], 0.8);
@@ -317,33 +374,47 @@ TEST(SceneFile, ArchGingivaAnatomyCariesAndInflammation) {
 }
 
 TEST(SceneFile, AnUpperToothPlacedByHandStandsCrownDown) {
-  const SceneSpec s = LoadSceneSpec(Write("upper_by_hand.yaml",
-                                          "objects:\n  - tooth: 11\n    at: [0, 0, 20]\n  - tooth: 41\n    at: [0, 0, 0]\n"
-                                          "  - tooth: 21\n    at: [9, 0, 20]\n    turn_deg: [0, 0, 0]\n"));
+  const SceneSpec s = LoadSceneSpec(Write(
+      "upper_by_hand.yaml",
+      "objects:\n  - tooth: 11\n    at: [0, 0, 20]\n  - tooth: 41\n    at: [0, 0, 0]\n"
+      "  - tooth: 21\n    at: [9, 0, 20]\n    turn_deg: [0, 0, 0]\n"));
   ASSERT_EQ(s.objects.size(), 3u);
-  EXPECT_NEAR(s.objects[0].X_WO.rotation().col(2).z(), -1.0, 1e-12) << "11: occlusal down";
-  EXPECT_NEAR(s.objects[0].X_WO.rotation().col(1).y(), 1.0, 1e-12) << "11: labial still forward";
-  EXPECT_NEAR(s.objects[0].X_WO.translation().z(), 20.0, 1e-12) << "where the scene put it";
+  EXPECT_NEAR(s.objects[0].X_WO.rotation().col(2).z(), -1.0, 1e-12)
+      << "11: occlusal down";
+  EXPECT_NEAR(s.objects[0].X_WO.rotation().col(1).y(), 1.0, 1e-12)
+      << "11: labial still forward";
+  EXPECT_NEAR(s.objects[0].X_WO.translation().z(), 20.0, 1e-12)
+      << "where the scene put it";
   EXPECT_NEAR(s.objects[1].X_WO.rotation().col(2).z(), 1.0, 1e-12) << "41: occlusal up";
-  EXPECT_NEAR(s.objects[2].X_WO.rotation().col(2).z(), 1.0, 1e-12) << "21 turned by the scene: as written";
+  EXPECT_NEAR(s.objects[2].X_WO.rotation().col(2).z(), 1.0, 1e-12)
+      << "21 turned by the scene: as written";
 }
 
 TEST(SceneFile, ASoftTissueLesionOnANamedRegion) {
-  EXPECT_EQ(Errors("objects:\n  - anatomy: tongue\n    lesion: {kind: ulser, region: dorsum}\n"),
-            (Lines{"3:20: unknown lesion 'ulser'; did you mean 'ulcer'?"}));
+  EXPECT_EQ(
+      Errors(
+          "objects:\n  - anatomy: tongue\n    lesion: {kind: ulser, region: dorsum}\n"),
+      (Lines{"3:20: unknown lesion 'ulser'; did you mean 'ulcer'?"}));
   EXPECT_EQ(Errors("objects:\n  - anatomy: tongue\n    lesion: {kind: ulcer}\n"),
-            (Lines{"3:13: a lesion on the tongue needs 'region' (dorsum, lateral_border_left, lateral_border_right, "
+            (Lines{"3:13: a lesion on the tongue needs 'region' (dorsum, "
+                   "lateral_border_left, lateral_border_right, "
                    "ventral)"}));
-  EXPECT_EQ(Errors("objects:\n  - anatomy: tongue\n    lesion: {kind: ulcer, region: lateral_border}\n"),
-            (Lines{"3:35: 'tongue' has no region 'lateral_border' (expected one of: dorsum, lateral_border_left, "
+  EXPECT_EQ(Errors("objects:\n  - anatomy: tongue\n    lesion: {kind: ulcer, region: "
+                   "lateral_border}\n"),
+            (Lines{"3:35: 'tongue' has no region 'lateral_border' (expected one of: "
+                   "dorsum, lateral_border_left, "
                    "lateral_border_right, ventral)"}));
-  EXPECT_EQ(Errors("objects:\n  - anatomy: jaw_lower\n    lesion: {kind: ulcer}\n"),
-            (Lines{"3:13: no lesion on 'jaw_lower': it is bone; lesions are for soft tissue"}));
+  EXPECT_EQ(
+      Errors("objects:\n  - anatomy: jaw_lower\n    lesion: {kind: ulcer}\n"),
+      (Lines{"3:13: no lesion on 'jaw_lower': it is bone; lesions are for soft tissue"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    lesion: {kind: ulcer}\n"),
-            (Lines{"3:13: 'lesion' is for soft tissue ('anatomy' objects); a tooth's findings are caries_mm and calculus"}));
-  const SceneSpec s = LoadSceneSpec(Write("lesion_ok.yaml", "objects:\n  - anatomy: tongue\n"
-                                                            "    lesion: {kind: ulcer, region: lateral_border_left, size_mm: 3}\n"
-                                                            "  - anatomy: cheek_right\n    lesion: {kind: leukoplakia}\n"));
+            (Lines{"3:13: 'lesion' is for soft tissue ('anatomy' objects); a tooth's "
+                   "findings are caries_mm and calculus"}));
+  const SceneSpec s = LoadSceneSpec(
+      Write("lesion_ok.yaml",
+            "objects:\n  - anatomy: tongue\n"
+            "    lesion: {kind: ulcer, region: lateral_border_left, size_mm: 3}\n"
+            "  - anatomy: cheek_right\n    lesion: {kind: leukoplakia}\n"));
   EXPECT_EQ(s.objects[0].lesion_kind, "ulcer");
   EXPECT_EQ(s.objects[0].lesion_region, "lateral_border_left");
   EXPECT_EQ(s.objects[0].lesion_mm, 3.0);
@@ -354,21 +425,24 @@ TEST(SceneFile, ASoftTissueLesionOnANamedRegion) {
 TEST(SceneFile, FurcationByEntranceAndTheBoneBelowIt) {
   EXPECT_EQ(Errors("objects:\n  - tooth: 44\n    furcation: {B: 1}\n"),
             (Lines{"3:16: tooth 44 has one root: no furcation"}));
-  EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    furcation: {M: 1}\n"),
-            (Lines{"3:17: tooth 46 has no furcation entrance 'M' (its entrances: B, L)"}));
+  EXPECT_EQ(
+      Errors("objects:\n  - tooth: 46\n    furcation: {M: 1}\n"),
+      (Lines{"3:17: tooth 46 has no furcation entrance 'M' (its entrances: B, L)"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 16\n    furcation: {B: 4}\n"),
             (Lines{"3:20: 'furcation class' is 4, expected 0 to 3"}));
-  EXPECT_EQ(Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    furcation: {B: 1}\n"),
-            (Lines{"4:16: 'furcation' is for teeth only"}));
+  EXPECT_EQ(
+      Errors("objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    furcation: {B: 1}\n"),
+      (Lines{"4:16: 'furcation' is for teeth only"}));
   EXPECT_EQ(FurcationEntrances(16), (std::vector<std::string>{"B", "M", "D"}));
   EXPECT_EQ(FurcationEntrances(24), (std::vector<std::string>{"M", "D"}));
   EXPECT_TRUE(FurcationEntrances(34).empty());
   // Healthy pockets, but class II at 36 B: the jaw's crest drops below the
   // furcation (where 36's roots part, then 1.5 mm more); 35 keeps the healthy 1.5 mm.
-  const SceneSpec s = LoadSceneSpec(Write("furcation_ok.yaml",
-                                          "arch: true\nobjects:\n  - tooth: 36\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
-                                          "    furcation: {B: 2, L: 1}\n  - tooth: 35\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
-                                          "  - anatomy: jaw_lower\n"));
+  const SceneSpec s = LoadSceneSpec(Write(
+      "furcation_ok.yaml",
+      "arch: true\nobjects:\n  - tooth: 36\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
+      "    furcation: {B: 2, L: 1}\n  - tooth: 35\n    pockets_mm: [2, 2, 2, 2, 2, 2]\n"
+      "  - anatomy: jaw_lower\n"));
   EXPECT_EQ(s.objects[0].furcation.at("B"), 2);
   EXPECT_EQ(s.objects[0].furcation.at("L"), 1);
   EXPECT_GT(FurcationRoofMm(36), 3.0);
@@ -381,20 +455,23 @@ TEST(SceneFile, FurcationByEntranceAndTheBoneBelowIt) {
   // defect (class 0 only) keeps the scene's.
   EXPECT_EQ(s.objects[2].trees.leaves, kFurcationJawLeaves);
   EXPECT_EQ(s.objects[2].trees.levels, 5);
-  const SceneSpec own = LoadSceneSpec(Write("furcation_own_tree.yaml",
-                                            "arch: true\nobjects:\n  - tooth: 36\n    furcation: {B: 2}\n"
-                                            "  - anatomy: jaw_lower\n    spheretree: {leaves: 256}\n"));
+  const SceneSpec own =
+      LoadSceneSpec(Write("furcation_own_tree.yaml",
+                          "arch: true\nobjects:\n  - tooth: 36\n    furcation: {B: 2}\n"
+                          "  - anatomy: jaw_lower\n    spheretree: {leaves: 256}\n"));
   EXPECT_EQ(own.objects[1].trees.leaves, 256);
-  const SceneSpec none = LoadSceneSpec(Write("furcation_none.yaml",
-                                             "arch: true\nobjects:\n  - tooth: 36\n    furcation: {B: 0}\n"
-                                             "  - anatomy: jaw_lower\n"));
+  const SceneSpec none =
+      LoadSceneSpec(Write("furcation_none.yaml",
+                          "arch: true\nobjects:\n  - tooth: 36\n    furcation: {B: 0}\n"
+                          "  - anatomy: jaw_lower\n"));
   EXPECT_EQ(none.objects[1].trees.leaves, SphereTreeParams{}.leaves);
   // Deep pockets at a molar and no class: the bone between its roots is
   // modelled whole (its crest below the furcation), and the jaw is as fine;
   // the other jaw is not.
-  const SceneSpec deep = LoadSceneSpec(Write("furcation_deep.yaml",
-                                             "arch: true\nobjects:\n  - tooth: 36\n    pockets_mm: [6, 5, 6, 5, 4, 5]\n"
-                                             "  - anatomy: jaw_lower\n  - anatomy: jaw_upper\n"));
+  const SceneSpec deep = LoadSceneSpec(
+      Write("furcation_deep.yaml",
+            "arch: true\nobjects:\n  - tooth: 36\n    pockets_mm: [6, 5, 6, 5, 4, 5]\n"
+            "  - anatomy: jaw_lower\n  - anatomy: jaw_upper\n"));
   EXPECT_GT(deep.objects[1].crest_drop_mm.at(36), FurcationRoofMm(36));
   EXPECT_EQ(deep.objects[1].trees.leaves, kFurcationJawLeaves);
   EXPECT_EQ(deep.objects[2].trees.leaves, SphereTreeParams{}.leaves);
@@ -402,20 +479,24 @@ TEST(SceneFile, FurcationByEntranceAndTheBoneBelowIt) {
 
 TEST(SceneFile, CalculusBySiteAboveOrBelowTheMargin) {
   EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    calculus: [L]\n"),
-            (Lines{"3:15: 'calculus' must map 'supra' and 'sub' to lists of sites, e.g. {supra: [L], sub: [MB]}"}));
+            (Lines{"3:15: 'calculus' must map 'supra' and 'sub' to lists of sites, e.g. "
+                   "{supra: [L], sub: [MB]}"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    calculus: {supra: [L], subb: [MB]}\n"),
-            (Lines{"3:28: unknown calculus position 'subb'; did you mean 'sub'? (supra: above the gingival margin, "
+            (Lines{"3:28: unknown calculus position 'subb'; did you mean 'sub'? (supra: "
+                   "above the gingival margin, "
                    "sub: in the sulcus)"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    calculus: {supra: [L], sub: [L]}\n"),
             (Lines{"3:34: site L has calculus named twice"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 31\n    calculus: {supra: [LL]}\n"),
             (Lines{"3:24: unknown site 'LL'; did you mean 'ML'?"}));
-  EXPECT_EQ(Errors("objects:\n  - sphere: 2\n    tissue: bone\n    calculus: {supra: [L]}\n"),
-            (Lines{"4:15: 'calculus' is for teeth only"}));
+  EXPECT_EQ(
+      Errors("objects:\n  - sphere: 2\n    tissue: bone\n    calculus: {supra: [L]}\n"),
+      (Lines{"4:15: 'calculus' is for teeth only"}));
   // A deposit object per site, on its tooth, named for it; hard.
-  const SceneSpec s = LoadSceneSpec(Write("calculus_ok.yaml",
-                                          "arch: true\ngingiva: true\nobjects:\n  - tooth: 31\n"
-                                          "    calculus: {supra: [L, DL], sub: [MB]}\n"));
+  const SceneSpec s =
+      LoadSceneSpec(Write("calculus_ok.yaml",
+                          "arch: true\ngingiva: true\nobjects:\n  - tooth: 31\n"
+                          "    calculus: {supra: [L, DL], sub: [MB]}\n"));
   std::vector<std::string> names;
   for (const ObjectSpec& o : s.objects) {
     if (o.kind != ObjectSpec::Kind::kCalculus) continue;
@@ -425,7 +506,8 @@ TEST(SceneFile, CalculusBySiteAboveOrBelowTheMargin) {
     EXPECT_TRUE(o.with_gingiva);
     EXPECT_EQ(o.X_WO.translation(), s.objects[0].X_WO.translation());
   }
-  EXPECT_EQ(names, (std::vector<std::string>{"calculus 31 MB", "calculus 31 L", "calculus 31 DL"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"calculus 31 MB", "calculus 31 L",
+                                             "calculus 31 DL"}));
 }
 
 }  // namespace
@@ -439,7 +521,11 @@ TEST(SceneEvents, DescribedWithTheScenesNames) {
   spec.objects.resize(1);
   spec.objects[0].name = "tooth 46";
   HapticEvent e = HapticEvent::Of(EventKind::kProbeReading, 0);
-  e.payload.reading = {.fdi = 46, .site = 1, .depth_mm = 3.85, .peak_force_n = 0.223, .axis_angle_deg = 4.2};
+  e.payload.reading = {.fdi = 46,
+                       .site = 1,
+                       .depth_mm = 3.85,
+                       .peak_force_n = 0.223,
+                       .axis_angle_deg = 4.2};
   EXPECT_EQ(DescribeEvent(spec, e), "reading 3.9 mm at 46 B (0.22 N, 4 deg)");
   e.kind = EventKind::kContactBegan;
   EXPECT_EQ(DescribeEvent(spec, e), "touching tooth 46");
@@ -452,9 +538,11 @@ TEST(SceneEvents, DescribedWithTheScenesNames) {
   e.payload.command.command = static_cast<std::uint8_t>(HapticCommand::Kind::kPause);
   EXPECT_EQ(DescribeEvent(spec, e), "command: pause");
   e = HapticEvent::Of(EventKind::kProbeReading, 0);
-  e.payload.reading = {.fdi = 46, .site = 2, .depth_mm = 7.4, .peak_force_n = 1.66, .axis_angle_deg = 3};
+  e.payload.reading = {
+      .fdi = 46, .site = 2, .depth_mm = 7.4, .peak_force_n = 1.66, .axis_angle_deg = 3};
   EXPECT_EQ(DescribeEvent(spec, e),
-            "reading 7.4 mm at 46 DB (1.66 N, 3 deg): too hard, the tip went into the attachment (tissue damage)");
+            "reading 7.4 mm at 46 DB (1.66 N, 3 deg): too hard, the tip went into the "
+            "attachment (tissue damage)");
 }
 
 }  // namespace
@@ -464,13 +552,17 @@ namespace sulcus {
 namespace {
 
 TEST(SceneFile, GingivaArchJoinsNeighboursOnly) {
-  const std::string teeth = "arch: true\nobjects:\n  - tooth: 44\n  - tooth: 45\n  - tooth: 46\n  - tooth: 41\n";
+  const std::string teeth =
+      "arch: true\nobjects:\n  - tooth: 44\n  - tooth: 45\n  - tooth: 46\n  - tooth: "
+      "41\n";
   auto neighbours = [&](const std::string& gingiva) {
-    const SceneSpec s = LoadSceneSpec(Write("GingivaArch_" + gingiva, "gingiva: " + gingiva + "\n" + teeth));
+    const SceneSpec s = LoadSceneSpec(
+        Write("GingivaArch_" + gingiva, "gingiva: " + gingiva + "\n" + teeth));
     std::map<int, std::vector<int>> out;
     for (const ObjectSpec& o : s.objects)
       if (o.kind == ObjectSpec::Kind::kGingiva)
-        for (const GingivaNeighbourSpec& n : o.gingiva_neighbours) out[o.fdi].push_back(n.fdi);
+        for (const GingivaNeighbourSpec& n : o.gingiva_neighbours)
+          out[o.fdi].push_back(n.fdi);
     return out;
   };
   const auto joined = neighbours("arch");
@@ -487,7 +579,8 @@ TEST(SceneFile, GingivaArchJoinsNeighboursOnly) {
 TEST(SceneCompile, AMirroredToothGetsItsTwinsTreeMirrored) {
   const fs::path cache = Dir() / "cache-mirror";
   fs::remove_all(cache);
-  const SceneSpec spec = LoadSceneSpec(Write("mirror_twins.yaml", "arch: true\nobjects:\n  - tooth: 44\n  - tooth: 34\n"));
+  const SceneSpec spec = LoadSceneSpec(
+      Write("mirror_twins.yaml", "arch: true\nobjects:\n  - tooth: 44\n  - tooth: 34\n"));
   const auto scene = CompileScene(spec, cache);
   int right = -1, left = -1;
   for (int i = 0; i < static_cast<int>(scene->spec.objects.size()); ++i) {
@@ -519,7 +612,8 @@ TEST(SceneCompile, AMirroredToothGetsItsTwinsTreeMirrored) {
   }
   // One build: the cache holds the tool's tree and one tooth tree, not two.
   int trees = 0;
-  for (const auto& f : fs::directory_iterator(cache)) trees += f.path().filename().string().rfind("tree-", 0) == 0;
+  for (const auto& f : fs::directory_iterator(cache))
+    trees += f.path().filename().string().rfind("tree-", 0) == 0;
   EXPECT_EQ(trees, 2);
 }
 
@@ -532,12 +626,15 @@ TEST(SceneCompile, AMirroredToothGetsItsTwinsTreeMirrored) {
 // showed their gingiva's faces 1.5 mm and more outside the jaw here, and the
 // gingiva beside the canine, whose crest is lower than its neighbours', too.)
 TEST(SceneAnatomy, BelowTheCrestTheGingivaIsInsideTheJaw) {
-  const SceneSpec spec = LoadSceneSpec(Write(
-      "gingiva_in_jaw.yaml",
-      "arch: true\ngingiva: arch\nobjects:\n  - tooth: 32\n  - tooth: 31\n  - tooth: 41\n  - tooth: 42\n"
-      "  - tooth: 43\n  - tooth: 44\n  - tooth: 45\n  - tooth: 46\n  - tooth: 47\n  - anatomy: jaw_lower\n"));
+  const SceneSpec spec =
+      LoadSceneSpec(Write("gingiva_in_jaw.yaml",
+                          "arch: true\ngingiva: arch\nobjects:\n  - tooth: 32\n  - "
+                          "tooth: 31\n  - tooth: 41\n  - tooth: 42\n"
+                          "  - tooth: 43\n  - tooth: 44\n  - tooth: 45\n  - tooth: 46\n  "
+                          "- tooth: 47\n  - anatomy: jaw_lower\n"));
   TriangleMesh jaw;
-  std::vector<std::pair<Vector3, double>> crests;  // each tooth's CEJ centre and crest height, in arch order
+  std::vector<std::pair<Vector3, double>>
+      crests;  // each tooth's CEJ centre and crest height, in arch order
   for (const ObjectSpec& o : spec.objects) {
     if (o.kind == ObjectSpec::Kind::kAnatomy) {
       jaw = MakeObjectMesh(o);
@@ -545,17 +642,22 @@ TEST(SceneAnatomy, BelowTheCrestTheGingivaIsInsideTheJaw) {
     }
   }
   for (const ObjectSpec& o : spec.objects)
-    if (o.kind == ObjectSpec::Kind::kGingiva) crests.emplace_back(o.X_WO.translation(), o.X_WO.translation().z() - o.share_crest_drop_mm);
+    if (o.kind == ObjectSpec::Kind::kGingiva)
+      crests.emplace_back(o.X_WO.translation(),
+                          o.X_WO.translation().z() - o.share_crest_drop_mm);
   ASSERT_EQ(crests.size(), 9u);
   // The crest under a point: straight from one tooth's centre to the next's
   // (the line nearest the point), level past the ends.
   auto crest_under = [&](const Vector3& v) {
     double best = 1e9, z = crests.front().second;
     for (std::size_t k = 0; k + 1 < crests.size(); ++k) {
-      const Eigen::Vector2d a = crests[k].first.head<2>(), b = crests[k + 1].first.head<2>();
-      const double t = std::clamp((v.head<2>() - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+      const Eigen::Vector2d a = crests[k].first.head<2>(),
+                            b = crests[k + 1].first.head<2>();
+      const double t =
+          std::clamp((v.head<2>() - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
       const double d = (v.head<2>() - (a + t * (b - a))).norm();
-      if (d < best) best = d, z = crests[k].second + t * (crests[k + 1].second - crests[k].second);
+      if (d < best)
+        best = d, z = crests[k].second + t * (crests[k + 1].second - crests[k].second);
     }
     return z;
   };
@@ -577,16 +679,20 @@ TEST(SceneAnatomy, BelowTheCrestTheGingivaIsInsideTheJaw) {
       nearer.push_back(v + 1.0 * toward.normalized());
     }
     ASSERT_GT(below.size(), 50u) << o.name << " reaches below its crest";
-    const std::vector<bool> inside = InsideSolid(jaw, below), near = InsideSolid(jaw, nearer);
+    const std::vector<bool> inside = InsideSolid(jaw, below),
+                            near = InsideSolid(jaw, nearer);
     int out = 0, far_out = 0;
     for (std::size_t k = 0; k < below.size(); ++k) {
       out += !inside[k];
       far_out += !inside[k] && !near[k];
     }
-    std::printf("%s: %d of %zu vertices more than 0.5 mm below the crest outside the jaw, %d more than 1 mm\n",
-                o.name.c_str(), out, below.size(), far_out);
+    std::printf(
+        "%s: %d of %zu vertices more than 0.5 mm below the crest outside the jaw, %d "
+        "more than 1 mm\n",
+        o.name.c_str(), out, below.size(), far_out);
     EXPECT_EQ(far_out, 0) << o.name << ": " << far_out << " of " << below.size()
-                          << " vertices more than 0.5 mm below the crest are more than 1 mm outside the jaw ("
+                          << " vertices more than 0.5 mm below the crest are more than 1 "
+                             "mm outside the jaw ("
                           << out << " outside it at all)";
   }
   EXPECT_EQ(shares, 8);
@@ -597,55 +703,73 @@ TEST(SceneAnatomy, BelowTheCrestTheGingivaIsInsideTheJaw) {
 // and the two sides are exact mirror images); a pocket on one side makes it
 // its own.
 TEST(SceneCompile, AMirroredGingivaShareIsItsTwinsMirrored) {
-  const std::string teeth = "arch: true\ngingiva: arch\nobjects:\n  - tooth: 11\n  - tooth: 12\n  - tooth: 21\n  - tooth: 22\n";
+  const std::string teeth =
+      "arch: true\ngingiva: arch\nobjects:\n  - tooth: 11\n  - tooth: 12\n  - tooth: "
+      "21\n  - tooth: 22\n";
   auto gingiva = [](const CompiledScene& scene, int fdi) -> const TriangleMesh& {
     for (std::size_t i = 0; i < scene.spec.objects.size(); ++i)
-      if (scene.spec.objects[i].kind == ObjectSpec::Kind::kGingiva && scene.spec.objects[i].fdi == fdi) return scene.meshes[i];
+      if (scene.spec.objects[i].kind == ObjectSpec::Kind::kGingiva &&
+          scene.spec.objects[i].fdi == fdi)
+        return scene.meshes[i];
     throw std::runtime_error("no gingiva " + std::to_string(fdi));
   };
   auto mesh_files = [](const fs::path& cache) {
     int n = 0;
-    for (const auto& f : fs::directory_iterator(cache / "meshes")) n += f.path().extension() == ".mesh";
+    for (const auto& f : fs::directory_iterator(cache / "meshes"))
+      n += f.path().extension() == ".mesh";
     return n;
   };
   auto mirrored = [](const TriangleMesh& a, const TriangleMesh& b) {
-    if (a.num_vertices() != b.num_vertices() || a.num_faces() != b.num_faces()) return false;
+    if (a.num_vertices() != b.num_vertices() || a.num_faces() != b.num_faces())
+      return false;
     for (std::size_t v = 0; v < a.num_vertices(); ++v)
-      if (a.vertices()[v] != Vector3(-b.vertices()[v].x(), b.vertices()[v].y(), b.vertices()[v].z())) return false;
+      if (a.vertices()[v] !=
+          Vector3(-b.vertices()[v].x(), b.vertices()[v].y(), b.vertices()[v].z()))
+        return false;
     return true;
   };
   {
     const fs::path cache = Dir() / "cache-gingiva-twins";
     fs::remove_all(cache);
-    const auto scene = CompileScene(LoadSceneSpec(Write("gingiva_twins.yaml", teeth)), cache);
+    const auto scene =
+        CompileScene(LoadSceneSpec(Write("gingiva_twins.yaml", teeth)), cache);
     EXPECT_TRUE(mirrored(gingiva(*scene, 21), gingiva(*scene, 11)));
     EXPECT_TRUE(mirrored(gingiva(*scene, 22), gingiva(*scene, 12)));
     EXPECT_GT(gingiva(*scene, 11).num_faces(), 1000u);
     EXPECT_EQ(mesh_files(cache), 4 + 2) << "four teeth and two shares";
     // The shares' drawing normals: one per vertex, mirrored with the mesh,
     // and the same when read back from the cache; none for a tooth.
-    auto normals = [](const CompiledScene& scene, int fdi, ObjectSpec::Kind kind) -> const std::vector<Vector3>& {
+    auto normals = [](const CompiledScene& scene, int fdi,
+                      ObjectSpec::Kind kind) -> const std::vector<Vector3>& {
       for (std::size_t i = 0; i < scene.spec.objects.size(); ++i)
-        if (scene.spec.objects[i].kind == kind && scene.spec.objects[i].fdi == fdi) return scene.normals[i];
+        if (scene.spec.objects[i].kind == kind && scene.spec.objects[i].fdi == fdi)
+          return scene.normals[i];
       throw std::runtime_error("no object " + std::to_string(fdi));
     };
     const auto& n11 = normals(*scene, 11, ObjectSpec::Kind::kGingiva);
     const auto& n21 = normals(*scene, 21, ObjectSpec::Kind::kGingiva);
     ASSERT_EQ(n11.size(), gingiva(*scene, 11).num_vertices());
     ASSERT_EQ(n21.size(), n11.size());
-    for (std::size_t v = 0; v < n11.size(); ++v) EXPECT_EQ(n21[v], Vector3(-n11[v].x(), n11[v].y(), n11[v].z())) << v;
+    for (std::size_t v = 0; v < n11.size(); ++v)
+      EXPECT_EQ(n21[v], Vector3(-n11[v].x(), n11[v].y(), n11[v].z())) << v;
     EXPECT_TRUE(normals(*scene, 11, ObjectSpec::Kind::kTooth).empty());
-    const auto again = CompileScene(LoadSceneSpec(Write("gingiva_twins.yaml", teeth)), cache);
+    const auto again =
+        CompileScene(LoadSceneSpec(Write("gingiva_twins.yaml", teeth)), cache);
     for (int fdi : {11, 12, 21, 22})
-      EXPECT_EQ(normals(*again, fdi, ObjectSpec::Kind::kGingiva), normals(*scene, fdi, ObjectSpec::Kind::kGingiva)) << fdi;
+      EXPECT_EQ(normals(*again, fdi, ObjectSpec::Kind::kGingiva),
+                normals(*scene, fdi, ObjectSpec::Kind::kGingiva))
+          << fdi;
   }
   {
     const fs::path cache = Dir() / "cache-gingiva-not-twins";
     fs::remove_all(cache);
     const std::string pocket = teeth + "    pockets_mm: [5, 3, 3, 3, 3, 3]\n";  // on 22
-    const auto scene = CompileScene(LoadSceneSpec(Write("gingiva_not_twins.yaml", pocket)), cache);
-    EXPECT_FALSE(mirrored(gingiva(*scene, 22), gingiva(*scene, 12))) << "22 has a pocket 12 does not";
-    EXPECT_FALSE(mirrored(gingiva(*scene, 21), gingiva(*scene, 11))) << "21's neighbour 22 has a pocket 11's neighbour 12 does not";
+    const auto scene =
+        CompileScene(LoadSceneSpec(Write("gingiva_not_twins.yaml", pocket)), cache);
+    EXPECT_FALSE(mirrored(gingiva(*scene, 22), gingiva(*scene, 12)))
+        << "22 has a pocket 12 does not";
+    EXPECT_FALSE(mirrored(gingiva(*scene, 21), gingiva(*scene, 11)))
+        << "21's neighbour 22 has a pocket 11's neighbour 12 does not";
     EXPECT_EQ(mesh_files(cache), 4 + 4);
   }
 }
@@ -660,7 +784,8 @@ TEST(SceneCompile, TheGingivaAsDrawnIsAClosedMeshWithItsCapsMarked) {
   fs::remove_all(cache);
   const auto scene = CompileScene(
       LoadSceneSpec(Write("gingiva_seen.yaml",
-                          "arch: true\ngingiva: arch\nobjects:\n  - tooth: 11\n  - tooth: 12\n  - tooth: 21\n  - tooth: 22\n")),
+                          "arch: true\ngingiva: arch\nobjects:\n  - tooth: 11\n  - "
+                          "tooth: 12\n  - tooth: 21\n  - tooth: 22\n")),
       cache);
   const SeenGingiva seen = BuildSeenGingiva(*scene, cache);
   const std::size_t n = scene->spec.objects.size();
@@ -670,13 +795,15 @@ TEST(SceneCompile, TheGingivaAsDrawnIsAClosedMeshWithItsCapsMarked) {
   for (std::size_t i = 0; i < n; ++i) {
     const ObjectSpec& o = scene->spec.objects[i];
     if (o.kind != ObjectSpec::Kind::kGingiva) {
-      EXPECT_EQ(seen.meshes[i].num_faces(), 0u) << o.name << ": drawn as the engine has it";
+      EXPECT_EQ(seen.meshes[i].num_faces(), 0u)
+          << o.name << ": drawn as the engine has it";
       continue;
     }
     share[o.fdi] = i;
     const TriangleMesh& m = seen.meshes[i];
     EXPECT_TRUE(m.Check().IsSolid()) << o.name;
-    EXPECT_NE(m.num_faces(), scene->meshes[i].num_faces()) << o.name << ": not the felt share";
+    EXPECT_NE(m.num_faces(), scene->meshes[i].num_faces())
+        << o.name << ": not the felt share";
     ASSERT_EQ(seen.normals[i].size(), m.num_vertices()) << o.name;
     ASSERT_EQ(seen.caps[i].size(), m.num_faces()) << o.name;
     // The caps: some faces, each flat on one of the share's cuts (12 and 22
@@ -685,13 +812,15 @@ TEST(SceneCompile, TheGingivaAsDrawnIsAClosedMeshWithItsCapsMarked) {
     for (std::size_t f = 0; f < m.num_faces(); ++f) {
       if (!seen.caps[i][f]) continue;
       const auto& face = m.faces()[f];
-      const Vector3 e = (m.vertices()[face[1]] - m.vertices()[face[0]]).cross(m.vertices()[face[2]] - m.vertices()[face[0]]);
+      const Vector3 e = (m.vertices()[face[1]] - m.vertices()[face[0]])
+                            .cross(m.vertices()[face[2]] - m.vertices()[face[0]]);
       if (e.norm() > 1e-9) cap_normals.push_back(e.normalized());
     }
     EXPECT_GT(cap_normals.size(), 20u) << o.name;
     EXPECT_LT(cap_normals.size(), m.num_faces() / 4) << o.name;
     if (o.fdi == 12 || o.fdi == 22) {
-      for (const Vector3& c : cap_normals) EXPECT_GT(c.dot(cap_normals.front()), 0.999) << o.name;
+      for (const Vector3& c : cap_normals)
+        EXPECT_GT(c.dot(cap_normals.front()), 0.999) << o.name;
     }
   }
   ASSERT_EQ(share.size(), 4u);
@@ -699,7 +828,9 @@ TEST(SceneCompile, TheGingivaAsDrawnIsAClosedMeshWithItsCapsMarked) {
   const TriangleMesh &a = seen.meshes[share[11]], &b = seen.meshes[share[21]];
   ASSERT_EQ(a.num_vertices(), b.num_vertices());
   for (std::size_t v = 0; v < a.num_vertices(); ++v)
-    EXPECT_EQ(b.vertices()[v], Vector3(-a.vertices()[v].x(), a.vertices()[v].y(), a.vertices()[v].z())) << v;
+    EXPECT_EQ(b.vertices()[v],
+              Vector3(-a.vertices()[v].x(), a.vertices()[v].y(), a.vertices()[v].z()))
+        << v;
   EXPECT_EQ(seen.caps[share[11]], seen.caps[share[21]]);
 }
 

@@ -1,13 +1,13 @@
 // The session hands every tick to every consumer, in order, live and offline;
 // and a compiled scene keeps each object's own sphere-tree settings even when
 // soft objects are moved behind the hard ones.
+#include "core/session/session.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <thread>
-
-#include "core/session/session.h"
 
 namespace sulcus {
 namespace {
@@ -54,7 +54,8 @@ TEST(Session, EveryConsumerGetsEveryTickInOrderOffline) {
   EXPECT_EQ(a.ticks, b.ticks);
   EXPECT_EQ(a.gaps, 0);
   EXPECT_EQ(a.ends, 1);
-  EXPECT_EQ(ReadRecording(Out("offline.rec")).frames.size(), 400u) << "the recorder is a consumer too";
+  EXPECT_EQ(ReadRecording(Out("offline.rec")).frames.size(), 400u)
+      << "the recorder is a consumer too";
 }
 
 TEST(Session, LiveTicksReachTheConsumersOffTheHapticThread) {
@@ -91,7 +92,9 @@ TEST(Session, OnePumpOfAFreeRunningThreadIsBounded) {
     std::uint64_t n = 0;
     void OnTick(const TickRecord&) override {
       ++n;
-      if (n % 64 == 0) std::this_thread::sleep_for(std::chrono::microseconds(50));  // slower than the thread
+      if (n % 64 == 0)
+        std::this_thread::sleep_for(
+            std::chrono::microseconds(50));  // slower than the thread
     }
   } slow;
   session.AddConsumer(&slow);
@@ -115,10 +118,12 @@ TEST(Session, DeviceSpellingsAreCheckedWithAClearError) {
     MakeDevice("phantom", *scene, 1);
     FAIL();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("--device must be scripted:NAME"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("--device must be scripted:NAME"),
+              std::string::npos);
   }
   EXPECT_THROW(MakeDevice("scripted:wiggle", *scene, 1), std::invalid_argument);
-  EXPECT_THROW(MakeDevice("replay:" + Out("none.rec").string(), *scene, 1), RecordingError);
+  EXPECT_THROW(MakeDevice("replay:" + Out("none.rec").string(), *scene, 1),
+               RecordingError);
 }
 
 // The soft gingiva object comes first in the file, a hard one after it, each

@@ -89,10 +89,12 @@ Problem RandomFeasible(std::mt19937_64& rng, int m, double g_ratio) {
   return p;
 }
 
-const QpSolution& Solve(QpSolver& solver, const Problem& p, const std::vector<std::int32_t>& warm = {}) {
+const QpSolution& Solve(QpSolver& solver, const Problem& p,
+                        const std::vector<std::int32_t>& warm = {}) {
   const auto flat = p.Flat();
   return solver.Solve(flat.data(), p.b.data(), static_cast<int>(p.b.size()), p.g, p.q0,
-                      warm.empty() ? nullptr : warm.data(), static_cast<int>(warm.size()));
+                      warm.empty() ? nullptr : warm.data(),
+                      static_cast<int>(warm.size()));
 }
 
 TEST(Qp, AgreesWithExhaustiveReference) {
@@ -104,7 +106,9 @@ TEST(Qp, AgreesWithExhaustiveReference) {
     ASSERT_EQ(s.status, QpStatus::kSolved) << trial;
     EXPECT_LT(s.kkt_residual, kKkt) << trial;
     EXPECT_LT(s.max_violation, kKkt) << trial;
-    ASSERT_TRUE(CompareMatrices(s.q, Reference(p), kAgree, test::ToleranceType::kRelative)) << trial;
+    ASSERT_TRUE(
+        CompareMatrices(s.q, Reference(p), kAgree, test::ToleranceType::kRelative))
+        << trial;
   }
 }
 
@@ -132,7 +136,8 @@ TEST(Qp, DuplicateNearParallelAndManyActiveAtOnePoint) {
   p.g << 1, 1, 1, 1000, 1000, 1000;
   p.q0 << 0, 0, -3, 0, 0, 0;
   for (int i = 0; i < 40; ++i) {
-    const double a = i < 20 ? angle(rng) : 0.3 + (i % 2) * 1e-12;  // duplicates, near-parallel
+    const double a =
+        i < 20 ? angle(rng) : 0.3 + (i % 2) * 1e-12;  // duplicates, near-parallel
     Vector3 n(0.3 * std::cos(a), 0.3 * std::sin(a), 1.0);
     n.normalize();
     Vector6 row = Vector6::Zero();
@@ -177,7 +182,8 @@ TEST(Qp, WarmStartIsFasterAndGivesTheSameAnswer) {
     const Problem p = RandomFeasible(rng, 500, 1000.0);
     const QpSolution cold = Solve(solver, p);
     ASSERT_EQ(cold.status, QpStatus::kSolved);
-    std::vector<std::int32_t> warm(cold.active.begin(), cold.active.begin() + cold.num_active);
+    std::vector<std::int32_t> warm(cold.active.begin(),
+                                   cold.active.begin() + cold.num_active);
     // The exact active set: one pass confirms it, no column enters.
     const QpSolution hot = Solve(solver, p, warm);
     ASSERT_EQ(hot.status, QpStatus::kSolved);
@@ -205,7 +211,8 @@ TEST(Qp, NoAllocationAndBadInputsAreReported) {
   }
   Vector6 bad_g = p.g;
   bad_g[4] = 0;
-  EXPECT_EQ(solver.Solve(flat.data(), p.b.data(), 200, bad_g, p.q0).status, QpStatus::kBadInput);
+  EXPECT_EQ(solver.Solve(flat.data(), p.b.data(), 200, bad_g, p.q0).status,
+            QpStatus::kBadInput);
   std::vector<double> nan_b = p.b;
   nan_b[7] = std::numeric_limits<double>::quiet_NaN();
   const QpSolution& s = solver.Solve(flat.data(), nan_b.data(), 200, p.g, p.q0);
@@ -224,7 +231,8 @@ TEST(Qp, ExtremeStiffnessRatios) {
       const QpSolution& s = Solve(solver, p);
       ASSERT_EQ(s.status, QpStatus::kSolved);
       EXPECT_LT(s.kkt_residual, kKkt);
-      ASSERT_TRUE(CompareMatrices(s.q, Reference(p), kAgree, test::ToleranceType::kRelative))
+      ASSERT_TRUE(
+          CompareMatrices(s.q, Reference(p), kAgree, test::ToleranceType::kRelative))
           << "ratio " << ratio;
     }
   }

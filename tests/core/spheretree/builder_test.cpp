@@ -72,11 +72,12 @@ INSTANTIATE_TEST_SUITE_P(
         Shape{"box_sharp_edges", [] { return MakeBox(Vector3(20, 8, 4), 2); }},
         Shape{"torus_genus_one", [] { return MakeTorus(10, 3, 48, 24); }},
         Shape{"thin_plate", [] { return MakeBox(Vector3(20, 20, 0.4), 4); }},
-        Shape{"two_parts", [] {
-          TriangleMesh b = MakeIcosphere(3, 3);
-          b.Transform(Matrix3::Identity(), Vector3(12, 0, 0));
-          return Joined(MakeIcosphere(4, 3), b);
-        }},
+        Shape{"two_parts",
+              [] {
+                TriangleMesh b = MakeIcosphere(3, 3);
+                b.Transform(Matrix3::Identity(), Vector3(12, 0, 0));
+                return Joined(MakeIcosphere(4, 3), b);
+              }},
         Shape{"long_cylinder", [] { return MakeCylinder(0.5, 30, 24, 12); }}),
     [](const auto& info) { return std::string(info.param.name); });
 
@@ -98,8 +99,12 @@ TEST(Builder, ScaleInvariant) {
 TEST(Builder, MoreLeavesFitBetter) {
   const TriangleMesh mesh = MakeTorus(10, 3, 48, 24);
   const EvalParams e = Quick();
-  const double coarse = EvaluateSphereTree(mesh, BuildSphereTree(mesh, Small(8)), e).leaves().protrusion_max_mm;
-  const double fine = EvaluateSphereTree(mesh, BuildSphereTree(mesh, Small(64)), e).leaves().protrusion_max_mm;
+  const double coarse = EvaluateSphereTree(mesh, BuildSphereTree(mesh, Small(8)), e)
+                            .leaves()
+                            .protrusion_max_mm;
+  const double fine = EvaluateSphereTree(mesh, BuildSphereTree(mesh, Small(64)), e)
+                          .leaves()
+                          .protrusion_max_mm;
   EXPECT_LT(fine, 0.5 * coarse);
 }
 
@@ -123,7 +128,8 @@ TEST(Builder, TargetErrorMode) {
   const SphereTree tree = BuildSphereTree(mesh, p, {}, &stats);
   EXPECT_LE(stats.error_bound_mm, 0.3 + 1e-9);
   // The bound holds for the measured protrusion (it is an upper bound).
-  EXPECT_LE(EvaluateSphereTree(mesh, tree, Quick()).leaves().protrusion_max_mm, 0.3 + 1e-9);
+  EXPECT_LE(EvaluateSphereTree(mesh, tree, Quick()).leaves().protrusion_max_mm,
+            0.3 + 1e-9);
   // A looser target needs fewer leaves.
   p.target_error_mm = 0.6;
   EXPECT_LT(BuildSphereTree(mesh, p).NumLeaves(), tree.NumLeaves());
@@ -155,11 +161,13 @@ TEST(Builder, ProgressIsMonotoneAndCancellable) {
   EXPECT_GT(calls, 5);
   EXPECT_DOUBLE_EQ(last, 1.0);
   int seen = 0;
-  EXPECT_THROW(BuildSphereTree(mesh, Small(32), [&](std::string_view, double) { return ++seen < 3; }),
+  EXPECT_THROW(BuildSphereTree(mesh, Small(32),
+                               [&](std::string_view, double) { return ++seen < 3; }),
                BuildCancelled);
 }
 
-void ExpectBuildError(const TriangleMesh& mesh, const SphereTreeParams& p, const std::string& what) {
+void ExpectBuildError(const TriangleMesh& mesh, const SphereTreeParams& p,
+                      const std::string& what) {
   try {
     BuildSphereTree(mesh, p);
     ADD_FAILURE() << "built, expected: " << what;
@@ -173,14 +181,17 @@ TEST(Builder, BadInputIsRejectedClearly) {
   auto faces = box.faces();
   faces.pop_back();
   ExpectBuildError(TriangleMesh(box.vertices(), faces), Small(),
-                   "the mesh must be a closed, manifold surface (3 boundary and 0 non-manifold edges)");
+                   "the mesh must be a closed, manifold surface (3 boundary and 0 "
+                   "non-manifold edges)");
   // Flat: a closed surface of zero volume (a box squashed to a plane).
   TriangleMesh flat = MakeBox(Vector3(1, 1, 1));
   flat.Transform(Vector3(1, 1, 0).asDiagonal(), Vector3::Zero());
-  ExpectBuildError(flat, Small(), "the mesh encloses no volume (it is flat or degenerate)");
+  ExpectBuildError(flat, Small(),
+                   "the mesh encloses no volume (it is flat or degenerate)");
   SphereTreeParams p = Small();
   p.leaves = 100;  // 3 levels of 8 hold 64
-  ExpectBuildError(box, p, "leaf budget 100 does not fit in 3 levels of 8 (at most 64 leaves)");
+  ExpectBuildError(box, p,
+                   "leaf budget 100 does not fit in 3 levels of 8 (at most 64 leaves)");
   p = Small();
   p.levels = 0;
   ExpectBuildError(box, p, "levels 0 is out of range (expected 1 to 8)");

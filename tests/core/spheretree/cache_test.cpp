@@ -32,10 +32,13 @@ TEST(Cache, SecondLoadBuildsNothing) {
   CacheOutcome first, second;
   int progress_calls = 0;
   const SphereTree a = LoadOrBuildSphereTree(mesh, Params(), dir, {}, &first);
-  const SphereTree b = LoadOrBuildSphereTree(mesh, Params(), dir, [&](std::string_view, double) {
-    ++progress_calls;
-    return true;
-  }, &second);
+  const SphereTree b = LoadOrBuildSphereTree(
+      mesh, Params(), dir,
+      [&](std::string_view, double) {
+        ++progress_calls;
+        return true;
+      },
+      &second);
   EXPECT_EQ(first.kind, CacheOutcome::Kind::kBuilt);
   EXPECT_EQ(second.kind, CacheOutcome::Kind::kHit);
   EXPECT_EQ(progress_calls, 0);  // no build ran
@@ -65,7 +68,8 @@ TEST(Cache, CorruptFileIsRebuiltWithAWarning) {
   CacheOutcome again;
   const SphereTree rebuilt = LoadOrBuildSphereTree(mesh, Params(), dir, {}, &again);
   EXPECT_EQ(again.kind, CacheOutcome::Kind::kRebuiltCorrupt);
-  EXPECT_NE(again.warning.find("ignored the cached tree"), std::string::npos) << again.warning;
+  EXPECT_NE(again.warning.find("ignored the cached tree"), std::string::npos)
+      << again.warning;
   EXPECT_NE(again.warning.find("truncated"), std::string::npos) << again.warning;
   EXPECT_EQ(rebuilt.r, good.r);
   EXPECT_EQ(fs::file_size(out.file), size);  // replaced by a good one
@@ -77,9 +81,11 @@ TEST(Cache, UnwritableCacheStillReturnsTheTree) {
   fs::create_directories(blocker.parent_path());
   std::ofstream(blocker) << "a file where the cache folder should be";
   CacheOutcome out;
-  const SphereTree tree = LoadOrBuildSphereTree(mesh, Params(), blocker / "sub", {}, &out);
+  const SphereTree tree =
+      LoadOrBuildSphereTree(mesh, Params(), blocker / "sub", {}, &out);
   EXPECT_GT(tree.size(), 0u);
-  EXPECT_NE(out.warning.find("could not cache the tree"), std::string::npos) << out.warning;
+  EXPECT_NE(out.warning.find("could not cache the tree"), std::string::npos)
+      << out.warning;
   fs::remove(blocker);
 }
 

@@ -44,7 +44,7 @@ TEST(Metrics, ChildOutsideItsParentIsCounted) {
   SphereTree t;
   t.levels = 2;
   t.AddNode(Vector3::Zero(), 6, 0);
-  t.AddNode(Vector3(2, 0, 0), 3, 1);  // inside: 2 + 3 <= 6
+  t.AddNode(Vector3(2, 0, 0), 3, 1);   // inside: 2 + 3 <= 6
   t.AddNode(Vector3(-4, 0, 0), 3, 1);  // sticks out: 4 + 3 > 6
   t.first_child[0] = 1;
   t.child_count[0] = 2;

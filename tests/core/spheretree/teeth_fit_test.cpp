@@ -31,9 +31,11 @@ TEST_P(ToothTree, CoversTheToothAndNests) {
   const LevelMetrics& l = m.leaves();
   const double worst = 100 * l.protrusion_max_mm / m.largest_extent_mm;
   const double mean = 100 * l.protrusion_mean_mm / m.largest_extent_mm;
-  std::printf("tooth %d (%s): %zu leaves, build %.2f s, protrusion worst %.3f %% mean %.3f %%, coverage %.4f %%\n",
-              GetParam(), ToString(tooth.tooth.type()).c_str(), l.spheres, stats.seconds_total, worst, mean,
-              100 * l.coverage);
+  std::printf(
+      "tooth %d (%s): %zu leaves, build %.2f s, protrusion worst %.3f %% mean %.3f %%, "
+      "coverage %.4f %%\n",
+      GetParam(), ToString(tooth.tooth.type()).c_str(), l.spheres, stats.seconds_total,
+      worst, mean, 100 * l.coverage);
   RecordProperty("worst_protrusion_pct", std::to_string(worst));
   RecordProperty("mean_protrusion_pct", std::to_string(mean));
   RecordProperty("build_s", std::to_string(stats.seconds_total));
@@ -46,7 +48,9 @@ TEST_P(ToothTree, CoversTheToothAndNests) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Fdi, ToothTree, ::testing::Values(11, 12, 13, 14, 15, 16, 17, 31, 33, 34, 36, 37));
+INSTANTIATE_TEST_SUITE_P(Fdi, ToothTree,
+                         ::testing::Values(11, 12, 13, 14, 15, 16, 17, 31, 33, 34, 36,
+                                           37));
 
 // Trading (Spend::kMean, the default) against the min-max cover alone
 // (Spend::kWorst) on a molar, where it matters most: the same leaf count and
@@ -57,13 +61,17 @@ TEST(ToothTreeSpend, TradingLowersTheMolarsMean) {
   p.spend = SphereTreeParams::Spend::kWorst;
   const TreeMetrics even = EvaluateSphereTree(tooth.mesh, BuildSphereTree(tooth.mesh, p));
   p.spend = SphereTreeParams::Spend::kMean;
-  const TreeMetrics traded = EvaluateSphereTree(tooth.mesh, BuildSphereTree(tooth.mesh, p));
+  const TreeMetrics traded =
+      EvaluateSphereTree(tooth.mesh, BuildSphereTree(tooth.mesh, p));
   const LevelMetrics& a = even.leaves();
   const LevelMetrics& b = traded.leaves();
-  std::printf("tooth 36, 512 leaves: worst %.3f -> %.3f %%, mean %.3f -> %.3f %%, overlap %.2f -> %.2f\n",
-              100 * a.protrusion_max_mm / even.largest_extent_mm, 100 * b.protrusion_max_mm / even.largest_extent_mm,
-              100 * a.protrusion_mean_mm / even.largest_extent_mm, 100 * b.protrusion_mean_mm / even.largest_extent_mm,
-              a.overlap, b.overlap);
+  std::printf(
+      "tooth 36, 512 leaves: worst %.3f -> %.3f %%, mean %.3f -> %.3f %%, overlap %.2f "
+      "-> %.2f\n",
+      100 * a.protrusion_max_mm / even.largest_extent_mm,
+      100 * b.protrusion_max_mm / even.largest_extent_mm,
+      100 * a.protrusion_mean_mm / even.largest_extent_mm,
+      100 * b.protrusion_mean_mm / even.largest_extent_mm, a.overlap, b.overlap);
   EXPECT_EQ(b.spheres, a.spheres);
   EXPECT_EQ(b.uncovered_samples, 0u);
   for (const LevelMetrics& level : traded.levels) EXPECT_EQ(level.children_inside, 1.0);
@@ -90,14 +98,17 @@ TEST_P(AnatomyTree, CoversAndNests) {
     mesh = MakeSoftTissue(name);
   }
   SphereTreeBuildStats stats;
-  const SphereTree tree = BuildSphereTree(mesh, tool ? ToolTreeParams() : SphereTreeParams{}, {}, &stats);
+  const SphereTree tree =
+      BuildSphereTree(mesh, tool ? ToolTreeParams() : SphereTreeParams{}, {}, &stats);
   const TreeMetrics m = EvaluateSphereTree(mesh, tree);
   const LevelMetrics& l = m.leaves();
   const double worst = 100 * l.protrusion_max_mm / m.largest_extent_mm;
   const double mean = 100 * l.protrusion_mean_mm / m.largest_extent_mm;
-  std::printf("%s: %zu faces, %zu leaves, build %.2f s, protrusion worst %.3f %% (%.3f mm) mean %.3f %%, coverage %.4f %%\n",
-              name.c_str(), mesh.num_faces(), l.spheres, stats.seconds_total, worst, l.protrusion_max_mm, mean,
-              100 * l.coverage);
+  std::printf(
+      "%s: %zu faces, %zu leaves, build %.2f s, protrusion worst %.3f %% (%.3f mm) mean "
+      "%.3f %%, coverage %.4f %%\n",
+      name.c_str(), mesh.num_faces(), l.spheres, stats.seconds_total, worst,
+      l.protrusion_max_mm, mean, 100 * l.coverage);
   RecordProperty("worst_protrusion_pct", std::to_string(worst));
   RecordProperty("mean_protrusion_pct", std::to_string(mean));
   EXPECT_EQ(l.uncovered_samples, 0u);
@@ -109,8 +120,9 @@ TEST_P(AnatomyTree, CoversAndNests) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, AnatomyTree,
-                         ::testing::Values("probe_williams", "probe_unc15", "probe_who", "gingiva_46", "tongue",
-                                           "palate", "cheek_left", "jaw_lower"));
+                         ::testing::Values("probe_williams", "probe_unc15", "probe_who",
+                                           "gingiva_46", "tongue", "palate", "cheek_left",
+                                           "jaw_lower"));
 
 }  // namespace
 }  // namespace sulcus

@@ -94,10 +94,13 @@ TEST(SphFormat, CorruptFilesNameFileAndLine) {
   ExpectReadFails("4\n", ":1: expected 'levels branch' (two integers), found '4'");
   ExpectReadFails("2 1\n", ":1: branch 1 out of range (2 to 32)");
   ExpectReadFails("2 2\n0 0 0 1 1\n0 0 zero 1 1\n", ":3: 'zero' is not a number");
-  ExpectReadFails("2 2\n0 0 0 1 1\n0 0 1 1 1 1\n", ":3: expected 'x y z r occupancy' (4, 5 or 10 numbers), found 6");
+  ExpectReadFails("2 2\n0 0 0 1 1\n0 0 1 1 1 1\n",
+                  ":3: expected 'x y z r occupancy' (4, 5 or 10 numbers), found 6");
   ExpectReadFails("2 2\n0 0 0 1 1\n0 0 0 nan 1\n", ":3: non-finite number");
-  ExpectReadFails("2 2\n0 0 0 1 1\n0 0 0 1 1\n", ":3: file ends after 2 of the 3 node lines that 2 levels of 2 need");
-  ExpectReadFails("2 2\n0 0 0 -1 1\n0 0 0 1 1\n0 0 0 1 1\n", ":2: the root sphere is unused (radius <= 0)");
+  ExpectReadFails("2 2\n0 0 0 1 1\n0 0 0 1 1\n",
+                  ":3: file ends after 2 of the 3 node lines that 2 levels of 2 need");
+  ExpectReadFails("2 2\n0 0 0 -1 1\n0 0 0 1 1\n0 0 0 1 1\n",
+                  ":2: the root sphere is unused (radius <= 0)");
   try {
     ReadSph(Out("does-not-exist.sph"));
     ADD_FAILURE();
