@@ -16,6 +16,7 @@
 #include <string>
 
 #include "app/cli/commands.h"
+#include "core/base/files.h"
 #include "core/lesson/attempt.h"
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
@@ -103,8 +104,22 @@ BuildProgress Progress() {
   };
 }
 
+// A report folder given with -o: checked before the attempt runs, so nothing
+// is lost to a folder that cannot take it.
+void CheckReportFolder(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw FileError("-o " + dir.string() +
+                    ": is a file, not a folder; give a folder for the report");
+  if (fs::exists(dir / "report.json", ec))
+    throw FileError("-o " + dir.string() +
+                    ": already holds the report of another attempt, which would be "
+                    "replaced; give a new folder");
+}
+
 int RunLesson(const RunArgs& a) {
   const fs::path results = ResultsDir(a.results);
+  if (!a.out_dir.empty()) CheckReportFolder(a.out_dir);
   const AttemptFolder folder = NewAttemptFolder(results, a.student);
   AttemptOptions o;
   o.student = a.student;
@@ -394,18 +409,25 @@ void AddLessonCommands(CLI::App& app) {
     }
   });
   exp->callback([q, sites] {
-    ResultsDb db(ResultsDir((*q)[3]) / "results.db");
-    std::ofstream file;
-    if (!(*q)[2].empty()) {
-      file.open((*q)[2]);
-      if (!file) throw std::runtime_error((*q)[2] + ": cannot write");
-    }
-    std::ostream& out = (*q)[2].empty() ? std::cout : file;
+    const fs::path db_file = ResultsDir((*q)[3]) / "results.db";
+    // Checked before the database is opened: an output onto the store would
+    // empty it.
+    if (!(*q)[2].empty()) RefuseOverwrite((*q)[2], StoreFiles(db_file));
+    ResultsDb db(db_file);
+    std::optional<AtomicFile> file;
+    if (!(*q)[2].empty()) file.emplace((*q)[2]);
+    std::ostream& out = file ? file->stream() : std::cout;
     if (*sites)
       ExportSitesCsv(db.Sites((*q)[0], (*q)[1]), out);
     else
       ExportAttemptsCsv(db.Attempts((*q)[0], (*q)[1]), out);
-    if (!(*q)[2].empty()) std::fprintf(stderr, "wrote %s\n", (*q)[2].c_str());
+    if (file) {
+      file->Commit();
+      std::fprintf(stderr, "wrote %s\n", (*q)[2].c_str());
+    } else {
+      std::cout.flush();
+      if (!std::cout) throw FileError("could not write the CSV to standard output");
+    }
   });
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/cli/commands.h"
+#include "core/base/files.h"
 #include "core/geometry/mesh_io.h"
 #include "core/geometry/primitives.h"
 
@@ -69,6 +70,7 @@ void AddMeshCommands(CLI::App& app) {
   convert->add_option("OUT", *out, "Output mesh; format from the extension")->required();
   convert->add_flag("--binary", *binary, "Binary STL or PLY");
   convert->callback([in, out, binary] {
+    RefuseOverwrite(*out, {{*in, "the mesh being converted"}});
     const TriangleMesh mesh = LoadMesh(*in);
     SaveMesh(mesh, *out, {.binary = *binary});
     std::printf("wrote %s: %zu vertices, %zu faces\n", out->c_str(), mesh.num_vertices(),

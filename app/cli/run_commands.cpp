@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "app/cli/commands.h"
+#include "core/base/files.h"
 #include "core/haptics/devices/usb_discovery.h"
 #include "core/haptics/effects.h"
 #include "core/haptics/haptic_thread.h"
@@ -295,6 +296,12 @@ void AddRunCommands(CLI::App& app) {
     if (!a->trace.empty() && (!a->offline || a->trace[0] > a->trace[1]))
       throw CLI::ValidationError(
           "--trace", "takes FROM TO in seconds (FROM <= TO) and needs --offline");
+    if (!a->record.empty()) {
+      std::vector<KeptFile> inputs = {{a->scene, "the scene being run"}};
+      if (const auto colon = a->device.find(':'); colon != std::string::npos)
+        inputs.push_back({a->device.substr(colon + 1), "the device's input file"});
+      RefuseOverwrite(a->record, inputs);
+    }
     ExitStatus() = Run(*a);
   });
 
@@ -340,9 +347,10 @@ void AddRunCommands(CLI::App& app) {
     if (out->empty()) {
       ExportCsv(rec, std::cout);
     } else {
-      std::ofstream f(*out);
-      if (!f) throw std::runtime_error(*out + ": cannot write");
-      ExportCsv(rec, f);
+      RefuseOverwrite(*out, {{*file, "the recording being exported"}});
+      AtomicFile f(*out);
+      ExportCsv(rec, f.stream());
+      f.Commit();
       std::fprintf(stderr, "wrote %zu ticks to %s\n", rec.frames.size(), out->c_str());
     }
   });

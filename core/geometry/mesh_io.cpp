@@ -12,6 +12,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "core/base/files.h"
 #include "core/geometry/mesh_readers.h"
 
 namespace sulcus {
@@ -75,6 +76,11 @@ TriangleMesh LoadMesh(const fs::path& path, const MeshLoadOptions& options) {
   if (!fs::exists(path, ec)) throw MeshError(name, "no such file");
   if (fs::is_directory(path, ec))
     throw MeshError(name, "is a directory, expected a mesh file");
+  // A FIFO or a device would block or never end: refused before it is opened.
+  if (const fs::file_status st = fs::status(path, ec); !ec && !fs::is_regular_file(st))
+    throw MeshError(name,
+                    "is not a regular file (a FIFO or a device?): a mesh is read "
+                    "from a file");
   if (!IsSupportedMeshFile(path)) {
     throw MeshError(name, "unsupported extension '" + path.extension().string() +
                               "' (expected .stl, .obj, .ply or .off)");
@@ -128,16 +134,15 @@ TriangleMesh LoadMesh(const fs::path& path, const MeshLoadOptions& options) {
 void SaveMesh(const TriangleMesh& mesh, const fs::path& path,
               const MeshSaveOptions& options) {
   const std::string name = path.string();
+  {
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (!ec && fs::exists(st) && !fs::is_regular_file(st))
+      throw MeshError(name, "is not a regular file; a mesh is written to a file");
+  }
   if (!IsSupportedMeshFile(path)) {
     throw MeshError(name, "unsupported extension '" + path.extension().string() +
                               "' (expected .stl, .obj, .ply or .off)");
-  }
-  {
-    // OpenMesh reports success for some formats even when the file cannot be created.
-    std::ofstream probe(path, std::ios::binary | std::ios::trunc);
-    if (!probe)
-      throw MeshError(
-          name, "cannot be opened for writing (check the folder exists and is writable)");
   }
   using OmMesh = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
   OmMesh om;
@@ -153,14 +158,25 @@ void SaveMesh(const TriangleMesh& mesh, const fs::path& path,
   }
   OpenMesh::IO::Options opt;
   if (options.binary) opt += OpenMesh::IO::Options::Binary;
+  // Into memory first, then the file whole through a temporary beside it (a
+  // full disk is an error and the old file survives).
+  std::ostringstream bytes(options.binary ? std::ios::out | std::ios::binary
+                                          : std::ios::out);
   bool ok;
   {
     std::lock_guard lock(OpenMeshMutex());
     QuietOpenMesh quiet;
-    ok = OpenMesh::IO::write_mesh(om, name, opt, 17);
+    ok = OpenMesh::IO::write_mesh(om, bytes, path.extension().string(), opt, 17);
   }
-  if (!ok)
-    throw MeshError(name, "cannot be written (check the folder exists and is writable)");
+  if (!ok) throw MeshError(name, "cannot be written in this format");
+  try {
+    AtomicFile file(path, true);
+    const std::string data = bytes.str();
+    file.stream().write(data.data(), static_cast<std::streamsize>(data.size()));
+    file.Commit();
+  } catch (const FileError& e) {
+    throw MeshError(name, e.what());
+  }
 }
 
 }  // namespace sulcus

@@ -67,18 +67,16 @@ class GingivaCompliance final : public LoopEffect {
   bool touching_ = false;
 };
 
-// The nearest site whose sulcus holds the tip; a reading per insertion.
+// Readings (core/haptics/probe_reading.h) where the tip locator puts the tip,
+// and bleeding at a bleeding site probed to its floor, once a visit.
 class ProbingDepth final : public LoopEffect {
  public:
-  explicit ProbingDepth(const EffectsModel& m, bool readings, bool bleeding)
-      : m_(m), readings_(readings), bleeding_(bleeding) {
-    // Each site's line, once: unit direction down the sulcus and its length.
-    for (const ProbingSite& s : m.sites) {
-      const Vector3 down = s.floor_W - s.margin_W;
-      const double len = down.norm();
-      lines_.push_back({len > 0 ? Vector3(down / len) : Vector3::Zero(), len});
-    }
-  }
+  ProbingDepth(const EffectsModel& m, double rate_hz, bool readings, bool bleeding)
+      : m_(m),
+        locator_(m.sites),
+        tracker_(rate_hz),
+        readings_(readings),
+        bleeding_(bleeding) {}
   const char* name() const override {
     return readings_ && bleeding_ ? "probing_depth, bleeding_on_probing"
            : readings_            ? "probing_depth"
@@ -86,97 +84,41 @@ class ProbingDepth final : public LoopEffect {
   }
   void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*,
              HapticLoop* loop) noexcept override {
-    const Vector3 tip = data.X_WG.translation();
-    // (the nearest: under a contact two teeth's interproximal sites lie
-    // within a millimetre of each other; a tip there reads for the tooth in
-    // whose sulcus it is: on its side of the cut between the two teeth's
-    // shares of the gingiva, or with collars the one whose sulcus' middle
-    // runs nearer; and for that tooth's site whose line it is nearer)
-    int found = -1;
-    double depth = 0, best = 1e9;
-    for (std::size_t i = 0; i < m_.sites.size(); ++i) {
-      const ProbingSite& s = m_.sites[i];
-      const auto& [u, len] = lines_[i];
-      if (len <= 0) continue;
-      const double along = (tip - s.margin_W).dot(u);
-      // A tip enters a site's line at most kEnterPastFloorMm past its floor;
-      // pushed on through the floor it stays with the site it came down, to
-      // kHoldPastFloorMm: a heavy push reads deeper than the floor, and its
-      // force is that reading's (as a probe forced through the junctional
-      // epithelium over-reads).
-      const double past =
-          static_cast<int>(i) == site_ ? kHoldPastFloorMm : kEnterPastFloorMm;
-      if (along < -0.5 || along > len + past) continue;
-      const double off = (tip - s.margin_W - along * u).norm();
-      if (off > kRadius) continue;
-      bool beyond = false;
-      for (int c = 0; c < s.num_cuts; ++c)
-        beyond = beyond || (tip - s.cut_q_W[c]).dot(s.cut_n_W[c]) > 0;
-      if (beyond) continue;
-      const Vector3 from_axis = tip - s.origin_W;
-      const double radial = (from_axis - from_axis.dot(s.axis_W) * s.axis_W).norm();
-      const double score = std::abs(radial - s.sulcus_r_mm) + 0.25 * off;
-      if (score >= best) continue;
-      best = score;
-      found = static_cast<int>(i);
-      depth = along;
+    const TipLocation at = locator_.Locate(data.X_WG, tracker_.site());
+    const double f = TipLocator::ProbingForce(*force_W, data.X_WG);
+    ProbeReading r;
+    if (tracker_.Update(loop->tick(), at, f, &r) && readings_ && !r.update) {
+      const ProbingSite& s = m_.sites[static_cast<std::size_t>(r.site)];
+      HapticEvent e = HapticEvent::Of(EventKind::kProbeReading, s.tooth);
+      e.payload.reading = {s.fdi,       s.site,         r.depth_mm,    r.peak_force_n,
+                           r.angle_deg, r.deepest_tick, r.entered_tick};
+      loop->Emit(e);
     }
-    if (found != site_) {
-      Finish(loop);
-      site_ = found;
-      deepest_ = -1e9;
-      peak_force_ = 0;
+    if (tracker_.site() != bleed_site_) {
+      bleed_site_ = tracker_.site();
       bled_ = false;
-      entered_tick_ = loop->tick();
     }
-    if (site_ < 0) return;
-    const ProbingSite& s = m_.sites[site_];
-    // The probing force: the push back along the probe's axis (the floor's
-    // answer), not the gingiva's sideways push on the shank.
-    const double f = std::max(0.0, force_W->dot(data.X_WG.rotation().col(2)));
-    // The dwell at the deepest point: a new deepest more than kDwellMm below
-    // the last starts the dwell again; within it, the peak force counts.
-    if (depth > deepest_) {
-      if (depth > deepest_ + kDwellMm) peak_force_ = 0;
-      deepest_ = depth;
-      deepest_tick_ = loop->tick();
-      const Vector3 tool_axis = data.X_WG.rotation().col(2);
-      const double c = std::clamp(std::abs(tool_axis.dot(s.axis_W)), 0.0, 1.0);
-      angle_deg_ = std::acos(c) * 180.0 / std::numbers::pi;
-    }
-    if (depth >= deepest_ - kDwellMm) peak_force_ = std::max(peak_force_, f);
-    if (bleeding_ && s.bleeding && !bled_ && depth >= s.pocket_mm - 0.5) {
+    if (bleed_site_ < 0 || !bleeding_ || bled_) return;
+    const ProbingSite& s = m_.sites[static_cast<std::size_t>(bleed_site_)];
+    if (s.bleeding && at.site == bleed_site_ && at.depth_mm >= s.pocket_mm - 0.5) {
       bled_ = true;
       HapticEvent e = HapticEvent::Of(EventKind::kBleeding, s.tooth);
-      e.payload.bleeding = {s.fdi, s.site, depth, f};
+      e.payload.bleeding = {s.fdi, s.site, at.depth_mm, f};
       loop->Emit(e);
     }
   }
-  void Reset() noexcept override { site_ = -1; }
+  void Reset() noexcept override {
+    tracker_.Reset();
+    bleed_site_ = -1;
+    bled_ = false;
+  }
 
  private:
-  void Finish(HapticLoop* loop) noexcept {
-    if (!readings_ || site_ < 0 || deepest_ < 0.5)
-      return;  // a reading needs the tip in the sulcus
-    const ProbingSite& s = m_.sites[site_];
-    HapticEvent e = HapticEvent::Of(EventKind::kProbeReading, s.tooth);
-    e.payload.reading = {s.fdi,      s.site,        deepest_,     peak_force_,
-                         angle_deg_, deepest_tick_, entered_tick_};
-    loop->Emit(e);
-  }
-  static constexpr double kRadius = 1.2;  // mm from the site's line
-  static constexpr double kEnterPastFloorMm = 0.5, kHoldPastFloorMm = 3.0;
-  static constexpr double kDwellMm = 0.2;
-  struct Line {
-    Vector3 u;
-    double len;
-  };
   const EffectsModel& m_;
-  std::vector<Line> lines_;  // per site
+  TipLocator locator_;
+  ProbeReadingTracker tracker_;
   bool readings_, bleeding_;
-  int site_ = -1;
-  double deepest_ = 0, peak_force_ = 0, angle_deg_ = 0;
-  std::uint64_t deepest_tick_ = 0, entered_tick_ = 0;
+  int bleed_site_ = -1;
   bool bled_ = false;
 };
 
@@ -403,13 +345,14 @@ class SurfaceTexture final : public LoopEffect {
 
 }  // namespace
 
-std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& m) {
+std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& m,
+                                                     double rate_hz) {
   std::vector<std::unique_ptr<LoopEffect>> out;
   if (m.on.gingiva_compliance && m.soft_world)
     out.push_back(std::make_unique<GingivaCompliance>(m));
   const bool depth = m.on.probing_depth, bleeding = m.on.bleeding_on_probing;
   if ((depth || bleeding) && !m.sites.empty())
-    out.push_back(std::make_unique<ProbingDepth>(m, depth, bleeding));
+    out.push_back(std::make_unique<ProbingDepth>(m, rate_hz, depth, bleeding));
   if (m.on.caries_catch && !m.lesions.empty())
     out.push_back(std::make_unique<CariesCatch>(m));
   if (m.on.surface_texture) out.push_back(std::make_unique<SurfaceTexture>(m));

@@ -8,8 +8,9 @@
 //   gingiva_compliance  soft tissue the probe displaces: its objects are not
 //                       constraints of the engine but springs (soft walls, a firm
 //                       pocket floor), so the probe can enter the sulcus.
-//   probing_depth       the tip's depth below the margin at the nearest site; a
-//                       reading (the deepest point of one insertion) when it leaves.
+//   probing_depth       a reading per visit of the tip to a site's sulcus: its
+//                       deepest dwell (probe_reading.h), where the tip locator
+//                       (tip_locator.h) puts the tip.
 //   bleeding_on_probing a bleeding site bleeds when probed to its floor.
 //   tissue_damage       the force the working end puts on an object above its
 //                       tissue's damage limit (the shank resting on a lip or a
@@ -32,26 +33,10 @@
 #include <vector>
 
 #include "core/haptics/haptic_loop.h"
+#include "core/haptics/probe_reading.h"
+#include "core/haptics/tip_locator.h"
 
 namespace sulcus {
-
-/// A probing site in the world: the sulcus' middle at the margin and at the floor.
-struct ProbingSite {
-  int tooth = -1;  // object index of the tooth
-  int fdi = 0;     // its FDI number
-  int site = 0;    // 0..5: MB, B, DB, ML, L, DL
-  Vector3 margin_W = Vector3::Zero(), floor_W = Vector3::Zero();
-  Vector3 axis_W = Vector3::UnitZ();   // the tooth's long axis (unit, toward the crown)
-  Vector3 origin_W = Vector3::Zero();  // a point on that axis (the tooth frame's origin)
-  double sulcus_r_mm = 0;  // the site's line from the axis (the sulcus' middle)
-  // In one gingiva per arch, the cuts between this tooth's share and its
-  // neighbours' (a point and the normal toward the neighbour): a tip beyond
-  // one is in the neighbour's sulcus, not this tooth's.
-  std::array<Vector3, 2> cut_q_W{}, cut_n_W{};
-  int num_cuts = 0;
-  double pocket_mm = 0;
-  bool bleeding = false;
-};
 
 /// Which of the effects this layer implements the scene named (friction is
 /// the engine's, EngineModel::friction).
@@ -125,8 +110,10 @@ struct EffectsModel {
 
 /// The effects that are on, in a fixed order, ready for HapticLoop. An effect
 /// with nothing to act on (compliance without soft objects, depth without
-/// sites) is left out.
-std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& model);
+/// sites) is left out. `rate_hz`: the loop's (a reading's visit ends after a
+/// time away, counted in ticks).
+std::vector<std::unique_ptr<LoopEffect>> MakeEffects(const EffectsModel& model,
+                                                     double rate_hz = 1000);
 
 /// Raw pointers for HapticLoop's span.
 std::vector<LoopEffect*> EffectPointers(

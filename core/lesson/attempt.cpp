@@ -16,6 +16,8 @@
 
 namespace sulcus {
 
+namespace fs = std::filesystem;
+
 AttemptFolder NewAttemptFolder(const std::filesystem::path& results,
                                const std::string& student) {
   const std::time_t now = std::time(nullptr);
@@ -53,14 +55,25 @@ std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
   info.recording = folder.recording().string();
   info.started = folder.started;
   WriteReport(r, info, report_dir);
-  ResultsDb db(results_db);
-  info.attempt_id = db.Store(r, folder.started, info.recording, folder.answers().string(),
-                             report_dir.string());
+  // Until its row is in the database the folder says so, so that `lesson
+  // recover` and the start page store it later (once).
+  const fs::path unstored = folder.dir / kUnstoredFile;
+  try {
+    ResultsDb db(results_db);
+    info.attempt_id = db.Store(r, folder.started, info.recording,
+                               folder.answers().string(), report_dir.string());
+  } catch (const std::exception& e) {
+    std::ofstream why(unstored);
+    why << "This attempt is kept here but is not in the results database ("
+        << results_db.string() << "): " << e.what()
+        << "\n`sulcus-cli lesson recover` stores it once the database can take it.\n";
+    throw;
+  }
+  std::error_code ec;
+  fs::remove(unstored, ec);
   WriteReport(r, info, report_dir);  // again, now naming its attempt
   return info.attempt_id;
 }
-
-namespace fs = std::filesystem;
 
 void WriteAttemptMarker(const AttemptFolder& folder, const AttemptMarker& m) {
   YAML::Emitter e;
@@ -119,8 +132,10 @@ std::vector<fs::path> UnfinishedAttempts(const fs::path& results) {
   for (const fs::directory_entry& d : fs::directory_iterator(attempts, ec)) {
     if (!d.is_directory(ec)) continue;
     const fs::path dir = d.path();
-    if (fs::exists(dir / "attempt.yaml", ec) && !fs::exists(dir / "report.json", ec) &&
-        !fs::exists(dir / "recovery.txt", ec))
+    if (!fs::exists(dir / "attempt.yaml", ec) || fs::exists(dir / "recovery.txt", ec))
+      continue;
+    // Never kept, or kept in its folder but not in the database.
+    if (!fs::exists(dir / "report.json", ec) || fs::exists(dir / kUnstoredFile, ec))
       out.push_back(dir);
   }
   std::sort(out.begin(), out.end());  // folder names start with their UTC time
@@ -267,13 +282,20 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
     session.AddConsumer(saver.get());
   }
   for (TickConsumer* c : o.consumers) session.AddConsumer(c);
+  // The answers are read before the run (a bad file fails at once), and each
+  // entry applies when the stream reaches its tick, as it did live: charting a
+  // site with the tip in it completes its reading there.
+  std::optional<Answers> answers;
+  if (!o.answers.empty()) {
+    answers = LoadAnswers(o.answers);
+    for (const ChartEntry& e : answers->entries) lesson.Schedule(e);
+  }
   const auto t1 = Clock::now();
   session.RunOffline();
   out.run_s = std::chrono::duration<double>(Clock::now() - t1).count();
   out.ticks = session.ticks_delivered();
-  if (!o.answers.empty()) {
-    const Answers a = LoadAnswers(o.answers);
-    for (const ChartEntry& e : a.entries) lesson.Enter(e);
+  if (answers) {
+    const Answers& a = *answers;
     if (a.diagnosis) lesson.Declare(*a.diagnosis);
     for (const Finding& f : a.findings) lesson.Record(f);
     if (a.submitted) lesson.Submit(*a.submitted);

@@ -94,9 +94,14 @@ void WriteAttemptMarker(const AttemptFolder& folder, const AttemptMarker& m);
 /// Throws SceneLoadError (file:line:column) for a marker that does not read.
 AttemptMarker ReadAttemptMarker(const std::filesystem::path& dir);
 
+/// The file in an attempt's folder saying its report is kept there but its row
+/// never reached the results database (it was corrupt, full or newer).
+inline constexpr const char* kUnstoredFile = "not-in-database.txt";
+
 /// Attempt folders under `results`/attempts that were started (a marker) and
-/// never kept (no report), oldest first; those whose recovery failed before
-/// (a recovery.txt saying why) are left out.
+/// never kept (no report), or kept in the folder but not in the database
+/// (kUnstoredFile), oldest first; those whose recovery failed before (a
+/// recovery.txt saying why) are left out.
 std::vector<std::filesystem::path> UnfinishedAttempts(
     const std::filesystem::path& results);
 

@@ -130,7 +130,9 @@ LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene,
                                   : MakeLessonGeometry(scene, spec.teeth)),
       student_(std::move(student)),
       case_seed_(case_seed),
-      rate_hz_(scene.spec.rate_hz > 0 ? scene.spec.rate_hz : 1000) {
+      rate_hz_(scene.spec.rate_hz > 0 ? scene.spec.rate_hz : 1000),
+      locator_(scene.effects.sites),
+      tracker_(rate_hz_) {
   const PerioChart truth = TrueChart(scene.spec, spec.teeth);
   for (const SiteRef& s : spec.path) {
     SiteResult r;
@@ -146,6 +148,10 @@ LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene,
     sites_.push_back(r);
   }
   for (const StepSpec& st : spec.steps) step_results_.push_back({st.id, st.instruction});
+  for (const ProbingSite& p : scene.effects.sites)
+    path_index_.push_back(SiteIndex({p.fdi, p.site}));
+  visit_deepest_.assign(sites_.size(), -1e9);
+  near_other_.assign(sites_.size(), 0);
   in_contact_.assign(scene.spec.objects.size(), 0);
   surfaces_.resize(geometry_.teeth.size());
   for (std::size_t i = 0; i < geometry_.teeth.size(); ++i)
@@ -246,11 +252,10 @@ std::optional<SiteRef> LessonRun::next_site() const {
 
 void LessonRun::Track(const TickRecord& r) {
   const Vector3 p_W = r.X_WG.translation();
-  tip_site_.reset();
-  tip_angle_deg_.reset();
-  // Under a contact the two neighbours' sulci meet (the col): the tip may be in
-  // both. Each tooth whose sulcus holds it has the arc and the col marked; the
-  // stroke and the "you are in" site go to the tooth it is closest to.
+  // The walking stroke's coverage (where the tip is for a reading is the tip
+  // locator's answer, Locate()). Under a contact the two neighbours' sulci
+  // meet (the col): the tip may be in both. Each tooth whose sulcus holds it
+  // has the arc and the col marked; the stroke goes to the tooth it is closest to.
   double best_radial = 1e9;
   int best = -1;
   double best_depth = 0, best_phi = 0;
@@ -291,15 +296,6 @@ void LessonRun::Track(const TickRecord& r) {
   }
   if (best < 0) return;
   const LessonGeometry::Tooth& t = geometry_.teeth[static_cast<std::size_t>(best)];
-  int nearest = 0;
-  for (int s = 1; s < 6; ++s)
-    if (AngleDistance(best_phi, t.site_angle[s]) <
-        AngleDistance(best_phi, t.site_angle[nearest]))
-      nearest = s;
-  tip_site_ = SiteRef{t.fdi, nearest};
-  const double c = std::clamp(
-      std::abs(r.X_WG.rotation().col(2).dot(t.X_WT.rotation().col(2))), 0.0, 1.0);
-  tip_angle_deg_ = std::acos(c) * kDeg;
   const bool buccal = std::sin(best_phi) >= 0;
   SurfaceTrack& st = surfaces_[static_cast<std::size_t>(best)][buccal ? 0 : 1];
   const double depth = best_depth;
@@ -332,6 +328,13 @@ void LessonRun::Track(const TickRecord& r) {
 }
 
 void LessonRun::OnTick(const TickRecord& r) {
+  // Entries scheduled for this tick apply before it, as the window's do (it
+  // stamps an entry with the tick after the last one the lesson has seen).
+  while (!scheduled_.empty() && scheduled_.front().tick <= r.tick) {
+    const ChartEntry e = scheduled_.front();
+    scheduled_.erase(scheduled_.begin());
+    Enter(e);
+  }
   if (ticks_ == 0) {
     first_tick_ = r.tick;
     if (!step_results_.empty()) step_results_[0].started_tick = r.tick;
@@ -351,30 +354,6 @@ void LessonRun::OnTick(const TickRecord& r) {
           in_contact_[static_cast<std::size_t>(e.object)] =
               e.kind == EventKind::kContactBegan;
         break;
-      case EventKind::kProbeReading: {
-        const ReadingPayload& p = e.payload.reading;
-        const int idx = SiteIndex({p.fdi, p.site});
-        if (idx < 0) break;
-        SiteResult& s = sites_[static_cast<std::size_t>(idx)];
-        ++s.insertions;
-        if (!s.reached_mm || p.depth_mm > *s.reached_mm) {
-          s.reached_mm = p.depth_mm;
-          s.peak_force_n = p.peak_force_n;
-          s.angle_deg = p.axis_angle_deg;
-          s.reading_tick = p.deepest_tick;
-          s.entered_tick = p.entered_tick;
-          s.left_tick = e.tick;
-          if (spec_.practice())
-            feedback_.push_back(
-                Format("%s: the tip reached %.1f mm; the true depth is %d mm",
-                       s.site.ToString().c_str(), p.depth_mm, s.truth_mm));
-          else
-            feedback_.push_back(s.site.ToString() + ": read");
-        } else {
-          s.left_tick = e.tick;
-        }
-        break;
-      }
       case EventKind::kBleeding: {
         const int idx = SiteIndex({e.payload.bleeding.fdi, e.payload.bleeding.site});
         if (idx < 0) break;
@@ -416,11 +395,89 @@ void LessonRun::OnTick(const TickRecord& r) {
         break;
     }
   }
-  if (inspection_)
+  if (inspection_) {
     FollowInspection(r);
-  else
+  } else {
+    Locate(r);
     Track(r);
+  }
   Advance(r.tick);
+}
+
+void LessonRun::Locate(const TickRecord& r) {
+  const TipLocation at = locator_.Locate(r.X_WG, tracker_.site());
+  ProbeReading reading;
+  if (tracker_.Update(r.tick, at, TipLocator::ProbingForce(r.force_W, r.X_WG), &reading))
+    Read(reading);
+  tip_site_.reset();
+  tip_angle_deg_.reset();
+  tip_depth_mm_.reset();
+  if (at.site < 0) return;
+  const ProbingSite& p = locator_.sites()[static_cast<std::size_t>(at.site)];
+  tip_site_ = SiteRef{p.fdi, p.site};
+  tip_angle_deg_ = at.angle_deg;
+  tip_depth_mm_ = at.depth_mm;
+  // What the report says of a site without a reading.
+  if (const int idx = path_index_[static_cast<std::size_t>(at.site)]; idx >= 0) {
+    double& d = visit_deepest_[static_cast<std::size_t>(idx)];
+    d = std::max(d, at.depth_mm);
+  }
+  for (int i = 0; i < locator_.size(); ++i) {
+    const int idx = path_index_[static_cast<std::size_t>(i)];
+    if (i != at.site && idx >= 0 && !near_other_[static_cast<std::size_t>(idx)] &&
+        locator_.Near(r.X_WG, i))
+      near_other_[static_cast<std::size_t>(idx)] = 1;
+  }
+}
+
+SiteResult* LessonRun::ApplyReading(const ProbeReading& p,
+                                    std::vector<SiteResult>* sites) const {
+  const int idx = path_index_[static_cast<std::size_t>(p.site)];
+  if (idx < 0) return nullptr;
+  SiteResult& s = (*sites)[static_cast<std::size_t>(idx)];
+  if (!p.update) ++s.insertions;
+  if (s.reached_mm && p.depth_mm <= *s.reached_mm) {
+    s.left_tick = p.left_tick;
+    return nullptr;
+  }
+  s.reached_mm = p.depth_mm;
+  s.held_force_n = p.held_force_n;
+  s.peak_force_n = p.peak_force_n;
+  s.angle_deg = p.angle_deg;
+  s.reading_tick = p.deepest_tick;
+  s.entered_tick = p.entered_tick;
+  s.left_tick = p.left_tick;
+  return &s;
+}
+
+void LessonRun::Read(const ProbeReading& p) {
+  const SiteResult* s = ApplyReading(p, &sites_);
+  if (!s) return;
+  if (spec_.practice())
+    feedback_.push_back(
+        Format("%s: the tip reached %.1f mm (%.2f N held); the true "
+               "depth is %d mm",
+               s->site.ToString().c_str(), p.depth_mm, p.held_force_n, s->truth_mm));
+  else
+    feedback_.push_back(s->site.ToString() + ": read");
+}
+
+void LessonRun::OnEnd() {
+  ended_ = true;
+  std::vector<ChartEntry> rest;
+  rest.swap(scheduled_);
+  for (const ChartEntry& e : rest) Enter(e);
+}
+
+void LessonRun::Schedule(const ChartEntry& e) {
+  if (e.tick == kAfterReading || (ticks_ > 0 && e.tick <= last_tick_)) {
+    Enter(e);
+    return;
+  }
+  const auto at =
+      std::upper_bound(scheduled_.begin(), scheduled_.end(), e.tick,
+                       [](std::uint64_t t, const ChartEntry& x) { return t < x.tick; });
+  scheduled_.insert(at, e);
 }
 
 void LessonRun::FollowInspection(const TickRecord& r) {
@@ -534,6 +591,15 @@ std::vector<std::string> LessonRun::pending() const {
 }
 
 void LessonRun::Enter(const ChartEntry& e) {
+  // Charting the site the tip is in completes its reading now (a clinician
+  // reads the marking with the probe still at the floor).
+  if (e.pd_mm && e.tick != kAfterReading && ticks_ > 0 && e.tick > last_tick_ &&
+      tracker_.site() >= 0) {
+    const ProbingSite& p = locator_.sites()[static_cast<std::size_t>(tracker_.site())];
+    ProbeReading reading;
+    if (SiteRef{p.fdi, p.site} == e.site && tracker_.Complete(last_tick_, &reading))
+      Read(reading);
+  }
   entries_.push_back(e);
   const int idx = SiteIndex(e.site);
   if (idx >= 0) {
@@ -566,8 +632,10 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
     const SiteRef& site = s.site;
     const std::string name = site.ToString();
     if (!s.reached_mm) {
-      L.push_back(
-          Line("technique", &site, 0, S::kFail, 0, name + ": not probed", last_tick_));
+      L.push_back(Line(
+          "technique", &site, 0, S::kFail, 0,
+          name + ": not probed" + (s.no_reading.empty() ? "" : " (" + s.no_reading + ")"),
+          last_tick_));
     } else {
       ++read;
       const double reached = *s.reached_mm, err = reached - s.truth_mm;
@@ -586,8 +654,9 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
                       : err > rb.technique_full_mm ? ": pushed through the floor"
                                                    : ""),
                s.reading_tick));
-      // Force at the floor.
-      const double f = s.peak_force_n;
+      // Force at the floor: what the hand held there (a tremor's highest tick
+      // is not the probing force); the highest tick judges damage below.
+      const double f = s.held_force_n;
       if (f >= rb.force_low_n && f <= rb.force_high_n) {
         ++in_band;
         L.push_back(Line("force", &site, 0, S::kPass, 1,
@@ -612,11 +681,11 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
                                 rb.force_damage_n),
                          s.reading_tick));
       }
-      const bool damaged = f > rb.force_damage_n;
+      const bool damaged = s.peak_force_n > rb.force_damage_n;
       L.push_back(Line(
           "damage", &site, 0, damaged ? S::kFail : S::kPass, damaged ? 0 : 1,
           damaged ? Format("%s: %.2f N drove the tip into the attachment: tissue damage",
-                           name.c_str(), f)
+                           name.c_str(), s.peak_force_n)
                   : name + ": no tissue damage",
           s.reading_tick));
       // Angulation, or the col under the contact.
@@ -660,11 +729,11 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
         L.push_back(Line("bleeding", &site, 0, S::kPass, 1,
                          name + ": no bleeding, none charted", s.reading_tick));
       }
-      if (s.bled && std::max(s.bleed_force_n, s.peak_force_n) > rb.force_high_n)
+      if (s.bled && std::max(s.bleed_force_n, s.held_force_n) > rb.force_high_n)
         L.push_back(Line(
             "bleeding", &site, 0, S::kInfo, 0,
             Format("%s: bleeding possibly caused by probing force (%.2f N, above %.2f N)",
-                   name.c_str(), std::max(s.bleed_force_n, s.peak_force_n),
+                   name.c_str(), std::max(s.bleed_force_n, s.held_force_n),
                    rb.force_high_n),
             s.bleed_tick));
     }
@@ -1078,6 +1147,24 @@ LessonResult LessonRun::Finish() const {
   out.rate_hz = rate_hz_;
   out.rubric = rb;
   out.sites = sites_;
+  // An attempt that ends with the tip still in a sulcus: that visit's reading.
+  {
+    ProbeReadingTracker open = tracker_;
+    ProbeReading reading;
+    if (open.Complete(last_tick_, &reading)) ApplyReading(reading, &out.sites);
+  }
+  for (std::size_t i = 0; i < out.sites.size(); ++i) {
+    SiteResult& s = out.sites[i];
+    if (s.reached_mm) continue;
+    if (visit_deepest_[i] > -1e8)
+      s.no_reading =
+          Format("entered but less than %.1f mm deep (deepest %.1f mm)",
+                 ProbeReadingTracker::kMinDepthMm, std::max(0.0, visit_deepest_[i]));
+    else if (near_other_[i])
+      s.no_reading = "the tip was nearer another site's line";
+    else
+      s.no_reading = "never entered its sulcus";
+  }
   out.steps = step_results_;
   out.first_tick = first_tick_;
   out.last_tick = last_tick_;

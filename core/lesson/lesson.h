@@ -23,6 +23,8 @@
 #include <string>
 #include <vector>
 
+#include "core/haptics/probe_reading.h"
+#include "core/haptics/tip_locator.h"
 #include "core/lesson/chart.h"
 #include "core/lesson/inspection.h"
 #include "core/lesson/lesson_spec.h"
@@ -62,11 +64,18 @@ const char* ToString(RubricLine::Status s);
 struct SiteResult {
   SiteRef site;
   int truth_mm = 0;
-  double recession_mm = 0;      // clinical (margin to CEJ, + apical)
-  bool truth_bleeding = false;  // the scene's
-  int insertions = 0;
+  double recession_mm = 0;           // clinical (margin to CEJ, + apical)
+  bool truth_bleeding = false;       // the scene's
+  int insertions = 0;                // visits that gave a reading (probe_reading.h)
   std::optional<double> reached_mm;  // the deepest reading
-  double peak_force_n = 0, angle_deg = 0;
+  double held_force_n =
+      0;  // the force held at the floor in that reading's dwell (scored)
+  double peak_force_n = 0;  // the highest tick of that dwell (the damage line's)
+  double angle_deg = 0;
+  /// Why a site has no reading ("" when it has one): "never entered its sulcus",
+  /// "entered but less than 0.5 mm deep (deepest X mm)", or "the tip was nearer
+  /// another site's line".
+  std::string no_reading;
   bool col_reached = false, interproximal_contact = false;
   std::uint64_t reading_tick = 0, entered_tick = 0, left_tick = 0;
   std::optional<ChartEntry> entry;
@@ -185,9 +194,14 @@ class LessonRun final : public TickConsumer {
 
   // The stream.
   void OnTick(const TickRecord& r) override;
-  void OnEnd() override { ended_ = true; }
+  /// The stream ended: entries scheduled past its last tick apply now.
+  void OnEnd() override;
   // The student's inputs (kAfterReading ticks are resolved in Finish()).
+  /// Charting a site while the tip is in its sulcus completes its reading at once.
   void Enter(const ChartEntry& e);
+  /// An entry applied when the stream reaches its tick, as it was entered live
+  /// (a replay with the attempt's answers; kAfterReading: at once).
+  void Schedule(const ChartEntry& e);
   void Declare(const DeclaredDiagnosis& d);
   // Inspection lessons: a finding recorded on the odontogram, and the
   // odontogram submitted as complete (kAfterReading: at the end).
@@ -209,12 +223,18 @@ class LessonRun final : public TickConsumer {
   std::optional<SiteRef> tip_site() const { return tip_site_; }
   /// The probe's angle to the long axis of the tooth whose sulcus holds the tip.
   std::optional<double> tip_angle_deg() const { return tip_angle_deg_; }
+  /// The tip's depth below the margin of the site whose sulcus holds it.
+  std::optional<double> tip_depth_mm() const { return tip_depth_mm_; }
+  /// The force along the probe as the readings hold it (low-passed; the gauge's).
+  double probing_force_n() const { return tracker_.filtered_force_n(); }
   /// The compiled scene's clinical recession per site (for the chart).
   double recession_mm(const SiteRef& s) const;
   const std::vector<std::string>& feedback() const { return feedback_; }
   std::uint64_t last_tick() const { return last_tick_; }
   const LessonSpec& spec() const { return spec_; }
   const std::vector<ChartEntry>& entries() const { return entries_; }
+  /// The sites in path order as far as the attempt has gone (readings so far).
+  const std::vector<SiteResult>& sites() const { return sites_; }
   const std::optional<DeclaredDiagnosis>& declared() const { return declared_; }
   const std::vector<Finding>& findings() const { return findings_; }
   std::optional<std::uint64_t> submitted() const { return submitted_; }
@@ -248,6 +268,11 @@ class LessonRun final : public TickConsumer {
   bool StepComplete(const StepSpec& s) const;
   bool SiteInStep(const StepSpec& s, const SiteRef& site) const;
   int SiteIndex(const SiteRef& s) const;
+  void Locate(const TickRecord& r);
+  // A reading into `sites`: the site's result when it became its reading.
+  SiteResult* ApplyReading(const ProbeReading& reading,
+                           std::vector<SiteResult>* sites) const;
+  void Read(const ProbeReading& reading);  // into sites_, with its feedback
 
   LessonSpec spec_;
   const CompiledScene& scene_;
@@ -265,7 +290,16 @@ class LessonRun final : public TickConsumer {
   std::vector<LessonResult::Interruption> interruptions_;
   std::uint64_t first_tick_ = 0, last_tick_ = 0, ticks_ = 0;
   std::optional<SiteRef> tip_site_;
-  std::optional<double> tip_angle_deg_;
+  std::optional<double> tip_angle_deg_, tip_depth_mm_;
+  // Readings: the one tip locator, the dwell tracker, per scene site its path
+  // index (-1: not in the lesson), per path site what the tip did there.
+  TipLocator locator_;
+  ProbeReadingTracker tracker_;
+  std::vector<int> path_index_;
+  std::vector<double> visit_deepest_;  // per path site: deepest while located there
+  std::vector<std::uint8_t>
+      near_other_;                     // per path site: near its line, placed elsewhere
+  std::vector<ChartEntry> scheduled_;  // Schedule()d, in tick order
   std::vector<std::string> feedback_;
   std::vector<std::pair<std::uint64_t, float>> force_trace_;
   std::vector<std::uint8_t> in_contact_;  // per engine object

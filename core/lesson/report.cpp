@@ -144,7 +144,9 @@ std::string ChartBand(const LessonResult& r, bool upper, bool buccal) {
   });
   row("reached", [&](int t, int s) {
     const SiteResult* x = FindSite(r, t, s);
-    if (!x || !x->reached_mm) return std::string("<td class=none>-</td>");
+    if (!x) return std::string("<td class=none>-</td>");
+    if (!x->reached_mm)
+      return "<td class=none title=\"no reading: " + H(x->no_reading) + "\">-</td>";
     return F("<td><a href=\"#t%llu\" title=\"at %s s\">%.1f</a></td>",
              static_cast<unsigned long long>(x->reading_tick),
              Seconds(r, x->reading_tick).c_str(), *x->reached_mm);
@@ -385,11 +387,13 @@ std::string ReportJson(const LessonResult& r, const ReportInfo& info) {
       << ", \"reached_mm\": " << (s.reached_mm ? Num(*s.reached_mm, 3) : "null")
       << ", \"entered_mm\": "
       << (s.entry && s.entry->pd_mm ? std::to_string(*s.entry->pd_mm) : "null")
+      << ", \"held_force_n\": " << Num(s.held_force_n, 3)
       << ", \"peak_force_n\": " << Num(s.peak_force_n, 3)
       << ", \"angle_deg\": " << Num(s.angle_deg, 2)
       << ", \"col_reached\": " << (s.col_reached ? "true" : "false")
       << ", \"interproximal_contact\": " << (s.interproximal_contact ? "true" : "false")
       << ", \"insertions\": " << s.insertions
+      << ", \"no_reading\": " << (s.reached_mm ? std::string("null") : J(s.no_reading))
       << ", \"bled\": " << (s.bled ? "true" : "false")
       << ", \"bleeding_charted\": " << (s.entry && s.entry->bleeding ? "true" : "false")
       << ", \"reading_tick\": " << s.reading_tick
@@ -628,8 +632,9 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
     for (const SiteResult& s : r.sites) {
       if (!s.reached_mm) continue;
       o << "<div class=site id=\"site-" << s.site.fdi << SiteCode(s.site.site) << "\"><b>"
-        << H(s.site.ToString()) << "</b> " << Num(s.peak_force_n, 2) << " N, "
-        << Num(*s.reached_mm, 1) << " mm<br>" << ForceTrace(r, s, band) << "</div>";
+        << H(s.site.ToString()) << "</b> " << Num(s.held_force_n, 2) << " N held (peak "
+        << Num(s.peak_force_n, 2) << "), " << Num(*s.reached_mm, 1) << " mm<br>"
+        << ForceTrace(r, s, band) << "</div>";
     }
     o << "</div>\n";
 

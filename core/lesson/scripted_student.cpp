@@ -65,8 +65,9 @@ struct ToothFrame {
 }  // namespace
 
 const std::vector<std::string>& ScriptedStudentNames() {
-  static const std::vector<std::string> names = {"careful", "rough", "misreading", "spot",
-                                                 "lazy"};
+  static const std::vector<std::string> names = {
+      "careful",  "rough",     "misreading", "spot",     "lazy",  "tremor", "slow",
+      "hesitant", "overshoot", "occlusal",   "charting", "human", "keys"};
   return names;
 }
 
@@ -105,7 +106,17 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
           break;
         }
   }
-  const double target_n = name == "rough" ? 2.0 : 0.20;
+  // The human hands.
+  const bool human = name == "human";
+  const bool spot = name == "spot" || name == "occlusal";
+  if (name == "tremor") hand_ = {.tremor_mm = 0.06, .tremor_deg = 0.3, .drift_mm = 0.2};
+  if (human) hand_ = {.tremor_mm = 0.06, .tremor_deg = 0.3, .drift_mm = 0.15};
+  if (name == "keys") hand_ = {.step_mm = 0.1, .step_s = 0.01};
+  const double slow = name == "slow" ? 3.0 : human ? 1.5 : 1.0;  // moves' durations
+  const double stroke_speed = name == "slow" ? 2.0 : human ? 3.0 : 12.0;
+  const bool overshoot = name == "overshoot";
+  chart_at_rest_ = name == "charting" || human;
+  const double target_n = name == "rough" ? 2.0 : overshoot ? 0.36 : 0.20;
   const double past_floor_mm =
       name == "rough" ? 1.5 : 0.5;  // the deepest a stroke goes if it feels nothing
   const double tilt_deg = 4.0;
@@ -113,7 +124,7 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
   auto move = [&](const Vector3& p, const Quaternion& q, double s) {
     Move m;
     m.X_WH = RigidTransform(q, p);
-    m.duration_s = s;
+    m.duration_s = s * slow;
     moves_.push_back(m);
   };
   bool first = true;
@@ -144,7 +155,7 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
       bool stroke;
     };
     std::vector<Stop> stops;
-    if (name == "spot") {
+    if (spot) {
       for (int s : pass.buccal ? std::array{2, 1, 0} : std::array{5, 4, 3})
         stops.push_back({g->site_angle[s], true});
     } else {
@@ -172,9 +183,10 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
       const double phi = stop.phi;
       const Quaternion q = f.Tool(phi, tilt_deg);
       // Each stroke starts 1 mm below the margin and goes down the tool's axis;
-      // the spot-prober starts above the margin each time.
-      const double top = name == "spot" ? -1.0 : 1.0;
-      move(f.Sulcus(phi, top), q, name == "spot" ? 0.5 : 0.15);
+      // the spot-prober starts above the margin each time, the occlusal
+      // approach 2 mm above it (over the crown).
+      const double top = name == "occlusal" ? -2.0 : spot ? -1.0 : 1.0;
+      move(f.Sulcus(phi, top), q, spot ? 0.5 : 0.15);
       if (!stop.stroke) continue;
       Move stroke;
       stroke.stroke = true;
@@ -183,6 +195,23 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
       const double cos_tilt = std::max(0.5, axis.dot(f.Axis()));
       stroke.max_depth_mm = (f.Pocket(phi) - top + past_floor_mm) / cos_tilt;
       stroke.target_force_n = target_n;
+      stroke.speed_mm_s = stroke_speed;
+      // A person rests at the floor and keeps the force there.
+      if (overshoot || name == "tremor" || human) {
+        stroke.hold_force_n = 0.22;
+        stroke.hold_s = 1.0;
+      }
+      if (name == "hesitant") {
+        stroke.pause_at_mm = 0.5 * f.Pocket(phi) - top;
+        stroke.pause_s = 0.3;
+      }
+      // At each site's own angle a charting hand rests and charts.
+      const bool own = std::any_of(g->site_angle.begin(), g->site_angle.end(),
+                                   [&](double a) { return a == phi; });
+      if (chart_at_rest_ && own) {
+        stroke.chart_at_rest = true;
+        stroke.hold_s = 1.0;
+      }
       moves_.push_back(stroke);
     }
     const double phi1 = stops.back().phi;
@@ -199,8 +228,9 @@ namespace {
 // Plays a student's moves by loop time, feeling the force written back.
 class StudentDevice final : public Device {
  public:
-  explicit StudentDevice(std::vector<ScriptedStudent::Move> moves, std::string name)
-      : moves_(std::move(moves)) {
+  StudentDevice(std::vector<ScriptedStudent::Move> moves, std::string name,
+                ScriptedStudent::HandStyle hand)
+      : moves_(std::move(moves)), hand_(hand) {
     caps_.name = std::move(name);
     caps_.output_dof = 3;
     caps_.max_force_n = 3.3;
@@ -214,12 +244,15 @@ class StudentDevice final : public Device {
   void Write(const Vector3& force_W, const Vector3&) noexcept override {
     force_n_ =
         i_ < moves_.size() ? -force_W.dot(top_set_ ? down_ : Down(moves_[i_])) : 0.0;
+
     force_W_ = force_W;
   }
   bool Read(double t_s, DeviceSample* out) noexcept override {
     const double dt = started_ ? t_s - last_t_ : 0;
     started_ = true;
     last_t_ = t_s;
+    // What a hand perceives of the force: low-passed at 3 Hz.
+    felt_lp_n_ += (1.0 - std::exp(-2 * kPi * 3.0 * dt)) * (force_n_ - felt_lp_n_);
     while (i_ < moves_.size()) {
       const ScriptedStudent::Move& m = moves_[i_];
       if (!m.stroke) {
@@ -249,7 +282,10 @@ class StudentDevice final : public Device {
         top_set_ = true;
       }
       const Vector3 down = down_;
-      if (phase_ == 0) {
+      if (phase_ == 0 && m.pause_s > 0 && !paused_ && depth_ >= m.pause_at_mm) {
+        pause_t_ += dt;  // a hesitation on the way down
+        if (pause_t_ >= m.pause_s) paused_ = true;
+      } else if (phase_ == 0) {
         depth_ += m.speed_mm_s * dt;
         if (force_n_ >= m.target_force_n || depth_ >= max_depth_) {
           depth_ = std::min(depth_, max_depth_);
@@ -258,6 +294,8 @@ class StudentDevice final : public Device {
         }
       } else if (phase_ == 1) {
         phase_t_ += dt;
+        // Backing off from an overshoot: up slowly until the force is the one meant.
+        if (m.hold_force_n > 0) depth_ += 4.0 * (m.hold_force_n - felt_lp_n_) * dt;
         if (phase_t_ >= m.hold_s) phase_ = 2;
       } else {
         depth_ -= 20.0 * dt;
@@ -271,7 +309,7 @@ class StudentDevice final : public Device {
       pose_ = RigidTransform(top_.rotation(), top_.translation() + depth_ * down);
       break;
     }
-    out->X_WH = pose_;
+    out->X_WH = Hand(pose_, t_s);
     out->buttons = 0;
     out->time_s = t_s;
     return true;
@@ -289,12 +327,52 @@ class StudentDevice final : public Device {
     phase_t_ = 0;
     depth_ = 0;
     top_set_ = false;
+    paused_ = false;
+    pause_t_ = 0;
+  }
+  // The pose the hand holds for the pose it means: tremor, drift, key steps.
+  RigidTransform Hand(const RigidTransform& X, double t) {
+    const ScriptedStudent::HandStyle& h = hand_;
+    Vector3 p = X.translation();
+    Quaternion q(X.rotation());
+    if (h.tremor_mm > 0 || h.drift_mm > 0) {
+      constexpr double k2Pi = 2 * kPi;
+      const Vector3 u1 = Vector3(0.6, 0.3, 0.74).normalized(),
+                    u2 = Vector3(-0.4, 0.8, 0.45).normalized(),
+                    u3 = Vector3(0.2, -0.5, 0.84).normalized();
+      p += h.tremor_mm *
+           (std::sin(k2Pi * 9.5 * t) * u1 + 0.7 * std::sin(k2Pi * 11.3 * t + 1.0) * u2);
+      p += h.drift_mm * std::sin(k2Pi * 0.07 * t) * u3;
+      const double a = h.tremor_deg * kPi / 180 * std::sin(k2Pi * 9.5 * t + 0.5);
+      q = Quaternion(Eigen::AngleAxisd(a, u2)) * q;
+    }
+    if (h.step_mm > 0) {
+      if (!keys_set_) {
+        keys_ = p;
+        keys_set_ = true;
+        last_step_t_ = t;
+      }
+      // One key step per axis at most every step_s, toward where the hand means to be.
+      if (t - last_step_t_ >= h.step_s) {
+        last_step_t_ = t;
+        for (int k = 0; k < 3; ++k) {
+          const double d = p[k] - keys_[k];
+          if (std::abs(d) >= 0.5 * h.step_mm) keys_[k] += d > 0 ? h.step_mm : -h.step_mm;
+        }
+      }
+      p = keys_;
+    }
+    return RigidTransform(q, p);
   }
   std::vector<ScriptedStudent::Move> moves_;
+  ScriptedStudent::HandStyle hand_;
+  bool paused_ = false, keys_set_ = false;
+  double pause_t_ = 0, last_step_t_ = 0;
+  Vector3 keys_ = Vector3::Zero();
   DeviceCaps caps_;
   std::size_t i_ = 0;
   int phase_ = 0;
-  double phase_t_ = 0, depth_ = 0, last_t_ = 0, force_n_ = 0;
+  double phase_t_ = 0, depth_ = 0, last_t_ = 0, force_n_ = 0, felt_lp_n_ = 0;
   Vector3 force_W_ = Vector3::Zero();
   bool started_ = false;
   bool top_set_ = false;
@@ -306,16 +384,38 @@ class StudentDevice final : public Device {
 }  // namespace
 
 std::unique_ptr<Device> MakeHandDevice(std::vector<ScriptedStudent::Move> moves,
-                                       std::string name) {
-  return std::make_unique<StudentDevice>(std::move(moves), std::move(name));
+                                       std::string name,
+                                       ScriptedStudent::HandStyle hand) {
+  return std::make_unique<StudentDevice>(std::move(moves), std::move(name), hand);
 }
 
 std::unique_ptr<Device> ScriptedStudent::MakeDevice() const {
-  return MakeHandDevice(moves_, "student:" + name_);
+  return MakeHandDevice(moves_, "student:" + name_, hand_);
 }
 
 void ScriptedStudent::OnTick(const TickRecord& r) {
   last_tick_ = r.tick;
+  // Charting at rest: a site the tip has rested in for 0.5 s (within 0.15 mm,
+  // a trembling hand's stillness) is charted there, the probe still in it.
+  if (chart_at_rest_ && lesson_) {
+    const auto site = lesson_->tip_site();
+    const auto depth = lesson_->tip_depth_mm();
+    if (!site || !depth || site != rest_site_ || std::abs(*depth - rest_depth_) > 0.15) {
+      rest_site_ = site;
+      rest_since_s_ = r.time_s;
+      rest_depth_ = depth.value_or(0);
+    } else if (r.time_s - rest_since_s_ >= 0.5 && *depth >= 0.5 &&
+               std::find(charted_.begin(), charted_.end(), *site) == charted_.end() &&
+               std::find(spec_.path.begin(), spec_.path.end(), *site) !=
+                   spec_.path.end()) {
+      ChartEntry e;
+      e.site = *site;
+      e.tick = r.tick + 1;
+      e.pd_mm = static_cast<int>(std::lround(*depth));
+      lesson_->Enter(e);
+      charted_.push_back(*site);
+    }
+  }
   for (int i = 0; i < r.num_events; ++i) {
     const HapticEvent& e = r.events[i];
     if (e.kind != EventKind::kProbeReading && e.kind != EventKind::kBleeding) continue;
@@ -344,9 +444,29 @@ void ScriptedStudent::OnEnd() {
     const auto it = std::find_if(seen_.begin(), seen_.end(),
                                  [&](const Seen& x) { return x.site == s; });
     if (it == seen_.end() || it->deepest <= 0) continue;
+    // Charted at rest already: only its bleeding, seen since, is added.
+    if (std::find(charted_.begin(), charted_.end(), s) != charted_.end()) {
+      if (it->bled) {
+        ChartEntry b;
+        b.site = s;
+        b.tick = last_tick_ + 1;
+        b.bleeding = true;
+        lesson_->Enter(b);
+      }
+      if (ToothChart* t = chart.Find(s.fdi)) {
+        const auto x =
+            std::find_if(lesson_->entries().rbegin(), lesson_->entries().rend(),
+                         [&](const ChartEntry& c) { return c.site == s && c.pd_mm; });
+        if (x != lesson_->entries().rend())
+          t->sites[s.site] = {*x->pd_mm, lesson_->recession_mm(s), it->bled};
+      }
+      continue;
+    }
+    // Stamped when it is entered (the end), as the window stamps an entry: a
+    // replay with these answers applies it at the same moment.
     ChartEntry e;
     e.site = s;
-    e.tick = it->tick + 1;
+    e.tick = last_tick_ + 1;
     int pd = static_cast<int>(std::lround(it->deepest));
     if (std::find(misread_.begin(), misread_.end(), s) != misread_.end()) pd += 2;
     e.pd_mm = pd;

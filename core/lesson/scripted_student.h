@@ -15,8 +15,27 @@
 //               teeth of the path).
 //   spot        three straight insertions per surface (one per site), no walking.
 //   lazy        careful, but skips the second tooth of the path.
+//
+// Students with human hands (the careful path and charting unless said):
+//   tremor      a physiological tremor of 0.06 mm (9.5 and 11.3 Hz) and 0.3
+//               degrees, a slow drift of 0.2 mm, resting 1 s at each floor.
+//   slow        strokes at 2 mm/s instead of 12, moves three times slower.
+//   hesitant    stops halfway down every stroke for 0.3 s, then goes on.
+//   overshoot   goes down until it feels 0.36 N, then backs off to 0.22 N and
+//               rests there (1 s in all, keeping the force as a person does).
+//   occlusal    one insertion per site from 2 mm above the margin, coming down
+//               over the crown (no walking).
+//   charting    rests 1 s at the floor of each site's own stroke and charts the
+//               site while the tip is still in it.
+//   human       the careful-but-human student, several of the above at once:
+//               tremor of 0.06 mm and drift, strokes at 3 mm/s and moves 1.5
+//               times slower, a rest of 1 s keeping 0.22 N at each floor, and
+//               charting at rest.
+//   keys        the careful path played by the window's keys: the hand moves in
+//               steps of 0.1 mm (at most 100 a second on each axis).
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,6 +88,23 @@ class ScriptedStudent final : public ScriptedHand {
     /// stopped short) rather than at X_WH, and goes toward this point,
     /// max_depth_mm past it.
     Vector3 aim_W = Vector3::Zero();
+    /// A stroke's, when not zero: while it rests at the bottom the hand keeps
+    /// this force as a person does, correcting slowly on what it feels (the
+    /// felt force low-passed at 3 Hz, 4 mm/s per newton of error): an
+    /// overshoot is backed off, a tremor's swing is not chased.
+    double hold_force_n = 0;
+    /// A stroke's, when not zero: it stops this deep for pause_s on the way down.
+    double pause_at_mm = 0, pause_s = 0;
+    /// A stroke's: the student charts the site while resting at its floor.
+    bool chart_at_rest = false;
+  };
+  /// How a hand departs from the moves it means: tremor (two sines of 9.5 and
+  /// 11.3 Hz in fixed directions), angular tremor, a slow drift (0.07 Hz), and
+  /// keyboard steps (the position snapped to step_mm, at most one step per
+  /// step_s on each axis).
+  struct HandStyle {
+    double tremor_mm = 0, tremor_deg = 0, drift_mm = 0;
+    double step_mm = 0, step_s = 0.01;
   };
   /// The sites whose entry this student gets wrong on purpose (misreading).
   const std::vector<SiteRef>& misread_sites() const { return misread_; }
@@ -87,7 +123,13 @@ class ScriptedStudent final : public ScriptedHand {
   std::vector<Move> moves_;
   std::vector<SiteRef> misread_;
   std::vector<int> skipped_;
+  HandStyle hand_;
+  bool chart_at_rest_ = false;
   LessonRun* lesson_ = nullptr;
+  // Charting at rest: the site the tip rests in, since when, how deep.
+  std::optional<SiteRef> rest_site_;
+  double rest_since_s_ = 0, rest_depth_ = 0;
+  std::vector<SiteRef> charted_;
   struct Seen {
     SiteRef site;
     double deepest = 0;
@@ -101,6 +143,7 @@ class ScriptedStudent final : public ScriptedHand {
 /// A device that plays a list of moves (ScriptedStudent::Move) by loop time,
 /// feeling the force written back (a stroke stops when it feels its force).
 std::unique_ptr<Device> MakeHandDevice(std::vector<ScriptedStudent::Move> moves,
-                                       std::string name);
+                                       std::string name,
+                                       ScriptedStudent::HandStyle hand = {});
 
 }  // namespace sulcus

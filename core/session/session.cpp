@@ -18,7 +18,7 @@ Session::Session(const CompiledScene& scene, DeviceSpec device,
                : replayed_         ? replayed_->header.rate_hz
                                    : scene.spec.rate_hz;
   lo.force_scale = options.force_scale;
-  effects_ = MakeEffects(scene.effects);
+  effects_ = MakeEffects(scene.effects, lo.rate_hz);
   effect_list_ = EffectPointers(effects_);
   loop_ = std::make_unique<HapticLoop>(*scene.model, device_.get(), lo, effect_list_);
   if (!options.record.empty()) {

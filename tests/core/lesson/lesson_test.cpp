@@ -258,6 +258,70 @@ TEST(Students, TheRoughOneFailsForceAndDamageAndBleedingIsFlagged) {
   EXPECT_LT(r.total, 80.0);
 }
 
+// Students with human hands (scripted_student.h): each reads every site within
+// 1 mm of the truth. The careful-but-human one (tremor, drift, slow strokes, an
+// overshoot backed off, charting at rest) and the trembling one hold the force
+// in the band at every site, and tremor does not multiply the readings.
+int Insertions(const LessonResult& r) {
+  int n = 0;
+  for (const SiteResult& s : r.sites) n += s.insertions;
+  return n;
+}
+
+TEST(HumanHands, EachReadsEverySiteWithinAMillimetre) {
+  const LessonResult careful = Take("careful").result;
+  std::printf("figure: careful %.1f, %d insertions\n", careful.total,
+              Insertions(careful));
+  for (const char* name : {"tremor", "slow", "hesitant", "overshoot", "occlusal",
+                           "charting", "human", "keys"}) {
+    const LessonResult r = Take(name).result;
+    std::printf(
+        "figure: %-9s %.1f / 100, %d of 24 read, force in band %.0f %%, %d insertions, "
+        "%.1f s\n",
+        name, r.total, r.sites_read, r.force_in_band_pct, Insertions(r), r.duration_s);
+    EXPECT_EQ(r.sites_read, 24) << name;
+    for (const SiteResult& s : r.sites) {
+      ASSERT_TRUE(s.reached_mm)
+          << name << " " << s.site.ToString() << ": " << s.no_reading;
+      EXPECT_LE(std::abs(*s.reached_mm - s.truth_mm), 1.0)
+          << name << " " << s.site.ToString();
+    }
+    const std::string n = name;
+    if (n == "human" || n == "tremor" || n == "overshoot" || n == "charting") {
+      // The force held at the floor is in the band at (nearly) every site; the
+      // highest tick, which the lesson once scored, is not.
+      int held = 0, peak = 0;
+      for (const SiteResult& s : r.sites) {
+        held += s.held_force_n >= r.rubric.force_low_n &&
+                s.held_force_n <= r.rubric.force_high_n;
+        peak += s.peak_force_n >= r.rubric.force_low_n &&
+                s.peak_force_n <= r.rubric.force_high_n;
+      }
+      std::printf(
+          "figure: %-9s force in band at %d of 24 sites (held), %d (highest tick)\n",
+          name, held, peak);
+      EXPECT_GE(held, 22) << name;
+      // Tremor does not multiply the readings: at most a fifth more visits than
+      // the careful hand's (a slower, drifting hand revisits a few line angles).
+      EXPECT_LE(Insertions(r), Insertions(careful) * 6 / 5)
+          << name << ": one dwell, one reading";
+    }
+    if (n == "overshoot") {
+      int peaks_above = 0;
+      for (const SiteResult& s : r.sites)
+        peaks_above += s.peak_force_n > s.held_force_n + 0.05;
+      EXPECT_GT(peaks_above, 12) << name << ": the overshoot is kept as the peak";
+    }
+    if (n == "charting" || n == "human") {
+      // Charted with the probe at the floor: every entry made while reading.
+      int at_rest = 0;
+      for (const SiteResult& s : r.sites)
+        at_rest += s.entry && s.entry->tick < r.last_tick;
+      EXPECT_GE(at_rest, 12) << name << ": the sites charted at rest";
+    }
+  }
+}
+
 TEST(Students, TheMisreadingOneFailsReadingAtExactlyItsThreeSites) {
   const LessonSpec spec = LoadLessonSpec(Lesson());
   std::set<std::string> expected;
@@ -360,25 +424,82 @@ TEST(GeneratedCase, AnAssessmentOnADrawnCaseStoresItsSeedAndRebuilds) {
   EXPECT_EQ(ReportJson(again.result, {}), ReportJson(out.result, {}));
 }
 
+// The tip held 6.8 mm down 46 DB's line for `dwell` ticks from tick 1, then
+// lifted far away for `away` ticks.
+std::vector<TickRecord> DwellAt46DB(const CompiledScene& scene, int dwell, int away) {
+  const auto& sites = scene.effects.sites;
+  const auto it = std::find_if(sites.begin(), sites.end(), [](const ProbingSite& p) {
+    return p.fdi == 46 && p.site == 2;
+  });
+  EXPECT_NE(it, sites.end());
+  const Vector3 down = (it->floor_W - it->margin_W).normalized();
+  std::vector<TickRecord> out;
+  for (int i = 0; i < dwell + away; ++i) {
+    TickRecord r;
+    r.tick = static_cast<std::uint64_t>(i + 1);
+    const Vector3 p = i < dwell ? Vector3(it->margin_W + 6.8 * down)
+                                : Vector3(it->margin_W - 30.0 * down);
+    r.X_WG = RigidTransform(Quaternion::FromTwoVectors(Vector3::UnitZ(), -down), p);
+    r.force_W = -0.22 * down;  // the floor pushing back up the probe
+    out.push_back(r);
+  }
+  return out;
+}
+
 TEST(LessonRun, PracticeShowsTheTruthAssessmentDoesNot) {
   LessonSpec spec = LoadLessonSpec(Lesson());
   const auto scene = CompileScene(LoadSceneSpec(spec.scene), Cache());
   for (const auto mode : {LessonSpec::Mode::kPractice, LessonSpec::Mode::kAssessment}) {
     spec.mode = mode;
     LessonRun lesson(spec, *scene, "x");
-    TickRecord r;
-    r.tick = 10;
-    r.num_events = 1;
-    r.events[0] = HapticEvent::Of(EventKind::kProbeReading, 0);
-    r.events[0].payload.reading = {
-        .fdi = 46, .site = 2, .depth_mm = 6.8, .peak_force_n = 0.2};
-    lesson.OnTick(r);
+    const auto ticks = DwellAt46DB(*scene, 300, 200);
+    for (int i = 0; i < 300; ++i) lesson.OnTick(ticks[static_cast<std::size_t>(i)]);
+    ASSERT_TRUE(lesson.tip_site());
+    EXPECT_EQ(lesson.tip_site()->ToString(), "46 DB") << "the panel's site";
+    EXPECT_TRUE(lesson.feedback().empty()) << "the visit has not ended";
+    for (int i = 300; i < 500; ++i) lesson.OnTick(ticks[static_cast<std::size_t>(i)]);
+    EXPECT_FALSE(lesson.tip_site());
     ASSERT_EQ(lesson.feedback().size(), 1u);
     const bool truth_shown =
         lesson.feedback()[0].find("true depth is 7 mm") != std::string::npos;
     EXPECT_EQ(truth_shown, mode == LessonSpec::Mode::kPractice) << lesson.feedback()[0];
     ASSERT_TRUE(lesson.next_site());
     EXPECT_EQ(lesson.next_site()->ToString(), "47 DB") << "the path's first unread site";
+  }
+}
+
+TEST(LessonRun, ChartingASiteWithTheTipInItCompletesItsReading) {
+  const LessonSpec spec = LoadLessonSpec(Lesson());
+  const auto scene = CompileScene(LoadSceneSpec(spec.scene), Cache());
+  const auto ticks = DwellAt46DB(*scene, 400, 0);
+  LessonRun live(spec, *scene, "x");
+  for (int i = 0; i < 200; ++i) live.OnTick(ticks[static_cast<std::size_t>(i)]);
+  ChartEntry e;
+  e.site = {46, 2};
+  e.pd_mm = 7;
+  e.tick = live.last_tick() + 1;  // as the window stamps it
+  live.Enter(e);
+  for (int i = 200; i < 400; ++i) live.OnTick(ticks[static_cast<std::size_t>(i)]);
+  const LessonResult a = live.Finish();
+  const SiteResult* s = nullptr;
+  for (const SiteResult& x : a.sites)
+    if (x.site == SiteRef{46, 2}) s = &x;
+  ASSERT_NE(s, nullptr);
+  ASSERT_TRUE(s->reached_mm) << "read while the tip rests at the floor";
+  EXPECT_NEAR(*s->reached_mm, 6.8, 1e-9);
+  EXPECT_EQ(s->insertions, 1) << "one dwell, one reading";
+  EXPECT_EQ(s->reading_tick, 1u);
+  EXPECT_NEAR(s->held_force_n, 0.22, 0.01) << "the force held (low-passed, median)";
+  // The same entry replayed from the answers file at its tick: the same report.
+  LessonRun replay(spec, *scene, "x");
+  replay.Schedule(e);
+  for (const TickRecord& r : ticks) replay.OnTick(r);
+  replay.OnEnd();
+  EXPECT_EQ(ReportJson(replay.Finish(), {}), ReportJson(a, {}));
+  // Every site without a reading says why.
+  for (const SiteResult& x : a.sites) {
+    if (x.reached_mm) continue;
+    EXPECT_FALSE(x.no_reading.empty()) << x.site.ToString();
   }
 }
 
@@ -427,7 +548,9 @@ TEST(Recovery, AnAttemptCutShortByAStoppedProgramIsRebuiltAndKeptAsIncomplete) {
   const fs::path results = Out("recovery");
   fs::remove_all(results);
   const AttemptFolder folder = NewAttemptFolder(results, "ada");
-  const AttemptOutcome whole = Take("careful", folder.recording());
+  // A student who charts each site as it reads it, so entries are spread over
+  // the attempt (the careful one charts everything at the end).
+  const AttemptOutcome whole = Take("charting", folder.recording());
   ASSERT_TRUE(whole.result.complete);
   // The program stops at about the middle: the recording ends there (its last
   // frame cut in half) and the entries saved so far are those made before it.
@@ -557,6 +680,36 @@ TEST(Recovery, AHeadlessAttemptKilledMidLessonIsRebuiltFromItsRecording) {
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].id, kept.id);
   EXPECT_FALSE(rows[0].complete);
+}
+
+// An attempt the database could not take (here a folder where the database
+// file should be) is kept in its folder, marked, and stored by the next
+// recovery: once.
+TEST(Recovery, AnAttemptTheDatabaseCouldNotTakeIsStoredLaterAndOnce) {
+  const fs::path results = Out("unstored");
+  fs::remove_all(results);
+  const AttemptFolder folder = NewAttemptFolder(results, "uma");
+  AttemptOptions o;
+  o.student = "uma";
+  o.device = "student:spot";
+  o.cache_dir = Cache();
+  o.record = folder.recording();
+  o.keep_in = &folder;
+  const AttemptOutcome out = RunAttempt(Lesson(), o);
+  fs::create_directories(results / "results.db");
+  EXPECT_ANY_THROW(KeepAttempt(out.result, folder, folder.dir, results / "results.db"));
+  EXPECT_TRUE(fs::exists(folder.dir / "report.json")) << "the report is kept";
+  EXPECT_TRUE(fs::exists(folder.dir / kUnstoredFile)) << "and says it is not stored";
+  fs::remove_all(results / "results.db");
+  const auto waiting = UnfinishedAttempts(results);
+  ASSERT_EQ(waiting.size(), 1u);
+  EXPECT_EQ(waiting[0], folder.dir);
+  const RecoveredAttempt kept = RecoverAttempt(folder.dir, results, Cache());
+  EXPECT_GT(kept.id, 0);
+  EXPECT_FALSE(fs::exists(folder.dir / kUnstoredFile));
+  EXPECT_TRUE(UnfinishedAttempts(results).empty()) << "stored once";
+  ResultsDb db(results / "results.db");
+  EXPECT_EQ(db.Attempts("uma").size(), 1u);
 }
 
 TEST(Recovery, AHeadlessAttemptKilledBeforeItWasKeptLosesNoEntry) {

@@ -835,6 +835,8 @@ TEST(Probing, EveryInterproximalSiteOnTheArchReadsItselfAtItsDepth) {
         keys.push_back({2.1 + down / 4.0, world(top - down * up_T), q, 0});
         keys.push_back({3.0 + down / 4.0, world(top + 2.0 * up_T), q,
                         0});  // out of the sulcus: the reading ends
+        keys.push_back({3.2 + down / 4.0, world(top + 2.0 * up_T), q,
+                        0});  // (a visit's reading comes 0.1 s after the tip has left)
         struct Readings final : TickConsumer {
           void OnTick(const TickRecord& r) override {
             for (int i = 0; i < r.num_events; ++i)
