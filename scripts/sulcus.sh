@@ -17,7 +17,8 @@ fi
 if [[ -n "${DISPLAY:-}" && -x build/release/bin/sulcus ]]; then
   echo "Opening the window on its start page: say who you are and pick a lesson (the"
   echo "first run builds the scene's sphere-trees, about a minute; the mouse and keyboard"
-  echo "move the probe: W/S, A/D, Q/E; F1 for help)."
+  echo "move the probe: W/S, A/D, Q/E as the screen shows it, N to the next site, R/F to"
+  echo "press along the probe; F1 for help)."
   exec build/release/bin/sulcus
 fi
 echo

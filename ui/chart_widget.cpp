@@ -14,7 +14,8 @@ namespace {
 constexpr int kCell = 24, kRowH = 20, kLabelW = 78, kToothGap = 6, kBandTitle = 18,
               kHeader = 18;
 constexpr int kRows = 5;  // PD, recession, CAL, bleeding, truth (practice)
-const char* const kRowNames[kRows] = {"PD", "recession", "CAL", "bleeding", "true PD"};
+const char* const kRowNames[kRows] = {"PD mm", "GM mm", "CAL mm", "bleeding",
+                                      "true PD mm"};
 
 // Cells of a tooth in a band, left to right: distal, middle, mesial mirrored so
 // that the cell nearest the midline is the mesial one.
@@ -35,9 +36,12 @@ ChartWidget::ChartWidget(QWidget* parent) : QWidget(parent) {
   setFocusPolicy(Qt::StrongFocus);
   setToolTip(
       "The periodontal chart. Type the depth you read (whole mm) and it moves to the "
-      "next site; "
-      "B or Space marks bleeding on the site just entered; Backspace goes back. "
-      "Shift+digit: 10 mm and over.");
+      "next site; B or Space marks bleeding on the site just entered; Backspace goes "
+      "back. 10 mm and over: + then the second digit (+ 2 is 12 mm); a depth over 12 mm "
+      "asks you to confirm it with Enter (Esc cancels). GM: the gingival margin, "
+      "positive where it lies apical to the CEJ (recession), negative where the "
+      "gingiva is enlarged. CAL = PD + GM. The true PD shows (practice) at a site you "
+      "probed and charted.");
 }
 
 void ChartWidget::SetLesson(const std::vector<int>& teeth,
@@ -102,6 +106,12 @@ void ChartWidget::SetTruth(const std::map<std::pair<int, int>, int>& truth) {
   update();
 }
 
+void ChartWidget::SetProbed(const std::set<std::pair<int, int>>& probed) {
+  if (probed == probed_) return;
+  probed_ = probed;
+  update();
+}
+
 void ChartWidget::SetEnabled(bool on) {
   enabled_ = on;
   update();
@@ -141,9 +151,33 @@ QRect ChartWidget::CellRect(int band, int tooth_index, int cell, int row) const 
   return {x, y0 + row * kRowH, kCell - 1, kRowH - 1};
 }
 
+double ChartWidget::Scale() const {
+  // The chart shrinks to the width it is given (never grows), so the whole
+  // mouth fits a narrow panel; its height follows (heightForWidth).
+  const int natural = sizeHint().width();
+  return natural > 0 && width() < natural ? std::max(0.4, double(width()) / natural)
+                                          : 1.0;
+}
+
+QSize ChartWidget::minimumSizeHint() const {
+  const QSize n = sizeHint();
+  return {std::min(n.width(), 220), static_cast<int>(n.height() * 0.4)};
+}
+
+bool ChartWidget::hasHeightForWidth() const { return true; }
+
+int ChartWidget::heightForWidth(int w) const {
+  const QSize n = sizeHint();
+  const double s =
+      n.width() > 0 && w < n.width() ? std::max(0.4, double(w) / n.width()) : 1.0;
+  return static_cast<int>(std::ceil(n.height() * s));
+}
+
 void ChartWidget::paintEvent(QPaintEvent*) {
   QPainter p(this);
   p.fillRect(rect(), palette().base());
+  const double scale = Scale();
+  p.scale(scale, scale);
   QFont f = font();
   f.setPointSizeF(std::max(7.0, f.pointSizeF() - 1));
   p.setFont(f);
@@ -196,11 +230,9 @@ void ChartWidget::paintEvent(QPaintEvent*) {
             text = QString::number(rec->second, 'f',
                                    rec->second == std::floor(rec->second) ? 0 : 1);
           if (r == 2 && pd != pd_.end() && rec != recession_.end()) {
-            SiteValues v;
-            v.pd_mm = pd->second;
-            v.recession_mm = rec->second;
-            text = QString::number(*v.cal_mm());
-            if (*v.cal_mm() >= 4) colour = QColor(200, 30, 30);
+            const double cal = pd->second + rec->second;  // never truncated
+            text = QString::number(cal, 'f', cal == std::floor(cal) ? 0 : 1);
+            if (cal >= 4) colour = QColor(200, 30, 30);
           }
           if (r == 3 && bleeding_.count(key) && bleeding_.at(key)) {
             p.setBrush(QColor(210, 30, 30));
@@ -208,7 +240,7 @@ void ChartWidget::paintEvent(QPaintEvent*) {
             p.drawEllipse(cell.center(), 4, 4);
             p.setBrush(Qt::NoBrush);
           }
-          if (r == 4 && truth_.count(key) && pd != pd_.end()) {
+          if (r == 4 && truth_.count(key) && pd != pd_.end() && probed_.count(key)) {
             text = QString::number(truth_.at(key));
             colour =
                 truth_.at(key) == pd->second ? QColor(30, 130, 50) : QColor(200, 120, 0);
@@ -220,6 +252,20 @@ void ChartWidget::paintEvent(QPaintEvent*) {
         }
       }
     }
+  }
+  p.resetTransform();
+  if (tens_ || pending_) {
+    // What the keys are waiting for, over the top right of the chart.
+    const QString say = pending_
+                            ? QString("%1 mm? Enter confirms, Esc cancels").arg(*pending_)
+                            : QString("+ : the next digit is 10 + digit");
+    QFont b = font();
+    b.setBold(true);
+    p.setFont(b);
+    const QRect box(width() - 290, 2, 284, 18);
+    p.fillRect(box, QColor(255, 236, 140));
+    p.setPen(QColor(60, 40, 0));
+    p.drawText(box, Qt::AlignCenter, say);
   }
   if (!enabled_) p.fillRect(rect(), QColor(255, 255, 255, 120));
   if (hasFocus()) {
@@ -245,14 +291,38 @@ void ChartWidget::Enter(int value) {
 void ChartWidget::keyPressEvent(QKeyEvent* e) {
   if (!enabled_ || read_only_) return QWidget::keyPressEvent(e);
   const int k = e->key();
-  if (k >= Qt::Key_0 && k <= Qt::Key_9) {
-    Enter((k - Qt::Key_0) + ((e->modifiers() & Qt::ShiftModifier) ? 10 : 0));
-    return;
+  // A depth over 12 mm waits for Enter (Esc, or any other key, cancels it).
+  if (pending_) {
+    const int v = *pending_;
+    pending_.reset();
+    if (k == Qt::Key_Return || k == Qt::Key_Enter) Enter(v);
+    update();
+    if (k == Qt::Key_Return || k == Qt::Key_Enter || k == Qt::Key_Escape) return;
   }
+  int digit = -1;
+  if (k >= Qt::Key_0 && k <= Qt::Key_9 && !(e->modifiers() & Qt::ShiftModifier))
+    digit = k - Qt::Key_0;
   // Shift+digit arrives as the shifted character on most layouts.
   const QString shifted = ")!@#$%^&*(";
-  if (const int i = shifted.indexOf(e->text()); !e->text().isEmpty() && i >= 0) {
-    Enter(10 + i);
+  int shifted_digit = -1;
+  if (const int i = shifted.indexOf(e->text()); !e->text().isEmpty() && i >= 0)
+    shifted_digit = i;
+  else if (k >= Qt::Key_0 && k <= Qt::Key_9 && (e->modifiers() & Qt::ShiftModifier))
+    shifted_digit = k - Qt::Key_0;
+  if (k == Qt::Key_Plus || e->text() == "+") {  // the tens prefix
+    tens_ = !tens_;
+    update();
+    return;
+  }
+  if (digit >= 0 || shifted_digit >= 0) {
+    const int value = digit >= 0 ? (tens_ ? 10 + digit : digit) : 10 + shifted_digit;
+    tens_ = false;
+    if (value > kConfirmAboveMm) {
+      pending_ = value;
+      update();
+      return;
+    }
+    Enter(value);
     return;
   }
   if ((k == Qt::Key_B || k == Qt::Key_Space) && last_entered_) {
@@ -281,12 +351,15 @@ void ChartWidget::keyPressEvent(QKeyEvent* e) {
 
 void ChartWidget::mousePressEvent(QMouseEvent* e) {
   setFocus();
+  const double scale = Scale();
+  const QPoint at(static_cast<int>(e->pos().x() / scale),
+                  static_cast<int>(e->pos().y() / scale));
   // A click on a cell puts the cursor there.
   for (int b = 0; b < static_cast<int>(bands_.size()); ++b)
     for (int t = 0; t < static_cast<int>(bands_[b].teeth.size()); ++t) {
       const std::array<int, 3> sites = CellSites(bands_[b].teeth[t], bands_[b].buccal);
       for (int c = 0; c < 3; ++c)
-        if (CellRect(b, t, c, 0).contains(e->pos())) {
+        if (CellRect(b, t, c, 0).contains(at)) {
           for (std::size_t i = 0; i < path_.size(); ++i)
             if (path_[i].fdi == bands_[b].teeth[t] && path_[i].site == sites[c])
               cursor_ = i;

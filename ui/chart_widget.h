@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -32,6 +33,12 @@ class ChartWidget : public QWidget {
   void SetTruth(const std::map<std::pair<int, int>, int>&
                     truth);  // practice: shown in a row once a site is entered
   void SetEnabled(bool on);
+  /// The sites with a reading: practice shows the true PD only there.
+  void SetProbed(const std::set<std::pair<int, int>>& probed);
+  /// A depth over this asks for Enter before it is charted.
+  static constexpr int kConfirmAboveMm = 12;
+  /// Waiting for Enter on this depth (over kConfirmAboveMm).
+  std::optional<int> pending() const { return pending_; }
   /// Shows a whole chart, read only (an instructor's preview of a case's truth).
   void ShowChart(const PerioChart& chart);
 
@@ -43,6 +50,9 @@ class ChartWidget : public QWidget {
   int entered() const { return static_cast<int>(pd_.size()); }
   bool shows_truth() const { return !truth_.empty(); }
   QSize sizeHint() const override;
+  QSize minimumSizeHint() const override;
+  bool hasHeightForWidth() const override;
+  int heightForWidth(int w) const override;
 
  protected:
   void paintEvent(QPaintEvent* e) override;
@@ -55,6 +65,7 @@ class ChartWidget : public QWidget {
     std::vector<int> teeth;
   };
   void Enter(int value);
+  double Scale() const;  // painted at this scale to fit the width
   QRect CellRect(int band, int tooth_index, int cell, int row) const;
   int rows() const;  // the true PD row only when there is truth to show (practice)
 
@@ -66,6 +77,9 @@ class ChartWidget : public QWidget {
   std::map<std::pair<int, int>, bool> bleeding_;
   std::map<std::pair<int, int>, double> recession_;
   std::map<std::pair<int, int>, int> truth_;
+  std::set<std::pair<int, int>> probed_;
+  bool tens_ = false;           // "+" pressed: the next digit is 10 + digit
+  std::optional<int> pending_;  // a depth over kConfirmAboveMm, waiting for Enter
   std::optional<SiteRef> probing_;
   bool enabled_ = true, read_only_ = false;
 };

@@ -8,8 +8,24 @@ namespace sulcus::ui {
 
 ForceGauge::ForceGauge(QWidget* parent) : QWidget(parent) {
   setMinimumSize(260, 75);
-  setToolTip(
-      "Probing force; the green band is the clinical probing force, 0.20 to 0.25 N");
+  SetBand(band_low_, band_high_);
+}
+
+void ForceGauge::SetBand(double low_n, double high_n) {
+  band_low_ = low_n;
+  band_high_ = high_n;
+  setToolTip(QString("The force along the probe; the green band (%1 to %2 N) is the "
+                     "force the lesson gives full credit for at the pocket floor. The "
+                     "white mark is the press set with R and F (mouse and keyboard).")
+                 .arg(low_n, 0, 'f', 2)
+                 .arg(high_n, 0, 'f', 2));
+  update();
+}
+
+void ForceGauge::SetPress(double n) {
+  if (n == press_) return;
+  press_ = n;
+  update();
 }
 
 void ForceGauge::SetLabel(const QString& label) {
@@ -35,13 +51,18 @@ void ForceGauge::paintEvent(QPaintEvent*) {
     return bar.left() + bar.width() * std::clamp(n / kScaleN, 0.0, 1.0);
   };
   p.fillRect(bar, QColor(58, 60, 68));
-  p.fillRect(
-      QRectF(QPointF(x_of(kBandLow), bar.top()), QPointF(x_of(kBandHigh), bar.bottom())),
-      QColor(60, 170, 90));
+  p.fillRect(QRectF(QPointF(x_of(band_low_), bar.top()),
+                    QPointF(x_of(band_high_), bar.bottom())),
+             QColor(60, 170, 90));
   const QColor fill =
       InBand() ? QColor(90, 220, 120)
-               : (force_ > kBandHigh ? QColor(235, 120, 60) : QColor(120, 170, 240));
+               : (force_ > band_high_ ? QColor(235, 120, 60) : QColor(120, 170, 240));
   p.fillRect(QRectF(bar.left(), bar.top() + 7, x_of(force_) - bar.left(), 12), fill);
+  if (press_ > 0) {
+    p.setPen(QPen(QColor(250, 250, 250), 3));
+    p.drawLine(QPointF(x_of(press_), bar.top() - 3),
+               QPointF(x_of(press_), bar.bottom() + 3));
+  }
   p.setPen(QColor(200, 200, 205));
   for (double n = 0; n <= kScaleN + 1e-9; n += 0.1) {
     p.drawLine(QPointF(x_of(n), bar.bottom()), QPointF(x_of(n), bar.bottom() + 4));
@@ -53,11 +74,13 @@ void ForceGauge::paintEvent(QPaintEvent*) {
   QFont big = p.font();
   big.setBold(true);
   p.setFont(big);
-  p.drawText(QPointF(all.left(), all.top() + 14),
-             QString("%1 %2 N%3")
-                 .arg(label_)
-                 .arg(force_, 0, 'f', 3)
-                 .arg(force_ > kScaleN ? "  (off scale)" : ""));
+  p.drawText(
+      QPointF(all.left(), all.top() + 14),
+      QString("%1 %2 N%3%4")
+          .arg(label_)
+          .arg(force_, 0, 'f', 3)
+          .arg(force_ > kScaleN ? "  (off scale)" : "")
+          .arg(press_ > 0 ? QString("   press %1 N").arg(press_, 0, 'f', 2) : QString()));
   p.setFont(QFont());
 }
 

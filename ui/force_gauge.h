@@ -1,5 +1,6 @@
 #pragma once
-// The live force: a bar with the clinical probing band (0.20 to 0.25 N) marked.
+// The live force: a bar with the lesson's scoring band marked (by default the
+// rubric's 0.15 to 0.30 N), and the press the keys set (mouse and keyboard).
 // (The last seconds are plotted by ForcePlot, a VTK chart.)
 
 #include <QString>
@@ -17,14 +18,20 @@ class ForceGauge : public QWidget {
   /// probe).
   void SetLabel(const QString& label);
   void Clear() { SetForce(0); }
-  bool InBand() const { return force_ >= kBandLow && force_ <= kBandHigh; }
-  static constexpr double kBandLow = 0.20, kBandHigh = 0.25, kScaleN = 0.6;
+  /// The band of full credit the lesson scores against (N).
+  void SetBand(double low_n, double high_n);
+  double band_low() const { return band_low_; }
+  double band_high() const { return band_high_; }
+  /// The force the keyboard's press pushes with (0: none; drawn as a marker).
+  void SetPress(double n);
+  bool InBand() const { return force_ >= band_low_ && force_ <= band_high_; }
+  static constexpr double kScaleN = 0.6;
 
  protected:
   void paintEvent(QPaintEvent*) override;
 
  private:
-  double force_ = 0;
+  double force_ = 0, press_ = 0, band_low_ = 0.15, band_high_ = 0.30;
   QString label_ = "Force";
 };
 

@@ -18,7 +18,7 @@
 namespace sulcus::ui {
 namespace {
 
-constexpr double kHistoryS = 5.0, kBandLow = 0.20, kBandHigh = 0.25;
+constexpr double kHistoryS = 5.0;
 
 }  // namespace
 
@@ -36,8 +36,8 @@ ForcePlot::ForcePlot(QWidget* parent)
   chart_ = vtkSmartPointer<vtkChartXY>::New();
   view_->GetScene()->AddItem(chart_);
   table_ = vtkSmartPointer<vtkTable>::New();
-  for (const char* name :
-       {"t (s)", "force (N)", "torque (N*m x 10)", "band 0.20 N", "band 0.25 N"}) {
+  for (const char* name : {"t (s)", "force along the probe (N)", "torque (N*m x 10)",
+                           "band low (N)", "band high (N)"}) {
     auto column = vtkSmartPointer<vtkDoubleArray>::New();
     column->SetName(name);
     table_->AddColumn(column);
@@ -96,6 +96,11 @@ void ForcePlot::Clear() {
   Redraw();
 }
 
+void ForcePlot::SetBand(double low_n, double high_n) {
+  band_low_ = low_n;
+  band_high_ = high_n;
+}
+
 int ForcePlot::rows() const { return static_cast<int>(table_->GetNumberOfRows()); }
 
 void ForcePlot::Redraw() {
@@ -113,8 +118,8 @@ void ForcePlot::Redraw() {
       table_->SetValue(row, 0, s.t - now);
       table_->SetValue(row, 1, s.f);
       table_->SetValue(row, 2, s.tq / 100.0);
-      table_->SetValue(row, 3, kBandLow);
-      table_->SetValue(row, 4, kBandHigh);
+      table_->SetValue(row, 3, band_low_);
+      table_->SetValue(row, 4, band_high_);
     }
   }
   table_->Modified();

@@ -1,6 +1,7 @@
 #pragma once
-// The force and torque of the last seconds as a VTK chart (vtkChartXY in a
-// QVTKOpenGLNativeWidget), with the clinical probing band drawn as two lines.
+// The force along the probe and the torque of the last seconds as a VTK chart
+// (vtkChartXY in a QVTKOpenGLNativeWidget), with the lesson's force band drawn
+// as two lines: the same quantity, from the same snapshot, as the gauge.
 
 #include <vtkSmartPointer.h>
 
@@ -28,6 +29,8 @@ class ForcePlot : public QWidget {
   /// replay shows the last 5 s up to its cursor (the right edge).
   void SetSamples(const std::vector<std::array<double, 3>>& samples);
   int rows() const;  // samples in the chart now
+  /// The band of full credit (N), drawn as two lines.
+  void SetBand(double low_n, double high_n);
 
  private:
   void Redraw();
@@ -35,7 +38,7 @@ class ForcePlot : public QWidget {
     double t, f, tq;
   };
   std::deque<Sample> history_;
-  double last_draw_ = -1;
+  double last_draw_ = -1, band_low_ = 0.15, band_high_ = 0.30;
   QVTKOpenGLNativeWidget* widget_;
   vtkSmartPointer<vtkContextView> view_;
   vtkSmartPointer<vtkChartXY> chart_;

@@ -1,5 +1,6 @@
 #include "ui/instructor_dialog.h"
 
+#include <QColor>
 #include <QComboBox>
 #include <QDialogButtonBox>
 #include <QFileDialog>
@@ -256,21 +257,30 @@ void InstructorDialog::Refresh() {
   attempts_->setRowCount(static_cast<int>(attempts.size()));
   for (int r = 0; r < static_cast<int>(attempts.size()); ++r) {
     const AttemptRow& a = attempts[static_cast<std::size_t>(r)];
-    // An inspection has no sites and no diagnosis: those cells say so.
-    const bool sites = a.sites_total > 0;
+    // An inspection has no sites and no diagnosis, an attempt that probed
+    // nothing has no agreement: those cells say so ("-").
+    const bool sites = a.sites_total > 0, read = a.sites_read > 0;
     const QStringList cells = {
         QString::number(a.id),
         Q(a.student),
         Q(a.lesson_name),
         Q(a.started),
         Q(a.mode),
-        QString::number(a.total, 'f', 1),
-        sites ? QString("%1 %").arg(a.within_1mm_pct, 0, 'f', 0) : QString("-"),
-        sites ? QString("%1 %").arg(a.force_in_band_pct, 0, 'f', 0) : QString("-"),
+        QString::number(a.total, 'f', 1) + (a.complete ? "" : " (incomplete)"),
+        sites && a.sites_charted > 0 ? QString("%1 %").arg(a.within_1mm_pct, 0, 'f', 0)
+                                     : QString("-"),
+        sites && read ? QString("%1 %").arg(a.force_in_band_pct, 0, 'f', 0)
+                      : QString("-"),
         sites ? Q(a.declared_dx) : QString("-"),
         sites ? Q(a.true_dx) : QString("-")};
-    for (int c = 0; c < cells.size(); ++c)
-      attempts_->setItem(r, c, new QTableWidgetItem(cells[c]));
+    for (int c = 0; c < cells.size(); ++c) {
+      auto* item = new QTableWidgetItem(cells[c]);
+      if (!a.complete) {
+        item->setForeground(QColor(150, 90, 0));
+        item->setToolTip(QString("Incomplete: %1").arg(Q(a.ended)));
+      }
+      attempts_->setItem(r, c, item);
+    }
   }
   // Sites across the cohort, worst first.
   struct Acc {

@@ -27,6 +27,7 @@
 #include <QMessageBox>
 #include <QMouseEvent>
 #include <QProgressDialog>
+#include <QProxyStyle>
 #include <QPushButton>
 #include <QRadioButton>
 #include <QScrollArea>
@@ -47,6 +48,7 @@
 #include <cmath>
 #include <ctime>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "core/haptics/devices/usb_discovery.h"
@@ -78,7 +80,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   BuildUi();
   QSettings settings;
   restoreGeometry(settings.value("window/geometry").toByteArray());
-  restoreState(settings.value("window/state").toByteArray());
+  // The docks' layout as the student left it, if it is this version's (the
+  // lesson and instrument panels share the right side as tabs since version 2).
+  restoreState(settings.value("window/state").toByteArray(), kDockLayoutVersion);
   timer_ = new QTimer(this);
   connect(timer_, &QTimer::timeout, this, [this] { Tick(); });
   timer_->start(16);
@@ -87,6 +91,18 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
 MainWindow::~MainWindow() { StopSession(); }
 
 namespace {
+class JumpSliderStyle final : public QProxyStyle {
+ public:
+  using QProxyStyle::QProxyStyle;
+  int styleHint(StyleHint hint, const QStyleOption* option, const QWidget* widget,
+                QStyleHintReturn* returned) const override {
+    if (hint == QStyle::SH_Slider_AbsoluteSetButtons)
+      return Qt::LeftButton | Qt::MiddleButton;
+    return QProxyStyle::styleHint(hint, option, widget, returned);
+  }
+};
+
+constexpr int kPanelWidth = 380;  // px: the side docks', so the 3D view keeps 60 %
 // A side panel that scrolls when the screen is short (a 1366 x 768 laptop)
 // instead of holding the window taller than the screen.
 QScrollArea* Scrolling(QWidget* panel) {
@@ -94,8 +110,11 @@ QScrollArea* Scrolling(QWidget* panel) {
   scroll->setWidget(panel);
   scroll->setWidgetResizable(true);
   scroll->setFrameShape(QFrame::NoFrame);
-  scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
-  scroll->setMinimumWidth(panel->sizeHint().width() + 16);
+  scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAsNeeded);
+  // The 3D view comes first: a panel is at most kPanelWidth wide (its chart
+  // and odontogram scale to fit).
+  scroll->setMinimumWidth(std::min(panel->sizeHint().width() + 16, kPanelWidth));
+  scroll->setMaximumWidth(std::max(kPanelWidth, 300));
   return scroll;
 }
 }  // namespace
@@ -202,8 +221,15 @@ void MainWindow::BuildUi() {
   form->addRow("View", views);
   form->addRow("Occlusal", occlusal_views);
   auto* reset = new QPushButton("Reset tool");
+  reset->setToolTip(
+      "Brings the tool back to a free pose: with the mouse and keyboard, 6 mm above the "
+      "site the tip is in (or the next site)");
   connect(reset, &QPushButton::clicked, this, [this] {
-    if (session_) session_->loop().Send({HapticCommand::Kind::kResetTool});
+    if (!session_) return;
+    std::optional<SiteRef> site = lesson_ ? lesson_->tip_site() : std::nullopt;
+    if (!site && lesson_) site = lesson_->next_site();
+    if (mouse_ && site && PlaceProbeAt(*site, 6.0)) return;
+    session_->loop().Send({HapticCommand::Kind::kResetTool});
   });
   auto* pause = new QPushButton("Pause");
   pause->setCheckable(true);
@@ -227,6 +253,7 @@ void MainWindow::BuildUi() {
   device_help_->setWordWrap(true);
   layout->addWidget(device_help_);
   auto* dock = new QDockWidget("Instrument", this);
+  instrument_dock_ = dock;
   dock->setObjectName("instrument");
   dock->setWidget(Scrolling(panel));
   dock->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable);
@@ -522,6 +549,7 @@ void MainWindow::BeginSession() {
   snapshot_ =
       HapticSnapshot{};  // nothing from the previous session is shown as this one's
   gauge_->Clear();
+  lesson_gauge_->Clear();
   plot_->Clear();
   events_->clear();
   last_reading_.clear();
@@ -547,6 +575,9 @@ void MainWindow::BeginSession() {
         std::make_unique<LessonRun>(*lesson_spec_, *scene_, lesson_start_.student,
                                     lesson_spec_->case_spec.generated ? lesson_seed_ : 0);
     const bool inspection = lesson_spec_->inspection();
+    for (ForceGauge* g : {gauge_, lesson_gauge_})
+      g->SetBand(lesson_spec_->rubric.force_low_n, lesson_spec_->rubric.force_high_n);
+    plot_->SetBand(lesson_spec_->rubric.force_low_n, lesson_spec_->rubric.force_high_n);
     chart_->setVisible(!inspection);
     odontogram_->setVisible(inspection);
     tilt_label_->setVisible(!inspection);
@@ -581,6 +612,7 @@ void MainWindow::BeginSession() {
     views_sent_ = 0;
     looked_at_ = 0;
     lesson_dock_->show();
+    lesson_dock_->raise();
   }
   if (lesson_) session_->AddConsumer(lesson_.get());
   if (lesson_ && scripted_student_ && lesson_spec_->inspection()) {
@@ -612,10 +644,10 @@ void MainWindow::UpdateDeviceHelp(const std::string& device) {
   QString text;
   if (device == "mouse") {
     text =
-        "Mouse device: Ctrl+drag moves the tool, Ctrl+Shift+drag turns it, Ctrl+wheel "
-        "pushes it; keys W/S, A/D, "
-        "Q/E move it 0.1 mm (with Shift: turn; hold Alt for 0.02 mm steps). Drag without "
-        "Ctrl moves the camera.";
+        "Mouse and keyboard: W/S, A/D, Q/E move the probe as the screen shows it "
+        "(Shift: turn); N to the next site; R/F press harder/lighter along the probe, X "
+        "lets go; comma/period walk along the sulcus. Ctrl+drag moves the tool. F1 for "
+        "more.";
   } else if (device.rfind("student:", 0) == 0) {
     text = QString(
                "A scripted student (%1) holds the probe: watch it work. Drag moves the "
@@ -684,11 +716,15 @@ void MainWindow::Tick() {
     // along the probe (pressing on the pocket floor), not the side force of
     // the tip on the tooth or of the sulcus' soft wall on the shank. The
     // plot below it holds the whole force.
-    const double along = snapshot_.force_W.dot(snapshot_.X_WG.rotation().col(2));
-    gauge_->SetLabel("Probing force");
-    gauge_->SetForce(std::max(0.0, along));
+    const double along = TipLocator::ProbingForce(snapshot_.force_W, snapshot_.X_WG);
+    for (ForceGauge* g : {gauge_, lesson_gauge_}) {
+      g->SetLabel("Probing force");
+      g->SetForce(along);
+      g->SetPress(mouse_ ? mouse_->press() : 0.0);
+    }
+    // The plot holds the same quantity of the same snapshot.
+    plot_->Push(snapshot_.time_s, along, snapshot_.torque_W.norm());
   }
-  plot_->Push(snapshot_.time_s, snapshot_.force_W.norm(), snapshot_.torque_W.norm());
   session_->Pump();
   for (const HapticEvent& e : tap_.events) {
     const QString what = Q(DescribeEvent(scene_->spec, e));
@@ -764,35 +800,136 @@ bool MainWindow::SaveScreenshot(const std::filesystem::path& png) {
   return grab().save(Q(png.string()), "PNG");
 }
 
+MainWindow::ViewAxes MainWindow::CameraAxes() const {
+  vtkCamera* cam = renderer_->GetActiveCamera();
+  double pos[3], focal[3], up[3];
+  cam->GetPosition(pos);
+  cam->GetFocalPoint(focal);
+  cam->GetViewUp(up);
+  const Vector3 eye(pos[0], pos[1], pos[2]), at(focal[0], focal[1], focal[2]);
+  ViewAxes v;
+  v.into = (at - eye).normalized();
+  const Vector3 u(up[0], up[1], up[2]);
+  v.up = (u - u.dot(v.into) * v.into).normalized();
+  v.right = v.into.cross(v.up);
+  v.eye = eye;
+  return v;
+}
+
+QString MainWindow::HeldBackText() const {
+  // The hand far from the probe it holds: say so, and why.
+  const double gap = (snapshot_.X_WH.translation() - snapshot_.X_WG.translation()).norm();
+  if (gap <= kHeldBackMm) return {};
+  return QString(
+             "<br><span style='color:#c86400'>Your hand is <b>%1 mm</b> from the "
+             "probe: a tooth or the tissue holds the probe back. Move back toward "
+             "it, or press Reset tool.</span>")
+      .arg(gap, 0, 'f', 1);
+}
+
+const ProbingSite* MainWindow::SceneSite(const SiteRef& s) const {
+  if (!scene_) return nullptr;
+  for (const ProbingSite& p : scene_->effects.sites)
+    if (p.fdi == s.fdi && p.site == s.site) return &p;
+  return nullptr;
+}
+
+bool MainWindow::PlaceProbeAt(const SiteRef& site, double above_margin_mm) {
+  const ProbingSite* p = SceneSite(site);
+  if (!mouse_ || !p) return false;
+  const Vector3 down = (p->floor_W - p->margin_W).normalized();
+  // Along the site's line (parallel to the long axis), the tip above the margin.
+  mouse_->Set(RigidTransform(Quaternion::FromTwoVectors(Vector3::UnitZ(), -down),
+                             p->margin_W - above_margin_mm * down));
+  statusBar()->showMessage(
+      QString("The probe is over %1, %2 mm above the margin: press R to push it down")
+          .arg(Q(site.ToString()))
+          .arg(above_margin_mm, 0, 'f', 1),
+      6000);
+  return true;
+}
+
 void MainWindow::keyPressEvent(QKeyEvent* e) {
   if (!mouse_) {
     QMainWindow::keyPressEvent(e);
     return;
   }
-  // mm, rad per key press; with Alt, fine: 0.02 mm is 0.04 N at the pocket floor
-  // (2 N/mm), so the 0.20-0.25 N band can be held on purpose.
+  // Moves relative to the view (right, up, into the screen, whatever the
+  // camera), mm and rad per press; turns about the tip. With Alt, fine: 0.02 mm
+  // is 0.04 N at the pocket floor (2 N/mm).
   const bool fine = e->modifiers() & Qt::AltModifier;
   const double step = fine ? 0.02 : 0.1, turn = fine ? 0.01 : 0.05;
+  const ViewAxes v = CameraAxes();
   Vector3 d = Vector3::Zero();
   switch (e->key()) {
     case Qt::Key_D:
-      d.x() = 1;
+      d = v.right;
       break;
     case Qt::Key_A:
-      d.x() = -1;
+      d = -v.right;
       break;
     case Qt::Key_W:
-      d.y() = 1;
+      d = v.up;
       break;
     case Qt::Key_S:
-      d.y() = -1;
-      break;
-    case Qt::Key_E:
-      d.z() = 1;
+      d = -v.up;
       break;
     case Qt::Key_Q:
-      d.z() = -1;
+      d = v.into;
       break;
+    case Qt::Key_E:
+      d = -v.into;
+      break;
+    case Qt::Key_R:
+    case Qt::Key_F: {
+      // The press: the force the hand pushes with along the probe, 0.02 N a key.
+      const double press = std::clamp(
+          mouse_->press() + (e->key() == Qt::Key_R ? kPressStepN : -kPressStepN), 0.0,
+          MouseKeyboardDevice::kPressMaxN);
+      mouse_->SetPress(press < 1e-9 ? 0.0 : press);
+      gauge_->SetPress(mouse_->press());
+      lesson_gauge_->SetPress(mouse_->press());
+      return;
+    }
+    case Qt::Key_X:  // let go: no press
+      mouse_->SetPress(0);
+      gauge_->SetPress(0);
+      lesson_gauge_->SetPress(0);
+      return;
+    case Qt::Key_Comma:
+    case Qt::Key_Period: {
+      // The walking stroke: along the sulcus round the tooth the tip is in,
+      // 0.3 mm a press (the press keeps the tip at the floor meanwhile).
+      const std::optional<SiteRef> at = lesson_ ? lesson_->tip_site() : std::nullopt;
+      const ProbingSite* p = at ? SceneSite(*at) : nullptr;
+      if (!p) {
+        statusBar()->showMessage(
+            "Walking needs the tip in a sulcus: press N to place the probe at the "
+            "next site, then R to push it down",
+            6000);
+        return;
+      }
+      const Vector3 tip = mouse_->pose().translation();
+      Vector3 around = p->axis_W.cross(tip - p->origin_W);
+      if (around.norm() < 1e-9) return;
+      // Comma walks to the screen's left, period to its right.
+      around.normalize();
+      if (around.dot(v.right) < 0) around = -around;
+      mouse_->Nudge((e->key() == Qt::Key_Period ? 0.3 : -0.3) * around, Vector3::Zero());
+      return;
+    }
+    case Qt::Key_N: {
+      const std::optional<SiteRef> next = lesson_ ? lesson_->next_site() : std::nullopt;
+      if (!next) {
+        statusBar()->showMessage("No site is next in this lesson", 4000);
+      } else if (aids_locked_) {
+        statusBar()->showMessage(
+            "An assessment places nothing for you: move the probe to the site", 5000);
+      } else {
+        PlaceProbeAt(*next, 1.0);
+      }
+      return;
+    }
     default:
       QMainWindow::keyPressEvent(e);
       return;
@@ -811,16 +948,9 @@ bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
       (e->type() == QEvent::MouseButtonPress || e->type() == QEvent::MouseMove ||
        e->type() == QEvent::MouseButtonRelease || e->type() == QEvent::Wheel)) {
     vtkCamera* cam = renderer_->GetActiveCamera();
-    double pos[3], focal[3], up[3];
-    cam->GetPosition(pos);
-    cam->GetFocalPoint(focal);
-    cam->GetViewUp(up);
-    const Vector3 eye(pos[0], pos[1], pos[2]), at(focal[0], focal[1], focal[2]);
-    const Vector3 view = (at - eye).normalized();
-    const Vector3 v_up =
-        (Vector3(up[0], up[1], up[2]) - Vector3(up[0], up[1], up[2]).dot(view) * view)
-            .normalized();
-    const Vector3 right = view.cross(v_up);
+    const ViewAxes axes = CameraAxes();
+    const Vector3 &eye = axes.eye, &view = axes.into, &v_up = axes.up,
+                  &right = axes.right;
     // Millimetres per pixel at the tool's distance from the camera.
     const double depth = std::max(1.0, (mouse_->pose().translation() - eye).dot(view));
     const double mm_per_px = 2 * depth *
@@ -865,6 +995,12 @@ bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
       case Qt::Key_D:
       case Qt::Key_Q:
       case Qt::Key_E:
+      case Qt::Key_R:
+      case Qt::Key_F:
+      case Qt::Key_X:
+      case Qt::Key_N:
+      case Qt::Key_Comma:
+      case Qt::Key_Period:
         keyPressEvent(k);
         return true;
       default:
@@ -877,7 +1013,7 @@ bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
 void MainWindow::closeEvent(QCloseEvent* e) {
   QSettings settings;
   settings.setValue("window/geometry", saveGeometry());
-  settings.setValue("window/state", saveState());
+  settings.setValue("window/state", saveState(kDockLayoutVersion));
   // A lesson in progress is kept: scored as far as it went, stored, its report written.
   if (lesson_) {
     if (!lesson_->done())
@@ -901,6 +1037,8 @@ void MainWindow::BuildLessonDock() {
       "background: #fbe3c8; border-left: 4px solid #c86400; padding: 6px; font-size: "
       "13px;");
   banner_->hide();
+  lesson_gauge_ = new ForceGauge;  // the instrument tab's figure, beside the chart
+  layout->addWidget(lesson_gauge_);
   layout->addWidget(banner_);
   layout->addWidget(step_label_);
   next_label_ = new QLabel;
@@ -911,6 +1049,7 @@ void MainWindow::BuildLessonDock() {
       "mid-sites");
   for (QLabel* l : {next_label_, tip_label_, tilt_label_}) {
     l->setTextFormat(Qt::RichText);
+    l->setWordWrap(true);  // the panel is narrow: the 3D view comes first
     layout->addWidget(l);
   }
   chart_ = new ChartWidget;
@@ -938,7 +1077,7 @@ void MainWindow::BuildLessonDock() {
       "or at each "
       "surface and region you examine)");
   layout->addWidget(feedback_);
-  auto* buttons = new QHBoxLayout;
+  auto* buttons = new QVBoxLayout;  // stacked: the panel is narrow
   diagnose_button_ = new QPushButton("Declare the diagnosis...");
   finish_button_ = new QPushButton("Finish and see the report");
   diagnose_button_->setToolTip(
@@ -959,7 +1098,10 @@ void MainWindow::BuildLessonDock() {
   lesson_dock_ = new QDockWidget("Lesson", this);
   lesson_dock_->setObjectName("lesson");
   lesson_dock_->setWidget(Scrolling(panel));
-  addDockWidget(Qt::LeftDockWidgetArea, lesson_dock_);
+  // Beside the instrument panel as a tab (the lesson's own gauge is on it), so
+  // the 3D view keeps the window's width.
+  addDockWidget(Qt::RightDockWidgetArea, lesson_dock_);
+  if (instrument_dock_) tabifyDockWidget(instrument_dock_, lesson_dock_);
   lesson_dock_->hide();
 }
 
@@ -1109,6 +1251,10 @@ void MainWindow::UpdateLessonPanel() {
                              .arg(steps.size())
                              .arg(Q(st.instruction).toHtmlEscaped()));
   }
+  // A wrapped label in a scroll area keeps the height of its first layout:
+  // the whole instruction, however narrow the panel.
+  step_label_->setMinimumHeight(
+      step_label_->heightForWidth(std::max(200, step_label_->width())));
   if (lesson_spec_->inspection()) {
     // What is left of this step, where the tip is, what has been examined.
     const InspectionTracker& in = *l.inspection();
@@ -1183,11 +1329,21 @@ void MainWindow::UpdateLessonPanel() {
     LookAtTooth(next->fdi);  // the camera to the tooth the lesson asks for
   }
   const std::optional<SiteRef> tip = l.tip_site();
-  if (!lesson_spec_->inspection())
-    tip_label_->setText(
+  if (!lesson_spec_->inspection()) {
+    QString where =
         tip ? QString("You are in the sulcus of <b>%1</b>").arg(Q(tip->ToString()))
-            : "The tip is not in a sulcus");
+            : QString("The tip is not in a sulcus");
+    if (tip && l.tip_depth_mm())
+      where += QString(", %1 mm below the margin").arg(*l.tip_depth_mm(), 0, 'f', 1);
+    tip_label_->setText(where + HeldBackText());
+  }
   chart_->SetProbing(tip);
+  {
+    std::set<std::pair<int, int>> probed;
+    for (const SiteResult& x : l.sites())
+      if (x.reached_mm) probed.insert({x.site.fdi, x.site.site});
+    chart_->SetProbed(probed);
+  }
   if (const auto angle = l.tip_angle_deg()) {
     const QString colour = *angle <= 5 ? "#2a8a3a" : *angle <= 10 ? "#c88a00" : "#c02020";
     const int bars = std::min(20, static_cast<int>(*angle));
@@ -1221,13 +1377,18 @@ QString MainWindow::HelpHtml(std::optional<HelpTopic> topic) const {
     topic = lesson_spec_ && lesson_spec_->inspection() ? HelpTopic::kInspection
                                                        : HelpTopic::kProbing;
   const QString moving =
-      "<b>Moving the instrument</b> (mouse and keyboard): W/S, A/D, Q/E move it 0.1 mm a "
-      "press; with Shift they turn "
-      "it; hold Alt for fine steps (0.02 mm, to hold the force band). Ctrl + drag moves "
-      "it with the mouse, Ctrl + "
-      "wheel pushes it (with Alt, finely). Drag without Ctrl turns the camera, the wheel "
-      "zooms; the View buttons and "
-      "Look at tooth place it.";
+      "<b>Moving the instrument</b> (mouse and keyboard), as seen on the screen: D/A "
+      "right and left, W/S up and down, Q/E into and out of the screen, 0.1 mm a press "
+      "(hold Alt for 0.02 mm); with Shift they turn it about its tip. "
+      "<b>N</b> places the probe over the next site, along the tooth (practice). "
+      "<b>The press</b>: R pushes the probe down its own axis with 0.02 N more each "
+      "press, F with 0.02 N less, X lets go: the tip goes down until the tissue answers "
+      "with that force, so 0.24 N holds it at the pocket floor (the white mark on the "
+      "gauge). <b>Walking</b>: with the tip in a sulcus, comma and period move it along "
+      "the sulcus 0.3 mm (left and right on the screen) while the press keeps it down. "
+      "Reset tool lifts it 6 mm above the site. Ctrl + drag moves it with the mouse, "
+      "Ctrl + wheel pushes it. Drag without Ctrl turns the camera, the wheel zooms; "
+      "the View buttons and Look at tooth place it.";
   if (*topic == HelpTopic::kInspection)
     return moving +
            "<br><br><b>The examination</b>: follow the steps in their order (lips, "
@@ -1239,8 +1400,9 @@ QString MainWindow::HelpHtml(std::optional<HelpTopic> topic) const {
            "it: turn the camera round). Touch gently: soft tissue pressed above its "
            "limit, or a carious lesion "
            "pressed above 0.5 N, is scored as damage.<br><br><b>Recording findings</b> "
-           "on the odontogram: click a "
-           "tooth's surface for caries, <i>Ca</i> for calculus, <i>G</i> for inflamed "
+           "on the odontogram: click a tooth to select it, then a "
+           "surface of the selected tooth for caries, <i>Ca</i> for calculus, <i>G</i> "
+           "for inflamed "
            "gingiva; right-click a tooth "
            "for its WHO status; click a soft-tissue region to record a lesion there. "
            "Keys: arrows choose the tooth, "
@@ -1254,12 +1416,18 @@ QString MainWindow::HelpHtml(std::optional<HelpTopic> topic) const {
          "strokes with the tip on the "
          "tooth, parallel to the long axis; at the contacts tilt it into the col. Press "
          "the pocket floor lightly: the "
-         "gauge's green band is 0.20-0.25 N.<br><br><b>Charting</b>: click the chart (or "
+         "gauge's green band is the force the lesson gives full credit "
+         "for.<br><br><b>Charting</b>: click the chart (or "
          "press Tab to it), type the "
          "depth you read at each site in whole millimetres; it moves to the next site "
          "along the path. B or Space "
          "marks bleeding on the site you just entered; Backspace goes "
-         "back.<br><br><b>Diagnosis</b>: at the end, "
+         "back. Depths of 10 mm and more: + then the second digit (+ 2 is 12 mm); a "
+         "depth over 12 mm asks you to confirm it with Enter. You may chart a site with "
+         "the probe still at its floor: that is its reading. Rows: PD, GM (the gingival "
+         "margin, positive for recession), CAL = PD + GM, all in mm; in practice the "
+         "true PD of each site you probed."
+         "<br><br><b>Diagnosis</b>: at the end, "
          "Lesson &gt; Declare the diagnosis; then Lesson &gt; Finish shows your report.";
 }
 
@@ -1416,13 +1584,24 @@ void MainWindow::ShowReport(const LessonResult& r, const std::filesystem::path& 
       if (ok && !last_recording_.empty()) OpenReplay(last_recording_, tick);
     });
     layout->addWidget(browser);
+    // Where the report is, always: a student may have no browser set up.
+    auto* where = new QLabel;
+    where->setObjectName("report_path");
+    where->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    where->setWordWrap(true);
+    layout->addWidget(where);
     auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
     auto* open = buttons->addButton("Open the full report (pictures, force traces)",
                                     QDialogButtonBox::ActionRole);
     layout->addWidget(buttons);
     connect(buttons, &QDialogButtonBox::rejected, report_dialog_, &QDialog::hide);
-    connect(open, &QPushButton::clicked, this, [this] {
-      QDesktopServices::openUrl(QUrl::fromLocalFile(Q(last_report_.string())));
+    connect(open, &QPushButton::clicked, this, [this, where] {
+      const QString path = Q(last_report_.string());
+      if (!QDesktopServices::openUrl(QUrl::fromLocalFile(path)))
+        where->setText(QString("<b>No program here opens web pages.</b> The full report "
+                               "is the file <code>%1</code>: open it in any web browser, "
+                               "or copy the folder.")
+                           .arg(path.toHtmlEscaped()));
     });
   }
   // The page itself (Qt shows its tables and text; the pictures are SVG, in the browser).
@@ -1431,6 +1610,9 @@ void MainWindow::ShowReport(const LessonResult& r, const std::filesystem::path& 
   text << in.rdbuf();
   auto* browser = report_dialog_->findChild<QTextBrowser*>("report");
   browser->setHtml(Q(text.str()));
+  report_dialog_->findChild<QLabel*>("report_path")
+      ->setText(QString("The full report (with its pictures) is saved as <code>%1</code>")
+                    .arg(Q(html.string()).toHtmlEscaped()));
   report_dialog_->setWindowTitle(
       QString("Your report: %1 / 100").arg(r.total, 0, 'f', 1));
   report_dialog_->show();
@@ -1442,7 +1624,11 @@ void MainWindow::BuildReplayDock() {
   replay_label_ = new QLabel;
   layout->addWidget(replay_label_);
   replay_slider_ = new QSlider(Qt::Horizontal);
-  replay_slider_->setToolTip("Scrub through the recorded attempt");
+  replay_slider_->setToolTip("Scrub through the recorded attempt (a click jumps there)");
+  // A click on the track jumps there (not a page of ten ticks of a million).
+  auto* jump = new JumpSliderStyle;  // over the application's own style
+  jump->setParent(replay_slider_);
+  replay_slider_->setStyle(jump);
   layout->addWidget(replay_slider_);
   connect(replay_slider_, &QSlider::valueChanged, this, [this](int v) {
     if (!replay_ || replay_playing_) return;
@@ -1540,7 +1726,7 @@ void MainWindow::ShowReplayFrame() {
   s.output_scale = 1;
   snapshot_ = s;
   view_->Update(s);
-  gauge_->SetForce(f.force_W.norm());
+  gauge_->SetForce(TipLocator::ProbingForce(f.force_W, f.X_WG));
   // The force trace of the last 5 s up to the cursor (every 10 ms).
   std::vector<std::array<double, 3>> trace;
   const std::size_t span = static_cast<std::size_t>(5 * replay_->header.rate_hz);
@@ -1549,7 +1735,8 @@ void MainWindow::ShowReplayFrame() {
   for (std::size_t i = replay_index_ > span ? replay_index_ - span : 0;
        i <= replay_index_; i += every) {
     const TickRecord& g = replay_->frames[i];
-    trace.push_back({g.time_s, g.force_W.norm(), g.torque_W.norm()});
+    trace.push_back(
+        {g.time_s, TipLocator::ProbingForce(g.force_W, g.X_WG), g.torque_W.norm()});
   }
   plot_->SetSamples(trace);
   if (replay_slider_->value() != static_cast<int>(replay_index_)) {

@@ -79,6 +79,17 @@ class MainWindow : public QMainWindow {
   QWidget* view_widget() const;
   void ShowSpheres(int level);
   bool LookAtTooth(int fdi);
+  /// The camera's axes in the world: right, up and into the screen (the keys
+  /// move the probe along them).
+  struct ViewAxes {
+    Vector3 right, up, into, eye;
+  };
+  ViewAxes CameraAxes() const;
+  /// Mouse and keyboard: the probe along a site's line, its tip this far above
+  /// the margin (the press let go). False without the mouse or the site.
+  bool PlaceProbeAt(const SiteRef& site, double above_margin_mm);
+  /// The press's step (R and F), N.
+  static constexpr double kPressStepN = 0.02;
   void SetGingivaTranslucent(bool on);
   /// As the "hide lips and cheeks" box does.
   void SetLipsAndCheeksHidden(bool hidden);
@@ -162,6 +173,7 @@ class MainWindow : public QMainWindow {
 
  protected:
   void keyPressEvent(QKeyEvent* e) override;
+
   bool eventFilter(QObject* watched, QEvent* e) override;
   void closeEvent(QCloseEvent* e) override;
 
@@ -178,11 +190,17 @@ class MainWindow : public QMainWindow {
   void SetAidsLocked(bool locked);
   void AskDiagnosis();
   void ShowReport(const LessonResult& r, const std::filesystem::path& html);
+  const ProbingSite* SceneSite(const SiteRef& s) const;
+  QString HeldBackText() const;
+  static constexpr double kHeldBackMm = 2.0;
+  static constexpr int kDockLayoutVersion = 2;
 
   QVTKOpenGLNativeWidget* vtk_widget_ = nullptr;
   vtkRenderer* renderer_ = nullptr;
   std::unique_ptr<SceneView> view_;
   ForceGauge* gauge_ = nullptr;
+  ForceGauge* lesson_gauge_ = nullptr;  // the same figure on the lesson's tab
+  QDockWidget* instrument_dock_ = nullptr;
   ForcePlot* plot_ = nullptr;
   QLabel* status_ = nullptr;
   QListWidget* events_ = nullptr;

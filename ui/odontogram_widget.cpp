@@ -187,10 +187,18 @@ void OdontogramWidget::mousePressEvent(QMouseEvent* e) {
   setFocus();
   const QPoint p = e->pos();
   for (const Cell& c : cells_) {
+    const bool was_selected = selected_ == c.fdi;
     if (c.box.contains(p) || c.ca.contains(p) || c.g.contains(p)) selected_ = c.fdi;
     if (e->button() == Qt::RightButton && c.box.contains(p)) return AskStatus(c.fdi, p);
-    if (const int s = SurfaceAt(c, p); s >= 0)
+    // The first click on a tooth selects it; a click on a surface of the
+    // selected tooth marks caries there (selecting records nothing).
+    if (const int s = SurfaceAt(c, p); s >= 0) {
+      if (!was_selected) {
+        update();
+        return;
+      }
       return Toggle(c.fdi, Finding::Kind::kCaries, static_cast<ToothSurface>(s));
+    }
     if (c.ca.contains(p)) return Toggle(c.fdi, Finding::Kind::kCalculus);
     if (c.g.contains(p)) return Toggle(c.fdi, Finding::Kind::kInflamed);
   }

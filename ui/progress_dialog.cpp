@@ -132,6 +132,20 @@ void ProgressDialog::ShowLesson(const std::string& lesson_file) {
     p->SetColor(colours[c - 1][0], colours[c - 1][1], colours[c - 1][2], 255);
     p->SetWidth(2.5);
   }
+  // Whole attempts on the axis: 0.5 to n + 0.5, ticks at each attempt (one
+  // attempt is not an axis from 0.95 to 1.05).
+  vtkAxis* x = chart_->GetAxis(vtkAxis::BOTTOM);
+  x->SetBehavior(vtkAxis::FIXED);
+  x->SetRange(0.5, n + 0.5);
+  x->SetNotation(vtkAxis::FIXED_NOTATION);
+  x->SetPrecision(0);
+  if (n <= 12) {
+    auto at = vtkSmartPointer<vtkDoubleArray>::New();
+    for (int i = 1; i <= n; ++i) at->InsertNextValue(i);
+    x->SetCustomTickPositions(at);
+  } else {
+    x->SetCustomTickPositions(nullptr);
+  }
   chart_widget_->renderWindow()->Render();
   summary_->setText(QString("%1 attempts%4; mean score %2, last %3. Averages over many "
                             "attempts predict clinical "

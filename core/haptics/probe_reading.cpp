@@ -2,21 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 namespace sulcus {
 
 ProbeReadingTracker::ProbeReadingTracker(double rate_hz) {
   const double rate = rate_hz > 0 && std::isfinite(rate_hz) ? rate_hz : 1000.0;
   leave_ticks_ = static_cast<std::uint64_t>(std::max(1.0, std::round(kLeaveS * rate)));
-  // Two one-pole stages, each with its corner at kForceFilterHz.
-  alpha_ = 1.0 - std::exp(-2.0 * std::numbers::pi * kForceFilterHz / rate);
 }
 
 void ProbeReadingTracker::Reset() noexcept {
   cur_.site = cand_.site = -1;
   away_ = false;
-  lp1_ = lp2_ = 0;
 }
 
 void ProbeReadingTracker::Visit::Start(int s, std::uint64_t tick) {
@@ -90,8 +86,6 @@ bool ProbeReadingTracker::Emit(Visit& v, std::uint64_t left, ProbeReading* out) 
 bool ProbeReadingTracker::Update(std::uint64_t tick, const TipLocation& where,
                                  double force_n, ProbeReading* out) noexcept {
   const double f = std::isfinite(force_n) ? std::max(0.0, force_n) : 0.0;
-  lp1_ += alpha_ * (f - lp1_);
-  lp2_ += alpha_ * (lp1_ - lp2_);
   if (where.site == cur_.site) {
     away_ = false;
     cand_.site = -1;

@@ -54,9 +54,8 @@ class ProbeReadingTracker {
   static constexpr double kHeldBandMm = 0.4;
   static constexpr double kRestartMm = 0.05;
   static constexpr double kLeaveS = 0.1;
-  static constexpr double kForceFilterHz = 5.0;
-  static constexpr double kBinN = 0.005;  // the held force's resolution
-  static constexpr int kBins = 1000;      // 0..5 N; above: the last bin
+  static constexpr double kBinN = 0.002;  // the held force's resolution
+  static constexpr int kBins = 2500;      // 0..5 N; above: the last bin
 
   explicit ProbeReadingTracker(double rate_hz);
 
@@ -71,9 +70,6 @@ class ProbeReadingTracker {
   int site() const { return cur_.site; }
   /// The current visit: its deepest point so far (meaningless when site() < 0).
   double deepest_mm() const { return cur_.deepest; }
-  /// The force along the probe low-passed at kForceFilterHz (the gauge's figure:
-  /// at a steady hold it is the held force a reading keeps).
-  double filtered_force_n() const { return lp2_; }
   void Reset() noexcept;
 
  private:
@@ -93,8 +89,6 @@ class ProbeReadingTracker {
   };
   bool Emit(Visit& v, std::uint64_t left, ProbeReading* out) const;
   std::uint64_t leave_ticks_;
-  double alpha_;  // one pole of the force filter (two in cascade)
-  double lp1_ = 0, lp2_ = 0;
   Visit cur_, cand_;  // the visit, and where the tip is while away from it
   std::uint64_t away_since_ = 0;
   bool away_ = false;

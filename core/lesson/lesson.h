@@ -225,8 +225,6 @@ class LessonRun final : public TickConsumer {
   std::optional<double> tip_angle_deg() const { return tip_angle_deg_; }
   /// The tip's depth below the margin of the site whose sulcus holds it.
   std::optional<double> tip_depth_mm() const { return tip_depth_mm_; }
-  /// The force along the probe as the readings hold it (low-passed; the gauge's).
-  double probing_force_n() const { return tracker_.filtered_force_n(); }
   /// The compiled scene's clinical recession per site (for the chart).
   double recession_mm(const SiteRef& s) const;
   const std::vector<std::string>& feedback() const { return feedback_; }

@@ -33,6 +33,7 @@
 #include "ui/chart_widget.h"
 #include "ui/instructor_dialog.h"
 #include "ui/main_window.h"
+#include "ui/mouse_device.h"
 #include "ui/odontogram_widget.h"
 #include "ui/progress_dialog.h"
 #include "ui/start_dialog.h"
@@ -299,6 +300,120 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   EXPECT_TRUE(Save(&w, "demonstration_ghost.png"));
   ASSERT_TRUE(w.SetDemonstration({}));
   EXPECT_FALSE(w.ghost_pose().has_value());
+}
+
+// A person's hand, by keys: the mouse-and-keyboard device, no scripted hand.
+// At each of the path's first four sites the student presses N (the probe over
+// the next site), R twelve times (a press of 0.24 N along the probe: the tip
+// goes down until the floor answers with it), waits until the gauge holds
+// still, reads the depth and types it into the chart with the probe still at
+// the floor, then lets go (X). Every site probed is read, within 1 mm of the
+// truth, with its held force in the band; a replay of the recording with the
+// entries gives the same readings. Prints the seconds per site.
+TEST(LessonWindow, APersonProbesFourSitesByKeysAndEachIsScored) {
+  MainWindow w;
+  w.resize(1280, 800);
+  w.show();
+  MainWindow::LessonStart start;
+  start.lesson = Lessons() / "periodontal_probing.yaml";
+  start.student = "Key Hand";
+  start.device = "mouse";
+  start.mode = LessonSpec::Mode::kPractice;
+  start.results_dir = Out("person");
+  ASSERT_TRUE(w.StartLesson(start));
+  QWidget* view = w.view_widget();
+  ChartWidget* chart = w.chart();
+  // The 3D view first: at least 60 % of the window's width, at 1280 x 800 and
+  // at 1024 x 700, with the lesson's panel open.
+  for (const QSize size : {QSize(1024, 700), QSize(1280, 800)}) {
+    w.resize(size);
+    WaitFor([] { return false; }, 400);  // the layout settles
+    EXPECT_GE(view->width(), 0.6 * w.width())
+        << size.width() << " x " << size.height() << ": the view is " << view->width()
+        << " px of " << w.width();
+    EXPECT_TRUE(Save(&w, "layout_" + std::to_string(size.width()) + ".png"));
+  }
+  std::vector<SiteRef> probed;
+  for (int k = 0; k < 4; ++k) {
+    QElapsedTimer t;
+    t.start();
+    ASSERT_TRUE(w.lesson()->next_site());
+    const SiteRef site = *w.lesson()->next_site();
+    view->setFocus();
+    Key(view, Qt::Key_N, "n");
+    for (int i = 0; i < 12; ++i) Key(view, Qt::Key_R, "r");
+    EXPECT_NEAR(w.mouse()->press(), 0.24, 1e-9);
+    // At the floor: in the site's sulcus, the gauge within 0.03 N of the press
+    // for half a second.
+    QElapsedTimer still;
+    bool holding = false;
+    const bool rested = WaitFor(
+        [&] {
+          const bool in = w.lesson()->tip_site() == site && w.lesson()->tip_depth_mm() &&
+                          std::abs(w.gauge_force() - 0.24) < 0.03;
+          if (in && !holding) still.restart();
+          holding = in;
+          return in && still.elapsed() > 500;
+        },
+        60000);
+    ASSERT_TRUE(rested) << site.ToString() << ": tip at "
+                        << (w.lesson()->tip_site() ? w.lesson()->tip_site()->ToString()
+                                                   : std::string("no site"))
+                        << ", gauge " << w.gauge_force() << " N";
+    if (k == 0) {
+      EXPECT_TRUE(Save(&w, "person_at_the_floor.png"));
+    }
+    // Read where the margin crosses the probe (the panel gives the depth in
+    // tenths), and chart it with the probe still in.
+    const int pd = static_cast<int>(std::lround(*w.lesson()->tip_depth_mm()));
+    chart->setFocus();
+    Key(chart, Qt::Key_0 + pd, QString::number(pd));
+    view->setFocus();
+    Key(view, Qt::Key_X, "x");
+    probed.push_back(site);
+    std::printf("figure: %s probed by keys in %.1f s (charted %d mm)\n",
+                site.ToString().c_str(), t.elapsed() / 1000.0, pd);
+  }
+  ASSERT_TRUE(w.FinishLesson(false));
+  ASSERT_TRUE(w.last_result());
+  const LessonResult& r = *w.last_result();
+  auto check = [&](const LessonResult& x, const char* what) {
+    for (const SiteRef& site : probed) {
+      const SiteResult* s = nullptr;
+      for (const SiteResult& y : x.sites)
+        if (y.site == site) s = &y;
+      ASSERT_NE(s, nullptr);
+      ASSERT_TRUE(s->reached_mm)
+          << what << " " << site.ToString() << ": " << s->no_reading;
+      EXPECT_LE(std::abs(*s->reached_mm - s->truth_mm), 1.0)
+          << what << " " << site.ToString();
+      EXPECT_GE(s->held_force_n, x.rubric.force_low_n) << what << " " << site.ToString();
+      EXPECT_LE(s->held_force_n, x.rubric.force_high_n) << what << " " << site.ToString();
+      EXPECT_EQ(s->insertions, 1) << what << " " << site.ToString();
+      ASSERT_TRUE(s->entry && s->entry->pd_mm);
+      EXPECT_LE(std::abs(*s->entry->pd_mm - s->truth_mm), 1) << what;
+    }
+  };
+  check(r, "live");
+  EXPECT_EQ(r.sites_read, 4) << "only the sites probed";
+  // The recording and the entries, replayed headless: the same readings.
+  ResultsDb db(Out("person") / "results.db");
+  const auto rows = db.Attempts("Key Hand");
+  ASSERT_FALSE(rows.empty());
+  AttemptOptions o;
+  o.student = "Key Hand";
+  o.device = "replay:" + rows.back().recording;
+  o.answers = rows.back().answers;
+  o.mode = LessonSpec::Mode::kPractice;
+  const AttemptOutcome again = RunAttempt(start.lesson, o);
+  check(again.result, "replayed");
+  for (const SiteRef& site : probed) {
+    for (std::size_t i = 0; i < r.sites.size(); ++i) {
+      if (r.sites[i].site != site) continue;
+      EXPECT_EQ(again.result.sites[i].reached_mm, r.sites[i].reached_mm) << "bit for bit";
+      EXPECT_EQ(again.result.sites[i].held_force_n, r.sites[i].held_force_n);
+    }
+  }
 }
 
 // The inspection lesson in the window: the thorough scripted inspector drives

@@ -21,6 +21,7 @@
 #include "core/anatomy/soft_tissue.h"
 #include "core/haptics/recording.h"
 #include "tests/common/output.h"
+#include "ui/chart_widget.h"
 #include "ui/mouse_device.h"
 #include "ui/scene_view.h"
 
@@ -141,14 +142,23 @@ TEST(MainWindow, ProbingSceneWithAScriptedDevice) {
   const Vector3 dragged = w.mouse()->pose().translation();
   EXPECT_GT((dragged - tool_before).norm(), 1.0)
       << "60 pixels of Ctrl + drag move the tool millimetres";
+  // W moves the tool up the screen, whatever the camera: 0.1 mm a press.
+  const Vector3 up = w.CameraAxes().up;
   QKeyEvent key(QEvent::KeyPress, Qt::Key_W, Qt::NoModifier);
   QApplication::sendEvent(view, &key);
-  EXPECT_NEAR(w.mouse()->pose().translation().y() - dragged.y(), 0.1, 1e-9)
-      << "0.1 mm a press";
+  EXPECT_NEAR((w.mouse()->pose().translation() - dragged - 0.1 * up).norm(), 0, 1e-9)
+      << "0.1 mm a press, up on the screen";
   QKeyEvent fine(QEvent::KeyPress, Qt::Key_W, Qt::AltModifier);
   QApplication::sendEvent(view, &fine);
-  EXPECT_NEAR(w.mouse()->pose().translation().y() - dragged.y(), 0.12, 1e-9)
+  EXPECT_NEAR((w.mouse()->pose().translation() - dragged - 0.12 * up).norm(), 0, 1e-9)
       << "with Alt, 0.02 mm";
+  // Q moves it into the screen.
+  const Vector3 before_q = w.mouse()->pose().translation();
+  QKeyEvent into(QEvent::KeyPress, Qt::Key_Q, Qt::NoModifier);
+  QApplication::sendEvent(view, &into);
+  EXPECT_NEAR(
+      (w.mouse()->pose().translation() - before_q - 0.1 * w.CameraAxes().into).norm(), 0,
+      1e-9);
   RunFor(100);
   EXPECT_LT(
       (w.last_snapshot().X_WH.translation() - w.mouse()->pose().translation()).norm(),
@@ -293,6 +303,52 @@ TEST(MainWindow, TheMouthFromTheFrontEachArchAndTheFindingsUpClose) {
                    X46.rotation() * Vector3(0, 0, 1));
   RunFor(100);
   ASSERT_TRUE(w.SaveScreenshot(Out("furcation_46.png")));
+}
+
+}  // namespace
+}  // namespace sulcus::ui
+
+namespace sulcus::ui {
+namespace {
+
+void Press(QWidget* w, int key, const QString& text,
+           Qt::KeyboardModifiers mods = Qt::NoModifier) {
+  QKeyEvent press(QEvent::KeyPress, key, mods, text);
+  QApplication::sendEvent(w, &press);
+}
+
+// Two-digit depths without ambiguity: "1" then "5" are two sites; "+" then "5"
+// is 15 mm, which waits for Enter (over 12 mm); Esc cancels it. The CAL row is
+// never truncated (the widget paints PD + GM).
+TEST(ChartWidget, TwoDigitDepthsByAPrefixAndAConfirmationAbove12) {
+  ChartWidget chart;
+  const std::vector<SiteRef> path = {{46, 2}, {46, 1}, {46, 0}, {47, 2}};
+  chart.SetLesson({46, 47}, path, {{{46, 2}, -0.5}});
+  std::vector<ChartEntry> got;
+  chart.on_entry = [&](const ChartEntry& e) { got.push_back(e); };
+  Press(&chart, Qt::Key_1, "1");
+  Press(&chart, Qt::Key_5, "5");
+  ASSERT_EQ(got.size(), 2u) << "two keys, two sites";
+  EXPECT_EQ(*got[0].pd_mm, 1);
+  EXPECT_EQ(*got[1].pd_mm, 5);
+  Press(&chart, Qt::Key_Plus, "+");
+  Press(&chart, Qt::Key_2, "2");
+  ASSERT_EQ(got.size(), 3u) << "12 mm needs no confirmation";
+  EXPECT_EQ(*got[2].pd_mm, 12);
+  Press(&chart, Qt::Key_Plus, "+");
+  Press(&chart, Qt::Key_5, "5");
+  EXPECT_EQ(got.size(), 3u) << "15 mm waits";
+  ASSERT_TRUE(chart.pending());
+  EXPECT_EQ(*chart.pending(), 15);
+  Press(&chart, Qt::Key_Escape, "");
+  EXPECT_FALSE(chart.pending());
+  EXPECT_EQ(got.size(), 3u) << "cancelled";
+  Press(&chart, Qt::Key_5, "%", Qt::ShiftModifier);  // Shift+5: 15 as well
+  ASSERT_TRUE(chart.pending());
+  Press(&chart, Qt::Key_Return, "\r");
+  ASSERT_EQ(got.size(), 4u);
+  EXPECT_EQ(*got[3].pd_mm, 15);
+  EXPECT_EQ(got[3].site, (SiteRef{47, 2}));
 }
 
 }  // namespace
