@@ -177,6 +177,7 @@ Answers LoadAnswers(const fs::path& file) {
     }
   }
   if (const YAML::Node chart = root["chart"]; chart && r.IsMap(chart, "'chart'")) {
+    r.CheckUnique(chart, "'chart' (a tooth)");
     for (auto it = chart.begin(); it != chart.end(); ++it) {
       const int fdi = r.Integer(it->first, "tooth", 11, 48, 0);
       const YAML::Node t = it->second;

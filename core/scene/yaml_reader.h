@@ -74,11 +74,30 @@ class YamlReader {
   // Every key of `map` must be in `allowed`.
   void CheckKeys(const YAML::Node& map, const std::vector<std::string>& allowed,
                  const std::string& where) {
+    CheckUnique(map, where);
     for (auto it = map.begin(); it != map.end(); ++it) {
       const std::string key = it->first.Scalar();
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
         Error(it->first, "unknown key '" + key + "' in " + where + Suggest(key, allowed));
       }
+    }
+  }
+
+  /// A key given twice in one map (YAML readers keep one of them silently):
+  /// an error naming both lines.
+  void CheckUnique(const YAML::Node& map, const std::string& where) {
+    if (!map.IsMap()) return;
+    std::vector<std::pair<std::string, YAML::Mark>> seen;
+    for (auto it = map.begin(); it != map.end(); ++it) {
+      if (!it->first.IsScalar()) continue;
+      const std::string key = it->first.Scalar();
+      const auto first = std::find_if(seen.begin(), seen.end(),
+                                      [&](const auto& k) { return k.first == key; });
+      if (first != seen.end())
+        Error(it->first, "'" + key + "' is given twice in " + where + " (first at line " +
+                             std::to_string(first->second.line + 1) + "); give it once");
+      else
+        seen.push_back({key, it->first.Mark()});
     }
   }
 

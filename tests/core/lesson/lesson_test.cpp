@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -131,6 +132,46 @@ TEST(LessonFile, EveryErrorAtOnceWithItsPlace) {
   const auto missing = Errors(Out("missing.yaml"));
   ASSERT_EQ(missing.size(), 1u);
   EXPECT_NE(missing[0].find("no such lesson file"), std::string::npos);
+}
+
+// A key given twice is an error naming both lines (a YAML reader would keep
+// one silently): in a lesson, in answers, and a tooth twice in a chart.
+TEST(LessonFile, AKeyGivenTwiceIsRefusedWithBothLines) {
+  const fs::path scene =
+      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
+  const fs::path lesson = Write("twice.yaml",
+                                "name: twice\n"
+                                "scene: " +
+                                    scene.string() +
+                                    "\n"
+                                    "teeth: [46]\n"
+                                    "teeth: [47]\n");
+  const auto e = Errors(lesson);
+  ASSERT_FALSE(e.empty());
+  EXPECT_NE(std::find(e.begin(), e.end(),
+                      lesson.string() +
+                          ":4:1: 'teeth' is given twice in the lesson (first at line "
+                          "3); give it once"),
+            e.end())
+      << ::testing::PrintToString(e);
+  const fs::path answers = Write("twice_answers.yaml",
+                                 "chart:\n"
+                                 "  46: {pd: [5, 4, 7, 5, 4, 6]}\n"
+                                 "  46: {pd: [5, 4, 7, 5, 4, 6]}\n"
+                                 "diagnosis: {stage: III, extent: localized}\n"
+                                 "diagnosis: {periodontitis: false}\n");
+  const auto a = Errors(answers, true);
+  const std::string f = answers.string();
+  EXPECT_NE(std::find(a.begin(), a.end(),
+                      f + ":3:3: '46' is given twice in 'chart' (a tooth) (first at line "
+                          "2); give it once"),
+            a.end())
+      << ::testing::PrintToString(a);
+  EXPECT_NE(std::find(a.begin(), a.end(),
+                      f + ":5:1: 'diagnosis' is given twice in the answers (first at "
+                          "line 4); give it once"),
+            a.end())
+      << ::testing::PrintToString(a);
 }
 
 TEST(Answers, ChartAndEntriesFormsAndTheirErrors) {
@@ -320,6 +361,53 @@ TEST(HumanHands, EachReadsEverySiteWithinAMillimetre) {
       EXPECT_GE(at_rest, 12) << name << ": the sites charted at rest";
     }
   }
+}
+
+// A person's attempt, kept as a fixture: four sites probed in the window with
+// the keys a student uses (N over the next site, R twelve times for a press of
+// 0.24 N, the depth typed with the probe still at the floor, X), recorded by
+// LessonWindow.APersonProbesFourSitesByKeysAndEachIsScored and compressed with
+// xz. Replayed headless with its entries, every site probed is read within
+// 1 mm of the truth with its held force in the band, once; every other site
+// says why it has no reading.
+TEST(PersonFixture, AnAttemptByKeysInTheWindowIsReadAtEverySiteItProbed) {
+  const fs::path data = fs::path(SULCUS_TEST_DATA) / "person";
+  const fs::path rec = Out("person_keys.rec");
+  const std::string unpack = "xz -dc '" + (data / "keys_four_sites.rec.xz").string() +
+                             "' > '" + rec.string() + "'";
+  ASSERT_EQ(std::system(unpack.c_str()), 0) << unpack;
+  AttemptOptions o;
+  o.student = "Key Hand";
+  o.device = "replay:" + rec.string();
+  o.answers = data / "keys_four_sites_answers.yaml";
+  o.cache_dir = Cache();
+  o.mode = LessonSpec::Mode::kPractice;
+  const LessonResult r = RunAttempt(Lesson(), o).result;
+  const Answers a = LoadAnswers(o.answers);
+  ASSERT_EQ(a.entries.size(), 4u);
+  for (const SiteResult& s : r.sites) {
+    const bool probed =
+        std::any_of(a.entries.begin(), a.entries.end(),
+                    [&](const ChartEntry& e) { return e.site == s.site; });
+    if (!probed) {
+      EXPECT_FALSE(s.reached_mm) << s.site.ToString();
+      EXPECT_FALSE(s.no_reading.empty()) << s.site.ToString();
+      continue;
+    }
+    ASSERT_TRUE(s.reached_mm) << s.site.ToString() << ": " << s.no_reading;
+    std::printf(
+        "figure: %s reached %.2f mm (truth %d), held %.3f N, peak %.3f N, %d "
+        "insertion(s), charted %d\n",
+        s.site.ToString().c_str(), *s.reached_mm, s.truth_mm, s.held_force_n,
+        s.peak_force_n, s.insertions, s.entry ? s.entry->pd_mm.value_or(-1) : -1);
+    EXPECT_LE(std::abs(*s.reached_mm - s.truth_mm), 1.0) << s.site.ToString();
+    EXPECT_GE(s.held_force_n, r.rubric.force_low_n) << s.site.ToString();
+    EXPECT_LE(s.held_force_n, r.rubric.force_high_n) << s.site.ToString();
+    EXPECT_EQ(s.insertions, 1) << s.site.ToString();
+  }
+  EXPECT_EQ(r.sites_read, 4);
+  EXPECT_EQ(r.sites_charted, 4);
+  EXPECT_DOUBLE_EQ(r.force_in_band_pct, 100.0);
 }
 
 TEST(Students, TheMisreadingOneFailsReadingAtExactlyItsThreeSites) {
