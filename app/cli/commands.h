@@ -2,6 +2,9 @@
 // Each group of subcommands registers itself on the CLI11 app.
 
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <string>
 
 namespace sulcus::cli {
 
@@ -31,5 +34,36 @@ void AddLessonCommands(CLI::App& app);
 
 /// Exit status of the subcommand that ran (set by its callback).
 int& ExitStatus();
+
+/// A number option's value must be finite (CLI::Range lets NaN through: every
+/// comparison with it is false): "nan", "inf" and 1e999 are refused.
+inline const CLI::Validator& Finite() {
+  static const CLI::Validator v(
+      [](std::string& s) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(s.c_str(), &end);
+        if (end == s.c_str() || *end != '\0')
+          return "'" + s.substr(0, 80) + "' is not a number";
+        if (!std::isfinite(x)) return "'" + s.substr(0, 80) + "' is not a finite number";
+        return {};
+      },
+      "FINITE");
+  return v;
+}
+
+/// A whole number from 0 up (a count, an index, a seed): "-5" is refused
+/// rather than read as something else.
+inline const CLI::Validator& WholeNumber() {
+  static const CLI::Validator v(
+      [](std::string& s) -> std::string {
+        if (s.empty() || s.size() > 19 ||
+            s.find_first_not_of("0123456789") != std::string::npos)
+          return "'" + s.substr(0, 80) +
+                 "' is not a whole number from 0 to 9223372036854775807";
+        return {};
+      },
+      "WHOLE");
+  return v;
+}
 
 }  // namespace sulcus::cli

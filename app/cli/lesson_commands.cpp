@@ -359,7 +359,7 @@ void AddLessonCommands(CLI::App& app) {
   }
   for (CLI::App* c : {list, show, exp})
     c->add_option("--results", (*q)[3], "Results folder");
-  show->add_option("ATTEMPT", *id, "Attempt id")->required();
+  show->add_option("ATTEMPT", *id, "Attempt id")->required()->check(WholeNumber());
   exp->add_option("-o,--output", (*q)[2], "CSV file (default: standard output)");
   exp->add_flag("--sites", *sites, "One line per site instead of per attempt");
   list->callback([q] {

@@ -86,8 +86,8 @@ void AddMeshCommands(CLI::App& app) {
       ->required()
       ->check(CLI::IsMember({"box", "sphere", "torus", "cylinder"}));
   make->add_option("--size", *size,
-                   "Characteristic size in mm (edge, radius, ring radius)")
-      ->check(CLI::PositiveNumber);
+                   "Characteristic size in mm (edge, radius, ring radius), 0.01 to 1000")
+      ->check(Finite() & CLI::Range(0.01, 1000.0));
   make->add_option("--detail", *detail, "Resolution (subdivisions or segments / 8)")
       ->check(CLI::Range(1, 8));
   make->add_option("-o,--output", *make_out, "Output mesh file")->required();

@@ -266,16 +266,18 @@ void AddRunCommands(CLI::App& app) {
       ->capture_default_str();
   run->add_option("--rate", a->rate_hz,
                   "Haptic rate in Hz (default: the scene's; a replay's own)")
-      ->check(CLI::Range(100.0, 20000.0));
+      ->check(Finite() & CLI::Range(100.0, 20000.0));
   run->add_option("--seconds", a->seconds, "How long to run")
       ->capture_default_str()
-      ->check(CLI::Range(0.01, 3600.0));
+      ->check(Finite() & CLI::Range(0.01, 3600.0));
   run->add_option("--record", a->record, "Record the session to this file");
   run->add_option(
-      "--object", a->object,
-      "Index of the object a scripted trajectory works on (default: first tooth)");
+         "--object", a->object,
+         "Index of the object a scripted trajectory works on (default: first tooth)")
+      ->check(WholeNumber());
   run->add_option("--seed", a->seed, "Seed of the random trajectory")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(WholeNumber());
   run->add_flag("--no-realtime", a->no_realtime,
                 "Do not ask for real-time priority and a pinned core");
   run->add_option("--spin-us", a->spin_us,

@@ -91,8 +91,13 @@ void AddSphereTreeCommands(CLI::App& app) {
       ->transform(CLI::CheckedTransformer(std::map<std::string, SphereTreeParams::Spend>{
           {"mean", SphereTreeParams::Spend::kMean},
           {"worst", SphereTreeParams::Spend::kWorst}}));
-  build->add_option("--samples", b->params.samples, "Surface samples (0: automatic)");
-  build->add_option("--seed", b->params.seed, "Random seed")->capture_default_str();
+  build
+      ->add_option("--samples", b->params.samples,
+                   "Surface samples (0: automatic; at most 10,000,000)")
+      ->check(WholeNumber() & CLI::Range(0, 10000000));
+  build->add_option("--seed", b->params.seed, "Random seed")
+      ->capture_default_str()
+      ->check(WholeNumber());
   build->add_flag("--eval", b->eval, "Also print the fit metrics");
   build
       ->add_option("--method", b->method,
