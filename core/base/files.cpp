@@ -26,6 +26,16 @@ void RefuseOverwrite(const fs::path& out, const std::vector<KeptFile>& kept) {
                       "), which writing would destroy; choose another output path");
 }
 
+std::string UnreadableReason(const fs::path& file) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(file, ec);
+  if (ec || !fs::exists(st)) return "no such file";
+  if (fs::is_directory(st)) return "is a folder, not a file";
+  if (!fs::is_regular_file(st))
+    return "is not a regular file (a FIFO or a device?); give a file";
+  return {};
+}
+
 std::vector<KeptFile> StoreFiles(const fs::path& db) {
   return {{db, "the results database"},
           {fs::path(db.string() + "-wal"), "the results database's journal"},

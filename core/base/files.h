@@ -33,6 +33,11 @@ struct KeptFile {
 /// what to do instead.
 void RefuseOverwrite(const std::filesystem::path& out, const std::vector<KeptFile>& kept);
 
+/// Why `file` cannot be read as a file, in the user's words ("" when it can):
+/// no such file, a folder, or not a regular file (a FIFO would block, a
+/// device such as /dev/zero never ends), checked before it is opened.
+std::string UnreadableReason(const std::filesystem::path& file);
+
 /// A results database's own files (the database and SQLite's -wal and -shm).
 std::vector<KeptFile> StoreFiles(const std::filesystem::path& db);
 

@@ -8,6 +8,8 @@
 #include <limits>
 #include <ostream>
 
+#include "core/base/files.h"
+
 namespace sulcus {
 namespace {
 
@@ -201,6 +203,8 @@ void RecordingWriter::Finish() {
 }
 
 Recording ReadRecording(const std::filesystem::path& file) {
+  if (const std::string why = UnreadableReason(file); !why.empty())
+    throw RecordingError(file.string() + ": " + why);
   std::ifstream f(file, std::ios::binary);
   if (!f) throw RecordingError(file.string() + ": cannot open the recording");
   const std::vector<char> data((std::istreambuf_iterator<char>(f)),

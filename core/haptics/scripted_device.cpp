@@ -9,6 +9,8 @@
 #include <random>
 #include <sstream>
 
+#include "core/base/files.h"
+
 namespace sulcus {
 namespace {
 
@@ -160,6 +162,8 @@ Trajectory MakeScript(const std::string& name, const ScriptTarget& target,
 }
 
 Trajectory LoadTrajectoryCsv(const std::filesystem::path& file) {
+  if (const std::string why = UnreadableReason(file); !why.empty())
+    throw std::runtime_error(file.string() + ": " + why);
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file.string() + ": cannot open the trajectory file");
   const std::string expected = "t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg[,buttons]";

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/files.h"
 #include "core/geometry/transform.h"
 #include "core/scene/scene.h"
 
@@ -205,6 +206,13 @@ class YamlReader {
 inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind,
                               const std::string& not_a_map) {
   const std::filesystem::path& file = r.file_;
+  // A folder, a FIFO or a device is refused before it is opened (it would
+  // block, or never end).
+  if (const std::string why = UnreadableReason(file);
+      !why.empty() && why != "no such file") {
+    r.errors().push_back({file.string(), 0, 0, why});
+    throw SceneLoadError(r.errors());
+  }
   std::ifstream in(file);
   if (!in) {
     std::error_code ec;

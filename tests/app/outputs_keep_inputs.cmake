@@ -81,3 +81,22 @@ expect_refused("lesson run -o onto another attempt's folder" "already holds the 
 file(WRITE ${OUT}/afile "x")
 expect_refused("lesson run -o onto a file" "is a file, not a folder"
   lesson|run|${LESSON}|--results|${OUT}/results|-o|${OUT}/afile)
+
+# A FIFO, a device or a folder given as an input is refused at once (it would
+# block the command, or never end).
+execute_process(COMMAND mkfifo ${OUT}/fifo RESULT_VARIABLE made)
+if(made EQUAL 0)
+  expect_refused("scene validate on a FIFO" "fifo.*is not a regular file"
+    scene|validate|${OUT}/fifo)
+  expect_refused("lesson validate on a FIFO" "fifo.*is not a regular file"
+    lesson|validate|${OUT}/fifo)
+  expect_refused("recording export of a FIFO" "fifo.*is not a regular file"
+    recording|export|${OUT}/fifo|--csv)
+  execute_process(COMMAND mkfifo ${OUT}/fifo.csv)
+  expect_refused("a trajectory CSV that is a FIFO" "fifo.csv.*is not a regular file"
+    run|--scene|${SCENE}|--device|scripted:${OUT}/fifo.csv|--seconds|0.1|--offline)
+endif()
+expect_refused("recording export of /dev/zero" "/dev/zero.*is not a regular file"
+  recording|export|/dev/zero|--csv)
+expect_refused("scene validate on a folder" "is a folder, not a file"
+  scene|validate|${OUT})
