@@ -11,7 +11,7 @@ ProbeReadingTracker::ProbeReadingTracker(double rate_hz) {
 }
 
 void ProbeReadingTracker::Reset() noexcept {
-  cur_.site = cand_.site = -1;
+  cur().site = cand().site = -1;
   away_ = false;
 }
 
@@ -86,41 +86,41 @@ bool ProbeReadingTracker::Emit(Visit& v, std::uint64_t left, ProbeReading* out) 
 bool ProbeReadingTracker::Update(std::uint64_t tick, const TipLocation& where,
                                  double force_n, ProbeReading* out) noexcept {
   const double f = std::isfinite(force_n) ? std::max(0.0, force_n) : 0.0;
-  if (where.site == cur_.site) {
+  if (where.site == cur().site) {
     away_ = false;
-    cand_.site = -1;
-    if (cur_.site >= 0) cur_.Add(tick, where, f);
+    cand().site = -1;
+    if (cur().site >= 0) cur().Add(tick, where, f);
     return false;
   }
-  if (cur_.site < 0) {  // from nowhere into a site: the visit starts at once
-    cur_.Start(where.site, tick);
-    cur_.Add(tick, where, f);
+  if (cur().site < 0) {  // from nowhere into a site: the visit starts at once
+    cur().Start(where.site, tick);
+    cur().Add(tick, where, f);
     return false;
   }
   // Away from the visit's site: where the tip is meanwhile is a visit in waiting.
   if (!away_) {
     away_ = true;
     away_since_ = tick;
-    cand_.site = -1;
+    cand().site = -1;
   }
-  if (where.site != cand_.site) {
+  if (where.site != cand().site) {
     if (where.site >= 0)
-      cand_.Start(where.site, tick);
+      cand().Start(where.site, tick);
     else
-      cand_.site = -1;
+      cand().site = -1;
   }
-  if (cand_.site >= 0) cand_.Add(tick, where, f);
+  if (cand().site >= 0) cand().Add(tick, where, f);
   if (tick - away_since_ + 1 < leave_ticks_) return false;
   // Gone: the visit ends where the tip left it.
-  const bool read = Emit(cur_, away_since_, out);
-  std::swap(cur_, cand_);
-  cand_.site = -1;
+  const bool read = Emit(cur(), away_since_, out);
+  cur_index_ = 1 - cur_index_;  // the visit in waiting is the visit now
+  cand().site = -1;
   away_ = false;
   return read;
 }
 
 bool ProbeReadingTracker::Complete(std::uint64_t tick, ProbeReading* out) noexcept {
-  return Emit(cur_, tick, out);
+  return Emit(cur(), tick, out);
 }
 
 }  // namespace sulcus

@@ -67,9 +67,7 @@ class ProbeReadingTracker {
   /// has not gone kMinDepthMm deep (or nothing is new since the last report).
   bool Complete(std::uint64_t tick, ProbeReading* out) noexcept;
   /// The site of the current visit (-1: none). Use it as the locator's `held`.
-  int site() const { return cur_.site; }
-  /// The current visit: its deepest point so far (meaningless when site() < 0).
-  double deepest_mm() const { return cur_.deepest; }
+  int site() const { return visits_[static_cast<std::size_t>(cur_index_)].site; }
   void Reset() noexcept;
 
  private:
@@ -89,7 +87,12 @@ class ProbeReadingTracker {
   };
   bool Emit(Visit& v, std::uint64_t left, ProbeReading* out) const;
   std::uint64_t leave_ticks_;
-  Visit cur_, cand_;  // the visit, and where the tip is while away from it
+  // The visit, and where the tip is while away from it: two slots whose roles
+  // swap by index (no copy of their histograms on the haptic thread).
+  std::array<Visit, 2> visits_{};
+  int cur_index_ = 0;
+  Visit& cur() { return visits_[static_cast<std::size_t>(cur_index_)]; }
+  Visit& cand() { return visits_[static_cast<std::size_t>(1 - cur_index_)]; }
   std::uint64_t away_since_ = 0;
   bool away_ = false;
 };
