@@ -66,10 +66,15 @@ int main(int argc, char** argv) {
       if (!window.StartLesson(s)) window.OpenScene(scene);
       return;
     }
+    // The start page, unless a scene was asked for: who, which lesson, which
+    // mode. Nothing is built in front of it: the lesson picked is prepared in
+    // the background while the student types, and the workbench's scene only
+    // when the workbench is chosen.
+    if (!scene_given && !cli.isSet(workbench) && !cli.isSet(quit_after)) {
+      if (!window.ShowStartPage()) window.OpenScene(scene);
+      return;
+    }
     window.OpenScene(scene);
-    // The start page, unless a scene was asked for: who, which lesson, which mode.
-    if (!scene_given && !cli.isSet(workbench) && !cli.isSet(quit_after))
-      window.ShowStartPage();
   });
   if (cli.isSet(quit_after)) {
     QTimer::singleShot(static_cast<int>(cli.value(quit_after).toDouble() * 1000), &window,

@@ -15,10 +15,15 @@ if [[ $# -gt 0 ]]; then
   exec "$cli" "$@"
 fi
 if [[ -n "${DISPLAY:-}" && -x build/release/bin/sulcus ]]; then
+  # The shipped lessons' scenes, prepared here (through the cache: seconds once
+  # built) so that the window never makes a student wait for them.
+  for s in scenes/periodontal_probing.yaml scenes/oral_inspection.yaml; do
+    echo "Preparing $s (the first time only: about a minute)..."
+    "$cli" scene build "$s" --drawn | tail -1
+  done
   echo "Opening the window on its start page: say who you are and pick a lesson (the"
-  echo "first run builds the scene's sphere-trees, about a minute; the mouse and keyboard"
-  echo "move the probe: W/S, A/D, Q/E as the screen shows it, N to the next site, R/F to"
-  echo "press along the probe; F1 for help)."
+  echo "mouse and keyboard move the probe: W/S, A/D, Q/E as the screen shows it, N to"
+  echo "the next site, R/F to press along the probe; F1 for help)."
   exec build/release/bin/sulcus
 fi
 echo

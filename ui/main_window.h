@@ -27,6 +27,7 @@
 #include "core/lesson/scripted_student.h"
 #include "core/scene/scene.h"
 #include "core/session/session.h"
+#include "ui/scene_preparer.h"
 
 class QCheckBox;
 class QDialog;
@@ -114,7 +115,15 @@ class MainWindow : public QMainWindow {
   /// its scene (waiting) and starts it. False when it could not start.
   bool StartLesson(const LessonStart& start);
   /// The start page (who, which lesson, which mode); starts the chosen lesson.
-  void ShowStartPage();
+  const ScenePreparer& preparer() const { return preparer_; }
+  /// Whether the loupe is shown (the tip in a sulcus, the box checked).
+  bool loupe_shown() const;
+  /// The start page; true when it started a lesson.
+  bool ShowStartPage();
+  /// Starts preparing the scene of `lesson` (with `seed`, or the lesson's own:
+  /// a new case is drawn now and kept for its start) off the UI thread.
+  void PrepareLesson(const std::filesystem::path& lesson,
+                     std::optional<std::uint64_t> seed);
   void SetLessonFolders(std::vector<std::filesystem::path> dirs) {
     lesson_dirs_ = std::move(dirs);
   }
@@ -184,7 +193,13 @@ class MainWindow : public QMainWindow {
   void StopSession();   // also ends a recording in progress
   void Tick();          // the display timer: snapshot -> view, gauge, status, events
   void ShowErrors(const QString& title, const QString& text, const QString& details);
-  bool OpenSpec(const SceneSpec& spec, const std::filesystem::path& file, bool wait);
+  // `key` names what `spec` was made from (a lesson and its seed), so that a
+  // preparation started for it on the start page is taken over; empty: the file.
+  bool OpenSpec(const SceneSpec& spec, const std::filesystem::path& file, bool wait,
+                const std::string& key = {});
+  static std::string LessonKey(const std::filesystem::path& lesson, std::uint64_t seed);
+  std::uint64_t LessonSeed(const LessonSpec& spec, const std::filesystem::path& lesson,
+                           std::optional<std::uint64_t> chosen);
   void BuildLessonDock();
   void UpdateLessonPanel();
   void SetAidsLocked(bool locked);
@@ -192,6 +207,7 @@ class MainWindow : public QMainWindow {
   void ShowReport(const LessonResult& r, const std::filesystem::path& html);
   const ProbingSite* SceneSite(const SiteRef& s) const;
   QString HeldBackText() const;
+  void UpdateLoupe(const std::optional<SiteRef>& tip);
   static constexpr double kHeldBackMm = 2.0;
   static constexpr int kDockLayoutVersion = 2;
 
@@ -207,12 +223,15 @@ class MainWindow : public QMainWindow {
   QComboBox* device_box_ = nullptr;
   QSpinBox* sphere_level_ = nullptr;
   QCheckBox* translucent_ = nullptr;
+  QCheckBox* loupe_box_ = nullptr;
   QCheckBox* lips_hidden_ = nullptr;
   QTimer* timer_ = nullptr;
   QMessageBox* error_dialog_ = nullptr;
 
   std::unique_ptr<CompiledScene> scene_;
   std::filesystem::path scene_file_;
+  ScenePreparer preparer_;
+  std::optional<std::pair<std::string, std::uint64_t>> drawn_seed_;  // lesson key, seed
   std::string device_name_ = "mouse";
   MouseKeyboardDevice* mouse_ = nullptr;  // the session's device when it is the mouse
   std::string session_device_;            // what the session's device calls itself

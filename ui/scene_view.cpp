@@ -1,5 +1,6 @@
 #include "ui/scene_view.h"
 
+#include <vtkActorCollection.h>
 #include <vtkCamera.h>
 #include <vtkCylinderSource.h>
 #include <vtkDoubleArray.h>
@@ -12,11 +13,16 @@
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 #include <vtkSphereSource.h>
+#include <vtkTextActor.h>
+#include <vtkTextProperty.h>
 #include <vtkTransform.h>
 #include <vtkTransformPolyDataFilter.h>
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
 
 #include "core/anatomy/arch.h"
 #include "core/anatomy/findings.h"
@@ -320,7 +326,76 @@ void SceneView::Load(const CompiledScene& scene, const SeenGingiva* seen) {
   contact_actor_->SetVisibility(false);
   renderer_->AddActor(contact_actor_);
   spheres_shown_ = -1;
+  FillLoupe();
+  ShowLoupe(std::nullopt, Vector3::UnitX(), Vector3::UnitZ(), 1);
   View(Side::kBuccal);
+}
+
+void SceneView::AttachLoupe(vtkRenderer* loupe, vtkRenderer* overlay) {
+  loupe_ = loupe;
+  overlay_ = overlay;
+  loupe_->SetBackground(0.10, 0.10, 0.12);
+  loupe_->SetDraw(false);
+  overlay_->SetDraw(false);
+  overlay_->SetActiveCamera(loupe_->GetActiveCamera());
+  FillLoupe();
+}
+
+void SceneView::FillLoupe() {
+  if (!loupe_ || !scene_) return;
+  loupe_->RemoveAllViewProps();
+  overlay_->RemoveAllViewProps();
+  overlay_marks_.clear();
+  // What the main view draws, from the loupe's camera.
+  vtkActorCollection* actors = renderer_->GetActors();
+  actors->InitTraversal();
+  while (vtkActor* a = actors->GetNextActor()) loupe_->AddActor(a);
+  // Over it: the probe as a faint outline and its markings solid, so that the
+  // part inside the sulcus shows through the gingiva.
+  for (std::size_t i = 0; i < tool_graphic_.size(); ++i) {
+    auto a = vtkSmartPointer<vtkActor>::New();
+    a->SetMapper(tool_graphic_[i]->GetMapper());
+    if (i == 0) {
+      a->GetProperty()->SetColor(0.95, 0.95, 0.95);
+      a->GetProperty()->SetOpacity(0.25);
+    } else {
+      a->GetProperty()->SetColor(0.05, 0.05, 0.08);
+      a->GetProperty()->SetOpacity(0.85);
+    }
+    a->SetUserMatrix(ToVtk(X_WG_));
+    overlay_->AddActor(a);
+    overlay_marks_.push_back(a);
+  }
+  loupe_caption_ = vtkSmartPointer<vtkTextActor>::New();
+  loupe_caption_->GetTextProperty()->SetFontSize(13);
+  loupe_caption_->GetTextProperty()->SetColor(0.95, 0.95, 0.95);
+  loupe_caption_->SetPosition(6, 6);
+  overlay_->AddActor2D(loupe_caption_);
+}
+
+void SceneView::ShowLoupe(const std::optional<Vector3>& focus, const Vector3& from_dir,
+                          const Vector3& up, double width_mm) {
+  loupe_shown_ = focus.has_value() && loupe_ != nullptr;
+  if (!loupe_) return;
+  loupe_->SetDraw(loupe_shown_);
+  overlay_->SetDraw(loupe_shown_);
+  if (!loupe_shown_) return;
+  vtkCamera* c = loupe_->GetActiveCamera();
+  constexpr double kAngleDeg = 20;
+  const double distance =
+      0.5 * width_mm / std::tan(0.5 * kAngleDeg * std::numbers::pi / 180);
+  const Vector3 eye = *focus + distance * from_dir.normalized();
+  c->SetViewAngle(kAngleDeg);
+  c->SetFocalPoint(focus->x(), focus->y(), focus->z());
+  c->SetPosition(eye.x(), eye.y(), eye.z());
+  c->SetViewUp(up.x(), up.y(), up.z());
+  c->SetClippingRange(0.2 * distance, 3 * distance);
+  if (loupe_caption_) {
+    char text[96];
+    std::snprintf(text, sizeof text,
+                  "Loupe: %.0f mm across, markings seen through the gingiva", width_mm);
+    loupe_caption_->SetInput(text);
+  }
 }
 
 void SceneView::ShowGhost(const std::optional<RigidTransform>& X_WG) {
@@ -335,6 +410,7 @@ void SceneView::Update(const HapticSnapshot& s) {
   if (tool_haptic_) tool_haptic_->SetUserMatrix(ToVtk(s.X_WH));
   const auto m = ToVtk(s.X_WG);
   for (auto& a : tool_graphic_) a->SetUserMatrix(m);
+  for (auto& a : overlay_marks_) a->SetUserMatrix(m);
   // Contact spheres: the object leaves the tool touches, in red.
   if (!scene_ || !contact_actor_) return;
   if (!show_contacts_ || s.num_shown_pairs == 0) {

@@ -10,6 +10,7 @@
 #include <vtkPolyData.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
+#include <vtkTextActor.h>
 
 #include <optional>
 #include <vector>
@@ -55,6 +56,18 @@ class SceneView {
   /// Frames one tooth from its buccal side; false if the scene has no such tooth.
   bool LookAtTooth(int fdi);
 
+  /// A magnified inset over a corner of the same window: `loupe` draws what
+  /// the main view draws; `overlay` (a renderer on the window's upper layer with
+  /// the loupe's viewport) draws the probe's markings over whatever hides them,
+  /// so that where the gingival margin crosses them can be read. Both are
+  /// hidden until ShowLoupe.
+  void AttachLoupe(vtkRenderer* loupe, vtkRenderer* overlay);
+  /// Points the loupe at `focus` from `from_dir` (unit), `up` on screen, with
+  /// `width_mm` across; no focus hides it.
+  void ShowLoupe(const std::optional<Vector3>& focus, const Vector3& from_dir,
+                 const Vector3& up, double width_mm);
+  bool loupe_shown() const { return loupe_shown_; }
+
   const RigidTransform& graphic_pose() const { return X_WG_; }
   /// The camera now: position, focal point, up and vertical view angle (degrees).
   struct CameraPose {
@@ -71,6 +84,12 @@ class SceneView {
              const Vector3& up);
 
   vtkRenderer* renderer_;
+  vtkRenderer* loupe_ = nullptr;
+  vtkRenderer* overlay_ = nullptr;
+  std::vector<vtkSmartPointer<vtkActor>> overlay_marks_;  // moved with the tool
+  vtkSmartPointer<vtkTextActor> loupe_caption_;
+  bool loupe_shown_ = false;
+  void FillLoupe();
   const CompiledScene* scene_ = nullptr;
   std::vector<vtkSmartPointer<vtkActor>> objects_, gingiva_, tool_graphic_, spheres_,
       contacts_;

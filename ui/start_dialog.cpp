@@ -12,6 +12,7 @@
 #include <QRadioButton>
 #include <QSettings>
 #include <QSpinBox>
+#include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
 
@@ -85,6 +86,22 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
           [this] { seed_case_->setChecked(true); });
   case_box_->hide();
   layout->addWidget(case_box_);
+  ready_ = new QLabel;
+  ready_->setWordWrap(true);
+  ready_->setStyleSheet("color: #555");
+  layout->addWidget(ready_);
+  settle_ = new QTimer(this);
+  settle_->setSingleShot(true);
+  connect(settle_, &QTimer::timeout, this, [this] {
+    const Item* it = Current();
+    if (prepare_ && it && !it->broken) prepare_(it->file, seed());
+  });
+  for (QRadioButton* b : {own_case_, last_case_, seed_case_})
+    connect(b, &QRadioButton::toggled, this, [this](bool on) {
+      if (on) RequestPreparation();
+    });
+  connect(case_seed_, qOverload<int>(&QSpinBox::valueChanged), this,
+          [this] { RequestPreparation(); });
   auto* buttons = new QDialogButtonBox;
   auto* folder =
       buttons->addButton("Instructor's folder...", QDialogButtonBox::ActionRole);
@@ -110,6 +127,7 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
                   : Q(it.description).toHtmlEscaped());
     start_->setEnabled(!it.broken);
     ShowCase(it);
+    RequestPreparation();
   });
   connect(student_, &QComboBox::currentTextChanged, this, [this] { Refresh(); });
   // Who was here last.
@@ -153,7 +171,7 @@ void StartDialog::Refresh() {
           (s.name.empty() ? f.stem().string() : s.name) + "  (" + ToString(s.mode) + ")";
       it.description = s.description;
       it.generated_case = s.case_spec;
-    } catch (const SceneLoadError& e) {
+    } catch (const LoadError& e) {
       it.broken = true;
       it.title = f.filename().string() + " (broken)";
       it.errors = e.what();
@@ -172,6 +190,25 @@ void StartDialog::Refresh() {
   }
   if (!items_.empty())
     list_->setCurrentRow(keep >= 0 && keep < static_cast<int>(items_.size()) ? keep : 0);
+}
+
+void StartDialog::SetPreparation(
+    std::function<void(const std::filesystem::path&, std::optional<std::uint64_t>)>
+        prepare,
+    std::function<QString()> status) {
+  prepare_ = std::move(prepare);
+  status_ = std::move(status);
+  auto* poll = new QTimer(this);
+  connect(poll, &QTimer::timeout, this,
+          [this] { ready_->setText(status_ ? status_() : QString()); });
+  poll->start(250);
+  RequestPreparation();
+}
+
+QString StartDialog::preparation_text() const { return ready_->text(); }
+
+void StartDialog::RequestPreparation() {
+  if (prepare_) settle_->start(400);
 }
 
 void StartDialog::ShowCase(const Item& it) {

@@ -8,6 +8,7 @@
 
 #include <QDialog>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@ class QListWidget;
 class QRadioButton;
 class QPushButton;
 class QSpinBox;
+class QTimer;
 
 namespace sulcus::ui {
 
@@ -53,6 +55,15 @@ class StartDialog : public QDialog {
   /// choice is not offered for the selected lesson.
   bool ChooseCase(CaseChoice choice, std::uint64_t seed = 0);
   void Refresh();
+  /// While the page is open, `prepare` is called (a moment after the choice
+  /// settles) with the lesson and case chosen, so its scene is prepared while the
+  /// student types; `status` says how far that is, shown at the bottom.
+  void SetPreparation(
+      std::function<void(const std::filesystem::path&, std::optional<std::uint64_t>)>
+          prepare,
+      std::function<QString()> status);
+  /// What the page says of the scene's preparation (for tests).
+  QString preparation_text() const;
 
  private:
   std::vector<std::filesystem::path> dirs_;
@@ -66,6 +77,12 @@ class StartDialog : public QDialog {
   QGroupBox* case_box_ = nullptr;
   QRadioButton *own_case_ = nullptr, *last_case_ = nullptr, *seed_case_ = nullptr;
   QSpinBox* case_seed_ = nullptr;
+  std::function<void(const std::filesystem::path&, std::optional<std::uint64_t>)>
+      prepare_;
+  std::function<QString()> status_;
+  QLabel* ready_ = nullptr;
+  QTimer* settle_ = nullptr;
+  void RequestPreparation();
   const Item* Current() const;  // the selected lesson, or null
   void ShowCase(const Item& it);
 };

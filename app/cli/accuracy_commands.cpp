@@ -59,6 +59,7 @@ std::string FaultKinds(const EngineFaults& f) {
   add("sweep", f.sweep);
   add("held, brought to free space", f.held);
   add("inside, brought out", f.inside);
+  add("placed apart, rejoined the device", f.rejoined);
   return out;
 }
 

@@ -32,8 +32,16 @@ void AddRunCommands(CLI::App& app);
 /// `lesson validate|run|report`, `results list|show|export`.
 void AddLessonCommands(CLI::App& app);
 
-/// Exit status of the subcommand that ran (set by its callback).
-int& ExitStatus();
+/// How a command that has printed all it has to say ends with a failing exit
+/// status (a mesh that is not a solid, a scene with errors, a lesson not
+/// passed): `Finish(status)` returns for 0 and throws CommandStatus otherwise,
+/// which main() returns, with no further message.
+struct CommandStatus {
+  int code;
+};
+inline void Finish(int status) {
+  if (status != 0) throw CommandStatus{status};
+}
 
 /// A number option's value must be finite (CLI::Range lets NaN through: every
 /// comparison with it is false): "nan", "inf" and 1e999 are refused.

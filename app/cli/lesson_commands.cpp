@@ -260,9 +260,9 @@ void AddLessonCommands(CLI::App& app) {
                     file->c_str(), s.name.c_str(), ToString(s.mode),
                     s.scene.string().c_str(), s.teeth.size(), s.path.size(),
                     s.steps.size());
-    } catch (const SceneLoadError& e) {
+    } catch (const LoadError& e) {
       std::fprintf(stderr, "%s\n", e.what());
-      ExitStatus() = 1;
+      Finish(1);
     }
   });
 
@@ -294,7 +294,7 @@ void AddLessonCommands(CLI::App& app) {
   run->add_flag("--no-store", a->no_store,
                 "Do not store the attempt in the results database");
   run->add_flag("--quiet", a->quiet, "Print the score only, not every line");
-  run->callback([a] { ExitStatus() = RunLesson(*a); });
+  run->callback([a] { Finish(RunLesson(*a)); });
 
   auto r = std::make_shared<ReportArgs>();
   CLI::App* report =
@@ -311,7 +311,7 @@ void AddLessonCommands(CLI::App& app) {
       "The entries (default: the attempt's, or answers.yaml beside the recording)");
   report->add_option("--seed", r->seed, "A generated case's seed (for a recording)");
   report->add_option("--results", r->results, "Results folder");
-  report->callback([r] { ExitStatus() = Report(*r); });
+  report->callback([r] { Finish(Report(*r)); });
 
   auto recover_dir = std::make_shared<std::string>();
   CLI::App* recover = lesson->add_subcommand(
@@ -324,6 +324,7 @@ void AddLessonCommands(CLI::App& app) {
     const fs::path results = ResultsDir(*recover_dir);
     const std::vector<fs::path> dirs = UnfinishedAttempts(results);
     if (dirs.empty()) std::printf("no unfinished attempts in %s\n", results.c_str());
+    int status = 0;
     for (const fs::path& d : dirs) {
       try {
         const RecoveredAttempt a =
@@ -336,9 +337,10 @@ void AddLessonCommands(CLI::App& app) {
         std::fprintf(
             stderr, "error: %s cannot be rebuilt: %s (its files are left as they were)\n",
             d.c_str(), e.what());
-        ExitStatus() = 1;
+        status = 1;  // the others are still tried
       }
     }
+    Finish(status);
   });
 
   CLI::App* results =

@@ -5,13 +5,6 @@
 
 #include "app/cli/commands.h"
 
-namespace sulcus::cli {
-int& ExitStatus() {
-  static int status = 0;
-  return status;
-}
-}  // namespace sulcus::cli
-
 int main(int argc, char** argv) {
   CLI::App app{"Sulcus: haptic dental training simulator, command-line tools"};
   app.require_subcommand(1);
@@ -26,11 +19,13 @@ int main(int argc, char** argv) {
   sulcus::cli::AddLessonCommands(app);
   try {
     app.parse(argc, argv);
+  } catch (const sulcus::cli::CommandStatus& s) {
+    return s.code;
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << '\n';
     return 1;
   }
-  return sulcus::cli::ExitStatus();
+  return 0;
 }

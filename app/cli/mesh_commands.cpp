@@ -60,7 +60,7 @@ void AddMeshCommands(CLI::App& app) {
                                         "Print counts, volume, area, bounding box and "
                                         "every check; exit 1 if a check fails");
   info->add_option("FILE", *file, "Mesh file (.stl, .obj, .ply, .off)")->required();
-  info->callback([file] { ExitStatus() = MeshInfo(*file); });
+  info->callback([file] { Finish(MeshInfo(*file)); });
 
   auto in = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();

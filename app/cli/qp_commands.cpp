@@ -156,7 +156,7 @@ void AddQpCommands(CLI::App& app) {
         warm.us.size(), Pct(warm.us, 0.5), Pct(warm.us, 0.99), warm.us.back(),
         static_cast<double>(warm.iterations) / warm.us.size(), warm.max_iterations,
         warm.failures, static_cast<double>(warm.active) / warm.us.size());
-    ExitStatus() = warm.failures ? 1 : 0;
+    Finish(warm.failures ? 1 : 0);
   });
 
   auto kind = std::make_shared<std::string>();

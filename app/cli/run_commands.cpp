@@ -53,7 +53,7 @@ void TraceTick(const HapticLoop& l, const SceneSpec& spec, double rate_hz) {
       "(engine %.3f) step %.1f us (collide %.1f rows %.1f qp %.1f) pairs %d active %d "
       "pen %.4f mm margin %.3f sweeps %d tests %d%s qp %d it %d lin %d%s%s "
       "faults overflow %" PRIu64 " solver %" PRIu64 " pen %" PRIu64 " sweep %" PRIu64
-      " held %" PRIu64 " inside %" PRIu64 "\n",
+      " held %" PRIu64 " inside %" PRIu64 " rejoined %" PRIu64 "\n",
       r.tick, static_cast<double>(r.tick) / rate_hz, h.x(), h.y(), h.z(), g.x(), g.y(),
       g.z(), (g - h).norm(), r.force_W.norm(), d.force_W.norm(), d.timings.total_us,
       d.timings.collide_us, d.timings.constraints_us, d.timings.solve_us, d.num_pairs,
@@ -61,7 +61,8 @@ void TraceTick(const HapticLoop& l, const SceneSpec& spec, double rate_hz) {
       d.node_budget_hit ? " (budget hit)" : "", static_cast<int>(d.qp_status),
       d.qp_iterations, d.linearizations, d.pair_overflow ? " overflow" : "",
       d.inside ? " INSIDE" : "", d.faults.pair_overflow, d.faults.solver,
-      d.faults.penetration, d.faults.sweep, d.faults.held, d.faults.inside);
+      d.faults.penetration, d.faults.sweep, d.faults.held, d.faults.inside,
+      d.faults.rejoined);
   // Which objects the pairs are with, and how many distinct tool leaves they use.
   std::map<int, std::pair<int, std::set<int>>> by_object;
   for (int i = 0; i < d.num_pairs; ++i) {
@@ -300,11 +301,11 @@ void AddRunCommands(CLI::App& app) {
           "--trace", "takes FROM TO in seconds (FROM <= TO) and needs --offline");
     if (!a->record.empty()) {
       std::vector<KeptFile> inputs = {{a->scene, "the scene being run"}};
-      if (const auto colon = a->device.find(':'); colon != std::string::npos)
-        inputs.push_back({a->device.substr(colon + 1), "the device's input file"});
+      if (const std::filesystem::path in = ParseDeviceName(a->device).file(); !in.empty())
+        inputs.push_back({in, "the device's input file"});
       RefuseOverwrite(a->record, inputs);
     }
-    ExitStatus() = Run(*a);
+    Finish(Run(*a));
   });
 
   auto watch = std::make_shared<double>(0);

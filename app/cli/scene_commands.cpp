@@ -3,10 +3,12 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 
 #include "app/cli/commands.h"
+#include "core/base/files.h"
 #include "core/geometry/mesh_io.h"
 #include "core/scene/scene.h"
 #include "core/spheretree/cache.h"
@@ -31,9 +33,9 @@ void AddSceneCommands(CLI::App& app) {
       std::printf("%s: valid scene '%s': %zu objects, probe %s, effects: %s\n",
                   file->c_str(), s.name.c_str(), s.objects.size(), s.probe.c_str(),
                   effects.c_str());
-    } catch (const SceneLoadError& e) {
+    } catch (const LoadError& e) {
       std::fprintf(stderr, "%s\n%zu error(s)\n", e.what(), e.errors().size());
-      ExitStatus() = 1;
+      Finish(1);
     }
   });
 
@@ -87,6 +89,11 @@ void AddSceneCommands(CLI::App& app) {
       }
       std::printf("the gingiva as drawn: %zu shares, %zu triangles, %.2f s\n", shares,
                   seen_triangles, seconds);
+      std::printf("scene ready in %.2f s\n",
+                  compiled->mesh_seconds + compiled->tree_seconds + seconds);
+    } else {
+      std::printf("scene ready in %.2f s\n",
+                  compiled->mesh_seconds + compiled->tree_seconds);
     }
   });
 
@@ -102,16 +109,33 @@ void AddSceneCommands(CLI::App& app) {
                 "instead of the surface the probe feels");
   exp->callback([=] {
     const SceneSpec s = LoadSceneSpec(*export_file);
-    std::filesystem::create_directories(*dir);
+    // Every object's file name first: two objects whose names differ only in
+    // what a file name cannot hold ("a b" and "a-b") would write one file.
+    std::vector<std::filesystem::path> outs;
+    std::map<std::string, std::string> taken;  // file name -> object
     for (const ObjectSpec& o : s.objects) {
+      std::string name = o.name;
+      for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      if (const auto it = taken.find(name); it != taken.end())
+        throw FileError("objects '" + it->second + "' and '" + o.name +
+                        "' would both be written to " + name +
+                        ".stl; rename one of them in " + *export_file +
+                        " (nothing was written)");
+      taken[name] = o.name;
+      outs.push_back(std::filesystem::path(*dir) / (name + ".stl"));
+    }
+    std::vector<KeptFile> inputs = {{*export_file, "the scene file"}};
+    for (const ObjectSpec& o : s.objects)
+      if (!o.mesh.empty()) inputs.push_back({o.mesh, "a mesh the scene reads"});
+    for (const std::filesystem::path& out : outs) RefuseOverwrite(out, inputs);
+    std::filesystem::create_directories(*dir);
+    for (std::size_t i = 0; i < s.objects.size(); ++i) {
+      const ObjectSpec& o = s.objects[i];
       TriangleMesh mesh =
           MakeObjectMeshCached(o, DefaultCacheDir(), nullptr, *export_drawn);
       mesh.Transform(o.X_WO.rotation(), o.X_WO.translation());
-      std::string name = o.name;
-      for (char& c : name) {
-        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-      }
-      const std::filesystem::path out = std::filesystem::path(*dir) / (name + ".stl");
+      const std::filesystem::path& out = outs[i];
       SaveMesh(mesh, out, {.binary = true});
       std::printf("wrote %s (%zu triangles)\n", out.c_str(), mesh.num_faces());
     }

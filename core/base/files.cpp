@@ -36,6 +36,16 @@ std::string UnreadableReason(const fs::path& file) {
   return {};
 }
 
+bool IsInsideFolder(const fs::path& file, const fs::path& folder) {
+  std::error_code ec;
+  const fs::path f = fs::weakly_canonical(fs::absolute(file, ec), ec);
+  if (ec) return false;
+  const fs::path d = fs::weakly_canonical(fs::absolute(folder, ec), ec);
+  if (ec) return false;
+  const fs::path rel = f.lexically_relative(d);
+  return !rel.empty() && *rel.begin() != "..";
+}
+
 std::vector<KeptFile> StoreFiles(const fs::path& db) {
   return {{db, "the results database"},
           {fs::path(db.string() + "-wal"), "the results database's journal"},

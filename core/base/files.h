@@ -38,6 +38,13 @@ void RefuseOverwrite(const std::filesystem::path& out, const std::vector<KeptFil
 /// device such as /dev/zero never ends), checked before it is opened.
 std::string UnreadableReason(const std::filesystem::path& file);
 
+/// Whether `file`, with every link in it resolved, lies inside `folder` (also
+/// resolved): compared component by component, so "/a/bc" is not inside "/a/b"
+/// and "m.stl" inside "." is. A file that does not exist yet is resolved as far
+/// as it exists.
+bool IsInsideFolder(const std::filesystem::path& file,
+                    const std::filesystem::path& folder);
+
 /// A results database's own files (the database and SQLite's -wal and -shm).
 std::vector<KeptFile> StoreFiles(const std::filesystem::path& db);
 

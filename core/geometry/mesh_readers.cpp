@@ -14,6 +14,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "core/base/text.h"
 #include "core/geometry/mesh.h"
 
 namespace sulcus {
@@ -97,7 +98,8 @@ class Tokens {
     line_ = line;
   }
   [[noreturn]] void Fail(const std::string& what) const {
-    throw MeshError(path_.string(), "line " + std::to_string(line_) + ": " + what);
+    throw MeshError(path_.string(),
+                    "line " + std::to_string(line_) + ": " + ShortenQuoted(what));
   }
 
  private:
@@ -490,7 +492,8 @@ class PlyBody {
   }
   [[noreturn]] void Fail(const std::string& what) const {
     if (ascii()) tok_.Fail(what);
-    throw MeshError(path_.string(), "byte " + std::to_string(pos_) + ": " + what);
+    throw MeshError(path_.string(),
+                    "byte " + std::to_string(pos_) + ": " + ShortenQuoted(what));
   }
   std::size_t size() const { return b_.size(); }
 

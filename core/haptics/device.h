@@ -1,10 +1,10 @@
 #pragma once
-// The device layer's one interface (docs/architecture.md, "Devices and the haptic
-// thread"): pose, buttons and a time stamp in; force and torque out; what the device can
-// do. Backends: scripted trajectories and replays (here), OpenHaptics (devices/), the
-// mouse and keyboard (in the window, ui/). Units at this interface are Sulcus's:
-// millimetres, newtons, newton-millimetres, the world frame W; a driver converts
-// at its own boundary.
+// The device layer's one interface (docs/architecture.md, "One haptic frame" and
+// "A run: the Session"): pose, buttons and a time stamp in; force and torque out; what
+// the device can do. Backends: scripted trajectories and replays (here), OpenHaptics
+// (devices/), the mouse and keyboard (in the window, ui/). Units at this interface are
+// Sulcus's: millimetres, newtons, newton-millimetres, the world frame W; a driver
+// converts at its own boundary.
 
 #include <cstdint>
 #include <stdexcept>

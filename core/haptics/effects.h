@@ -1,8 +1,8 @@
 #pragma once
-// Effects on demand (docs/architecture.md): a scene lists the effects it needs, and the
-// loop's list holds exactly those, so an effect the scene does not name is not
-// in the loop at all (no call, no branch). Each effect reads the engine's data
-// after the step, may add to the output force, and emits typed events
+// Effects on demand (docs/architecture.md, "One haptic frame", step 6): a scene lists the
+// effects it needs, and the loop's list holds exactly those, so an effect the scene does
+// not name is not in the loop at all (no call, no branch). Each effect reads the engine's
+// data after the step, may add to the output force, and emits typed events
 // (kProbeReading, kBleeding, kTissueDamage, kSoftContact; haptic_loop.h).
 //
 //   gingiva_compliance  soft tissue the probe displaces: its objects are not

@@ -97,6 +97,12 @@ void FindFreeSpace(const EngineModel& model, const RigidTransform& X_WH, EngineD
   const EngineParams& p = model.params;
   int budget = std::max(1, p.free_search_node_tests);
   for (int tried = 0; tried < kFreeSearchCandidates && budget > 0; ++tried) {
+    if (d->free_search_next > 0 &&
+        kFreeSearchMm[(d->free_search_next - 1) / kFreeSearchDirections] >
+            p.free_search_max_mm) {
+      d->free_search_next = 0;  // none near enough: the device's own pose again
+      break;
+    }
     const RigidTransform X = FreeSearchCandidate(X_WH, d->free_search_next);
     // An overlap test: the first pair in overlap stops it.
     const CollisionStats cs = FindContacts(model.world, X, 0.0, &d->scratch,
@@ -105,11 +111,13 @@ void FindFreeSpace(const EngineModel& model, const RigidTransform& X_WH, EngineD
     if (cs.cut_short && !cs.overflow)
       break;  // out of budget: this candidate again next frame
     if (!cs.overflow && !cs.stack_overflow) {
+      const bool apart = d->free_search_next > 0;
       d->inside = false;
       d->free_search_next = 0;
       ++d->faults.inside;
       ResetTool(X, d);
       d->X_WH = X_WH;
+      d->placed_apart = apart;
       return;
     }
     d->free_search_next = (d->free_search_next + 1) % kFreeSearchCandidates;
@@ -277,6 +285,7 @@ void ResetTool(const RigidTransform& X_WG, EngineData* d) {
   d->inside = false;
   d->free_search_next = 0;
   d->held_frames = 0;
+  d->placed_apart = false;
 }
 
 void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) noexcept {
@@ -297,6 +306,25 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   d->X_WH = X_WH;
   if (!d->initialized) ResetTool(X_WH, d);
   if (d->inside) return InsideFrame(model, X_WH, t0, d);
+  if (d->placed_apart) {
+    // Placed apart from the device by a deep start: met (within 0.5 mm), or
+    // rejoined where the device comes out in free space (an overlap test of its
+    // pose within the frame's budget; a budget cut short counts as not free).
+    constexpr double kMetMm = 0.5;
+    if ((d->X_WG.translation() - X_WH.translation()).norm() < kMetMm) {
+      d->placed_apart = false;
+    } else {
+      const CollisionStats cs =
+          FindContacts(world, X_WH, 0.0, &d->scratch, d->pairs.data(), 0,
+                       QueryLimits{true, std::max(1, p.free_search_node_tests)});
+      if (!cs.overflow && !cs.stack_overflow && !cs.cut_short) {
+        ++d->faults.rejoined;
+        ResetTool(X_WH, d);
+        d->timings.total_us = Micros(t0, Clock::now());
+        return;
+      }
+    }
+  }
 
   // The query margin must cover how far any tool point moves this frame, so that
   // no pair outside it can be reached (no pop-through). Guess from the last

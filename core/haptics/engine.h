@@ -57,6 +57,11 @@ struct EngineParams {
   // Most sphere tests a frame spends looking for that free space; the search
   // goes on next frame where it stopped.
   int free_search_node_tests = 40000;
+  // The free space is looked for at most this far from the device: a pose
+  // farther off can be on the far side of a thin wall (a cheek), where the
+  // spring would push the hand through the wall toward it. Until one is found
+  // the rendered tool follows the device with no force.
+  double free_search_max_mm = 8;
   // Most sphere tests one contact query of a frame may make (0: no limit). A
   // query that would need more is treated as an overflow: a shorter step with a
   // smaller margin is tried, so a frame's collision work is bounded by
@@ -93,9 +98,10 @@ struct EngineFaults {
   std::uint64_t sweep = 0;        // the frame's move could not be covered: pose held
   std::uint64_t held = 0;         // held max_held_frames in a row: treated as inside
   std::uint64_t inside = 0;       // the tool was found inside an object and brought out
+  std::uint64_t rejoined = 0;  // placed apart by that, it rejoined the device once free
   std::uint64_t total() const {
     return nonfinite_device + pair_overflow + solver + penetration + sweep + held +
-           inside;
+           inside + rejoined;
   }
 };
 
@@ -155,6 +161,11 @@ struct EngineData {
   // poses around the device are tried, nearest first, for one that is free.
   bool inside = false;
   int free_search_next = 0;  // the next candidate pose to try
+  // The free pose found was not the device's own: until the rendered tool has
+  // met the device, a device that comes out in free space elsewhere (the other
+  // side of a thin wall) is rejoined there, with no force, instead of being
+  // pulled back through the wall to where the search put the tool.
+  bool placed_apart = false;
 
   StepTimings timings;
   EngineFaults faults;

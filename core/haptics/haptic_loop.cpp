@@ -43,6 +43,8 @@ const char* ToString(EventKind kind) {
       return "caries_catch";
     case EventKind::kCalculusTouched:
       return "calculus";
+    case EventKind::kCount:
+      break;
   }
   return "?";
 }

@@ -53,13 +53,14 @@ enum class EventKind : std::uint8_t {
   kProbeReading,  // probing_depth: one insertion at a site ended; reading
   kBleeding,  // bleeding_on_probing: a bleeding site was probed to its floor; bleeding
   kTissueDamage,  // tissue_damage: the force on an object rose above its limit; damage
-  kSoftContact,   // gingiva_compliance: the probe began pressing soft tissue; soft
+  kSoftContact,   // gingiva_compliance: the probe began pressing soft tissue; force
   kCariesCatch,   // caries_catch: the tip caught in a carious lesion; object (the tooth),
                   // damage (force, 0)
   kCalculusTouched,  // calculus: the working end met a calculus deposit; object (the
                      // deposit), calculus
+  kCount,            // not a kind: how many there are (a new kind goes above)
 };
-inline constexpr int kNumEventKinds = 14;
+inline constexpr int kNumEventKinds = static_cast<int>(EventKind::kCount);
 const char* ToString(EventKind kind);
 
 /// A probing reading: the deepest point of one insertion into a site's sulcus.

@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "core/base/files.h"
+#include "core/base/text.h"
 
 namespace sulcus {
 namespace {
@@ -75,7 +76,8 @@ class In {
   std::size_t pos() const { return pos_; }
   bool done() const { return pos_ == data_.size(); }
   [[noreturn]] void Fail(const std::string& what) const {
-    throw RecordingError(file_.string() + ": byte " + std::to_string(pos_) + ": " + what);
+    throw RecordingError(file_.string() + ": byte " + std::to_string(pos_) + ": " +
+                         ShortenQuoted(what));
   }
 
  private:

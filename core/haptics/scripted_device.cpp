@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/base/files.h"
+#include "core/base/text.h"
 
 namespace sulcus {
 namespace {
@@ -171,11 +172,14 @@ Trajectory LoadTrajectoryCsv(const std::filesystem::path& file) {
   int line_no = 0;
   std::vector<Keyframe> keys;
   auto fail = [&](const std::string& what) {
-    throw std::runtime_error(file.string() + ":" + std::to_string(line_no) + ": " + what);
+    throw std::runtime_error(file.string() + ":" + std::to_string(line_no) + ": " +
+                             ShortenQuoted(what));
   };
   while (std::getline(in, line)) {
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    // A spreadsheet's UTF-8 byte order mark before the header.
+    if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     if (line.empty() || line[0] == '#') continue;
     if (line_no == 1 || (keys.empty() && line.rfind("t_s", 0) == 0)) {
       if (line.rfind("t_s", 0) != 0) fail("expected the header line '" + expected + "'");

@@ -6,7 +6,8 @@
 #include <sstream>
 
 #include "core/anatomy/soft_tissue.h"
-#include "core/scene/yaml_reader.h"
+#include "core/anatomy/tooth.h"
+#include "core/base/yaml_reader.h"
 
 namespace sulcus {
 namespace {
@@ -142,6 +143,21 @@ void ReadView(YamlReader& r, const YAML::Node& n, std::vector<ViewSample>* out) 
   out->push_back(v);
 }
 
+// An FDI number of a permanent tooth, or an error at `n` saying why not.
+int ReadTooth(YamlReader& r, const YAML::Node& n, int fdi) {
+  try {
+    FdiTooth::Parse(fdi);
+    return fdi;
+  } catch (const std::invalid_argument& e) {
+    r.Error(n, e.what());
+    return 0;
+  }
+}
+
+// More entries than any examination makes (32 teeth, 6 sites, each corrected
+// many times over): a file this long is not a student's chart.
+constexpr std::size_t kMaxEntries = 10000;
+
 }  // namespace
 
 Answers LoadAnswers(const fs::path& file) {
@@ -179,7 +195,8 @@ Answers LoadAnswers(const fs::path& file) {
   if (const YAML::Node chart = root["chart"]; chart && r.IsMap(chart, "'chart'")) {
     r.CheckUnique(chart, "'chart' (a tooth)");
     for (auto it = chart.begin(); it != chart.end(); ++it) {
-      const int fdi = r.Integer(it->first, "tooth", 11, 48, 0);
+      int fdi = r.Integer(it->first, "tooth", 11, 48, 0);
+      if (fdi) fdi = ReadTooth(r, it->first, fdi);
       const YAML::Node t = it->second;
       if (!r.IsMap(t, "a tooth's chart")) continue;
       r.CheckKeys(t, {"pd", "bleeding"}, "a tooth's chart");
@@ -218,6 +235,10 @@ Answers LoadAnswers(const fs::path& file) {
       r.Error(entries,
               "'entries' must be a list of {site: \"46 DB\", pd: 5, bleeding: true, "
               "tick: 1234}");
+    } else if (entries.size() > kMaxEntries) {
+      r.Error(entries, "'entries' holds " + std::to_string(entries.size()) +
+                           " entries; an answers file holds at most " +
+                           std::to_string(kMaxEntries));
     } else {
       for (const YAML::Node& n : entries) {
         if (!r.IsMap(n, "an entry")) continue;
@@ -233,6 +254,7 @@ Answers LoadAnswers(const fs::path& file) {
           r.Error(n["site"], "a site is a tooth and a site code, e.g. \"46 DB\"");
           continue;
         }
+        if (!ReadTooth(r, n["site"], e.site.fdi)) continue;
         e.site.site = SiteFromCode(code);
         if (n["pd"]) e.pd_mm = r.Integer(n["pd"], "pd", 0, 15, 0);
         if (n["bleeding"]) e.bleeding = r.Bool(n["bleeding"], "bleeding", false);
@@ -243,7 +265,7 @@ Answers LoadAnswers(const fs::path& file) {
     }
   }
   if (root["diagnosis"]) a.diagnosis = ReadDiagnosis(r, root["diagnosis"]);
-  if (!r.errors().empty()) throw SceneLoadError(r.errors());
+  if (!r.errors().empty()) throw LoadError(r.errors());
   return a;
 }
 

@@ -24,7 +24,7 @@ struct Answers {
   std::vector<ViewSample> views;  // the window's camera as it moved
 };
 
-/// Throws SceneLoadError with every error as `file:line:column: message`.
+/// Throws LoadError with every error as `file:line:column: message`.
 Answers LoadAnswers(const std::filesystem::path& file);
 
 /// Writes the entries form (every entry with its tick); LoadAnswers reads it back.

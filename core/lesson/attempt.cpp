@@ -9,10 +9,10 @@
 #include <fstream>
 #include <random>
 
+#include "core/base/yaml_reader.h"
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
-#include "core/scene/yaml_reader.h"
 
 namespace sulcus {
 
@@ -26,12 +26,28 @@ AttemptFolder NewAttemptFolder(const std::filesystem::path& results,
   char stamp[32], iso[32];
   std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S-", &tm);
   std::strftime(iso, sizeof iso, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  // The folder's name carries the student's name for a person browsing the
+  // folders, cut so that it stays a valid file name (the database keeps the name
+  // whole).
+  constexpr std::size_t kNameChars = 60;
   std::string name = stamp;
-  for (char c : student) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  for (char c : student.substr(0, kNameChars))
+    name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
   AttemptFolder f{results / "attempts" / name, iso};
-  for (int n = 2; std::filesystem::exists(f.dir); ++n)
+  std::error_code ec;
+  for (int n = 2; std::filesystem::exists(f.dir, ec); ++n)
     f.dir = results / "attempts" / (name + "-" + std::to_string(n));
-  std::filesystem::create_directories(f.dir);
+  if (!std::filesystem::create_directories(f.dir, ec) && ec) {
+    const std::string why =
+        ec == std::errc::read_only_file_system || ec == std::errc::permission_denied
+            ? "the results folder cannot be written (read-only)"
+        : ec == std::errc::no_space_on_device ? "the disk is full"
+        : ec == std::errc::not_a_directory
+            ? "a file stands where a folder is needed on the way"
+            : ec.message();
+    throw std::runtime_error("cannot make the attempt's folder " + f.dir.string() + ": " +
+                             why + "; set SULCUS_RESULTS_DIR to a writable folder");
+  }
   return f;
 }
 
@@ -120,7 +136,7 @@ AttemptMarker ReadAttemptMarker(const fs::path& dir) {
   if (root["seed"])
     m.seed = static_cast<std::uint64_t>(r.Number(root["seed"], "seed", 0, 9.0e15, 0));
   if (root["started"]) m.started = r.Text(root["started"], "started");
-  if (!r.errors().empty()) throw SceneLoadError(r.errors());
+  if (!r.errors().empty()) throw LoadError(r.errors());
   return m;
 }
 
@@ -253,15 +269,13 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
     WriteAttemptMarker(*o.keep_in, {lesson_file, o.student, ToString(spec.mode), out.seed,
                                     o.keep_in->started});
   LessonRun lesson(spec, scene, o.student, spec.case_spec.generated ? out.seed : 0);
-  std::unique_ptr<ScriptedHand> student;
-  DeviceSpec device;
-  if (o.device.rfind("student:", 0) == 0) {
-    student = MakeScriptedHand(o.device.substr(8), spec, scene);
-    device.device = student->MakeDevice();
-    device.name = o.device;
-  } else {
-    device = MakeDevice(o.device, scene, 60.0);
-  }
+  LessonDevice made = MakeLessonDevice(o.device, spec, scene, 60.0);
+  if (!made.device.device)
+    throw std::invalid_argument(
+        "the mouse takes a lesson in the window (sulcus); here "
+        "give student:NAME, scripted:NAME or replay:FILE");
+  std::unique_ptr<ScriptedHand> student = std::move(made.student);
+  DeviceSpec device = std::move(made.device);
   out.notes = device.notes;
   SessionOptions so;
   so.record = o.record;

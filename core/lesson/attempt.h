@@ -64,7 +64,7 @@ struct AttemptOutcome {
   std::vector<std::string> notes;
 };
 
-/// Throws SceneLoadError, std::invalid_argument, RecordingError, std::runtime_error.
+/// Throws LoadError, std::invalid_argument, RecordingError, std::runtime_error.
 AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
                           const AttemptOptions& options);
 
@@ -91,7 +91,7 @@ struct AttemptMarker {
 };
 /// Throws std::runtime_error naming the file.
 void WriteAttemptMarker(const AttemptFolder& folder, const AttemptMarker& m);
-/// Throws SceneLoadError (file:line:column) for a marker that does not read.
+/// Throws LoadError (file:line:column) for a marker that does not read.
 AttemptMarker ReadAttemptMarker(const std::filesystem::path& dir);
 
 /// The file in an attempt's folder saying its report is kept there but its row

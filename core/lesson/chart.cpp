@@ -106,6 +106,8 @@ const char* ToString(Diagnosis::Kind k) {
       return "generalized gingivitis";
     case Diagnosis::Kind::kPeriodontitis:
       return "periodontitis";
+    case Diagnosis::Kind::kNotClassifiable:
+      return "not classifiable from this chart";
   }
   return "?";
 }
@@ -119,8 +121,8 @@ Diagnosis Classify2017(const PerioChart& chart) {
   Diagnosis d;
   char line[256];
   std::vector<int> measured, interdental_loss, oral_loss, deep_pd;
-  int present = 0, bleeding = 0;
-  bool pseudo_pocket = false;
+  int present = 0, bleeding = 0, sites_measured = 0;
+  bool pseudo_pocket = false, pocket = false;
   int worst_interdental = 0, worst_any = 0;
   for (const ToothChart& t : chart.teeth) {
     if (!t.present) continue;
@@ -128,10 +130,13 @@ Diagnosis Classify2017(const PerioChart& chart) {
     bool any = false, inter = false, oral = false, deep = false;
     for (int s = 0; s < kSitesPerTooth; ++s) {
       const SiteValues& v = t.sites[s];
-      if (v.bleeding) ++bleeding;
+      // Bleeding on probing counts where the site was probed (has a depth).
       if (!v.measured()) continue;
+      ++sites_measured;
+      if (v.bleeding) ++bleeding;
       any = true;
       const int cal = *v.cal_mm(), pd = *v.pd_mm;
+      pocket |= pd >= 4;
       worst_any = std::max(worst_any, cal);
       if (IsInterdental(s)) {
         worst_interdental = std::max(worst_interdental, cal);
@@ -149,7 +154,7 @@ Diagnosis Classify2017(const PerioChart& chart) {
     if (oral) oral_loss.push_back(t.fdi);
     if (deep) deep_pd.push_back(t.fdi);
   }
-  d.bop_pct = present > 0 ? 100.0 * bleeding / (6.0 * present) : 0;
+  d.bop_pct = sites_measured > 0 ? 100.0 * bleeding / sites_measured : 0;
   d.worst_interdental_cal_mm = worst_interdental;
   if (!TwoNonAdjacent(measured)) {
     d.path.push_back("fewer than 2 non-adjacent teeth measured (" + List(measured) +
@@ -177,12 +182,14 @@ Diagnosis Classify2017(const PerioChart& chart) {
                   "not a periodontitis case; bleeding on probing %.1f %% of sites",
                   d.bop_pct);
     d.path.push_back(line);
-    d.kind = d.bop_pct < 10    ? Diagnosis::Kind::kHealth
-             : d.bop_pct <= 30 ? Diagnosis::Kind::kGingivitisLocalized
-                               : Diagnosis::Kind::kGingivitisGeneralized;
+    d.kind = d.bop_pct >= 10 ? (d.bop_pct <= 30 ? Diagnosis::Kind::kGingivitisLocalized
+                                                : Diagnosis::Kind::kGingivitisGeneralized)
+             : pocket        ? Diagnosis::Kind::kNotClassifiable
+                             : Diagnosis::Kind::kHealth;
     d.path.push_back(
-        std::string(
-            "BOP < 10 %: health; 10-30 %: localized gingivitis; > 30 %: generalized: ") +
+        std::string("BOP < 10 % with every PD <= 3 mm: health; 10-30 %: localized "
+                    "gingivitis; > 30 %: generalized; BOP < 10 % with a PD >= 4 mm: "
+                    "neither: ") +
         ToString(d.kind));
     return d;
   }
@@ -194,18 +201,25 @@ Diagnosis Classify2017(const PerioChart& chart) {
       "worst interdental CAL %d mm: stage %s (1-2 mm I, 3-4 mm II, >= 5 mm III)", worst,
       ToString(d.stage));
   d.path.push_back(line);
+  // The extent's band is the one that set the stage, before complexity raised it.
   int band_lo = d.stage == Stage::kIII ? 5 : d.stage == Stage::kII ? 3 : 1;
   int band_hi = d.stage == Stage::kIII ? 1000 : d.stage == Stage::kII ? 4 : 2;
-  if (d.stage == Stage::kII) {
-    int furcation = 0;
-    for (const ToothChart& t : chart.teeth)
-      furcation = std::max(furcation, t.present ? t.furcation : 0);
-    if (TwoNonAdjacent(deep_pd) || furcation >= 2) {
+  int furcation = 0;
+  for (const ToothChart& t : chart.teeth)
+    furcation = std::max(furcation, t.present ? t.furcation : 0);
+  if (d.stage != Stage::kIII && furcation >= 2) {
+    // The consensus table's footnote: furcation class II or III shifts the stage
+    // to at least III irrespective of CAL.
+    std::snprintf(line, sizeof line,
+                  "complexity: furcation class %s: stage III whatever the CAL",
+                  furcation >= 3 ? "III" : "II");
+    d.path.push_back(line);
+    d.stage = Stage::kIII;
+  } else if (d.stage == Stage::kII) {
+    if (TwoNonAdjacent(deep_pd)) {
       d.stage = Stage::kIII;
-      d.path.push_back(TwoNonAdjacent(deep_pd)
-                           ? "complexity: PD >= 6 mm at 2 or more non-adjacent teeth (" +
-                                 List(deep_pd) + "): stage III"
-                           : "complexity: furcation class II or III: stage III");
+      d.path.push_back("complexity: PD >= 6 mm at 2 or more non-adjacent teeth (" +
+                       List(deep_pd) + "): stage III");
     } else {
       d.path.push_back("complexity: PD >= 6 mm at " + List(deep_pd) +
                        " (not at 2 non-adjacent teeth), no furcation "

@@ -67,12 +67,15 @@ struct Diagnosis {
     kHealth,
     kGingivitisLocalized,
     kGingivitisGeneralized,
-    kPeriodontitis
+    kPeriodontitis,
+    // Not a case, yet not health: a pocket (PD >= 4 mm) with bleeding under 10 %,
+    // as a pseudo-pocket or with attachment loss short of a case.
+    kNotClassifiable
   };
   Kind kind = Kind::kNotAssessable;
   Stage stage = Stage::kNone;
   Extent extent = Extent::kNone;
-  double bop_pct = 0;  // bleeding sites / (6 x teeth present)
+  double bop_pct = 0;  // bleeding sites / sites measured (a site with a depth)
   int worst_interdental_cal_mm = 0;
   double extent_pct = 0;  // share of teeth in the band that set the stage
   bool stage_iv_assessable =

@@ -7,10 +7,10 @@
 
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/tooth.h"
+#include "core/base/yaml_reader.h"
 #include "core/lesson/inspection.h"
 #include "core/lesson/lesson_spec.h"
 #include "core/scene/scene.h"
-#include "core/scene/yaml_reader.h"
 
 namespace sulcus {
 namespace {
@@ -61,6 +61,12 @@ void ReadRubric(YamlReader& r, const YAML::Node& n, RubricSpec* p) {
     r.CheckKeys(w, names, "'weights'");
     for (const auto& [k, v] : weights)
       if (w[k]) *v = r.Number(w[k], k, 0, 1000, std::max(0.0, *v), "points");
+    double total = 0;
+    for (const auto& [k, v] : weights) total += *v;
+    if (total <= 0)
+      r.Error(w,
+              "every weight in 'weights' is 0, so every attempt would score 0; give "
+              "the lines that count a weight above 0");
   }
   if (n["technique_full_mm"])
     p->technique_full_mm =
@@ -90,6 +96,11 @@ void ReadRubric(YamlReader& r, const YAML::Node& n, RubricSpec* p) {
   if (n["angle_pass_deg"])
     p->angle_pass_deg =
         r.Number(n["angle_pass_deg"], "angle_pass_deg", 0, 90, 10, "degrees");
+  if (p->angle_pass_deg < p->angle_full_deg)
+    r.Error(n, "'angle_pass_deg' (" + FormatNumber(p->angle_pass_deg) +
+                   ") must be at least 'angle_full_deg' (" +
+                   FormatNumber(p->angle_full_deg) +
+                   "): full credit is for a smaller tilt than a pass");
   if (n["col_reach_mm"])
     p->col_reach_mm = r.Number(n["col_reach_mm"], "col_reach_mm", 0.1, 10, 2.5, "mm");
   if (n["coverage_min"])
@@ -545,9 +556,9 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
     try {
       scene = LoadSceneSpec(spec.scene);
       scene_ok = true;
-    } catch (const SceneLoadError& e) {
+    } catch (const LoadError& e) {
       r.Error(root["scene"], "the scene " + spec.scene.string() + " does not load:");
-      for (const SceneError& se : e.errors()) r.errors().push_back(se);
+      for (const ErrorAt& se : e.errors()) r.errors().push_back(se);
     }
   }
   std::vector<int> scene_teeth;
@@ -579,6 +590,24 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
                                       spec.scene.filename().string());
   } else {
     spec.teeth = scene_teeth;
+  }
+  if (spec.case_spec.generated && root["case"] && !spec.teeth.empty()) {
+    // A case that no chart of these teeth can be: a localized extent keeps
+    // under 30 % of the teeth in the stage's band, which holds at least 2 teeth
+    // at stage I (the case's 2 non-adjacent teeth) and 1 above it.
+    const CaseSpec& c = spec.case_spec;
+    const std::size_t in_band = c.stage == Stage::kI ? 2 : 1;
+    const std::size_t need =
+        c.extent == Extent::kLocalized ? static_cast<std::size_t>(in_band / 0.3) + 1 : 3;
+    if (spec.teeth.size() < need)
+      r.Error(root["case"],
+              std::string("a case of stage ") + ToString(c.stage) + ", " +
+                  ToString(c.extent) + " needs at least " + std::to_string(need) +
+                  " teeth (" +
+                  (c.extent == Extent::kLocalized
+                       ? std::to_string(in_band) + " in its band must be under 30 %"
+                       : std::string("2 of them non-adjacent")) +
+                  "); the lesson has " + std::to_string(spec.teeth.size()));
   }
   if (spec.inspection()) {
     const std::vector<std::string> have =
@@ -643,7 +672,7 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   } else {
     r.Error(root, "a lesson needs 'steps:', a list of what the student does in order");
   }
-  if (!r.errors().empty()) throw SceneLoadError(r.errors());
+  if (!r.errors().empty()) throw LoadError(r.errors());
   return spec;
 }
 

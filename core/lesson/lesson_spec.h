@@ -100,7 +100,7 @@ const char* ToString(LessonSpec::Mode m);
 const char* ToString(LessonSpec::Kind k);
 
 /// Reads and checks a lesson file and the scene it names (the teeth must be in
-/// it with sites, the probe must be the scene's). Throws SceneLoadError with every
+/// it with sites, the probe must be the scene's). Throws LoadError with every
 /// error found, each `file:line:column: message`.
 LessonSpec LoadLessonSpec(const std::filesystem::path& file);
 
@@ -125,7 +125,7 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
 /// it was; the case named in the file's first lines). The file is read back and
 /// its true chart checked against the drawn one. An instructor's fixed case for
 /// lessons without `case:`. Throws std::runtime_error naming the file (a scene
-/// that names mesh files can only be saved in its own folder), SceneLoadError.
+/// that names mesh files can only be saved in its own folder), LoadError.
 SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64_t seed,
                         const std::filesystem::path& out);
 

@@ -4,6 +4,8 @@
 
 #include <cstdlib>
 
+#include "core/base/text.h"
+
 namespace sulcus {
 namespace {
 
@@ -91,13 +93,62 @@ ALTER TABLE attempts ADD COLUMN ended TEXT NOT NULL DEFAULT '';
 constexpr int kNumMigrations = sizeof(kMigrations) / sizeof(kMigrations[0]);
 static_assert(kNumMigrations == kResultsSchemaVersion);
 
+// What went wrong with the results database, in the user's words: what it
+// means and what to do, with SQLite's own text only as a last resort and
+// never the SQL.
+ResultsError DbError(const fs::path& file, sqlite3* db, int rc) {
+  const std::string where = file.string() + ": ";
+  const std::string text = db ? sqlite3_errmsg(db) : "";
+  switch (rc & 0xff) {
+    case SQLITE_CANTOPEN:
+      return ResultsError(where +
+                          "the results database cannot be opened or made there (does "
+                          "the folder exist and may Sulcus write in it?); set "
+                          "SULCUS_RESULTS_DIR to a writable folder");
+    case SQLITE_READONLY:
+    case SQLITE_PERM:
+    case SQLITE_AUTH:
+      return ResultsError(where +
+                          "the results database cannot be written (the file or its "
+                          "folder is read-only); nothing was stored, nothing is lost");
+    case SQLITE_FULL:
+      return ResultsError(
+          where +
+          "the disk holding the results database is full; free some "
+          "space and store the attempt again (sulcus-cli lesson recover)");
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED:
+      return ResultsError(where +
+                          "the results database is in use by another Sulcus for more "
+                          "than 5 s; try again");
+    case SQLITE_CORRUPT:
+    case SQLITE_NOTADB:
+      return ResultsError(where +
+                          "not a Sulcus results database, or a damaged one; it is left "
+                          "untouched (move it aside to start a new one)");
+    case SQLITE_IOERR:
+      return ResultsError(where +
+                          "the results database could not be read or written "
+                          "(a disk error); nothing is lost");
+    case SQLITE_ERROR:
+      if (text.find("no such table") != std::string::npos ||
+          text.find("no such column") != std::string::npos)
+        return ResultsError(where +
+                            "not a results database of a form this Sulcus knows (its "
+                            "tables differ); it is left untouched");
+      break;
+    default:
+      break;
+  }
+  return ResultsError(where + "the results database failed: " + Shorten(text));
+}
+
 // A prepared statement, finalized on scope exit.
 class Stmt {
  public:
   Stmt(sqlite3* db, const char* sql, const fs::path& file) : db_(db) {
-    if (sqlite3_prepare_v2(db, sql, -1, &s_, nullptr) != SQLITE_OK)
-      throw ResultsError(file.string() + ": " + sqlite3_errmsg(db) + " (in: " + sql +
-                         ")");
+    if (const int rc = sqlite3_prepare_v2(db, sql, -1, &s_, nullptr); rc != SQLITE_OK)
+      throw DbError(file, db, rc);
   }
   ~Stmt() { sqlite3_finalize(s_); }
   Stmt& Bind(int i, const std::string& v) {
@@ -121,7 +172,7 @@ class Stmt {
     const int rc = sqlite3_step(s_);
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
-    throw ResultsError(file.string() + ": " + sqlite3_errmsg(db_));
+    throw DbError(file, db_, rc);
   }
   void Reset() {
     sqlite3_reset(s_);
@@ -165,13 +216,14 @@ fs::path DefaultResultsDir() {
 ResultsDb::ResultsDb(const fs::path& file) : file_(file) {
   std::error_code ec;
   if (file.has_parent_path()) fs::create_directories(file.parent_path(), ec);
-  if (sqlite3_open_v2(file.string().c_str(), &db_,
-                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
-                      nullptr) != SQLITE_OK) {
-    const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
+  if (const int rc = sqlite3_open_v2(
+          file.string().c_str(), &db_,
+          SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
+      rc != SQLITE_OK) {
+    const ResultsError e = DbError(file, db_, db_ ? sqlite3_extended_errcode(db_) : rc);
     sqlite3_close(db_);
     db_ = nullptr;
-    throw ResultsError(file.string() + ": cannot open the results database: " + why);
+    throw e;
   }
   sqlite3_busy_timeout(db_, 5000);
   try {
@@ -185,15 +237,10 @@ ResultsDb::ResultsDb(const fs::path& file) : file_(file) {
                          std::to_string(kResultsSchemaVersion) +
                          " (it was written by a newer Sulcus; it is left untouched)");
     for (int v = version; v < kResultsSchemaVersion; ++v) {
-      Exec("BEGIN IMMEDIATE");
-      try {
-        Exec(kMigrations[v]);
-        Exec("PRAGMA user_version=" + std::to_string(v + 1));
-        Exec("COMMIT");
-      } catch (...) {
-        Exec("ROLLBACK");
-        throw;
-      }
+      Transaction t(*this);
+      Exec(kMigrations[v]);
+      Exec("PRAGMA user_version=" + std::to_string(v + 1));
+      t.Commit();
     }
   } catch (const ResultsError&) {
     sqlite3_close(db_);
@@ -204,16 +251,26 @@ ResultsDb::ResultsDb(const fs::path& file) : file_(file) {
 
 ResultsDb::~ResultsDb() { sqlite3_close(db_); }
 
+ResultsDb::Transaction::Transaction(const ResultsDb& db) : db_(db) {
+  db_.Exec("BEGIN IMMEDIATE");
+}
+
+ResultsDb::Transaction::~Transaction() {
+  if (committed_) return;
+  // Rolled back on the way out of an error: the first error is the one to
+  // report, so a failing rollback is not.
+  sqlite3_exec(db_.db_, "ROLLBACK", nullptr, nullptr, nullptr);
+}
+
+void ResultsDb::Transaction::Commit() {
+  db_.Exec("COMMIT");
+  committed_ = true;
+}
+
 void ResultsDb::Exec(const std::string& sql) const {
-  char* err = nullptr;
-  if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
-    const std::string why = err ? err : "unknown error";
-    sqlite3_free(err);
-    if (why.find("not a database") != std::string::npos)
-      throw ResultsError(file_.string() +
-                         ": not a Sulcus results database (file is not a database)");
-    throw ResultsError(file_.string() + ": " + why);
-  }
+  if (const int rc = sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, nullptr);
+      rc != SQLITE_OK)
+    throw DbError(file_, db_, sqlite3_extended_errcode(db_));
 }
 
 int ResultsDb::schema_version() const {
@@ -231,8 +288,8 @@ std::string ResultsDb::IntegrityCheck() const {
 std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
                               const std::string& recording, const std::string& answers,
                               const std::string& report_dir) {
-  Exec("BEGIN IMMEDIATE");
-  try {
+  Transaction t(*this);
+  {
     {
       Stmt s(db_, "INSERT OR IGNORE INTO students(name) VALUES (?)", file_);
       s.Bind(1, r.student).Step(file_);
@@ -332,15 +389,8 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
       line.Bind(9, l.message).Step(file_);
       line.Reset();
     }
-    Exec("COMMIT");
+    t.Commit();
     return id;
-  } catch (...) {
-    try {
-      Exec("ROLLBACK");
-    } catch (const ResultsError&) {
-      // the first error is the one to report
-    }
-    throw;
   }
 }
 
@@ -447,8 +497,8 @@ std::vector<std::string> ResultsDb::Students() const {
 }
 
 int ResultsDb::DeleteStudent(const std::string& student) {
-  Exec("BEGIN IMMEDIATE");
-  try {
+  Transaction t(*this);
+  {
     Stmt d(db_,
            "DELETE FROM attempts WHERE student_id = (SELECT id FROM students WHERE name "
            "= ?)",
@@ -457,14 +507,8 @@ int ResultsDb::DeleteStudent(const std::string& student) {
     const int n = sqlite3_changes(db_);
     Stmt s(db_, "DELETE FROM students WHERE name = ?", file_);
     s.Bind(1, student).Step(file_);
-    Exec("COMMIT");
+    t.Commit();
     return n;
-  } catch (...) {
-    try {
-      Exec("ROLLBACK");
-    } catch (const ResultsError&) {
-    }
-    throw;
   }
 }
 

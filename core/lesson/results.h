@@ -82,6 +82,19 @@ class ResultsDb {
   const std::filesystem::path& file() const { return file_; }
 
  private:
+  // BEGIN IMMEDIATE on construction, ROLLBACK on destruction unless Commit().
+  class Transaction {
+   public:
+    explicit Transaction(const ResultsDb& db);
+    ~Transaction();
+    Transaction(const Transaction&) = delete;
+    Transaction& operator=(const Transaction&) = delete;
+    void Commit();
+
+   private:
+    const ResultsDb& db_;
+    bool committed_ = false;
+  };
   void Exec(const std::string& sql) const;
   std::filesystem::path file_;
   sqlite3* db_ = nullptr;

@@ -420,6 +420,22 @@ std::unique_ptr<ScriptedHand> MakeScriptedHand(const std::string& name,
   return std::make_unique<ScriptedStudent>(name, spec, scene);
 }
 
+LessonDevice MakeLessonDevice(const std::string& spelling, const LessonSpec& spec,
+                              const CompiledScene& scene, double seconds) {
+  LessonDevice out;
+  const DeviceName name = ParseDeviceName(spelling);
+  if (name.kind == DeviceName::Kind::kMouse) {
+    out.device.name = spelling;
+  } else if (name.kind == DeviceName::Kind::kStudent) {
+    out.student = MakeScriptedHand(name.what, spec, scene);
+    out.device.device = out.student->MakeDevice();
+    out.device.name = spelling;
+  } else {
+    out.device = MakeDevice(spelling, scene, seconds);
+  }
+  return out;
+}
+
 std::unique_ptr<Device> ScriptedInspector::MakeDevice() const {
   return MakeHandDevice(moves_, "student:" + name_);
 }

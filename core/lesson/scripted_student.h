@@ -41,6 +41,7 @@
 
 #include "core/haptics/device.h"
 #include "core/lesson/lesson.h"
+#include "core/session/session.h"
 
 namespace sulcus {
 
@@ -59,6 +60,17 @@ class ScriptedHand : public TickConsumer {
 std::unique_ptr<ScriptedHand> MakeScriptedHand(const std::string& name,
                                                const LessonSpec& spec,
                                                const CompiledScene& scene);
+
+/// The device a lesson is taken with, made from its name (ParseDeviceName): a
+/// scripted student (with the hand that enters its chart) or what MakeDevice
+/// makes. For "mouse", `device.device` is empty: the window makes its own.
+/// Throws std::invalid_argument for a bad name, as MakeDevice does for a file.
+struct LessonDevice {
+  DeviceSpec device;
+  std::unique_ptr<ScriptedHand> student;  // set for student:NAME
+};
+LessonDevice MakeLessonDevice(const std::string& spelling, const LessonSpec& spec,
+                              const CompiledScene& scene, double seconds);
 
 class ScriptedStudent final : public ScriptedHand {
  public:

@@ -528,6 +528,23 @@ TriangleMesh MakeObjectMesh(const ObjectSpec& o, std::vector<Vector3>* normals, 
 
 namespace {
 
+// A failure while building one object's collision spheres, named: the scene
+// file, the object and its place in the file (a tree's own error names none of
+// them). Other failures pass as they are (a mesh's error names its file).
+std::exception_ptr NamedFailure(const SceneSpec& spec, const ObjectSpec& o) {
+  try {
+    throw;
+  } catch (const SphereTreeError& e) {
+    std::string where = spec.file.empty() ? std::string("the scene") : spec.file.string();
+    if (o.line > 0) where += ":" + std::to_string(o.line);
+    where += ": object '" + o.name + "'";
+    return std::make_exception_ptr(
+        SphereTreeError(where + ": its collision spheres cannot be built: " + e.what()));
+  } catch (...) {
+    return std::current_exception();
+  }
+}
+
 // Runs `work` on one thread per core, at most `jobs` of them, the caller's
 // among them, and returns when all have returned (each takes its jobs itself).
 template <typename Work>
@@ -618,8 +635,10 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
   std::stable_partition(scene->spec.objects.begin(), scene->spec.objects.end(),
                         [&](const ObjectSpec& o) { return !soft(o); });
   const int n = static_cast<int>(spec.objects.size());
+  // One bar over both phases: the meshes are the first tenth of each object's
+  // share (the trees below go on from there), so it never runs backwards.
   auto report = [&](int i, std::string_view stage, double f) {
-    if (progress && !progress(stage, (i + f) / (n + 1))) throw BuildCancelled();
+    if (progress && !progress(stage, f * (i + 1) / (n + 1))) throw BuildCancelled();
   };
   using Clock = std::chrono::steady_clock;
   const auto t_meshes = Clock::now();
@@ -735,7 +754,13 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
         }
       } catch (...) {
         std::lock_guard lock(progress_mutex);
-        if (!failure) failure = std::current_exception();
+        if (!failure) {
+          if (job == 0) {
+            failure = std::current_exception();
+          } else {
+            failure = NamedFailure(scene->spec, scene->spec.objects[order[job - 1]]);
+          }
+        }
         stop = true;
       }
     }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <numbers>
@@ -16,7 +17,9 @@
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
-#include "core/scene/yaml_reader.h"
+#include "core/base/files.h"
+#include "core/base/text.h"
+#include "core/base/yaml_reader.h"
 
 namespace sulcus {
 namespace {
@@ -51,6 +54,74 @@ const std::vector<std::string> kProbes = {"williams", "unc15", "who", "explorer2
                                           "explorer1112"};
 
 using Reader = YamlReader;
+
+// A pose given as `at_key: [x, y, z]` (mm) and `turn_key: [rx, ry, rz]`
+// (degrees about x, y, z), each optional.
+RigidTransform ReadPose(Reader& r, const YAML::Node& map, const char* at_key,
+                        const char* turn_key) {
+  double at[3] = {0, 0, 0}, turn[3] = {0, 0, 0};
+  if (map[at_key])
+    r.Numbers(map[at_key], at_key, 3, -1000, 1000, at, "mm", "x, y, z in mm");
+  if (map[turn_key])
+    r.Numbers(map[turn_key], turn_key, 3, -360, 360, turn, "degrees",
+              "turns about x, y, z in degrees");
+  constexpr double kDeg = std::numbers::pi / 180;
+  Vector6 q;
+  q << at[0], at[1], at[2], turn[0] * kDeg, turn[1] * kDeg, turn[2] * kDeg;
+  return RigidTransform::FromConfiguration(q);
+}
+
+// The largest mesh file a scene may name (a full-arch intraoral scan is tens of
+// megabytes).
+constexpr std::uintmax_t kMaxMeshBytes = 512ull << 20;
+
+// Folders besides the scene's own that its meshes may come from: the
+// environment variable SULCUS_MESH_LIBRARY, folders separated by ':'.
+std::vector<fs::path> MeshLibraryFolders() {
+  std::vector<fs::path> folders;
+  const char* env = std::getenv("SULCUS_MESH_LIBRARY");
+  if (!env) return folders;
+  std::string all(env);
+  for (std::size_t start = 0; start <= all.size();) {
+    const std::size_t end = std::min(all.find(':', start), all.size());
+    if (end > start) folders.emplace_back(all.substr(start, end - start));
+    start = end + 1;
+  }
+  return folders;
+}
+
+// Why a scene's `mesh:` path cannot be used ("" when it can): it must name a
+// regular file of a sane size inside the scene's folder (links resolved) or a
+// library folder, however the scene file itself was spelled.
+std::string MeshPathProblem(const std::string& rel, const fs::path& full,
+                            const fs::path& folder) {
+  const std::string shown = "mesh path '" + Shorten(rel) + "'";
+  if (rel.find('\0') != std::string::npos)
+    return shown + " holds a NUL character; give a file name";
+  if (rel.empty() || rel == "." || rel == "..")
+    return "mesh path '" + rel + "' names no file; give the mesh file's name";
+  bool inside = !fs::path(rel).is_absolute() && IsInsideFolder(full, folder);
+  for (const fs::path& lib : MeshLibraryFolders())
+    inside =
+        inside || IsInsideFolder(fs::path(rel).is_absolute() ? fs::path(rel) : full, lib);
+  if (!inside)
+    return shown +
+           " leaves the scene's folder (after following links); put the mesh beside "
+           "the scene file, or name its folder in SULCUS_MESH_LIBRARY";
+  if (const std::string why = UnreadableReason(full); !why.empty())
+    return why == "no such file"
+               ? shown + " not found (looked for " + Shorten(full.string(), 300) + ")"
+               : shown + " " + why;
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(full, ec);
+  if (ec) return shown + " cannot be read: " + ec.message();
+  if (size == 0) return shown + " is an empty file";
+  if (size > kMaxMeshBytes)
+    return shown + " is " + std::to_string(size >> 20) +
+           " MB; a scene's mesh may be at most 512 MB (simplify it first: sulcus-cli "
+           "mesh simplify)";
+  return {};
+}
 
 std::vector<std::string> Names(const auto& table) {
   std::vector<std::string> v;
@@ -92,10 +163,10 @@ void ReadTreeParams(Reader& r, const YAML::Node& t, const std::string& where,
   r.CheckKeys(t, keys, where);
   if (t["levels"]) p->levels = r.Integer(t["levels"], "levels", 1, 8, p->levels);
   if (t["branch"]) p->branching = r.Integer(t["branch"], "branch", 2, 32, p->branching);
-  if (t["leaves"]) p->leaves = r.Integer(t["leaves"], "leaves", 1, 1 << 20, p->leaves);
+  if (t["leaves"]) p->leaves = r.Integer(t["leaves"], "leaves", 1, kMaxLeaves, p->leaves);
   if (t["target_error_mm"])
     p->target_error_mm =
-        r.Number(t["target_error_mm"], "target_error_mm", 1e-4, 10, 0, "mm");
+        r.Number(t["target_error_mm"], "target_error_mm", kMinTargetErrorMm, 10, 0, "mm");
   const std::size_t capacity = LeafCapacity(p->levels, p->branching);
   if (p->target_error_mm == 0 && static_cast<std::size_t>(p->leaves) > capacity) {
     r.Error(t, "in " + where + ": " + std::to_string(p->leaves) +
@@ -154,18 +225,8 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     o.kind = ObjectSpec::Kind::kMesh;
     const std::string rel = r.Text(n["mesh"], "mesh");
     const fs::path full = (folder / rel).lexically_normal();
-    const std::string base = folder.lexically_normal().string();
-    if (fs::path(rel).is_absolute() || full.string().rfind(base, 0) != 0 ||
-        rel.find("..") != std::string::npos) {
-      r.Error(n["mesh"],
-              "mesh path '" + rel +
-                  "' leaves the scene's folder; put the mesh beside the scene file");
-    } else if (std::error_code ec; !fs::exists(full, ec)) {
-      r.Error(n["mesh"], ec ? "mesh file '" + rel.substr(0, 200) +
-                                  "' cannot be looked up: " + ec.message()
-                            : "mesh file '" + rel + "' not found (looked for " +
-                                  full.string() + ")");
-    }
+    if (const std::string why = MeshPathProblem(rel, full, folder); !why.empty())
+      r.Error(n["mesh"], why);
     o.mesh = full;
     o.name = fs::path(rel).stem().string();
   } else if (kind == "anatomy") {
@@ -209,7 +270,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
   if (n["name"]) o.name = r.Text(n["name"], "name");
   if (!names->insert(o.name).second)
     r.Error(n["name"] ? n["name"] : n, "two objects are named '" + o.name + "'");
-  o.X_WO = r.Pose(n, "at", "turn_deg");
+  o.X_WO = ReadPose(r, n, "at", "turn_deg");
   // An upper tooth placed by hand stands crown down, as in the mouth (its frame
   // turned half a turn about y: occlusal down, buccal still +y), unless the
   // scene turns it itself.
@@ -555,19 +616,6 @@ void LinkGingivaNeighbours(SceneSpec* spec) {
   }
 }
 
-std::string SceneError::ToString() const {
-  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " +
-         message;
-}
-
-SceneLoadError::SceneLoadError(std::vector<SceneError> errors)
-    : std::runtime_error([&] {
-        std::string s;
-        for (const SceneError& e : errors) s += (s.empty() ? "" : "\n") + e.ToString();
-        return s;
-      }()),
-      errors_(std::move(errors)) {}
-
 const char* ToString(Tissue t) {
   for (const auto& tn : kTissues) {
     if (tn.tissue == t) return tn.name;
@@ -639,7 +687,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
                 "unknown probe '" + spec.probe + "'" + Suggest(spec.probe, kProbes));
       }
     }
-    spec.X_TG = r.Pose(tool, "grip_at", "grip_turn_deg");
+    spec.X_TG = ReadPose(r, tool, "grip_at", "grip_turn_deg");
   }
   if (const YAML::Node h = root["haptics"]; h && r.IsMap(h, "'haptics'")) {
     r.CheckKeys(h,
@@ -779,7 +827,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     }
   }
   for (ObjectSpec& c : deposits) spec.objects.push_back(std::move(c));
-  if (!r.errors().empty()) throw SceneLoadError(r.errors());
+  if (!r.errors().empty()) throw LoadError(r.errors());
   return spec;
 }
 

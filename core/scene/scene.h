@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/load_error.h"
 #include "core/geometry/mesh.h"
 #include "core/geometry/transform.h"
 #include "core/haptics/effects.h"
@@ -21,24 +22,6 @@
 #include "core/spheretree/builder.h"
 
 namespace sulcus {
-
-struct SceneError {
-  std::string file;
-  int line = 0;    // 1-based
-  int column = 0;  // 1-based
-  std::string message;
-  std::string ToString() const;  // "file:line:column: message"
-};
-
-/// Thrown by LoadSceneSpec with every error found; what() lists them one a line.
-class SceneLoadError : public std::runtime_error {
- public:
-  explicit SceneLoadError(std::vector<SceneError> errors);
-  const std::vector<SceneError>& errors() const { return errors_; }
-
- private:
-  std::vector<SceneError> errors_;
-};
 
 enum class Tissue {
   kEnamel,
@@ -63,7 +46,7 @@ struct Material {
 };
 Material DefaultMaterial(Tissue t);
 
-/// The effects a scene may ask for (docs/architecture.md, "Effects on demand").
+/// The effects a scene may ask for (docs/architecture.md, "One haptic frame", step 6).
 enum class Effect {
   kContact,
   kGingivaCompliance,
@@ -187,7 +170,7 @@ struct SceneSpec {
 /// The largest object a scene may hold, in mm (a mouth is about 60 mm across).
 inline constexpr double kMaxSceneObjectMm = 300;
 
-/// Parses and validates a scene file. Throws SceneLoadError listing every error
+/// Parses and validates a scene file. Throws LoadError listing every error
 /// (unknown keys with a suggestion, wrong types, out-of-range values, missing mesh
 /// files, non-existent FDI numbers, paths leaving the scene's folder, unknown
 /// effects, YAML syntax errors).

@@ -1,5 +1,5 @@
 #pragma once
-// A Session owns one run (docs/architecture.md, "Sessions, lessons and scoring"): the
+// A Session owns one run (docs/architecture.md, "A run: the Session"): the
 // compiled scene, the device, the scene's effects, the haptic loop, the thread
 // (live) or the offline ticker, and the recorder. Every tick's record (device
 // pose, graphic pose, force, typed events) goes, off the haptic thread and in
@@ -59,6 +59,22 @@ struct DeviceSpec {
   std::vector<std::string>
       notes;  // warnings to show (a replay of another scene version, ...)
 };
+
+/// A device's name as the command line, the window and an attempt marker spell
+/// it, parsed in one place: "mouse" (the window's keys and mouse),
+/// "scripted:NAME" or "scripted:FILE.csv", "replay:FILE", "student:NAME" (a
+/// scripted student, in a lesson).
+struct DeviceName {
+  enum class Kind { kMouse, kScripted, kScriptFile, kReplay, kStudent };
+  Kind kind = Kind::kMouse;
+  std::string what;  // the script, file or student's name
+  /// The file the device reads (a CSV or a recording), else empty.
+  std::filesystem::path file() const {
+    return kind == Kind::kScriptFile || kind == Kind::kReplay ? what : "";
+  }
+};
+/// Throws std::invalid_argument naming the spellings for anything else.
+DeviceName ParseDeviceName(const std::string& spelling);
 
 /// "scripted:NAME" (a named trajectory on `object`, -1: the first tooth; see
 /// MakeScript), "scripted:FILE.csv" or "replay:FILE". Throws std::invalid_argument

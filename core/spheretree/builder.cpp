@@ -29,15 +29,19 @@ double Seconds(Clock::time_point since) {
 }
 
 // Reports progress and turns a "stop" answer into BuildCancelled.
+// Progress never runs backwards: a stage met again (a second, finer cover after
+// the first tightening) reports where the build already was.
 class Reporter {
  public:
   explicit Reporter(BuildProgress fn) : fn_(std::move(fn)) {}
   void operator()(std::string_view stage, double fraction) const {
-    if (fn_ && !fn_(stage, std::clamp(fraction, 0.0, 1.0))) throw BuildCancelled();
+    last_ = std::max(last_, std::clamp(fraction, 0.0, 1.0));
+    if (fn_ && !fn_(stage, last_)) throw BuildCancelled();
   }
 
  private:
   BuildProgress fn_;
+  mutable double last_ = 0;
 };
 
 using detail::Uniform;
@@ -1194,9 +1198,12 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
     throw SphereTreeError("branching " + std::to_string(params.branching) +
                           " is out of range (expected 2 to 32)");
   }
-  const std::size_t capacity = LeafCapacity(params.levels, params.branching);
-  if (params.target_error_mm < 0 || !std::isfinite(params.target_error_mm)) {
-    throw SphereTreeError("target error must be a positive number of mm");
+  const std::size_t capacity =
+      std::min<std::size_t>(LeafCapacity(params.levels, params.branching), kMaxLeaves);
+  if (params.target_error_mm < 0 || !std::isfinite(params.target_error_mm) ||
+      (params.target_error_mm > 0 && params.target_error_mm < kMinTargetErrorMm)) {
+    throw SphereTreeError("target error must be 0 (a leaf budget) or at least " +
+                          std::to_string(kMinTargetErrorMm) + " mm");
   }
   if (params.target_error_mm == 0 &&
       (params.leaves < 1 || static_cast<std::size_t>(params.leaves) > capacity)) {

@@ -1,5 +1,5 @@
 #pragma once
-// Builds a sphere-tree from a closed mesh by a medial-axis method (docs/architecture.md,
+// Builds a sphere-tree from a closed mesh by a medial-axis method (docs/engine.md,
 // "Sphere-trees"): Voronoi poles of dense surface samples approximate the medial
 // axis; leaves are chosen among medial spheres by a greedy set cover of the
 // surface that bounds each leaf's protrusion, then tightened (the surface
@@ -57,6 +57,15 @@ inline SphereTreeParams ToolTreeParams() {
   p.spend = SphereTreeParams::Spend::kWorst;
   return p;
 }
+
+/// The most leaves a tree may have, by budget or by target error (the shipped
+/// scenes use 512 to 3,072; a build's time and memory grow with the leaves,
+/// and a million took over 300 s and 2 GB).
+inline constexpr int kMaxLeaves = 16384;
+
+/// The smallest target error a scene may ask for, mm: the sampled surface
+/// cannot be followed closer than this.
+inline constexpr double kMinTargetErrorMm = 0.005;
 
 /// How many leaves `levels` levels (counting the root) of `branching` hold:
 /// branching^(levels - 1).

@@ -7,6 +7,8 @@
 #include <sstream>
 #include <vector>
 
+#include "core/base/text.h"
+
 namespace sulcus {
 namespace {
 
@@ -73,7 +75,8 @@ SphereTree ReadSph(const fs::path& path, const Vector3& offset) {
   std::string line;
   int line_no = 0;
   auto fail = [&](const std::string& what) -> void {
-    throw TreeFileError(name + ":" + std::to_string(line_no) + ": " + what);
+    throw TreeFileError(name + ":" + std::to_string(line_no) + ": " +
+                        ShortenQuoted(what));
   };
   // First non-empty line: levels and branching.
   int levels = 0, branching = 0;

@@ -3,6 +3,7 @@
 // tree (the folder is created). SULCUS_TEST_OUTPUT is defined per test target.
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace sulcus::test {
@@ -21,6 +22,13 @@ inline std::filesystem::path FreshOutputPath(const std::string& folder,
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+/// Writes `text` to `file` (replacing it) and returns the path.
+inline std::filesystem::path WriteText(const std::filesystem::path& file,
+                                       const std::string& text) {
+  std::ofstream(file) << text;
+  return file;
 }
 
 }  // namespace sulcus::test

@@ -128,8 +128,8 @@ void RunOne(const Target& t, const std::uint8_t* data, std::size_t size) {
   }
   try {
     Read(t, file);
-  } catch (const SceneLoadError& e) {
-    for (const SceneError& err : e.errors())
+  } catch (const LoadError& e) {
+    for (const ErrorAt& err : e.errors())
       if (err.file.empty()) Defect(t, "an error without its file: " + err.message);
     CheckNamesFile(t, file, e.what());
   } catch (const MeshError& e) {

@@ -9,9 +9,11 @@
 
 #include <QApplication>
 #include <QCheckBox>
+#include <QComboBox>
 #include <QDialog>
 #include <QElapsedTimer>
 #include <QKeyEvent>
+#include <QLineEdit>
 #include <QMessageBox>
 #include <QRegularExpression>
 #include <QSurfaceFormat>
@@ -145,6 +147,36 @@ TEST(StartPage, ALessonThatDrawsItsCaseOffersTheLastCaseAgainAndAGivenSeed) {
   EXPECT_FALSE(d.seed().has_value());
 }
 
+// The start page asks for the chosen lesson's scene a moment after the choice
+// settles and shows how far it is, while the student goes on typing.
+TEST(StartPage, TheChosenLessonIsPreparedWhileTheStudentTypes) {
+  StartDialog d({Lessons()}, Out("start_prep_results.db"));
+  std::vector<std::pair<fs::path, std::optional<std::uint64_t>>> asked;
+  d.SetPreparation(
+      [&](const fs::path& lesson, std::optional<std::uint64_t> seed) {
+        asked.push_back({lesson, seed});
+      },
+      [] { return QString("Preparing the scene: trees of tooth 46 (43 %)"); });
+  d.show();
+  ASSERT_TRUE(d.SelectLesson(Lessons() / "periodontal_probing.yaml"));
+  auto* name = d.findChild<QComboBox*>();
+  ASSERT_NE(name, nullptr);
+  name->setFocus();
+  name->setCurrentText("");
+  for (const QChar c : QString("Ada Lovelace"))
+    Key(name->lineEdit(), c.unicode(), QString(c));
+  QElapsedTimer t;
+  t.start();
+  WaitFor([&] { return t.elapsed() > 800; });
+  ASSERT_FALSE(asked.empty()) << "nothing was prepared";
+  EXPECT_EQ(asked.back().first,
+            fs::absolute(Lessons() / "periodontal_probing.yaml").lexically_normal());
+  EXPECT_FALSE(asked.back().second.has_value());
+  EXPECT_EQ(d.student(), "Ada Lovelace") << "what was typed meanwhile is kept";
+  EXPECT_TRUE(d.preparation_text().contains("43 %"))
+      << d.preparation_text().toStdString();
+}
+
 // Types the chart as the student reads it: each site's deepest reading to the
 // nearest millimetre, B after the sites that bled.
 void ChartEverything(MainWindow& w) {
@@ -167,6 +199,25 @@ MainWindow::LessonStart CarefulStudent() {
   s.free_run = true;
   s.results_dir = Out("results");
   return s;
+}
+
+// A lesson whose scene was prepared on the start page starts with that
+// preparation: it is not built a second time.
+TEST(LessonWindow, ALessonPreparedOnTheStartPageStartsWithoutASecondBuild) {
+  MainWindow w;
+  w.show();
+  const fs::path lesson = Lessons() / "periodontal_probing.yaml";
+  w.PrepareLesson(lesson, std::nullopt);
+  EXPECT_EQ(w.preparer().started(), 1);
+  EXPECT_TRUE(WaitFor([&] { return w.preparer().Status().contains("ready"); }, 600000))
+      << w.preparer().Status().toStdString();
+  w.PrepareLesson(lesson, std::nullopt);  // the same choice again: nothing new
+  EXPECT_EQ(w.preparer().started(), 1);
+  MainWindow::LessonStart s = CarefulStudent();
+  s.lesson = lesson;
+  ASSERT_TRUE(w.StartLesson(s));
+  EXPECT_EQ(w.preparer().started(), 1) << "the lesson built its scene again";
+  EXPECT_TRUE(w.FinishLesson(false));
 }
 
 TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
@@ -360,6 +411,8 @@ TEST(LessonWindow, APersonProbesFourSitesByKeysAndEachIsScored) {
                         << (w.lesson()->tip_site() ? w.lesson()->tip_site()->ToString()
                                                    : std::string("no site"))
                         << ", gauge " << w.gauge_force() << " N";
+    // The loupe shows where the margin crosses the markings while the tip is in.
+    EXPECT_TRUE(w.loupe_shown()) << site.ToString();
     if (k == 0) {
       EXPECT_TRUE(Save(&w, "person_at_the_floor.png"));
     }

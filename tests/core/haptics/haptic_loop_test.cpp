@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <limits>
+#include <set>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -379,6 +381,19 @@ TEST(Trajectory, NamedScriptsTouchTheTarget) {
     EXPECT_LT(farthest, 11) << name;
   }
   EXPECT_THROW(MakeScript("wiggle", target, 1), std::invalid_argument);
+}
+
+// The number of event kinds is the enum's own count: every kind below it has a
+// name (and a recording reads it back), nothing at it does.
+TEST(HapticLoop, EveryEventKindIsCountedAndNamed) {
+  std::set<std::string> names;
+  for (int k = 0; k < kNumEventKinds; ++k) {
+    const std::string name = ToString(static_cast<EventKind>(k));
+    EXPECT_NE(name, "?") << "kind " << k << " has no name";
+    names.insert(name);
+  }
+  EXPECT_EQ(names.size(), static_cast<std::size_t>(kNumEventKinds)) << "names are unique";
+  EXPECT_STREQ(ToString(EventKind::kCount), "?");
 }
 
 }  // namespace

@@ -309,6 +309,21 @@ TEST(Trajectory, CsvErrorsNameFileAndLine) {
   const Trajectory t = LoadTrajectoryCsv(file);
   EXPECT_DOUBLE_EQ(t.Sample(0.5).X_WH.translation().x(), 5);
   EXPECT_EQ(t.Sample(1).buttons, 1u);
+  // A spreadsheet's file: a UTF-8 byte order mark before the header.
+  std::ofstream(file)
+      << "\xEF\xBB\xBFt_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg\n0,0,0,0,0,0,"
+         "0\n1,10,0,0,0,0,0\n";
+  EXPECT_DOUBLE_EQ(LoadTrajectoryCsv(file).Sample(1).X_WH.translation().x(), 10);
+  // A megabyte cell is named, not echoed.
+  std::ofstream(file) << "t_s,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg\n0,0,0,"
+                      << std::string(1 << 20, 'z') << ",0,0,0\n";
+  try {
+    LoadTrajectoryCsv(file);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_LT(std::string(e.what()).size(), 400u);
+    EXPECT_NE(std::string(e.what()).find("... (1048576 characters)"), std::string::npos);
+  }
 }
 
 }  // namespace

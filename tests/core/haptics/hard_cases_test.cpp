@@ -493,6 +493,56 @@ TEST(HardCasesDeepStart, InsideAThinWall) {
   ExpectRecovers(RunDeepStart(s, Pose(Vector3(0, 0, 0)), Vector3(-6, 0, 0)));
 }
 
+TEST(HardCasesDeepStart, InsideAThinWallPulledOutTheOtherWay) {
+  test::Scene s = WithProbe();
+  s.Add(test::MakeBlock(0, 6, -6, 20, 0.25, 0.3), Pose(Vector3::Zero()));  // 0.6 mm thick
+  ExpectRecovers(RunDeepStart(s, Pose(Vector3(0, 0, 0)), Vector3(6, 0, 0)));
+}
+
+// A deep start whose nearest free poses are far off, on the side of the wall
+// the hand does not leave by: the probe's tip in the middle of an 18 mm block,
+// its shaft standing out of the top; the hand is pulled out through the bottom.
+// A free pose 12 mm up (above the block) would hold the tool there, pulling the
+// hand back up through the block at the force limit, and pinned there once the
+// hand is out. The search stops at 8 mm: the tool follows the hand with no force
+// until a pose 8 mm below it is free, which leads the hand out the way it goes.
+struct FarStart {
+  int pulling_frames = 0;  // > 0.5 N up (back through the block), the tool > 5 mm off
+  double end_gap = 0;
+};
+
+FarStart RunFarStart(const EngineParams& params) {
+  test::Scene s = WithProbe();
+  s.Add(test::MakeBlock(20, 20, -9, 9, 0.5, 0.5), Pose(Vector3::Zero()));
+  const auto model = s.Model(params);
+  EngineData d(*model);
+  ResetTool(Pose(Vector3::Zero()), &d);
+  FarStart r;
+  for (int i = 0; i < 1600; ++i) {  // held 100 frames, then 30 mm down over 1,200
+    const double z = -30.0 * std::clamp((i - 100) / 1200.0, 0.0, 1.0);
+    const RigidTransform X_WH = Pose(Vector3(0, 0, z));
+    Step(*model, X_WH, &d);
+    const double gap = (d.X_WG.translation() - X_WH.translation()).norm();
+    if (gap > 5.0 && d.force_W.z() > 0.5) ++r.pulling_frames;
+    r.end_gap = gap;
+  }
+  return r;
+}
+
+TEST(HardCasesDeepStart, ADeepStartIsNotResolvedOnTheFarSideOfAWall) {
+  const FarStart r = RunFarStart({});
+  EXPECT_EQ(r.pulling_frames, 0) << "the hand was pulled back through the block";
+  EXPECT_LT(r.end_gap, 1e-6) << "out of the block, the rendered tool is at the hand";
+  EngineParams far;  // the whole search (to 24 mm), as before: pinned above the block
+  far.free_search_max_mm = 24;
+  const FarStart pinned = RunFarStart(far);
+  std::printf(
+      "figure: searching to 24 mm: %d frames pull the hand, the tool ends %.1f mm "
+      "from it; to 8 mm: %d, %.1f mm\n",
+      pinned.pulling_frames, pinned.end_gap, r.pulling_frames, r.end_gap);
+  EXPECT_GT(pinned.pulling_frames, 500) << "the case does not test the limit";
+}
+
 // Friction (the `friction` effect): on a plate inclined by `tilt`, the device
 // comes straight down (world -z) onto it and is held 1.5 mm below where it first
 // touched. The spring then leans tan(tilt) off the plate's normal: below the

@@ -131,5 +131,52 @@ TEST(Staging2017, ComplexityIgnoresThirdMolarsAndTheDistalOfSecondMolars) {
   EXPECT_EQ(Classify2017(c).stage, Stage::kIII);
 }
 
+// Bleeding charted where no depth was entered is not bleeding on probing: the
+// share is of the sites probed.
+TEST(Staging2017, BleedingCountsOnlyWhereTheSiteWasProbed) {
+  PerioChart c = Healthy(TwentyFour());  // 144 sites probed
+  for (int s = 0; s < 6; ++s) {
+    c.Find(11)->sites[s].pd_mm.reset();  // 11 not probed, yet marked as bleeding
+    c.Find(11)->sites[s].bleeding = true;
+    c.Find(12)->sites[s].pd_mm.reset();
+    c.Find(12)->sites[s].bleeding = true;
+  }
+  for (int s = 0; s < 6; ++s) c.Find(21)->sites[s].bleeding = true;  // 6 of 132 probed
+  const Diagnosis d = Classify2017(c);
+  EXPECT_NEAR(d.bop_pct, 100.0 * 6 / 132, 1e-9);
+  EXPECT_EQ(d.kind, Diagnosis::Kind::kHealth) << d.Summary();
+}
+
+// Health needs every PD <= 3 mm: a 4 mm pocket with 2 mm of attachment loss at
+// one tooth and no bleeding is neither health nor a case; nor is a pseudo-pocket.
+TEST(Staging2017, APocketWithoutBleedingAndNoCaseIsNotHealth) {
+  PerioChart c = Healthy(TwentyFour());
+  Set(&c, 46, 1, 4, 2);  // 46 B: PD 4, CAL 2 (buccal: no case below CAL 3)
+  Diagnosis d = Classify2017(c);
+  EXPECT_EQ(d.kind, Diagnosis::Kind::kNotClassifiable) << d.Summary();
+  EXPECT_STREQ(ToString(d.kind), "not classifiable from this chart");
+  PerioChart pseudo = Healthy(TwentyFour());
+  Set(&pseudo, 46, 1, 4, 0);  // PD 4 without attachment loss
+  EXPECT_EQ(Classify2017(pseudo).kind, Diagnosis::Kind::kNotClassifiable);
+  Set(&c, 46, 1, 3, 2);
+  EXPECT_EQ(Classify2017(c).kind, Diagnosis::Kind::kHealth) << "PD 3 mm is health";
+}
+
+// Furcation class II or III makes stage III whatever the CAL (the consensus
+// table's footnote), from stage I as from stage II; the extent keeps the band
+// that set the stage.
+TEST(Staging2017, AFurcationClassIIMakesStageIIIFromStageI) {
+  PerioChart c = Healthy(TwentyFour());
+  Set(&c, 16, 0, 3, 2);  // interdental CAL 2 at 16 and 26: stage I
+  Set(&c, 26, 0, 3, 2);
+  ASSERT_EQ(Classify2017(c).stage, Stage::kI);
+  c.Find(16)->furcation = 2;
+  const Diagnosis d = Classify2017(c);
+  EXPECT_EQ(d.stage, Stage::kIII) << d.Summary();
+  EXPECT_EQ(d.extent, Extent::kLocalized) << "2 of 24 teeth in the 1-2 mm band";
+  c.Find(16)->furcation = 1;
+  EXPECT_EQ(Classify2017(c).stage, Stage::kI) << "class I does not raise it";
+}
+
 }  // namespace
 }  // namespace sulcus

@@ -16,6 +16,8 @@
 #include "core/lesson/report.h"
 #include "core/lesson/scripted_inspector.h"
 #include "core/spheretree/cache.h"
+#include "tests/common/load_errors.h"
+#include "tests/common/output.h"
 
 namespace sulcus {
 namespace {
@@ -25,29 +27,18 @@ namespace fs = std::filesystem;
 fs::path Lesson() {
   return fs::path(SULCUS_SOURCE_DIR) / "lessons" / "oral_inspection.yaml";
 }
-fs::path Out(const std::string& name) {
-  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "inspection";
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path Out(const std::string& name) { return test::OutputPath("inspection", name); }
 fs::path Write(const std::string& name, const std::string& text) {
-  const fs::path p = Out(name);
-  std::ofstream(p) << text;
-  return p;
+  return test::WriteText(Out(name), text);
 }
 
 std::vector<std::string> Errors(const fs::path& file, bool answers = false) {
-  try {
+  return test::ErrorLines([&] {
     if (answers)
       LoadAnswers(file);
     else
       LoadLessonSpec(file);
-  } catch (const SceneLoadError& e) {
-    std::vector<std::string> v;
-    for (const SceneError& x : e.errors()) v.push_back(x.ToString());
-    return v;
-  }
-  return {};
+  });
 }
 
 bool AnyContains(const std::vector<std::string>& v, const std::string& what) {

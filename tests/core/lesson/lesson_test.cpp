@@ -19,6 +19,8 @@
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
+#include "tests/common/load_errors.h"
+#include "tests/common/output.h"
 
 namespace sulcus {
 namespace {
@@ -28,31 +30,20 @@ namespace fs = std::filesystem;
 fs::path Lesson() {
   return fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml";
 }
-fs::path Out(const std::string& name) {
-  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "lesson";
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path Out(const std::string& name) { return test::OutputPath("lesson", name); }
 fs::path Cache() { return fs::path(SULCUS_TEST_OUTPUT) / "probing-cache"; }
 
 fs::path Write(const std::string& name, const std::string& text) {
-  const fs::path p = Out(name);
-  std::ofstream(p) << text;
-  return p;
+  return test::WriteText(Out(name), text);
 }
 
 std::vector<std::string> Errors(const fs::path& file, bool answers = false) {
-  try {
+  return test::ErrorLines([&] {
     if (answers)
       LoadAnswers(file);
     else
       LoadLessonSpec(file);
-  } catch (const SceneLoadError& e) {
-    std::vector<std::string> v;
-    for (const SceneError& x : e.errors()) v.push_back(x.ToString());
-    return v;
-  }
-  return {};
+  });
 }
 
 AttemptOutcome Take(const std::string& student, const fs::path& record = {}) {
@@ -132,6 +123,81 @@ TEST(LessonFile, EveryErrorAtOnceWithItsPlace) {
   const auto missing = Errors(Out("missing.yaml"));
   ASSERT_EQ(missing.size(), 1u);
   EXPECT_NE(missing[0].find("no such lesson file"), std::string::npos);
+}
+
+// What cannot be scored is refused when the lesson is read: every weight 0,
+// a pass angle below the full-credit one.
+TEST(LessonFile, ARubricThatCannotScoreIsRefused) {
+  const fs::path scene =
+      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
+  const fs::path p = Write("zero_rubric.yaml",
+                           "name: zero\nscene: " + scene.string() +
+                               "\nsteps: [{instruction: x, complete: read}]\n"
+                               "rubric:\n"
+                               "  angle_full_deg: 90\n"
+                               "  angle_pass_deg: 10\n"
+                               "  weights: {technique: 0, reading: 0, charting: 0, "
+                               "force: 0, angulation: 0, coverage: 0, bleeding: 0, "
+                               "completeness: 0, diagnosis: 0, findings: 0, sequence: 0, "
+                               "damage: 0}\n");
+  const auto e = Errors(p);
+  const std::string f = p.string();
+  EXPECT_NE(std::find(e.begin(), e.end(),
+                      f + ":7:12: every weight in 'weights' is 0, so every attempt "
+                          "would score 0; give the lines that count a weight above 0"),
+            e.end())
+      << ::testing::PrintToString(e);
+  EXPECT_NE(std::find(e.begin(), e.end(),
+                      f + ":5:3: 'angle_pass_deg' (10) must be at least 'angle_full_deg' "
+                          "(90): full credit is for a smaller tilt than a pass"),
+            e.end())
+      << ::testing::PrintToString(e);
+}
+
+// A case no chart of the lesson's teeth can be is refused: stage I localized
+// on 4 teeth would put 2 of 4 (50 %) in its band.
+TEST(LessonFile, ACaseTheTeethCannotHoldIsRefused) {
+  const fs::path scene =
+      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
+  const fs::path p =
+      Write("impossible_case.yaml", "name: impossible\nscene: " + scene.string() +
+                                        "\nteeth: [47, 46, 45, 44]\n"
+                                        "case: {stage: I, extent: localized}\n"
+                                        "steps: [{instruction: x, complete: read}]\n");
+  const auto e = Errors(p);
+  EXPECT_NE(std::find(e.begin(), e.end(),
+                      p.string() + ":4:7: a case of stage I, localized needs at least 7 "
+                                   "teeth (2 in its band must be under 30 %); the lesson "
+                                   "has 4"),
+            e.end())
+      << ::testing::PrintToString(e);
+  const fs::path ok =
+      Write("possible_case.yaml", "name: possible\nscene: " + scene.string() +
+                                      "\nteeth: [47, 46, 45, 44]\n"
+                                      "case: {stage: II, extent: localized}\n"
+                                      "steps: [{instruction: x, complete: read}]\n");
+  EXPECT_TRUE(Errors(ok).empty()) << ::testing::PrintToString(Errors(ok));
+}
+
+// An answers file names real teeth and is a chart, not a flood.
+TEST(Answers, TeethAreFdiNumbersAndEntriesAreBounded) {
+  const auto bad = Errors(Write("bad_teeth.yaml",
+                                "chart:\n"
+                                "  19: {pd: [3, 3, 3, 3, 3, 3]}\n"
+                                "entries:\n"
+                                "  - {site: \"50 DB\", pd: 3}\n"),
+                          true);
+  ASSERT_EQ(bad.size(), 2u) << ::testing::PrintToString(bad);
+  EXPECT_NE(bad[0].find(":2:3: FDI 19 does not exist"), std::string::npos) << bad[0];
+  EXPECT_NE(bad[1].find(":4:12: FDI 50 does not exist"), std::string::npos) << bad[1];
+  std::string many = "entries:\n";
+  for (int i = 0; i < 10001; ++i) many += "  - {site: \"46 DB\", pd: 3}\n";
+  const auto flood = Errors(Write("flood.yaml", many), true);
+  ASSERT_EQ(flood.size(), 1u);
+  EXPECT_NE(flood[0].find("'entries' holds 10001 entries; an answers file holds at most "
+                          "10000"),
+            std::string::npos)
+      << flood[0];
 }
 
 // A key given twice is an error naming both lines (a YAML reader would keep
@@ -659,7 +725,7 @@ TEST(Recovery, AnAttemptCutShortByAStoppedProgramIsRebuiltAndKeptAsIncomplete) {
   const AttemptFolder broken = NewAttemptFolder(results, "bob");
   std::ofstream(broken.dir / "attempt.yaml") << "lesson: [unclosed\n";
   ASSERT_EQ(UnfinishedAttempts(results), (std::vector<fs::path>{folder.dir, broken.dir}));
-  EXPECT_THROW(RecoverAttempt(broken.dir, results, Cache()), SceneLoadError);
+  EXPECT_THROW(RecoverAttempt(broken.dir, results, Cache()), LoadError);
   EXPECT_TRUE(fs::exists(broken.dir / "recovery.txt"));
   EXPECT_TRUE(fs::exists(broken.dir / "attempt.yaml"));
 

@@ -15,6 +15,7 @@
 #include <iterator>
 #include <sstream>
 
+#include "core/lesson/attempt.h"
 #include "core/lesson/instructor.h"
 #include "tests/common/output.h"
 
@@ -223,7 +224,60 @@ TEST(Results, ANewerSchemaIsRefusedAndLeftAlone) {
   EXPECT_EQ(Count(file, "PRAGMA user_version"), 99);
   const fs::path junk = Fresh("junk");
   std::ofstream(junk) << "this is not a database, it is a text file that someone renamed";
-  EXPECT_THROW(ResultsDb{junk}, ResultsError);
+  try {
+    ResultsDb db(junk);
+    FAIL() << "opened a text file as a database";
+  } catch (const ResultsError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("not a Sulcus results database, or a damaged one; "
+                                   "it is left untouched"),
+        std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Results, ErrorsSayWhatIsWrongWithoutSqliteOrSql) {
+  // A database whose tables are not Sulcus's (user_version says 2): neither
+  // "no such table" nor the statement is shown.
+  const fs::path file = Fresh("foreign");
+  {
+    sqlite3* h = nullptr;
+    sqlite3_open(file.c_str(), &h);
+    sqlite3_exec(h, "CREATE TABLE other(x); PRAGMA user_version=2", nullptr, nullptr,
+                 nullptr);
+    sqlite3_close(h);
+  }
+  try {
+    ResultsDb db(file);
+    db.Attempts();
+    FAIL() << "read attempts from a foreign database";
+  } catch (const ResultsError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("not a results database of a form this Sulcus knows"),
+              std::string::npos)
+        << what;
+    EXPECT_EQ(what.find("SELECT"), std::string::npos) << what;
+    EXPECT_EQ(what.find("no such table"), std::string::npos) << what;
+  }
+}
+
+TEST(Results, AVeryLongStudentNameStillMakesAnAttemptFolder) {
+  const fs::path results = Fresh("long-name").parent_path();
+  const std::string name(300, 'n');
+  const AttemptFolder f = NewAttemptFolder(results, name);
+  EXPECT_TRUE(fs::is_directory(f.dir));
+  EXPECT_LE(f.dir.filename().string().size(), 100u) << f.dir;
+  // A file where the attempts' folder should be: said in words.
+  const fs::path blocked = Fresh("blocked").parent_path();
+  std::ofstream(blocked / "attempts") << "x";
+  try {
+    NewAttemptFolder(blocked, "someone");
+    FAIL() << "made a folder inside a file";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("a file stands where a folder is needed"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Results, AWriterKilledMidAttemptLosesNothingCommitted) {

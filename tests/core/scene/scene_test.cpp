@@ -1,32 +1,29 @@
 #include "core/scene/scene.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <array>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
 
 #include "core/anatomy/mesh_contact.h"
 #include "core/anatomy/soft_tissue.h"
 #include "tests/common/meshes.h"
+#include "tests/common/output.h"
 
 namespace sulcus {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Dir() {
-  const fs::path d = fs::path(SULCUS_TEST_OUTPUT) / "scenes";
-  fs::create_directories(d);
-  return d;
-}
+fs::path Dir() { return test::OutputPath("scenes"); }
 
 fs::path Write(const std::string& name, const std::string& yaml) {
-  const fs::path p = Dir() / name;
-  std::ofstream(p) << yaml;
-  return p;
+  return test::WriteText(Dir() / name, yaml);
 }
 
 // Loads `yaml` and returns every error as "line:column: message" (file stripped).
@@ -39,9 +36,9 @@ std::vector<std::string> Errors(const std::string& yaml) {
             yaml);
   try {
     LoadSceneSpec(p);
-  } catch (const SceneLoadError& e) {
+  } catch (const LoadError& e) {
     std::vector<std::string> out;
-    for (const SceneError& err : e.errors()) {
+    for (const ErrorAt& err : e.errors()) {
       EXPECT_EQ(err.file, p.string());
       EXPECT_EQ(err.ToString().rfind(p.string() + ":", 0), 0u);
       out.push_back(std::to_string(err.line) + ":" + std::to_string(err.column) + ": " +
@@ -131,12 +128,136 @@ TEST(SceneFile, ClinicalTruthIsChecked) {
 
 TEST(SceneFile, MeshPathsStayInTheSceneFolderAndMustExist) {
   EXPECT_EQ(Errors("objects:\n  - mesh: ../outside.stl\n    tissue: bone\n"),
-            (Lines{"2:11: mesh path '../outside.stl' leaves the scene's folder; put the "
-                   "mesh beside the scene file"}));
+            (Lines{"2:11: mesh path '../outside.stl' leaves the scene's folder (after "
+                   "following links); put the mesh beside the scene file, or name its "
+                   "folder in SULCUS_MESH_LIBRARY"}));
   const Lines missing = Errors("objects:\n  - mesh: nope.stl\n    tissue: bone\n");
   ASSERT_EQ(missing.size(), 1u);
-  EXPECT_EQ(missing[0].rfind("2:11: mesh file 'nope.stl' not found (looked for ", 0), 0u)
+  EXPECT_EQ(missing[0].rfind("2:11: mesh path 'nope.stl' not found (looked for ", 0), 0u)
       << missing[0];
+}
+
+TEST(SceneFile, AMeshPathMustNameARegularFileInsideTheFolderLinksFollowed) {
+  // A link inside the folder to a file outside it is outside.
+  const fs::path outside = fs::path(SULCUS_TEST_OUTPUT) / "outside-the-scenes.stl";
+  test::WriteTetrahedronStl(outside, 10);
+  fs::remove(Dir() / "link_out.stl");
+  fs::create_symlink(outside, Dir() / "link_out.stl");
+  const Lines linked = Errors("objects:\n  - mesh: link_out.stl\n    tissue: bone\n");
+  ASSERT_EQ(linked.size(), 1u);
+  EXPECT_NE(linked[0].find("leaves the scene's folder (after following links)"),
+            std::string::npos)
+      << linked[0];
+  // The same link is accepted when the settings name its folder as a library.
+  ::setenv("SULCUS_MESH_LIBRARY", outside.parent_path().c_str(), 1);
+  EXPECT_EQ(Errors("objects:\n  - mesh: link_out.stl\n    tissue: bone\n"),
+            (Lines{"accepted"}));
+  ::unsetenv("SULCUS_MESH_LIBRARY");
+  // What names no file: empty, the folder itself, a folder, a FIFO, a device,
+  // an empty file, a NUL in the name.
+  EXPECT_EQ(Errors("objects:\n  - mesh: \"\"\n    tissue: bone\n"),
+            (Lines{"2:11: mesh path '' names no file; give the mesh file's name"}));
+  EXPECT_EQ(Errors("objects:\n  - mesh: .\n    tissue: bone\n"),
+            (Lines{"2:11: mesh path '.' names no file; give the mesh file's name"}));
+  fs::create_directories(Dir() / "a_folder.stl");
+  EXPECT_EQ(Errors("objects:\n  - mesh: a_folder.stl\n    tissue: bone\n"),
+            (Lines{"2:11: mesh path 'a_folder.stl' is a folder, not a file"}));
+  fs::remove(Dir() / "fifo.stl");
+  ASSERT_EQ(::mkfifo((Dir() / "fifo.stl").c_str(), 0600), 0);
+  EXPECT_EQ(Errors("objects:\n  - mesh: fifo.stl\n    tissue: bone\n"),
+            (Lines{"2:11: mesh path 'fifo.stl' is not a regular file (a FIFO or a "
+                   "device?); give a file"}));
+  std::ofstream(Dir() / "empty.stl").flush();
+  EXPECT_EQ(Errors("objects:\n  - mesh: empty.stl\n    tissue: bone\n"),
+            (Lines{"2:11: mesh path 'empty.stl' is an empty file"}));
+  EXPECT_EQ(Errors("objects:\n  - mesh: \"a\\0b.stl\"\n    tissue: bone\n"),
+            (Lines{"2:11: mesh path 'a?b.stl' holds a NUL character; give a file name"}));
+}
+
+TEST(SceneFile, ARelativeAndAnAbsoluteSpellingOfOneSceneReadItsMeshAlike) {
+  test::WriteTetrahedronStl(Dir() / "sibling.stl", 10);
+  const fs::path scene =
+      Write("sibling_scene.yaml", "objects:\n  - mesh: sibling.stl\n    tissue: bone\n");
+  const fs::path before = fs::current_path();
+  fs::current_path(Dir());
+  std::string relative_error;
+  try {
+    LoadSceneSpec("sibling_scene.yaml");
+  } catch (const LoadError& e) {
+    relative_error = e.what();
+  }
+  fs::current_path(before);
+  EXPECT_EQ(relative_error, "");
+  EXPECT_NO_THROW(LoadSceneSpec(scene));
+  EXPECT_NO_THROW(LoadSceneSpec(Dir() / "." / "sibling_scene.yaml"));
+}
+
+TEST(SceneFile, LimitsOfWhatCanBeBuiltAreCheckedAtValidation) {
+  const Lines tiny = Errors(
+      "objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    spheretree: "
+      "{target_error_mm: 0.0001}\n");
+  ASSERT_EQ(tiny.size(), 1u);
+  EXPECT_NE(tiny[0].find("'target_error_mm' is 0.0001 mm, expected 0.005 to 10"),
+            std::string::npos)
+      << tiny[0];
+  const Lines huge = Errors(
+      "objects:\n  - box: [1, 1, 1]\n    tissue: bone\n    spheretree: {levels: 8, "
+      "branch: 32, leaves: 1048576}\n");
+  ASSERT_EQ(huge.size(), 1u);
+  EXPECT_NE(huge[0].find("'leaves' is 1048576, expected 1 to 16384"), std::string::npos)
+      << huge[0];
+  // A megabyte token is cut in the message, and numbers are printed as %g.
+  const Lines long_token = Errors(
+      "objects:\n  - box: [1, 1, 1]\n    tissue: " + std::string(1 << 20, 'x') + "\n");
+  ASSERT_EQ(long_token.size(), 1u);
+  EXPECT_LT(long_token[0].size(), 400u);
+  EXPECT_NE(long_token[0].find("... (1048576 characters)"), std::string::npos);
+  const Lines big = Errors("objects:\n  - box: [1e308, 1, 1]\n    tissue: bone\n");
+  ASSERT_EQ(big.size(), 1u);
+  EXPECT_LT(big[0].size(), 200u) << big[0];
+}
+
+TEST(SceneBuild, ATreeThatCannotBeBuiltNamesTheSceneItsLineAndTheObject) {
+  // A target error that two leaves cannot meet: found only while building.
+  const SceneSpec spec = LoadSceneSpec(
+      Write("tight_box.yaml",
+            "objects:\n  - name: slab\n    box: [40, 40, 40]\n    tissue: bone\n"
+            "    spheretree: {levels: 2, branch: 2, target_error_mm: 0.005}\n"));
+  try {
+    CompileScene(spec, Dir() / "cache-tight", nullptr);
+    FAIL() << "two leaves met a 0.005 mm target error";
+  } catch (const SphereTreeError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind((Dir() / "tight_box.yaml").string() +
+                             ":2: object 'slab': its collision spheres cannot be built: ",
+                         0),
+              0u)
+        << what;
+  }
+}
+
+// The build's progress is one bar over its phases (meshes, then trees): it
+// never runs backwards, and it ends at 1.
+TEST(SceneBuild, ProgressRunsOneWayOverMeshesAndTrees) {
+  const SceneSpec spec = LoadSceneSpec(
+      Write("progress.yaml",
+            "spheretree: {levels: 3, leaves: 64}\nobjects:\n  - box: [4, 4, 4]\n    "
+            "tissue: bone\n  - sphere: 2\n    at: [10, "
+            "0, 0]\n    tissue: bone\n  - cylinder: 1\n    height_mm: 4\n    at: [-10, "
+            "0, 0]\n    "
+            "tissue: bone\n"));
+  std::vector<double> seen;
+  std::mutex m;
+  CompileScene(spec, test::FreshOutputPath("scenes", "cache-progress"),
+               [&](std::string_view, double f) {
+                 std::lock_guard lock(m);
+                 seen.push_back(f);
+                 return true;
+               });
+  ASSERT_GE(seen.size(), 4u);
+  for (std::size_t i = 1; i < seen.size(); ++i)
+    EXPECT_GE(seen[i], seen[i - 1] - 1e-12) << "step " << i << " went back";
+  EXPECT_NEAR(seen.back(), 1.0, 1e-9);
 }
 
 TEST(SceneFile, AMeshFarTooLargeForAMouthIsRefusedBeforeItsTreesAreBuilt) {
@@ -189,7 +310,7 @@ TEST(SceneFile, ManyErrorsAtOnceAndSyntaxErrors) {
   try {
     LoadSceneSpec(Dir() / "missing.yaml");
     ADD_FAILURE();
-  } catch (const SceneLoadError& e) {
+  } catch (const LoadError& e) {
     EXPECT_NE(std::string(e.what()).find("no such scene file"), std::string::npos);
   }
 }

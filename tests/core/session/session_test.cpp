@@ -9,16 +9,14 @@
 #include <fstream>
 #include <thread>
 
+#include "tests/common/output.h"
+
 namespace sulcus {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Out(const std::string& name) {
-  const fs::path dir = fs::path(SULCUS_TEST_OUTPUT) / "session";
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path Out(const std::string& name) { return test::OutputPath("session", name); }
 
 struct Collector final : TickConsumer {
   void OnTick(const TickRecord& r) override {
@@ -118,9 +116,21 @@ TEST(Session, DeviceSpellingsAreCheckedWithAClearError) {
     MakeDevice("phantom", *scene, 1);
     FAIL();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("--device must be scripted:NAME"),
-              std::string::npos);
+    EXPECT_NE(
+        std::string(e.what()).find("a device is mouse, scripted:NAME, "
+                                   "scripted:FILE.csv, replay:FILE or student:NAME"),
+        std::string::npos)
+        << e.what();
   }
+  // One parser for every spelling: what each names.
+  EXPECT_EQ(ParseDeviceName("mouse").kind, DeviceName::Kind::kMouse);
+  EXPECT_EQ(ParseDeviceName("scripted:poke").kind, DeviceName::Kind::kScripted);
+  EXPECT_EQ(ParseDeviceName("scripted:a/b.csv").file(), "a/b.csv");
+  EXPECT_EQ(ParseDeviceName("replay:r.rec").file(), "r.rec");
+  EXPECT_EQ(ParseDeviceName("student:careful").what, "careful");
+  EXPECT_TRUE(ParseDeviceName("student:careful").file().empty());
+  EXPECT_THROW(ParseDeviceName("student:"), std::invalid_argument);
+  EXPECT_THROW(MakeDevice("student:careful", *scene, 1), std::invalid_argument);
   EXPECT_THROW(MakeDevice("scripted:wiggle", *scene, 1), std::invalid_argument);
   EXPECT_THROW(MakeDevice("replay:" + Out("none.rec").string(), *scene, 1),
                RecordingError);

@@ -4,7 +4,7 @@
 // on every tooth and probe, and its mean target (0.3 %) on the probes, incisors,
 // canines and premolars; records protrusion and build time in the test XML and
 // on stdout. The molars' mean is reported, not asserted: they are at 0.35 to
-// 0.49 % (README, "Sphere-trees").
+// 0.49 % (docs/engine.md, "Sphere-trees").
 
 #include <gtest/gtest.h>
 

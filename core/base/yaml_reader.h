@@ -1,5 +1,6 @@
 #pragma once
-// The YAML reader that scene and lesson files share: every error is collected
+// The YAML reader that every YAML file Sulcus reads shares (scenes, lessons,
+// answers, attempt markers): every error is collected
 // (never thrown one at a time) as `file:line:column: message`, unknown keys get a
 // "did you mean" suggestion, numbers are range-checked with their unit.
 
@@ -9,14 +10,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/base/files.h"
-#include "core/geometry/transform.h"
-#include "core/scene/scene.h"
+#include "core/base/load_error.h"
+#include "core/base/text.h"
 
 namespace sulcus {
 
@@ -62,15 +62,15 @@ class YamlReader {
   explicit YamlReader(std::filesystem::path file) : file_(std::move(file)) {}
 
   void Error(const YAML::Mark& m, const std::string& message) {
-    errors_.push_back({file_.string(), m.line + 1, m.column + 1, message});
+    errors_.push_back({file_.string(), m.line + 1, m.column + 1, ShortenQuoted(message)});
   }
   void Error(const YAML::Node& n, const std::string& message) {
     Error(n.Mark(), message);
   }
   void Error(int line, int column, const std::string& message) {
-    errors_.push_back({file_.string(), line, column, message});
+    errors_.push_back({file_.string(), line, column, ShortenQuoted(message)});
   }
-  std::vector<SceneError>& errors() { return errors_; }
+  std::vector<ErrorAt>& errors() { return errors_; }
 
   // Every key of `map` must be in `allowed`.
   void CheckKeys(const YAML::Node& map, const std::vector<std::string>& allowed,
@@ -79,7 +79,8 @@ class YamlReader {
     for (auto it = map.begin(); it != map.end(); ++it) {
       const std::string key = it->first.Scalar();
       if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
-        Error(it->first, "unknown key '" + key + "' in " + where + Suggest(key, allowed));
+        Error(it->first,
+              "unknown key '" + Shorten(key) + "' in " + where + Suggest(key, allowed));
       }
     }
   }
@@ -95,8 +96,9 @@ class YamlReader {
       const auto first = std::find_if(seen.begin(), seen.end(),
                                       [&](const auto& k) { return k.first == key; });
       if (first != seen.end())
-        Error(it->first, "'" + key + "' is given twice in " + where + " (first at line " +
-                             std::to_string(first->second.line + 1) + "); give it once");
+        Error(it->first, "'" + Shorten(key) + "' is given twice in " + where +
+                             " (first at line " + std::to_string(first->second.line + 1) +
+                             "); give it once");
       else
         seen.push_back({key, it->first.Mark()});
     }
@@ -121,15 +123,14 @@ class YamlReader {
       v = n.as<double>();
     } catch (const YAML::Exception&) {
       Error(n, "'" + key + "' must be a number" +
-                   (unit.empty() ? "" : " (" + unit + ")") + ", found '" + n.Scalar() +
-                   "'");
+                   (unit.empty() ? "" : " (" + unit + ")") + ", found '" +
+                   Shorten(n.Scalar()) + "'");
       return fallback;
     }
     if (!std::isfinite(v) || v < lo || v > hi) {
-      std::ostringstream s;
-      s << "'" << key << "' is " << n.Scalar() << (unit.empty() ? "" : " " + unit)
-        << ", expected " << lo << " to " << hi;
-      Error(n, s.str());
+      Error(n, "'" + key + "' is " + Shorten(n.Scalar()) +
+                   (unit.empty() ? "" : " " + unit) + ", expected " + FormatNumber(lo) +
+                   " to " + FormatNumber(hi));
       return fallback;
     }
     return v;
@@ -138,7 +139,8 @@ class YamlReader {
   int Integer(const YAML::Node& n, const std::string& key, int lo, int hi, int fallback) {
     const double v = Number(n, key, lo, hi, fallback);
     if (v != std::floor(v)) {
-      Error(n, "'" + key + "' must be a whole number, found '" + n.Scalar() + "'");
+      Error(n,
+            "'" + key + "' must be a whole number, found '" + Shorten(n.Scalar()) + "'");
       return fallback;
     }
     return static_cast<int>(v);
@@ -180,27 +182,13 @@ class YamlReader {
     return ok;
   }
 
-  RigidTransform Pose(const YAML::Node& map, const char* at_key, const char* turn_key) {
-    double at[3] = {0, 0, 0}, turn[3] = {0, 0, 0};
-    if (map[at_key])
-      Numbers(map[at_key], at_key, 3, -1000, 1000, at, "mm", "x, y, z in mm");
-    if (map[turn_key]) {
-      Numbers(map[turn_key], turn_key, 3, -360, 360, turn, "degrees",
-              "turns about x, y, z in degrees");
-    }
-    constexpr double kDeg = std::numbers::pi / 180;
-    Vector6 q;
-    q << at[0], at[1], at[2], turn[0] * kDeg, turn[1] * kDeg, turn[2] * kDeg;
-    return RigidTransform::FromConfiguration(q);
-  }
-
   std::filesystem::path file_;
 
  private:
-  std::vector<SceneError> errors_;
+  std::vector<ErrorAt> errors_;
 };
 
-/// Reads `r`'s file as a YAML map. Throws SceneLoadError, with the file named,
+/// Reads `r`'s file as a YAML map. Throws LoadError, with the file named,
 /// when it is missing ("no such " + kind), unreadable, not YAML, or not a map
 /// (`not_a_map` says what it should be).
 inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind,
@@ -211,7 +199,7 @@ inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind,
   if (const std::string why = UnreadableReason(file);
       !why.empty() && why != "no such file") {
     r.errors().push_back({file.string(), 0, 0, why});
-    throw SceneLoadError(r.errors());
+    throw LoadError(r.errors());
   }
   std::ifstream in(file);
   if (!in) {
@@ -219,7 +207,7 @@ inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind,
     r.errors().push_back(
         {file.string(), 0, 0,
          std::filesystem::exists(file, ec) ? "cannot be read" : "no such " + kind});
-    throw SceneLoadError(r.errors());
+    throw LoadError(r.errors());
   }
   std::stringstream text;
   text << in.rdbuf();
@@ -228,11 +216,11 @@ inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind,
     root = YAML::Load(text.str());
   } catch (const YAML::Exception& e) {  // syntax, too deep, ...
     r.Error(e.mark, "YAML syntax: " + e.msg);
-    throw SceneLoadError(r.errors());
+    throw LoadError(r.errors());
   }
   if (!root.IsMap()) {
     r.Error(root, not_a_map);
-    throw SceneLoadError(r.errors());
+    throw LoadError(r.errors());
   }
   return root;
 }

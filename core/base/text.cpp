@@ -1,0 +1,55 @@
+#include "core/base/text.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace sulcus {
+
+std::string Shorten(std::string_view text, std::size_t max) {
+  std::size_t cut = std::min(max, text.size());
+  // Never in the middle of a UTF-8 character.
+  while (cut > 0 && cut < text.size() && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80)
+    --cut;
+  std::string out(text.substr(0, cut));
+  for (char& c : out)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  if (text.size() > max) out += "... (" + std::to_string(text.size()) + " characters)";
+  return out;
+}
+
+std::string ShortenQuoted(std::string_view message, std::size_t max) {
+  std::string out;
+  std::size_t i = 0;
+  while (i < message.size()) {
+    const std::size_t open = message.find('\'', i);
+    if (open == std::string_view::npos) break;
+    const std::size_t close = message.find('\'', open + 1);
+    if (close == std::string_view::npos) break;
+    out.append(message.substr(i, open + 1 - i));
+    const std::string_view quoted = message.substr(open + 1, close - open - 1);
+    out += quoted.size() > max ? Shorten(quoted, max) : std::string(quoted);
+    out += '\'';
+    i = close + 1;
+  }
+  out.append(message.substr(std::min(i, message.size())));
+  // An apostrophe in the prose ("the scene's") pairs quotes wrongly: any long
+  // word left is cut too.
+  std::string words;
+  std::size_t start = 0;
+  while (start <= out.size()) {
+    const std::size_t end = std::min(out.find(' ', start), out.size());
+    const std::string_view word = std::string_view(out).substr(start, end - start);
+    words += word.size() > 4 * max ? Shorten(word, max) : std::string(word);
+    if (end < out.size()) words += ' ';
+    start = end + 1;
+  }
+  return words;
+}
+
+std::string FormatNumber(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
+
+}  // namespace sulcus

@@ -1,0 +1,24 @@
+#pragma once
+// Values shown back to the user in messages: never a megabyte token echoed whole,
+// never a number printed as 309 digits.
+
+#include <string>
+#include <string_view>
+
+namespace sulcus {
+
+/// `text` as written when it has at most `max` characters (bytes), else its
+/// first `max` followed by "... (N characters)". Control characters (a NUL, a
+/// newline) are shown as '?', so a message stays one readable line.
+std::string Shorten(std::string_view text, std::size_t max = 80);
+
+/// `message` with every value quoted in it ('...') of more than `max`
+/// characters shortened as Shorten does: a reader's error can quote what it
+/// found without echoing a megabyte token.
+std::string ShortenQuoted(std::string_view message, std::size_t max = 80);
+
+/// A number as a person reads it: printf's %g (six significant digits), so
+/// 1e308 is "1e+308" and 0.25 is "0.25".
+std::string FormatNumber(double x);
+
+}  // namespace sulcus

@@ -1,0 +1,309 @@
+// The window: the probe moved by hand without a device (keys and mouse as the
+// screen shows them), where it is held back, and the loupe at the site.
+#include "ui/main_window.h"
+
+#include <QVTKOpenGLNativeWidget.h>
+#include <vtkCamera.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkRenderer.h>
+
+#include <QAction>
+#include <QApplication>
+#include <QCheckBox>
+#include <QCloseEvent>
+#include <QComboBox>
+#include <QDesktopServices>
+#include <QDialogButtonBox>
+#include <QDockWidget>
+#include <QEventLoop>
+#include <QFileDialog>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QInputDialog>
+#include <QKeyEvent>
+#include <QLabel>
+#include <QLineEdit>
+#include <QListWidget>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QMouseEvent>
+#include <QProgressDialog>
+#include <QProxyStyle>
+#include <QPushButton>
+#include <QRadioButton>
+#include <QScrollArea>
+#include <QSettings>
+#include <QSignalBlocker>
+#include <QSlider>
+#include <QSpinBox>
+#include <QStandardItemModel>
+#include <QStatusBar>
+#include <QTextBrowser>
+#include <QTimer>
+#include <QUrl>
+#include <QVBoxLayout>
+#include <QWheelEvent>
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "core/haptics/devices/usb_discovery.h"
+#include "core/haptics/scripted_device.h"
+#include "core/lesson/answers.h"
+#include "core/lesson/attempt.h"
+#include "core/lesson/instructor.h"
+#include "core/lesson/report.h"
+#include "core/lesson/results.h"
+#include "core/spheretree/cache.h"
+#include "ui/chart_widget.h"
+#include "ui/force_gauge.h"
+#include "ui/main_window_parts.h"
+#include "ui/force_plot.h"
+#include "ui/instructor_dialog.h"
+#include "ui/mouse_device.h"
+#include "ui/odontogram_widget.h"
+#include "ui/progress_dialog.h"
+#include "ui/scene_view.h"
+#include "ui/start_dialog.h"
+
+namespace sulcus::ui {
+
+MainWindow::ViewAxes MainWindow::CameraAxes() const {
+  vtkCamera* cam = renderer_->GetActiveCamera();
+  double pos[3], focal[3], up[3];
+  cam->GetPosition(pos);
+  cam->GetFocalPoint(focal);
+  cam->GetViewUp(up);
+  const Vector3 eye(pos[0], pos[1], pos[2]), at(focal[0], focal[1], focal[2]);
+  ViewAxes v;
+  v.into = (at - eye).normalized();
+  const Vector3 u(up[0], up[1], up[2]);
+  v.up = (u - u.dot(v.into) * v.into).normalized();
+  v.right = v.into.cross(v.up);
+  v.eye = eye;
+  return v;
+}
+
+QString MainWindow::HeldBackText() const {
+  // The hand far from the probe it holds: say so, and why.
+  const double gap = (snapshot_.X_WH.translation() - snapshot_.X_WG.translation()).norm();
+  if (gap <= kHeldBackMm) return {};
+  return QString(
+             "<br><span style='color:#c86400'>Your hand is <b>%1 mm</b> from the "
+             "probe: a tooth or the tissue holds the probe back. Move back toward "
+             "it, or press Reset tool.</span>")
+      .arg(gap, 0, 'f', 1);
+}
+
+const ProbingSite* MainWindow::SceneSite(const SiteRef& s) const {
+  if (!scene_) return nullptr;
+  for (const ProbingSite& p : scene_->effects.sites)
+    if (p.fdi == s.fdi && p.site == s.site) return &p;
+  return nullptr;
+}
+
+bool MainWindow::loupe_shown() const { return view_->loupe_shown(); }
+
+void MainWindow::UpdateLoupe(const std::optional<SiteRef>& tip) {
+  const ProbingSite* site = tip ? SceneSite(*tip) : nullptr;
+  if (!site || !loupe_box_->isChecked()) {
+    view_->ShowLoupe(std::nullopt, Vector3::UnitX(), Vector3::UnitZ(), 1);
+    return;
+  }
+  // Centred where the margin meets the probe, seen square to the probe from
+  // outside the tooth, the tip down: 8 mm across (the Williams probe's first
+  // three bands).
+  const RigidTransform& X_WG = view_->graphic_pose();
+  const Vector3 tip_W = X_WG.translation();
+  const Vector3 axis_W = X_WG.rotation() * Vector3::UnitZ();
+  const Vector3 focus_W = tip_W + axis_W * axis_W.dot(site->margin_W - tip_W);
+  Vector3 out_W = site->margin_W - site->origin_W;
+  out_W -= site->axis_W * out_W.dot(site->axis_W);
+  out_W -= axis_W * out_W.dot(axis_W);
+  if (out_W.norm() < 1e-6) out_W = axis_W.unitOrthogonal();
+  view_->ShowLoupe(focus_W, out_W.normalized(), axis_W, 8.0);
+}
+
+bool MainWindow::PlaceProbeAt(const SiteRef& site, double above_margin_mm) {
+  const ProbingSite* p = SceneSite(site);
+  if (!mouse_ || !p) return false;
+  const Vector3 down = (p->floor_W - p->margin_W).normalized();
+  // Along the site's line (parallel to the long axis), the tip above the margin.
+  mouse_->Set(RigidTransform(Quaternion::FromTwoVectors(Vector3::UnitZ(), -down),
+                             p->margin_W - above_margin_mm * down));
+  statusBar()->showMessage(
+      QString("The probe is over %1, %2 mm above the margin: press R to push it down")
+          .arg(Q(site.ToString()))
+          .arg(above_margin_mm, 0, 'f', 1),
+      6000);
+  return true;
+}
+
+void MainWindow::keyPressEvent(QKeyEvent* e) {
+  if (!mouse_) {
+    QMainWindow::keyPressEvent(e);
+    return;
+  }
+  // Moves relative to the view (right, up, into the screen, whatever the
+  // camera), mm and rad per press; turns about the tip. With Alt, fine: 0.02 mm
+  // is 0.04 N at the pocket floor (2 N/mm).
+  const bool fine = e->modifiers() & Qt::AltModifier;
+  const double step = fine ? 0.02 : 0.1, turn = fine ? 0.01 : 0.05;
+  const ViewAxes v = CameraAxes();
+  Vector3 d = Vector3::Zero();
+  switch (e->key()) {
+    case Qt::Key_D:
+      d = v.right;
+      break;
+    case Qt::Key_A:
+      d = -v.right;
+      break;
+    case Qt::Key_W:
+      d = v.up;
+      break;
+    case Qt::Key_S:
+      d = -v.up;
+      break;
+    case Qt::Key_Q:
+      d = v.into;
+      break;
+    case Qt::Key_E:
+      d = -v.into;
+      break;
+    case Qt::Key_R:
+    case Qt::Key_F: {
+      // The press: the force the hand pushes with along the probe, 0.02 N a key.
+      const double press = std::clamp(
+          mouse_->press() + (e->key() == Qt::Key_R ? kPressStepN : -kPressStepN), 0.0,
+          MouseKeyboardDevice::kPressMaxN);
+      mouse_->SetPress(press < 1e-9 ? 0.0 : press);
+      gauge_->SetPress(mouse_->press());
+      lesson_gauge_->SetPress(mouse_->press());
+      return;
+    }
+    case Qt::Key_X:  // let go: no press
+      mouse_->SetPress(0);
+      gauge_->SetPress(0);
+      lesson_gauge_->SetPress(0);
+      return;
+    case Qt::Key_Comma:
+    case Qt::Key_Period: {
+      // The walking stroke: along the sulcus round the tooth the tip is in,
+      // 0.3 mm a press (the press keeps the tip at the floor meanwhile).
+      const std::optional<SiteRef> at = lesson_ ? lesson_->tip_site() : std::nullopt;
+      const ProbingSite* p = at ? SceneSite(*at) : nullptr;
+      if (!p) {
+        statusBar()->showMessage(
+            "Walking needs the tip in a sulcus: press N to place the probe at the "
+            "next site, then R to push it down",
+            6000);
+        return;
+      }
+      const Vector3 tip = mouse_->pose().translation();
+      Vector3 around = p->axis_W.cross(tip - p->origin_W);
+      if (around.norm() < 1e-9) return;
+      // Comma walks to the screen's left, period to its right.
+      around.normalize();
+      if (around.dot(v.right) < 0) around = -around;
+      mouse_->Nudge((e->key() == Qt::Key_Period ? 0.3 : -0.3) * around, Vector3::Zero());
+      return;
+    }
+    case Qt::Key_N: {
+      const std::optional<SiteRef> next = lesson_ ? lesson_->next_site() : std::nullopt;
+      if (!next) {
+        statusBar()->showMessage("No site is next in this lesson", 4000);
+      } else if (aids_locked_) {
+        statusBar()->showMessage(
+            "An assessment places nothing for you: move the probe to the site", 5000);
+      } else {
+        PlaceProbeAt(*next, 1.0);
+      }
+      return;
+    }
+    default:
+      QMainWindow::keyPressEvent(e);
+      return;
+  }
+  if (e->modifiers() & Qt::ShiftModifier) {
+    mouse_->Nudge(Vector3::Zero(), turn * d);
+  } else {
+    mouse_->Nudge(step * d, Vector3::Zero());
+  }
+}
+
+bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
+  // Ctrl + drag moves the tool in the view plane, Ctrl + Shift + drag turns it,
+  // Ctrl + wheel moves it along the view; without Ctrl the camera moves.
+  if (watched == vtk_widget_ && mouse_ &&
+      (e->type() == QEvent::MouseButtonPress || e->type() == QEvent::MouseMove ||
+       e->type() == QEvent::MouseButtonRelease || e->type() == QEvent::Wheel)) {
+    vtkCamera* cam = renderer_->GetActiveCamera();
+    const ViewAxes axes = CameraAxes();
+    const Vector3 &eye = axes.eye, &view = axes.into, &v_up = axes.up,
+                  &right = axes.right;
+    // Millimetres per pixel at the tool's distance from the camera.
+    const double depth = std::max(1.0, (mouse_->pose().translation() - eye).dot(view));
+    const double mm_per_px = 2 * depth *
+                             std::tan(cam->GetViewAngle() * 0.5 * M_PI / 180) /
+                             std::max(1, vtk_widget_->height());
+    if (e->type() == QEvent::Wheel) {
+      auto* w = static_cast<QWheelEvent*>(e);
+      if (!(w->modifiers() & Qt::ControlModifier))
+        return QMainWindow::eventFilter(watched, e);
+      const double per_notch =
+          (w->modifiers() & Qt::AltModifier) ? 0.02 : 0.2;  // mm; Alt: fine
+      mouse_->Nudge(-per_notch * (w->angleDelta().y() / 120.0) * view, Vector3::Zero());
+      return true;
+    }
+    auto* m = static_cast<QMouseEvent*>(e);
+    if (e->type() == QEvent::MouseButtonPress && (m->modifiers() & Qt::ControlModifier)) {
+      dragging_ = true;
+      drag_from_ = m->pos();
+      return true;
+    }
+    if (e->type() == QEvent::MouseButtonRelease && dragging_) {
+      dragging_ = false;
+      return true;
+    }
+    if (e->type() == QEvent::MouseMove && dragging_) {
+      const QPoint d = m->pos() - drag_from_;
+      drag_from_ = m->pos();
+      if (m->modifiers() & Qt::ShiftModifier) {
+        mouse_->Nudge(Vector3::Zero(), 0.01 * (d.x() * v_up + d.y() * right));
+      } else {
+        mouse_->Nudge(mm_per_px * (d.x() * right - d.y() * v_up), Vector3::Zero());
+      }
+      return true;
+    }
+  }
+  if (watched == vtk_widget_ && e->type() == QEvent::KeyPress && mouse_) {
+    auto* k = static_cast<QKeyEvent*>(e);
+    switch (k->key()) {
+      case Qt::Key_W:
+      case Qt::Key_A:
+      case Qt::Key_S:
+      case Qt::Key_D:
+      case Qt::Key_Q:
+      case Qt::Key_E:
+      case Qt::Key_R:
+      case Qt::Key_F:
+      case Qt::Key_X:
+      case Qt::Key_N:
+      case Qt::Key_Comma:
+      case Qt::Key_Period:
+        keyPressEvent(k);
+        return true;
+      default:
+        break;
+    }
+  }
+  return QMainWindow::eventFilter(watched, e);
+}
+
+}  // namespace sulcus::ui
