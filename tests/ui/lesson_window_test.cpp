@@ -175,6 +175,7 @@ TEST(StartPage, TheChosenLessonIsPreparedWhileTheStudentTypes) {
   EXPECT_EQ(d.student(), "Ada Lovelace") << "what was typed meanwhile is kept";
   EXPECT_TRUE(d.preparation_text().contains("43 %"))
       << d.preparation_text().toStdString();
+  EXPECT_TRUE(Save(&d, "start_page_preparing.png"));
 }
 
 // Types the chart as the student reads it: each site's deepest reading to the
