@@ -1,7 +1,5 @@
 // The window: a lesson from the start page to its report (the lesson panel, the
 // chart and odontogram entries, the diagnosis, help, recovery).
-#include "ui/main_window.h"
-
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkCamera.h>
 #include <vtkGenericOpenGLRenderWindow.h>
@@ -63,9 +61,10 @@
 #include "core/spheretree/cache.h"
 #include "ui/chart_widget.h"
 #include "ui/force_gauge.h"
-#include "ui/main_window_parts.h"
 #include "ui/force_plot.h"
 #include "ui/instructor_dialog.h"
+#include "ui/main_window.h"
+#include "ui/main_window_parts.h"
 #include "ui/mouse_device.h"
 #include "ui/odontogram_widget.h"
 #include "ui/progress_dialog.h"

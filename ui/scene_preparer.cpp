@@ -67,8 +67,9 @@ QString ScenePreparer::Status() const {
     return QString("The scene could not be prepared: %1")
         .arg(QString::fromStdString(job_->error));
   }
-  return QString("Preparing the scene (the first time only: its collision spheres and its "
-                 "drawing): %1 (%2 %)")
+  return QString(
+             "Preparing the scene (the first time only: its collision spheres and its "
+             "drawing): %1 (%2 %)")
       .arg(QString::fromStdString(job_->stage))
       .arg(static_cast<int>(job_->fraction * 100));
 }

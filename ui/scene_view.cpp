@@ -392,8 +392,7 @@ void SceneView::ShowLoupe(const std::optional<Vector3>& focus, const Vector3& fr
   c->SetClippingRange(0.2 * distance, 3 * distance);
   if (loupe_caption_) {
     char text[96];
-    std::snprintf(text, sizeof text,
-                  "Loupe: %.0f mm across, markings seen through the gingiva", width_mm);
+    std::snprintf(text, sizeof text, "Loupe, %.0f mm across", width_mm);
     loupe_caption_->SetInput(text);
   }
 }

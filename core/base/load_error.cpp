@@ -3,7 +3,8 @@
 namespace sulcus {
 
 std::string ErrorAt::ToString() const {
-  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message;
+  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " +
+         message;
 }
 
 LoadError::LoadError(std::vector<ErrorAt> errors)

@@ -8,7 +8,8 @@ namespace sulcus {
 std::string Shorten(std::string_view text, std::size_t max) {
   std::size_t cut = std::min(max, text.size());
   // Never in the middle of a UTF-8 character.
-  while (cut > 0 && cut < text.size() && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80)
+  while (cut > 0 && cut < text.size() &&
+         (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80)
     --cut;
   std::string out(text.substr(0, cut));
   for (char& c : out)

@@ -1,7 +1,5 @@
 // The inspection lesson's score: coverage of every region and surface, the
 // order, the findings against the truth, damage (LessonRun::ScoreInspection).
-#include "core/lesson/lesson.h"
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -11,6 +9,7 @@
 #include "core/anatomy/arch.h"
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/tooth.h"
+#include "core/lesson/lesson.h"
 #include "core/lesson/scoring_parts.h"
 
 namespace sulcus {

@@ -1,7 +1,5 @@
 // The probing lesson's score: each site read, charted and held against the
 // truth, the walking strokes, completeness, the diagnosis (LessonRun::ScoreProbing).
-#include "core/lesson/lesson.h"
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -11,6 +9,7 @@
 #include "core/anatomy/arch.h"
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/tooth.h"
+#include "core/lesson/lesson.h"
 #include "core/lesson/scoring_parts.h"
 
 namespace sulcus {

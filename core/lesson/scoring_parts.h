@@ -39,8 +39,8 @@ inline bool InArc(double deg, bool buccal) {
 }
 
 inline RubricLine Line(const char* category, const SiteRef* site, int fdi,
-                RubricLine::Status status, double credit, std::string message,
-                std::uint64_t tick) {
+                       RubricLine::Status status, double credit, std::string message,
+                       std::uint64_t tick) {
   RubricLine l;
   l.category = category;
   if (site) l.site = *site;

@@ -39,8 +39,8 @@ TEST(Files, AnOutputNeverResolvesToAnInputHoweverItIsSpelled) {
   fs::create_hard_link(input, root / "hard.yaml");
   const std::vector<KeptFile> kept = {{input, "the scene being run"}};
   const std::vector<fs::path> same_bases = {root / "data" / "scene.yaml",
-                                            root / "via" / "scene.yaml", root / "link.yaml",
-                                            root / "hard.yaml"};
+                                            root / "via" / "scene.yaml",
+                                            root / "link.yaml", root / "hard.yaml"};
   std::mt19937 rng(7);
   int refused = 0, spellings = 0;
   for (int i = 0; i < 200; ++i) {
@@ -49,9 +49,15 @@ TEST(Files, AnOutputNeverResolvesToAnInputHoweverItIsSpelled) {
     std::string s = p.parent_path().string();
     for (int k = rng() % 4; k > 0; --k) {
       switch (rng() % 3) {
-        case 0: s += "/."; break;
-        case 1: s += "/sub/.."; break;
-        default: s += "/"; break;
+        case 0:
+          s += "/.";
+          break;
+        case 1:
+          s += "/sub/..";
+          break;
+        default:
+          s += "/";
+          break;
       }
     }
     // "sub/.." only exists below data/: elsewhere it is not a spelling of the file.
@@ -62,7 +68,8 @@ TEST(Files, AnOutputNeverResolvesToAnInputHoweverItIsSpelled) {
       RefuseOverwrite(spelled, kept);
     } catch (const FileError& e) {
       ++refused;
-      EXPECT_NE(std::string(e.what()).find("it is the scene being run"), std::string::npos);
+      EXPECT_NE(std::string(e.what()).find("it is the scene being run"),
+                std::string::npos);
     }
   }
   EXPECT_GT(spellings, 100);
