@@ -173,6 +173,11 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
         ++proximal;
         bias_prox += diff;
       }
+    } else {
+      // A site left blank scores as a wrong depth, never better than a depth
+      // 1 mm off: leaving an uncertain site blank must not pay.
+      L.push_back(Line("charting", &site, 0, S::kFail, 0,
+                       name + ": not charted (scored as a wrong depth)", last_tick_));
     }
   }
   for (const auto& [line, idx] : damage_) L.push_back(line);

@@ -519,6 +519,17 @@ TEST(Students, TheLazyOneSkipsATeethAndCompletenessSaysWhich) {
   EXPECT_EQ(unprobed,
             (std::set<std::string>{"46 DB", "46 B", "46 MB", "46 ML", "46 L", "46 DL"}));
   EXPECT_FALSE(r.steps[0].completed);
+  // A blank site scores as a wrong depth on the charting line (0 credit), below
+  // a depth 1 mm off (0.5): leaving an uncertain site blank does not pay.
+  std::set<std::string> blank;
+  for (const RubricLine* l : Lines(r, "charting", RubricLine::Status::kFail))
+    if (l->message.find("not charted") != std::string::npos) {
+      EXPECT_EQ(l->credit, 0);
+      blank.insert(l->site->ToString());
+    }
+  EXPECT_EQ(blank,
+            (std::set<std::string>{"46 DB", "46 B", "46 MB", "46 ML", "46 L", "46 DL"}));
+  std::printf("figure: lazy %.1f / 100 (46 left blank)\n", r.total);
 }
 
 TEST(Replay, ARecordedAttemptGivesTheSameReport) {
