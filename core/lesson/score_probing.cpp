@@ -43,10 +43,7 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
                    : a <= rb.technique_partial_mm ? S::kPartial
                                                   : S::kFail;
       L.push_back(
-          Line("technique", &site, 0, st,
-               st == S::kPass      ? 1
-               : st == S::kPartial ? 0.5
-                                   : 0,
+          Line("technique", &site, 0, st, Credit(st),
                Format("%s: the tip reached %.1f mm, the true depth is %d mm (%+.1f mm)%s",
                       name.c_str(), reached, s.truth_mm, err,
                       err < -rb.technique_full_mm  ? ": stopped short of the floor"
@@ -103,10 +100,7 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
         const S st2 = ang <= rb.angle_full_deg   ? S::kPass
                       : ang <= rb.angle_pass_deg ? S::kPartial
                                                  : S::kFail;
-        L.push_back(Line("angulation", &site, 0, st2,
-                         st2 == S::kPass      ? 1
-                         : st2 == S::kPartial ? 0.5
-                                              : 0,
+        L.push_back(Line("angulation", &site, 0, st2, Credit(st2),
                          Format("%s: the probe %.1f degrees off the long axis (full "
                                 "credit within %.0f, pass within "
                                 "%.0f)",
@@ -144,10 +138,7 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
         const double err = entered - *s.reached_mm, a = std::abs(err);
         const S st = a <= 0.5 ? S::kPass : a <= 1.5 ? S::kPartial : S::kFail;
         L.push_back(
-            Line("reading", &site, 0, st,
-                 st == S::kPass      ? 1
-                 : st == S::kPartial ? 0.5
-                                     : 0,
+            Line("reading", &site, 0, st, Credit(st),
                  Format("%s: entered %d mm where the probe reached %.1f mm (%+.1f mm)",
                         name.c_str(), entered, *s.reached_mm, err),
                  s.entry->tick));
@@ -159,10 +150,7 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
       }
       const int diff = entered - s.truth_mm;
       const S st = diff == 0 ? S::kPass : std::abs(diff) == 1 ? S::kPartial : S::kFail;
-      L.push_back(Line("charting", &site, 0, st,
-                       st == S::kPass      ? 1
-                       : st == S::kPartial ? 0.5
-                                           : 0,
+      L.push_back(Line("charting", &site, 0, st, Credit(st),
                        Format("%s: charted %d mm, the true depth is %d mm (%+d mm)",
                               name.c_str(), entered, s.truth_mm, diff),
                        s.entry->tick));

@@ -54,4 +54,9 @@ inline RubricLine Line(const char* category, const SiteRef* site, int fdi,
 
 using S = RubricLine::Status;
 
+// A line's credit by its status: full, half, none.
+inline double Credit(S status) {
+  return status == S::kPass ? 1 : status == S::kPartial ? 0.5 : 0;
+}
+
 }  // namespace sulcus::lesson_detail
