@@ -20,6 +20,7 @@
 #include "core/base/files.h"
 #include "core/base/text.h"
 #include "core/base/yaml_reader.h"
+#include "core/scene/mesh_paths.h"
 
 namespace sulcus {
 namespace {
@@ -69,58 +70,6 @@ RigidTransform ReadPose(Reader& r, const YAML::Node& map, const char* at_key,
   Vector6 q;
   q << at[0], at[1], at[2], turn[0] * kDeg, turn[1] * kDeg, turn[2] * kDeg;
   return RigidTransform::FromConfiguration(q);
-}
-
-// The largest mesh file a scene may name (a full-arch intraoral scan is tens of
-// megabytes).
-constexpr std::uintmax_t kMaxMeshBytes = 512ull << 20;
-
-// Folders besides the scene's own that its meshes may come from: the
-// environment variable SULCUS_MESH_LIBRARY, folders separated by ':'.
-std::vector<fs::path> MeshLibraryFolders() {
-  std::vector<fs::path> folders;
-  const char* env = std::getenv("SULCUS_MESH_LIBRARY");
-  if (!env) return folders;
-  std::string all(env);
-  for (std::size_t start = 0; start <= all.size();) {
-    const std::size_t end = std::min(all.find(':', start), all.size());
-    if (end > start) folders.emplace_back(all.substr(start, end - start));
-    start = end + 1;
-  }
-  return folders;
-}
-
-// Why a scene's `mesh:` path cannot be used ("" when it can): it must name a
-// regular file of a sane size inside the scene's folder (links resolved) or a
-// library folder, however the scene file itself was spelled.
-std::string MeshPathProblem(const std::string& rel, const fs::path& full,
-                            const fs::path& folder) {
-  const std::string shown = "mesh path '" + Shorten(rel) + "'";
-  if (rel.find('\0') != std::string::npos)
-    return shown + " holds a NUL character; give a file name";
-  if (rel.empty() || rel == "." || rel == "..")
-    return "mesh path '" + rel + "' names no file; give the mesh file's name";
-  bool inside = !fs::path(rel).is_absolute() && IsInsideFolder(full, folder);
-  for (const fs::path& lib : MeshLibraryFolders())
-    inside =
-        inside || IsInsideFolder(fs::path(rel).is_absolute() ? fs::path(rel) : full, lib);
-  if (!inside)
-    return shown +
-           " leaves the scene's folder (after following links); put the mesh beside "
-           "the scene file, or name its folder in SULCUS_MESH_LIBRARY";
-  if (const std::string why = UnreadableReason(full); !why.empty())
-    return why == "no such file"
-               ? shown + " not found (looked for " + Shorten(full.string(), 300) + ")"
-               : shown + " " + why;
-  std::error_code ec;
-  const std::uintmax_t size = fs::file_size(full, ec);
-  if (ec) return shown + " cannot be read: " + ec.message();
-  if (size == 0) return shown + " is an empty file";
-  if (size > kMaxMeshBytes)
-    return shown + " is " + std::to_string(size >> 20) +
-           " MB; a scene's mesh may be at most 512 MB (simplify it first: sulcus-cli "
-           "mesh simplify)";
-  return {};
 }
 
 std::vector<std::string> Names(const auto& table) {
@@ -225,7 +174,7 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
     o.kind = ObjectSpec::Kind::kMesh;
     const std::string rel = r.Text(n["mesh"], "mesh");
     const fs::path full = (folder / rel).lexically_normal();
-    if (const std::string why = MeshPathProblem(rel, full, folder); !why.empty())
+    if (const std::string why = MeshPathProblem(rel, folder); !why.empty())
       r.Error(n["mesh"], why);
     o.mesh = full;
     o.name = fs::path(rel).stem().string();

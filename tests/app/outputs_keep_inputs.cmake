@@ -104,16 +104,21 @@ expect_refused("scene validate on a folder" "is a folder, not a file"
 # A scene exported: two objects whose file names would collide are refused
 # before anything is written, and so is a mesh written over one the scene reads.
 file(MAKE_DIRECTORY ${OUT}/exp)
-file(WRITE ${OUT}/exp/collide.yaml "objects:\n  - name: a b\n    box: [2, 2, 2]\n    tissue: bone\n  - name: a-b\n    box: [3, 3, 3]\n    at: [10, 0, 0]\n    tissue: bone\n")
-expect_refused("scene export of two objects named alike" "objects 'a b' and 'a-b' would both be written to a_b.stl"
+file(WRITE ${OUT}/exp/collide.yaml
+  "objects:\n  - name: a b\n    box: [2, 2, 2]\n    tissue: bone\n"
+  "  - name: a-b\n    box: [3, 3, 3]\n    at: [10, 0, 0]\n    tissue: bone\n")
+expect_refused("scene export of two objects named alike"
+  "objects 'a b' and 'a-b' would both be written to a_b.stl"
   scene|export|${OUT}/exp/collide.yaml|-o|${OUT}/exp/out)
 if(EXISTS ${OUT}/exp/out/a_b.stl)
   message(FATAL_ERROR "scene export wrote a_b.stl although it refused")
 endif()
-execute_process(COMMAND ${CLI} mesh convert ${MESH} ${OUT}/exp/part.stl RESULT_VARIABLE made)
+execute_process(COMMAND ${CLI} mesh convert ${MESH} ${OUT}/exp/part.stl
+  RESULT_VARIABLE made)
 file(SIZE ${OUT}/exp/part.stl part_size)
 file(WRITE ${OUT}/exp/reads.yaml "objects:\n  - mesh: part.stl\n    tissue: bone\n")
-expect_refused("scene export over a mesh the scene reads" "part.stl.*it is a mesh the scene reads"
+expect_refused("scene export over a mesh the scene reads"
+  "part.stl.*it is a mesh the scene reads"
   scene|export|${OUT}/exp/reads.yaml|-o|${OUT}/exp)
 expect_size(${OUT}/exp/part.stl ${part_size} "the scene's mesh")
 
