@@ -37,8 +37,9 @@ TEST(MeshPaths, OutsideTheFolderOnlyFromALibraryTheEnvironmentNames) {
             std::string::npos);
   EXPECT_NE(MeshPathProblem("../lib/m.stl", root / "scene").find("leaves"),
             std::string::npos);
-  EXPECT_NE(MeshPathProblem((root / "lib" / "m.stl").string(), root / "scene").find("leaves"),
-            std::string::npos);
+  EXPECT_NE(
+      MeshPathProblem((root / "lib" / "m.stl").string(), root / "scene").find("leaves"),
+      std::string::npos);
   ::setenv("SULCUS_MESH_LIBRARY", ("/nowhere:" + (root / "lib").string()).c_str(), 1);
   EXPECT_EQ(MeshPathProblem("link.stl", root / "scene"), "");
   EXPECT_EQ(MeshPathProblem((root / "lib" / "m.stl").string(), root / "scene"), "");
@@ -47,9 +48,7 @@ TEST(MeshPaths, OutsideTheFolderOnlyFromALibraryTheEnvironmentNames) {
 
 TEST(MeshPaths, AFileTooLargeForAnyMouthIsRefusedBeforeItIsRead) {
   const fs::path dir = test::FreshOutputPath("mesh_paths", "large");
-  {
-    std::ofstream(dir / "huge.stl").flush();
-  }
+  { std::ofstream(dir / "huge.stl").flush(); }
   fs::resize_file(dir / "huge.stl", (512ull << 20) + 1);  // sparse: nothing written
   EXPECT_EQ(MeshPathProblem("huge.stl", dir),
             "mesh path 'huge.stl' is 512 MB; a scene's mesh may be at most 512 MB "
