@@ -1,7 +1,6 @@
 #include "core/anatomy/mesh_clip.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_data_structure_2.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
@@ -13,13 +12,15 @@
 #include <unordered_map>
 #include <utility>
 
+#include "core/geometry/cgal_internal.h"
+
 namespace sulcus {
 namespace {
 
 // The cap: a constrained Delaunay triangulation of the cut's loops, its
 // faces inside the solid found by nesting depth (odd: inside), as the
 // triangulation of a polygon with holes is.
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using K = CgalKernel;
 using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::int32_t, K>;
 using Fbi = CGAL::Triangulation_face_base_with_info_2<int, K>;
 using Fb = CGAL::Constrained_triangulation_face_base_2<K, Fbi>;

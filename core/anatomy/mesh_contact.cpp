@@ -3,11 +3,9 @@
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/Side_of_triangle_mesh.h>
-#include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,25 +15,17 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/geometry/cgal_internal.h"
+
 namespace sulcus {
 namespace {
 
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = K::Point_3;
-using Mesh = CGAL::Surface_mesh<Point>;
+using K = CgalKernel;
+using Point = CgalPoint;
+using Mesh = CgalMesh;
 using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 namespace PMP = CGAL::Polygon_mesh_processing;
-
-Mesh ToCgal(const TriangleMesh& input) {
-  Mesh m;
-  std::vector<Mesh::Vertex_index> vi;
-  vi.reserve(input.num_vertices());
-  for (const Vector3& v : input.vertices())
-    vi.push_back(m.add_vertex(Point(v.x(), v.y(), v.z())));
-  for (const auto& f : input.faces()) m.add_face(vi[f[0]], vi[f[1]], vi[f[2]]);
-  return m;
-}
 
 bool BoxesApart(const TriangleMesh& a, const TriangleMesh& b, double margin) {
   const Aabb x = a.Bounds(), y = b.Bounds();
@@ -55,7 +45,7 @@ double VertexGap(const TriangleMesh& from, const Tree& tree) {
 }  // namespace
 
 TriangleMesh UniteSolids(const TriangleMesh& a, const TriangleMesh& b) {
-  Mesh ma = ToCgal(a), mb = ToCgal(b), out;
+  Mesh ma = ToCgalMesh(a), mb = ToCgalMesh(b), out;
   if (!PMP::corefine_and_compute_union(ma, mb, out))
     throw std::runtime_error("the union of two meshes could not be formed");
   std::vector<Vector3> v;
@@ -84,7 +74,7 @@ TriangleMesh UniteSolids(const TriangleMesh& a, const TriangleMesh& b) {
 
 bool MeshesIntersect(const TriangleMesh& a, const TriangleMesh& b) {
   if (BoxesApart(a, b, 0)) return false;
-  const Mesh ma = ToCgal(a), mb = ToCgal(b);
+  const Mesh ma = ToCgalMesh(a), mb = ToCgalMesh(b);
   // Surfaces crossing, or one solid wholly inside the other (closed meshes).
   return PMP::do_intersect(ma, mb,
                            CGAL::parameters::do_overlap_test_of_bounded_sides(true),
@@ -95,7 +85,7 @@ MeshContact MeasureContact(const TriangleMesh& a, const TriangleMesh& b) {
   MeshContact c;
   c.intersect = MeshesIntersect(a, b);
   if (c.intersect) return c;
-  const Mesh ma = ToCgal(a), mb = ToCgal(b);
+  const Mesh ma = ToCgalMesh(a), mb = ToCgalMesh(b);
   Tree ta(faces(ma).first, faces(ma).second, ma),
       tb(faces(mb).first, faces(mb).second, mb);
   ta.accelerate_distance_queries();
@@ -106,7 +96,7 @@ MeshContact MeasureContact(const TriangleMesh& a, const TriangleMesh& b) {
 
 std::vector<bool> InsideSolid(const TriangleMesh& solid,
                               const std::vector<Vector3>& points) {
-  const Mesh m = ToCgal(solid);
+  const Mesh m = ToCgalMesh(solid);
   Tree tree(faces(m).first, faces(m).second, m);
   const CGAL::Side_of_triangle_mesh<Mesh, K> side(tree);
   std::vector<bool> out;

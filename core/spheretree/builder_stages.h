@@ -1,0 +1,342 @@
+#pragma once
+// The sphere-tree builder's stages, shared by its .cpp files only (private to
+// core/spheretree; no CGAL type here). BuildSphereTree (builder.cpp) runs them in
+// order: surface pieces (surface_pieces.cpp), medial candidates
+// (medial_candidates.cpp), the cover (cover.cpp), leaf refinement
+// (leaf_refine.cpp), and the hierarchy (hierarchy.cpp).
+
+#include <algorithm>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <numeric>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "core/geometry/mesh.h"
+#include "core/spheretree/builder.h"
+
+namespace sulcus {
+class MeshOracle;
+}
+
+namespace sulcus::tree_build {
+
+// Reports progress and turns a "stop" answer into BuildCancelled.
+// Progress never runs backwards: a stage met again (a second, finer cover after
+// the first tightening) reports where the build already was.
+class Reporter {
+ public:
+  explicit Reporter(BuildProgress fn) : fn_(std::move(fn)) {}
+  void operator()(std::string_view stage, double fraction) const {
+    last_ = std::max(last_, std::clamp(fraction, 0.0, 1.0));
+    if (fn_ && !fn_(stage, last_)) throw BuildCancelled();
+  }
+
+ private:
+  BuildProgress fn_;
+  mutable double last_ = 0;
+};
+
+// ---- Surface pieces (surface_pieces.cpp) ----
+
+// A flat piece of the surface; the cover works on these. A sphere that holds a
+// piece's three corners holds the whole piece.
+struct Piece {
+  Vector3 v[3];
+  Vector3 centroid;
+};
+
+Piece MakePiece(const Vector3& a, const Vector3& b, const Vector3& c);
+
+// Farthest corner of a piece from c (squared).
+inline double FarCorner2(const Piece& p, const Vector3& c) {
+  return std::max({(p.v[0] - c).squaredNorm(), (p.v[1] - c).squaredNorm(),
+                   (p.v[2] - c).squaredNorm()});
+}
+
+// Splits every face into n^2 similar pieces, n chosen so that edges are <= h.
+// Each piece's face normal, turned by `orientation` (+1 or -1), goes to `normals`.
+std::vector<Piece> Subdivide(const TriangleMesh& mesh, double h,
+                             std::vector<Vector3>* normals, double orientation);
+
+// A bounding-volume hierarchy over pieces (boxes around their corners), for
+// "which pieces lie wholly inside this ball" queries: only nodes whose box meets
+// the ball are visited, and a node whose box is inside the ball is taken whole.
+class PieceBvh {
+ public:
+  explicit PieceBvh(const std::vector<Piece>& pieces) : pieces_(pieces) {
+    order_.resize(pieces.size());
+    std::iota(order_.begin(), order_.end(), 0);
+    nodes_.reserve(2 * pieces.size() / kLeafSize + 2);
+    if (pieces.empty()) return;
+    nodes_.push_back({});
+    BuildInto(0, 0, static_cast<std::int32_t>(pieces.size()));
+  }
+
+  // Calls fn(piece) for every piece whose three corners are within `radius` of c.
+  template <typename Fn>
+  void ForEachEnclosed(const Vector3& c, double radius, Fn&& fn) const {
+    if (nodes_.empty()) return;
+    const double r2 = radius * radius;
+    std::int32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[stack[--top]];
+      const Vector3 near = c.cwiseMax(n.box.min).cwiseMin(n.box.max);
+      if ((near - c).squaredNorm() > r2) continue;
+      const Vector3 far = (c - n.box.min).cwiseAbs().cwiseMax((c - n.box.max).cwiseAbs());
+      if (far.squaredNorm() <= r2) {  // the whole box is inside the ball
+        for (std::int32_t i = n.begin; i < n.end; ++i) fn(order_[i]);
+        continue;
+      }
+      if (n.left < 0) {
+        for (std::int32_t i = n.begin; i < n.end; ++i) {
+          const Piece& p = pieces_[order_[i]];
+          if (FarCorner2(p, c) <= r2) fn(order_[i]);
+        }
+        continue;
+      }
+      stack[top++] = n.left;
+      stack[top++] = n.left + 1;
+    }
+  }
+
+ private:
+  static constexpr std::int32_t kLeafSize = 8;
+  struct Node {
+    Aabb box;
+    std::int32_t begin, end, left;  // left < 0: a leaf; children at left, left + 1
+  };
+
+  void BuildInto(std::int32_t slot, std::int32_t begin, std::int32_t end) {
+    Aabb box;
+    for (std::int32_t i = begin; i < end; ++i) {
+      for (const Vector3& v : pieces_[order_[i]].v) box.Extend(v);
+    }
+    nodes_[slot] = {box, begin, end, -1};
+    if (end - begin <= kLeafSize) return;
+    int axis;
+    box.extent().maxCoeff(&axis);
+    const std::int32_t mid = begin + (end - begin) / 2;
+    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                     [&](std::int32_t a, std::int32_t b) {
+                       return pieces_[a].centroid[axis] < pieces_[b].centroid[axis];
+                     });
+    // Children are allocated as a pair so that the right one is left + 1.
+    const auto left = static_cast<std::int32_t>(nodes_.size());
+    nodes_.push_back({});
+    nodes_.push_back({});
+    BuildInto(left, begin, mid);
+    BuildInto(left + 1, mid, end);
+    nodes_[slot].left = left;
+  }
+
+  const std::vector<Piece>& pieces_;
+  std::vector<std::int32_t> order_;
+  std::vector<Node> nodes_;
+};
+
+// ---- Medial candidates (medial_candidates.cpp) ----
+
+// A medial sphere candidate: centre inside the solid and its depth (distance to
+// the surface). A leaf centred there with radius R protrudes at most R - depth.
+struct Candidate {
+  Vector3 c;
+  double depth;
+};
+
+// Candidate centres: the inner Voronoi pole of each surface sample (the farthest
+// Voronoi vertex of its cell on the inner side, Amenta's pole), plus points on
+// the way from each sample to its pole, so that thin and sharp regions have
+// shallow spheres too. Only centres inside the solid are kept.
+std::vector<Candidate> MedialCandidates(const std::vector<Vector3>& samples,
+                                        const std::vector<Vector3>& normals, double diag,
+                                        double thin_cell, const MeshOracle& oracle,
+                                        const Reporter& report);
+
+// ---- The cover (cover.cpp) ----
+
+// For each candidate, the pieces it can enclose with a protrusion bound of at most
+// `eps_max`, sorted by the bound each needs (CSR form). A cover at any eps <=
+// eps_max then uses a prefix of every list, so the bisection over eps reuses them.
+struct CoverLists {
+  std::vector<std::int64_t> start;
+  std::vector<std::int32_t> items;
+  std::vector<float> need;  // protrusion bound needed for the item, ascending per list
+};
+
+CoverLists ComputeCovers(const std::vector<Candidate>& cands,
+                         const std::vector<Piece>& pieces, const PieceBvh& bvh,
+                         double eps_max);
+
+// Lazy greedy set cover using, for each candidate, the pieces it encloses within
+// eps, or within limit[piece] where that is larger (pieces whose best possible
+// bound is above eps). Returns the chosen candidates, or nothing when the pieces
+// cannot be covered or need more than `budget` spheres.
+std::vector<std::int32_t> GreedyCover(const CoverLists& lists, double eps,
+                                      std::size_t num_pieces, std::size_t budget,
+                                      const std::vector<float>* limit = nullptr);
+
+// The least protrusion bound with which any candidate encloses each piece.
+std::vector<float> PieceFloors(const CoverLists& lists, std::size_t num_pieces);
+
+// The greedy cover at the smallest protrusion bound (to 2 %) that fits the
+// budget, with the cover lists it was computed from. Pieces whose best bound
+// (over all candidates) is above the bound may use kFloorSlack times their best
+// instead, so that a few hard pieces do not set the bound for the whole surface.
+struct MinMaxCover {
+  std::vector<std::int32_t> chosen;
+  double eps = 0;
+  CoverLists lists;      // computed at lists_eps >= eps
+  double lists_eps = 0;  // every piece has an entry: the lists can be reused below it
+  std::vector<float> limits;  // per piece: kFloorSlack times its best bound
+};
+
+// `reach_eps` > 0 is a bound at which every piece was reachable before (the
+// previous round's lists): the bracket starts there.
+MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
+                            const std::vector<Piece>& pieces, std::size_t budget,
+                            double start_eps, double reach_eps, double diag,
+                            const std::function<void()>& tick);
+
+// Splits the marked pieces into four at their edge midpoints.
+std::vector<Piece> SplitPieces(const std::vector<Piece>& pieces,
+                               const std::vector<char>& split);
+
+// Protrusion bound of a sphere centred at c (depth d) that encloses the pieces.
+double CoverError(const Vector3& c, double depth, const std::vector<Piece>& pieces,
+                  const std::vector<std::int32_t>& members);
+
+// CoverError when it is below `limit`; otherwise some value >= limit, found as
+// soon as one piece shows it.
+double CoverErrorBelow(const Vector3& c, double depth, const std::vector<Piece>& pieces,
+                       const std::vector<std::int32_t>& members, double limit);
+
+// ---- Leaf refinement (leaf_refine.cpp) ----
+
+struct Leaf {
+  Vector3 c;
+  double depth;
+  std::vector<std::int32_t> pieces;
+};
+
+// Gives each piece to the leaf that encloses it with the smallest protrusion bound.
+void AssignPieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces);
+
+// Medial candidates bucketed in a uniform grid, for "candidates near this
+// point" queries.
+class CandidateIndex {
+ public:
+  CandidateIndex(const std::vector<Candidate>& cands, double cell_hint) : cands_(cands) {
+    for (const Candidate& c : cands) box_.Extend(c.c);
+    const Vector3 extent = box_.extent();
+    // At most about 64^3 cells, at least cell_hint wide.
+    cell_ = std::max({cell_hint, extent.maxCoeff() / 64.0, 1e-9});
+    for (int k = 0; k < 3; ++k) dims_[k] = static_cast<int>(extent[k] / cell_) + 1;
+    const std::size_t cells = static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2];
+    start_.assign(cells + 1, 0);
+    std::vector<std::int64_t> cell_of(cands.size());
+    for (std::size_t i = 0; i < cands.size(); ++i) {
+      cell_of[i] = CellOf(cands[i].c);
+      ++start_[cell_of[i] + 1];
+    }
+    std::partial_sum(start_.begin(), start_.end(), start_.begin());
+    items_.resize(cands.size());
+    std::vector<std::int64_t> fill(start_.begin(), start_.end() - 1);
+    for (std::size_t i = 0; i < cands.size(); ++i)
+      items_[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
+  }
+
+  const std::vector<Candidate>& cands() const { return cands_; }
+
+  // Calls fn(candidate) for the candidates within `radius` of p (and a few more).
+  template <typename Fn>
+  void ForEachNear(const Vector3& p, double radius, Fn&& fn) const {
+    int lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] =
+          std::clamp(static_cast<int>(std::floor((p[k] - radius - box_.min[k]) / cell_)),
+                     0, dims_[k] - 1);
+      hi[k] =
+          std::clamp(static_cast<int>(std::floor((p[k] + radius - box_.min[k]) / cell_)),
+                     0, dims_[k] - 1);
+    }
+    for (int x = lo[0]; x <= hi[0]; ++x) {
+      for (int y = lo[1]; y <= hi[1]; ++y) {
+        for (int z = lo[2]; z <= hi[2]; ++z) {
+          const std::int64_t cell =
+              (static_cast<std::int64_t>(z) * dims_[1] + y) * dims_[0] + x;
+          for (std::int64_t i = start_[cell]; i < start_[cell + 1]; ++i)
+            fn(cands_[items_[i]]);
+        }
+      }
+    }
+  }
+
+ private:
+  std::int64_t CellOf(const Vector3& p) const {
+    int idx[3];
+    for (int k = 0; k < 3; ++k) {
+      idx[k] =
+          std::clamp(static_cast<int>((p[k] - box_.min[k]) / cell_), 0, dims_[k] - 1);
+    }
+    return (static_cast<std::int64_t>(idx[2]) * dims_[1] + idx[1]) * dims_[0] + idx[0];
+  }
+
+  const std::vector<Candidate>& cands_;
+  Aabb box_;
+  double cell_ = 1;
+  int dims_[3] = {1, 1, 1};
+  std::vector<std::int64_t> start_;
+  std::vector<std::int32_t> items_;
+};
+
+// Re-centres every leaf (RefineLeaf on each).
+void RefineLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
+                  const CandidateIndex& index, const MeshOracle& oracle,
+                  bool toward_ball = true);
+
+// Tightens a cover without adding leaves or losing coverage (a leaf left with no
+// pieces is dropped, for SplitLeavesInTwo to spend again). Each
+// round: splits the pieces that set a leaf's radius (so its region's border can
+// move at a finer grain), hands every piece to the leaf that already encloses it
+// with the widest margin (so no leaf grows and the ones whose far pieces are
+// taken shrink), then re-centres the leaves on their pieces. Every step keeps
+// each piece inside its leaf, so coverage stays complete.
+void ShrinkLeaves(std::vector<Leaf>* leaves, std::vector<Piece>* pieces,
+                  const CandidateIndex& index, const MeshOracle& oracle,
+                  std::size_t max_pieces, int rounds);
+
+// Local search on the sum of the leaves' protrusion bounds (the mean the fit
+// is judged by) at a fixed leaf count. Removing a leaf costs the growth of the
+// neighbours that take its pieces, less its own bound; cutting a leaf in two
+// gains its bound less its halves'. Each round pairs the cheapest removals with
+// the best cuts, every leaf in at most one swap, and makes a swap only when the
+// cut gains more than the removal costs; free slots in the budget go to cuts
+// that gain. No leaf grows past `cap`, and a removed leaf's pieces all go to
+// neighbours grown to hold them, so coverage stays complete. Plans and cuts
+// are kept from round to round for the leaves whose neighbourhood did not change.
+void SwapLeaves(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
+                const CandidateIndex& index, const MeshOracle& oracle, double cap,
+                std::size_t budget, int rounds);
+
+// Moves leaf borders where that lowers the sum of radii: each leaf in turn
+// gives its farthest pieces to the neighbours that take them for the least
+// growth, as many as pay (its shrink, to the next farthest piece, above the
+// neighbours' total growth). No neighbour grows past `cap` (a bound); every
+// piece stays inside the leaf that holds it, so coverage stays complete.
+void TradePieces(std::vector<Leaf>* leaves, const std::vector<Piece>& pieces,
+                 const CandidateIndex& index, const MeshOracle& oracle, double cap,
+                 int rounds);
+
+// Spends the leaf budget on the leaves with the largest protrusion bound, each
+// cut by SplitInTwo. A cut that does not lower the bound by 5 % is not made; a
+// round patch rarely gains from two spheres, so this mostly splits long ones.
+void SplitLeavesInTwo(std::vector<Leaf>* leaves, std::size_t budget,
+                      const std::vector<Piece>& pieces, const CandidateIndex& index,
+                      const MeshOracle& oracle);
+
+}  // namespace sulcus::tree_build
