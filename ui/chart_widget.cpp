@@ -254,11 +254,12 @@ void ChartWidget::paintEvent(QPaintEvent*) {
     }
   }
   p.resetTransform();
-  if (tens_ || pending_) {
+  if (tens_ || pending_ || zero_refused_) {
     // What the keys are waiting for, over the top right of the chart.
     const QString say = pending_
                             ? QString("%1 mm? Enter confirms, Esc cancels").arg(*pending_)
-                            : QString("+ : the next digit is 10 + digit");
+                        : tens_ ? QString("+ : the next digit is 10 + digit")
+                                : QString("A depth is at least 1 mm (+ 0 is 10 mm)");
     QFont b = font();
     b.setBold(true);
     p.setFont(b);
@@ -291,6 +292,7 @@ void ChartWidget::Enter(int value) {
 void ChartWidget::keyPressEvent(QKeyEvent* e) {
   if (!enabled_ || read_only_) return QWidget::keyPressEvent(e);
   const int k = e->key();
+  zero_refused_ = false;
   // A depth over 12 mm waits for Enter (Esc, or any other key, cancels it).
   if (pending_) {
     const int v = *pending_;
@@ -317,6 +319,11 @@ void ChartWidget::keyPressEvent(QKeyEvent* e) {
   if (digit >= 0 || shifted_digit >= 0) {
     const int value = digit >= 0 ? (tens_ ? 10 + digit : digit) : 10 + shifted_digit;
     tens_ = false;
+    if (value == 0) {  // no pocket reads 0 mm: a slip of the finger, not a reading
+      zero_refused_ = true;
+      update();
+      return;
+    }
     if (value > kConfirmAboveMm) {
       pending_ = value;
       update();

@@ -39,6 +39,8 @@ class ChartWidget : public QWidget {
   static constexpr int kConfirmAboveMm = 12;
   /// Waiting for Enter on this depth (over kConfirmAboveMm).
   std::optional<int> pending() const { return pending_; }
+  /// "0" alone was the last key: no depth is 0 mm, so nothing was entered.
+  bool zero_refused() const { return zero_refused_; }
   /// Shows a whole chart, read only (an instructor's preview of a case's truth).
   void ShowChart(const PerioChart& chart);
 
@@ -80,6 +82,7 @@ class ChartWidget : public QWidget {
   std::set<std::pair<int, int>> probed_;
   bool tens_ = false;           // "+" pressed: the next digit is 10 + digit
   std::optional<int> pending_;  // a depth over kConfirmAboveMm, waiting for Enter
+  bool zero_refused_ = false;   // "0" alone was pressed: said, nothing entered
   std::optional<SiteRef> probing_;
   bool enabled_ = true, read_only_ = false;
 };

@@ -359,7 +359,8 @@ bool MainWindow::OpenScene(const std::filesystem::path& file, bool wait) {
     QString details;
     for (const ErrorAt& err : e.errors()) details += Q(err.ToString()) + "\n";
     ShowErrors("Scene has errors",
-               QString("%1 has %2 error(s); the current scene stays loaded.")
+               QString("The scene file %1 has %2 error(s); the current scene stays "
+                       "loaded.")
                    .arg(Q(file.string()))
                    .arg(e.errors().size()),
                details);

@@ -175,7 +175,7 @@ bool MainWindow::StartLesson(const LessonStart& start) {
     QString details;
     for (const ErrorAt& err : e.errors()) details += Q(err.ToString()) + "\n";
     ShowErrors("Lesson has errors",
-               QString("%1 has %2 error(s).")
+               QString("The lesson file %1 does not load: %2 error(s), listed below.")
                    .arg(Q(start.lesson.string()))
                    .arg(e.errors().size()),
                details);

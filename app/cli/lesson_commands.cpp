@@ -261,7 +261,7 @@ void AddLessonCommands(CLI::App& app) {
                     s.scene.string().c_str(), s.teeth.size(), s.path.size(),
                     s.steps.size());
     } catch (const LoadError& e) {
-      std::fprintf(stderr, "%s\n", e.what());
+      std::fprintf(stderr, "%s\n%s\n", e.what(), e.Summary().c_str());
       Finish(1);
     }
   });

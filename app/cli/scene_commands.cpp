@@ -34,7 +34,7 @@ void AddSceneCommands(CLI::App& app) {
                   file->c_str(), s.name.c_str(), s.objects.size(), s.probe.c_str(),
                   effects.c_str());
     } catch (const LoadError& e) {
-      std::fprintf(stderr, "%s\n%zu error(s)\n", e.what(), e.errors().size());
+      std::fprintf(stderr, "%s\n%s\n", e.what(), e.Summary().c_str());
       Finish(1);
     }
   });

@@ -19,12 +19,19 @@ struct ErrorAt {
 };
 
 /// Thrown by a reader with every error found; what() lists them one a line.
+/// `kind` names what the file was read as ("scene file", "lesson file",
+/// "answers file", "attempt marker"): a lesson's errors may include its scene's.
 class LoadError : public std::runtime_error {
  public:
-  explicit LoadError(std::vector<ErrorAt> errors);
+  LoadError(std::string kind, std::vector<ErrorAt> errors);
+  const std::string& kind() const { return kind_; }
   const std::vector<ErrorAt>& errors() const { return errors_; }
+  /// One line for a heading: "lesson file lessons/x.yaml: 2 errors" (the file
+  /// of the first error).
+  std::string Summary() const;
 
  private:
+  std::string kind_;
   std::vector<ErrorAt> errors_;
 };
 

@@ -59,7 +59,14 @@ inline std::string Suggest(const std::string& word,
 
 class YamlReader {
  public:
-  explicit YamlReader(std::filesystem::path file) : file_(std::move(file)) {}
+  /// `kind` names what the file is read as ("lesson file"), for LoadError.
+  YamlReader(std::filesystem::path file, std::string kind)
+      : file_(std::move(file)), kind_(std::move(kind)) {}
+  const std::string& kind() const { return kind_; }
+  /// Throws LoadError with every error so far, when there is one.
+  void ThrowIfErrors() const {
+    if (!errors_.empty()) throw LoadError(kind_, errors_);
+  }
 
   void Error(const YAML::Mark& m, const std::string& message) {
     errors_.push_back({file_.string(), m.line + 1, m.column + 1, ShortenQuoted(message)});
@@ -185,21 +192,22 @@ class YamlReader {
   std::filesystem::path file_;
 
  private:
+  std::string kind_;
   std::vector<ErrorAt> errors_;
 };
 
 /// Reads `r`'s file as a YAML map. Throws LoadError, with the file named,
-/// when it is missing ("no such " + kind), unreadable, not YAML, or not a map
-/// (`not_a_map` says what it should be).
-inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind,
-                              const std::string& not_a_map) {
+/// when it is missing ("no such " + its kind), unreadable, not YAML, or not a
+/// map (`not_a_map` says what it should be).
+inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& not_a_map) {
+  const std::string& kind = r.kind();
   const std::filesystem::path& file = r.file_;
   // A folder, a FIFO or a device is refused before it is opened (it would
   // block, or never end).
   if (const std::string why = UnreadableReason(file);
       !why.empty() && why != "no such file") {
     r.errors().push_back({file.string(), 0, 0, why});
-    throw LoadError(r.errors());
+    r.ThrowIfErrors();
   }
   std::ifstream in(file);
   if (!in) {
@@ -207,7 +215,7 @@ inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind,
     r.errors().push_back(
         {file.string(), 0, 0,
          std::filesystem::exists(file, ec) ? "cannot be read" : "no such " + kind});
-    throw LoadError(r.errors());
+    r.ThrowIfErrors();
   }
   std::stringstream text;
   text << in.rdbuf();
@@ -216,11 +224,11 @@ inline YAML::Node LoadYamlMap(YamlReader& r, const std::string& kind,
     root = YAML::Load(text.str());
   } catch (const YAML::Exception& e) {  // syntax, too deep, ...
     r.Error(e.mark, "YAML syntax: " + e.msg);
-    throw LoadError(r.errors());
+    r.ThrowIfErrors();
   }
   if (!root.IsMap()) {
     r.Error(root, not_a_map);
-    throw LoadError(r.errors());
+    r.ThrowIfErrors();
   }
   return root;
 }

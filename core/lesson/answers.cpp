@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "core/anatomy/soft_tissue.h"
@@ -161,11 +163,31 @@ constexpr std::size_t kMaxEntries = 10000;
 }  // namespace
 
 Answers LoadAnswers(const fs::path& file) {
-  YamlReader r(file);
+  YamlReader r(file, "answers file");
   Answers a;
+  a.file = file;
+  // Each site's first entry: its line and whether it had a tick.
+  std::map<std::pair<int, int>, std::pair<int, bool>> given;
+  auto add = [&](const ChartEntry& e, const YAML::Node& at) {
+    const auto key = std::pair(e.site.fdi, e.site.site);
+    const int line = at.Mark().line + 1;
+    const bool tick = e.tick != kAfterReading;
+    if (const auto it = given.find(key); it != given.end()) {
+      if (!tick || !it->second.second) {
+        r.Error(at, "site " + e.site.ToString() + " is given twice (first at line " +
+                        std::to_string(it->second.first) +
+                        "); give it once, or give each entry its tick (a later "
+                        "entry is then a correction)");
+        return;
+      }
+    } else {
+      given[key] = {line, tick};
+    }
+    a.entries.push_back(e);
+    a.entry_at.emplace_back(line, at.Mark().column + 1);
+  };
   const YAML::Node root = LoadYamlMap(
-      r, "answers file",
-      "an answers file is a map with 'chart:' or 'entries:', and 'diagnosis:'");
+      r, "an answers file is a map with 'chart:' or 'entries:', and 'diagnosis:'");
   r.CheckKeys(root, {"chart", "entries", "diagnosis", "findings", "submitted", "views"},
               "the answers");
   if (const YAML::Node vs = root["views"]) {
@@ -194,14 +216,16 @@ Answers LoadAnswers(const fs::path& file) {
   }
   if (const YAML::Node chart = root["chart"]; chart && r.IsMap(chart, "'chart'")) {
     r.CheckUnique(chart, "'chart' (a tooth)");
+    std::set<int> charted;
     for (auto it = chart.begin(); it != chart.end(); ++it) {
       int fdi = r.Integer(it->first, "tooth", 11, 48, 0);
       if (fdi) fdi = ReadTooth(r, it->first, fdi);
+      if (fdi && !charted.insert(fdi).second) continue;  // CheckUnique said so
       const YAML::Node t = it->second;
       if (!r.IsMap(t, "a tooth's chart")) continue;
       r.CheckKeys(t, {"pd", "bleeding"}, "a tooth's chart");
       double pd[6] = {0, 0, 0, 0, 0, 0};
-      const bool have_pd = t["pd"] && r.Numbers(t["pd"], "pd", 6, 0, 15, pd, "mm",
+      const bool have_pd = t["pd"] && r.Numbers(t["pd"], "pd", 6, 1, 15, pd, "mm",
                                                 "depths at MB, B, DB, ML, L, DL");
       std::array<bool, 6> bled{};
       if (const YAML::Node b = t["bleeding"]) {
@@ -226,7 +250,7 @@ Answers LoadAnswers(const fs::path& file) {
           e.pd_mm = static_cast<int>(pd[s]);
         }
         e.bleeding = bled[static_cast<std::size_t>(s)];
-        if (have_pd || e.bleeding) a.entries.push_back(e);
+        if (have_pd || e.bleeding) add(e, have_pd ? t["pd"][s] : it->first);
       }
     }
   }
@@ -256,17 +280,36 @@ Answers LoadAnswers(const fs::path& file) {
         }
         if (!ReadTooth(r, n["site"], e.site.fdi)) continue;
         e.site.site = SiteFromCode(code);
-        if (n["pd"]) e.pd_mm = r.Integer(n["pd"], "pd", 0, 15, 0);
+        if (n["pd"]) {
+          if (const int pd = r.Integer(n["pd"], "pd", 1, 15, 0)) e.pd_mm = pd;
+        }
         if (n["bleeding"]) e.bleeding = r.Bool(n["bleeding"], "bleeding", false);
         if (n["tick"])
           e.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
-        a.entries.push_back(e);
+        add(e, n["site"]);
       }
     }
   }
   if (root["diagnosis"]) a.diagnosis = ReadDiagnosis(r, root["diagnosis"]);
-  if (!r.errors().empty()) throw LoadError(r.errors());
+  r.ThrowIfErrors();
   return a;
+}
+
+void CheckAnswersFor(const Answers& answers, const std::vector<int>& lesson_teeth) {
+  std::vector<ErrorAt> errors;
+  std::string teeth;
+  for (int t : lesson_teeth) teeth += (teeth.empty() ? "" : ", ") + std::to_string(t);
+  for (std::size_t i = 0; i < answers.entries.size(); ++i) {
+    const int fdi = answers.entries[i].site.fdi;
+    if (std::find(lesson_teeth.begin(), lesson_teeth.end(), fdi) != lesson_teeth.end())
+      continue;
+    const auto [line, column] =
+        i < answers.entry_at.size() ? answers.entry_at[i] : std::pair(0, 0);
+    errors.push_back({answers.file.string(), line, column,
+                      "tooth " + std::to_string(fdi) +
+                          " is not in the lesson (its teeth: " + teeth + ")"});
+  }
+  if (!errors.empty()) throw LoadError("answers file", std::move(errors));
 }
 
 void SaveAnswers(const Answers& a, const fs::path& file) {

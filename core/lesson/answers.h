@@ -22,10 +22,21 @@ struct Answers {
   std::vector<Finding> findings;
   std::optional<std::uint64_t> submitted;
   std::vector<ViewSample> views;  // the window's camera as it moved
+  // Where each entry was written (line, column; 1-based), parallel to `entries`:
+  // for errors found when the answers meet their lesson.
+  std::vector<std::pair<int, int>> entry_at;
+  std::filesystem::path file;
 };
 
-/// Throws LoadError with every error as `file:line:column: message`.
+/// Throws LoadError with every error as `file:line:column: message`: among
+/// them a depth of 0 (a depth is 1 to 15 mm), a tooth that is not an FDI
+/// number, a site given twice where either has no tick (with a tick, a later
+/// entry is a correction; the last wins), a tooth twice in the chart.
 Answers LoadAnswers(const std::filesystem::path& file);
+
+/// Checks the answers against the lesson they are for: every entry's tooth is
+/// one of the lesson's teeth. Throws LoadError naming each entry that is not.
+void CheckAnswersFor(const Answers& answers, const std::vector<int>& lesson_teeth);
 
 /// Writes the entries form (every entry with its tick); LoadAnswers reads it back.
 void SaveAnswers(const Answers& answers, const std::filesystem::path& file);

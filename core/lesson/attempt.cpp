@@ -118,9 +118,9 @@ void WriteAttemptMarker(const AttemptFolder& folder, const AttemptMarker& m) {
 }
 
 AttemptMarker ReadAttemptMarker(const fs::path& dir) {
-  YamlReader r(dir / "attempt.yaml");
-  const YAML::Node root = LoadYamlMap(
-      r, "attempt marker", "a map with lesson, student, mode, seed and started");
+  YamlReader r(dir / "attempt.yaml", "attempt marker");
+  const YAML::Node root =
+      LoadYamlMap(r, "a map with lesson, student, mode, seed and started");
   r.CheckKeys(root, {"lesson", "student", "mode", "seed", "started"},
               "the attempt marker");
   AttemptMarker m;
@@ -136,7 +136,7 @@ AttemptMarker ReadAttemptMarker(const fs::path& dir) {
   if (root["seed"])
     m.seed = static_cast<std::uint64_t>(r.Number(root["seed"], "seed", 0, 9.0e15, 0));
   if (root["started"]) m.started = r.Text(root["started"], "started");
-  if (!r.errors().empty()) throw LoadError(r.errors());
+  r.ThrowIfErrors();
   return m;
 }
 
@@ -302,6 +302,7 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
   std::optional<Answers> answers;
   if (!o.answers.empty()) {
     answers = LoadAnswers(o.answers);
+    CheckAnswersFor(*answers, spec.teeth);
     for (const ChartEntry& e : answers->entries) lesson.Schedule(e);
   }
   const auto t1 = Clock::now();

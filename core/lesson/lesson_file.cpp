@@ -474,11 +474,11 @@ std::vector<fs::path> LessonFiles(const std::vector<fs::path>& dirs) {
 }
 
 LessonSpec LoadLessonSpec(const fs::path& file) {
-  YamlReader r(file);
+  YamlReader r(file, "lesson file");
   LessonSpec spec;
   spec.file = file;
-  const YAML::Node root = LoadYamlMap(
-      r, "lesson file", "a lesson is a map with at least 'scene:' and 'steps:'");
+  const YAML::Node root =
+      LoadYamlMap(r, "a lesson is a map with at least 'scene:' and 'steps:'");
   if (const YAML::Node k = root["kind"]) {
     const std::string v = r.Text(k, "kind");
     if (v == "inspection")
@@ -672,7 +672,7 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   } else {
     r.Error(root, "a lesson needs 'steps:', a list of what the student does in order");
   }
-  if (!r.errors().empty()) throw LoadError(r.errors());
+  r.ThrowIfErrors();
   return spec;
 }
 

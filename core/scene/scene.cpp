@@ -600,11 +600,10 @@ Material DefaultMaterial(Tissue t) {
 }
 
 SceneSpec LoadSceneSpec(const fs::path& file) {
-  Reader r(file);
+  Reader r(file, "scene file");
   SceneSpec spec;
   spec.file = file;
-  const YAML::Node root =
-      LoadYamlMap(r, "scene file", "a scene is a map with at least 'objects:'");
+  const YAML::Node root = LoadYamlMap(r, "a scene is a map with at least 'objects:'");
   r.CheckKeys(root,
               {"name", "description", "tool", "haptics", "effects", "spheretree", "arch",
                "gingiva", "mouth_open_mm", "objects"},
@@ -776,7 +775,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     }
   }
   for (ObjectSpec& c : deposits) spec.objects.push_back(std::move(c));
-  if (!r.errors().empty()) throw LoadError(r.errors());
+  r.ThrowIfErrors();
   return spec;
 }
 

@@ -351,6 +351,25 @@ TEST(ChartWidget, TwoDigitDepthsByAPrefixAndAConfirmationAbove12) {
   EXPECT_EQ(got[3].site, (SiteRef{47, 2}));
 }
 
+// No pocket reads 0 mm: "0" alone enters nothing and says why; "+ 0" is 10 mm.
+TEST(ChartWidget, ZeroAloneIsNotADepth) {
+  ChartWidget chart;
+  chart.SetLesson({46}, {{46, 2}, {46, 1}}, {});
+  std::vector<ChartEntry> got;
+  chart.on_entry = [&](const ChartEntry& e) { got.push_back(e); };
+  Press(&chart, Qt::Key_0, "0");
+  EXPECT_TRUE(got.empty());
+  EXPECT_TRUE(chart.zero_refused());
+  Press(&chart, Qt::Key_3, "3");
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_FALSE(chart.zero_refused());
+  EXPECT_EQ(got[0].site, (SiteRef{46, 2})) << "the cursor did not move on 0";
+  Press(&chart, Qt::Key_Plus, "+");
+  Press(&chart, Qt::Key_0, "0");
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(*got[1].pd_mm, 10);
+}
+
 }  // namespace
 }  // namespace sulcus::ui
 

@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/haptics/device.h"
 #include "core/haptics/engine.h"
 
 namespace sulcus::test {
@@ -21,6 +22,39 @@ SphereTree MakeFlatFace(int nx, int ny, double spacing, double radius);
 /// (z layers every `spacing`), radius r, in the object's frame.
 SphereTree MakeBlock(double hx, double hy, double z0, double z1, double spacing,
                      double radius);
+
+inline RigidTransform At(double x, double y, double z) {
+  return {Matrix3::Identity(), Vector3(x, y, z)};
+}
+
+/// A device whose pose the test sets; it can stop answering or report NaN.
+class PuppetDevice final : public Device {
+ public:
+  PuppetDevice() {
+    caps_.name = "puppet";
+    caps_.output_dof = 6;
+    caps_.max_force_n = 2.0;
+    caps_.max_torque_nmm = 100;
+  }
+  const DeviceCaps& caps() const override { return caps_; }
+  bool Read(double t, DeviceSample* out) noexcept override {
+    out->X_WH = pose;
+    out->time_s = t;
+    return answering;
+  }
+  bool lost() const noexcept override { return gone; }
+  void Write(const Vector3& f, const Vector3& t) noexcept override {
+    force = f;
+    torque = t;
+  }
+  RigidTransform pose = At(0, 0, 3);
+  bool answering = true;
+  bool gone = false;  // says it is gone (unplugged), as a driver can
+  Vector3 force = Vector3::Zero(), torque = Vector3::Zero();
+
+ private:
+  DeviceCaps caps_;
+};
 
 /// A scene: owns its trees, and an engine model on them.
 struct Scene {

@@ -1,6 +1,7 @@
 // Lessons end to end on the shipped probing lesson: scripted students with
 // known behaviour get exactly the rubric lines they earn; a replayed attempt
-// gives the same report; lesson and answers files fail with file:line:column.
+// gives the same report; an attempt cut short is rebuilt. (Lesson and answers
+// files have their own tests: lesson_file_test.cpp, answers_test.cpp.)
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -19,7 +20,6 @@
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
-#include "tests/common/load_errors.h"
 #include "tests/common/output.h"
 
 namespace sulcus {
@@ -32,19 +32,6 @@ fs::path Lesson() {
 }
 fs::path Out(const std::string& name) { return test::OutputPath("lesson", name); }
 fs::path Cache() { return fs::path(SULCUS_TEST_OUTPUT) / "probing-cache"; }
-
-fs::path Write(const std::string& name, const std::string& text) {
-  return test::WriteText(Out(name), text);
-}
-
-std::vector<std::string> Errors(const fs::path& file, bool answers = false) {
-  return test::ErrorLines([&] {
-    if (answers)
-      LoadAnswers(file);
-    else
-      LoadLessonSpec(file);
-  });
-}
 
 AttemptOutcome Take(const std::string& student, const fs::path& record = {}) {
   AttemptOptions o;
@@ -68,215 +55,6 @@ std::set<std::string> Sites(const std::vector<const RubricLine*>& lines) {
   for (const RubricLine* l : lines)
     if (l->site) s.insert(l->site->ToString());
   return s;
-}
-
-TEST(LessonFile, TheShippedLessonIsValid) {
-  const LessonSpec s = LoadLessonSpec(Lesson());
-  EXPECT_EQ(s.teeth, (std::vector<int>{47, 46, 45, 44}));
-  ASSERT_EQ(s.path.size(), 24u);
-  EXPECT_EQ(s.path.front().ToString(), "47 DB") << "the buccal pass starts distal of 47";
-  EXPECT_EQ(s.path[5].ToString(), "46 MB");
-  EXPECT_EQ(s.path[12].ToString(), "44 ML") << "the lingual pass comes back from 44";
-  EXPECT_EQ(s.steps.size(), 4u);
-  EXPECT_TRUE(s.practice());
-  EXPECT_EQ(s.probe, "unc15");
-}
-
-TEST(LessonFile, EveryErrorAtOnceWithItsPlace) {
-  const fs::path scene =
-      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
-  const fs::path p = Write("bad.yaml",
-                           "name: bad\n"
-                           "scene: " +
-                               scene.string() +
-                               "\n"
-                               "mode: practise\n"
-                               "teeth: [46, 36]\n"
-                               "path: [\"46 DB\", \"46 XX\", \"46 DB\"]\n"
-                               "stepz: []\n"
-                               "rubric:\n"
-                               "  force_band_n: [0.3, 0.2]\n"
-                               "  weights: {technik: 3}\n");
-  const auto e = Errors(p);
-  const std::string f = p.string();
-  EXPECT_EQ(
-      e,
-      (std::vector<std::string>{
-          f + ":6:1: unknown key 'stepz' in the lesson; did you mean 'steps'?",
-          f + ":3:7: unknown mode 'practise'; did you mean 'practice'?",
-          f + ":9:13: unknown key 'technik' in 'weights' (expected one of: technique, "
-              "reading, charting, force, angulation, "
-              "coverage, bleeding, completeness, diagnosis, findings, sequence, damage)",
-          f + ":8:17: 'force_band_n' must be [low, high] with low < high",
-          f + ":4:13: tooth 36 is not in the scene periodontal_probing.yaml",
-          f + ":5:17: a path entry is a tooth and a site, such as \"46 DB\" (sites MB, "
-              "B, DB, ML, L, DL)",
-          f + ":5:26: site 46 DB is twice in the path",
-          f + ":1:1: a lesson needs 'steps:', a list of what the student does in "
-              "order"}));
-  EXPECT_EQ(
-      Errors(Write("noscene.yaml", "steps: [{instruction: x, complete: read}]\n")),
-      (std::vector<std::string>{
-          Out("noscene.yaml").string() +
-          ":1:1: a lesson needs 'scene:', the scene file it runs on (relative to the "
-          "lesson's folder)"}));
-  const auto missing = Errors(Out("missing.yaml"));
-  ASSERT_EQ(missing.size(), 1u);
-  EXPECT_NE(missing[0].find("no such lesson file"), std::string::npos);
-}
-
-// What cannot be scored is refused when the lesson is read: every weight 0,
-// a pass angle below the full-credit one.
-TEST(LessonFile, ARubricThatCannotScoreIsRefused) {
-  const fs::path scene =
-      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
-  const fs::path p = Write("zero_rubric.yaml",
-                           "name: zero\nscene: " + scene.string() +
-                               "\nsteps: [{instruction: x, complete: read}]\n"
-                               "rubric:\n"
-                               "  angle_full_deg: 90\n"
-                               "  angle_pass_deg: 10\n"
-                               "  weights: {technique: 0, reading: 0, charting: 0, "
-                               "force: 0, angulation: 0, coverage: 0, bleeding: 0, "
-                               "completeness: 0, diagnosis: 0, findings: 0, sequence: 0, "
-                               "damage: 0}\n");
-  const auto e = Errors(p);
-  const std::string f = p.string();
-  EXPECT_NE(std::find(e.begin(), e.end(),
-                      f + ":7:12: every weight in 'weights' is 0, so every attempt "
-                          "would score 0; give the lines that count a weight above 0"),
-            e.end())
-      << ::testing::PrintToString(e);
-  EXPECT_NE(std::find(e.begin(), e.end(),
-                      f + ":5:3: 'angle_pass_deg' (10) must be at least 'angle_full_deg' "
-                          "(90): full credit is for a smaller tilt than a pass"),
-            e.end())
-      << ::testing::PrintToString(e);
-}
-
-// A case no chart of the lesson's teeth can be is refused: stage I localized
-// on 4 teeth would put 2 of 4 (50 %) in its band.
-TEST(LessonFile, ACaseTheTeethCannotHoldIsRefused) {
-  const fs::path scene =
-      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
-  const fs::path p =
-      Write("impossible_case.yaml", "name: impossible\nscene: " + scene.string() +
-                                        "\nteeth: [47, 46, 45, 44]\n"
-                                        "case: {stage: I, extent: localized}\n"
-                                        "steps: [{instruction: x, complete: read}]\n");
-  const auto e = Errors(p);
-  EXPECT_NE(std::find(e.begin(), e.end(),
-                      p.string() + ":4:7: a case of stage I, localized needs at least 7 "
-                                   "teeth (2 in its band must be under 30 %); the lesson "
-                                   "has 4"),
-            e.end())
-      << ::testing::PrintToString(e);
-  const fs::path ok =
-      Write("possible_case.yaml", "name: possible\nscene: " + scene.string() +
-                                      "\nteeth: [47, 46, 45, 44]\n"
-                                      "case: {stage: II, extent: localized}\n"
-                                      "steps: [{instruction: x, complete: read}]\n");
-  EXPECT_TRUE(Errors(ok).empty()) << ::testing::PrintToString(Errors(ok));
-}
-
-// An answers file names real teeth and is a chart, not a flood.
-TEST(Answers, TeethAreFdiNumbersAndEntriesAreBounded) {
-  const auto bad = Errors(Write("bad_teeth.yaml",
-                                "chart:\n"
-                                "  19: {pd: [3, 3, 3, 3, 3, 3]}\n"
-                                "entries:\n"
-                                "  - {site: \"50 DB\", pd: 3}\n"),
-                          true);
-  ASSERT_EQ(bad.size(), 2u) << ::testing::PrintToString(bad);
-  EXPECT_NE(bad[0].find(":2:3: FDI 19 does not exist"), std::string::npos) << bad[0];
-  EXPECT_NE(bad[1].find(":4:12: FDI 50 does not exist"), std::string::npos) << bad[1];
-  std::string many = "entries:\n";
-  for (int i = 0; i < 10001; ++i) many += "  - {site: \"46 DB\", pd: 3}\n";
-  const auto flood = Errors(Write("flood.yaml", many), true);
-  ASSERT_EQ(flood.size(), 1u);
-  EXPECT_NE(flood[0].find("'entries' holds 10001 entries; an answers file holds at most "
-                          "10000"),
-            std::string::npos)
-      << flood[0];
-}
-
-// A key given twice is an error naming both lines (a YAML reader would keep
-// one silently): in a lesson, in answers, and a tooth twice in a chart.
-TEST(LessonFile, AKeyGivenTwiceIsRefusedWithBothLines) {
-  const fs::path scene =
-      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
-  const fs::path lesson = Write("twice.yaml",
-                                "name: twice\n"
-                                "scene: " +
-                                    scene.string() +
-                                    "\n"
-                                    "teeth: [46]\n"
-                                    "teeth: [47]\n");
-  const auto e = Errors(lesson);
-  ASSERT_FALSE(e.empty());
-  EXPECT_NE(std::find(e.begin(), e.end(),
-                      lesson.string() +
-                          ":4:1: 'teeth' is given twice in the lesson (first at line "
-                          "3); give it once"),
-            e.end())
-      << ::testing::PrintToString(e);
-  const fs::path answers = Write("twice_answers.yaml",
-                                 "chart:\n"
-                                 "  46: {pd: [5, 4, 7, 5, 4, 6]}\n"
-                                 "  46: {pd: [5, 4, 7, 5, 4, 6]}\n"
-                                 "diagnosis: {stage: III, extent: localized}\n"
-                                 "diagnosis: {periodontitis: false}\n");
-  const auto a = Errors(answers, true);
-  const std::string f = answers.string();
-  EXPECT_NE(std::find(a.begin(), a.end(),
-                      f + ":3:3: '46' is given twice in 'chart' (a tooth) (first at line "
-                          "2); give it once"),
-            a.end())
-      << ::testing::PrintToString(a);
-  EXPECT_NE(std::find(a.begin(), a.end(),
-                      f + ":5:1: 'diagnosis' is given twice in the answers (first at "
-                          "line 4); give it once"),
-            a.end())
-      << ::testing::PrintToString(a);
-}
-
-TEST(Answers, ChartAndEntriesFormsAndTheirErrors) {
-  const fs::path p = Write("answers.yaml",
-                           "chart:\n"
-                           "  46: {pd: [5, 4, 7, 5, 4, 6], bleeding: [MB, DB]}\n"
-                           "entries:\n"
-                           "  - {site: \"47 ML\", pd: 4, tick: 1200}\n"
-                           "diagnosis: {stage: III, extent: localized}\n");
-  const Answers a = LoadAnswers(p);
-  ASSERT_EQ(a.entries.size(), 7u);
-  EXPECT_EQ(a.entries[2].site.ToString(), "46 DB");
-  EXPECT_EQ(*a.entries[2].pd_mm, 7);
-  EXPECT_TRUE(a.entries[2].bleeding);
-  EXPECT_EQ(a.entries[6].tick, 1200u);
-  ASSERT_TRUE(a.diagnosis);
-  EXPECT_EQ(a.diagnosis->stage, Stage::kIII);
-  // What is saved reads back the same.
-  SaveAnswers(a, Out("answers_saved.yaml"));
-  const Answers b = LoadAnswers(Out("answers_saved.yaml"));
-  ASSERT_EQ(b.entries.size(), a.entries.size());
-  for (std::size_t i = 0; i < a.entries.size(); ++i) {
-    EXPECT_EQ(b.entries[i].site, a.entries[i].site);
-    EXPECT_EQ(b.entries[i].pd_mm, a.entries[i].pd_mm);
-    EXPECT_EQ(b.entries[i].bleeding, a.entries[i].bleeding);
-    EXPECT_EQ(b.entries[i].tick, a.entries[i].tick);
-  }
-  const fs::path bad = Write("answers_bad.yaml",
-                             "chart:\n"
-                             "  46: {pd: [5, 4, 7], bleeding: [MX]}\n"
-                             "diagnosis: {stage: V, extent: local}\n");
-  const std::string f = bad.string();
-  EXPECT_EQ(Errors(bad, true), (std::vector<std::string>{
-                                   f + ":2:12: 'pd' must be a list of 6 numbers (depths "
-                                       "at MB, B, DB, ML, L, DL), found 3",
-                                   f + ":2:34: unknown site 'MX' (MB, B, DB, ML, L, DL)",
-                                   f + ":3:20: 'stage' must be I, II, III or IV, not 'V'",
-                                   f + ":3:31: 'extent' must be localized or generalized "
-                                       "(expected one of: localized, generalized)"}));
 }
 
 TEST(GeneratedCase, DrawsAChartWithTheAskedDiagnosisAndTheSeedRebuildsIt) {
