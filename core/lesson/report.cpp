@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <numbers>
+#include <set>
 #include <sstream>
 
 namespace sulcus {
@@ -651,9 +652,14 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
   o << "<h2>Every line of the score</h2>\n<table "
        "class=lines><tr><th>status</th><th>category</th><th>moment (s)</th>"
        "<th>tick</th><th>what</th></tr>\n";
+  // A moment's anchor is on its first line: lines of the same tick share it, and
+  // an id is given once.
+  std::set<std::uint64_t> anchored;
   for (const RubricLine& l : r.lines)
-    o << "<tr class=" << ToString(l.status) << " id=\"t" << l.tick << "\"><td class=st>"
-      << ToString(l.status) << "</td><td>" << H(l.category) << "</td><td><a href=\"#t"
+    o << "<tr class=" << ToString(l.status)
+      << (anchored.insert(l.tick).second ? " id=\"t" + std::to_string(l.tick) + "\""
+                                         : std::string())
+      << "><td class=st>" << ToString(l.status) << "</td><td>" << H(l.category) << "</td><td><a href=\"#t"
       << l.tick << "\">" << Seconds(r, l.tick) << "</a></td><td>" << l.tick << "</td><td>"
       << H(l.message) << "</td></tr>\n";
   o << "</table>\n";
