@@ -659,9 +659,9 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
     o << "<tr class=" << ToString(l.status)
       << (anchored.insert(l.tick).second ? " id=\"t" + std::to_string(l.tick) + "\""
                                          : std::string())
-      << "><td class=st>" << ToString(l.status) << "</td><td>" << H(l.category) << "</td><td><a href=\"#t"
-      << l.tick << "\">" << Seconds(r, l.tick) << "</a></td><td>" << l.tick << "</td><td>"
-      << H(l.message) << "</td></tr>\n";
+      << "><td class=st>" << ToString(l.status) << "</td><td>" << H(l.category)
+      << "</td><td><a href=\"#t" << l.tick << "\">" << Seconds(r, l.tick)
+      << "</a></td><td>" << l.tick << "</td><td>" << H(l.message) << "</td></tr>\n";
   o << "</table>\n";
   if (!r.feedback.empty()) {
     o << "<h2>What you were told during the lesson</h2>\n<ul>";
