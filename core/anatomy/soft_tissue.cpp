@@ -14,6 +14,7 @@
 #include "core/anatomy/mesh_contact.h"
 #include "core/anatomy/soft_tissue_parts.h"
 #include "core/anatomy/tooth.h"
+#include "core/base/text.h"
 
 namespace sulcus {
 namespace soft_tissue {
@@ -379,9 +380,7 @@ TriangleMesh MakeSoftTissue(const std::string& name, const ArchParams& arch,
                             const std::map<int, std::map<std::string, int>>& furcation) {
   const auto& known = SoftTissueNames();
   if (std::find(known.begin(), known.end(), name) == known.end()) {
-    std::string list;
-    for (const std::string& n : known) list += (list.empty() ? "" : ", ") + n;
-    throw std::invalid_argument("unknown anatomy '" + name + "'; known: " + list);
+    throw std::invalid_argument("unknown anatomy '" + name + "'; known: " + Join(known));
   }
   if (name == "jaw_lower") return Jaw(false, arch, drops, furcation);
   if (name == "jaw_upper") return Jaw(true, arch, drops, furcation);

@@ -53,4 +53,16 @@ std::string FormatNumber(double x) {
   return buf;
 }
 
+std::string Join(const std::vector<std::string>& items) {
+  std::string s;
+  for (const std::string& x : items) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+std::string Join(const std::vector<int>& items) {
+  std::string s;
+  for (int x : items) s += (s.empty() ? "" : ", ") + std::to_string(x);
+  return s;
+}
+
 }  // namespace sulcus

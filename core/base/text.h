@@ -4,6 +4,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace sulcus {
 
@@ -20,5 +21,9 @@ std::string ShortenQuoted(std::string_view message, std::size_t max = 80);
 /// A number as a person reads it: printf's %g (six significant digits), so
 /// 1e308 is "1e+308" and 0.25 is "0.25".
 std::string FormatNumber(double x);
+
+/// The items in order, separated by ", " (a list in a message: "47, 46, 45").
+std::string Join(const std::vector<std::string>& items);
+std::string Join(const std::vector<int>& items);
 
 }  // namespace sulcus

@@ -34,12 +34,6 @@ inline int Levenshtein(const std::string& a, const std::string& b) {
   return prev[b.size()];
 }
 
-inline std::string Join(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
-
 // "; did you mean 'x'?" for a close match, else the list of what is expected.
 inline std::string Suggest(const std::string& word,
                            const std::vector<std::string>& options) {

@@ -87,10 +87,8 @@ Trajectory MakeScript(const std::string& name, const ScriptTarget& target,
                       double duration_s, std::uint64_t seed) {
   if (std::find(ScriptNames().begin(), ScriptNames().end(), name) ==
       ScriptNames().end()) {
-    std::string known;
-    for (const std::string& n : ScriptNames()) known += (known.empty() ? "" : ", ") + n;
     throw std::invalid_argument("unknown scripted trajectory '" + name +
-                                "'; known: " + known);
+                                "'; known: " + Join(ScriptNames()));
   }
   if (!(duration_s > 0))
     throw std::invalid_argument("a trajectory needs a positive duration");

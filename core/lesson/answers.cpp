@@ -297,8 +297,7 @@ Answers LoadAnswers(const fs::path& file) {
 
 void CheckAnswersFor(const Answers& answers, const std::vector<int>& lesson_teeth) {
   std::vector<ErrorAt> errors;
-  std::string teeth;
-  for (int t : lesson_teeth) teeth += (teeth.empty() ? "" : ", ") + std::to_string(t);
+  const std::string teeth = Join(lesson_teeth);
   for (std::size_t i = 0; i < answers.entries.size(); ++i) {
     const int fdi = answers.entries[i].site.fdi;
     if (std::find(lesson_teeth.begin(), lesson_teeth.end(), fdi) != lesson_teeth.end())

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/base/text.h"
+
 namespace sulcus {
 namespace {
 
@@ -18,9 +20,7 @@ bool TwoNonAdjacent(const std::vector<int>& teeth) {
 }
 
 std::string List(const std::vector<int>& teeth) {
-  std::string s;
-  for (int t : teeth) s += (s.empty() ? "" : ", ") + std::to_string(t);
-  return s.empty() ? "none" : s;
+  return teeth.empty() ? "none" : Join(teeth);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "core/anatomy/arch.h"
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/tooth.h"
+#include "core/base/text.h"
 #include "core/lesson/lesson.h"
 #include "core/lesson/scoring_parts.h"
 
@@ -100,8 +101,7 @@ void LessonRun::ScoreInspection(LessonResult& out) const {
   for (std::size_t k = 0; k < out.steps.size(); ++k) {
     if (step_units_[k].empty()) continue;
     const StepResult& st = out.steps[k];
-    std::string missed;
-    for (const std::string& m : st.missed) missed += (missed.empty() ? "" : ", ") + m;
+    const std::string missed = Join(st.missed);
     if (st.completed)
       L.push_back(Line("sequence", nullptr, 0, S::kPass, 1,
                        "'" + st.id + "': examined in its turn", st.ended_tick));

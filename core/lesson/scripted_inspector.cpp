@@ -10,6 +10,7 @@
 #include "core/anatomy/arch.h"
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/soft_tissue.h"
+#include "core/base/text.h"
 #include "core/collision/collision.h"
 #include "core/haptics/scripted_device.h"
 
@@ -130,10 +131,8 @@ ScriptedInspector::ScriptedInspector(const std::string& name, const LessonSpec& 
     : name_(name) {
   const auto& names = ScriptedInspectorNames();
   if (std::find(names.begin(), names.end(), name) == names.end()) {
-    std::string known;
-    for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
     throw std::invalid_argument("unknown scripted inspector '" + name +
-                                "'; known: " + known);
+                                "'; known: " + Join(names));
   }
   if (!spec.inspection())
     throw std::invalid_argument("a scripted inspector takes inspection lessons only");

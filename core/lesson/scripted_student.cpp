@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/anatomy/arch.h"
+#include "core/base/text.h"
 
 namespace sulcus {
 namespace {
@@ -76,10 +77,8 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
     : name_(name), spec_(spec) {
   const auto& names = ScriptedStudentNames();
   if (std::find(names.begin(), names.end(), name) == names.end()) {
-    std::string known;
-    for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
     throw std::invalid_argument("unknown scripted student '" + name +
-                                "'; known: " + known);
+                                "'; known: " + Join(names));
   }
   const LessonGeometry geometry = MakeLessonGeometry(scene, spec.teeth);
   // The teeth and surfaces in path order.

@@ -148,5 +148,11 @@ TEST(Text, LongValuesAreCutAndNumbersReadable) {
   EXPECT_EQ(FormatNumber(0.25), "0.25");
 }
 
+TEST(Text, AListInAMessageIsJoinedByCommas) {
+  EXPECT_EQ(Join(std::vector<std::string>{"careful", "rough"}), "careful, rough");
+  EXPECT_EQ(Join(std::vector<int>{47, 46, 45}), "47, 46, 45");
+  EXPECT_EQ(Join(std::vector<int>{}), "");
+}
+
 }  // namespace
 }  // namespace sulcus
