@@ -22,7 +22,9 @@ if(bad)
   message(FATAL_ERROR "CGAL in an interface:${bad}")
 endif()
 if(private LESS 1)
-  message(FATAL_ERROR "no *_internal.h header found under ${CORE_DIR}: the scan is broken")
+  message(FATAL_ERROR
+    "no *_internal.h header found under ${CORE_DIR}: the scan is broken")
 endif()
 list(LENGTH headers n)
-message(STATUS "checked ${n} headers under core/: CGAL only in ${private} private header(s)")
+message(STATUS
+  "checked ${n} headers under core/: CGAL only in ${private} private header(s)")
