@@ -9,18 +9,26 @@
 namespace sulcus::ui {
 
 ScenePreparer::~ScenePreparer() {
-  if (job_ && !job_->done) job_->cancel = true;
+  for (auto& [job, worker] : workers_) job->cancel = true;
+  for (auto& [job, worker] : workers_) worker.join();
 }
 
 std::shared_ptr<ScenePreparer::Job> ScenePreparer::Prepare(const SceneSpec& spec,
                                                            const std::string& key) {
   if (job_ && job_->key == key && job_->error.empty() && !job_->cancel) return job_;
   if (job_ && !job_->done) job_->cancel = true;
+  // Workers that finished are joined here; a cancelled one stops at its next
+  // progress report and is joined at the next call or at the end.
+  std::erase_if(workers_, [](auto& w) {
+    if (!w.first->done) return false;
+    w.second.join();
+    return true;
+  });
   auto job = std::make_shared<Job>();
   job->key = key;
   ++started_;
   job_ = job;
-  std::thread worker([job, spec] {
+  workers_.emplace_back(job, [job, spec] {
     const auto t0 = std::chrono::steady_clock::now();
     try {
       std::unique_ptr<CompiledScene> scene =
@@ -52,7 +60,6 @@ std::shared_ptr<ScenePreparer::Job> ScenePreparer::Prepare(const SceneSpec& spec
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     job->done = true;
   });
-  worker.detach();  // it only touches `job`, which it shares
   return job;
 }
 

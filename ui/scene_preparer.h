@@ -9,6 +9,9 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
+#include <utility>
+#include <vector>
 
 #include "core/scene/scene.h"
 
@@ -30,6 +33,8 @@ class ScenePreparer {
   };
 
   ScenePreparer() = default;
+  /// Cancels what is running and waits for it (a build stops at its next
+  /// progress report), so no worker outlives the window and the statics it uses.
   ~ScenePreparer();
   ScenePreparer(const ScenePreparer&) = delete;
   ScenePreparer& operator=(const ScenePreparer&) = delete;
@@ -51,6 +56,8 @@ class ScenePreparer {
  private:
   std::shared_ptr<Job> job_;
   int started_ = 0;
+  // Every worker started and not yet joined, with its job.
+  std::vector<std::pair<std::shared_ptr<Job>, std::thread>> workers_;
 };
 
 }  // namespace sulcus::ui
