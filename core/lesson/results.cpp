@@ -290,108 +290,106 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
                               const std::string& report_dir) {
   Transaction t(*this);
   {
-    {
-      Stmt s(db_, "INSERT OR IGNORE INTO students(name) VALUES (?)", file_);
-      s.Bind(1, r.student).Step(file_);
-    }
-    {
-      Stmt s(db_,
-             "INSERT INTO lessons(file, name) VALUES (?, ?) ON CONFLICT(file) DO UPDATE "
-             "SET name = excluded.name",
-             file_);
-      s.Bind(1, r.lesson_file).Bind(2, r.lesson_name).Step(file_);
-    }
-    Stmt a(db_,
-           "INSERT INTO attempts(student_id, lesson_id, started, mode, scene_file, "
-           "generated_case, case_seed, total, "
-           "duration_s, sites_total, sites_read, sites_charted, within_1mm_pct, bias_mm, "
-           "force_in_band_pct, true_dx, "
-           "chart_dx, declared_dx, recording, answers, report_dir, complete, ended) "
-           "VALUES ((SELECT id FROM students "
-           "WHERE name = ?), (SELECT id FROM lessons WHERE file = ?), ?, ?, ?, ?, ?, ?, "
-           "?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, "
-           "?, ?, ?, ?)",
-           file_);
-    a.Bind(1, r.student)
-        .Bind(2, r.lesson_file)
-        .Bind(3, started)
-        .Bind(4, r.mode)
-        .Bind(5, r.scene_file);
-    a.Bind(6, r.generated_case ? 1 : 0)
-        .Bind(7, static_cast<std::int64_t>(r.case_seed))
-        .Bind(8, r.total);
-    a.Bind(9, r.duration_s)
-        .Bind(10, r.sites_total)
-        .Bind(11, r.sites_read)
-        .Bind(12, r.sites_charted);
-    a.Bind(13, r.within_1mm_pct)
-        .Bind(14, r.bias_mm)
-        .Bind(15, r.force_in_band_pct)
-        .Bind(16, r.true_dx.Summary());
-    a.Bind(17, r.chart_dx.Summary())
-        .Bind(18, DeclaredText(r))
-        .Bind(19, recording)
-        .Bind(20, answers);
-    a.Bind(21, report_dir).Bind(22, r.complete ? 1 : 0).Bind(23, r.ended).Step(file_);
-    const std::int64_t id = sqlite3_last_insert_rowid(db_);
-    Stmt site(db_,
-              "INSERT INTO attempt_sites(attempt_id, fdi, site, truth_mm, reached_mm, "
-              "entered_mm, peak_force_n, "
-              "angle_deg, col_reached, bled, bleeding_charted, reading_tick) VALUES (?, "
-              "?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-              file_);
-    for (const SiteResult& s : r.sites) {
-      site.Bind(1, id).Bind(2, s.site.fdi).Bind(3, s.site.site).Bind(4, s.truth_mm);
-      if (s.reached_mm)
-        site.Bind(5, *s.reached_mm);
-      else
-        site.BindNull(5);
-      if (s.entry && s.entry->pd_mm)
-        site.Bind(6, *s.entry->pd_mm);
-      else
-        site.BindNull(6);
-      site.Bind(7, s.peak_force_n)
-          .Bind(8, s.angle_deg)
-          .Bind(9, s.col_reached ? 1 : 0)
-          .Bind(10, s.bled ? 1 : 0);
-      site.Bind(11, s.entry && s.entry->bleeding ? 1 : 0)
-          .Bind(12, static_cast<std::int64_t>(s.reading_tick));
-      site.Step(file_);
-      site.Reset();
-    }
-    Stmt score(db_,
-               "INSERT INTO attempt_scores(attempt_id, category, credit, weight) VALUES "
-               "(?, ?, ?, ?)",
-               file_);
-    for (const auto& [cat, credit] : r.category_credit) {
-      score.Bind(1, id)
-          .Bind(2, cat)
-          .Bind(3, credit)
-          .Bind(4, r.category_weight.at(cat))
-          .Step(file_);
-      score.Reset();
-    }
-    Stmt line(db_,
-              "INSERT INTO attempt_lines(attempt_id, seq, category, fdi, site, status, "
-              "credit, tick, message) VALUES "
-              "(?, ?, ?, ?, ?, ?, ?, ?, ?)",
-              file_);
-    int seq = 0;
-    for (const RubricLine& l : r.lines) {
-      line.Bind(1, id).Bind(2, seq++).Bind(3, l.category).Bind(4, l.fdi);
-      if (l.site)
-        line.Bind(5, l.site->site);
-      else
-        line.BindNull(5);
-      line.Bind(6, std::string(ToString(l.status)))
-          .Bind(7, l.credit)
-          .Bind(8, static_cast<std::int64_t>(l.tick));
-      line.Bind(9, l.message).Step(file_);
-      line.Reset();
-    }
-    t.Commit();
-    return id;
+    Stmt s(db_, "INSERT OR IGNORE INTO students(name) VALUES (?)", file_);
+    s.Bind(1, r.student).Step(file_);
   }
+  {
+    Stmt s(db_,
+           "INSERT INTO lessons(file, name) VALUES (?, ?) ON CONFLICT(file) DO UPDATE "
+           "SET name = excluded.name",
+           file_);
+    s.Bind(1, r.lesson_file).Bind(2, r.lesson_name).Step(file_);
+  }
+  Stmt a(db_,
+         "INSERT INTO attempts(student_id, lesson_id, started, mode, scene_file, "
+         "generated_case, case_seed, total, "
+         "duration_s, sites_total, sites_read, sites_charted, within_1mm_pct, bias_mm, "
+         "force_in_band_pct, true_dx, "
+         "chart_dx, declared_dx, recording, answers, report_dir, complete, ended) "
+         "VALUES ((SELECT id FROM students "
+         "WHERE name = ?), (SELECT id FROM lessons WHERE file = ?), ?, ?, ?, ?, ?, ?, "
+         "?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, "
+         "?, ?, ?, ?)",
+         file_);
+  a.Bind(1, r.student)
+      .Bind(2, r.lesson_file)
+      .Bind(3, started)
+      .Bind(4, r.mode)
+      .Bind(5, r.scene_file);
+  a.Bind(6, r.generated_case ? 1 : 0)
+      .Bind(7, static_cast<std::int64_t>(r.case_seed))
+      .Bind(8, r.total);
+  a.Bind(9, r.duration_s)
+      .Bind(10, r.sites_total)
+      .Bind(11, r.sites_read)
+      .Bind(12, r.sites_charted);
+  a.Bind(13, r.within_1mm_pct)
+      .Bind(14, r.bias_mm)
+      .Bind(15, r.force_in_band_pct)
+      .Bind(16, r.true_dx.Summary());
+  a.Bind(17, r.chart_dx.Summary())
+      .Bind(18, DeclaredText(r))
+      .Bind(19, recording)
+      .Bind(20, answers);
+  a.Bind(21, report_dir).Bind(22, r.complete ? 1 : 0).Bind(23, r.ended).Step(file_);
+  const std::int64_t id = sqlite3_last_insert_rowid(db_);
+  Stmt site(db_,
+            "INSERT INTO attempt_sites(attempt_id, fdi, site, truth_mm, reached_mm, "
+            "entered_mm, peak_force_n, "
+            "angle_deg, col_reached, bled, bleeding_charted, reading_tick) VALUES (?, "
+            "?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+            file_);
+  for (const SiteResult& s : r.sites) {
+    site.Bind(1, id).Bind(2, s.site.fdi).Bind(3, s.site.site).Bind(4, s.truth_mm);
+    if (s.reached_mm)
+      site.Bind(5, *s.reached_mm);
+    else
+      site.BindNull(5);
+    if (s.entry && s.entry->pd_mm)
+      site.Bind(6, *s.entry->pd_mm);
+    else
+      site.BindNull(6);
+    site.Bind(7, s.peak_force_n)
+        .Bind(8, s.angle_deg)
+        .Bind(9, s.col_reached ? 1 : 0)
+        .Bind(10, s.bled ? 1 : 0);
+    site.Bind(11, s.entry && s.entry->bleeding ? 1 : 0)
+        .Bind(12, static_cast<std::int64_t>(s.reading_tick));
+    site.Step(file_);
+    site.Reset();
+  }
+  Stmt score(db_,
+             "INSERT INTO attempt_scores(attempt_id, category, credit, weight) VALUES "
+             "(?, ?, ?, ?)",
+             file_);
+  for (const auto& [cat, credit] : r.category_credit) {
+    score.Bind(1, id)
+        .Bind(2, cat)
+        .Bind(3, credit)
+        .Bind(4, r.category_weight.at(cat))
+        .Step(file_);
+    score.Reset();
+  }
+  Stmt line(db_,
+            "INSERT INTO attempt_lines(attempt_id, seq, category, fdi, site, status, "
+            "credit, tick, message) VALUES "
+            "(?, ?, ?, ?, ?, ?, ?, ?, ?)",
+            file_);
+  int seq = 0;
+  for (const RubricLine& l : r.lines) {
+    line.Bind(1, id).Bind(2, seq++).Bind(3, l.category).Bind(4, l.fdi);
+    if (l.site)
+      line.Bind(5, l.site->site);
+    else
+      line.BindNull(5);
+    line.Bind(6, std::string(ToString(l.status)))
+        .Bind(7, l.credit)
+        .Bind(8, static_cast<std::int64_t>(l.tick));
+    line.Bind(9, l.message).Step(file_);
+    line.Reset();
+  }
+  t.Commit();
+  return id;
 }
 
 void ResultsDb::SetReportDir(std::int64_t id, const std::string& dir) {
@@ -498,18 +496,16 @@ std::vector<std::string> ResultsDb::Students() const {
 
 int ResultsDb::DeleteStudent(const std::string& student) {
   Transaction t(*this);
-  {
-    Stmt d(db_,
-           "DELETE FROM attempts WHERE student_id = (SELECT id FROM students WHERE name "
-           "= ?)",
-           file_);
-    d.Bind(1, student).Step(file_);
-    const int n = sqlite3_changes(db_);
-    Stmt s(db_, "DELETE FROM students WHERE name = ?", file_);
-    s.Bind(1, student).Step(file_);
-    t.Commit();
-    return n;
-  }
+  Stmt d(db_,
+         "DELETE FROM attempts WHERE student_id = (SELECT id FROM students WHERE name "
+         "= ?)",
+         file_);
+  d.Bind(1, student).Step(file_);
+  const int n = sqlite3_changes(db_);
+  Stmt s(db_, "DELETE FROM students WHERE name = ?", file_);
+  s.Bind(1, student).Step(file_);
+  t.Commit();
+  return n;
 }
 
 void ExportAttemptsCsv(const std::vector<AttemptRow>& rows, std::ostream& o) {
