@@ -27,6 +27,10 @@ fs::path Lesson() {
   return fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml";
 }
 
+fs::path ProbingScene() {
+  return fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
+}
+
 std::vector<std::string> Errors(const fs::path& file) {
   return test::ErrorLines([&] { LoadLessonSpec(file); });
 }
@@ -44,8 +48,7 @@ TEST(LessonFile, TheShippedLessonIsValid) {
 }
 
 TEST(LessonFile, EveryErrorAtOnceWithItsPlace) {
-  const fs::path scene =
-      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
+  const fs::path scene = ProbingScene();
   const fs::path p = Write("bad.yaml",
                            "name: bad\n"
                            "scene: " +
@@ -88,8 +91,7 @@ TEST(LessonFile, EveryErrorAtOnceWithItsPlace) {
 
 // a pass angle below the full-credit one.
 TEST(LessonFile, ARubricThatCannotScoreIsRefused) {
-  const fs::path scene =
-      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
+  const fs::path scene = ProbingScene();
   const fs::path p = Write("zero_rubric.yaml",
                            "name: zero\nscene: " + scene.string() +
                                "\nsteps: [{instruction: x, complete: read}]\n"
@@ -117,8 +119,7 @@ TEST(LessonFile, ARubricThatCannotScoreIsRefused) {
 // A case no chart of the lesson's teeth can be is refused: stage I localized
 // on 4 teeth would put 2 of 4 (50 %) in its band.
 TEST(LessonFile, ACaseTheTeethCannotHoldIsRefused) {
-  const fs::path scene =
-      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
+  const fs::path scene = ProbingScene();
   const fs::path p =
       Write("impossible_case.yaml", "name: impossible\nscene: " + scene.string() +
                                         "\nteeth: [47, 46, 45, 44]\n"
@@ -142,8 +143,7 @@ TEST(LessonFile, ACaseTheTeethCannotHoldIsRefused) {
 // A key given twice is an error naming both lines (a YAML reader would keep
 // one silently): in a lesson, in answers, and a tooth twice in a chart.
 TEST(LessonFile, AKeyGivenTwiceIsRefusedWithBothLines) {
-  const fs::path scene =
-      fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml";
+  const fs::path scene = ProbingScene();
   const fs::path lesson = Write("twice.yaml",
                                 "name: twice\n"
                                 "scene: " +
