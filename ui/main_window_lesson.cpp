@@ -577,9 +577,17 @@ void MainWindow::AskDiagnosis() {
   auto* stage = new QComboBox;
   stage->addItems({"I", "II", "III", "IV"});
   auto* extent = new QComboBox;
-  extent->addItems({"localized", "generalized"});
+  extent->addItems({"localized", "generalized", "molar-incisor"});
+  extent->setToolTip(
+      "molar-incisor: the attachment loss is at first molars and incisors only");
+  auto* grade = new QComboBox;
+  grade->addItems({"not assessed", "A", "B", "C"});
+  grade->setToolTip(
+      "The rate of progression: bone loss over age, then smoking and HbA1c (only when "
+      "the patient's history is given)");
   form->addRow("Stage", stage);
   form->addRow("Extent", extent);
+  form->addRow("Grade", grade);
   layout->addLayout(form);
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
   layout->addWidget(buttons);
@@ -591,6 +599,7 @@ void MainWindow::AskDiagnosis() {
   if (d.periodontitis) {
     d.stage = *StageFromString(stage->currentText().toStdString());
     d.extent = *ExtentFromString(extent->currentText().toStdString());
+    d.grade = GradeFromString(grade->currentText().toStdString()).value_or(Grade::kNone);
   }
   DeclareDiagnosis(d);
 }

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <random>
 #include <string>
 
 #include "app/cli/commands.h"
@@ -235,6 +236,33 @@ int Report(const ReportArgs& a) {
   return row && std::abs(row->total - out.result.total) >= 1e-9 ? 1 : 0;
 }
 
+// `lesson case`: the lesson's case drawn from a seed and saved as a scene file;
+// an existing file is never replaced.
+int WriteCase(const std::string& lesson_file, std::int64_t seed, const std::string& out) {
+  const LessonSpec spec = LoadLessonSpec(lesson_file);
+  if (!spec.case_spec.generated) {
+    std::fprintf(stderr,
+                 "error: %s draws no case (it has no `case:`); a case is drawn for a "
+                 "lesson such as lessons/periodontal_probing_case.yaml\n",
+                 lesson_file.c_str());
+    return 1;
+  }
+  std::error_code ec;
+  if (fs::exists(out, ec)) {
+    std::fprintf(stderr, "error: %s exists and is not replaced; give a new file\n",
+                 out.c_str());
+    return 1;
+  }
+  const std::uint64_t s = seed >= 0 ? static_cast<std::uint64_t>(seed)
+                                    : (std::random_device{}() & 0xffffffffu);
+  const SceneSpec scene = SaveCaseScene(spec, spec.case_spec, s, out);
+  std::printf("%s: the case of %s, stage %s, %s, seed %llu (%zu objects)\n", out.c_str(),
+              lesson_file.c_str(), ToString(spec.case_spec.stage),
+              ToString(spec.case_spec.extent), static_cast<unsigned long long>(s),
+              scene.objects.size());
+  return 0;
+}
+
 }  // namespace
 
 void AddLessonCommands(CLI::App& app) {
@@ -295,6 +323,20 @@ void AddLessonCommands(CLI::App& app) {
                 "Do not store the attempt in the results database");
   run->add_flag("--quiet", a->quiet, "Print the score only, not every line");
   run->callback([a] { Finish(RunLesson(*a)); });
+
+  struct CaseArgs {
+    std::string lesson, out;
+    std::int64_t seed = -1;
+  };
+  auto c = std::make_shared<CaseArgs>();
+  CLI::App* drawn = lesson->add_subcommand(
+      "case",
+      "Write the scene of a lesson's generated case (its stage and extent, a seed) as "
+      "a scene file of its own, an instructor's fixed case");
+  drawn->add_option("FILE", c->lesson, "Lesson file with a case: (.yaml)")->required();
+  drawn->add_option("--seed", c->seed, "The case's seed (default: drawn)");
+  drawn->add_option("-o,--output", c->out, "The scene file to write (.yaml)")->required();
+  drawn->callback([c] { Finish(WriteCase(c->lesson, c->seed, c->out)); });
 
   auto r = std::make_shared<ReportArgs>();
   CLI::App* report =

@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 std::optional<DeclaredDiagnosis> ReadDiagnosis(YamlReader& r, const YAML::Node& n) {
   if (!r.IsMap(n, "'diagnosis'")) return std::nullopt;
-  r.CheckKeys(n, {"periodontitis", "stage", "extent", "tick"}, "'diagnosis'");
+  r.CheckKeys(n, {"periodontitis", "stage", "extent", "grade", "tick"}, "'diagnosis'");
   DeclaredDiagnosis d;
   if (n["periodontitis"])
     d.periodontitis = r.Bool(n["periodontitis"], "periodontitis", true);
@@ -26,7 +26,7 @@ std::optional<DeclaredDiagnosis> ReadDiagnosis(YamlReader& r, const YAML::Node& 
     if (!n["stage"] || !n["extent"]) {
       r.Error(n,
               "a periodontitis diagnosis needs 'stage' (I, II, III, IV) and 'extent' "
-              "(localized, generalized)");
+              "(localized, generalized, molar-incisor)");
       return std::nullopt;
     }
     const std::string st = r.Text(n["stage"], "stage"),
@@ -36,10 +36,19 @@ std::optional<DeclaredDiagnosis> ReadDiagnosis(YamlReader& r, const YAML::Node& 
     if (!stage || *stage == Stage::kNone)
       r.Error(n["stage"], "'stage' must be I, II, III or IV, not '" + st + "'");
     if (!extent || *extent == Extent::kNone)
-      r.Error(n["extent"], "'extent' must be localized or generalized" +
-                               Suggest(ex, {"localized", "generalized"}));
+      r.Error(n["extent"],
+              "unknown extent '" + ex + "'" +
+                  Suggest(ex, {"localized", "generalized", "molar-incisor"}));
     if (stage) d.stage = *stage;
     if (extent) d.extent = *extent;
+    if (n["grade"]) {
+      const std::string g = r.Text(n["grade"], "grade");
+      const auto grade = GradeFromString(g);
+      if (!grade || *grade == Grade::kNone)
+        r.Error(n["grade"], "'grade' must be A, B or C, not '" + g + "'");
+      else
+        d.grade = *grade;
+    }
   }
   if (n["tick"])
     d.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));
@@ -328,6 +337,7 @@ void SaveAnswers(const Answers& a, const fs::path& file) {
     o << "diagnosis: {periodontitis: " << (d.periodontitis ? "true" : "false");
     if (d.periodontitis)
       o << ", stage: " << ToString(d.stage) << ", extent: " << ToString(d.extent);
+    if (d.periodontitis && d.grade != Grade::kNone) o << ", grade: " << ToString(d.grade);
     if (d.tick != kAfterReading) o << ", tick: " << d.tick;
     o << "}\n";
   }

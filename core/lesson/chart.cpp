@@ -23,6 +23,131 @@ std::string List(const std::vector<int>& teeth) {
   return teeth.empty() ? "none" : Join(teeth);
 }
 
+bool FirstMolar(int fdi) { return fdi % 10 == 6; }
+bool Incisor(int fdi) { return fdi % 10 == 1 || fdi % 10 == 2; }
+
+// Stage IV, or III, from the teeth lost to periodontitis; stage IV from the
+// complexity the history and the chart show, on a stage III case.
+void StageFromHistory(const PerioChart& chart, Diagnosis* d) {
+  const PatientFacts& p = chart.patient;
+  char line[256];
+  if (p.teeth_lost_to_periodontitis >= 5) {
+    std::snprintf(line, sizeof line,
+                  "tooth loss: %d teeth lost to periodontitis (5 or more): stage IV",
+                  p.teeth_lost_to_periodontitis);
+    d->path.push_back(line);
+    d->stage = Stage::kIV;
+    return;
+  }
+  if (p.teeth_lost_to_periodontitis >= 1 && d->stage < Stage::kIII) {
+    std::snprintf(line, sizeof line,
+                  "tooth loss: %d teeth lost to periodontitis (1 to 4): stage III",
+                  p.teeth_lost_to_periodontitis);
+    d->path.push_back(line);
+    d->stage = Stage::kIII;
+  }
+  if (d->stage != Stage::kIII) return;
+  std::vector<std::string> why;
+  std::vector<int> mobile;
+  for (const ToothChart& t : chart.teeth)
+    if (t.present && t.mobility >= 2) mobile.push_back(t.fdi);
+  if (!mobile.empty())
+    why.push_back("mobility of degree 2 or more (secondary occlusal trauma) at " +
+                  List(mobile));
+  if (p.drifting_flaring) why.push_back("drifting or flaring");
+  if (p.bite_collapse) why.push_back("bite collapse (masticatory dysfunction)");
+  if (p.opposing_pairs && *p.opposing_pairs < 10)
+    why.push_back("fewer than 10 opposing pairs (" + std::to_string(*p.opposing_pairs) +
+                  ")");
+  if (why.empty()) {
+    d->path.push_back(
+        "stage IV complexity: no mobility of degree 2 or more, no drifting or flaring, "
+        "no bite collapse, 10 or more opposing pairs: stays stage III");
+    return;
+  }
+  d->path.push_back("stage IV complexity: " + Join(why) + ": stage IV");
+  d->stage = Stage::kIV;
+}
+
+// The molar-incisor pattern: every tooth in the band that set the stage is a
+// first molar or an incisor, at least one of each (a chart of premolars and
+// molars cannot show the pattern).
+void MolarIncisorPattern(const PerioChart& chart, int band_lo, int band_hi,
+                         Diagnosis* d) {
+  bool molars = false, incisors = false, only = true, molar_in_band = false,
+       incisor_in_band = false;
+  std::vector<int> band;
+  for (const ToothChart& t : chart.teeth) {
+    if (!t.present) continue;
+    molars |= FirstMolar(t.fdi);
+    incisors |= Incisor(t.fdi);
+    int worst = -100;
+    for (int s = 0; s < kSitesPerTooth; ++s)
+      if (IsInterdental(s) && t.sites[s].measured())
+        worst = std::max(worst, *t.sites[s].cal_mm());
+    if (worst < band_lo || worst > band_hi) continue;
+    band.push_back(t.fdi);
+    only &= FirstMolar(t.fdi) || Incisor(t.fdi);
+    molar_in_band |= FirstMolar(t.fdi);
+    incisor_in_band |= Incisor(t.fdi);
+  }
+  if (!molars || !incisors || band.empty()) return;
+  if (only && molar_in_band && incisor_in_band) {
+    d->extent = Extent::kMolarIncisor;
+    d->path.push_back("the teeth in the band (" + List(band) +
+                      ") are first molars and incisors, both: molar-incisor pattern");
+  } else {
+    d->path.push_back("the teeth in the band (" + List(band) +
+                      ") are not first molars and incisors, both and only: no "
+                      "molar-incisor pattern");
+  }
+}
+
+// Grade B unless the bone lost for the patient's age says A or C; smoking and
+// diabetes only raise it.
+void GradeFromHistory(const PatientFacts& p, Diagnosis* d) {
+  char line[256];
+  if (!p.given) {
+    d->path.push_back(
+        "grade not assessed: it needs the patient's age, radiograph, smoking and "
+        "diabetes");
+    return;
+  }
+  Grade g = Grade::kB;
+  if (p.age_years && p.bone_loss_pct) {
+    d->bone_loss_per_age = *p.bone_loss_pct / *p.age_years;
+    g = d->bone_loss_per_age < 0.25  ? Grade::kA
+        : d->bone_loss_per_age > 1.0 ? Grade::kC
+                                     : Grade::kB;
+    std::snprintf(line, sizeof line,
+                  "bone loss %.0f %% at the worst site at age %d: %.2f %% a year of age "
+                  "(< 0.25 A, 0.25-1.0 B, > 1.0 C): grade %s",
+                  *p.bone_loss_pct, *p.age_years, d->bone_loss_per_age, ToString(g));
+  } else {
+    std::snprintf(line, sizeof line, "no bone loss for the age known: grade B assumed");
+  }
+  d->path.push_back(line);
+  const auto raise = [&](Grade to, const std::string& why) {
+    if (to <= g) {
+      d->path.push_back(why + ": grade " + ToString(to) + " or less, stays " +
+                        ToString(g));
+      return;
+    }
+    g = to;
+    d->path.push_back(why + ": grade " + ToString(g));
+  };
+  if (p.cigarettes_per_day > 0)
+    raise(p.cigarettes_per_day >= 10 ? Grade::kC : Grade::kB,
+          "smoking " + std::to_string(p.cigarettes_per_day) +
+              " cigarettes a day (< 10 B, 10 or more C)");
+  if (p.hba1c_pct) {
+    std::snprintf(line, sizeof line, "diabetes, HbA1c %.1f %% (< 7.0 B, 7.0 or more C)",
+                  *p.hba1c_pct);
+    raise(*p.hba1c_pct >= 7.0 ? Grade::kC : Grade::kB, line);
+  }
+  d->grade = g;
+}
+
 }  // namespace
 
 const char* SiteCode(int site) {
@@ -79,6 +204,20 @@ const char* ToString(Extent e) {
       return "localized";
     case Extent::kGeneralized:
       return "generalized";
+    case Extent::kMolarIncisor:
+      return "molar-incisor";
+    default:
+      return "none";
+  }
+}
+const char* ToString(Grade g) {
+  switch (g) {
+    case Grade::kA:
+      return "A";
+    case Grade::kB:
+      return "B";
+    case Grade::kC:
+      return "C";
     default:
       return "none";
   }
@@ -89,7 +228,13 @@ std::optional<Stage> StageFromString(const std::string& s) {
   return std::nullopt;
 }
 std::optional<Extent> ExtentFromString(const std::string& s) {
-  for (Extent v : {Extent::kNone, Extent::kLocalized, Extent::kGeneralized})
+  for (Extent v :
+       {Extent::kNone, Extent::kLocalized, Extent::kGeneralized, Extent::kMolarIncisor})
+    if (s == ToString(v)) return v;
+  return std::nullopt;
+}
+std::optional<Grade> GradeFromString(const std::string& s) {
+  for (Grade v : {Grade::kNone, Grade::kA, Grade::kB, Grade::kC})
     if (s == ToString(v)) return v;
   return std::nullopt;
 }
@@ -114,7 +259,10 @@ const char* ToString(Diagnosis::Kind k) {
 
 std::string Diagnosis::Summary() const {
   if (kind != Kind::kPeriodontitis) return ToString(kind);
-  return std::string("periodontitis stage ") + ToString(stage) + ", " + ToString(extent);
+  std::string s =
+      std::string("periodontitis stage ") + ToString(stage) + ", " + ToString(extent);
+  if (grade != Grade::kNone) s += std::string(", grade ") + ToString(grade);
+  return s;
 }
 
 Diagnosis Classify2017(const PerioChart& chart) {
@@ -226,11 +374,16 @@ Diagnosis Classify2017(const PerioChart& chart) {
                        "class II or III: stays stage II");
     }
   }
-  if (worst >= 5)
-    d.path.push_back(
-        "stage IV not assessed: it needs the teeth lost to periodontitis, mobility and "
-        "the bite, "
-        "which the chart does not hold");
+  const PatientFacts& patient = chart.patient;
+  d.stage_iv_assessable = patient.given;
+  if (!patient.given) {
+    if (d.stage == Stage::kIII)
+      d.path.push_back(
+          "stage IV not assessed: it needs the teeth lost to periodontitis, mobility and "
+          "the bite, which the chart does not hold");
+  } else {
+    StageFromHistory(chart, &d);
+  }
   int in_band = 0;
   for (const ToothChart& t : chart.teeth) {
     if (!t.present) continue;
@@ -250,6 +403,8 @@ Diagnosis Classify2017(const PerioChart& chart) {
       band_hi >= 1000 ? "+" : ("-" + std::to_string(band_hi)).c_str(),
       ToString(d.extent));
   d.path.push_back(line);
+  MolarIncisorPattern(chart, band_lo, band_hi, &d);
+  GradeFromHistory(patient, &d);
   return d;
 }
 

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "core/scene/patient.h"
+
 namespace sulcus {
 
 /// Site codes in charting order: MB, B, DB, ML, L, DL.
@@ -46,6 +48,7 @@ struct ToothChart {
 
 struct PerioChart {
   std::vector<ToothChart> teeth;
+  PatientFacts patient;  // the history and radiograph beside the chart
   ToothChart* Find(int fdi);
   const ToothChart* Find(int fdi) const;
 };
@@ -55,11 +58,18 @@ struct PerioChart {
 bool AdjacentTeeth(int fdi_a, int fdi_b);
 
 enum class Stage { kNone = 0, kI = 1, kII = 2, kIII = 3, kIV = 4 };
-enum class Extent { kNone, kLocalized, kGeneralized };
+/// Localized (under 30 % of the teeth), generalized, or the molar-incisor
+/// pattern (the teeth in the stage's band are first molars and incisors only,
+/// at least one of each).
+enum class Extent { kNone, kLocalized, kGeneralized, kMolarIncisor };
+/// Grade A (slow), B (moderate), C (rapid progression); none: not assessed.
+enum class Grade { kNone, kA, kB, kC };
 const char* ToString(Stage s);   // "I", "II", ... ("none")
-const char* ToString(Extent e);  // "localized", "generalized" ("none")
+const char* ToString(Extent e);  // "localized", "generalized", "molar-incisor" ("none")
+const char* ToString(Grade g);   // "A", "B", "C" ("none")
 std::optional<Stage> StageFromString(const std::string& s);
 std::optional<Extent> ExtentFromString(const std::string& s);
+std::optional<Grade> GradeFromString(const std::string& s);
 
 struct Diagnosis {
   enum class Kind {
@@ -78,16 +88,24 @@ struct Diagnosis {
   double bop_pct = 0;  // bleeding sites / sites measured (a site with a depth)
   int worst_interdental_cal_mm = 0;
   double extent_pct = 0;  // share of teeth in the band that set the stage
-  bool stage_iv_assessable =
-      false;  // needs teeth lost and why, mobility, bite: not in the chart
+  // Stage IV and the grade need the patient's facts (PerioChart::patient).
+  bool stage_iv_assessable = false;
+  Grade grade = Grade::kNone;     // none: no patient facts
+  double bone_loss_per_age = -1;  // % bone loss / age in years (-1: not known)
   std::vector<std::string> path;  // the decision tree's steps, one line each
-  std::string Summary()
-      const;  // "periodontitis stage III, localized" / "localized gingivitis" / ...
+  /// "periodontitis stage III, localized" (", grade B" with the patient's
+  /// facts) / "localized gingivitis" / ...
+  std::string Summary() const;
 };
 const char* ToString(Diagnosis::Kind k);
 
-/// Stages I to III, the extent and the case definition from the chart alone.
-/// Stage IV and the grade need facts a chart does not hold; Diagnosis says so.
+/// The case definition, stage, extent and grade. Stages I to III and the
+/// extent come from the chart; stage IV (teeth lost to periodontitis, mobility
+/// of degree 2 or more, drifting or flaring, a collapsed bite, fewer than 10
+/// opposing pairs) and the grade (bone loss over age, smoking, HbA1c) need the
+/// patient's facts in `chart.patient`; without them Diagnosis says they were
+/// not assessed. Where the consensus leaves a choice, lessons/README.md says
+/// what Sulcus does.
 Diagnosis Classify2017(const PerioChart& chart);
 
 }  // namespace sulcus

@@ -30,7 +30,10 @@ const char* ToString(RubricLine::Status s) {
 
 std::string DeclaredDiagnosis::Summary() const {
   if (!periodontitis) return "no periodontitis";
-  return std::string("periodontitis stage ") + ToString(stage) + ", " + ToString(extent);
+  std::string s =
+      std::string("periodontitis stage ") + ToString(stage) + ", " + ToString(extent);
+  if (grade != Grade::kNone) s += std::string(", grade ") + ToString(grade);
+  return s;
 }
 
 const LessonGeometry::Tooth* LessonGeometry::Find(int fdi) const {
@@ -121,6 +124,16 @@ LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene,
     odontogram_ = EmptyOdontogram(spec_.teeth);
     truth_ = TrueOdontogram(scene.spec, spec_.teeth, spec_.regions);
   }
+}
+
+PerioChart LessonRun::GivenChart() const {
+  PerioChart chart = TrueChart(scene_.spec, spec_.teeth);
+  for (ToothChart& t : chart.teeth)
+    for (SiteValues& v : t.sites) {
+      v.pd_mm.reset();
+      v.bleeding = false;
+    }
+  return chart;
 }
 
 double LessonRun::recession_mm(const SiteRef& s) const {

@@ -25,6 +25,7 @@
 
 #include "core/haptics/probe_reading.h"
 #include "core/haptics/tip_locator.h"
+#include "core/lesson/calibration.h"
 #include "core/lesson/chart.h"
 #include "core/lesson/inspection.h"
 #include "core/lesson/lesson_spec.h"
@@ -45,6 +46,7 @@ struct DeclaredDiagnosis {
   bool periodontitis = true;
   Stage stage = Stage::kNone;
   Extent extent = Extent::kNone;
+  Grade grade = Grade::kNone;  // none: not declared (a scene without a patient)
   std::string Summary() const;
 };
 
@@ -150,6 +152,7 @@ struct LessonResult {
   std::uint64_t first_tick = 0, last_tick = 0;
   double duration_s = 0;
   PerioChart true_chart, student_chart;
+  Agreement agreement;  // the student's chart against the true one (calibration)
   Diagnosis true_dx, chart_dx;
   std::optional<DeclaredDiagnosis> declared;
   std::vector<std::pair<std::uint64_t, float>>
@@ -227,6 +230,10 @@ class LessonRun final : public TickConsumer {
   std::optional<double> tip_depth_mm() const { return tip_depth_mm_; }
   /// The compiled scene's clinical recession per site (for the chart).
   double recession_mm(const SiteRef& s) const;
+  /// The chart of the lesson's teeth as an examiner starts it: what is given,
+  /// not measured (the patient's history and radiograph, each tooth's mobility
+  /// and furcation, the recession), no depths, no bleeding.
+  PerioChart GivenChart() const;
   const std::vector<std::string>& feedback() const { return feedback_; }
   std::uint64_t last_tick() const { return last_tick_; }
   const LessonSpec& spec() const { return spec_; }

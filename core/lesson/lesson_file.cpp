@@ -302,11 +302,68 @@ PerioChart TrueChart(const SceneSpec& scene, const std::vector<int>& teeth) {
       }
       for (const auto& [entrance, hamp] : o.furcation)
         t.furcation = std::max(t.furcation, hamp);
+      t.mobility = o.mobility;
       chart.teeth.push_back(t);
     }
   }
+  // The history, and the bone loss a radiograph shows at the worst of the teeth.
+  chart.patient = scene.patient;
+  if (chart.patient.given)
+    for (int fdi : teeth)
+      if (const std::optional<double> b = BoneLossPct(scene, fdi))
+        chart.patient.bone_loss_pct =
+            std::max(chart.patient.bone_loss_pct.value_or(0), *b);
   return chart;
 }
+
+namespace {
+
+// The patient of a case that asks for a grade or stage IV: stage IV by tooth
+// loss or by one complexity (a mobile diseased tooth, drifting, a collapsed
+// bite, few opposing pairs); the grade from the age (against the bone loss the
+// pockets leave) and the two risk factors, drawn toward the grade asked.
+template <typename Uniform>
+void DrawPatient(const CaseSpec& c, int sick_tooth, Uniform& uniform, SceneSpec* s) {
+  PatientFacts p;
+  p.given = true;
+  p.age_years = uniform(25, 80);
+  p.opposing_pairs = uniform(10, 14);
+  if (c.stage == Stage::kIV) {
+    switch (uniform(0, 4)) {
+      case 0:
+        p.teeth_lost_to_periodontitis = uniform(5, 8);
+        break;
+      case 1:
+        for (ObjectSpec& o : s->objects)
+          if (o.kind == ObjectSpec::Kind::kTooth && o.fdi == sick_tooth)
+            o.mobility = uniform(2, 3);
+        break;
+      case 2:
+        p.drifting_flaring = true;
+        break;
+      case 3:
+        p.bite_collapse = true;
+        break;
+      default:
+        p.opposing_pairs = uniform(6, 9);
+    }
+  } else if (c.stage == Stage::kIII) {
+    p.teeth_lost_to_periodontitis = uniform(0, 2);
+  }
+  const Grade g = c.grade == Grade::kNone ? static_cast<Grade>(uniform(1, 3)) : c.grade;
+  if (g == Grade::kC && uniform(0, 1) == 0) {
+    p.cigarettes_per_day = uniform(10, 25);
+  } else if (g == Grade::kC) {
+    p.hba1c_pct = 7.0 + 0.1 * uniform(0, 25);
+  } else if (g == Grade::kB && uniform(0, 2) == 0) {
+    p.cigarettes_per_day = uniform(1, 9);
+  } else if (g == Grade::kB && uniform(0, 1) == 0) {
+    p.hba1c_pct = 5.8 + 0.1 * uniform(0, 11);
+  }
+  s->patient = p;
+}
+
+}  // namespace
 
 SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
                     const CaseSpec& c, std::uint64_t seed) {
@@ -317,6 +374,9 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
   // The deepest attachment loss the stage asks for (whole mm of CAL at the worst site).
   const int cal_lo = c.stage == Stage::kI ? 1 : c.stage == Stage::kII ? 3 : 5;
   const int cal_hi = c.stage == Stage::kI ? 2 : c.stage == Stage::kII ? 4 : 7;
+  // A patient only where the case asks for what needs one (the draws of the
+  // other cases stay as they were).
+  const bool patient = c.grade != Grade::kNone || c.stage == Stage::kIV;
   for (int attempt = 0; attempt < 5000; ++attempt) {
     SceneSpec s = scene;
     // Which teeth are diseased: one or two for localized, most for generalized.
@@ -353,7 +413,9 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
         o.recession_mm[site] = rec;
         o.bleeding[site] = sick ? uniform(0, 2) > 0 : uniform(0, 9) == 0;
       }
+      if (patient) o.mobility = sick ? uniform(0, 1) : 0;
     }
+    if (patient) DrawPatient(c, order.front(), uniform, &s);
     for (ObjectSpec& g : s.objects) {
       if (g.kind != ObjectSpec::Kind::kGingiva) continue;
       for (const ObjectSpec& t : s.objects)
@@ -363,15 +425,19 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
           g.bleeding = t.bleeding;
           g.has_sites = true;
         }
+      if (g.trees.target_error_mm == 0)
+        g.trees.leaves = std::min(g.trees.leaves, kCaseGingivaLeaves);
     }
     const Diagnosis d = Classify2017(TrueChart(s, teeth));
     if (d.kind == Diagnosis::Kind::kPeriodontitis && d.stage == c.stage &&
-        d.extent == c.extent)
+        d.extent == c.extent && (c.grade == Grade::kNone || d.grade == c.grade))
       return s;
   }
   throw std::runtime_error(
       std::string("no case of stage ") + ToString(c.stage) + ", " + ToString(c.extent) +
-      " can be drawn on these teeth (try another extent or more teeth)");
+      (c.grade == Grade::kNone ? std::string()
+                               : std::string(", grade ") + ToString(c.grade)) +
+      " can be drawn on these teeth (try another extent or grade, or more teeth)");
 }
 
 SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64_t seed,
@@ -394,8 +460,11 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
     throw std::runtime_error(
         out.string() + ": " + lesson.scene.string() +
         " names mesh files relative to its folder; save the case in " + from.string());
-  const std::string what = std::string("stage ") + ToString(c.stage) + ", " +
-                           ToString(c.extent) + ", seed " + std::to_string(seed);
+  const std::string what =
+      std::string("stage ") + ToString(c.stage) + ", " + ToString(c.extent) +
+      (c.grade == Grade::kNone ? std::string()
+                               : std::string(", grade ") + ToString(c.grade)) +
+      ", seed " + std::to_string(seed);
   const std::string name =
       (base.name.empty() ? lesson.scene.stem().string() : base.name) + " (case: " + what +
       ")";
@@ -403,6 +472,34 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
   root["description"] = "Periodontitis " + what + ", drawn by Sulcus on " +
                         lesson.scene.filename().string() + " for the lesson " +
                         lesson.file.filename().string() + ".";
+  if (cased.patient.given) {
+    const PatientFacts& p = cased.patient;
+    YAML::Node n(YAML::NodeType::Map);
+    n.SetStyle(YAML::EmitterStyle::Flow);
+    if (p.age_years) n["age"] = *p.age_years;
+    n["cigarettes_per_day"] = p.cigarettes_per_day;
+    if (p.hba1c_pct) n["hba1c_pct"] = std::round(*p.hba1c_pct * 10) / 10;
+    n["teeth_lost_to_periodontitis"] = p.teeth_lost_to_periodontitis;
+    n["drifting_flaring"] = p.drifting_flaring;
+    n["bite_collapse"] = p.bite_collapse;
+    if (p.opposing_pairs) n["opposing_pairs"] = *p.opposing_pairs;
+    root["patient"] = n;
+  }
+  // The gingiva's trees as the case is built (kCaseGingivaLeaves), so that the
+  // saved scene opens from the trees its lesson built.
+  for (const ObjectSpec& g : cased.objects) {
+    if (g.kind != ObjectSpec::Kind::kGingiva || g.trees.target_error_mm > 0) continue;
+    YAML::Node trees = root["spheretree"];
+    if (!trees || !trees.IsMap()) trees = YAML::Node(YAML::NodeType::Map);
+    YAML::Node gt(YAML::NodeType::Map);
+    gt.SetStyle(YAML::EmitterStyle::Flow);
+    gt["levels"] = g.trees.levels;
+    gt["branch"] = g.trees.branching;
+    gt["leaves"] = g.trees.leaves;
+    trees["gingiva"] = gt;
+    root["spheretree"] = trees;
+    break;
+  }
   for (YAML::Node o : root["objects"]) {
     if (!o.IsMap() || !o["tooth"]) continue;
     const int fdi = o["tooth"].as<int>(0);
@@ -425,6 +522,10 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
         o["bleeding"] = bleeding;
       else
         o.remove("bleeding");
+      if (t.mobility > 0)
+        o["mobility"] = t.mobility;
+      else
+        o.remove("mobility");
     }
   }
   YAML::Emitter e;
@@ -451,7 +552,8 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
       const auto& a = want.teeth[t].sites[s];
       const auto& b = t < got.teeth.size() ? got.teeth[t].sites[s] : a;
       if (t >= got.teeth.size() || a.pd_mm != b.pd_mm ||
-          a.recession_mm != b.recession_mm || a.bleeding != b.bleeding)
+          a.recession_mm != b.recession_mm || a.bleeding != b.bleeding ||
+          want.teeth[t].mobility != got.teeth[t].mobility)
         throw std::runtime_error(
             out.string() +
             ": the saved scene does not read back as the drawn case (tooth " +
@@ -512,22 +614,32 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
     spec.time_limit_s = r.Number(root["time_limit_s"], "time_limit_s", 1, 36000, 0, "s");
   if (root["rubric"]) ReadRubric(r, root["rubric"], &spec.rubric);
   if (const YAML::Node c = root["case"]; c && r.IsMap(c, "'case'")) {
-    r.CheckKeys(c, {"stage", "extent", "seed"}, "'case'");
+    r.CheckKeys(c, {"stage", "extent", "grade", "seed"}, "'case'");
     spec.case_spec.generated = true;
     if (c["stage"]) {
       const std::string st = r.Text(c["stage"], "stage");
       const auto stage = StageFromString(st);
-      if (!stage || *stage == Stage::kNone || *stage == Stage::kIV)
-        r.Error(c["stage"],
-                "'stage' must be I, II or III (stage IV needs patient facts a scene does "
-                "not give yet)");
+      if (!stage || *stage == Stage::kNone)
+        r.Error(c["stage"], "'stage' must be I, II, III or IV, not '" + st + "'");
       else
         spec.case_spec.stage = *stage;
+    }
+    if (c["grade"]) {
+      const std::string g = r.Text(c["grade"], "grade");
+      const auto grade = GradeFromString(g);
+      if (!grade || *grade == Grade::kNone)
+        r.Error(c["grade"], "'grade' must be A, B or C, not '" + g + "'");
+      else
+        spec.case_spec.grade = *grade;
     }
     if (c["extent"]) {
       const std::string ex = r.Text(c["extent"], "extent");
       const auto extent = ExtentFromString(ex);
-      if (!extent || *extent == Extent::kNone)
+      if (extent && *extent == Extent::kMolarIncisor)
+        r.Error(c["extent"],
+                "a generated case is localized or generalized; a molar-incisor pattern "
+                "is not drawn yet (write its pockets in a scene of its own)");
+      else if (!extent || *extent == Extent::kNone)
         r.Error(c["extent"], "'extent' must be localized or generalized" +
                                  Suggest(ex, {"localized", "generalized"}));
       else
@@ -608,6 +720,15 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
                        ? std::to_string(in_band) + " in its band must be under 30 %"
                        : std::string("2 of them non-adjacent")) +
                   "); the lesson has " + std::to_string(spec.teeth.size()));
+    else if (c.grade != Grade::kNone && scene_ok) {
+      // A grade the teeth's bone loss cannot give at any age (stage III grade
+      // A: 40 % lost by 160): drawn here once, so that no attempt meets it.
+      try {
+        ApplyCase(scene, spec.teeth, c, 1);
+      } catch (const std::runtime_error& e) {
+        r.Error(root["case"], e.what());
+      }
+    }
   }
   if (spec.inspection()) {
     const std::vector<std::string> have =

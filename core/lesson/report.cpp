@@ -64,12 +64,64 @@ std::string F(const char* fmt, auto... a) {
 std::string DxJson(const Diagnosis& d) {
   std::string s =
       "{\"kind\": " + J(ToString(d.kind)) + ", \"stage\": " + J(ToString(d.stage)) +
-      ", \"extent\": " + J(ToString(d.extent)) + ", \"summary\": " + J(d.Summary()) +
-      ", \"bop_pct\": " + Num(d.bop_pct, 1) +
+      ", \"extent\": " + J(ToString(d.extent)) + ", \"grade\": " + J(ToString(d.grade)) +
+      ", \"summary\": " + J(d.Summary()) + ", \"bop_pct\": " + Num(d.bop_pct, 1) +
       ", \"worst_interdental_cal_mm\": " + std::to_string(d.worst_interdental_cal_mm) +
       ", \"extent_pct\": " + Num(d.extent_pct, 1) + ", \"path\": [";
   for (std::size_t i = 0; i < d.path.size(); ++i) s += (i ? ", " : "") + J(d.path[i]);
   return s + "]}";
+}
+
+std::string Opt(const std::optional<double>& v, int digits) {
+  return v ? Num(*v, digits) : "null";
+}
+
+std::string CalibrationJson(const Agreement& g) {
+  auto bias = [](const Bias& b) {
+    return "{\"sites\": " + std::to_string(b.sites) +
+           ", \"mean_mm\": " + Opt(b.mean_mm(), 3) + "}";
+  };
+  return "{\"sites\": " + std::to_string(g.sites) +
+         ", \"exact_pct\": " + Num(g.exact_pct, 1) +
+         ", \"within_1mm_pct\": " + Num(g.within_1mm_pct, 1) +
+         ", \"depth_kappa\": " + Opt(g.depth_kappa, 3) +
+         ", \"bleeding_kappa\": " + Opt(g.bleeding_kappa, 3) +
+         ", \"meets_target\": " + (g.MeetsTarget() ? "true" : "false") +
+         ", \"bias\": {\"all\": " + bias(g.all) +
+         ", \"interdental\": " + bias(g.interdental) + ", \"mid\": " + bias(g.mid) +
+         ", \"posterior\": " + bias(g.posterior) + ", \"anterior\": " + bias(g.anterior) +
+         ", \"deep\": " + bias(g.deep) + ", \"shallow\": " + bias(g.shallow) + "}}";
+}
+
+// The chart as an examiner's calibration reads it: agreement, kappa, bias by
+// kind of site, and whether the clinical target is met.
+std::string CalibrationHtml(const Agreement& g) {
+  std::ostringstream o;
+  o << "<h2>Calibration against the truth</h2>\n";
+  if (g.sites == 0) {
+    o << "<p class=meta>No site charted: nothing to compare.</p>\n";
+    return o.str();
+  }
+  auto kappa = [](const std::optional<double>& k) {
+    return k ? Num(*k, 2) : std::string("- (every site the same)");
+  };
+  o << "<p>" << g.sites << " sites: exact " << Num(g.exact_pct, 0) << " %, within 1 mm "
+    << Num(g.within_1mm_pct, 0) << " %; weighted kappa for depth " << kappa(g.depth_kappa)
+    << ", kappa for bleeding " << kappa(g.bleeding_kappa) << ". Target (within 1 mm at "
+    << "90 % of sites or more, weighted kappa above 0.6): <b>"
+    << (g.MeetsTarget() ? "met" : "not met") << "</b>.</p>\n";
+  o << "<table><tr><th>bias (charted minus true)</th>";
+  const std::pair<const char*, const Bias*> kinds[] = {
+      {"interdental", &g.interdental},   {"mid-sites", &g.mid},
+      {"posterior teeth", &g.posterior}, {"anterior teeth", &g.anterior},
+      {"deep (5 mm or more)", &g.deep},  {"shallow", &g.shallow}};
+  for (const auto& [name, b] : kinds) o << "<th>" << name << "</th>";
+  o << "</tr><tr><th>mm (sites)</th>";
+  for (const auto& [name, b] : kinds)
+    o << "<td>" << (b->mean_mm() ? F("%+.2f", *b->mean_mm()) : std::string("-")) << " ("
+      << b->sites << ")</td>";
+  o << "</tr></table>\n";
+  return o.str();
 }
 
 // Colour of a signed error in whole mm: green exact, amber 1 mm, red more.
@@ -370,13 +422,15 @@ std::string ReportJson(const LessonResult& r, const ReportInfo& info) {
     << ", \"bias_mm\": " << Num(r.bias_mm, 3)
     << ", \"bias_interdental_mm\": " << Num(r.bias_proximal_mm, 3)
     << ", \"force_in_band_pct\": " << Num(r.force_in_band_pct, 1) << "},\n";
+  o << "  \"calibration\": " << CalibrationJson(r.agreement) << ",\n";
   o << "  \"diagnosis\": {\"truth\": " << DxJson(r.true_dx)
     << ",\n    \"chart\": " << DxJson(r.chart_dx) << ",\n    \"declared\": ";
   if (r.declared)
     o << "{\"summary\": " << J(r.declared->Summary())
       << ", \"periodontitis\": " << (r.declared->periodontitis ? "true" : "false")
       << ", \"stage\": " << J(ToString(r.declared->stage))
-      << ", \"extent\": " << J(ToString(r.declared->extent)) << "}";
+      << ", \"extent\": " << J(ToString(r.declared->extent))
+      << ", \"grade\": " << J(ToString(r.declared->grade)) << "}";
   else
     o << "null";
   o << "},\n  \"sites\": [\n";
@@ -608,6 +662,8 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
     dx_row("your chart", r.chart_dx.Summary(), r.chart_dx.path);
     dx_row("you declared", r.declared ? r.declared->Summary() : "nothing", {});
     o << "</table>\n";
+
+    o << CalibrationHtml(r.agreement);
 
     o << "<h2>Periodontal chart</h2>\n<p class=meta>Depths in mm; red at 4 mm and over. "
          "\"entered\" is coloured by its "

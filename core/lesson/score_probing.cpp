@@ -237,18 +237,14 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
 
   // The charts and the diagnosis.
   out.true_chart = TrueChart(scene_.spec, spec_.teeth);
-  out.student_chart = out.true_chart;
-  for (ToothChart& t : out.student_chart.teeth)
-    for (SiteValues& v : t.sites) {
-      v.pd_mm.reset();
-      v.bleeding = false;
-    }
+  out.student_chart = GivenChart();
   for (const SiteResult& s : out.sites) {
     ToothChart* t = out.student_chart.Find(s.site.fdi);
     if (!t || !s.entry) continue;
     t->sites[s.site.site].pd_mm = s.entry->pd_mm;
     t->sites[s.site.site].bleeding = s.entry->bleeding;
   }
+  out.agreement = Agree(out.student_chart, out.true_chart);
   out.true_dx = Classify2017(out.true_chart);
   out.chart_dx = Classify2017(out.student_chart);
   out.declared = declared_;
@@ -265,15 +261,20 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
     double credit = 0;
     const bool truth_perio = out.true_dx.kind == Diagnosis::Kind::kPeriodontitis;
     if (truth_perio && declared_->periodontitis) {
-      credit = 0.5 * (declared_->stage == out.true_dx.stage) +
-               0.5 * (declared_->extent == out.true_dx.extent);
+      // Stage and extent, and the grade where the patient's facts give one.
+      const bool graded = out.true_dx.grade != Grade::kNone;
+      const double part = graded ? 1.0 / 3 : 0.5;
+      credit = part * (declared_->stage == out.true_dx.stage) +
+               part * (declared_->extent == out.true_dx.extent) +
+               (graded ? part * (declared_->grade == out.true_dx.grade) : 0.0);
     } else {
       credit = truth_perio == declared_->periodontitis ? 1 : 0;
     }
     const bool matches_chart = out.chart_dx.kind == Diagnosis::Kind::kPeriodontitis &&
                                declared_->periodontitis &&
                                declared_->stage == out.chart_dx.stage &&
-                               declared_->extent == out.chart_dx.extent;
+                               declared_->extent == out.chart_dx.extent &&
+                               declared_->grade == out.chart_dx.grade;
     L.push_back(
         Line("diagnosis", nullptr, 0,
              credit >= 1  ? S::kPass

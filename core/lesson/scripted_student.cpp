@@ -437,8 +437,8 @@ void ScriptedStudent::OnEnd() {
   if (!lesson_) return;
   // The chart in path order, then the diagnosis of that chart (its own, by the
   // 2017 rules: the student does not need the lesson's score for it).
-  PerioChart chart;
-  for (int fdi : spec_.teeth) chart.teeth.push_back({.fdi = fdi});
+  // What the examiner is given (the history, mobility, furcation), then the readings.
+  PerioChart chart = lesson_->GivenChart();
   for (const SiteRef& s : spec_.path) {
     const auto it = std::find_if(seen_.begin(), seen_.end(),
                                  [&](const Seen& x) { return x.site == s; });
@@ -480,6 +480,7 @@ void ScriptedStudent::OnEnd() {
   d.periodontitis = mine.kind == Diagnosis::Kind::kPeriodontitis;
   d.stage = mine.stage;
   d.extent = mine.extent;
+  d.grade = mine.grade;
   lesson_->Declare(d);
 }
 

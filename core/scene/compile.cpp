@@ -654,6 +654,9 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
   // is its twin's mesh, mirrored.
   scene->meshes.resize(n);
   scene->normals.resize(n);
+  scene->object_mesh_seconds.assign(n, 0.0);
+  scene->object_tree_seconds.assign(n, 0.0);
+  scene->tree_built.assign(n, 0);
   std::vector<int> twin(n, -1);
   {
     std::map<std::string, int> first;
@@ -678,8 +681,11 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
       for (int job = next_mesh++; job < jobs && !halt; job = next_mesh++) {
         const int i = mesh_order[job];
         try {
+          const auto t0 = Clock::now();
           scene->meshes[i] =
               MakeObjectMeshCached(scene->spec.objects[i], cache_dir, &scene->normals[i]);
+          scene->object_mesh_seconds[i] =
+              std::chrono::duration<double>(Clock::now() - t0).count();
           std::lock_guard lock(mesh_mutex);
           report(made++, scene->spec.objects[i].name, 0.1);
         } catch (...) {
@@ -744,15 +750,20 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
           // The partitioned list's own settings: spec.objects is in the file's order.
           const int i = order[job - 1];
           const ObjectSpec& o = scene->spec.objects[i];
+          CacheOutcome cached;
+          const auto t0 = Clock::now();
           if (o.mirrored) {
             SphereTree t = LoadOrBuildSphereTree(ArchMirror(true, scene->meshes[i]),
-                                                 o.trees, cache_dir, inner);
+                                                 o.trees, cache_dir, inner, &cached);
             for (double& x : t.x) x = -x;
             scene->trees[i] = std::move(t);
           } else {
-            scene->trees[i] =
-                LoadOrBuildSphereTree(scene->meshes[i], o.trees, cache_dir, inner);
+            scene->trees[i] = LoadOrBuildSphereTree(scene->meshes[i], o.trees, cache_dir,
+                                                    inner, &cached);
           }
+          scene->object_tree_seconds[i] =
+              std::chrono::duration<double>(Clock::now() - t0).count();
+          scene->tree_built[i] = cached.kind != CacheOutcome::Kind::kHit;
           if (scene->spec.leaf_planes)
             scene->planes[i] = FitLeafPlanes(scene->meshes[i], scene->trees[i]);
           inner(o.name, 1.0);

@@ -139,7 +139,8 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
                   "at",       "turn_deg",       "tissue",     "stiffness_n_per_mm",
                   "friction", "damage_limit_n", "pockets_mm", "recession_mm",
                   "bleeding", "inflamed",       "caries_mm",  "cavity_mm",
-                  "calculus", "furcation",      "lesion",     "spheretree"},
+                  "calculus", "furcation",      "lesion",     "spheretree",
+                  "mobility"},
               "an object");
   if (n["spheretree"]) {
     ReadTreeParams(r, n["spheretree"], "an object's 'spheretree'", false, &o.trees);
@@ -346,8 +347,11 @@ void ReadObject(Reader& r, const YAML::Node& n, const fs::path& folder, int inde
       }
     }
   }
-  for (const char* key : {"pockets_mm", "recession_mm", "bleeding", "inflamed",
-                          "caries_mm", "cavity_mm", "calculus", "furcation"}) {
+  if (n["mobility"] && kind == "tooth")
+    o.mobility = r.Integer(n["mobility"], "mobility (Miller 0 to 3)", 0, 3, 0);
+  for (const char* key :
+       {"pockets_mm", "recession_mm", "bleeding", "inflamed", "caries_mm", "cavity_mm",
+        "calculus", "furcation", "mobility"}) {
     if (n[key] && kind != "tooth")
       r.Error(n[key], std::string("'") + key + "' is for teeth only");
   }
@@ -498,6 +502,25 @@ std::map<int, double> CrestDrops(const SceneSpec& spec) {
 
 }  // namespace
 
+std::optional<double> BoneLossPct(const SceneSpec& spec, int fdi) {
+  for (const ObjectSpec& t : spec.objects) {
+    if (t.kind != ObjectSpec::Kind::kTooth || t.fdi != fdi) continue;
+    const std::map<int, double> drops = CrestDrops(spec);
+    const double healthy = CrestDropMm(0);
+    const auto it = drops.find(fdi);
+    const double crest = it == drops.end() ? healthy : it->second;
+    double root = 0;
+    try {
+      root = Dimensions(FdiTooth::Parse(fdi)).root_length;
+    } catch (const std::invalid_argument&) {
+      return std::nullopt;
+    }
+    if (root <= healthy) return std::nullopt;
+    return std::clamp(100.0 * (crest - healthy) / (root - healthy), 0.0, 100.0);
+  }
+  return std::nullopt;
+}
+
 void FollowAttachmentLoss(SceneSpec* spec) {
   const std::map<int, double> drops = CrestDrops(*spec);
   for (ObjectSpec& jaw : spec->objects) {
@@ -606,8 +629,31 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
   const YAML::Node root = LoadYamlMap(r, "a scene is a map with at least 'objects:'");
   r.CheckKeys(root,
               {"name", "description", "tool", "haptics", "effects", "spheretree", "arch",
-               "gingiva", "mouth_open_mm", "objects"},
+               "gingiva", "mouth_open_mm", "patient", "objects"},
               "the scene");
+  if (const YAML::Node p = root["patient"]; p && r.IsMap(p, "'patient'")) {
+    PatientFacts& f = spec.patient;
+    f.given = true;
+    r.CheckKeys(p,
+                {"age", "cigarettes_per_day", "hba1c_pct", "teeth_lost_to_periodontitis",
+                 "drifting_flaring", "bite_collapse", "opposing_pairs"},
+                "'patient'");
+    if (p["age"]) f.age_years = r.Integer(p["age"], "age", 1, 120, 40);
+    if (p["cigarettes_per_day"])
+      f.cigarettes_per_day =
+          r.Integer(p["cigarettes_per_day"], "cigarettes_per_day", 0, 200, 0);
+    if (p["hba1c_pct"])
+      f.hba1c_pct = r.Number(p["hba1c_pct"], "hba1c_pct", 3, 20, 6, "%");
+    if (p["teeth_lost_to_periodontitis"])
+      f.teeth_lost_to_periodontitis = r.Integer(p["teeth_lost_to_periodontitis"],
+                                                "teeth_lost_to_periodontitis", 0, 32, 0);
+    if (p["drifting_flaring"])
+      f.drifting_flaring = r.Bool(p["drifting_flaring"], "drifting_flaring", false);
+    if (p["bite_collapse"])
+      f.bite_collapse = r.Bool(p["bite_collapse"], "bite_collapse", false);
+    if (p["opposing_pairs"])
+      f.opposing_pairs = r.Integer(p["opposing_pairs"], "opposing_pairs", 0, 16, 14);
+  }
   if (root["mouth_open_mm"])
     spec.mouth_open_mm = r.Number(root["mouth_open_mm"], "mouth_open_mm", 0, 50, 0, "mm");
   if (const YAML::Node b = root["arch"]) spec.arch = r.Bool(b, "arch", false);

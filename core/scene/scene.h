@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "core/haptics/effects.h"
 #include "core/haptics/engine.h"
 #include "core/haptics/scripted_device.h"
+#include "core/scene/patient.h"
 #include "core/spheretree/builder.h"
 
 namespace sulcus {
@@ -123,6 +125,7 @@ struct ObjectSpec {
   // Furcation involvement by entrance (Hamp class 0-3): lower molars B, L;
   // upper molars B, M, D; the upper first premolar M, D (FurcationEntrances).
   std::map<std::string, int> furcation;
+  int mobility = 0;  // Miller 0 to 3 (what the examiner charts; not felt)
   // kGingiva: the neighbouring teeth's gingiva it joins (empty: a collar alone).
   std::vector<GingivaNeighbourSpec> gingiva_neighbours;
   // kGingiva shares (gingiva_neighbours not empty): the bone crest below the
@@ -164,8 +167,15 @@ struct SceneSpec {
   bool gingiva_joined = false;
   double mouth_open_mm =
       0;  // raises the upper arch (and palate) so instruments fit between the arches
+  PatientFacts patient;  // `patient:` (stage IV and the grade need it)
   std::vector<ObjectSpec> objects;
 };
+
+/// Radiographic bone loss at a tooth, as a radiograph shows it: how far its
+/// bone crest (CrestDrops) lies below a healthy crest, as a share of the root
+/// below that crest, in % (0 in health, 100 at the apex); empty for a number
+/// that is not a tooth of the scene.
+std::optional<double> BoneLossPct(const SceneSpec& spec, int fdi);
 
 /// The largest object a scene may hold, in mm (a mouth is about 60 mm across).
 inline constexpr double kMaxSceneObjectMm = 300;
@@ -244,6 +254,10 @@ struct CompiledScene {
   EffectsModel effects;  // what the scene's effects need (soft objects last)
   // Wall time of the two stages of CompileScene, each on all cores (cache hits included).
   double mesh_seconds = 0, tree_seconds = 0;
+  // Per object: the seconds its mesh took (made or read from the cache), and
+  // whether its sphere-tree was built (not in the cache) and in how long.
+  std::vector<double> object_mesh_seconds, object_tree_seconds;
+  std::vector<char> tree_built;
 };
 
 /// Stiffness of soft gingiva and of the pocket floor under gingiva_compliance (N/mm).

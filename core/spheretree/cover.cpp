@@ -5,6 +5,7 @@
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <queue>
 
 #include "core/spheretree/builder_stages.h"
@@ -102,36 +103,176 @@ std::vector<float> PieceFloors(const CoverLists& lists, std::size_t num_pieces) 
 
 constexpr float kFloorSlack = 1.3f;
 
+namespace {
+
+// A candidate encloses a piece within a protrusion bound eps: the test the
+// lists are made with (ComputeCovers' ball query).
+bool Encloses(const Candidate& c, const Piece& p, double eps) {
+  return FarCorner2(p, c.c) <= (c.depth + eps) * (c.depth + eps);
+}
+
+// The bound a candidate needs for a piece, as the lists store it (rounded up).
+float Need(const Candidate& c, const Piece& p) {
+  return std::nextafter(static_cast<float>(std::sqrt(FarCorner2(p, c.c)) - c.depth),
+                        1e30f);
+}
+
+// The lists at `cap` as the bisection below eps_g uses them, without computing
+// them for the whole surface at `cap`: the lists at eps_g (`general`), and,
+// for the few pieces whose best bound times kFloorSlack is above eps_g (hard
+// spots: a thin rim, a sharp edge), every candidate that encloses them within
+// `cap` but not within eps_g and needs at most kFloorSlack times their best
+// (found by search). A greedy cover at any eps <= eps_g then sees exactly the
+// entries it would see in the lists at `cap`. At 1.6 mm a gingiva's lists hold
+// 20 to 30 million entries, for a cover at 0.3 mm. Returns false, leaving
+// `general` as it was, when too many pieces are hard for the search to pay.
+bool AddHardPieces(const std::vector<Candidate>& cands, const std::vector<Piece>& pieces,
+                   double eps_g, double cap, CoverLists* general) {
+  const std::vector<float> floor = PieceFloors(*general, pieces.size());
+  const auto feps = static_cast<float>(eps_g);
+  const auto inf = std::numeric_limits<float>::infinity();
+  std::vector<std::int32_t> hard;
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    if (floor[p] == inf || std::nextafter(kFloorSlack * floor[p], inf) > feps)
+      hard.push_back(static_cast<std::int32_t>(p));
+  if (hard.size() > std::max<std::size_t>(64, pieces.size() / 400)) return false;
+  struct Extra {
+    std::int32_t cand;
+    std::int32_t piece;
+    float need;
+  };
+  std::vector<Extra> extra, mine;
+  for (const std::int32_t p : hard) {
+    mine.clear();
+    float best = floor[p];
+    for (std::size_t i = 0; i < cands.size(); ++i) {
+      if (!Encloses(cands[i], pieces[p], cap) || Encloses(cands[i], pieces[p], eps_g))
+        continue;
+      const float need = Need(cands[i], pieces[p]);
+      best = std::min(best, need);
+      mine.push_back({static_cast<std::int32_t>(i), p, need});
+    }
+    const float limit = std::nextafter(kFloorSlack * best, inf);
+    for (const Extra& e : mine)
+      if (e.need <= limit) extra.push_back(e);
+  }
+  std::sort(extra.begin(), extra.end(), [](const Extra& a, const Extra& b) {
+    return a.cand != b.cand ? a.cand < b.cand : a.need < b.need;
+  });
+  CoverLists out;
+  out.start.reserve(general->start.size());
+  out.items.reserve(general->items.size() + extra.size());
+  out.need.reserve(general->items.size() + extra.size());
+  out.start.push_back(0);
+  std::size_t e = 0;
+  const std::size_t n = general->start.size() - 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::int64_t k = general->start[i]; k < general->start[i + 1]; ++k) {
+      out.items.push_back(general->items[k]);
+      out.need.push_back(general->need[k]);
+    }
+    for (; e < extra.size() && extra[e].cand == static_cast<std::int32_t>(i); ++e) {
+      out.items.push_back(extra[e].piece);
+      out.need.push_back(extra[e].need);
+    }
+    out.start.push_back(static_cast<std::int64_t>(out.items.size()));
+  }
+  *general = std::move(out);
+  return true;
+}
+
+}  // namespace
+
 MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
                             const std::vector<Piece>& pieces, std::size_t budget,
                             double start_eps, double reach_eps, double diag,
                             const std::function<void()>& tick) {
   const PieceBvh bvh(pieces);
   MinMaxCover out;
+  auto use_lists = [&](CoverLists lists, double eps) {
+    out.lists = std::move(lists);
+    out.lists_eps = eps;
+    out.limits = PieceFloors(out.lists, pieces.size());
+    for (float& f : out.limits)
+      f = std::nextafter(kFloorSlack * f, std::numeric_limits<float>::infinity());
+  };
   auto attempt = [&](double eps) {
     tick();
-    if (eps > out.lists_eps) {
-      out.lists = ComputeCovers(cands, pieces, bvh, eps);
-      out.lists_eps = eps;
-      out.limits = PieceFloors(out.lists, pieces.size());
-      for (float& f : out.limits)
-        f = std::nextafter(kFloorSlack * f, std::numeric_limits<float>::infinity());
-    }
+    if (eps > out.lists_eps) use_lists(ComputeCovers(cands, pieces, bvh, eps), eps);
     return GreedyCover(out.lists, eps, pieces.size(), budget, &out.limits);
   };
   // Bracket: grow until every piece is reachable and the cover fits.
   double hi = reach_eps > 0 ? reach_eps : start_eps;
   const double grow = reach_eps > 0 ? 1.25 : 2.0;
-  while ((out.chosen = attempt(hi)).empty()) {
+  auto next = [&] {
     hi *= grow;
     if (hi > 4 * diag) throw SphereTreeError("no cover found (is the mesh a solid?)");
+  };
+  // The bracket stops at the first bound that reaches every piece (and fits).
+  // While most pieces are out of reach, the lists are cheap and computed as
+  // the bracket goes; once only a few are (hard spots), the bound that reaches
+  // them is found by search, and the lists at half of it (plus the hard
+  // pieces' entries) give the bisection below it the same covers as the
+  // lists at it would, for a fraction of their size. A first bound from an
+  // earlier round (reach_eps) is checked the same way from half of it.
+  std::optional<std::vector<std::int32_t>> first_half;
+  double found = 0;
+  for (double e = reach_eps > 0 ? 0.5 * hi : hi;;) {
+    CoverLists lists = ComputeCovers(cands, pieces, bvh, e);
+    const std::vector<float> floor = PieceFloors(lists, pieces.size());
+    std::vector<std::int32_t> unreached;
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+      if (floor[p] == std::numeric_limits<float>::infinity())
+        unreached.push_back(static_cast<std::int32_t>(p));
+    if (e == hi && unreached.empty()) {
+      use_lists(std::move(lists), hi);  // the lists the bracket computes anyway
+      break;
+    }
+    if (unreached.size() > std::max<std::size_t>(64, pieces.size() / 400)) {
+      if (e < hi) break;  // the bracket's own lists at the earlier round's bound
+      tick();             // (the bracket's attempt here fails: pieces out of reach)
+      next();
+      e = hi;
+      continue;
+    }
+    // The first bound of the bracket that reaches every piece.
+    auto reaches = [&](double eps) {
+      for (const std::int32_t p : unreached) {
+        bool any = false;
+        for (std::size_t i = 0; i < cands.size() && !any; ++i)
+          any = Encloses(cands[i], pieces[p], eps);
+        if (!any) return false;
+      }
+      return true;
+    };
+    if (e == hi) next();
+    while (!reaches(hi)) next();
+    const double half = 0.5 * hi;
+    if (half != e) lists = ComputeCovers(cands, pieces, bvh, half);
+    if (!AddHardPieces(cands, pieces, half, hi, &lists)) break;
+    use_lists(std::move(lists), hi);
+    tick();
+    first_half = GreedyCover(out.lists, half, pieces.size(), budget, &out.limits);
+    if (first_half->empty()) {
+      // The bisection would look above half: the lists at the bound itself.
+      first_half.reset();
+      out.lists_eps = 0;
+    }
+    found = hi;
+    break;
+  }
+  if (first_half) {
+    out.chosen = *first_half;  // (a cover at half fits; one at the bound does too)
+  } else {
+    if (found > 0) hi = found;
+    while ((out.chosen = attempt(hi)).empty()) next();
   }
   // Bisect below it with the same lists. A failure in the bracket may have been
   // an unreachable piece, which the lists now reach, so the search starts at 0.
   double lo = 0;
   for (int i = 0; i < 14 && hi - lo > 2e-2 * hi; ++i) {
     const double mid = 0.5 * (lo + hi);
-    auto c = attempt(mid);
+    auto c = i == 0 && first_half ? *first_half : attempt(mid);
     if (c.empty()) {
       lo = mid;
     } else {

@@ -82,8 +82,8 @@ TEST(Answers, ChartAndEntriesFormsAndTheirErrors) {
                                  "at MB, B, DB, ML, L, DL), found 3",
                              f + ":2:34: unknown site 'MX' (MB, B, DB, ML, L, DL)",
                              f + ":3:20: 'stage' must be I, II, III or IV, not 'V'",
-                             f + ":3:31: 'extent' must be localized or generalized "
-                                 "(expected one of: localized, generalized)"}));
+                             f + ":3:31: unknown extent 'local' (expected one of: "
+                                 "localized, generalized, molar-incisor)"}));
 }
 
 // What no student enters is refused, each with its place: a depth of 0, a site
@@ -111,6 +111,28 @@ TEST(Answers, ADepthOfZeroAndASiteTwiceAreRefused) {
                         "  - {site: \"46 MB\", pd: 5, tick: 900}\n"));
   ASSERT_EQ(corrected.entries.size(), 2u);
   EXPECT_EQ(*corrected.entries[1].pd_mm, 5);
+}
+
+// A diagnosis declares the grade with the stage and extent (A, B or C), and the
+// molar-incisor pattern as an extent; saved, it reads back the same.
+TEST(Answers, TheDiagnosisCarriesTheGradeAndTheMolarIncisorPattern) {
+  const Answers a = LoadAnswers(
+      Write("graded.yaml", "diagnosis: {stage: IV, extent: molar-incisor, grade: C}\n"));
+  ASSERT_TRUE(a.diagnosis.has_value());
+  EXPECT_EQ(a.diagnosis->stage, Stage::kIV);
+  EXPECT_EQ(a.diagnosis->extent, Extent::kMolarIncisor);
+  EXPECT_EQ(a.diagnosis->grade, Grade::kC);
+  EXPECT_EQ(a.diagnosis->Summary(), "periodontitis stage IV, molar-incisor, grade C");
+  SaveAnswers(a, Out("graded_again.yaml"));
+  const Answers back = LoadAnswers(Out("graded_again.yaml"));
+  ASSERT_TRUE(back.diagnosis.has_value());
+  EXPECT_EQ(back.diagnosis->grade, Grade::kC);
+  EXPECT_EQ(back.diagnosis->extent, Extent::kMolarIncisor);
+  const fs::path bad =
+      Write("bad_grade.yaml", "diagnosis: {stage: III, extent: localized, grade: D}\n");
+  EXPECT_EQ(Errors(bad),
+            (std::vector<std::string>{bad.string() +
+                                      ":1:51: 'grade' must be A, B or C, not 'D'"}));
 }
 
 // Answers meet their lesson: a tooth the lesson does not examine is named with

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/anatomy/tooth.h"
 #include "core/lesson/lesson_spec.h"
 #include "tests/common/meshes.h"
 #include "tests/common/output.h"
@@ -122,6 +123,112 @@ TEST(CaseScene, AFurcationInTheSceneIsInTheTrueChartAndRaisesTheStage) {
   ASSERT_NE(truth.Find(46), nullptr);
   EXPECT_EQ(truth.Find(46)->furcation, 2);
   EXPECT_EQ(Classify2017(truth).stage, Stage::kIII);
+}
+
+// A scene's patient: the history read from `patient:`, the mobility from a
+// tooth, and the radiograph's bone loss measured on the anatomy (the crest
+// under the deepest attachment loss over the root's length); the grade follows.
+TEST(CaseScene, APatientInTheSceneGivesStageIVAndTheGrade) {
+  const fs::path dir = Dir("patient");
+  std::ifstream in(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "periodontal_probing.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string scene_text = text.str();
+  const std::string teeth = "objects:\n";
+  ASSERT_NE(scene_text.find(teeth), std::string::npos);
+  scene_text.replace(
+      scene_text.find(teeth), teeth.size(),
+      "patient: {age: 38, cigarettes_per_day: 12, teeth_lost_to_periodontitis: "
+      "0, opposing_pairs: 12}\n" +
+          teeth);
+  const std::string tooth46 = "  - tooth: 46\n";
+  ASSERT_NE(scene_text.find(tooth46), std::string::npos);
+  scene_text.replace(scene_text.find(tooth46), tooth46.size(),
+                     tooth46 + "    mobility: 2\n");
+  std::ofstream(dir / "scene.yaml") << scene_text;
+  const SceneSpec scene = LoadSceneSpec(dir / "scene.yaml");
+  ASSERT_TRUE(scene.patient.given);
+  EXPECT_EQ(scene.patient.age_years, 38);
+  EXPECT_EQ(scene.patient.cigarettes_per_day, 12);
+  const PerioChart truth = TrueChart(scene, {47, 46, 45, 44});
+  EXPECT_EQ(truth.Find(46)->mobility, 2);
+  // 46's worst site: a 7 mm pocket with 1 mm of recession: the crest 7.5 mm
+  // below the CEJ, 6 mm below a healthy crest, over the root below it.
+  const double root = Dimensions(FdiTooth::Parse(46)).root_length;
+  ASSERT_TRUE(truth.patient.bone_loss_pct.has_value());
+  EXPECT_NEAR(*truth.patient.bone_loss_pct, 100.0 * 6.0 / (root - 1.5), 1e-9);
+  const Diagnosis d = Classify2017(truth);
+  EXPECT_EQ(d.stage, Stage::kIV) << "stage III with mobility 2: " << d.Summary();
+  EXPECT_EQ(d.grade, Grade::kC) << "12 cigarettes a day";
+  EXPECT_GT(d.bone_loss_per_age, 1.0) << "about 46 % lost at 38";
+
+  // A wrong key, a wrong value: the file's line and what is expected.
+  std::ofstream(dir / "bad.yaml") << "patient: {age: 300, smoker: true}\n"
+                                     "objects:\n  - tooth: 46\n    mobility: 4\n";
+  try {
+    LoadSceneSpec(dir / "bad.yaml");
+    ADD_FAILURE() << "a bad patient loaded";
+  } catch (const LoadError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bad.yaml:1:"), std::string::npos) << what;
+    EXPECT_NE(what.find("'smoker'"), std::string::npos) << what;
+    EXPECT_NE(what.find("age"), std::string::npos) << what;
+    EXPECT_NE(what.find("bad.yaml:4:"), std::string::npos) << what;
+    EXPECT_NE(what.find("mobility"), std::string::npos) << what;
+  }
+}
+
+// Generated cases of every stage, extent and grade the sextant's teeth can give
+// classify as asked over many seeds; the others are refused every time.
+TEST(CaseScene, EveryStageExtentAndGradeIsDrawnAsAskedOrRefused) {
+  const LessonSpec lesson = LoadLessonSpec(fs::path(SULCUS_SOURCE_DIR) / "lessons" /
+                                           "periodontal_probing.yaml");
+  const SceneSpec scene = LoadSceneSpec(lesson.scene);
+  std::set<std::string> refused;
+  int drawn = 0;
+  for (const Stage stage : {Stage::kI, Stage::kII, Stage::kIII, Stage::kIV})
+    for (const Extent extent : {Extent::kLocalized, Extent::kGeneralized})
+      for (const Grade grade : {Grade::kNone, Grade::kA, Grade::kB, Grade::kC}) {
+        CaseSpec c;
+        c.generated = true;
+        c.stage = stage;
+        c.extent = extent;
+        c.grade = grade;
+        const std::string name =
+            std::string(ToString(stage)) + " " + ToString(extent) + " " + ToString(grade);
+        int ok = 0, failed = 0;
+        for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+          try {
+            const SceneSpec s = ApplyCase(scene, lesson.teeth, c, seed);
+            const Diagnosis d = Classify2017(TrueChart(s, lesson.teeth));
+            EXPECT_EQ(d.stage, stage) << name << " seed " << seed;
+            EXPECT_EQ(d.extent, extent) << name << " seed " << seed;
+            if (grade != Grade::kNone) {
+              EXPECT_EQ(d.grade, grade) << name;
+            }
+            EXPECT_EQ(s.patient.given, grade != Grade::kNone || stage == Stage::kIV)
+                << name;
+            ++ok;
+          } catch (const std::runtime_error&) {
+            ++failed;
+          }
+        }
+        EXPECT_TRUE(ok == 0 || failed == 0) << name << ": drawn " << ok << ", refused "
+                                            << failed << " (a seed should not decide)";
+        if (ok == 0) refused.insert(name);
+        drawn += ok;
+      }
+  // Four teeth cannot hold a localized stage I (its 2 teeth are 50 %), and
+  // bone loss at stage II or more is more than a quarter of a percent a year at
+  // any age: grade A needs stage I.
+  EXPECT_EQ(refused,
+            (std::set<std::string>{"I localized none", "I localized A", "I localized B",
+                                   "I localized C", "II localized A", "II generalized A",
+                                   "III localized A", "III generalized A",
+                                   "IV localized A", "IV generalized A"}))
+      << ::testing::PrintToString(refused);
+  std::printf("figure: %d cases drawn as asked over %zu combinations refused\n", drawn,
+              refused.size());
 }
 
 }  // namespace

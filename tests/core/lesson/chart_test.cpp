@@ -178,5 +178,124 @@ TEST(Staging2017, AFurcationClassIIMakesStageIIIFromStageI) {
   EXPECT_EQ(Classify2017(c).stage, Stage::kI) << "class I does not raise it";
 }
 
+// Stage III by CAL at 16 and 26 (5 mm), stage IV by what the history adds.
+PerioChart StageIII() {
+  PerioChart c = Healthy(TwentyFour());
+  Set(&c, 16, 0, 6, 5);
+  Set(&c, 26, 2, 6, 5);
+  c.patient.given = true;
+  c.patient.age_years = 45;
+  return c;
+}
+
+TEST(Staging2017, WithoutThePatientStageIVAndTheGradeAreNotAssessed) {
+  PerioChart c = StageIII();
+  c.patient = {};
+  const Diagnosis d = Classify2017(c);
+  EXPECT_EQ(d.stage, Stage::kIII);
+  EXPECT_FALSE(d.stage_iv_assessable);
+  EXPECT_EQ(d.grade, Grade::kNone);
+  EXPECT_EQ(d.Summary(), "periodontitis stage III, localized");
+}
+
+TEST(Staging2017, StageIVByToothLossOrComplexityOnStageIII) {
+  PerioChart c = StageIII();
+  Diagnosis d = Classify2017(c);
+  EXPECT_TRUE(d.stage_iv_assessable);
+  EXPECT_EQ(d.stage, Stage::kIII) << "no tooth lost, no complexity";
+  c.patient.teeth_lost_to_periodontitis = 4;
+  EXPECT_EQ(Classify2017(c).stage, Stage::kIII) << "4 teeth lost: still III";
+  c.patient.teeth_lost_to_periodontitis = 5;
+  EXPECT_EQ(Classify2017(c).stage, Stage::kIV) << "5 teeth lost";
+  c.patient.teeth_lost_to_periodontitis = 0;
+  c.Find(26)->mobility = 2;
+  d = Classify2017(c);
+  EXPECT_EQ(d.stage, Stage::kIV) << "secondary occlusal trauma";
+  bool named = false;
+  for (const std::string& step : d.path)
+    named |= step.find("mobility of degree 2 or more") != std::string::npos &&
+             step.find("26") != std::string::npos;
+  EXPECT_TRUE(named) << "the path names the complexity and the tooth";
+  c.Find(26)->mobility = 1;
+  EXPECT_EQ(Classify2017(c).stage, Stage::kIII) << "mobility 1 is not complexity";
+  c.patient.opposing_pairs = 9;
+  EXPECT_EQ(Classify2017(c).stage, Stage::kIV) << "fewer than 10 opposing pairs";
+  c.patient.opposing_pairs = 10;
+  c.patient.drifting_flaring = true;
+  EXPECT_EQ(Classify2017(c).stage, Stage::kIV) << "drifting or flaring";
+  c.patient.drifting_flaring = false;
+  c.patient.bite_collapse = true;
+  EXPECT_EQ(Classify2017(c).stage, Stage::kIV) << "bite collapse";
+}
+
+TEST(Staging2017, ToothLossRaisesStageIOrIIToIIIButComplexityNeedsStageIII) {
+  PerioChart c = Healthy(TwentyFour());
+  Set(&c, 16, 0, 3, 2);  // stage I
+  Set(&c, 26, 0, 3, 2);
+  c.patient.given = true;
+  c.Find(16)->mobility = 2;
+  EXPECT_EQ(Classify2017(c).stage, Stage::kI)
+      << "complexity alone does not make stage I stage IV";
+  c.patient.teeth_lost_to_periodontitis = 2;
+  const Diagnosis d = Classify2017(c);
+  EXPECT_EQ(d.stage, Stage::kIV)
+      << "2 teeth lost make it III, and its mobility then makes it IV: " << d.Summary();
+  c.Find(16)->mobility = 0;
+  EXPECT_EQ(Classify2017(c).stage, Stage::kIII);
+}
+
+TEST(Grading2017, BoneLossOverAgeThenSmokingAndDiabetesRaiseIt) {
+  PerioChart c = StageIII();
+  Diagnosis d = Classify2017(c);
+  EXPECT_EQ(d.grade, Grade::kB) << "no bone loss known: B assumed";
+  c.patient.bone_loss_pct = 9;  // 0.20 a year at 45
+  d = Classify2017(c);
+  EXPECT_EQ(d.grade, Grade::kA);
+  EXPECT_NEAR(d.bone_loss_per_age, 0.2, 1e-12);
+  EXPECT_EQ(d.Summary(), "periodontitis stage III, localized, grade A");
+  c.patient.bone_loss_pct = 45;  // 1.0: B
+  EXPECT_EQ(Classify2017(c).grade, Grade::kB);
+  c.patient.bone_loss_pct = 50;  // 1.11: C
+  EXPECT_EQ(Classify2017(c).grade, Grade::kC);
+  c.patient.bone_loss_pct = 9;
+  c.patient.cigarettes_per_day = 5;
+  EXPECT_EQ(Classify2017(c).grade, Grade::kB) << "a smoker under 10 a day: at least B";
+  c.patient.cigarettes_per_day = 10;
+  EXPECT_EQ(Classify2017(c).grade, Grade::kC) << "10 a day: C";
+  c.patient.cigarettes_per_day = 0;
+  c.patient.hba1c_pct = 6.5;
+  EXPECT_EQ(Classify2017(c).grade, Grade::kB) << "diabetes under 7.0 %: at least B";
+  c.patient.hba1c_pct = 7.0;
+  EXPECT_EQ(Classify2017(c).grade, Grade::kC);
+  c.patient.bone_loss_pct = 50;
+  c.patient.hba1c_pct = 6.5;
+  EXPECT_EQ(Classify2017(c).grade, Grade::kC) << "a modifier never lowers the grade";
+}
+
+TEST(Staging2017, FirstMolarsAndIncisorsOnlyAreTheMolarIncisorPattern) {
+  PerioChart c = Healthy(TwentyFour());
+  Set(&c, 16, 0, 6, 5);
+  Set(&c, 31, 2, 6, 5);
+  Set(&c, 46, 3, 6, 5);
+  Diagnosis d = Classify2017(c);
+  EXPECT_EQ(d.extent, Extent::kMolarIncisor) << d.Summary();
+  EXPECT_EQ(d.Summary(), "periodontitis stage III, molar-incisor");
+  Set(&c, 14, 0, 6, 5);  // a premolar too
+  EXPECT_EQ(Classify2017(c).extent, Extent::kLocalized);
+  c = Healthy(TwentyFour());
+  Set(&c, 16, 0, 6, 5);
+  Set(&c, 26, 0, 6, 5);
+  EXPECT_EQ(Classify2017(c).extent, Extent::kLocalized)
+      << "first molars alone are not the pattern: Sulcus asks for both kinds";
+  // A sextant without incisors cannot show it.
+  PerioChart s = Healthy({47, 46, 45, 44});
+  Set(&s, 46, 0, 6, 5);
+  Set(&s, 44, 0, 3, 2);
+  EXPECT_NE(Classify2017(s).extent, Extent::kMolarIncisor);
+  EXPECT_EQ(ExtentFromString("molar-incisor"), Extent::kMolarIncisor);
+  EXPECT_EQ(GradeFromString("C"), Grade::kC);
+  EXPECT_FALSE(GradeFromString("D"));
+}
+
 }  // namespace
 }  // namespace sulcus

@@ -138,6 +138,16 @@ TEST(LessonFile, ACaseTheTeethCannotHoldIsRefused) {
                                       "case: {stage: II, extent: localized}\n"
                                       "steps: [{instruction: x, complete: read}]\n");
   EXPECT_TRUE(Errors(ok).empty()) << ::testing::PrintToString(Errors(ok));
+  const fs::path pattern =
+      Write("pattern_case.yaml", "name: pattern\nscene: " + scene.string() +
+                                     "\nteeth: [47, 46, 45, 44]\n"
+                                     "case: {stage: III, extent: molar-incisor}\n"
+                                     "steps: [{instruction: x, complete: read}]\n");
+  const auto pe = Errors(pattern);
+  ASSERT_EQ(pe.size(), 1u) << ::testing::PrintToString(pe);
+  EXPECT_NE(pe[0].find(":4:28: a generated case is localized or generalized"),
+            std::string::npos)
+      << pe[0];
 }
 
 // A key given twice is an error naming both lines (a YAML reader would keep

@@ -367,6 +367,43 @@ TEST(GeneratedCase, AnAssessmentOnADrawnCaseStoresItsSeedAndRebuilds) {
   EXPECT_EQ(ReportJson(again.result, {}), ReportJson(out.result, {}));
 }
 
+// A case rebuilds only what its pockets change (the gingiva, at the case's
+// resolution, and the bone where its crest moved), and the case saved as a
+// scene of its own opens from the trees its lesson built.
+TEST(GeneratedCase, OnlyTheGingivaIsRebuiltAndASavedCaseOpensFromTheCache) {
+  const fs::path lesson_file =
+      fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing_case.yaml";
+  const LessonSpec spec = LoadLessonSpec(lesson_file);
+  const fs::path cache = Out("case-cache");
+  fs::remove_all(cache);
+  // A first case builds everything; the next rebuilds only what changed.
+  const auto first = CompileScene(LessonScene(spec, 4243), cache);
+  EXPECT_TRUE(first->tree_built[0]) << "a fresh cache";
+  const auto drawn = CompileScene(LessonScene(spec, 4242), cache);
+  int gingiva = 0;
+  for (std::size_t i = 0; i < drawn->spec.objects.size(); ++i) {
+    const ObjectSpec& o = drawn->spec.objects[i];
+    if (o.kind == ObjectSpec::Kind::kGingiva) {
+      ++gingiva;
+      EXPECT_TRUE(drawn->tree_built[i]) << o.name << ": its pockets changed";
+      EXPECT_EQ(drawn->trees[i].NumLeaves(), static_cast<std::size_t>(kCaseGingivaLeaves))
+          << o.name;
+    } else if (o.kind == ObjectSpec::Kind::kTooth) {
+      EXPECT_FALSE(drawn->tree_built[i]) << o.name << ": a tooth is the scene's";
+    }
+  }
+  EXPECT_EQ(gingiva, 4);
+  // Saved, and opened as a scene: nothing is built.
+  const fs::path saved = Out("case-4242.yaml");
+  fs::remove(saved);
+  const SceneSpec back = SaveCaseScene(spec, spec.case_spec, 4242, saved);
+  const auto opened = CompileScene(back, cache);
+  for (std::size_t i = 0; i < opened->spec.objects.size(); ++i) {
+    EXPECT_FALSE(opened->tree_built[i]) << opened->spec.objects[i].name;
+    EXPECT_EQ(opened->trees[i].r, drawn->trees[i].r) << opened->spec.objects[i].name;
+  }
+}
+
 // The tip held 6.8 mm down 46 DB's line for `dwell` ticks from tick 1, then
 // lifted far away for `away` ticks.
 std::vector<TickRecord> DwellAt46DB(const CompiledScene& scene, int dwell, int away) {
