@@ -105,6 +105,13 @@ constexpr float kFloorSlack = 1.3f;
 
 namespace {
 
+// Searching every candidate for each of `pieces` costs about a nanosecond a
+// pair; it pays against lists of tens of millions of entries up to about 10^8
+// pairs (a few tenths of a second).
+bool SearchPays(std::size_t pieces, std::size_t cands) {
+  return static_cast<double>(pieces) * static_cast<double>(cands) <= 1e8;
+}
+
 // A candidate encloses a piece within a protrusion bound eps: the test the
 // lists are made with (ComputeCovers' ball query).
 bool Encloses(const Candidate& c, const Piece& p, double eps) {
@@ -135,7 +142,7 @@ bool AddHardPieces(const std::vector<Candidate>& cands, const std::vector<Piece>
   for (std::size_t p = 0; p < pieces.size(); ++p)
     if (floor[p] == inf || std::nextafter(kFloorSlack * floor[p], inf) > feps)
       hard.push_back(static_cast<std::int32_t>(p));
-  if (hard.size() > std::max<std::size_t>(64, pieces.size() / 400)) return false;
+  if (!SearchPays(hard.size(), cands.size())) return false;
   struct Extra {
     std::int32_t cand;
     std::int32_t piece;
@@ -228,7 +235,7 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
       use_lists(std::move(lists), hi);  // the lists the bracket computes anyway
       break;
     }
-    if (unreached.size() > std::max<std::size_t>(64, pieces.size() / 400)) {
+    if (!SearchPays(unreached.size(), cands.size())) {
       if (e < hi) break;  // the bracket's own lists at the earlier round's bound
       tick();             // (the bracket's attempt here fails: pieces out of reach)
       next();
