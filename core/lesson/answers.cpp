@@ -10,6 +10,7 @@
 #include "core/anatomy/soft_tissue.h"
 #include "core/anatomy/tooth.h"
 #include "core/base/yaml_reader.h"
+#include "core/lesson/read_diagnosis.h"
 
 namespace sulcus {
 namespace {
@@ -29,26 +30,16 @@ std::optional<DeclaredDiagnosis> ReadDiagnosis(YamlReader& r, const YAML::Node& 
               "(localized, generalized, molar-incisor)");
       return std::nullopt;
     }
-    const std::string st = r.Text(n["stage"], "stage"),
-                      ex = r.Text(n["extent"], "extent");
-    const auto stage = StageFromString(st);
+    if (const auto stage = ReadStage(r, n["stage"])) d.stage = *stage;
+    const std::string ex = r.Text(n["extent"], "extent");
     const auto extent = ExtentFromString(ex);
-    if (!stage || *stage == Stage::kNone)
-      r.Error(n["stage"], "'stage' must be I, II, III or IV, not '" + st + "'");
     if (!extent || *extent == Extent::kNone)
       r.Error(n["extent"],
               "unknown extent '" + ex + "'" +
                   Suggest(ex, {"localized", "generalized", "molar-incisor"}));
-    if (stage) d.stage = *stage;
     if (extent) d.extent = *extent;
-    if (n["grade"]) {
-      const std::string g = r.Text(n["grade"], "grade");
-      const auto grade = GradeFromString(g);
-      if (!grade || *grade == Grade::kNone)
-        r.Error(n["grade"], "'grade' must be A, B or C, not '" + g + "'");
-      else
-        d.grade = *grade;
-    }
+    if (n["grade"])
+      if (const auto grade = ReadGrade(r, n["grade"])) d.grade = *grade;
   }
   if (n["tick"])
     d.tick = static_cast<std::uint64_t>(r.Number(n["tick"], "tick", 0, 1e15, 0));

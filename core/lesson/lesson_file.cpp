@@ -10,6 +10,7 @@
 #include "core/base/yaml_reader.h"
 #include "core/lesson/inspection.h"
 #include "core/lesson/lesson_spec.h"
+#include "core/lesson/read_diagnosis.h"
 #include "core/scene/scene.h"
 
 namespace sulcus {
@@ -616,22 +617,10 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   if (const YAML::Node c = root["case"]; c && r.IsMap(c, "'case'")) {
     r.CheckKeys(c, {"stage", "extent", "grade", "seed"}, "'case'");
     spec.case_spec.generated = true;
-    if (c["stage"]) {
-      const std::string st = r.Text(c["stage"], "stage");
-      const auto stage = StageFromString(st);
-      if (!stage || *stage == Stage::kNone)
-        r.Error(c["stage"], "'stage' must be I, II, III or IV, not '" + st + "'");
-      else
-        spec.case_spec.stage = *stage;
-    }
-    if (c["grade"]) {
-      const std::string g = r.Text(c["grade"], "grade");
-      const auto grade = GradeFromString(g);
-      if (!grade || *grade == Grade::kNone)
-        r.Error(c["grade"], "'grade' must be A, B or C, not '" + g + "'");
-      else
-        spec.case_spec.grade = *grade;
-    }
+    if (c["stage"])
+      if (const auto stage = ReadStage(r, c["stage"])) spec.case_spec.stage = *stage;
+    if (c["grade"])
+      if (const auto grade = ReadGrade(r, c["grade"])) spec.case_spec.grade = *grade;
     if (c["extent"]) {
       const std::string ex = r.Text(c["extent"], "extent");
       const auto extent = ExtentFromString(ex);
