@@ -270,6 +270,21 @@ TEST(Students, TheMisreadingOneFailsReadingAtExactlyItsThreeSites) {
       << "the technique was right";
   EXPECT_TRUE(Lines(r, "technique", RubricLine::Status::kPartial).empty());
   EXPECT_EQ(Sites(Lines(r, "charting", RubricLine::Status::kFail)), expected);
+  // Its calibration shows the examiner it is: 2 mm over at three interdental
+  // sites, right at the mid-sites, short of the target; the careful one on it.
+  const Agreement& g = r.agreement;
+  EXPECT_EQ(g.sites, 24);
+  EXPECT_NEAR(g.within_1mm_pct, 100.0 * 21 / 24, 1e-9);
+  ASSERT_TRUE(g.interdental.mean_mm() && g.mid.mean_mm());
+  EXPECT_NEAR(*g.interdental.mean_mm(), 6.0 / 16, 1e-12);
+  EXPECT_EQ(*g.mid.mean_mm(), 0.0);
+  ASSERT_TRUE(g.depth_kappa);
+  EXPECT_LT(*g.depth_kappa, 0.95);
+  EXPECT_FALSE(g.MeetsTarget());
+  const Agreement careful = Take("careful").result.agreement;
+  ASSERT_TRUE(careful.depth_kappa);
+  EXPECT_DOUBLE_EQ(*careful.depth_kappa, 1.0);
+  EXPECT_TRUE(careful.MeetsTarget());
 }
 
 TEST(Students, TheSpotProberFailsCoverageOnEverySurface) {
