@@ -115,10 +115,15 @@ void InstructorDialog::BuildCaseTab(QTabWidget* tabs) {
     }
   }
   case_stage_ = new QComboBox;
-  case_stage_->addItems({"I", "II", "III"});
+  case_stage_->addItems({"I", "II", "III", "IV"});
   case_stage_->setCurrentIndex(2);
   case_extent_ = new QComboBox;
   case_extent_->addItems({"localized", "generalized"});
+  case_grade_ = new QComboBox;
+  case_grade_->addItems({"not assessed", "A", "B", "C"});
+  case_grade_->setToolTip(
+      "A grade (or stage IV) gives the case a patient: age, smoking, diabetes, teeth "
+      "lost, the bite");
   case_seed_ = new QSpinBox;
   case_seed_->setRange(0, 2147483647);
   case_seed_->setValue(1);
@@ -132,6 +137,7 @@ void InstructorDialog::BuildCaseTab(QTabWidget* tabs) {
   form->addRow("Lesson", case_lesson_);
   form->addRow("Stage", case_stage_);
   form->addRow("Extent", case_extent_);
+  form->addRow("Grade", case_grade_);
   form->addRow("Seed", seed_row);
   layout->addLayout(form);
   auto* buttons = new QHBoxLayout;
@@ -150,10 +156,12 @@ void InstructorDialog::BuildCaseTab(QTabWidget* tabs) {
   layout->addWidget(case_chart_, 1);
   auto redraw = [this] {
     if (case_lesson_->currentIndex() < 0) return;
-    DrawCase(case_lesson_->currentData().toString().toStdString(),
-             *StageFromString(case_stage_->currentText().toStdString()),
-             *ExtentFromString(case_extent_->currentText().toStdString()),
-             static_cast<std::uint64_t>(case_seed_->value()));
+    DrawCase(
+        case_lesson_->currentData().toString().toStdString(),
+        *StageFromString(case_stage_->currentText().toStdString()),
+        *ExtentFromString(case_extent_->currentText().toStdString()),
+        static_cast<std::uint64_t>(case_seed_->value()),
+        GradeFromString(case_grade_->currentText().toStdString()).value_or(Grade::kNone));
   };
   connect(draw, &QPushButton::clicked, this, redraw);
   connect(reseed, &QPushButton::clicked, this, [this, redraw] {
@@ -164,9 +172,12 @@ void InstructorDialog::BuildCaseTab(QTabWidget* tabs) {
   connect(case_save_, &QPushButton::clicked, this, [this] {
     if (!case_spec_) return;
     const std::filesystem::path scene = case_spec_->scene;
-    const std::string name = scene.stem().string() + "_stage_" + ToString(case_.stage) +
-                             "_" + ToString(case_.extent) + "_" +
-                             std::to_string(case_seed_value_) + ".yaml";
+    const std::string name =
+        scene.stem().string() + "_stage_" + ToString(case_.stage) + "_" +
+        ToString(case_.extent) +
+        (case_.grade == Grade::kNone ? std::string()
+                                     : std::string("_grade_") + ToString(case_.grade)) +
+        "_" + std::to_string(case_seed_value_) + ".yaml";
     const QString f = QFileDialog::getSaveFileName(
         this, "Save the case as a scene", Q((scene.parent_path() / name).string()),
         "Scenes (*.yaml)");
@@ -176,7 +187,7 @@ void InstructorDialog::BuildCaseTab(QTabWidget* tabs) {
 }
 
 bool InstructorDialog::DrawCase(const std::filesystem::path& lesson, Stage stage,
-                                Extent extent, std::uint64_t seed) {
+                                Extent extent, std::uint64_t seed, Grade grade) {
   case_spec_.reset();
   case_save_->setEnabled(false);
   try {
@@ -185,6 +196,7 @@ bool InstructorDialog::DrawCase(const std::filesystem::path& lesson, Stage stage
     c.generated = true;
     c.stage = stage;
     c.extent = extent;
+    c.grade = grade;
     c.seed = seed;
     const SceneSpec scene = ApplyCase(LoadSceneSpec(spec.scene), spec.teeth, c, seed);
     const PerioChart truth = TrueChart(scene, spec.teeth);
@@ -208,6 +220,7 @@ bool InstructorDialog::DrawCase(const std::filesystem::path& lesson, Stage stage
     case_lesson_->setCurrentIndex(index);
     case_stage_->setCurrentText(ToString(stage));
     case_extent_->setCurrentText(ToString(extent));
+    case_grade_->setCurrentIndex(grade == Grade::kNone ? 0 : static_cast<int>(grade));
     case_seed_->setValue(static_cast<int>(seed));
     case_spec_ = std::move(spec);
     case_ = c;

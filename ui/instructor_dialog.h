@@ -35,11 +35,12 @@ class InstructorDialog : public QDialog {
   /// Deletes a student's results (after the window asked to confirm).
   int DeleteStudent(const std::string& name);
 
-  // A case drawn for a probing lesson (stage, extent, seed), previewed as its
+  // A case drawn for a probing lesson (stage, extent, grade, seed), previewed as its
   // true chart and classification, saved as a scene of its own.
   /// Draws it; false (and the reason shown) when no such case fits the lesson's teeth.
+  /// A grade (or stage IV) gives the case a patient drawn with it.
   bool DrawCase(const std::filesystem::path& lesson, Stage stage, Extent extent,
-                std::uint64_t seed);
+                std::uint64_t seed, Grade grade = Grade::kNone);
   /// Saves the drawn case; false (and the reason shown) when it cannot.
   bool SaveCase(const std::filesystem::path& scene_file);
   const ChartWidget* case_chart() const { return case_chart_; }
@@ -53,7 +54,8 @@ class InstructorDialog : public QDialog {
   QLabel* summary_ = nullptr;
   int students_ = 0;
   std::vector<std::filesystem::path> lesson_dirs_;
-  QComboBox *case_lesson_ = nullptr, *case_stage_ = nullptr, *case_extent_ = nullptr;
+  QComboBox *case_lesson_ = nullptr, *case_stage_ = nullptr, *case_extent_ = nullptr,
+            *case_grade_ = nullptr;
   QSpinBox* case_seed_ = nullptr;
   QPushButton* case_save_ = nullptr;
   ChartWidget* case_chart_ = nullptr;

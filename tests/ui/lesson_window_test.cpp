@@ -665,6 +665,23 @@ TEST(Instructor, RefusesAWrongPassphraseAndShowsEveryStudentWithTheRightOne) {
   EXPECT_TRUE(view->case_summary().contains("stage III, localized"))
       << view->case_summary().toStdString();
   EXPECT_FALSE(view->case_summary().contains("stage II,"));
+  // Stage IV with a grade: the patient drawn with it, the preview says so, the
+  // saved scene keeps the patient; stage III grade A is refused with the reason.
+  ASSERT_TRUE(view->DrawCase(lesson, Stage::kIV, Extent::kGeneralized, 3, Grade::kC))
+      << view->case_summary().toStdString();
+  EXPECT_TRUE(
+      view->case_summary().contains("periodontitis stage IV, generalized, grade C"))
+      << view->case_summary().toStdString();
+  QApplication::processEvents();
+  EXPECT_TRUE(Save(d, "instructor_case_grade.png"));
+  const fs::path graded = Out("case_stage_iv_c.yaml");
+  fs::remove(graded);
+  ASSERT_TRUE(view->SaveCase(graded));
+  EXPECT_EQ(Classify2017(TrueChart(LoadSceneSpec(graded), spec.teeth)).Summary(),
+            "periodontitis stage IV, generalized, grade C");
+  EXPECT_FALSE(view->DrawCase(lesson, Stage::kIII, Extent::kLocalized, 3, Grade::kA));
+  EXPECT_TRUE(view->case_summary().contains("No case drawn"))
+      << view->case_summary().toStdString();
 }
 
 TEST(LessonWindow, AssessmentShowsNoTruthAndLocksTheAids) {
