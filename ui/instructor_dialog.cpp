@@ -20,6 +20,7 @@
 #include <fstream>
 #include <map>
 
+#include "core/lesson/calibration.h"
 #include "core/lesson/results.h"
 #include "core/scene/scene.h"
 #include "ui/chart_widget.h"
@@ -60,8 +61,16 @@ InstructorDialog::InstructorDialog(std::filesystem::path results_db,
                    "signed bias (mm)"});
   cohort_->setToolTip(
       "The sites the cohort charts worst, across every attempt of every student");
+  calibration_ = Table({"student", "sites charted", "within 1 mm", "weighted kappa",
+                        "signed bias (mm)", "interdental bias (mm)",
+                        "deep-site bias (mm)", "target"});
+  calibration_->setToolTip(
+      "Each student's charted depths over all their attempts against the truth; the "
+      "target examiners are calibrated to: within 1 mm at 90 % of sites or more and a "
+      "weighted kappa above 0.6");
   tabs->addTab(attempts_, "Every attempt");
   tabs->addTab(cohort_, "The cohort's sites");
+  tabs->addTab(calibration_, "Calibration");
   BuildCaseTab(tabs);
   layout->addWidget(tabs, 1);
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
@@ -295,13 +304,45 @@ void InstructorDialog::Refresh() {
       attempts_->setItem(r, c, item);
     }
   }
+  // Each student's calibration over their attempts, against the target.
+  std::vector<ChartedSite> charted;
+  const std::vector<SiteRow> site_rows = db.Sites();
+  for (const SiteRow& s : site_rows)
+    if (s.entered_mm)
+      charted.push_back({s.student, s.fdi, s.site, *s.entered_mm, s.truth_mm});
+  const std::vector<ExaminerCalibration> cal = CohortCalibration(charted);
+  calibration_->setRowCount(static_cast<int>(cal.size()));
+  int on_target = 0;
+  for (int r = 0; r < static_cast<int>(cal.size()); ++r) {
+    const Agreement& g = cal[static_cast<std::size_t>(r)].depths;
+    on_target += g.MeetsTarget();
+    auto mm = [](const Bias& b) {
+      return b.mean_mm() ? QString::asprintf("%+.2f", *b.mean_mm()) : QString("-");
+    };
+    const QStringList cells = {
+        Q(cal[static_cast<std::size_t>(r)].student),
+        QString::number(g.sites),
+        QString("%1 %").arg(g.within_1mm_pct, 0, 'f', 0),
+        g.depth_kappa ? QString::number(*g.depth_kappa, 'f', 2) : QString("-"),
+        mm(g.all),
+        mm(g.interdental),
+        mm(g.deep),
+        g.MeetsTarget() ? QString("met") : QString("not met")};
+    for (int c = 0; c < cells.size(); ++c) {
+      auto* item = new QTableWidgetItem(cells[c]);
+      if (c == cells.size() - 1 && !g.MeetsTarget())
+        item->setForeground(QColor(190, 40, 40));
+      calibration_->setItem(r, c, item);
+    }
+  }
+  calibrated_ = on_target;
   // Sites across the cohort, worst first.
   struct Acc {
     int n = 0, within = 0;
     double abs = 0, signed_sum = 0;
   };
   std::map<std::pair<int, int>, Acc> acc;
-  for (const SiteRow& s : db.Sites()) {
+  for (const SiteRow& s : site_rows) {
     if (!s.entered_mm) continue;
     Acc& a = acc[{s.fdi, s.site}];
     const int e = *s.entered_mm - s.truth_mm;
@@ -324,12 +365,17 @@ void InstructorDialog::Refresh() {
     for (int c = 0; c < cells.size(); ++c)
       cohort_->setItem(r, c, new QTableWidgetItem(cells[c]));
   }
-  summary_->setText(QString("%1 students, %2 attempts. %3")
+  summary_->setText(QString("%1 students, %2 attempts. %3%4")
                         .arg(students_)
                         .arg(attempts.size())
                         .arg(rows.empty() ? QString()
-                                          : QString("The site charted worst: %1.")
-                                                .arg(cohort_->item(0, 0)->text())));
+                                          : QString("The site charted worst: %1. ")
+                                                .arg(cohort_->item(0, 0)->text()))
+                        .arg(cal.empty() ? QString()
+                                         : QString("%1 of %2 students on the calibration "
+                                                   "target.")
+                                               .arg(on_target)
+                                               .arg(cal.size())));
 }
 
 }  // namespace sulcus::ui

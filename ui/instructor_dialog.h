@@ -32,6 +32,9 @@ class InstructorDialog : public QDialog {
   int students() const { return students_; }
   const QTableWidget* attempts_table() const { return attempts_; }
   const QTableWidget* cohort_table() const { return cohort_; }
+  /// Each student's calibration against the target, and how many meet it.
+  const QTableWidget* calibration_table() const { return calibration_; }
+  int calibrated() const { return calibrated_; }
   /// Deletes a student's results (after the window asked to confirm).
   int DeleteStudent(const std::string& name);
 
@@ -51,6 +54,8 @@ class InstructorDialog : public QDialog {
   std::filesystem::path db_file_;
   QTableWidget* attempts_ = nullptr;
   QTableWidget* cohort_ = nullptr;
+  QTableWidget* calibration_ = nullptr;
+  int calibrated_ = 0;
   QLabel* summary_ = nullptr;
   int students_ = 0;
   std::vector<std::filesystem::path> lesson_dirs_;

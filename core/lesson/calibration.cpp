@@ -40,32 +40,34 @@ std::optional<double> CohenKappa(const std::vector<bool>& a, const std::vector<b
   return (po - pe) / (1 - pe);
 }
 
-Agreement Agree(const PerioChart& examiner, const PerioChart& reference) {
+namespace {
+
+// One site charted by both: the examiner's value and the reference's.
+struct SitePair {
+  int fdi = 0, site = 0, examiner_mm = 0, reference_mm = 0;
+  bool examiner_bled = false, reference_bled = false;
+};
+
+Agreement AgreeSites(const std::vector<SitePair>& pairs) {
   Agreement g;
   std::vector<int> depth_e, depth_r;
   std::vector<bool> bleed_e, bleed_r;
   int exact = 0, within = 0;
-  for (const ToothChart& r : reference.teeth) {
-    const ToothChart* e = examiner.Find(r.fdi);
-    if (!e || !r.present || !e->present) continue;
-    const bool posterior = r.fdi % 10 >= 4;
-    for (int s = 0; s < kSitesPerTooth; ++s) {
-      const SiteValues &ve = e->sites[s], &vr = r.sites[s];
-      if (!ve.measured() || !vr.measured()) continue;
-      const int d = *ve.pd_mm - *vr.pd_mm;
-      ++g.sites;
-      exact += d == 0;
-      within += std::abs(d) <= 1;
-      depth_e.push_back(*ve.pd_mm);
-      depth_r.push_back(*vr.pd_mm);
-      bleed_e.push_back(ve.bleeding);
-      bleed_r.push_back(vr.bleeding);
-      for (Bias* b : {&g.all, IsInterdental(s) ? &g.interdental : &g.mid,
-                      posterior ? &g.posterior : &g.anterior,
-                      *vr.pd_mm >= 5 ? &g.deep : &g.shallow}) {
-        ++b->sites;
-        b->sum_mm += d;
-      }
+  for (const SitePair& p : pairs) {
+    const int d = p.examiner_mm - p.reference_mm;
+    ++g.sites;
+    exact += d == 0;
+    within += std::abs(d) <= 1;
+    depth_e.push_back(p.examiner_mm);
+    depth_r.push_back(p.reference_mm);
+    bleed_e.push_back(p.examiner_bled);
+    bleed_r.push_back(p.reference_bled);
+    const bool posterior = p.fdi % 10 >= 4;
+    for (Bias* b : {&g.all, IsInterdental(p.site) ? &g.interdental : &g.mid,
+                    posterior ? &g.posterior : &g.anterior,
+                    p.reference_mm >= 5 ? &g.deep : &g.shallow}) {
+      ++b->sites;
+      b->sum_mm += d;
     }
   }
   if (g.sites == 0) return g;
@@ -74,6 +76,39 @@ Agreement Agree(const PerioChart& examiner, const PerioChart& reference) {
   g.depth_kappa = WeightedKappa(depth_e, depth_r);
   g.bleeding_kappa = CohenKappa(bleed_e, bleed_r);
   return g;
+}
+
+}  // namespace
+
+Agreement Agree(const PerioChart& examiner, const PerioChart& reference) {
+  std::vector<SitePair> pairs;
+  for (const ToothChart& r : reference.teeth) {
+    const ToothChart* e = examiner.Find(r.fdi);
+    if (!e || !r.present || !e->present) continue;
+    for (int s = 0; s < kSitesPerTooth; ++s) {
+      const SiteValues &ve = e->sites[s], &vr = r.sites[s];
+      if (!ve.measured() || !vr.measured()) continue;
+      pairs.push_back({r.fdi, s, *ve.pd_mm, *vr.pd_mm, ve.bleeding, vr.bleeding});
+    }
+  }
+  return AgreeSites(pairs);
+}
+
+std::vector<ExaminerCalibration> CohortCalibration(
+    const std::vector<ChartedSite>& sites) {
+  std::map<std::string, std::vector<SitePair>> by_student;
+  for (const ChartedSite& c : sites)
+    if (c.site >= 0 && c.site < kSitesPerTooth)
+      by_student[c.student].push_back({c.fdi, c.site, c.entered_mm, c.truth_mm});
+  std::vector<ExaminerCalibration> out;
+  for (const auto& [student, pairs] : by_student) {
+    ExaminerCalibration e;
+    e.student = student;
+    e.depths = AgreeSites(pairs);
+    e.depths.bleeding_kappa.reset();  // (not stored per site)
+    out.push_back(std::move(e));
+  }
+  return out;
 }
 
 }  // namespace sulcus

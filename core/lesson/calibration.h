@@ -6,6 +6,7 @@
 // kind of site.
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/lesson/chart.h"
@@ -48,5 +49,22 @@ std::optional<double> CohenKappa(const std::vector<bool>& a, const std::vector<b
 
 /// The examiner's chart against the reference, over the sites both measured.
 Agreement Agree(const PerioChart& examiner, const PerioChart& reference);
+
+/// One charted site of a stored attempt: what the student entered, the truth.
+struct ChartedSite {
+  std::string student;
+  int fdi = 0, site = 0, entered_mm = 0, truth_mm = 0;
+};
+
+/// A student's depths over all their attempts against the truth, as the
+/// instructor's view compares a cohort with the target (bleeding is not
+/// stored per site, so only the depths).
+struct ExaminerCalibration {
+  std::string student;
+  Agreement depths;  // bleeding_kappa empty
+};
+
+/// Per student, in name order.
+std::vector<ExaminerCalibration> CohortCalibration(const std::vector<ChartedSite>& sites);
 
 }  // namespace sulcus

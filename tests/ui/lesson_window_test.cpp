@@ -628,8 +628,25 @@ TEST(Instructor, RefusesAWrongPassphraseAndShowsEveryStudentWithTheRightOne) {
   std::set<QString> worst;
   for (int r = 0; r < 3; ++r) worst.insert(view->cohort_table()->item(r, 0)->text());
   EXPECT_EQ(worst, (std::set<QString>{"47 DB", "46 DB", "45 DB"}));
+  // Each misreader, 2 mm over at 3 of 24 sites, is short of the calibration
+  // target (within 1 mm at 88 %), which the view says per student and in all.
+  const QTableWidget* cal = view->calibration_table();
+  ASSERT_EQ(cal->rowCount(), 3);
+  for (int r = 0; r < 3; ++r) {
+    EXPECT_EQ(cal->item(r, 1)->text(), "24");
+    EXPECT_EQ(cal->item(r, 2)->text(), "88 %");
+    EXPECT_EQ(cal->item(r, 5)->text(), "+0.38");
+    EXPECT_EQ(cal->item(r, 7)->text(), "not met");
+  }
+  EXPECT_EQ(view->calibrated(), 0);
   QApplication::processEvents();
   EXPECT_TRUE(Save(d, "instructor.png"));
+  if (auto* tabs = d->findChild<QTabWidget*>()) {
+    tabs->setCurrentIndex(2);
+    QApplication::processEvents();
+    EXPECT_TRUE(Save(d, "instructor_calibration.png"));
+    tabs->setCurrentIndex(0);
+  }
   EXPECT_EQ(view->DeleteStudent("grace"), 1);
   EXPECT_EQ(view->students(), 2);
 

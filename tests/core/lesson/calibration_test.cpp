@@ -71,5 +71,27 @@ TEST(Calibration, AnExaminerWhoReadsDeepSitesShortIsSeenAsSuch) {
   EXPECT_EQ(Agree(short_reader, truth).sites, 17);
 }
 
+// The cohort's view: each student's charted depths over their attempts.
+TEST(Calibration, EachStudentOfACohortOverAllTheirAttempts) {
+  std::vector<ChartedSite> sites;
+  for (int attempt = 0; attempt < 2; ++attempt)
+    for (int s = 0; s < kSitesPerTooth; ++s) {
+      sites.push_back({"ada", 46, s, 3 + s % 3, 3 + s % 3});  // exact
+      sites.push_back({"bob", 11, s, 3 + s % 3 + (s == 0 ? 2 : 0), 3 + s % 3});
+    }
+  const auto cal = CohortCalibration(sites);
+  ASSERT_EQ(cal.size(), 2u);
+  EXPECT_EQ(cal[0].student, "ada");
+  EXPECT_EQ(cal[0].depths.sites, 12);
+  EXPECT_TRUE(cal[0].depths.MeetsTarget());
+  EXPECT_EQ(cal[1].student, "bob");
+  EXPECT_NEAR(cal[1].depths.within_1mm_pct, 100.0 * 10 / 12, 1e-9);
+  EXPECT_DOUBLE_EQ(*cal[1].depths.interdental.mean_mm(), 2.0 * 2 / 8);
+  EXPECT_DOUBLE_EQ(*cal[1].depths.anterior.mean_mm(), 4.0 / 12);
+  EXPECT_FALSE(cal[1].depths.posterior.mean_mm()) << "bob charted an incisor only";
+  EXPECT_FALSE(cal[1].depths.MeetsTarget());
+  EXPECT_FALSE(cal[1].depths.bleeding_kappa) << "bleeding is not stored per site";
+}
+
 }  // namespace
 }  // namespace sulcus
