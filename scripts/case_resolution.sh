@@ -16,12 +16,13 @@ mkdir -p "$tmp/scenes" "$tmp/lessons" "$tmp/results"
 "$cli" lesson case lessons/periodontal_probing_case.yaml --seed 4242 \
   -o "$tmp/scenes/case.yaml"
 for leaves in 512 768 1024 3072; do
-  sed "s/gingiva: {levels: 5, branch: 8, leaves: [0-9]*}/gingiva: {levels: 5, branch: 8, leaves: $leaves}/" \
-    "$tmp/scenes/case.yaml" >"$tmp/scenes/case_$leaves.yaml"
+  pattern="gingiva: {levels: 5, branch: 8, leaves:"
+  sed "s/$pattern [0-9]*}/$pattern $leaves}/" "$tmp/scenes/case.yaml" \
+    >"$tmp/scenes/case_$leaves.yaml"
   grep -q "leaves: $leaves}" "$tmp/scenes/case_$leaves.yaml" ||
     { echo "error: the saved case names no gingiva resolution" >&2; exit 1; }
-  sed "s#^scene: .*#scene: ../scenes/case_$leaves.yaml#" lessons/periodontal_probing.yaml \
-    >"$tmp/lessons/case_$leaves.yaml"
+  sed "s#^scene: .*#scene: ../scenes/case_$leaves.yaml#" \
+    lessons/periodontal_probing.yaml >"$tmp/lessons/case_$leaves.yaml"
   echo "== gingiva at $leaves leaves"
   "$cli" scene build "$tmp/scenes/case_$leaves.yaml" 2>/dev/null | grep -E "built|ready"
   for student in careful human tremor; do

@@ -646,6 +646,9 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
     if (progress && !progress(stage, f * (i + 1) / (n + 1))) throw BuildCancelled();
   };
   using Clock = std::chrono::steady_clock;
+  const auto Since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
   const auto t_meshes = Clock::now();
   // Meshes: one worker per core too (a gingiva's share of its arch takes about
   // a second to sample and simplify); progress in order of completion. A
@@ -654,7 +657,6 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
   // is its twin's mesh, mirrored.
   scene->meshes.resize(n);
   scene->normals.resize(n);
-  scene->object_mesh_seconds.assign(n, 0.0);
   scene->object_tree_seconds.assign(n, 0.0);
   scene->tree_built.assign(n, 0);
   std::vector<int> twin(n, -1);
@@ -681,11 +683,8 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
       for (int job = next_mesh++; job < jobs && !halt; job = next_mesh++) {
         const int i = mesh_order[job];
         try {
-          const auto t0 = Clock::now();
           scene->meshes[i] =
               MakeObjectMeshCached(scene->spec.objects[i], cache_dir, &scene->normals[i]);
-          scene->object_mesh_seconds[i] =
-              std::chrono::duration<double>(Clock::now() - t0).count();
           std::lock_guard lock(mesh_mutex);
           report(made++, scene->spec.objects[i].name, 0.1);
         } catch (...) {
@@ -708,7 +707,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
     }
   }
   const auto t_trees = Clock::now();
-  scene->mesh_seconds = std::chrono::duration<double>(t_trees - t_meshes).count();
+  scene->mesh_seconds = Since(t_meshes);
   // Trees: one worker per core, jobs handed out in order; progress from the
   // workers is serialised, and a cancel or an error stops them all.
   scene->trees.resize(n);
@@ -752,17 +751,12 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
           const ObjectSpec& o = scene->spec.objects[i];
           CacheOutcome cached;
           const auto t0 = Clock::now();
-          if (o.mirrored) {
-            SphereTree t = LoadOrBuildSphereTree(ArchMirror(true, scene->meshes[i]),
-                                                 o.trees, cache_dir, inner, &cached);
+          SphereTree t = LoadOrBuildSphereTree(ArchMirror(o.mirrored, scene->meshes[i]),
+                                               o.trees, cache_dir, inner, &cached);
+          if (o.mirrored)
             for (double& x : t.x) x = -x;
-            scene->trees[i] = std::move(t);
-          } else {
-            scene->trees[i] = LoadOrBuildSphereTree(scene->meshes[i], o.trees, cache_dir,
-                                                    inner, &cached);
-          }
-          scene->object_tree_seconds[i] =
-              std::chrono::duration<double>(Clock::now() - t0).count();
+          scene->trees[i] = std::move(t);
+          scene->object_tree_seconds[i] = Since(t0);
           scene->tree_built[i] = cached.kind != CacheOutcome::Kind::kHit;
           if (scene->spec.leaf_planes)
             scene->planes[i] = FitLeafPlanes(scene->meshes[i], scene->trees[i]);
@@ -797,7 +791,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
     for (int i = 0; i < soft_first; ++i)
       scene->model->friction.push_back(objs[i].material.friction);
   BuildEffectsModel(scene.get(), soft_first, soft_objects);
-  scene->tree_seconds = std::chrono::duration<double>(Clock::now() - t_trees).count();
+  scene->tree_seconds = Since(t_trees);
   return scene;
 }
 

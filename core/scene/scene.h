@@ -171,6 +171,11 @@ struct SceneSpec {
   std::vector<ObjectSpec> objects;
 };
 
+/// Each tooth's bone crest below its CEJ (mm, along its axis) where the scene's
+/// pockets, recession or furcation put it deeper than health (CrestDropMm, and
+/// below the furcation by its class); teeth in health are not listed.
+std::map<int, double> CrestDrops(const SceneSpec& spec);
+
 /// Radiographic bone loss at a tooth, as a radiograph shows it: how far its
 /// bone crest (CrestDrops) lies below a healthy crest, as a share of the root
 /// below that crest, in % (0 in health, 100 at the apex); empty for a number
@@ -254,9 +259,9 @@ struct CompiledScene {
   EffectsModel effects;  // what the scene's effects need (soft objects last)
   // Wall time of the two stages of CompileScene, each on all cores (cache hits included).
   double mesh_seconds = 0, tree_seconds = 0;
-  // Per object: the seconds its mesh took (made or read from the cache), and
-  // whether its sphere-tree was built (not in the cache) and in how long.
-  std::vector<double> object_mesh_seconds, object_tree_seconds;
+  // Per object: whether its sphere-tree was built (not in the cache), and the
+  // seconds it took (built or read).
+  std::vector<double> object_tree_seconds;
   std::vector<char> tree_built;
 };
 
