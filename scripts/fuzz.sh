@@ -16,7 +16,7 @@ seconds=${1:-20}
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(scene lesson answers mesh_stl mesh_obj mesh_ply mesh_off sph tree_cache recording trajectory_csv)
+  targets=(scene lesson answers mesh_stl mesh_obj mesh_ply mesh_off sph tree_cache recording recording_ticks trajectory_csv)
 fi
 if ! command -v clang++-14 >/dev/null; then
   echo "fuzz: clang-14 is missing: run scripts/install-deps.sh" >&2

@@ -408,10 +408,13 @@ void AddRunCommands(CLI::App& app) {
   info->callback([info_file] {
     const Recording rec = ReadRecording(*info_file);
     std::printf("%s: format %u, device '%s', scene '%s' (hash %016" PRIx64
-                "), %.0f Hz, %zu ticks (%.2f s)\n",
+                "), %.0f Hz, %zu ticks (%.2f s), %" PRIu64 " bytes (%.1f bytes a tick)\n",
                 info_file->c_str(), rec.header.version, rec.header.device_name.c_str(),
                 rec.header.scene_file.c_str(), rec.header.scene_hash, rec.header.rate_hz,
-                rec.frames.size(), rec.frames.size() / rec.header.rate_hz);
+                rec.frames.size(), rec.frames.size() / rec.header.rate_hz, rec.file_bytes,
+                rec.frames.empty()
+                    ? 0.0
+                    : static_cast<double>(rec.file_bytes) / rec.frames.size());
     if (!rec.warning.empty()) std::printf("warning: %s\n", rec.warning.c_str());
   });
 }

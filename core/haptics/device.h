@@ -11,6 +11,7 @@
 #include <string>
 
 #include "core/geometry/transform.h"
+#include "core/haptics/pose_grid.h"
 
 namespace sulcus {
 
@@ -19,6 +20,12 @@ struct DeviceSample {
   RigidTransform X_WH;        // the device ("haptic") tool in the world
   std::uint32_t buttons = 0;  // bit i: button i pressed
   double time_s = 0;          // the device's own time stamp
+  // The loop snaps X_WH to the recording grid (pose_grid.h) and keeps its code
+  // here. A replay hands the loop readings already on the grid (`coded`), or, from
+  // a recording of format 2, readings to use exactly as given (`as_given`).
+  PoseCode code;
+  bool coded = false;
+  bool as_given = false;
 };
 
 struct DeviceCaps {

@@ -146,6 +146,11 @@ void HapticLoop::Tick(bool overrun) noexcept {
   const bool fresh = device_->Read(t, &s);
   record_.fresh = fresh;
   if (fresh) {
+    // On the recording grid, so that a recording holds exactly the pose used.
+    if (!s.coded && !s.as_given && EncodePose(s.X_WH, &s.code)) {
+      s.X_WH = DecodePose(s.code);
+      s.coded = true;
+    }
     sample_ = s;
     last_fresh_tick_ = tick_;
     if (!device_ok_) {

@@ -1,5 +1,7 @@
 #include "core/haptics/recording.h"
 
+#include <zstd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -10,6 +12,7 @@
 
 #include "core/base/files.h"
 #include "core/base/text.h"
+#include "core/haptics/recording_codec.h"
 
 namespace sulcus {
 namespace {
@@ -86,29 +89,6 @@ class In {
   std::size_t pos_ = 0;
 };
 
-void PutFrame(const TickRecord& r, Out* o) {
-  for (char c : kFrameMarker) o->Put(c);
-  o->Put(r.tick);
-  o->Put(r.time_s);
-  o->Put(r.sample.time_s);
-  o->PutPose(r.sample.X_WH);
-  o->Put(r.sample.buttons);
-  o->Put(static_cast<std::uint8_t>(r.fresh));
-  o->Put(static_cast<std::uint8_t>(r.overrun));
-  o->PutPose(r.X_WG);
-  o->PutVector(r.force_W);
-  o->PutVector(r.torque_W);
-  o->Put(static_cast<std::uint8_t>(r.num_events));
-  o->Put(r.events_dropped);
-  for (int i = 0; i < r.num_events; ++i) {
-    const HapticEvent& e = r.events[i];
-    o->Put(static_cast<std::uint8_t>(e.kind));
-    o->Put(e.object);
-    o->Put(e.tick);
-    o->Put(e.payload);  // fixed size: the payload of the kind, the rest zero
-  }
-}
-
 bool GetFrame(In* in, TickRecord* r) {
   char marker[4];
   for (char& c : marker)
@@ -126,6 +106,7 @@ bool GetFrame(In* in, TickRecord* r) {
              std::to_string(TickRecord::kMaxEvents) + " expected");
   r->fresh = fresh != 0;
   r->overrun = overrun != 0;
+  r->sample.as_given = true;  // format 2 kept readings off the grid: used exactly
   r->num_events = events;
   for (int i = 0; i < events; ++i) {
     HapticEvent& e = r->events[i];
@@ -143,11 +124,19 @@ bool GetFrame(In* in, TickRecord* r) {
 
 RecordingWriter::RecordingWriter(const std::filesystem::path& file,
                                  const RecordingHeader& header)
-    : file_(file) {
+    : file_(file), encoder_(std::make_unique<TickEncoder>(header.rate_hz)) {
   out_ = std::fopen(file.string().c_str(), "wb");
   if (!out_)
     throw RecordingError(file.string() +
                          ": cannot create the recording: " + std::strerror(errno));
+  zstd_ = ZSTD_createCCtx();
+  if (!zstd_) {
+    std::fclose(out_);
+    out_ = nullptr;
+    throw RecordingError(file.string() + ": cannot start the compressor (out of memory)");
+  }
+  ZSTD_CCtx_setParameter(zstd_, ZSTD_c_compressionLevel, 3);
+  ZSTD_CCtx_setParameter(zstd_, ZSTD_c_checksumFlag, 1);
   Out o;
   for (char c : kMagic) o.Put(c);
   o.Put(kRecordingVersion);
@@ -166,22 +155,41 @@ RecordingWriter::~RecordingWriter() {
   } catch (const RecordingError&) {
     // Reported by an explicit Finish(); a destructor must not throw.
   }
+  if (zstd_) ZSTD_freeCCtx(zstd_);
+}
+
+// Compresses `raw` into the file. `flush` makes everything so far decodable from
+// the file (each drain does, so a crash loses only the ring); `end` closes the stream.
+void RecordingWriter::Compress(const std::string& raw, bool end) {
+  ZSTD_inBuffer in{raw.data(), raw.size(), 0};
+  const ZSTD_EndDirective mode = end ? ZSTD_e_end : ZSTD_e_flush;
+  std::vector<char> chunk(ZSTD_CStreamOutSize());
+  for (;;) {
+    ZSTD_outBuffer out{chunk.data(), chunk.size(), 0};
+    const std::size_t left = ZSTD_compressStream2(zstd_, &out, &in, mode);
+    if (ZSTD_isError(left)) {
+      write_failed_ = true;
+      return;
+    }
+    if (out.pos > 0 && std::fwrite(chunk.data(), 1, out.pos, out_) != out.pos)
+      write_failed_ = true;
+    if (left == 0 && in.pos == in.size) break;
+  }
+  if (std::fflush(out_) != 0) write_failed_ = true;
 }
 
 void RecordingWriter::Drain() {
-  Out o;
+  std::string raw;
   TickRecord r;
   for (;;) {
     const bool stopping = stop_.load(std::memory_order_acquire);
-    o.bytes.clear();
+    raw.clear();
     std::uint64_t n = 0;
     while (ring_.Pop(&r)) {
-      PutFrame(r, &o);
+      encoder_->Put(r, &raw);
       ++n;
     }
-    if (!o.bytes.empty() &&
-        std::fwrite(o.bytes.data(), 1, o.bytes.size(), out_) != o.bytes.size())
-      write_failed_ = true;
+    if (!raw.empty() || stopping) Compress(raw, stopping);
     written_.fetch_add(n);
     if (stopping) break;  // the ring was drained after stop was seen
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -204,6 +212,98 @@ void RecordingWriter::Finish() {
     throw RecordingError(file_.string() + ": writing the recording failed (disk full?)");
 }
 
+namespace {
+
+// A recording is replayed into the engine and read into reports: a NaN or an
+// infinity in it is corruption, refused, never carried on.
+void RefuseNonFinite(const TickRecord& r, const std::filesystem::path& file,
+                     std::size_t frame, const std::string& where) {
+  const auto finite = [](const RigidTransform& X) {
+    return X.rotation().allFinite() && X.translation().allFinite();
+  };
+  if (!std::isfinite(r.time_s) || !std::isfinite(r.sample.time_s) ||
+      !finite(r.sample.X_WH) || !finite(r.X_WG) || !r.force_W.allFinite() ||
+      !r.torque_W.allFinite())
+    throw RecordingError(file.string() + ": frame " + std::to_string(frame) + " (" +
+                         where +
+                         ") holds a non-finite number (NaN or infinity): the recording "
+                         "is corrupt");
+}
+
+void ReadFormat2(In* in, const std::filesystem::path& file, Recording* rec) {
+  while (!in->done()) {
+    const std::size_t at = in->pos();
+    TickRecord r;
+    if (!GetFrame(in, &r)) {
+      rec->warning = file.string() + ": truncated after frame " +
+                     std::to_string(rec->frames.size()) + " (byte " + std::to_string(at) +
+                     "); the " + std::to_string(rec->frames.size()) +
+                     " frames before it are kept";
+      break;
+    }
+    RefuseNonFinite(r, file, rec->frames.size(), "byte " + std::to_string(at));
+    rec->frames.push_back(r);
+  }
+}
+
+// Format 3: the zstd stream after the header, decompressed as far as it goes (a
+// crash leaves it unfinished: the ticks of every flushed drain are kept), then
+// decoded tick by tick.
+void ReadFormat3(const std::vector<char>& data, std::size_t from,
+                 const std::filesystem::path& file, Recording* rec) {
+  std::string raw;
+  std::string cut;  // why the stream ends early, if it does
+  {
+    ZSTD_DCtx* z = ZSTD_createDCtx();
+    if (!z) throw RecordingError(file.string() + ": out of memory for the decompressor");
+    ZSTD_inBuffer in{data.data() + from, data.size() - from, 0};
+    std::vector<char> chunk(ZSTD_DStreamOutSize());
+    std::size_t left = 1;  // 0 once a zstd frame is complete
+    for (;;) {
+      ZSTD_outBuffer out{chunk.data(), chunk.size(), 0};
+      left = ZSTD_decompressStream(z, &out, &in);
+      if (ZSTD_isError(left)) {
+        cut = std::string("its compressed data is corrupt at byte ") +
+              std::to_string(from + in.pos) + " (" + ZSTD_getErrorName(left) + ")";
+        break;
+      }
+      raw.append(chunk.data(), out.pos);
+      if (in.pos == in.size && out.pos < out.size) break;  // all read, all flushed
+    }
+    ZSTD_freeDCtx(z);
+    if (cut.empty() && left != 0)
+      cut = "its compressed stream ends early (the recording was not finished)";
+  }
+  TickDecoder decoder(rec->header.rate_hz);
+  const char* at = raw.data();
+  const char* end = raw.data() + raw.size();
+  for (;;) {
+    TickRecord r;
+    std::string why;
+    const std::size_t offset = static_cast<std::size_t>(at - raw.data());
+    const TickDecoder::Result got = decoder.Get(&at, end, &r, &why);
+    if (got == TickDecoder::Result::kEnd) break;
+    if (got == TickDecoder::Result::kCorrupt)
+      throw RecordingError(
+          file.string() + ": tick " + std::to_string(rec->frames.size()) + " (byte " +
+          std::to_string(offset) + " of the decompressed ticks): " + why +
+          " (corrupt recording)");
+    if (got == TickDecoder::Result::kTruncated) {
+      if (cut.empty()) cut = "it ends inside a tick";
+      break;
+    }
+    RefuseNonFinite(r, file, rec->frames.size(),
+                    "byte " + std::to_string(offset) + " of the decompressed ticks");
+    rec->frames.push_back(r);
+  }
+  if (!cut.empty())
+    rec->warning = file.string() + ": truncated after frame " +
+                   std::to_string(rec->frames.size()) + ": " + cut + "; the " +
+                   std::to_string(rec->frames.size()) + " frames before it are kept";
+}
+
+}  // namespace
+
 Recording ReadRecording(const std::filesystem::path& file) {
   if (const std::string why = UnreadableReason(file); !why.empty())
     throw RecordingError(file.string() + ": " + why);
@@ -220,10 +320,10 @@ Recording ReadRecording(const std::filesystem::path& file) {
     throw RecordingError(file.string() +
                          ": not a Sulcus recording (expected 'SULCUSR' at byte 0)");
   if (!in.Get(&rec.header.version)) in.Fail("truncated header");
-  if (rec.header.version != kRecordingVersion)
+  if (rec.header.version != kRecordingVersion && rec.header.version != 2)
     in.Fail("recording format version " + std::to_string(rec.header.version) +
-            ", this build reads version " + std::to_string(kRecordingVersion) +
-            (rec.header.version < kRecordingVersion
+            ", this build reads versions 2 and " + std::to_string(kRecordingVersion) +
+            (rec.header.version < 2
                  ? " (the file is from an older Sulcus; record it again)"
                  : ""));
   if (!in.Get(&rec.header.scene_hash) || !in.Get(&rec.header.rate_hz) ||
@@ -231,30 +331,11 @@ Recording ReadRecording(const std::filesystem::path& file) {
     in.Fail("truncated or corrupt header");
   if (!(rec.header.rate_hz > 0 && rec.header.rate_hz <= 100000))
     in.Fail("rate " + std::to_string(rec.header.rate_hz) + " Hz is not a haptic rate");
-  while (!in.done()) {
-    const std::size_t at = in.pos();
-    TickRecord r;
-    if (!GetFrame(&in, &r)) {
-      rec.warning = file.string() + ": truncated after frame " +
-                    std::to_string(rec.frames.size()) + " (byte " + std::to_string(at) +
-                    "); the " + std::to_string(rec.frames.size()) +
-                    " frames before it are kept";
-      break;
-    }
-    // A recording is replayed into the engine and read into reports: a NaN or an
-    // infinity in it is corruption, refused, never carried on.
-    const auto finite = [](const RigidTransform& X) {
-      return X.rotation().allFinite() && X.translation().allFinite();
-    };
-    if (!std::isfinite(r.time_s) || !std::isfinite(r.sample.time_s) ||
-        !finite(r.sample.X_WH) || !finite(r.X_WG) || !r.force_W.allFinite() ||
-        !r.torque_W.allFinite())
-      throw RecordingError(
-          file.string() + ": frame " + std::to_string(rec.frames.size()) + " (byte " +
-          std::to_string(at) +
-          ") holds a non-finite number (NaN or infinity): the recording is corrupt");
-    rec.frames.push_back(r);
-  }
+  rec.file_bytes = data.size();
+  if (rec.header.version == 2)
+    ReadFormat2(&in, file, &rec);
+  else
+    ReadFormat3(data, in.pos(), file, &rec);
   return rec;
 }
 

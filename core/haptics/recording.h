@@ -5,14 +5,17 @@
 // wrenches bit for bit with the same build.
 //
 // File (little-endian): "SULCUSR\n", u32 version, u64 scene hash, f64 rate_hz,
-// u32 length + device name, u32 length + scene file name; then frames, each
-// starting with the marker "FRM1" (layout in recording.cpp).
+// u32 length + device name, u32 length + scene file name; then, in format 3, one
+// zstd stream of coded ticks (recording_codec.h), flushed at every drain so that
+// what was written can be read after a crash; format 2 (still read) had plain
+// frames, each starting with the marker "FRM1".
 
 #include <atomic>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iosfwd>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -20,10 +23,15 @@
 
 #include "core/haptics/haptic_loop.h"
 
+struct ZSTD_CCtx_s;
+
 namespace sulcus {
 
-inline constexpr std::uint32_t kRecordingVersion =
-    2;  // 2: typed event payloads, 16 events a tick
+class TickEncoder;
+
+// 2: typed event payloads, 16 events a tick, 280 bytes a tick; 3: readings on the
+// grid, ticks coded as residuals and compressed with zstd (docs/recordings.md).
+inline constexpr std::uint32_t kRecordingVersion = 3;
 
 struct RecordingHeader {
   std::uint32_t version = kRecordingVersion;
@@ -57,8 +65,11 @@ class RecordingWriter final : public TickSink {
 
  private:
   void Drain();
+  void Compress(const std::string& raw, bool end);
   std::filesystem::path file_;
   std::FILE* out_ = nullptr;
+  std::unique_ptr<TickEncoder> encoder_;
+  ZSTD_CCtx_s* zstd_ = nullptr;
   SpscRing<TickRecord, 8192> ring_;
   std::thread writer_;
   std::atomic<bool> stop_{false};
@@ -69,6 +80,7 @@ class RecordingWriter final : public TickSink {
 struct Recording {
   RecordingHeader header;
   std::vector<TickRecord> frames;
+  std::uint64_t file_bytes = 0;  // the file's size, for its bytes a tick
   std::string warning;  // e.g. a truncated last frame (the frames before it are kept)
 };
 

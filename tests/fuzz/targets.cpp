@@ -1,6 +1,7 @@
 #include "tests/fuzz/targets.h"
 
 #include <unistd.h>
+#include <zstd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -76,6 +77,29 @@ void Read(const Target& t, const fs::path& file) {
     ReadTreeBinary(file, key);
   } else if (n == "recording") {
     ReadRecording(file);
+  } else if (n == "recording_ticks") {
+    // The input is the decompressed tick stream of format 3: put a header before
+    // it and compress it, so that the fuzzer works on the tick decoder itself.
+    std::ifstream in(file, std::ios::binary);
+    const std::string ticks((std::istreambuf_iterator<char>(in)),
+                            std::istreambuf_iterator<char>());
+    std::string packed(ZSTD_compressBound(ticks.size()), '\0');
+    const std::size_t n_packed =
+        ZSTD_compress(packed.data(), packed.size(), ticks.data(), ticks.size(), 1);
+    if (ZSTD_isError(n_packed)) Defect(t, "zstd cannot compress the input");
+    std::string bytes("SULCUSR\n");
+    const auto put = [&](const auto& v) {
+      bytes.append(reinterpret_cast<const char*>(&v), sizeof(v));
+    };
+    put(kRecordingVersion);
+    put(std::uint64_t{0});
+    put(1000.0);
+    put(std::uint32_t{0});
+    put(std::uint32_t{0});
+    bytes.append(packed.data(), n_packed);
+    std::ofstream(file, std::ios::binary | std::ios::trunc)
+        .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    ReadRecording(file);
   } else if (n == "trajectory_csv") {
     LoadTrajectoryCsv(file);
   } else {
@@ -92,7 +116,7 @@ const std::vector<Target>& Targets() {
       {"mesh_obj", ".obj"},       {"mesh_ply", ".ply"},
       {"mesh_off", ".off"},       {"sph", ".sph"},
       {"tree_cache", ".bin"},     {"recording", ".rec"},
-      {"trajectory_csv", ".csv"},
+      {"trajectory_csv", ".csv"}, {"recording_ticks", ".ticks"},
   };
   return targets;
 }

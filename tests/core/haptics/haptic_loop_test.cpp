@@ -279,23 +279,24 @@ TEST(HapticLoop, AToolSlippingOffAnEdgeIsFeltAsAQuickFallNotAClick) {
   ASSERT_GT(rig.device.force.norm(), 1.0);
   double worst_unexplained = 0, biggest_engine_fall = 0;
   int settled_after = -1;
-  Vector3 last_force = rig.device.force, last_at = rig.device.pose.translation(),
+  // The device's move as the loop saw it: its reading, on the recording grid.
+  const auto seen = [&] { return rig.loop.last_record().sample.X_WH.translation(); };
+  Vector3 last_force = rig.device.force, last_at = seen(),
           last_engine = rig.loop.data().force_W;
   for (int i = 0; i < 300; ++i) {
     rig.device.pose = At(0.5 + std::min(3.0, 0.02 * i), 0,
                          -1.5);  // sideways, off the block (its edge at x = 1.5 + r)
     rig.Tick(false);
     const Vector3 f = rig.device.force, engine = rig.loop.data().force_W;
-    worst_unexplained =
-        std::max(worst_unexplained, UnexplainedForceChange(last_force, f, last_at,
-                                                           rig.device.pose.translation(),
-                                                           rig.model->params.k_t));
+    worst_unexplained = std::max(
+        worst_unexplained,
+        UnexplainedForceChange(last_force, f, last_at, seen(), rig.model->params.k_t));
     biggest_engine_fall =
         std::max(biggest_engine_fall, last_engine.norm() - engine.norm());
     if (biggest_engine_fall > 0.5 && settled_after < 0 && (f - engine).norm() < 1e-9)
       settled_after = i;
     last_force = f;
-    last_at = rig.device.pose.translation();
+    last_at = seen();
     last_engine = engine;
   }
   EXPECT_GT(biggest_engine_fall, 0.5)

@@ -373,6 +373,13 @@ TEST(GeneratedCase, AnAssessmentOnADrawnCaseStoresItsSeedAndRebuilds) {
   for (const std::string& f : out.result.feedback)
     EXPECT_EQ(f.find("true depth"), std::string::npos) << f;
   EXPECT_GE(out.result.total, 90.0);
+  // A lesson's recording is compact (docs/recordings.md): at most 30 bytes a tick.
+  const Recording rec = ReadRecording(Out("case.rec"));
+  ASSERT_GT(rec.frames.size(), 100000u);
+  const double per_tick = static_cast<double>(rec.file_bytes) / rec.frames.size();
+  std::printf("figure: the careful student's recording: %zu ticks, %.1f bytes a tick\n",
+              rec.frames.size(), per_tick);
+  EXPECT_LE(per_tick, 30.0);
   // The same seed and recording rebuild the same result.
   SaveAnswers(out.answers, Out("case_answers.yaml"));
   o.device = "replay:" + Out("case.rec").string();
