@@ -43,11 +43,11 @@ QTableWidget* Table(const QStringList& headers) {
 
 }  // namespace
 
-InstructorDialog::InstructorDialog(std::filesystem::path results_db,
+InstructorDialog::InstructorDialog(ResultsPlace results,
                                    std::vector<std::filesystem::path> lesson_dirs,
                                    QWidget* parent)
     : QDialog(parent),
-      db_file_(std::move(results_db)),
+      db_file_(std::move(results)),
       lesson_dirs_(std::move(lesson_dirs)) {
   setWindowTitle("Sulcus: instructor");
   resize(1000, 680);
@@ -84,11 +84,11 @@ InstructorDialog::InstructorDialog(std::filesystem::path results_db,
     const QString f =
         QFileDialog::getSaveFileName(this, "Export", "cohort.csv", "CSV (*.csv)");
     if (f.isEmpty()) return;
-    ResultsDb db(db_file_);
+    const auto db = OpenResults(db_file_);
     std::ofstream out(f.toStdString());
-    ExportAttemptsCsv(db.Attempts(), out);
+    ExportAttemptsCsv(db->Attempts(), out);
     std::ofstream sites(f.toStdString().substr(0, f.size() - 4) + "_sites.csv");
-    ExportSitesCsv(db.Sites(), sites);
+    ExportSitesCsv(db->Sites(), sites);
   });
   connect(del, &QPushButton::clicked, this, [this] {
     const int row = attempts_->currentRow();
@@ -266,16 +266,16 @@ QString InstructorDialog::case_summary() const {
 }
 
 int InstructorDialog::DeleteStudent(const std::string& name) {
-  ResultsDb db(db_file_);
-  const int n = db.DeleteStudent(name);
+  const auto db = OpenResults(db_file_);
+  const int n = db->DeleteStudent(name);
   Refresh();
   return n;
 }
 
 void InstructorDialog::Refresh() {
-  ResultsDb db(db_file_);
-  const auto attempts = db.Attempts();
-  students_ = static_cast<int>(db.Students().size());
+  const auto db = OpenResults(db_file_);
+  const auto attempts = db->Attempts();
+  students_ = static_cast<int>(db->Students().size());
   attempts_->setRowCount(static_cast<int>(attempts.size()));
   for (int r = 0; r < static_cast<int>(attempts.size()); ++r) {
     const AttemptRow& a = attempts[static_cast<std::size_t>(r)];
@@ -306,7 +306,7 @@ void InstructorDialog::Refresh() {
   }
   // Each student's calibration over their attempts, against the target.
   std::vector<ChartedSite> charted;
-  const std::vector<SiteRow> site_rows = db.Sites();
+  const std::vector<SiteRow> site_rows = db->Sites();
   for (const SiteRow& s : site_rows)
     if (s.entered_mm)
       charted.push_back({s.student, s.fdi, s.site, *s.entered_mm, s.truth_mm});

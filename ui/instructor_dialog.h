@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/lesson/lesson_spec.h"
+#include "core/lesson/results.h"
 
 class QTableWidget;
 class QLabel;
@@ -25,7 +26,7 @@ class ChartWidget;
 class InstructorDialog : public QDialog {
  public:
   /// `lesson_dirs`: where the lessons a case can be drawn for are found.
-  InstructorDialog(std::filesystem::path results_db,
+  InstructorDialog(ResultsPlace results,
                    std::vector<std::filesystem::path> lesson_dirs = {},
                    QWidget* parent = nullptr);
   void Refresh();
@@ -51,7 +52,7 @@ class InstructorDialog : public QDialog {
 
  private:
   void BuildCaseTab(QTabWidget* tabs);
-  std::filesystem::path db_file_;
+  ResultsPlace db_file_;
   QTableWidget* attempts_ = nullptr;
   QTableWidget* cohort_ = nullptr;
   QTableWidget* calibration_ = nullptr;

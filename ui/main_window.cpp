@@ -237,6 +237,7 @@ void MainWindow::BuildUi() {
   device_help_ = new QLabel;
   device_help_->setWordWrap(true);
   layout->addWidget(device_help_);
+  UpdateResultsFooter();
   auto* dock = new QDockWidget("Instrument", this);
   instrument_dock_ = dock;
   dock->setObjectName("instrument");
@@ -289,8 +290,13 @@ void MainWindow::BuildUi() {
     ShowProgress(QSettings().value("student/last", "student").toString().toStdString());
   });
   lessons->addAction("&Instructor...", this, [this] {
-    const std::filesystem::path lock_file = DefaultResultsDir() / "instructor.pwhash";
-    const bool first = !InstructorLock(lock_file).is_set();
+    bool first = false;
+    try {
+      first = !InstructorLock(ResultsPlaceFor(DefaultResultsDir())).is_set();
+    } catch (const std::exception& e) {
+      ShowErrors("Instructor", "The instructor's view cannot be opened.", Q(e.what()));
+      return;
+    }
     bool ok = false;
     const QString pass =
         QInputDialog::getText(this, "Instructor",
@@ -624,6 +630,31 @@ void MainWindow::UpdateDeviceHelp(const std::string& device) {
 
 QString MainWindow::device_help() const {
   return device_help_ ? device_help_->text() : QString();
+}
+
+QString MainWindow::results_footer() const {
+  return results_footer_ ? results_footer_->text() : QString();
+}
+
+void MainWindow::UpdateResultsFooter() {
+  if (!results_footer_) {
+    results_footer_ = new QLabel;
+    results_footer_->setObjectName("results-footer");
+    statusBar()->addPermanentWidget(results_footer_);
+  }
+  const ResultsPlace place =
+      ResultsPlaceFor(lesson_start_.results_dir.empty() ? DefaultResultsDir()
+                                                        : lesson_start_.results_dir);
+  const std::size_t waiting = UnfinishedAttempts(place.dir).size();
+  QString text = "Results: " + Q(place.Describe());
+  if (waiting > 0)
+    text += QString(" - %1 attempt%2 waiting to be stored")
+                .arg(waiting)
+                .arg(waiting == 1 ? "" : "s");
+  results_footer_->setText(text);
+  results_footer_->setToolTip(
+      "Where attempts are stored. An attempt the store could not take is kept on this "
+      "station and stored at the next start or by `sulcus-cli results sync`.");
 }
 
 bool MainWindow::StartRecording(const std::filesystem::path& file) {

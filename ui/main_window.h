@@ -137,6 +137,9 @@ class MainWindow : public QMainWindow {
   int RecoverUnfinishedAttempts(const std::filesystem::path& results_dir = {});
   /// The footer's line on how the tool is moved (it names the device that runs).
   QString device_help() const;
+  /// The footer's results store: which it is and how many attempts wait for it.
+  QString results_footer() const;
+  void UpdateResultsFooter();
   const LessonRun* lesson() const { return lesson_.get(); }
   ChartWidget* chart() const { return chart_; }
   OdontogramWidget* odontogram() const { return odontogram_; }
@@ -259,6 +262,7 @@ class MainWindow : public QMainWindow {
   QLabel* banner_ = nullptr;  // the device stopped answering, ...
   DeviceWrapper device_wrapper_;
   QLabel* device_help_ = nullptr;
+  QLabel* results_footer_ = nullptr;
   void UpdateDeviceHelp(const std::string& device);
   bool device_was_lost_ = false;
   void SaveEntriesSoFar();

@@ -243,7 +243,7 @@ void MainWindow::PrepareLesson(const std::filesystem::path& lesson,
 
 bool MainWindow::ShowStartPage() {
   RecoverUnfinishedAttempts();
-  StartDialog dialog(lesson_dirs_, DefaultResultsDir() / "results.db", this);
+  StartDialog dialog(lesson_dirs_, ResultsPlaceFor(DefaultResultsDir()), this);
   dialog.SetPreparation(
       [this](const std::filesystem::path& lesson, std::optional<std::uint64_t> seed) {
         PrepareLesson(lesson, seed);
@@ -519,6 +519,13 @@ int MainWindow::RecoverUnfinishedAttempts(const std::filesystem::path& results_d
       results_dir.empty() ? DefaultResultsDir() : results_dir;
   const std::vector<std::filesystem::path> dirs = UnfinishedAttempts(results);
   if (dirs.empty()) return 0;
+  const ResultsPlace place = ResultsPlaceFor(results);
+  try {
+    OpenResults(place);  // a store that cannot be reached: the attempts wait
+  } catch (const ResultsError&) {
+    UpdateResultsFooter();
+    return 0;
+  }
   QProgressDialog progress(
       QString(
           "Keeping %1 attempt(s) that Sulcus did not finish keeping when it stopped...")
@@ -532,7 +539,7 @@ int MainWindow::RecoverUnfinishedAttempts(const std::filesystem::path& results_d
   for (const std::filesystem::path& d : dirs) {
     QApplication::processEvents();
     try {
-      const RecoveredAttempt a = RecoverAttempt(d, results, DefaultCacheDir());
+      const RecoveredAttempt a = RecoverAttempt(d, place, DefaultCacheDir());
       kept += QString("%1: %2, %3 / 100%4\n")
                   .arg(Q(a.result.student), Q(a.result.lesson_name))
                   .arg(a.result.total, 0, 'f', 1)
@@ -543,6 +550,7 @@ int MainWindow::RecoverUnfinishedAttempts(const std::filesystem::path& results_d
     }
     progress.setValue(progress.value() + 1);
   }
+  UpdateResultsFooter();
   if (!kept.isEmpty()) {
     auto* box =
         new QMessageBox(QMessageBox::Information, "Attempts kept",
@@ -610,10 +618,11 @@ bool MainWindow::FinishLesson(bool show_report) {
   const LessonResult r = lesson_->Finish();
   QString problems;
   try {
-    KeepAttempt(r, attempt_, attempt_.dir, lesson_start_.results_dir / "results.db");
+    KeepAttempt(r, attempt_, attempt_.dir, ResultsPlaceFor(lesson_start_.results_dir));
   } catch (const std::exception& e) {
     problems = Q(e.what());
   }
+  UpdateResultsFooter();
   last_result_ = r;
   last_report_ = attempt_.dir / "report.html";
   last_recording_ = attempt_.recording();

@@ -189,7 +189,7 @@ QDialog* MainWindow::ShowProgress(const std::string& student,
                                   const std::filesystem::path& results_dir) {
   const std::filesystem::path dir =
       results_dir.empty() ? DefaultResultsDir() : results_dir;
-  auto* d = new ProgressDialog(dir / "results.db", student, this);
+  auto* d = new ProgressDialog(ResultsPlaceFor(dir), student, this);
   d->setAttribute(Qt::WA_DeleteOnClose);
   d->show();
   return d;
@@ -200,14 +200,14 @@ QDialog* MainWindow::OpenInstructor(const std::string& passphrase,
   const std::filesystem::path dir =
       results_dir.empty() ? DefaultResultsDir() : results_dir;
   try {
-    InstructorLock lock(dir / "instructor.pwhash");
+    InstructorLock lock(ResultsPlaceFor(dir));  // a shared store's, or this station's
     if (!lock.is_set()) lock.Set(passphrase);
     if (!lock.Check(passphrase)) {
       ShowErrors("Instructor", "Wrong passphrase.",
                  "The instructor's view stays closed.");
       return nullptr;
     }
-    auto* d = new InstructorDialog(dir / "results.db", lesson_dirs_, this);
+    auto* d = new InstructorDialog(ResultsPlaceFor(dir), lesson_dirs_, this);
     d->setAttribute(Qt::WA_DeleteOnClose);
     d->show();
     return d;

@@ -32,9 +32,9 @@ QString Q(const std::string& s) { return QString::fromStdString(s); }
 
 }  // namespace
 
-ProgressDialog::ProgressDialog(std::filesystem::path results_db,
-                               const std::string& student, QWidget* parent)
-    : QDialog(parent), db_file_(std::move(results_db)), student_(student) {
+ProgressDialog::ProgressDialog(ResultsPlace results, const std::string& student,
+                               QWidget* parent)
+    : QDialog(parent), db_file_(std::move(results)), student_(student) {
   setWindowTitle(Q("Progress: " + student));
   resize(980, 720);
   auto* layout = new QVBoxLayout(this);
@@ -78,19 +78,19 @@ ProgressDialog::ProgressDialog(std::filesystem::path results_db,
     const QString f =
         QFileDialog::getSaveFileName(this, "Export", Q(student_ + ".csv"), "CSV (*.csv)");
     if (f.isEmpty()) return;
-    ResultsDb db(db_file_);
+    const auto db = OpenResults(db_file_);
     std::ofstream out(f.toStdString());
     ExportAttemptsCsv(
-        db.Attempts(student_, lesson_->currentData().toString().toStdString()), out);
+        db->Attempts(student_, lesson_->currentData().toString().toStdString()), out);
     std::ofstream sites(f.toStdString().substr(0, f.size() - 4) + "_sites.csv");
-    ExportSitesCsv(db.Sites(student_, lesson_->currentData().toString().toStdString()),
+    ExportSitesCsv(db->Sites(student_, lesson_->currentData().toString().toStdString()),
                    sites);
   });
   // The lessons this student took.
   try {
-    ResultsDb db(db_file_);
+    const auto db = OpenResults(db_file_);
     std::map<std::string, std::string> lessons;
-    for (const AttemptRow& a : db.Attempts(student_))
+    for (const AttemptRow& a : db->Attempts(student_))
       lessons[a.lesson_file] = a.lesson_name;
     for (const auto& [file, name] : lessons) lesson_->addItem(Q(name), Q(file));
   } catch (const ResultsError& e) {
@@ -105,9 +105,9 @@ ProgressDialog::ProgressDialog(std::filesystem::path results_db,
 }
 
 void ProgressDialog::ShowLesson(const std::string& lesson_file) {
-  ResultsDb db(db_file_);
-  attempts_ = db.Attempts(student_, lesson_file);
-  const std::vector<SiteRow> sites = db.Sites(student_, lesson_file);
+  const auto db = OpenResults(db_file_);
+  attempts_ = db->Attempts(student_, lesson_file);
+  const std::vector<SiteRow> sites = db->Sites(student_, lesson_file);
   const int n = static_cast<int>(attempts_.size());
   table_->SetNumberOfRows(n);
   double sum = 0;

@@ -25,14 +25,14 @@ namespace sulcus::ui {
 
 class ProgressDialog : public QDialog {
  public:
-  ProgressDialog(std::filesystem::path results_db, const std::string& student,
+  ProgressDialog(ResultsPlace results, const std::string& student,
                  QWidget* parent = nullptr);
   void ShowLesson(const std::string& lesson_file);
   int attempts_shown() const { return static_cast<int>(attempts_.size()); }
   const QTableWidget* sites_table() const { return sites_; }
 
  private:
-  std::filesystem::path db_file_;
+  ResultsPlace db_file_;
   std::string student_;
   std::vector<AttemptRow> attempts_;
   QComboBox* lesson_ = nullptr;

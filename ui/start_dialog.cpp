@@ -26,8 +26,8 @@ QString Q(const std::string& s) { return QString::fromStdString(s); }
 }  // namespace
 
 StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
-                         std::filesystem::path results_db, QWidget* parent)
-    : QDialog(parent), dirs_(std::move(lesson_dirs)), results_db_(std::move(results_db)) {
+                         ResultsPlace results, QWidget* parent)
+    : QDialog(parent), dirs_(std::move(lesson_dirs)), results_db_(std::move(results)) {
   setWindowTitle("Sulcus: start a lesson");
   resize(760, 520);
   auto* layout = new QVBoxLayout(this);
@@ -133,8 +133,8 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
   // Who was here last.
   QSettings settings;
   try {
-    ResultsDb db(results_db_);
-    for (const std::string& s : db.Students()) student_->addItem(Q(s));
+    const auto db = OpenResults(results_db_);
+    for (const std::string& s : db->Students()) student_->addItem(Q(s));
   } catch (const ResultsError&) {
     // No database yet (or an unreadable one: the window reports it when storing).
   }
@@ -158,8 +158,8 @@ void StartDialog::Refresh() {
     dirs.push_back(extra.toStdString());
   std::vector<AttemptRow> attempts;
   try {
-    ResultsDb db(results_db_);
-    attempts = db.Attempts(student());
+    const auto db = OpenResults(results_db_);
+    attempts = db->Attempts(student());
   } catch (const ResultsError&) {
   }
   for (const auto& f : LessonFiles(dirs)) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/lesson/lesson_spec.h"
+#include "core/lesson/results.h"
 
 class QComboBox;
 class QLabel;
@@ -29,8 +30,8 @@ namespace sulcus::ui {
 class StartDialog : public QDialog {
  public:
   /// `lesson_dirs`: folders to list lessons from (the shipped ones first).
-  StartDialog(std::vector<std::filesystem::path> lesson_dirs,
-              std::filesystem::path results_db, QWidget* parent = nullptr);
+  StartDialog(std::vector<std::filesystem::path> lesson_dirs, ResultsPlace results,
+              QWidget* parent = nullptr);
 
   std::string student() const;
   std::filesystem::path lesson() const;
@@ -67,7 +68,7 @@ class StartDialog : public QDialog {
 
  private:
   std::vector<std::filesystem::path> dirs_;
-  std::filesystem::path results_db_;
+  ResultsPlace results_db_;
   std::vector<Item> items_;
   QComboBox* student_ = nullptr;
   QListWidget* list_ = nullptr;

@@ -29,7 +29,7 @@ void AddSceneCommands(CLI::App& app);
 /// `run`, `devices`, `recording export|info`.
 void AddRunCommands(CLI::App& app);
 
-/// `lesson validate|run|report`, `results list|show|export`.
+/// `lesson validate|run|report|recover|case`, `results list|show|export|sync`.
 void AddLessonCommands(CLI::App& app);
 
 /// How a command that has printed all it has to say ends with a failing exit

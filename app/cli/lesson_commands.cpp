@@ -22,6 +22,7 @@
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
+#include "core/lesson/xapi.h"
 #include "core/spheretree/cache.h"
 
 namespace sulcus::cli {
@@ -79,8 +80,11 @@ struct RunArgs {
   bool quiet = false, no_store = false;
 };
 
-fs::path ResultsDir(const std::string& option) {
-  return option.empty() ? DefaultResultsDir() : fs::path(option);
+// --results: a folder, or a PostgreSQL URL (the attempts' folders then stay in
+// the default folder). Without it: the default folder and $SULCUS_RESULTS_URL.
+ResultsPlace ResultsOf(const std::string& option) {
+  if (IsResultsUrl(option)) return ResultsPlace(DefaultResultsDir(), option);
+  return ResultsPlaceFor(option.empty() ? DefaultResultsDir() : fs::path(option));
 }
 
 // Progress of a cold scene build (the first run builds the sphere-trees, which
@@ -119,9 +123,9 @@ void CheckReportFolder(const fs::path& dir) {
 }
 
 int RunLesson(const RunArgs& a) {
-  const fs::path results = ResultsDir(a.results);
+  const ResultsPlace results = ResultsOf(a.results);
   if (!a.out_dir.empty()) CheckReportFolder(a.out_dir);
-  const AttemptFolder folder = NewAttemptFolder(results, a.student);
+  const AttemptFolder folder = NewAttemptFolder(results.dir, a.student);
   AttemptOptions o;
   o.student = a.student;
   o.device = a.device;
@@ -153,22 +157,28 @@ int RunLesson(const RunArgs& a) {
   } else {
     try {
       const auto t0 = std::chrono::steady_clock::now();
-      const std::int64_t id =
-          KeepAttempt(out.result, folder, report_dir, results / "results.db");
+      const std::int64_t id = KeepAttempt(out.result, folder, report_dir, results);
       const double ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
               .count();
       std::fprintf(
           stderr,
           "kept as attempt %lld in %s (entries, report and database row in %.1f ms)\n",
-          static_cast<long long>(id), (results / "results.db").c_str(), ms);
+          static_cast<long long>(id), results.Describe().c_str(), ms);
+      if (fs::exists(folder.dir / "xapi-waiting.txt"))
+        std::fprintf(
+            stderr,
+            "note: its xAPI statements could not be sent to the LRS; `sulcus-cli "
+            "results sync` sends them (%s)\n",
+            (folder.dir / "xapi-waiting.txt").c_str());
       // Kept: with its report elsewhere, the folder's marker would read as unfinished.
       std::error_code ec;
       if (report_dir != folder.dir) fs::remove(folder.dir / "attempt.yaml", ec);
     } catch (const ResultsError& e) {
       std::fprintf(stderr,
-                   "error: the attempt was not stored in the results database: %s\n"
-                   "(its recording, entries and report are kept in %s)\n",
+                   "error: the attempt was not stored in the results store: %s\n"
+                   "(its recording, entries and report are kept in %s; `sulcus-cli "
+                   "results sync` stores it later)\n",
                    e.what(), folder.dir.c_str());
       status = 1;
     }
@@ -195,10 +205,9 @@ int Report(const ReportArgs& a) {
   const bool id = !a.what.empty() && std::all_of(a.what.begin(), a.what.end(),
                                                  [](char c) { return std::isdigit(c); });
   if (id) {
-    ResultsDb db(ResultsDir(a.results) / "results.db");
-    row = db.Attempt(std::stoll(a.what));
-    if (!row)
-      throw std::invalid_argument("no attempt " + a.what + " in " + db.file().string());
+    const auto db = OpenResults(ResultsOf(a.results));
+    row = db->Attempt(std::stoll(a.what));
+    if (!row) throw std::invalid_argument("no attempt " + a.what + " in " + db->where());
     lesson = row->lesson_file;
     recording = row->recording;
     if (answers.empty()) answers = row->answers;
@@ -363,9 +372,9 @@ void AddLessonCommands(CLI::App& app) {
       "rebuilt from its recording and entries and stored as incomplete");
   recover->add_option("--results", *recover_dir, "Results folder");
   recover->callback([recover_dir] {
-    const fs::path results = ResultsDir(*recover_dir);
-    const std::vector<fs::path> dirs = UnfinishedAttempts(results);
-    if (dirs.empty()) std::printf("no unfinished attempts in %s\n", results.c_str());
+    const ResultsPlace results = ResultsOf(*recover_dir);
+    const std::vector<fs::path> dirs = UnfinishedAttempts(results.dir);
+    if (dirs.empty()) std::printf("no unfinished attempts in %s\n", results.dir.c_str());
     int status = 0;
     for (const fs::path& d : dirs) {
       try {
@@ -385,8 +394,8 @@ void AddLessonCommands(CLI::App& app) {
     Finish(status);
   });
 
-  CLI::App* results =
-      app.add_subcommand("results", "Students' results: list, show, export as CSV");
+  CLI::App* results = app.add_subcommand(
+      "results", "Students' results: list, show, export as CSV, sync to the store");
   results->require_subcommand(1);
   auto q = std::make_shared<std::array<std::string, 4>>();  // student, lesson, output,
                                                             // results folder
@@ -402,13 +411,15 @@ void AddLessonCommands(CLI::App& app) {
     c->add_option("--lesson", (*q)[1], "Only this lesson file");
   }
   for (CLI::App* c : {list, show, exp})
-    c->add_option("--results", (*q)[3], "Results folder");
+    c->add_option("--results", (*q)[3],
+                  "Results folder, or a PostgreSQL URL (default: $SULCUS_RESULTS_URL, "
+                  "else the folder's results.db)");
   show->add_option("ATTEMPT", *id, "Attempt id")->required()->check(WholeNumber());
   exp->add_option("-o,--output", (*q)[2], "CSV file (default: standard output)");
   exp->add_flag("--sites", *sites, "One line per site instead of per attempt");
   list->callback([q] {
-    ResultsDb db(ResultsDir((*q)[3]) / "results.db");
-    const auto rows = db.Attempts((*q)[0], (*q)[1]);
+    const auto db = OpenResults(ResultsOf((*q)[3]));
+    const auto rows = db->Attempts((*q)[0], (*q)[1]);
     std::printf("%6s  %-20s  %-16s  %-36s  %6s  %8s  %s\n", "id", "started", "student",
                 "lesson", "score", "within1", "diagnosis declared");
     for (const AttemptRow& a : rows) {
@@ -423,14 +434,14 @@ void AddLessonCommands(CLI::App& app) {
                    (a.complete ? "" : "  [incomplete: " + a.ended + "]"))
                       .c_str());
     }
-    std::printf("%zu attempts in %s\n", rows.size(), db.file().c_str());
+    std::printf("%zu attempts in %s\n", rows.size(), db->where().c_str());
   });
   show->callback([q, id] {
-    ResultsDb db(ResultsDir((*q)[3]) / "results.db");
-    const auto a = db.Attempt(*id);
+    const auto db = OpenResults(ResultsOf((*q)[3]));
+    const auto a = db->Attempt(*id);
     if (!a)
       throw std::invalid_argument("no attempt " + std::to_string(*id) + " in " +
-                                  db.file().string());
+                                  db->where());
     std::printf(
         "attempt %lld: %s, %s (%s), %s\nscore %.1f / 100; %d of %d sites probed, %d "
         "charted; within 1 mm %.0f %%, "
@@ -443,7 +454,7 @@ void AddLessonCommands(CLI::App& app) {
         a->duration_s, a->true_dx.c_str(), a->chart_dx.c_str(), a->declared_dx.c_str(),
         a->recording.c_str(), a->report_dir.c_str());
     if (!a->complete) std::printf("incomplete: %s\n", a->ended.c_str());
-    for (const SiteRow& s : db.Sites(a->student, a->lesson_file)) {
+    for (const SiteRow& s : db->Sites(a->student, a->lesson_file)) {
       if (s.attempt != a->id) continue;
       std::printf("  %d %-2s truth %d  reached %s  entered %s  %.2f N\n", s.fdi,
                   SiteCode(s.site), s.truth_mm,
@@ -452,19 +463,82 @@ void AddLessonCommands(CLI::App& app) {
                   s.peak_force_n);
     }
   });
+  auto sync_dir = std::make_shared<std::string>();
+  CLI::App* sync = results->add_subcommand(
+      "sync",
+      "Send what this station kept while the results store or the LRS could not be "
+      "reached: the attempts (each stored once) and their xAPI statements");
+  sync->add_option("--results", *sync_dir,
+                   "Results folder, or a PostgreSQL URL (default: $SULCUS_RESULTS_URL, "
+                   "else the folder's results.db)");
+  sync->callback([sync_dir] {
+    const ResultsPlace place = ResultsOf(*sync_dir);
+    int status = 0;
+    const std::vector<fs::path> waiting = UnfinishedAttempts(place.dir);
+    std::printf("%zu attempt(s) waiting in %s for %s\n", waiting.size(),
+                place.dir.c_str(), place.Describe().c_str());
+    if (!waiting.empty()) {
+      // Reached first: with the server still down nothing is rebuilt in vain.
+      OpenResults(place);
+      const auto t0 = std::chrono::steady_clock::now();
+      int stored = 0;
+      for (const fs::path& d : waiting) {
+        try {
+          const RecoveredAttempt a =
+              RecoverAttempt(d, place, DefaultCacheDir(), Progress());
+          std::printf("stored %s as attempt %lld (%.1f / 100)\n", d.c_str(),
+                      static_cast<long long>(a.id), a.result.total);
+          ++stored;
+        } catch (const std::exception& e) {
+          std::fprintf(stderr, "error: %s is still waiting: %s\n", d.c_str(), e.what());
+          status = 1;
+        }
+      }
+      std::printf(
+          "%d of %zu stored in %.1f s\n", stored, waiting.size(),
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    // The LMS's records that wait for the LRS.
+    const std::vector<fs::path> records = WaitingStatements(place.dir);
+    const XapiSettings lrs = XapiSettingsFromEnv();
+    if (!records.empty() && !lrs.enabled()) {
+      std::fprintf(
+          stderr,
+          "error: %zu attempt(s) have xAPI statements waiting, and no LRS is set "
+          "(SULCUS_LRS_URL)\n",
+          records.size());
+      status = 1;
+    }
+    if (!records.empty() && lrs.enabled()) {
+      int sent = 0;
+      for (const fs::path& d : records) {
+        std::string why;
+        if (SendWaitingStatements(d, lrs, &why)) {
+          ++sent;
+        } else {
+          std::fprintf(stderr, "error: %s: %s\n", d.c_str(), why.c_str());
+          status = 1;
+        }
+      }
+      std::printf("%d of %zu attempts' xAPI statements sent to %s\n", sent,
+                  records.size(), RedactUrl(lrs.url).c_str());
+    }
+    Finish(status);
+  });
   exp->callback([q, sites] {
-    const fs::path db_file = ResultsDir((*q)[3]) / "results.db";
+    const ResultsPlace place = ResultsOf((*q)[3]);
     // Checked before the database is opened: an output onto the store would
     // empty it.
-    if (!(*q)[2].empty()) RefuseOverwrite((*q)[2], StoreFiles(db_file));
-    ResultsDb db(db_file);
+    if (!(*q)[2].empty() && place.url.empty())
+      RefuseOverwrite((*q)[2], StoreFiles(place.sqlite_file()));
+    const auto db = OpenResults(place);
     std::optional<AtomicFile> file;
     if (!(*q)[2].empty()) file.emplace((*q)[2]);
     std::ostream& out = file ? file->stream() : std::cout;
     if (*sites)
-      ExportSitesCsv(db.Sites((*q)[0], (*q)[1]), out);
+      ExportSitesCsv(db->Sites((*q)[0], (*q)[1]), out);
     else
-      ExportAttemptsCsv(db.Attempts((*q)[0], (*q)[1]), out);
+      ExportAttemptsCsv(db->Attempts((*q)[0], (*q)[1]), out);
     if (file) {
       file->Commit();
       std::fprintf(stderr, "wrote %s\n", (*q)[2].c_str());

@@ -65,4 +65,30 @@ std::string Join(const std::vector<int>& items) {
   return s;
 }
 
+std::string JsonQuote(std::string_view text) {
+  std::string o = "\"";
+  for (char c : text) {
+    switch (c) {
+      case '"':
+        o += "\\\"";
+        break;
+      case '\\':
+        o += "\\\\";
+        break;
+      case '\n':
+        o += "\\n";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char b[8];
+          std::snprintf(b, sizeof b, "\\u%04x", static_cast<unsigned>(c));
+          o += b;
+        } else {
+          o += c;
+        }
+    }
+  }
+  return o + "\"";
+}
+
 }  // namespace sulcus

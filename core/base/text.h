@@ -22,6 +22,10 @@ std::string ShortenQuoted(std::string_view message, std::size_t max = 80);
 /// 1e308 is "1e+308" and 0.25 is "0.25".
 std::string FormatNumber(double x);
 
+/// `text` as a JSON string, quoted: quotes, backslashes and control characters
+/// escaped (UTF-8 passes as it is).
+std::string JsonQuote(std::string_view text);
+
 /// The items in order, separated by ", " (a list in a message: "47, 46, 45").
 std::string Join(const std::vector<std::string>& items);
 std::string Join(const std::vector<int>& items);

@@ -1,5 +1,6 @@
 #include "core/lesson/attempt.h"
 
+#include <sodium.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
+#include "core/lesson/xapi.h"
 
 namespace sulcus {
 
@@ -63,30 +65,65 @@ Answers AnswersOf(const LessonResult& r) {
   return a;
 }
 
+std::string AttemptUuid(const fs::path& dir) {
+  const fs::path file = dir / "uuid";
+  {
+    std::ifstream in(file);
+    std::string kept;
+    if (in >> kept && kept.size() == 36) return kept;
+  }
+  if (sodium_init() < 0) throw std::runtime_error("libsodium could not be initialised");
+  unsigned char b[16];
+  randombytes_buf(b, sizeof b);
+  b[6] = static_cast<unsigned char>((b[6] & 0x0f) | 0x40);  // version 4
+  b[8] = static_cast<unsigned char>((b[8] & 0x3f) | 0x80);  // RFC 4122 variant
+  char text[37];
+  std::snprintf(text, sizeof text,
+                "%02x%02x%02x%02x-%02x%02x-%02x%02x-%02x%02x-%02x%02x%02x%02x%02x%02x",
+                b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7], b[8], b[9], b[10], b[11],
+                b[12], b[13], b[14], b[15]);
+  const fs::path tmp = dir / "uuid.tmp";
+  {
+    std::ofstream out(tmp);
+    out << text << "\n";
+    if (!out.flush())
+      throw std::runtime_error(file.string() + ": cannot write the attempt's UUID");
+  }
+  std::error_code ec;
+  fs::rename(tmp, file, ec);
+  if (ec)
+    throw std::runtime_error(file.string() +
+                             ": cannot write the attempt's UUID: " + ec.message());
+  return text;
+}
+
 std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
                          const std::filesystem::path& report_dir,
-                         const std::filesystem::path& results_db) {
+                         const ResultsPlace& results) {
   SaveAnswers(AnswersOf(r), folder.answers());
   ReportInfo info;
   info.recording = folder.recording().string();
   info.started = folder.started;
   WriteReport(r, info, report_dir);
-  // Until its row is in the database the folder says so, so that `lesson
-  // recover` and the start page store it later (once).
+  const std::string uuid = AttemptUuid(folder.dir);
+  // Until its row is in the store the folder says so, so that `results sync`,
+  // `lesson recover` and the start page store it later (once: by its UUID).
   const fs::path unstored = folder.dir / kUnstoredFile;
   try {
-    ResultsDb db(results_db);
-    info.attempt_id = db.Store(r, folder.started, info.recording,
-                               folder.answers().string(), report_dir.string());
+    const std::unique_ptr<ResultsStore> store = OpenResults(results);
+    info.attempt_id = store->Store(r, folder.started, info.recording,
+                                   folder.answers().string(), report_dir.string(), uuid);
   } catch (const std::exception& e) {
     std::ofstream why(unstored);
-    why << "This attempt is kept here but is not in the results database ("
-        << results_db.string() << "): " << e.what()
-        << "\n`sulcus-cli lesson recover` stores it once the database can take it.\n";
+    why << "This attempt is kept here but is not in the results store ("
+        << results.Describe() << "): " << e.what()
+        << "\n`sulcus-cli results sync` stores it once the store can take it.\n";
     throw;
   }
   std::error_code ec;
   fs::remove(unstored, ec);
+  // The record for the school's LMS: sent, or left waiting in the folder.
+  QueueStatements(folder.dir, r, uuid, folder.started, XapiSettingsFromEnv());
   WriteReport(r, info, report_dir);  // again, now naming its attempt
   return info.attempt_id;
 }
@@ -158,7 +195,7 @@ std::vector<fs::path> UnfinishedAttempts(const fs::path& results) {
   return out;
 }
 
-RecoveredAttempt RecoverAttempt(const fs::path& dir, const fs::path& results,
+RecoveredAttempt RecoverAttempt(const fs::path& dir, const ResultsPlace& results,
                                 const fs::path& cache_dir,
                                 const BuildProgress& progress) {
   try {
@@ -178,8 +215,12 @@ RecoveredAttempt RecoverAttempt(const fs::path& dir, const fs::path& results,
         "and entries";
     AttemptOutcome out = RunAttempt(m.lesson, o);
     LessonResult& r = out.result;
-    const std::int64_t id = KeepAttempt(r, folder, dir, results / "results.db");
+    const std::int64_t id = KeepAttempt(r, folder, dir, results);
     return {id, std::move(r)};
+  } catch (const ResultsError&) {
+    // The attempt was rebuilt; the store could not take it (a server down, a
+    // full disk): it waits in its folder and is tried again, not marked as failed.
+    throw;
   } catch (const std::exception& e) {
     std::ofstream why(dir / "recovery.txt");
     why << "This attempt could not be rebuilt: " << e.what() << "\n"

@@ -15,6 +15,7 @@
 
 #include "core/lesson/answers.h"
 #include "core/lesson/lesson.h"
+#include "core/lesson/results.h"
 
 namespace sulcus {
 
@@ -72,12 +73,17 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
 Answers AnswersOf(const LessonResult& r);
 
 /// Keeps a finished attempt: its entries and its report (in `report_dir`) first,
-/// then its row in `results_db`, then the report again naming the attempt; so
-/// a database that fails loses nothing. Returns the attempt's id. Throws
-/// ResultsError (database) or std::runtime_error (files).
+/// then its row in the results store of `results` (with the attempt's UUID, so
+/// that storing it again finds it), then the report again naming the attempt; so
+/// a store that fails or cannot be reached loses nothing: the folder says so
+/// (kUnstoredFile) until `sulcus-cli results sync` stores it. Returns the
+/// attempt's id. Throws ResultsError (store) or std::runtime_error (files).
 std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
                          const std::filesystem::path& report_dir,
-                         const std::filesystem::path& results_db);
+                         const ResultsPlace& results);
+
+/// The attempt's UUID (version 4), made once and kept in its folder (`uuid`).
+std::string AttemptUuid(const std::filesystem::path& dir);
 
 /// What an attempt in progress needs to be rebuilt if the program stops before
 /// it is kept: written as `attempt.yaml` in its folder when it starts. The
@@ -115,7 +121,7 @@ struct RecoveredAttempt {
   LessonResult result;
 };
 RecoveredAttempt RecoverAttempt(const std::filesystem::path& dir,
-                                const std::filesystem::path& results,
+                                const ResultsPlace& results,
                                 const std::filesystem::path& cache_dir,
                                 const BuildProgress& progress = {});
 

@@ -13,12 +13,7 @@ void InitSodium() {
   if (sodium_init() < 0) throw std::runtime_error("libsodium could not be initialised");
 }
 
-std::string ReadHash(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  std::string hash;
-  std::getline(in, hash);
-  return hash;
-}
+constexpr const char* kHashSetting = "instructor_pwhash";
 
 }  // namespace
 
@@ -26,12 +21,29 @@ InstructorLock::InstructorLock(std::filesystem::path file) : file_(std::move(fil
   InitSodium();
 }
 
-bool InstructorLock::is_set() const { return !ReadHash(file_).empty(); }
+InstructorLock::InstructorLock(const ResultsPlace& place)
+    : file_(place.dir / "instructor.pwhash") {
+  InitSodium();
+  if (!place.url.empty()) store_ = OpenResults(place);
+}
+
+InstructorLock::~InstructorLock() = default;
+InstructorLock::InstructorLock(InstructorLock&&) noexcept = default;
+
+std::string InstructorLock::ReadHash() const {
+  if (store_) return store_->Setting(kHashSetting).value_or("");
+  std::ifstream in(file_);
+  std::string hash;
+  std::getline(in, hash);
+  return hash;
+}
+
+bool InstructorLock::is_set() const { return !ReadHash().empty(); }
 
 void InstructorLock::Set(const std::string& passphrase) {
   if (is_set())
     throw std::runtime_error("the instructor's passphrase is already set (" +
-                             file_.string() + ")");
+                             (store_ ? store_->where() : file_.string()) + ")");
   if (passphrase.size() < kMinLength)
     throw std::runtime_error("the passphrase needs at least " +
                              std::to_string(kMinLength) + " characters");
@@ -40,6 +52,12 @@ void InstructorLock::Set(const std::string& passphrase) {
                         crypto_pwhash_OPSLIMIT_INTERACTIVE,
                         crypto_pwhash_MEMLIMIT_INTERACTIVE) != 0)
     throw std::runtime_error("out of memory while hashing the passphrase");
+  if (store_) {
+    if (!store_->SetSettingOnce(kHashSetting, hash))
+      throw std::runtime_error("the instructor's passphrase is already set (" +
+                               store_->where() + ")");
+    return;
+  }
   std::error_code ec;
   if (file_.has_parent_path())
     std::filesystem::create_directories(file_.parent_path(), ec);
@@ -55,7 +73,7 @@ void InstructorLock::Set(const std::string& passphrase) {
 }
 
 bool InstructorLock::Check(const std::string& passphrase) const {
-  const std::string hash = ReadHash(file_);
+  const std::string hash = ReadHash();
   if (hash.empty()) return false;
   return crypto_pwhash_str_verify(hash.c_str(), passphrase.data(), passphrase.size()) ==
          0;

@@ -1,12 +1,16 @@
 #pragma once
 // The instructor's passphrase: set on first use, kept only as an Argon2id hash
-// (libsodium's crypto_pwhash_str, with its interactive limits) in a file beside
-// the results database, never in plain text. Students cannot open the
-// instructor's view without it.
+// (libsodium's crypto_pwhash_str, with its interactive limits), never in plain
+// text: in a file beside a station's results database, or, with a lab's shared
+// store, in the store's settings, so that it is the same on every station.
+// Students cannot open the instructor's view without it.
 
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
+
+#include "core/lesson/results.h"
 
 namespace sulcus {
 
@@ -14,6 +18,11 @@ class InstructorLock {
  public:
   /// `file` holds the hash (created by Set).
   explicit InstructorLock(std::filesystem::path file);
+  /// The lock of a place: its folder's file for a station's SQLite store, the
+  /// store's settings for a shared one (throws ResultsError when unreachable).
+  explicit InstructorLock(const ResultsPlace& place);
+  ~InstructorLock();
+  InstructorLock(InstructorLock&&) noexcept;
   bool is_set() const;
   /// First use only: throws std::runtime_error when a passphrase is already set
   /// or this one is shorter than kMinLength, or the file cannot be written.
@@ -23,7 +32,9 @@ class InstructorLock {
   static constexpr std::size_t kMinLength = 8;
 
  private:
+  std::string ReadHash() const;
   std::filesystem::path file_;
+  std::unique_ptr<ResultsStore> store_;  // a shared store's settings, else the file
 };
 
 }  // namespace sulcus

@@ -591,6 +591,7 @@ LessonResult LessonRun::Finish() const {
   const RubricSpec& rb = spec_.rubric;
   LessonResult out;
   out.lesson_name = spec_.name;
+  out.pass_mark = spec_.pass_mark;
   out.lesson_file = spec_.file.string();
   out.scene_file = scene_.spec.file.string();
   out.mode = ToString(spec_.mode);

@@ -145,7 +145,8 @@ struct LessonResult {
   std::vector<RubricLine> lines;
   std::map<std::string, double> category_credit;  // 0..1, categories that have lines
   std::map<std::string, double> category_weight;
-  double total = 0;  // 0..100
+  double total = 0;       // 0..100
+  double pass_mark = 70;  // the lesson's: total >= pass_mark passes
   int sites_total = 0, sites_read = 0, sites_charted = 0;
   double within_1mm_pct = 0, exact_pct = 0, bias_mm = 0, bias_proximal_mm = 0;
   double force_in_band_pct = 0;

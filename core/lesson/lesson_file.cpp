@@ -592,12 +592,12 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   if (spec.inspection())
     r.CheckKeys(root,
                 {"kind", "name", "description", "scene", "mode", "probe", "teeth",
-                 "regions", "steps", "rubric", "time_limit_s"},
+                 "regions", "steps", "rubric", "time_limit_s", "pass_mark"},
                 "an inspection lesson");
   else
     r.CheckKeys(root,
                 {"kind", "name", "description", "scene", "mode", "probe", "teeth", "path",
-                 "steps", "rubric", "time_limit_s", "case"},
+                 "steps", "rubric", "time_limit_s", "pass_mark", "case"},
                 "the lesson");
   if (root["name"]) spec.name = r.Text(root["name"], "name");
   if (root["description"]) spec.description = r.Text(root["description"], "description");
@@ -613,6 +613,8 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   }
   if (root["time_limit_s"])
     spec.time_limit_s = r.Number(root["time_limit_s"], "time_limit_s", 1, 36000, 0, "s");
+  if (root["pass_mark"])
+    spec.pass_mark = r.Number(root["pass_mark"], "pass_mark", 0, 100, 70, "points");
   if (root["rubric"]) ReadRubric(r, root["rubric"], &spec.rubric);
   if (const YAML::Node c = root["case"]; c && r.IsMap(c, "'case'")) {
     r.CheckKeys(c, {"stage", "extent", "grade", "seed"}, "'case'");

@@ -93,6 +93,7 @@ struct LessonSpec {
   std::vector<StepSpec> steps;
   RubricSpec rubric;
   double time_limit_s = 0;  // 0: none
+  double pass_mark = 70;    // the score (of 100) an attempt passes with
   CaseSpec case_spec;
   std::vector<std::string>
       regions;  // inspection: the regions examined (default: every one the scene has)

@@ -8,47 +8,40 @@
 #include <set>
 #include <sstream>
 
+#include "core/base/text.h"
+
 namespace sulcus {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string Esc(const std::string& s, bool json) {
+// HTML text: the markup characters escaped, a newline as a space.
+std::string H(const std::string& s) {
   std::string o;
   for (char c : s) {
     switch (c) {
       case '"':
-        o += json ? "\\\"" : "&quot;";
-        break;
-      case '\\':
-        o += json ? "\\\\" : "\\";
+        o += "&quot;";
         break;
       case '<':
-        o += json ? "<" : "&lt;";
+        o += "&lt;";
         break;
       case '>':
-        o += json ? ">" : "&gt;";
+        o += "&gt;";
         break;
       case '&':
-        o += json ? "&" : "&amp;";
+        o += "&amp;";
         break;
       case '\n':
-        o += json ? "\\n" : " ";
+        o += " ";
         break;
       default:
-        if (json && static_cast<unsigned char>(c) < 0x20) {
-          char b[8];
-          std::snprintf(b, sizeof b, "\\u%04x", c);
-          o += b;
-        } else {
-          o += c;
-        }
+        o += c;
     }
   }
   return o;
 }
-std::string J(const std::string& s) { return "\"" + Esc(s, true) + "\""; }
-std::string H(const std::string& s) { return Esc(s, false); }
+std::string J(const std::string& s) { return JsonQuote(s); }
 std::string Num(double v, int digits = 3) {
   if (!std::isfinite(v)) return "null";
   char b[48];
@@ -408,7 +401,9 @@ std::string ReportJson(const LessonResult& r, const ReportInfo& info) {
     o << (i ? ", " : "") << "{\"lost_tick\": " << r.interruptions[i].lost_tick
       << ", \"back_tick\": " << r.interruptions[i].back_tick << "}";
   o << "],\n";
-  o << "  \"total\": " << Num(r.total, 2) << ",\n  \"categories\": {";
+  o << "  \"total\": " << Num(r.total, 2) << ",\n  \"pass_mark\": " << Num(r.pass_mark, 1)
+    << ",\n  \"passed\": " << (r.total >= r.pass_mark ? "true" : "false")
+    << ",\n  \"categories\": {";
   bool first = true;
   for (const auto& [cat, credit] : r.category_credit) {
     o << (first ? "" : ", ") << J(cat) << ": {\"credit\": " << Num(credit, 4)
@@ -636,6 +631,8 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
     o << "<p style=\"background:#fbeacc;padding:6px 10px;border-left:4px solid "
          "#d08a00\"><b>Incomplete attempt</b>: "
       << H(r.ended) << ". It is kept and scored as far as it went.</p>\n";
+  o << "<p>" << (r.total >= r.pass_mark ? "Passed" : "Not passed")
+    << ": the lesson passes at " << Num(r.pass_mark, 0) << " / 100.</p>\n";
   if (r.kind == "inspection") {
     o << "<p><span class=score>" << Num(r.total, 1) << "</span> / 100</p>\n"
       << Categories(r) << InspectionHtml(r);

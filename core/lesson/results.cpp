@@ -89,6 +89,15 @@ CREATE INDEX attempts_by_student ON attempts(student_id, started);
 ALTER TABLE attempts ADD COLUMN complete INTEGER NOT NULL DEFAULT 1;
 ALTER TABLE attempts ADD COLUMN ended TEXT NOT NULL DEFAULT '';
 )sql",
+    // 3: the attempt's UUID, so that storing it again finds it (NULL before).
+    R"sql(
+ALTER TABLE attempts ADD COLUMN uuid TEXT;
+CREATE UNIQUE INDEX attempts_by_uuid ON attempts(uuid);
+)sql",
+    // 4: settings every station shares.
+    R"sql(
+CREATE TABLE settings (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+)sql",
 };
 constexpr int kNumMigrations = sizeof(kMigrations) / sizeof(kMigrations[0]);
 static_assert(kNumMigrations == kResultsSchemaVersion);
@@ -204,6 +213,44 @@ std::string Csv(const std::string& s) {
 
 }  // namespace
 
+bool IsResultsUrl(const std::string& text) {
+  return text.rfind("postgresql://", 0) == 0 || text.rfind("postgres://", 0) == 0;
+}
+
+std::string RedactUrl(const std::string& url) {
+  std::string out = url;
+  // scheme://user:password@host: the password between the first ':' after the
+  // scheme and the '@'.
+  if (const std::size_t scheme = out.find("://"); scheme != std::string::npos) {
+    const std::size_t at = out.find('@', scheme + 3);
+    const std::size_t colon = out.find(':', scheme + 3);
+    if (at != std::string::npos && colon != std::string::npos && colon < at)
+      out.replace(colon + 1, at - colon - 1, "***");
+  }
+  // ...?password=secret&...
+  for (std::size_t p = out.find("password="); p != std::string::npos;
+       p = out.find("password=", p + 1)) {
+    const std::size_t from = p + 9, to = out.find('&', from);
+    out.replace(from, (to == std::string::npos ? out.size() : to) - from, "***");
+  }
+  return out;
+}
+
+std::string ResultsPlace::Describe() const {
+  return url.empty() ? "SQLite " + sqlite_file().string()
+                     : "PostgreSQL " + RedactUrl(url);
+}
+
+ResultsPlace ResultsPlaceFor(const fs::path& dir) {
+  const char* u = std::getenv("SULCUS_RESULTS_URL");
+  return ResultsPlace(dir, u ? u : "");
+}
+
+std::unique_ptr<ResultsStore> OpenResults(const ResultsPlace& place) {
+  if (!place.url.empty()) return OpenPostgresResults(place.url);
+  return std::make_unique<ResultsDb>(place.sqlite_file());
+}
+
 fs::path DefaultResultsDir() {
   if (const char* d = std::getenv("SULCUS_RESULTS_DIR"); d && *d) return d;
   if (const char* x = std::getenv("XDG_DATA_HOME"); x && *x)
@@ -287,8 +334,12 @@ std::string ResultsDb::IntegrityCheck() const {
 
 std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
                               const std::string& recording, const std::string& answers,
-                              const std::string& report_dir) {
+                              const std::string& report_dir, const std::string& uuid) {
   Transaction t(*this);
+  if (!uuid.empty()) {
+    Stmt s(db_, "SELECT id FROM attempts WHERE uuid = ?", file_);
+    if (s.Bind(1, uuid).Step(file_)) return s.Int(0);  // stored before: once
+  }
   {
     Stmt s(db_, "INSERT OR IGNORE INTO students(name) VALUES (?)", file_);
     s.Bind(1, r.student).Step(file_);
@@ -305,11 +356,11 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
          "generated_case, case_seed, total, "
          "duration_s, sites_total, sites_read, sites_charted, within_1mm_pct, bias_mm, "
          "force_in_band_pct, true_dx, "
-         "chart_dx, declared_dx, recording, answers, report_dir, complete, ended) "
+         "chart_dx, declared_dx, recording, answers, report_dir, complete, ended, uuid) "
          "VALUES ((SELECT id FROM students "
          "WHERE name = ?), (SELECT id FROM lessons WHERE file = ?), ?, ?, ?, ?, ?, ?, "
          "?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, "
-         "?, ?, ?, ?)",
+         "?, ?, ?, ?, ?)",
          file_);
   a.Bind(1, r.student)
       .Bind(2, r.lesson_file)
@@ -331,7 +382,12 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
       .Bind(18, DeclaredText(r))
       .Bind(19, recording)
       .Bind(20, answers);
-  a.Bind(21, report_dir).Bind(22, r.complete ? 1 : 0).Bind(23, r.ended).Step(file_);
+  a.Bind(21, report_dir).Bind(22, r.complete ? 1 : 0).Bind(23, r.ended);
+  if (uuid.empty())
+    a.BindNull(24);
+  else
+    a.Bind(24, uuid);
+  a.Step(file_);
   const std::int64_t id = sqlite3_last_insert_rowid(db_);
   Stmt site(db_,
             "INSERT INTO attempt_sites(attempt_id, fdi, site, truth_mm, reached_mm, "
@@ -404,7 +460,7 @@ constexpr const char* kAttemptSelect =
     "a.duration_s, a.within_1mm_pct, a.bias_mm, a.force_in_band_pct, a.sites_total, "
     "a.sites_read, a.sites_charted, "
     "a.true_dx, a.chart_dx, a.declared_dx, a.recording, a.answers, a.report_dir, "
-    "a.complete, a.ended FROM attempts a JOIN students s ON "
+    "a.complete, a.ended, a.uuid FROM attempts a JOIN students s ON "
     "s.id = a.student_id JOIN lessons l ON l.id = a.lesson_id ";
 
 AttemptRow ReadAttempt(const Stmt& s) {
@@ -434,6 +490,7 @@ AttemptRow ReadAttempt(const Stmt& s) {
   a.report_dir = s.Text(22);
   a.complete = s.Int(23) != 0;
   a.ended = s.Text(24);
+  a.uuid = s.Text(25);
   return a;
 }
 }  // namespace
@@ -506,6 +563,18 @@ int ResultsDb::DeleteStudent(const std::string& student) {
   s.Bind(1, student).Step(file_);
   t.Commit();
   return n;
+}
+
+std::optional<std::string> ResultsDb::Setting(const std::string& key) const {
+  Stmt s(db_, "SELECT value FROM settings WHERE key = ?", file_);
+  if (!s.Bind(1, key).Step(file_)) return std::nullopt;
+  return s.Text(0);
+}
+
+bool ResultsDb::SetSettingOnce(const std::string& key, const std::string& value) {
+  Stmt s(db_, "INSERT OR IGNORE INTO settings(key, value) VALUES (?, ?)", file_);
+  s.Bind(1, key).Bind(2, value).Step(file_);
+  return sqlite3_changes(db_) == 1;
 }
 
 void ExportAttemptsCsv(const std::vector<AttemptRow>& rows, std::ostream& o) {

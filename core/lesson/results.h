@@ -1,17 +1,23 @@
 #pragma once
-// The results database (SQLite, embedded): students, lessons, attempts, their
-// per-site rows, category scores and rubric lines, the recording's path and the
-// case seed. WAL journal, a schema version (PRAGMA user_version) with
-// migrations applied in order on open, and every attempt written in one
-// transaction: a writer killed mid-attempt loses nothing that was committed and
-// leaves a database that passes `PRAGMA integrity_check`.
+// The results store: students, lessons, attempts, their per-site rows, category
+// scores and rubric lines, the recording's path and the case seed. One interface
+// (ResultsStore) with two backends and the same tables and migrations on both:
+// the embedded SQLite file of a station (ResultsDb: WAL journal, the schema
+// version in PRAGMA user_version) and a lab's shared PostgreSQL server
+// (results_pg.cpp, through libpq), used when a libpq URL is given
+// (SULCUS_RESULTS_URL or --results URL). Every attempt is written in one
+// transaction and carries a UUID, so storing it again (a retry, a sync after the
+// server came back) never makes a second row: a writer killed mid-attempt loses
+// nothing that was committed.
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/lesson/lesson.h"
@@ -20,7 +26,9 @@ struct sqlite3;
 
 namespace sulcus {
 
-inline constexpr int kResultsSchemaVersion = 2;
+// 1: the tables; 2: complete and ended; 3: an attempt's UUID; 4: settings shared
+// by every station (the instructor's passphrase hash).
+inline constexpr int kResultsSchemaVersion = 4;
 
 class ResultsError : public std::runtime_error {
  public:
@@ -39,6 +47,7 @@ struct AttemptRow {
   std::string recording, answers, report_dir;
   bool complete = true;
   std::string ended;  // how an incomplete attempt ended
+  std::string uuid;   // empty for attempts stored before UUIDs
 };
 
 struct SiteRow {
@@ -50,33 +59,87 @@ struct SiteRow {
   double peak_force_n = 0;
 };
 
-class ResultsDb {
+/// Where results go: the attempts' folders (recordings, reports) always live in
+/// `dir`; the rows go to the PostgreSQL server `url` names, or, when it is empty,
+/// to the SQLite file dir/results.db.
+struct ResultsPlace {
+  explicit ResultsPlace(std::filesystem::path d = {}, std::string u = {})
+      : dir(std::move(d)), url(std::move(u)) {}
+  std::filesystem::path dir;
+  std::string url;
+  std::filesystem::path sqlite_file() const { return dir / "results.db"; }
+  /// For messages and the window's footer: the file, or the URL without its password.
+  std::string Describe() const;
+};
+/// `dir` with the URL of $SULCUS_RESULTS_URL (empty when unset).
+ResultsPlace ResultsPlaceFor(const std::filesystem::path& dir);
+/// A libpq URL with its password (user:password@, password=...) replaced by ***.
+std::string RedactUrl(const std::string& url);
+/// True for a libpq URL (postgresql://, postgres://).
+bool IsResultsUrl(const std::string& text);
+
+class ResultsStore {
+ public:
+  virtual ~ResultsStore() = default;
+  /// Stores one attempt in one transaction; returns its id. An attempt whose
+  /// `uuid` is already stored is not stored again: its id is returned.
+  virtual std::int64_t Store(const LessonResult& r, const std::string& started,
+                             const std::string& recording, const std::string& answers,
+                             const std::string& report_dir,
+                             const std::string& uuid = "") = 0;
+  /// Sets where an attempt's report lives (after it was written with the id in it).
+  virtual void SetReportDir(std::int64_t id, const std::string& dir) = 0;
+  virtual std::vector<AttemptRow> Attempts(const std::string& student = "",
+                                           const std::string& lesson_file = "") const = 0;
+  virtual std::optional<AttemptRow> Attempt(std::int64_t id) const = 0;
+  virtual std::vector<SiteRow> Sites(const std::string& student = "",
+                                     const std::string& lesson_file = "") const = 0;
+  virtual std::vector<std::string> Students() const = 0;
+  /// Deletes every attempt of a student and the student (one transaction);
+  /// returns how many attempts went. Their recordings and reports stay on disk.
+  virtual int DeleteStudent(const std::string& student) = 0;
+  virtual int schema_version() const = 0;
+  /// The store in words (its file, or its URL without the password).
+  virtual std::string where() const = 0;
+  /// A setting every station shares (`settings` table), if set.
+  virtual std::optional<std::string> Setting(const std::string& key) const = 0;
+  /// Sets a setting that is not set yet; false (and nothing written) when it is.
+  virtual bool SetSettingOnce(const std::string& key, const std::string& value) = 0;
+};
+
+/// Opens the store of a place (PostgreSQL when it has a URL, else SQLite).
+/// Throws ResultsError naming the file or the URL (never its password).
+std::unique_ptr<ResultsStore> OpenResults(const ResultsPlace& place);
+/// The PostgreSQL backend, migrated up to `version` (tests stop at older ones).
+std::unique_ptr<ResultsStore> OpenPostgresResults(const std::string& url,
+                                                  int version = kResultsSchemaVersion);
+
+class ResultsDb final : public ResultsStore {
  public:
   /// Opens (creating) the database and migrates it to the current schema.
   /// Throws ResultsError naming the file and what went wrong; a database of a
   /// newer schema than this build knows is refused, never rewritten.
   explicit ResultsDb(const std::filesystem::path& file);
-  ~ResultsDb();
+  ~ResultsDb() override;
   ResultsDb(const ResultsDb&) = delete;
   ResultsDb& operator=(const ResultsDb&) = delete;
 
-  /// Stores one attempt in one transaction; returns its id.
   std::int64_t Store(const LessonResult& r, const std::string& started,
                      const std::string& recording, const std::string& answers,
-                     const std::string& report_dir);
-  /// Sets where an attempt's report lives (after it was written with the id in it).
-  void SetReportDir(std::int64_t id, const std::string& dir);
-
+                     const std::string& report_dir,
+                     const std::string& uuid = "") override;
+  void SetReportDir(std::int64_t id, const std::string& dir) override;
   std::vector<AttemptRow> Attempts(const std::string& student = "",
-                                   const std::string& lesson_file = "") const;
-  std::optional<AttemptRow> Attempt(std::int64_t id) const;
+                                   const std::string& lesson_file = "") const override;
+  std::optional<AttemptRow> Attempt(std::int64_t id) const override;
   std::vector<SiteRow> Sites(const std::string& student = "",
-                             const std::string& lesson_file = "") const;
-  std::vector<std::string> Students() const;
-  /// Deletes every attempt of a student and the student (one transaction);
-  /// returns how many attempts went. Their recordings and reports stay on disk.
-  int DeleteStudent(const std::string& student);
-  int schema_version() const;
+                             const std::string& lesson_file = "") const override;
+  std::vector<std::string> Students() const override;
+  int DeleteStudent(const std::string& student) override;
+  int schema_version() const override;
+  std::string where() const override { return file_.string(); }
+  std::optional<std::string> Setting(const std::string& key) const override;
+  bool SetSettingOnce(const std::string& key, const std::string& value) override;
   /// "ok" when the database is sound.
   std::string IntegrityCheck() const;
   const std::filesystem::path& file() const { return file_; }

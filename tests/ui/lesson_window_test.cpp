@@ -77,7 +77,7 @@ TEST(StartPage, ListsTheLessonsAndABrokenOneAsBroken) {
   fs::create_directories(extra);
   std::ofstream(extra / "broken.yaml")
       << "name: broken\nscene: nowhere.yaml\nsteps: [{instruction: x, complete: reed}]\n";
-  StartDialog d({Lessons(), extra}, Out("start_results.db"));
+  StartDialog d({Lessons(), extra}, ResultsPlace(Out("start_results")));
   d.SetStudent("Ada");
   d.show();
   ASSERT_GE(d.items().size(), 3u);
@@ -100,7 +100,8 @@ TEST(StartPage, ListsTheLessonsAndABrokenOneAsBroken) {
 
 // A lesson that draws its case offers the case choice; one that does not, not.
 TEST(StartPage, ALessonThatDrawsItsCaseOffersTheLastCaseAgainAndAGivenSeed) {
-  const fs::path db_file = Out("start_case_results.db");
+  const ResultsPlace place(Out("start_case_results"));
+  const fs::path db_file = place.sqlite_file();
   fs::remove(db_file);
   const fs::path case_lesson =
       fs::absolute(Lessons() / "periodontal_probing_case.yaml").lexically_normal();
@@ -117,7 +118,7 @@ TEST(StartPage, ALessonThatDrawsItsCaseOffersTheLastCaseAgainAndAGivenSeed) {
     r.complete = true;
     db.Store(r, "2026-12-01T10:00:00Z", "/a.rec", "/a.yaml", "/a");
   }
-  StartDialog d({Lessons()}, db_file);
+  StartDialog d({Lessons()}, place);
   d.SetStudent("Grace");
   d.show();
   ASSERT_TRUE(d.SelectLesson(Lessons() / "periodontal_probing.yaml"));
@@ -150,7 +151,7 @@ TEST(StartPage, ALessonThatDrawsItsCaseOffersTheLastCaseAgainAndAGivenSeed) {
 // The start page asks for the chosen lesson's scene a moment after the choice
 // settles and shows how far it is, while the student goes on typing.
 TEST(StartPage, TheChosenLessonIsPreparedWhileTheStudentTypes) {
-  StartDialog d({Lessons()}, Out("start_prep_results.db"));
+  StartDialog d({Lessons()}, ResultsPlace(Out("start_prep_results")));
   std::vector<std::pair<fs::path, std::optional<std::uint64_t>>> asked;
   d.SetPreparation(
       [&](const fs::path& lesson, std::optional<std::uint64_t> seed) {
@@ -290,6 +291,9 @@ TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
       "stored)\n",
       static_cast<long long>(finish.elapsed()));
   ASSERT_TRUE(w.last_result());
+  // The footer names the store the attempt went to, with nothing waiting.
+  EXPECT_EQ(w.results_footer().toStdString(),
+            "Results: SQLite " + (Out("results") / "results.db").string());
   const LessonResult& r = *w.last_result();
   EXPECT_EQ(r.sites_read, 24);
   EXPECT_EQ(r.sites_charted, 24);
@@ -396,7 +400,9 @@ TEST(LessonWindow, APersonProbesFourSitesByKeysAndEachIsScored) {
     for (int i = 0; i < 12; ++i) Key(view, Qt::Key_R, "r");
     EXPECT_NEAR(w.mouse()->press(), 0.24, 1e-9);
     // At the floor: in the site's sulcus, the gauge within 0.03 N of the press
-    // for half a second.
+    // for a second, as a person holds it (the reading's held force is the median
+    // over the whole stay, the letting go included: on a loaded machine half a
+    // second of holding was not always the larger part of it).
     QElapsedTimer still;
     bool holding = false;
     const bool rested = WaitFor(
@@ -405,7 +411,7 @@ TEST(LessonWindow, APersonProbesFourSitesByKeysAndEachIsScored) {
                           std::abs(w.gauge_force() - 0.24) < 0.03;
           if (in && !holding) still.restart();
           holding = in;
-          return in && still.elapsed() > 500;
+          return in && still.elapsed() > 1000;
         },
         60000);
     ASSERT_TRUE(rested) << site.ToString() << ": tip at "

@@ -573,11 +573,12 @@ TEST(Recovery, AnAttemptCutShortByAStoppedProgramIsRebuiltAndKeptAsIncomplete) {
   const AttemptFolder broken = NewAttemptFolder(results, "bob");
   std::ofstream(broken.dir / "attempt.yaml") << "lesson: [unclosed\n";
   ASSERT_EQ(UnfinishedAttempts(results), (std::vector<fs::path>{folder.dir, broken.dir}));
-  EXPECT_THROW(RecoverAttempt(broken.dir, results, Cache()), LoadError);
+  EXPECT_THROW(RecoverAttempt(broken.dir, ResultsPlace(results), Cache()), LoadError);
   EXPECT_TRUE(fs::exists(broken.dir / "recovery.txt"));
   EXPECT_TRUE(fs::exists(broken.dir / "attempt.yaml"));
 
-  const RecoveredAttempt kept = RecoverAttempt(folder.dir, results, Cache());
+  const RecoveredAttempt kept =
+      RecoverAttempt(folder.dir, ResultsPlace(results), Cache());
   EXPECT_FALSE(kept.result.complete);
   EXPECT_NE(kept.result.ended.find("rebuilt from its recording"), std::string::npos)
       << kept.result.ended;
@@ -670,7 +671,8 @@ TEST(Recovery, AHeadlessAttemptKilledMidLessonIsRebuiltFromItsRecording) {
   // ticks, which an offline run can fill ahead of the writer) and a stdio buffer.
   EXPECT_GT(rec.frames.back().tick, kAt - 8192 - 100);
 
-  const RecoveredAttempt kept = RecoverAttempt(k.folder.dir, k.results, Cache());
+  const RecoveredAttempt kept =
+      RecoverAttempt(k.folder.dir, ResultsPlace(k.results), Cache());
   EXPECT_FALSE(kept.result.complete);
   EXPECT_GE(kept.result.sites_read, 3) << "the readings made before the kill are scored";
   EXPECT_LT(kept.result.sites_read, 24);
@@ -699,14 +701,15 @@ TEST(Recovery, AnAttemptTheDatabaseCouldNotTakeIsStoredLaterAndOnce) {
   o.keep_in = &folder;
   const AttemptOutcome out = RunAttempt(Lesson(), o);
   fs::create_directories(results / "results.db");
-  EXPECT_ANY_THROW(KeepAttempt(out.result, folder, folder.dir, results / "results.db"));
+  EXPECT_ANY_THROW(KeepAttempt(out.result, folder, folder.dir, ResultsPlace(results)));
   EXPECT_TRUE(fs::exists(folder.dir / "report.json")) << "the report is kept";
   EXPECT_TRUE(fs::exists(folder.dir / kUnstoredFile)) << "and says it is not stored";
   fs::remove_all(results / "results.db");
   const auto waiting = UnfinishedAttempts(results);
   ASSERT_EQ(waiting.size(), 1u);
   EXPECT_EQ(waiting[0], folder.dir);
-  const RecoveredAttempt kept = RecoverAttempt(folder.dir, results, Cache());
+  const RecoveredAttempt kept =
+      RecoverAttempt(folder.dir, ResultsPlace(results), Cache());
   EXPECT_GT(kept.id, 0);
   EXPECT_FALSE(fs::exists(folder.dir / kUnstoredFile));
   EXPECT_TRUE(UnfinishedAttempts(results).empty()) << "stored once";
@@ -719,7 +722,8 @@ TEST(Recovery, AHeadlessAttemptKilledBeforeItWasKeptLosesNoEntry) {
   const Answers saved = LoadAnswers(k.folder.answers());
   EXPECT_EQ(saved.entries.size(), 24u) << "the chart, saved as it was entered";
   EXPECT_TRUE(saved.diagnosis.has_value());
-  const RecoveredAttempt kept = RecoverAttempt(k.folder.dir, k.results, Cache());
+  const RecoveredAttempt kept =
+      RecoverAttempt(k.folder.dir, ResultsPlace(k.results), Cache());
   EXPECT_EQ(kept.result.sites_charted, 24);
   EXPECT_TRUE(kept.result.declared.has_value());
   EXPECT_TRUE(kept.result.complete) << "every step was done before the kill";

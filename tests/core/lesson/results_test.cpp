@@ -18,51 +18,16 @@
 #include "core/lesson/attempt.h"
 #include "core/lesson/instructor.h"
 #include "tests/common/output.h"
+#include "tests/core/lesson/sample_result.h"
 
 namespace sulcus {
 namespace {
 
 namespace fs = std::filesystem;
+using test::Sample;
 
 fs::path Fresh(const std::string& name) {
   return test::FreshOutputPath("results", name) / "results.db";
-}
-
-LessonResult Sample(const std::string& student, double total) {
-  LessonResult r;
-  r.lesson_name = "Periodontal probing";
-  r.lesson_file = "/lessons/periodontal_probing.yaml";
-  r.scene_file = "/scenes/periodontal_probing.yaml";
-  r.mode = "practice";
-  r.student = student;
-  r.total = total;
-  r.sites_total = 24;
-  for (int t : {47, 46, 45, 44})
-    for (int s = 0; s < 6; ++s) {
-      SiteResult x;
-      x.site = {t, s};
-      x.truth_mm = 3;
-      x.reached_mm = 3.1;
-      ChartEntry e;
-      e.site = x.site;
-      e.pd_mm = (t == 46 && s == 2) ? 5 : 3;
-      e.tick = 100;
-      x.entry = e;
-      x.peak_force_n = 0.22;
-      r.sites.push_back(x);
-    }
-  for (int i = 0; i < 120; ++i) {
-    RubricLine l;
-    l.category = i % 2 ? "technique" : "force";
-    l.status = RubricLine::Status::kPass;
-    l.credit = 1;
-    l.message = "line " + std::to_string(i) + ", with a comma and \"quotes\"";
-    l.tick = static_cast<std::uint64_t>(i);
-    r.lines.push_back(l);
-  }
-  r.category_credit = {{"technique", 1.0}, {"force", 0.5}};
-  r.category_weight = {{"technique", 20}, {"force", 15}};
-  return r;
 }
 
 int Count(const fs::path& db, const std::string& sql) {
@@ -105,13 +70,15 @@ TEST(Results, VersionOneDatabaseIsMigratedKeepingItsAttempts) {
     ResultsDb db(file);
     db.Store(Sample("ada", 88), "2026-12-01T10:00:00Z", "/a.rec", "/a.yaml", "/a");
   }
-  {  // Make it what a version-1 Sulcus wrote: no complete/ended columns.
+  {  // Make it what a version-1 Sulcus wrote: no complete/ended columns, no
+     // UUIDs, no shared settings.
     sqlite3* h = nullptr;
     ASSERT_EQ(sqlite3_open(file.c_str(), &h), SQLITE_OK);
     char* err = nullptr;
     ASSERT_EQ(sqlite3_exec(h,
                            "ALTER TABLE attempts DROP COLUMN complete; ALTER TABLE "
-                           "attempts DROP COLUMN ended; "
+                           "attempts DROP COLUMN ended; DROP INDEX attempts_by_uuid; "
+                           "ALTER TABLE attempts DROP COLUMN uuid; DROP TABLE settings; "
                            "PRAGMA user_version=1",
                            nullptr, nullptr, &err),
               SQLITE_OK)
@@ -120,11 +87,13 @@ TEST(Results, VersionOneDatabaseIsMigratedKeepingItsAttempts) {
   }
   EXPECT_EQ(Count(file, "PRAGMA user_version"), 1);
   ResultsDb db(file);
-  EXPECT_EQ(db.schema_version(), 2);
+  EXPECT_EQ(db.schema_version(), kResultsSchemaVersion);
+  EXPECT_TRUE(db.SetSettingOnce("k", "v")) << "the settings table was made";
   const auto rows = db.Attempts("ada");
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_DOUBLE_EQ(rows[0].total, 88);
   EXPECT_TRUE(rows[0].complete);  // what version 1 kept was complete
+  EXPECT_EQ(rows[0].uuid, "") << "attempts from before UUIDs have none";
 }
 
 TEST(Results, AttemptsRoundTripAndExport) {

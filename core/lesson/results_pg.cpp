@@ -1,0 +1,504 @@
+// The results store on a lab's PostgreSQL server, through libpq: the same tables
+// and migrations as the SQLite file (results.cpp), in PostgreSQL's types. The
+// schema version is kept in `sulcus_schema`; migrations run under an advisory
+// lock, so twenty stations starting at once migrate an empty database once.
+#include <libpq-fe.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "core/lesson/results.h"
+
+namespace sulcus {
+namespace {
+
+const char* const kPgMigrations[] = {
+    R"sql(
+CREATE TABLE students (
+  id BIGSERIAL PRIMARY KEY,
+  name TEXT NOT NULL UNIQUE,
+  created TEXT NOT NULL DEFAULT to_char(now() AT TIME ZONE 'UTC', 'YYYY-MM-DD"T"HH24:MI:SS"Z"')
+);
+CREATE TABLE lessons (
+  id BIGSERIAL PRIMARY KEY,
+  file TEXT NOT NULL UNIQUE,
+  name TEXT NOT NULL
+);
+CREATE TABLE attempts (
+  id BIGSERIAL PRIMARY KEY,
+  student_id BIGINT NOT NULL REFERENCES students(id),
+  lesson_id BIGINT NOT NULL REFERENCES lessons(id),
+  started TEXT NOT NULL,
+  mode TEXT NOT NULL,
+  scene_file TEXT NOT NULL,
+  generated_case INTEGER NOT NULL,
+  case_seed BIGINT NOT NULL,
+  total DOUBLE PRECISION NOT NULL,
+  duration_s DOUBLE PRECISION NOT NULL,
+  sites_total INTEGER NOT NULL,
+  sites_read INTEGER NOT NULL,
+  sites_charted INTEGER NOT NULL,
+  within_1mm_pct DOUBLE PRECISION NOT NULL,
+  bias_mm DOUBLE PRECISION NOT NULL,
+  force_in_band_pct DOUBLE PRECISION NOT NULL,
+  true_dx TEXT NOT NULL,
+  chart_dx TEXT NOT NULL,
+  declared_dx TEXT NOT NULL,
+  recording TEXT NOT NULL,
+  answers TEXT NOT NULL,
+  report_dir TEXT NOT NULL
+);
+CREATE TABLE attempt_sites (
+  attempt_id BIGINT NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
+  fdi INTEGER NOT NULL,
+  site INTEGER NOT NULL,
+  truth_mm INTEGER NOT NULL,
+  reached_mm DOUBLE PRECISION,
+  entered_mm INTEGER,
+  peak_force_n DOUBLE PRECISION NOT NULL,
+  angle_deg DOUBLE PRECISION NOT NULL,
+  col_reached INTEGER NOT NULL,
+  bled INTEGER NOT NULL,
+  bleeding_charted INTEGER NOT NULL,
+  reading_tick BIGINT NOT NULL,
+  PRIMARY KEY (attempt_id, fdi, site)
+);
+CREATE TABLE attempt_scores (
+  attempt_id BIGINT NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
+  category TEXT NOT NULL,
+  credit DOUBLE PRECISION NOT NULL,
+  weight DOUBLE PRECISION NOT NULL,
+  PRIMARY KEY (attempt_id, category)
+);
+CREATE TABLE attempt_lines (
+  attempt_id BIGINT NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
+  seq INTEGER NOT NULL,
+  category TEXT NOT NULL,
+  fdi INTEGER NOT NULL,
+  site INTEGER,
+  status TEXT NOT NULL,
+  credit DOUBLE PRECISION NOT NULL,
+  tick BIGINT NOT NULL,
+  message TEXT NOT NULL,
+  PRIMARY KEY (attempt_id, seq)
+);
+CREATE INDEX attempts_by_student ON attempts(student_id, started);
+)sql",
+    R"sql(
+ALTER TABLE attempts ADD COLUMN complete INTEGER NOT NULL DEFAULT 1;
+ALTER TABLE attempts ADD COLUMN ended TEXT NOT NULL DEFAULT '';
+)sql",
+    R"sql(
+ALTER TABLE attempts ADD COLUMN uuid TEXT;
+CREATE UNIQUE INDEX attempts_by_uuid ON attempts(uuid);
+)sql",
+    R"sql(
+CREATE TABLE settings (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+)sql",
+};
+static_assert(sizeof(kPgMigrations) / sizeof(kPgMigrations[0]) == kResultsSchemaVersion);
+
+constexpr long long kMigrationLock = 0x5375'6c63'7573;  // "Sulcus"
+
+// A query's parameters as text (libpq's text format), NULL as nullopt.
+class Params {
+ public:
+  Params& Add(const std::string& v) {
+    values_.push_back(v);
+    return *this;
+  }
+  Params& Add(std::int64_t v) { return Add(std::to_string(v)); }
+  Params& Add(int v) { return Add(std::to_string(v)); }
+  Params& Add(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return Add(std::string(b));
+  }
+  Params& Null() {
+    values_.push_back(std::nullopt);
+    return *this;
+  }
+  std::vector<const char*> Pointers() const {
+    std::vector<const char*> p;
+    for (const auto& v : values_) p.push_back(v ? v->c_str() : nullptr);
+    return p;
+  }
+
+ private:
+  std::vector<std::optional<std::string>> values_;
+};
+
+// A result, cleared on scope exit.
+class Result {
+ public:
+  explicit Result(PGresult* r) : r_(r) {}
+  ~Result() { PQclear(r_); }
+  Result(Result&& o) noexcept : r_(std::exchange(o.r_, nullptr)) {}
+  Result(const Result&) = delete;
+  Result& operator=(const Result&) = delete;
+  int rows() const { return PQntuples(r_); }
+  bool IsNull(int row, int c) const { return PQgetisnull(r_, row, c) != 0; }
+  std::string Text(int row, int c) const { return PQgetvalue(r_, row, c); }
+  std::int64_t Int(int row, int c) const {
+    return std::strtoll(PQgetvalue(r_, row, c), nullptr, 10);
+  }
+  double Real(int row, int c) const {
+    return std::strtod(PQgetvalue(r_, row, c), nullptr);
+  }
+  const char* affected() const { return PQcmdTuples(r_); }
+  bool ok() const {
+    const ExecStatusType st = PQresultStatus(r_);
+    return r_ && (st == PGRES_COMMAND_OK || st == PGRES_TUPLES_OK);
+  }
+
+ private:
+  PGresult* r_;
+};
+
+class PgResults final : public ResultsStore {
+ public:
+  PgResults(const std::string& url, int version) : url_(url), shown_(RedactUrl(url)) {
+    const char* keys[] = {"connect_timeout", "dbname", nullptr};
+    const char* values[] = {"5", url.c_str(), nullptr};
+    pg_ = PQconnectdbParams(keys, values, 1);
+    if (!pg_ || PQstatus(pg_) != CONNECTION_OK) {
+      const std::string why = pg_ ? FirstLine(PQerrorMessage(pg_)) : "out of memory";
+      PQfinish(pg_);
+      pg_ = nullptr;
+      throw ResultsError("PostgreSQL results store " + shown_ +
+                         ": cannot connect: " + why +
+                         "; attempts made meanwhile are kept on this station and sent "
+                         "by `sulcus-cli results sync`");
+    }
+    Exec("SET client_min_messages = warning");
+    Migrate(version);
+  }
+  ~PgResults() override { PQfinish(pg_); }
+
+  std::int64_t Store(const LessonResult& r, const std::string& started,
+                     const std::string& recording, const std::string& answers,
+                     const std::string& report_dir, const std::string& uuid) override {
+    Transaction t(this);
+    if (!uuid.empty()) {
+      const Result known =
+          Query("SELECT id FROM attempts WHERE uuid = $1", Params().Add(uuid));
+      if (known.rows() > 0) return known.Int(0, 0);  // stored before: once
+    }
+    Query("INSERT INTO students(name) VALUES ($1) ON CONFLICT (name) DO NOTHING",
+          Params().Add(r.student));
+    Query(
+        "INSERT INTO lessons(file, name) VALUES ($1, $2) ON CONFLICT (file) DO UPDATE "
+        "SET name = excluded.name",
+        Params().Add(r.lesson_file).Add(r.lesson_name));
+    Params a;
+    a.Add(r.student).Add(r.lesson_file).Add(started).Add(r.mode).Add(r.scene_file);
+    a.Add(r.generated_case ? 1 : 0)
+        .Add(static_cast<std::int64_t>(r.case_seed))
+        .Add(r.total);
+    a.Add(r.duration_s).Add(r.sites_total).Add(r.sites_read).Add(r.sites_charted);
+    a.Add(r.within_1mm_pct)
+        .Add(r.bias_mm)
+        .Add(r.force_in_band_pct)
+        .Add(r.true_dx.Summary());
+    a.Add(r.chart_dx.Summary())
+        .Add(r.declared ? r.declared->Summary() : std::string("nothing"))
+        .Add(recording)
+        .Add(answers);
+    a.Add(report_dir).Add(r.complete ? 1 : 0).Add(r.ended);
+    if (uuid.empty())
+      a.Null();
+    else
+      a.Add(uuid);
+    // A second station storing the same UUID at the same moment waits on the
+    // unique index and then inserts nothing: its id is then the first's.
+    const Result inserted = Query(
+        "INSERT INTO attempts(student_id, lesson_id, started, mode, scene_file, "
+        "generated_case, case_seed, total, duration_s, sites_total, sites_read, "
+        "sites_charted, within_1mm_pct, bias_mm, force_in_band_pct, true_dx, chart_dx, "
+        "declared_dx, recording, answers, report_dir, complete, ended, uuid) VALUES "
+        "((SELECT id FROM students WHERE name = $1), (SELECT id FROM lessons WHERE file "
+        "= $2), $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, "
+        "$19, $20, $21, $22, $23, $24) ON CONFLICT (uuid) DO NOTHING RETURNING id",
+        a);
+    if (inserted.rows() == 0) {
+      const Result known =
+          Query("SELECT id FROM attempts WHERE uuid = $1", Params().Add(uuid));
+      const std::int64_t id = known.rows() > 0 ? known.Int(0, 0) : 0;
+      t.Commit();
+      return id;
+    }
+    const std::int64_t id = inserted.Int(0, 0);
+    for (const SiteResult& s : r.sites) {
+      Params p;
+      p.Add(id).Add(s.site.fdi).Add(s.site.site).Add(s.truth_mm);
+      if (s.reached_mm)
+        p.Add(*s.reached_mm);
+      else
+        p.Null();
+      if (s.entry && s.entry->pd_mm)
+        p.Add(*s.entry->pd_mm);
+      else
+        p.Null();
+      p.Add(s.peak_force_n)
+          .Add(s.angle_deg)
+          .Add(s.col_reached ? 1 : 0)
+          .Add(s.bled ? 1 : 0);
+      p.Add(s.entry && s.entry->bleeding ? 1 : 0)
+          .Add(static_cast<std::int64_t>(s.reading_tick));
+      Query(
+          "INSERT INTO attempt_sites(attempt_id, fdi, site, truth_mm, reached_mm, "
+          "entered_mm, peak_force_n, angle_deg, col_reached, bled, bleeding_charted, "
+          "reading_tick) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12)",
+          p);
+    }
+    for (const auto& [cat, credit] : r.category_credit)
+      Query(
+          "INSERT INTO attempt_scores(attempt_id, category, credit, weight) VALUES "
+          "($1, $2, $3, $4)",
+          Params().Add(id).Add(cat).Add(credit).Add(r.category_weight.at(cat)));
+    int seq = 0;
+    for (const RubricLine& l : r.lines) {
+      Params p;
+      p.Add(id).Add(seq++).Add(l.category).Add(l.fdi);
+      if (l.site)
+        p.Add(l.site->site);
+      else
+        p.Null();
+      p.Add(std::string(ToString(l.status)))
+          .Add(l.credit)
+          .Add(static_cast<std::int64_t>(l.tick));
+      p.Add(l.message);
+      Query(
+          "INSERT INTO attempt_lines(attempt_id, seq, category, fdi, site, status, "
+          "credit, tick, message) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9)",
+          p);
+    }
+    t.Commit();
+    return id;
+  }
+
+  void SetReportDir(std::int64_t id, const std::string& dir) override {
+    Query("UPDATE attempts SET report_dir = $1 WHERE id = $2", Params().Add(dir).Add(id));
+  }
+
+  std::vector<AttemptRow> Attempts(const std::string& student,
+                                   const std::string& lesson_file) const override {
+    const Result r = Query(std::string(kSelect) +
+                               "WHERE ($1 = '' OR s.name = $1) AND ($2 = '' OR l.file = "
+                               "$2) ORDER BY a.id",
+                           Params().Add(student).Add(lesson_file));
+    std::vector<AttemptRow> out;
+    for (int i = 0; i < r.rows(); ++i) out.push_back(Row(r, i));
+    return out;
+  }
+
+  std::optional<AttemptRow> Attempt(std::int64_t id) const override {
+    const Result r = Query(std::string(kSelect) + "WHERE a.id = $1", Params().Add(id));
+    if (r.rows() == 0) return std::nullopt;
+    return Row(r, 0);
+  }
+
+  std::vector<SiteRow> Sites(const std::string& student,
+                             const std::string& lesson_file) const override {
+    const Result r = Query(
+        "SELECT t.attempt_id, s.name, a.started, t.fdi, t.site, t.truth_mm, "
+        "t.reached_mm, "
+        "t.entered_mm, t.peak_force_n FROM attempt_sites t JOIN attempts a ON a.id = "
+        "t.attempt_id JOIN students s ON s.id = a.student_id JOIN lessons l ON l.id = "
+        "a.lesson_id WHERE ($1 = '' OR s.name = $1) AND ($2 = '' OR l.file = $2) ORDER "
+        "BY "
+        "t.attempt_id, t.fdi, t.site",
+        Params().Add(student).Add(lesson_file));
+    std::vector<SiteRow> out;
+    for (int i = 0; i < r.rows(); ++i) {
+      SiteRow s;
+      s.attempt = r.Int(i, 0);
+      s.student = r.Text(i, 1);
+      s.started = r.Text(i, 2);
+      s.fdi = static_cast<int>(r.Int(i, 3));
+      s.site = static_cast<int>(r.Int(i, 4));
+      s.truth_mm = static_cast<int>(r.Int(i, 5));
+      if (!r.IsNull(i, 6)) s.reached_mm = r.Real(i, 6);
+      if (!r.IsNull(i, 7)) s.entered_mm = static_cast<int>(r.Int(i, 7));
+      s.peak_force_n = r.Real(i, 8);
+      out.push_back(s);
+    }
+    return out;
+  }
+
+  std::vector<std::string> Students() const override {
+    const Result r = Query("SELECT name FROM students ORDER BY name", Params());
+    std::vector<std::string> out;
+    for (int i = 0; i < r.rows(); ++i) out.push_back(r.Text(i, 0));
+    return out;
+  }
+
+  int DeleteStudent(const std::string& student) override {
+    Transaction t(this);
+    const Result d = Query(
+        "DELETE FROM attempts WHERE student_id = (SELECT id FROM students WHERE name = "
+        "$1)",
+        Params().Add(student));
+    const int n = std::atoi(d.affected());
+    Query("DELETE FROM students WHERE name = $1", Params().Add(student));
+    t.Commit();
+    return n;
+  }
+
+  int schema_version() const override {
+    const Result r = Query("SELECT version FROM sulcus_schema", Params());
+    return r.rows() > 0 ? static_cast<int>(r.Int(0, 0)) : 0;
+  }
+
+  std::string where() const override { return shown_; }
+
+  std::optional<std::string> Setting(const std::string& key) const override {
+    const Result r =
+        Query("SELECT value FROM settings WHERE key = $1", Params().Add(key));
+    if (r.rows() == 0) return std::nullopt;
+    return r.Text(0, 0);
+  }
+
+  bool SetSettingOnce(const std::string& key, const std::string& value) override {
+    const Result r = Query(
+        "INSERT INTO settings(key, value) VALUES ($1, $2) ON CONFLICT (key) DO NOTHING",
+        Params().Add(key).Add(value));
+    return std::string(r.affected()) == "1";
+  }
+
+ private:
+  static constexpr const char* kSelect =
+      "SELECT a.id, s.name, l.name, l.file, a.scene_file, a.mode, a.started, "
+      "a.case_seed, "
+      "a.generated_case, a.total, a.duration_s, a.within_1mm_pct, a.bias_mm, "
+      "a.force_in_band_pct, a.sites_total, a.sites_read, a.sites_charted, a.true_dx, "
+      "a.chart_dx, a.declared_dx, a.recording, a.answers, a.report_dir, a.complete, "
+      "a.ended, a.uuid FROM attempts a JOIN students s ON s.id = a.student_id JOIN "
+      "lessons "
+      "l ON l.id = a.lesson_id ";
+
+  static AttemptRow Row(const Result& r, int i) {
+    AttemptRow a;
+    a.id = r.Int(i, 0);
+    a.student = r.Text(i, 1);
+    a.lesson_name = r.Text(i, 2);
+    a.lesson_file = r.Text(i, 3);
+    a.scene_file = r.Text(i, 4);
+    a.mode = r.Text(i, 5);
+    a.started = r.Text(i, 6);
+    a.case_seed = static_cast<std::uint64_t>(r.Int(i, 7));
+    a.generated_case = r.Int(i, 8) != 0;
+    a.total = r.Real(i, 9);
+    a.duration_s = r.Real(i, 10);
+    a.within_1mm_pct = r.Real(i, 11);
+    a.bias_mm = r.Real(i, 12);
+    a.force_in_band_pct = r.Real(i, 13);
+    a.sites_total = static_cast<int>(r.Int(i, 14));
+    a.sites_read = static_cast<int>(r.Int(i, 15));
+    a.sites_charted = static_cast<int>(r.Int(i, 16));
+    a.true_dx = r.Text(i, 17);
+    a.chart_dx = r.Text(i, 18);
+    a.declared_dx = r.Text(i, 19);
+    a.recording = r.Text(i, 20);
+    a.answers = r.Text(i, 21);
+    a.report_dir = r.Text(i, 22);
+    a.complete = r.Int(i, 23) != 0;
+    a.ended = r.Text(i, 24);
+    a.uuid = r.Text(i, 25);
+    return a;
+  }
+
+  // libpq's message, to the point: "connection to server at ... failed: FATAL:
+  // password authentication failed for user ..." says its cause after FATAL.
+  static std::string FirstLine(const char* text) {
+    std::string s = text ? text : "";
+    if (const std::size_t f = s.find("FATAL:"); f != std::string::npos) {
+      s = s.substr(f + 6);
+      s.erase(0, s.find_first_not_of(' '));
+    }
+    if (const std::size_t nl = s.find('\n'); nl != std::string::npos) s.resize(nl);
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    if (s.size() > 240) s = s.substr(0, 240) + "...";
+    return s;
+  }
+
+  [[noreturn]] void Fail(const char* what) const {
+    const std::string why = FirstLine(PQerrorMessage(pg_));
+    if (PQstatus(pg_) != CONNECTION_OK)
+      throw ResultsError("PostgreSQL results store " + shown_ +
+                         ": the connection was lost (" + why +
+                         "); nothing of this attempt was stored; it is kept on this "
+                         "station and sent by `sulcus-cli results sync`");
+    throw ResultsError("PostgreSQL results store " + shown_ + ": " + what +
+                       " failed: " + why);
+  }
+
+  Result Query(const std::string& sql, const Params& p) const {
+    const std::vector<const char*> values = p.Pointers();
+    Result r(PQexecParams(pg_, sql.c_str(), static_cast<int>(values.size()), nullptr,
+                          values.data(), nullptr, nullptr, 0));
+    if (!r.ok()) Fail("a query");
+    return r;
+  }
+
+  void Exec(const std::string& sql) const {
+    const Result r(PQexec(pg_, sql.c_str()));
+    if (!r.ok()) Fail("a statement");
+  }
+
+  class Transaction {
+   public:
+    explicit Transaction(const PgResults* db) : db_(db) { db_->Exec("BEGIN"); }
+    ~Transaction() {
+      if (!committed_) PQclear(PQexec(db_->pg_, "ROLLBACK"));
+    }
+    Transaction(const Transaction&) = delete;
+    Transaction& operator=(const Transaction&) = delete;
+    void Commit() {
+      db_->Exec("COMMIT");
+      committed_ = true;
+    }
+
+   private:
+    const PgResults* db_;
+    bool committed_ = false;
+  };
+
+  void Migrate(int target) {
+    Transaction t(this);
+    Exec("SELECT pg_advisory_xact_lock(" + std::to_string(kMigrationLock) + ")");
+    Exec("CREATE TABLE IF NOT EXISTS sulcus_schema (version INTEGER NOT NULL)");
+    int version = schema_version();
+    if (version > kResultsSchemaVersion)
+      throw ResultsError("PostgreSQL results store " + shown_ +
+                         ": the store has schema version " + std::to_string(version) +
+                         "; this Sulcus knows up to " +
+                         std::to_string(kResultsSchemaVersion) +
+                         " (it was written by a newer Sulcus; it is left untouched)");
+    if (version == 0 && schema_rows() == 0) Exec("INSERT INTO sulcus_schema VALUES (0)");
+    for (; version < target; ++version) {
+      Exec(kPgMigrations[version]);
+      Exec("UPDATE sulcus_schema SET version = " + std::to_string(version + 1));
+    }
+    t.Commit();
+  }
+
+  int schema_rows() const {
+    const Result r = Query("SELECT COUNT(*) FROM sulcus_schema", Params());
+    return static_cast<int>(r.Int(0, 0));
+  }
+
+  std::string url_, shown_;
+  PGconn* pg_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<ResultsStore> OpenPostgresResults(const std::string& url, int version) {
+  return std::make_unique<PgResults>(url, version);
+}
+
+}  // namespace sulcus

@@ -1,0 +1,136 @@
+#include "tests/common/postgres_server.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace sulcus::test {
+
+namespace fs = std::filesystem;
+
+int FreePort() {
+  const int s = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  a.sin_port = 0;
+  socklen_t n = sizeof a;
+  if (s < 0 || bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+      getsockname(s, reinterpret_cast<sockaddr*>(&a), &n) != 0)
+    throw std::runtime_error("no free TCP port on 127.0.0.1");
+  close(s);
+  return ntohs(a.sin_port);
+}
+
+namespace {
+
+fs::path PostgresBin() {
+  std::error_code ec;
+  for (const char* v : {"15", "16", "17", "14", "13"}) {
+    const fs::path bin = fs::path("/usr/lib/postgresql") / v / "bin";
+    if (fs::exists(bin / "initdb", ec) && fs::exists(bin / "pg_ctl", ec)) return bin;
+  }
+  throw std::runtime_error(
+      "no PostgreSQL server binaries (/usr/lib/postgresql/N/bin/initdb); install "
+      "postgresql-15 (scripts/install-deps.sh)");
+}
+
+std::string Slurp(const fs::path& f) {
+  std::ifstream in(f);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+PostgresServer::PostgresServer() : bin_(PostgresBin()) {
+  char tmpl[] = "/tmp/sulcus-pg-XXXXXX";
+  if (!mkdtemp(tmpl)) throw std::runtime_error("cannot make a folder under /tmp");
+  dir_ = tmpl;
+  std::ofstream(dir_ / "pw") << kPassword << "\n";
+  if (geteuid() == 0) Run("chown -R postgres:postgres " + dir_.string());
+  Run((bin_ / "initdb").string() + " -D " + (dir_ / "data").string() + " -U " + kUser +
+      " --auth=scram-sha-256 --pwfile=" + (dir_ / "pw").string() +
+      " -E UTF8 --no-sync >" + (dir_ / "initdb.log").string() + " 2>&1");
+  port_ = FreePort();
+  Start();
+}
+
+PostgresServer::~PostgresServer() {
+  try {
+    Stop(true);
+  } catch (const std::exception&) {
+    // Removed below either way.
+  }
+  std::error_code ec;
+  fs::remove_all(dir_, ec);
+}
+
+void PostgresServer::Run(const std::string& command) const {
+  const std::string as =
+      geteuid() == 0 && command.rfind("chown", 0) != 0 ? "runuser -u postgres -- " : "";
+  const std::string full = as + "sh -c '" + command + "'";
+  if (std::system(full.c_str()) != 0)
+    throw std::runtime_error("failed: " + full + "\n" + Slurp(dir_ / "initdb.log") +
+                             Slurp(dir_ / "server.log"));
+}
+
+void PostgresServer::Start() {
+  if (running_) return;
+  Run((bin_ / "pg_ctl").string() + " -D " + (dir_ / "data").string() + " -l " +
+      (dir_ / "server.log").string() + " -w -t 60 -o \"-p " + std::to_string(port_) +
+      " -k " + dir_.string() +
+      " -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=60\" start "
+      ">/dev/null");
+  running_ = true;
+}
+
+void PostgresServer::Stop(bool immediate) {
+  if (!running_) return;
+  running_ = false;
+  Run((bin_ / "pg_ctl").string() + " -D " + (dir_ / "data").string() + " -m " +
+      (immediate ? "immediate" : "fast") + " -w stop >/dev/null");
+}
+
+std::string PostgresServer::url(const std::string& password,
+                                const std::string& database) const {
+  return std::string("postgresql://") + kUser + ":" + password +
+         "@127.0.0.1:" + std::to_string(port_) + "/" + database;
+}
+
+std::string PostgresServer::Sql(const std::string& database,
+                                const std::string& sql) const {
+  const std::string command = "PGPASSWORD=" + std::string(kPassword) + " " +
+                              (bin_ / "psql").string() + " -At -h 127.0.0.1 -p " +
+                              std::to_string(port_) + " -U " + kUser + " -d " + database +
+                              " -c \"" + sql + "\"";
+  FILE* p = popen(command.c_str(), "r");
+  if (!p) throw std::runtime_error("failed: " + command);
+  std::string out;
+  char buf[256];
+  while (std::fgets(buf, sizeof buf, p)) out += buf;
+  if (pclose(p) != 0) throw std::runtime_error("failed: " + command + "\n" + out);
+  while (!out.empty() && out.back() == '\n') out.pop_back();
+  return out;
+}
+
+std::string PostgresServer::FreshDatabase(const std::string& name) {
+  const std::string psql = "PGPASSWORD=" + std::string(kPassword) + " " +
+                           (bin_ / "psql").string() + " -q -h 127.0.0.1 -p " +
+                           std::to_string(port_) + " -U " + kUser + " -d postgres -c ";
+  const std::string command = psql + "\"DROP DATABASE IF EXISTS " + name +
+                              "\" 2>/dev/null && " + psql + "\"CREATE DATABASE " + name +
+                              "\" >/dev/null";
+  if (std::system(command.c_str()) != 0) throw std::runtime_error("failed: " + command);
+  return url(kPassword, name);
+}
+
+}  // namespace sulcus::test

@@ -1,0 +1,303 @@
+// The results store on a real PostgreSQL server (started by the test in a folder
+// of its own, as a lab's server would run): migrations from an empty and from an
+// older schema, the same rows as the SQLite file, twenty stations storing at once,
+// a server stopped in the middle of the writes and started again, a wrong password
+// or host, and a station that stored while the server was down and syncs later.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <set>
+
+#include "core/lesson/attempt.h"
+#include "core/lesson/instructor.h"
+#include "core/lesson/results.h"
+#include "tests/common/output.h"
+#include "tests/common/postgres_server.h"
+#include "tests/core/lesson/sample_result.h"
+
+namespace sulcus {
+namespace {
+
+namespace fs = std::filesystem;
+using test::PostgresServer;
+using test::Sample;
+
+// One server for the process (ctest runs each test in a process of its own);
+// stopped and removed when the process exits.
+PostgresServer& Server() {
+  static PostgresServer server;
+  return server;
+}
+
+// A database of its own per test, so that tests run in one process do not see
+// each other's rows.
+std::string FreshDatabase(const std::string& name) {
+  return Server().FreshDatabase(name);
+}
+
+std::string Uuid(int station, int k) {
+  char b[64];
+  std::snprintf(b, sizeof b, "00000000-0000-4000-8000-%06d%06d", station % 1000000,
+                k % 1000000);
+  return b;
+}
+
+TEST(ResultsPg, MigratesFromEmptyAndFromAnOlderSchemaAndKeepsTheSameRowsAsSqlite) {
+  const std::string url = FreshDatabase("migrations");
+  {
+    const auto v2 = OpenPostgresResults(url, 2);
+    EXPECT_EQ(v2->schema_version(), 2);
+  }
+  const auto pg = OpenPostgresResults(url);
+  EXPECT_EQ(pg->schema_version(), kResultsSchemaVersion);
+  EXPECT_EQ(OpenPostgresResults(url)->schema_version(), kResultsSchemaVersion)
+      << "opened again: nothing to migrate";
+  const fs::path file = test::FreshOutputPath("results_pg", "same") / "results.db";
+  ResultsDb lite(file);
+  for (ResultsStore* store :
+       {static_cast<ResultsStore*>(pg.get()), static_cast<ResultsStore*>(&lite)}) {
+    LessonResult r = Sample("ada", 87.5);
+    r.complete = false;
+    r.ended = "the window was closed";
+    const std::int64_t id =
+        store->Store(r, "2026-12-01T10:00:00Z", "/a.rec", "/a.yaml", "/a", Uuid(0, 1));
+    EXPECT_EQ(
+        store->Store(r, "2026-12-01T10:00:00Z", "/a.rec", "/a.yaml", "/a", Uuid(0, 1)),
+        id)
+        << "a retry with the same UUID is the same attempt";
+    store->Store(Sample("bo", 60), "2026-12-01T11:00:00Z", "/b.rec", "/b.yaml", "/b");
+    store->SetReportDir(id, "/elsewhere");
+  }
+  // Every column the same, on both backends.
+  const auto a = pg->Attempts(), b = lite.Attempts();
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 2u);
+  std::ostringstream csv_a, csv_b, sites_a, sites_b;
+  ExportAttemptsCsv(a, csv_a);
+  ExportAttemptsCsv(b, csv_b);
+  EXPECT_EQ(csv_a.str(), csv_b.str());
+  ExportSitesCsv(pg->Sites("ada"), sites_a);
+  ExportSitesCsv(lite.Sites("ada"), sites_b);
+  EXPECT_EQ(sites_a.str(), sites_b.str());
+  EXPECT_EQ(a[0].uuid, Uuid(0, 1));
+  EXPECT_EQ(a[0].report_dir, "/elsewhere");
+  EXPECT_FALSE(a[0].complete);
+  EXPECT_EQ(pg->Students(), (std::vector<std::string>{"ada", "bo"}));
+  EXPECT_EQ(pg->DeleteStudent("bo"), 1);
+  EXPECT_EQ(pg->Attempts().size(), 1u);
+}
+
+// Twenty stations (processes) store five attempts each at once, each retrying
+// its first: all 100 arrive, none twice.
+TEST(ResultsPg, TwentyStationsStoringAtOnceLoseNothingAndDuplicateNothing) {
+  const std::string url = FreshDatabase("lab");
+  { OpenPostgresResults(url); }  // the empty tables, to measure what attempts add
+  const auto size = [] {
+    return std::stod(Server().Sql("lab", "SELECT pg_database_size(current_database())"));
+  };
+  const double empty_bytes = size();
+  constexpr int kStations = 20, kEach = 5;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<pid_t> children;
+  for (int s = 0; s < kStations; ++s) {
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      try {
+        // Each station opens the store itself: the empty schema is migrated
+        // once, under the store's lock, whoever comes first.
+        const auto store = OpenPostgresResults(url);
+        for (int k = 0; k < kEach; ++k)
+          store->Store(Sample("station" + std::to_string(s), k), "2026-12-01T10:00:00Z",
+                       "r", "a", "d", Uuid(s, k));
+        store->Store(Sample("station" + std::to_string(s), 0), "2026-12-01T10:00:00Z",
+                     "r", "a", "d", Uuid(s, 0));
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "station %d: %s\n", s, e.what());
+        _exit(1);
+      }
+      _exit(0);
+    }
+    children.push_back(child);
+  }
+  for (pid_t c : children) {
+    int status = 0;
+    waitpid(c, &status, 0);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  }
+  const double s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto store = OpenPostgresResults(url);
+  const auto rows = store->Attempts();
+  std::printf(
+      "figure: %d stations stored %zu attempts (24 sites, 120 lines each) in %.2f s: "
+      "%.0f attempts a second\n",
+      kStations, rows.size(), s, rows.size() / s);
+  EXPECT_EQ(rows.size(), static_cast<std::size_t>(kStations * kEach));
+  std::set<std::string> uuids;
+  for (const AttemptRow& r : rows) uuids.insert(r.uuid);
+  EXPECT_EQ(uuids.size(), rows.size());
+  EXPECT_EQ(store->Sites().size(), rows.size() * 24) << "every attempt whole";
+  Server().Sql("lab", "CHECKPOINT");
+  const double per_1000 = (size() - empty_bytes) / rows.size() * 1000;
+  // The same attempts in a station's SQLite file.
+  const fs::path file = test::FreshOutputPath("results_pg", "size") / "results.db";
+  {
+    ResultsDb lite(file);
+    for (const AttemptRow& r : rows)
+      lite.Store(Sample(r.student, r.total), r.started, "r", "a", "d", r.uuid);
+  }
+  std::printf(
+      "figure: store size per 1,000 attempts: PostgreSQL %.1f MB, SQLite %.1f MB\n",
+      per_1000 / 1e6,
+      fs::file_size(file) / static_cast<double>(rows.size()) * 1000 / 1e6);
+  EXPECT_GT(per_1000, 0);
+}
+
+// The server stops (as a crash would) while a station is writing: what was
+// committed is there and whole, the attempt being written is not there at all,
+// and storing it again after the restart stores it once.
+TEST(ResultsPg, AServerStoppedMidWriteLosesNothingCommittedAndARetryStoresOnce) {
+  const std::string url = FreshDatabase("crash");
+  { OpenPostgresResults(url); }
+  int fds[2];
+  ASSERT_EQ(pipe(fds), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    close(fds[0]);
+    try {
+      const auto store = OpenPostgresResults(url);
+      for (int k = 0;; ++k) {
+        store->Store(Sample("writer", k), "2026-12-01T10:00:00Z", "r", "a", "d",
+                     Uuid(1, k));
+        if (write(fds[1], &k, sizeof k) != sizeof k) _exit(2);
+      }
+    } catch (const ResultsError& e) {
+      // The station keeps the attempt (its folder and the outbox) and says why.
+      std::fprintf(stderr, "writer: %s\n", e.what());
+      _exit(3);
+    }
+  }
+  close(fds[1]);
+  int k = -1, committed = 0;
+  while (committed < 10 && read(fds[0], &k, sizeof k) == sizeof k) ++committed;
+  Server().Stop(true);
+  int status = 0;
+  waitpid(child, &status, 0);
+  while (read(fds[0], &k, sizeof k) == sizeof k) committed = k + 1;
+  close(fds[0]);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 3)
+      << "the writer is told the store is gone";
+  Server().Start();
+  const auto store = OpenPostgresResults(url);
+  const auto rows = store->Attempts("writer");
+  EXPECT_GE(static_cast<int>(rows.size()), committed);
+  EXPECT_LE(static_cast<int>(rows.size()), committed + 1)
+      << "at most the one whose commit reached the server before it stopped";
+  EXPECT_EQ(store->Sites("writer").size(), rows.size() * 24) << "no half attempt";
+  // The station retries the attempt it could not store: once.
+  const int retried = static_cast<int>(rows.size());
+  store->Store(Sample("writer", retried), "2026-12-01T10:00:00Z", "r", "a", "d",
+               Uuid(1, retried));
+  store->Store(Sample("writer", retried), "2026-12-01T10:00:00Z", "r", "a", "d",
+               Uuid(1, retried));
+  EXPECT_EQ(store->Attempts("writer").size(), rows.size() + 1);
+}
+
+TEST(ResultsPg, AWrongPasswordOrHostIsSaidWithTheUrlButNotThePassword) {
+  const std::string bad = Server().url("not-the-password");
+  try {
+    OpenPostgresResults(bad);
+    FAIL() << "connected with a wrong password";
+  } catch (const ResultsError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("postgresql://sulcus:***@127.0.0.1:"), std::string::npos) << m;
+    EXPECT_EQ(m.find("not-the-password"), std::string::npos) << m;
+    EXPECT_NE(m.find("password authentication failed"), std::string::npos) << m;
+  }
+  const std::string nowhere =
+      "postgresql://sulcus:" + std::string(PostgresServer::kPassword) +
+      "@127.0.0.1:" + std::to_string(test::FreePort()) + "/postgres";
+  try {
+    OpenPostgresResults(nowhere);
+    FAIL() << "connected to nothing";
+  } catch (const ResultsError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("cannot connect"), std::string::npos) << m;
+    EXPECT_EQ(m.find(PostgresServer::kPassword), std::string::npos) << m;
+    EXPECT_NE(m.find("results sync"), std::string::npos) << m;
+  }
+  EXPECT_EQ(RedactUrl("postgres://u:p@h/db?password=q&sslmode=require"),
+            "postgres://u:***@h/db?password=***&sslmode=require");
+}
+
+// A station keeps an attempt while the server is down (its folder, marked as
+// waiting), and `results sync` (RecoverAttempt over the waiting folders) stores it
+// when the server is back: once, with its UUID.
+TEST(ResultsPg, AnAttemptMadeWhileTheServerWasDownIsSyncedOnce) {
+  const std::string url = FreshDatabase("outbox");
+  const fs::path results = test::FreshOutputPath("results_pg", "station");
+  const ResultsPlace place(results, url);
+  const AttemptFolder folder = NewAttemptFolder(results, "cleo");
+  AttemptOptions o;
+  o.student = "cleo";
+  o.device = "student:spot";
+  o.cache_dir = fs::path(SULCUS_TEST_OUTPUT) / "probing-cache";
+  o.record = folder.recording();
+  o.keep_in = &folder;
+  const AttemptOutcome out =
+      RunAttempt(fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml", o);
+  Server().Stop();
+  try {
+    KeepAttempt(out.result, folder, folder.dir, place);
+    FAIL() << "stored with the server down";
+  } catch (const ResultsError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot connect"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(fs::exists(folder.dir / kUnstoredFile));
+  EXPECT_TRUE(fs::exists(folder.dir / "report.json")) << "the report is kept";
+  ASSERT_EQ(UnfinishedAttempts(results), std::vector<fs::path>{folder.dir});
+  Server().Start();
+  const RecoveredAttempt kept = RecoverAttempt(folder.dir, place, o.cache_dir);
+  EXPECT_TRUE(UnfinishedAttempts(results).empty());
+  const auto store = OpenPostgresResults(url);
+  const auto rows = store->Attempts("cleo");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].id, kept.id);
+  EXPECT_EQ(rows[0].uuid, AttemptUuid(folder.dir));
+  EXPECT_DOUBLE_EQ(rows[0].total, out.result.total) << "the same attempt, rebuilt";
+  // Stored again (a second sync, another station's retry): still once.
+  KeepAttempt(out.result, folder, folder.dir, place);
+  EXPECT_EQ(store->Attempts("cleo").size(), 1u);
+}
+
+// The instructor's passphrase set at one station opens the instructor's view at
+// another: its hash is in the shared store, not in a station's folder.
+TEST(ResultsPg, TheInstructorsPassphraseIsTheSameOnEveryStation) {
+  const std::string url = FreshDatabase("passphrase");
+  const fs::path a = test::FreshOutputPath("results_pg", "station-a"),
+                 b = test::FreshOutputPath("results_pg", "station-b");
+  {
+    InstructorLock first(ResultsPlace(a, url));
+    EXPECT_FALSE(first.is_set());
+    first.Set("correct horse battery");
+  }
+  EXPECT_FALSE(fs::exists(a / "instructor.pwhash")) << "not in the station's folder";
+  InstructorLock other(ResultsPlace(b, url));
+  EXPECT_TRUE(other.is_set());
+  EXPECT_TRUE(other.Check("correct horse battery"));
+  EXPECT_FALSE(other.Check("wrong horse battery"));
+  EXPECT_THROW(other.Set("another passphrase"), std::runtime_error) << "set once";
+  const auto store = OpenPostgresResults(url);
+  const std::string hash = store->Setting("instructor_pwhash").value_or("");
+  EXPECT_EQ(hash.rfind("$argon2id$", 0), 0u) << "only the hash is stored";
+}
+
+}  // namespace
+}  // namespace sulcus
