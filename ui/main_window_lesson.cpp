@@ -175,6 +175,7 @@ bool MainWindow::StartLesson(const LessonStart& start) {
   lesson_spec_ = spec;
   lesson_start_ = start;
   lesson_start_.results_dir = results;
+  UpdateResultsFooter();
   lesson_seed_ = seed;
   attempt_ = folder;
   lesson_.reset();

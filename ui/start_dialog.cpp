@@ -133,14 +133,26 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
   // Who was here last.
   QSettings settings;
   try {
-    const auto db = OpenResults(results_db_);
-    for (const std::string& s : db->Students()) student_->addItem(Q(s));
+    store_ = OpenResults(results_db_);
+    // A station's own store offers the names of those who used it. A lab's
+    // shared store holds the whole cohort: each student types their name and
+    // sees their own attempts only.
+    if (results_db_.url.empty())
+      for (const std::string& s : store_->Students()) student_->addItem(Q(s));
   } catch (const ResultsError&) {
     // No database yet (or an unreadable one: the window reports it when storing).
+    store_.reset();
   }
   const QString last = settings.value("student/last").toString();
   if (!last.isEmpty()) SetStudent(last);
   Refresh();
+}
+
+std::vector<std::string> StartDialog::offered_students() const {
+  std::vector<std::string> names;
+  for (int i = 0; i < student_->count(); ++i)
+    names.push_back(student_->itemText(i).toStdString());
+  return names;
 }
 
 void StartDialog::SetStudent(const QString& name) {
@@ -158,9 +170,9 @@ void StartDialog::Refresh() {
     dirs.push_back(extra.toStdString());
   std::vector<AttemptRow> attempts;
   try {
-    const auto db = OpenResults(results_db_);
-    attempts = db->Attempts(student());
+    if (store_) attempts = store_->Attempts(student());
   } catch (const ResultsError&) {
+    // The shared store went away: the lessons are listed without last scores.
   }
   for (const auto& f : LessonFiles(dirs)) {
     Item it;

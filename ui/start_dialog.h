@@ -9,6 +9,7 @@
 #include <QDialog>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,6 +35,8 @@ class StartDialog : public QDialog {
               QWidget* parent = nullptr);
 
   std::string student() const;
+  /// The names offered to pick from (a shared store offers none of the cohort's).
+  std::vector<std::string> offered_students() const;
   std::filesystem::path lesson() const;
   /// Empty: the lesson's own mode.
   std::optional<LessonSpec::Mode> mode() const;
@@ -69,6 +72,9 @@ class StartDialog : public QDialog {
  private:
   std::vector<std::filesystem::path> dirs_;
   ResultsPlace results_db_;
+  // Opened once: a shared store is not connected to again at every keystroke.
+  // Null when it cannot be opened (the window says so when it stores).
+  std::unique_ptr<ResultsStore> store_;
   std::vector<Item> items_;
   QComboBox* student_ = nullptr;
   QListWidget* list_ = nullptr;

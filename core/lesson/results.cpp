@@ -5,102 +5,14 @@
 #include <cstdlib>
 
 #include "core/base/text.h"
+#include "core/lesson/results_schema.h"
 
 namespace sulcus {
 namespace {
 
 namespace fs = std::filesystem;
 
-// Migrations, in order: migration i takes the schema from version i to i + 1.
-const char* const kMigrations[] = {
-    R"sql(
-CREATE TABLE students (
-  id INTEGER PRIMARY KEY,
-  name TEXT NOT NULL UNIQUE,
-  created TEXT NOT NULL DEFAULT (strftime('%Y-%m-%dT%H:%M:%SZ', 'now'))
-);
-CREATE TABLE lessons (
-  id INTEGER PRIMARY KEY,
-  file TEXT NOT NULL UNIQUE,
-  name TEXT NOT NULL
-);
-CREATE TABLE attempts (
-  id INTEGER PRIMARY KEY,
-  student_id INTEGER NOT NULL REFERENCES students(id),
-  lesson_id INTEGER NOT NULL REFERENCES lessons(id),
-  started TEXT NOT NULL,
-  mode TEXT NOT NULL,
-  scene_file TEXT NOT NULL,
-  generated_case INTEGER NOT NULL,
-  case_seed INTEGER NOT NULL,
-  total REAL NOT NULL,
-  duration_s REAL NOT NULL,
-  sites_total INTEGER NOT NULL,
-  sites_read INTEGER NOT NULL,
-  sites_charted INTEGER NOT NULL,
-  within_1mm_pct REAL NOT NULL,
-  bias_mm REAL NOT NULL,
-  force_in_band_pct REAL NOT NULL,
-  true_dx TEXT NOT NULL,
-  chart_dx TEXT NOT NULL,
-  declared_dx TEXT NOT NULL,
-  recording TEXT NOT NULL,
-  answers TEXT NOT NULL,
-  report_dir TEXT NOT NULL
-);
-CREATE TABLE attempt_sites (
-  attempt_id INTEGER NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
-  fdi INTEGER NOT NULL,
-  site INTEGER NOT NULL,
-  truth_mm INTEGER NOT NULL,
-  reached_mm REAL,
-  entered_mm INTEGER,
-  peak_force_n REAL NOT NULL,
-  angle_deg REAL NOT NULL,
-  col_reached INTEGER NOT NULL,
-  bled INTEGER NOT NULL,
-  bleeding_charted INTEGER NOT NULL,
-  reading_tick INTEGER NOT NULL,
-  PRIMARY KEY (attempt_id, fdi, site)
-);
-CREATE TABLE attempt_scores (
-  attempt_id INTEGER NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
-  category TEXT NOT NULL,
-  credit REAL NOT NULL,
-  weight REAL NOT NULL,
-  PRIMARY KEY (attempt_id, category)
-);
-CREATE TABLE attempt_lines (
-  attempt_id INTEGER NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
-  seq INTEGER NOT NULL,
-  category TEXT NOT NULL,
-  fdi INTEGER NOT NULL,
-  site INTEGER,
-  status TEXT NOT NULL,
-  credit REAL NOT NULL,
-  tick INTEGER NOT NULL,
-  message TEXT NOT NULL,
-  PRIMARY KEY (attempt_id, seq)
-);
-CREATE INDEX attempts_by_student ON attempts(student_id, started);
-)sql",
-    // 2: whether the attempt reached its last step, and how it ended when it did not.
-    R"sql(
-ALTER TABLE attempts ADD COLUMN complete INTEGER NOT NULL DEFAULT 1;
-ALTER TABLE attempts ADD COLUMN ended TEXT NOT NULL DEFAULT '';
-)sql",
-    // 3: the attempt's UUID, so that storing it again finds it (NULL before).
-    R"sql(
-ALTER TABLE attempts ADD COLUMN uuid TEXT;
-CREATE UNIQUE INDEX attempts_by_uuid ON attempts(uuid);
-)sql",
-    // 4: settings every station shares.
-    R"sql(
-CREATE TABLE settings (key TEXT PRIMARY KEY, value TEXT NOT NULL);
-)sql",
-};
-constexpr int kNumMigrations = sizeof(kMigrations) / sizeof(kMigrations[0]);
-static_assert(kNumMigrations == kResultsSchemaVersion);
+using results_schema::Dialect;
 
 // What went wrong with the results database, in the user's words: what it
 // means and what to do, with SQLite's own text only as a last resort and
@@ -285,7 +197,7 @@ ResultsDb::ResultsDb(const fs::path& file) : file_(file) {
                          " (it was written by a newer Sulcus; it is left untouched)");
     for (int v = version; v < kResultsSchemaVersion; ++v) {
       Transaction t(*this);
-      Exec(kMigrations[v]);
+      Exec(results_schema::MigrationSql(v, Dialect::kSqlite));
       Exec("PRAGMA user_version=" + std::to_string(v + 1));
       t.Commit();
     }
@@ -453,94 +365,36 @@ void ResultsDb::SetReportDir(std::int64_t id, const std::string& dir) {
   s.Bind(1, dir).Bind(2, id).Step(file_);
 }
 
-namespace {
-constexpr const char* kAttemptSelect =
-    "SELECT a.id, s.name, l.name, l.file, a.scene_file, a.mode, a.started, a.case_seed, "
-    "a.generated_case, a.total, "
-    "a.duration_s, a.within_1mm_pct, a.bias_mm, a.force_in_band_pct, a.sites_total, "
-    "a.sites_read, a.sites_charted, "
-    "a.true_dx, a.chart_dx, a.declared_dx, a.recording, a.answers, a.report_dir, "
-    "a.complete, a.ended, a.uuid FROM attempts a JOIN students s ON "
-    "s.id = a.student_id JOIN lessons l ON l.id = a.lesson_id ";
-
-AttemptRow ReadAttempt(const Stmt& s) {
-  AttemptRow a;
-  a.id = s.Int(0);
-  a.student = s.Text(1);
-  a.lesson_name = s.Text(2);
-  a.lesson_file = s.Text(3);
-  a.scene_file = s.Text(4);
-  a.mode = s.Text(5);
-  a.started = s.Text(6);
-  a.case_seed = static_cast<std::uint64_t>(s.Int(7));
-  a.generated_case = s.Int(8) != 0;
-  a.total = s.Real(9);
-  a.duration_s = s.Real(10);
-  a.within_1mm_pct = s.Real(11);
-  a.bias_mm = s.Real(12);
-  a.force_in_band_pct = s.Real(13);
-  a.sites_total = static_cast<int>(s.Int(14));
-  a.sites_read = static_cast<int>(s.Int(15));
-  a.sites_charted = static_cast<int>(s.Int(16));
-  a.true_dx = s.Text(17);
-  a.chart_dx = s.Text(18);
-  a.declared_dx = s.Text(19);
-  a.recording = s.Text(20);
-  a.answers = s.Text(21);
-  a.report_dir = s.Text(22);
-  a.complete = s.Int(23) != 0;
-  a.ended = s.Text(24);
-  a.uuid = s.Text(25);
-  return a;
-}
-}  // namespace
-
 std::vector<AttemptRow> ResultsDb::Attempts(const std::string& student,
                                             const std::string& lesson_file) const {
   Stmt s(db_,
-         (std::string(kAttemptSelect) +
-          "WHERE (?1 = '' OR s.name = ?1) AND (?2 = '' OR l.file = ?2) ORDER BY a.id")
+         results_schema::Query(std::string(results_schema::kSelectAttempts) +
+                                   results_schema::kByStudentAndLesson + "ORDER BY a.id",
+                               Dialect::kSqlite)
              .c_str(),
          file_);
   s.Bind(1, student).Bind(2, lesson_file);
   std::vector<AttemptRow> out;
-  while (s.Step(file_)) out.push_back(ReadAttempt(s));
+  while (s.Step(file_)) out.push_back(results_schema::ReadAttempt(s));
   return out;
 }
 
 std::optional<AttemptRow> ResultsDb::Attempt(std::int64_t id) const {
-  Stmt s(db_, (std::string(kAttemptSelect) + "WHERE a.id = ?").c_str(), file_);
+  Stmt s(db_, (std::string(results_schema::kSelectAttempts) + "WHERE a.id = ?").c_str(),
+         file_);
   s.Bind(1, id);
   if (!s.Step(file_)) return std::nullopt;
-  return ReadAttempt(s);
+  return results_schema::ReadAttempt(s);
 }
 
 std::vector<SiteRow> ResultsDb::Sites(const std::string& student,
                                       const std::string& lesson_file) const {
   Stmt s(db_,
-         "SELECT t.attempt_id, s.name, a.started, t.fdi, t.site, t.truth_mm, "
-         "t.reached_mm, t.entered_mm, t.peak_force_n "
-         "FROM attempt_sites t JOIN attempts a ON a.id = t.attempt_id JOIN students s ON "
-         "s.id = a.student_id JOIN "
-         "lessons l ON l.id = a.lesson_id WHERE (?1 = '' OR s.name = ?1) AND (?2 = '' OR "
-         "l.file = ?2) ORDER BY "
-         "t.attempt_id, t.fdi, t.site",
+         results_schema::Query(results_schema::kSelectSites, Dialect::kSqlite).c_str(),
          file_);
   s.Bind(1, student).Bind(2, lesson_file);
   std::vector<SiteRow> out;
-  while (s.Step(file_)) {
-    SiteRow r;
-    r.attempt = s.Int(0);
-    r.student = s.Text(1);
-    r.started = s.Text(2);
-    r.fdi = static_cast<int>(s.Int(3));
-    r.site = static_cast<int>(s.Int(4));
-    r.truth_mm = static_cast<int>(s.Int(5));
-    if (!s.IsNull(6)) r.reached_mm = s.Real(6);
-    if (!s.IsNull(7)) r.entered_mm = static_cast<int>(s.Int(7));
-    r.peak_force_n = s.Real(8);
-    out.push_back(r);
-  }
+  while (s.Step(file_)) out.push_back(results_schema::ReadSite(s));
   return out;
 }
 

@@ -1,5 +1,6 @@
-// The results store on a lab's PostgreSQL server, through libpq: the same tables
-// and migrations as the SQLite file (results.cpp), in PostgreSQL's types. The
+// The results store on a lab's PostgreSQL server, through libpq: the same tables,
+// migrations and queries as the SQLite file (results_schema.h), in PostgreSQL's
+// types. The
 // schema version is kept in `sulcus_schema`; migrations run under an advisory
 // lock, so twenty stations starting at once migrate an empty database once.
 #include <libpq-fe.h>
@@ -11,95 +12,12 @@
 #include <vector>
 
 #include "core/lesson/results.h"
+#include "core/lesson/results_schema.h"
 
 namespace sulcus {
 namespace {
 
-const char* const kPgMigrations[] = {
-    R"sql(
-CREATE TABLE students (
-  id BIGSERIAL PRIMARY KEY,
-  name TEXT NOT NULL UNIQUE,
-  created TEXT NOT NULL DEFAULT to_char(now() AT TIME ZONE 'UTC', 'YYYY-MM-DD"T"HH24:MI:SS"Z"')
-);
-CREATE TABLE lessons (
-  id BIGSERIAL PRIMARY KEY,
-  file TEXT NOT NULL UNIQUE,
-  name TEXT NOT NULL
-);
-CREATE TABLE attempts (
-  id BIGSERIAL PRIMARY KEY,
-  student_id BIGINT NOT NULL REFERENCES students(id),
-  lesson_id BIGINT NOT NULL REFERENCES lessons(id),
-  started TEXT NOT NULL,
-  mode TEXT NOT NULL,
-  scene_file TEXT NOT NULL,
-  generated_case INTEGER NOT NULL,
-  case_seed BIGINT NOT NULL,
-  total DOUBLE PRECISION NOT NULL,
-  duration_s DOUBLE PRECISION NOT NULL,
-  sites_total INTEGER NOT NULL,
-  sites_read INTEGER NOT NULL,
-  sites_charted INTEGER NOT NULL,
-  within_1mm_pct DOUBLE PRECISION NOT NULL,
-  bias_mm DOUBLE PRECISION NOT NULL,
-  force_in_band_pct DOUBLE PRECISION NOT NULL,
-  true_dx TEXT NOT NULL,
-  chart_dx TEXT NOT NULL,
-  declared_dx TEXT NOT NULL,
-  recording TEXT NOT NULL,
-  answers TEXT NOT NULL,
-  report_dir TEXT NOT NULL
-);
-CREATE TABLE attempt_sites (
-  attempt_id BIGINT NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
-  fdi INTEGER NOT NULL,
-  site INTEGER NOT NULL,
-  truth_mm INTEGER NOT NULL,
-  reached_mm DOUBLE PRECISION,
-  entered_mm INTEGER,
-  peak_force_n DOUBLE PRECISION NOT NULL,
-  angle_deg DOUBLE PRECISION NOT NULL,
-  col_reached INTEGER NOT NULL,
-  bled INTEGER NOT NULL,
-  bleeding_charted INTEGER NOT NULL,
-  reading_tick BIGINT NOT NULL,
-  PRIMARY KEY (attempt_id, fdi, site)
-);
-CREATE TABLE attempt_scores (
-  attempt_id BIGINT NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
-  category TEXT NOT NULL,
-  credit DOUBLE PRECISION NOT NULL,
-  weight DOUBLE PRECISION NOT NULL,
-  PRIMARY KEY (attempt_id, category)
-);
-CREATE TABLE attempt_lines (
-  attempt_id BIGINT NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
-  seq INTEGER NOT NULL,
-  category TEXT NOT NULL,
-  fdi INTEGER NOT NULL,
-  site INTEGER,
-  status TEXT NOT NULL,
-  credit DOUBLE PRECISION NOT NULL,
-  tick BIGINT NOT NULL,
-  message TEXT NOT NULL,
-  PRIMARY KEY (attempt_id, seq)
-);
-CREATE INDEX attempts_by_student ON attempts(student_id, started);
-)sql",
-    R"sql(
-ALTER TABLE attempts ADD COLUMN complete INTEGER NOT NULL DEFAULT 1;
-ALTER TABLE attempts ADD COLUMN ended TEXT NOT NULL DEFAULT '';
-)sql",
-    R"sql(
-ALTER TABLE attempts ADD COLUMN uuid TEXT;
-CREATE UNIQUE INDEX attempts_by_uuid ON attempts(uuid);
-)sql",
-    R"sql(
-CREATE TABLE settings (key TEXT PRIMARY KEY, value TEXT NOT NULL);
-)sql",
-};
-static_assert(sizeof(kPgMigrations) / sizeof(kPgMigrations[0]) == kResultsSchemaVersion);
+using results_schema::Dialect;
 
 constexpr long long kMigrationLock = 0x5375'6c63'7573;  // "Sulcus"
 
@@ -286,46 +204,30 @@ class PgResults final : public ResultsStore {
 
   std::vector<AttemptRow> Attempts(const std::string& student,
                                    const std::string& lesson_file) const override {
-    const Result r = Query(std::string(kSelect) +
-                               "WHERE ($1 = '' OR s.name = $1) AND ($2 = '' OR l.file = "
-                               "$2) ORDER BY a.id",
+    const Result r = Query(std::string(results_schema::kSelectAttempts) +
+                               results_schema::kByStudentAndLesson + "ORDER BY a.id",
                            Params().Add(student).Add(lesson_file));
     std::vector<AttemptRow> out;
-    for (int i = 0; i < r.rows(); ++i) out.push_back(Row(r, i));
+    for (int i = 0; i < r.rows(); ++i)
+      out.push_back(results_schema::ReadAttempt(RowColumns{r, i}));
     return out;
   }
 
   std::optional<AttemptRow> Attempt(std::int64_t id) const override {
-    const Result r = Query(std::string(kSelect) + "WHERE a.id = $1", Params().Add(id));
+    const Result r =
+        Query(std::string(results_schema::kSelectAttempts) + "WHERE a.id = $1",
+              Params().Add(id));
     if (r.rows() == 0) return std::nullopt;
-    return Row(r, 0);
+    return results_schema::ReadAttempt(RowColumns{r, 0});
   }
 
   std::vector<SiteRow> Sites(const std::string& student,
                              const std::string& lesson_file) const override {
-    const Result r = Query(
-        "SELECT t.attempt_id, s.name, a.started, t.fdi, t.site, t.truth_mm, "
-        "t.reached_mm, "
-        "t.entered_mm, t.peak_force_n FROM attempt_sites t JOIN attempts a ON a.id = "
-        "t.attempt_id JOIN students s ON s.id = a.student_id JOIN lessons l ON l.id = "
-        "a.lesson_id WHERE ($1 = '' OR s.name = $1) AND ($2 = '' OR l.file = $2) ORDER "
-        "BY "
-        "t.attempt_id, t.fdi, t.site",
-        Params().Add(student).Add(lesson_file));
+    const Result r =
+        Query(results_schema::kSelectSites, Params().Add(student).Add(lesson_file));
     std::vector<SiteRow> out;
-    for (int i = 0; i < r.rows(); ++i) {
-      SiteRow s;
-      s.attempt = r.Int(i, 0);
-      s.student = r.Text(i, 1);
-      s.started = r.Text(i, 2);
-      s.fdi = static_cast<int>(r.Int(i, 3));
-      s.site = static_cast<int>(r.Int(i, 4));
-      s.truth_mm = static_cast<int>(r.Int(i, 5));
-      if (!r.IsNull(i, 6)) s.reached_mm = r.Real(i, 6);
-      if (!r.IsNull(i, 7)) s.entered_mm = static_cast<int>(r.Int(i, 7));
-      s.peak_force_n = r.Real(i, 8);
-      out.push_back(s);
-    }
+    for (int i = 0; i < r.rows(); ++i)
+      out.push_back(results_schema::ReadSite(RowColumns{r, i}));
     return out;
   }
 
@@ -370,46 +272,15 @@ class PgResults final : public ResultsStore {
   }
 
  private:
-  static constexpr const char* kSelect =
-      "SELECT a.id, s.name, l.name, l.file, a.scene_file, a.mode, a.started, "
-      "a.case_seed, "
-      "a.generated_case, a.total, a.duration_s, a.within_1mm_pct, a.bias_mm, "
-      "a.force_in_band_pct, a.sites_total, a.sites_read, a.sites_charted, a.true_dx, "
-      "a.chart_dx, a.declared_dx, a.recording, a.answers, a.report_dir, a.complete, "
-      "a.ended, a.uuid FROM attempts a JOIN students s ON s.id = a.student_id JOIN "
-      "lessons "
-      "l ON l.id = a.lesson_id ";
-
-  static AttemptRow Row(const Result& r, int i) {
-    AttemptRow a;
-    a.id = r.Int(i, 0);
-    a.student = r.Text(i, 1);
-    a.lesson_name = r.Text(i, 2);
-    a.lesson_file = r.Text(i, 3);
-    a.scene_file = r.Text(i, 4);
-    a.mode = r.Text(i, 5);
-    a.started = r.Text(i, 6);
-    a.case_seed = static_cast<std::uint64_t>(r.Int(i, 7));
-    a.generated_case = r.Int(i, 8) != 0;
-    a.total = r.Real(i, 9);
-    a.duration_s = r.Real(i, 10);
-    a.within_1mm_pct = r.Real(i, 11);
-    a.bias_mm = r.Real(i, 12);
-    a.force_in_band_pct = r.Real(i, 13);
-    a.sites_total = static_cast<int>(r.Int(i, 14));
-    a.sites_read = static_cast<int>(r.Int(i, 15));
-    a.sites_charted = static_cast<int>(r.Int(i, 16));
-    a.true_dx = r.Text(i, 17);
-    a.chart_dx = r.Text(i, 18);
-    a.declared_dx = r.Text(i, 19);
-    a.recording = r.Text(i, 20);
-    a.answers = r.Text(i, 21);
-    a.report_dir = r.Text(i, 22);
-    a.complete = r.Int(i, 23) != 0;
-    a.ended = r.Text(i, 24);
-    a.uuid = r.Text(i, 25);
-    return a;
-  }
+  // One row of a result as the shared readers see it.
+  struct RowColumns {
+    const Result& r;
+    int i;
+    std::string Text(int c) const { return r.Text(i, c); }
+    std::int64_t Int(int c) const { return r.Int(i, c); }
+    double Real(int c) const { return r.Real(i, c); }
+    bool IsNull(int c) const { return r.IsNull(i, c); }
+  };
 
   // libpq's message, to the point: "connection to server at ... failed: FATAL:
   // password authentication failed for user ..." says its cause after FATAL.
@@ -480,7 +351,7 @@ class PgResults final : public ResultsStore {
                          " (it was written by a newer Sulcus; it is left untouched)");
     if (version == 0 && schema_rows() == 0) Exec("INSERT INTO sulcus_schema VALUES (0)");
     for (; version < target; ++version) {
-      Exec(kPgMigrations[version]);
+      Exec(results_schema::MigrationSql(version, Dialect::kPostgres));
       Exec("UPDATE sulcus_schema SET version = " + std::to_string(version + 1));
     }
     t.Commit();

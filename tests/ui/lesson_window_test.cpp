@@ -6,6 +6,8 @@
 // not and locks the aids. Screenshots go to test-output/ui.
 #include <QVTKOpenGLNativeWidget.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <QApplication>
 #include <QCheckBox>
@@ -32,6 +34,8 @@
 #include "core/lesson/attempt.h"
 #include "core/lesson/results.h"
 #include "tests/common/output.h"
+#include "tests/common/postgres_server.h"
+#include "tests/core/lesson/sample_result.h"
 #include "ui/chart_widget.h"
 #include "ui/instructor_dialog.h"
 #include "ui/main_window.h"
@@ -601,6 +605,83 @@ TEST(LessonWindow, ProgressOverAttempts) {
   EXPECT_GE(plus_two, 3);
   QApplication::processEvents();
   EXPECT_TRUE(Save(d, "progress.png"));
+}
+
+// A lab on one shared PostgreSQL store: three stations store at once, a fourth
+// takes an attempt while the server is down and sends it with `sulcus-cli results
+// sync` once it is back, and the instructor's view at a fifth station shows all
+// four students.
+TEST(Lab, TheInstructorsViewAtAnyStationShowsTheWholeLab) {
+  test::PostgresServer server;
+  const std::string url = server.FreshDatabase("lab");
+  const fs::path lab = Out("lab");
+  fs::remove_all(lab);
+  std::vector<pid_t> stations;
+  for (int s = 0; s < 3; ++s) {
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      try {
+        const std::string who = "student" + std::to_string(s);
+        const ResultsPlace place(lab / ("station" + std::to_string(s)), url);
+        const AttemptFolder f = NewAttemptFolder(place.dir, who);
+        OpenResults(place)->Store(test::Sample(who, 80 + s), f.started, "", "", "",
+                                  AttemptUuid(f.dir));
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "station: %s\n", e.what());
+        _exit(1);
+      }
+      _exit(0);
+    }
+    stations.push_back(child);
+  }
+  for (pid_t c : stations) {
+    int status = 0;
+    waitpid(c, &status, 0);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  }
+  // The fourth station, with the server down: the attempt waits in its folder.
+  server.Stop();
+  const fs::path fourth = lab / "station3";
+  const std::string cli = std::string("SULCUS_RESULTS_DIR=") + fourth.string() +
+                          " SULCUS_RESULTS_URL='" + url + "' " + SULCUS_CLI + " ";
+  const std::string run = cli + "lesson run " +
+                          (Lessons() / "periodontal_probing.yaml").string() +
+                          " --device student:spot --student dora --quiet >" +
+                          Out("lab_run.log").string() + " 2>&1";
+  EXPECT_NE(std::system(run.c_str()), 0) << "not stored: the server is down";
+  ASSERT_EQ(UnfinishedAttempts(fourth).size(), 1u);
+  server.Start();
+  const std::string sync =
+      cli + "results sync >" + Out("lab_sync.log").string() + " 2>&1";
+  EXPECT_EQ(std::system(sync.c_str()), 0) << sync;
+  EXPECT_TRUE(UnfinishedAttempts(fourth).empty());
+
+  // A student at a fifth station is not offered the cohort's names: each types
+  // their own and sees their own attempts.
+  {
+    StartDialog start({Lessons()}, ResultsPlace(lab / "station4", url));
+    for (const std::string& name : start.offered_students())
+      EXPECT_EQ(name.rfind("student", 0), std::string::npos) << name;
+  }
+  // The instructor at the fifth station.
+  setenv("SULCUS_RESULTS_URL", url.c_str(), 1);
+  {
+    MainWindow w;
+    w.show();
+    QDialog* d = w.OpenInstructor("the lab's passphrase", lab / "station4");
+    ASSERT_NE(d, nullptr);
+    auto* view = dynamic_cast<InstructorDialog*>(d);
+    EXPECT_EQ(view->students(), 4);
+    EXPECT_EQ(view->attempts_table()->rowCount(), 4);
+    EXPECT_NE(w.results_footer().indexOf("Results: PostgreSQL postgresql://sulcus:***@"),
+              -1)
+        << w.results_footer().toStdString();
+    QApplication::processEvents();
+    EXPECT_TRUE(Save(d, "instructor_lab.png"));
+    d->close();
+  }
+  unsetenv("SULCUS_RESULTS_URL");
 }
 
 TEST(Instructor, RefusesAWrongPassphraseAndShowsEveryStudentWithTheRightOne) {
