@@ -111,19 +111,19 @@ void TickEncoder::Put(const TickRecord& r, std::string* out) {
   std::uint8_t flags = 0, more = 0;
   if (r.fresh) flags |= kFresh;
   if (r.overrun) flags |= kOverrun;
-  const std::uint64_t expected = first_ ? 0 : tick_ + 1;
+  const std::uint64_t expected = at_.first ? 0 : at_.tick + 1;
   if (r.tick != expected) flags |= kTickJump;
-  const bool own_time = r.time_s != static_cast<double>(r.tick) / rate_hz_;
+  const bool own_time = r.time_s != static_cast<double>(r.tick) / at_.rate_hz;
   if (own_time) flags |= kOwnTime;
   int sample_time = kSampleTimeRaw;
   if (r.sample.time_s == r.time_s)
     sample_time = kSampleTimeIsTickTime;
   else if (r.sample.time_s == 0)
     sample_time = kSampleTimeZero;
-  else if (!first_ && r.sample.time_s == sample_time_s_)
+  else if (!at_.first && r.sample.time_s == at_.sample_time_s)
     sample_time = kSampleTimeSame;
   flags |= static_cast<std::uint8_t>(sample_time << 4);
-  if (r.sample.buttons != buttons_) flags |= kButtons;
+  if (r.sample.buttons != at_.buttons) flags |= kButtons;
 
   PoseCode graphic;
   std::array<std::int64_t, 3> force{}, torque{};
@@ -156,9 +156,9 @@ void TickEncoder::Put(const TickRecord& r, std::string* out) {
   }
   auto channel = [&](int c, std::int64_t v) {
     PutVarint(ZigZag(static_cast<std::int64_t>(static_cast<std::uint64_t>(v) -
-                                               Predict(history_[c]))),
+                                               Predict(at_.history[c]))),
               out);
-    Push(&history_[c], v);
+    Push(&at_.history[c], v);
   };
   if (more & kRawSample) {
     PutRawPose(r.sample.X_WH, out);
@@ -179,10 +179,7 @@ void TickEncoder::Put(const TickRecord& r, std::string* out) {
     for (int i = 0; i < 3; ++i) channel(kForceChannel + i, force[i]);
     for (int i = 0; i < 3; ++i) channel(kTorqueChannel + i, torque[i]);
   }
-  first_ = false;
-  tick_ = r.tick;
-  sample_time_s_ = r.sample.time_s;
-  buttons_ = r.sample.buttons;
+  at_.Advance(r);
 }
 
 TickDecoder::Result TickDecoder::Get(const char** at, const char* end, TickRecord* r,
@@ -200,7 +197,7 @@ TickDecoder::Result TickDecoder::Get(const char** at, const char* end, TickRecor
   *r = TickRecord{};
   r->fresh = flags & kFresh;
   r->overrun = flags & kOverrun;
-  const std::uint64_t expected = first_ ? 0 : tick_ + 1;
+  const std::uint64_t expected = at_.first ? 0 : at_.tick + 1;
   r->tick = expected;
   std::uint64_t u = 0;
   auto fail = [&] { return in.overlong ? Result::kCorrupt : Result::kTruncated; };
@@ -208,7 +205,7 @@ TickDecoder::Result TickDecoder::Get(const char** at, const char* end, TickRecor
     if (!in.Varint(&u)) return fail();
     r->tick = expected + static_cast<std::uint64_t>(UnZigZag(u));
   }
-  r->time_s = static_cast<double>(r->tick) / rate_hz_;
+  r->time_s = static_cast<double>(r->tick) / at_.rate_hz;
   if ((flags & kOwnTime) && !in.Raw(&r->time_s)) return Result::kTruncated;
   switch ((flags & kSampleTime) >> 4) {
     case kSampleTimeIsTickTime:
@@ -218,12 +215,12 @@ TickDecoder::Result TickDecoder::Get(const char** at, const char* end, TickRecor
       r->sample.time_s = 0;
       break;
     case kSampleTimeSame:
-      r->sample.time_s = sample_time_s_;
+      r->sample.time_s = at_.sample_time_s;
       break;
     default:
       if (!in.Raw(&r->sample.time_s)) return Result::kTruncated;
   }
-  r->sample.buttons = buttons_;
+  r->sample.buttons = at_.buttons;
   if (flags & kButtons) {
     if (!in.Varint(&u)) return fail();
     r->sample.buttons = static_cast<std::uint32_t>(u);
@@ -257,7 +254,7 @@ TickDecoder::Result TickDecoder::Get(const char** at, const char* end, TickRecor
     }
   }
   // The channels advance only when the whole tick was read: a copy of the history.
-  auto history = history_;
+  auto history = at_.history;
   auto channel = [&](int c, std::int64_t* v) {
     if (!in.Varint(&u)) return false;
     *v = static_cast<std::int64_t>(Predict(history[c]) +
@@ -303,11 +300,8 @@ TickDecoder::Result TickDecoder::Get(const char** at, const char* end, TickRecor
       r->torque_W[i] = static_cast<double>(v) * kTorqueStepNmm;
     }
   }
-  history_ = history;
-  first_ = false;
-  tick_ = r->tick;
-  sample_time_s_ = r->sample.time_s;
-  buttons_ = r->sample.buttons;
+  at_.history = history;
+  at_.Advance(*r);
   *at = in.at;
   return Result::kTick;
 }
