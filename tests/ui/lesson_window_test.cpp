@@ -226,6 +226,42 @@ TEST(LessonWindow, ALessonPreparedOnTheStartPageStartsWithoutASecondBuild) {
   EXPECT_TRUE(w.FinishLesson(false));
 }
 
+// A case drawn from a seed the student chose: prepared while the start page is
+// open (only its gingiva is built: the teeth and the rest come from the cache),
+// then taken on that case, whose truth the readings are scored against.
+TEST(LessonWindow, ACaseFromAChosenSeedIsPreparedThenTakenOnThatCase) {
+  MainWindow w;
+  w.show();
+  const fs::path lesson = Lessons() / "periodontal_probing_case.yaml";
+  constexpr std::uint64_t kSeed = 90210;  // drawn by no other test: built here
+  QElapsedTimer t;
+  t.start();
+  w.PrepareLesson(lesson, kSeed);
+  ASSERT_TRUE(WaitFor([&] { return w.preparer().Status().contains("ready"); }, 600000))
+      << w.preparer().Status().toStdString();
+  std::printf("figure: a new case (seed %llu) prepared in the window in %.1f s\n",
+              static_cast<unsigned long long>(kSeed), t.elapsed() / 1000.0);
+  MainWindow::LessonStart s = CarefulStudent();
+  s.lesson = lesson;
+  s.seed = kSeed;
+  s.student = "Case Student";
+  ASSERT_TRUE(w.StartLesson(s));
+  EXPECT_EQ(w.preparer().started(), 1) << "the case was built a second time";
+  ASSERT_TRUE(WaitFor([&] { return w.lesson()->Finish().sites_read >= 3; }, 300000));
+  ASSERT_TRUE(w.FinishLesson(false));
+  ASSERT_TRUE(w.last_result());
+  const LessonResult& r = *w.last_result();
+  EXPECT_TRUE(r.generated_case);
+  EXPECT_EQ(r.case_seed, kSeed);
+  int read = 0;
+  for (const SiteResult& x : r.sites)
+    if (x.reached_mm) {
+      ++read;
+      EXPECT_LE(std::abs(*x.reached_mm - x.truth_mm), 1.0) << x.site.ToString();
+    }
+  EXPECT_GE(read, 3);
+}
+
 TEST(LessonWindow, APracticeLessonFromTheFirstSiteToTheReport) {
   MainWindow w;
   w.resize(1366, 768);
