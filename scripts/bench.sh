@@ -2,7 +2,8 @@
 # Reproduces every performance and accuracy figure in the README, in one run, on
 # this machine: sphere-tree builds against the octree reference, collision against
 # the reference Algorithm 1, the whole frame, the QP on generated contact sets
-# (warm and cold side by side, and DAQP on the same frames), and what accuracy
+# (warm and cold side by side, and DAQP, built from its C sources, on the same
+# frames), and what accuracy
 # costs (CSV + plots).
 # Numbers only: nothing here passes or fails on time. Takes about 7 minutes.
 # Usage: scripts/bench.sh [output folder, default build/release/bench-report]
@@ -26,21 +27,43 @@ build/release/tests/spheretree_public_test --gtest_filter='Cgal/*' | grep -E '^[
 echo "== collision and frame"
 "$bench/engine_bench" --benchmark_counters_tabular=true | tee "$out/engine_bench.txt"
 
-echo "== QP: generated contact sets, warm (and cold) starts, and DAQP on the same frames"
-# DAQP (a dual active-set solver, on PyPI) in a virtual environment of the build tree.
-venv=build/release/daqp-venv
-[[ -x $venv/bin/python ]] || python3 -m venv "$venv"
-"$venv/bin/pip" install -q numpy "daqp==0.11.0"
+echo "== QP: generated contact sets, warm (and cold) starts, and DAQP (in C) on the same frames"
+# DAQP 0.11.0 (a dual active-set solver) from its source distribution on PyPI,
+# built here with Sulcus's release flags into a harness that integrates it as an
+# engine would (scripts/daqp_bench.c: one workspace a sequence, daqp_update_ldp a
+# frame, warm from the previous working set). Both are pinned to one core and run
+# one after the other for each set, three rounds over all sets, so that the
+# machine's noise falls on both alike.
+daqp_dir=build/release/daqp-c
+if [[ ! -x $daqp_dir/daqp_bench ]]; then
+  venv=build/release/daqp-venv
+  [[ -x $venv/bin/python ]] || python3 -m venv "$venv"
+  mkdir -p "$daqp_dir"
+  "$venv/bin/pip" download -q --no-deps --no-binary :all: "daqp==0.11.0" -d "$daqp_dir"
+  tar -xzf "$daqp_dir/daqp-0.11.0.tar.gz" -C "$daqp_dir"
+  src=$daqp_dir/daqp-0.11.0/csrc
+  cc -O2 -g -DNDEBUG -I"$src/include" "$src"/src/*.c scripts/daqp_bench.c -lm \
+    -o "$daqp_dir/daqp_bench"
+fi
+core=$(( $(nproc) - 1 ))
 for kind in slot wedge plane cluster random; do
   for m in 4 64 512; do
     "$bin" qp-gen "$kind" --m "$m" --sequences 20 --frames 200 -o "$out/qp-$kind-$m.bin" >/dev/null
-    printf '%-8s m=%-4s ' "$kind" "$m"
-    ours=$("$bin" qp-bench "$out/qp-$kind-$m.bin" --compare-cold --solutions "$out/qp-$kind-$m.sol" | tail -1)
-    echo "$ours"
-    median=$(sed 's/.*median_us=\([0-9.]*\).*/\1/' <<<"$ours")
-    p99=$(sed 's/.*p99_us=\([0-9.]*\).*/\1/' <<<"$ours")
-    printf '%-16s' ''
-    "$venv/bin/python" scripts/daqp_bench.py "$out/qp-$kind-$m.bin" "$out/qp-$kind-$m.sol" "$median" "$p99"
+  done
+done
+for round in 1 2 3; do
+  for kind in slot wedge plane cluster random; do
+    for m in 4 64 512; do
+      printf 'round %s %-8s m=%-4s ' "$round" "$kind" "$m"
+      ours=$(taskset -c "$core" "$bin" qp-bench "$out/qp-$kind-$m.bin" --compare-cold \
+        --solutions "$out/qp-$kind-$m.sol" | tail -1)
+      echo "$ours"
+      median=$(sed 's/.*median_us=\([0-9.]*\).*/\1/' <<<"$ours")
+      p99=$(sed 's/.*p99_us=\([0-9.]*\).*/\1/' <<<"$ours")
+      printf '%-26s' ''
+      taskset -c "$core" "$daqp_dir/daqp_bench" "$out/qp-$kind-$m.bin" "$out/qp-$kind-$m.sol" \
+        "$median" "$p99"
+    done
   done
 done | tee "$out/qp_bench.txt"
 
