@@ -24,7 +24,8 @@ macro(sulcus_pkg prefix module debian_package)
   pkg_check_modules(${prefix} QUIET IMPORTED_TARGET ${module})
   if(NOT ${prefix}_FOUND)
     message(FATAL_ERROR
-      "Sulcus: ${module} not found (Debian package: ${debian_package}); ${SULCUS_INSTALL_HINT}.")
+      "Sulcus: ${module} not found (Debian package: ${debian_package}); "
+      "${SULCUS_INSTALL_HINT}.")
   endif()
 endmacro()
 sulcus_pkg(sodium libsodium libsodium-dev)

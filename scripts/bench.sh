@@ -27,7 +27,7 @@ build/release/tests/spheretree_public_test --gtest_filter='Cgal/*' | grep -E '^[
 echo "== collision and frame"
 "$bench/engine_bench" --benchmark_counters_tabular=true | tee "$out/engine_bench.txt"
 
-echo "== QP: generated contact sets, warm (and cold) starts, and DAQP (in C) on the same frames"
+echo "== QP: generated contact sets, warm (and cold) starts, and DAQP (C) on the same frames"
 # DAQP 0.11.0 (a dual active-set solver) from its source distribution on PyPI,
 # built here with Sulcus's release flags into a harness that integrates it as an
 # engine would (scripts/daqp_bench.c: one workspace a sequence, daqp_update_ldp a
@@ -61,8 +61,8 @@ for round in 1 2 3; do
       median=$(sed 's/.*median_us=\([0-9.]*\).*/\1/' <<<"$ours")
       p99=$(sed 's/.*p99_us=\([0-9.]*\).*/\1/' <<<"$ours")
       printf '%-26s' ''
-      taskset -c "$core" "$daqp_dir/daqp_bench" "$out/qp-$kind-$m.bin" "$out/qp-$kind-$m.sol" \
-        "$median" "$p99"
+      taskset -c "$core" "$daqp_dir/daqp_bench" "$out/qp-$kind-$m.bin" \
+        "$out/qp-$kind-$m.sol" "$median" "$p99"
     done
   done
 done | tee "$out/qp_bench.txt"

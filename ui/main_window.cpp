@@ -632,31 +632,6 @@ QString MainWindow::device_help() const {
   return device_help_ ? device_help_->text() : QString();
 }
 
-QString MainWindow::results_footer() const {
-  return results_footer_ ? results_footer_->text() : QString();
-}
-
-void MainWindow::UpdateResultsFooter() {
-  if (!results_footer_) {
-    results_footer_ = new QLabel;
-    results_footer_->setObjectName("results-footer");
-    statusBar()->addPermanentWidget(results_footer_);
-  }
-  const ResultsPlace place =
-      ResultsPlaceFor(lesson_start_.results_dir.empty() ? DefaultResultsDir()
-                                                        : lesson_start_.results_dir);
-  const std::size_t waiting = UnfinishedAttempts(place.dir).size();
-  QString text = "Results: " + Q(place.Describe());
-  if (waiting > 0)
-    text += QString(" - %1 attempt%2 waiting to be stored")
-                .arg(waiting)
-                .arg(waiting == 1 ? "" : "s");
-  results_footer_->setText(text);
-  results_footer_->setToolTip(
-      "Where attempts are stored. An attempt the store could not take is kept on this "
-      "station and stored at the next start or by `sulcus-cli results sync`.");
-}
-
 bool MainWindow::StartRecording(const std::filesystem::path& file) {
   if (!scene_) return false;
   StopSession();

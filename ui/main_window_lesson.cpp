@@ -16,6 +16,7 @@
 #include <QRadioButton>
 #include <QSettings>
 #include <QSpinBox>
+#include <QStatusBar>
 #include <QTextBrowser>
 #include <QUrl>
 #include <QVBoxLayout>
@@ -513,6 +514,32 @@ void MainWindow::SaveEntriesSoFar() {
     feedback_->insertItem(
         0, QString("Your entries cannot be saved as you go: %1").arg(Q(e.what())));
   }
+}
+
+// The results store this window keeps attempts in, and what waits for it.
+QString MainWindow::results_footer() const {
+  return results_footer_ ? results_footer_->text() : QString();
+}
+
+void MainWindow::UpdateResultsFooter() {
+  if (!results_footer_) {
+    results_footer_ = new QLabel;
+    results_footer_->setObjectName("results-footer");
+    statusBar()->addPermanentWidget(results_footer_);
+  }
+  const ResultsPlace place =
+      ResultsPlaceFor(lesson_start_.results_dir.empty() ? DefaultResultsDir()
+                                                        : lesson_start_.results_dir);
+  const std::size_t waiting = UnfinishedAttempts(place.dir).size();
+  QString text = "Results: " + Q(place.Describe());
+  if (waiting > 0)
+    text += QString(" - %1 attempt%2 waiting to be stored")
+                .arg(waiting)
+                .arg(waiting == 1 ? "" : "s");
+  results_footer_->setText(text);
+  results_footer_->setToolTip(
+      "Where attempts are stored. An attempt the store could not take is kept on this "
+      "station and stored at the next start or by `sulcus-cli results sync`.");
 }
 
 int MainWindow::RecoverUnfinishedAttempts(const std::filesystem::path& results_dir) {

@@ -135,6 +135,7 @@ RecordingWriter::RecordingWriter(const std::filesystem::path& file,
     out_ = nullptr;
     throw RecordingError(file.string() + ": cannot start the compressor (out of memory)");
   }
+  compressed_.resize(ZSTD_CStreamOutSize());
   ZSTD_CCtx_setParameter(zstd_, ZSTD_c_compressionLevel, 3);
   ZSTD_CCtx_setParameter(zstd_, ZSTD_c_checksumFlag, 1);
   Out o;
@@ -163,15 +164,14 @@ RecordingWriter::~RecordingWriter() {
 void RecordingWriter::Compress(const std::string& raw, bool end) {
   ZSTD_inBuffer in{raw.data(), raw.size(), 0};
   const ZSTD_EndDirective mode = end ? ZSTD_e_end : ZSTD_e_flush;
-  std::vector<char> chunk(ZSTD_CStreamOutSize());
   for (;;) {
-    ZSTD_outBuffer out{chunk.data(), chunk.size(), 0};
+    ZSTD_outBuffer out{compressed_.data(), compressed_.size(), 0};
     const std::size_t left = ZSTD_compressStream2(zstd_, &out, &in, mode);
     if (ZSTD_isError(left)) {
       write_failed_ = true;
       return;
     }
-    if (out.pos > 0 && std::fwrite(chunk.data(), 1, out.pos, out_) != out.pos)
+    if (out.pos > 0 && std::fwrite(compressed_.data(), 1, out.pos, out_) != out.pos)
       write_failed_ = true;
     if (left == 0 && in.pos == in.size) break;
   }

@@ -70,6 +70,7 @@ class RecordingWriter final : public TickSink {
   std::FILE* out_ = nullptr;
   std::unique_ptr<TickEncoder> encoder_;
   ZSTD_CCtx_s* zstd_ = nullptr;
+  std::vector<char> compressed_;  // the compressor's output, sized once
   SpscRing<TickRecord, 8192> ring_;
   std::thread writer_;
   std::atomic<bool> stop_{false};

@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "tests/common/output.h"
 #include "tests/common/postgres_server.h"
 
 namespace sulcus::test {
@@ -22,13 +23,6 @@ namespace sulcus::test {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string Slurp(const fs::path& f) {
-  std::ifstream in(f);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 bool Listening(int port) {
   const int s = socket(AF_INET, SOCK_STREAM, 0);
@@ -63,7 +57,7 @@ LrsServer::LrsServer(const fs::path& venv) {
                            " -M mailto:station@example.com -w >" +
                            (dir_ / "auth.log").string() + " 2>&1";
   if (std::system(auth.c_str()) != 0)
-    throw std::runtime_error("failed: " + auth + "\n" + Slurp(dir_ / "auth.log"));
+    throw std::runtime_error("failed: " + auth + "\n" + ReadText(dir_ / "auth.log"));
   port_ = FreePort();
   pid_ = fork();
   if (pid_ < 0) throw std::runtime_error("cannot start the LRS (fork)");
@@ -88,11 +82,12 @@ LrsServer::LrsServer(const fs::path& venv) {
     int status = 0;
     if (waitpid(pid_, &status, WNOHANG) == pid_) {
       pid_ = -1;
-      throw std::runtime_error("the LRS stopped at once:\n" + Slurp(dir_ / "server.log"));
+      throw std::runtime_error("the LRS stopped at once:\n" +
+                               ReadText(dir_ / "server.log"));
     }
     if (std::chrono::steady_clock::now() > until)
       throw std::runtime_error("the LRS did not listen within 60 s:\n" +
-                               Slurp(dir_ / "server.log"));
+                               ReadText(dir_ / "server.log"));
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
 }

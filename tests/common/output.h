@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 namespace sulcus::test {
@@ -29,6 +30,13 @@ inline std::filesystem::path WriteText(const std::filesystem::path& file,
                                        const std::string& text) {
   std::ofstream(file) << text;
   return file;
+}
+
+/// The whole of `file` (empty when it cannot be read): a log shown in a failure.
+inline std::string ReadText(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in),
+                     std::istreambuf_iterator<char>());
 }
 
 }  // namespace sulcus::test

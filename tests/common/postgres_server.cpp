@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "tests/common/output.h"
+
 namespace sulcus::test {
 
 namespace fs = std::filesystem;
@@ -40,13 +42,6 @@ fs::path PostgresBin() {
   throw std::runtime_error(
       "no PostgreSQL server binaries (/usr/lib/postgresql/N/bin/initdb); install "
       "postgresql-15 (scripts/install-deps.sh)");
-}
-
-std::string Slurp(const fs::path& f) {
-  std::ifstream in(f);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 }  // namespace
@@ -79,8 +74,8 @@ void PostgresServer::Run(const std::string& command) const {
       geteuid() == 0 && command.rfind("chown", 0) != 0 ? "runuser -u postgres -- " : "";
   const std::string full = as + "sh -c '" + command + "'";
   if (std::system(full.c_str()) != 0)
-    throw std::runtime_error("failed: " + full + "\n" + Slurp(dir_ / "initdb.log") +
-                             Slurp(dir_ / "server.log"));
+    throw std::runtime_error("failed: " + full + "\n" + ReadText(dir_ / "initdb.log") +
+                             ReadText(dir_ / "server.log"));
 }
 
 void PostgresServer::Start() {
