@@ -17,8 +17,9 @@ fi
 if [[ -n "${DISPLAY:-}" && -x build/release/bin/sulcus ]]; then
   # The shipped lessons' scenes, prepared here (through the cache: seconds once
   # built) so that the window never makes a student wait for them.
-  for s in scenes/periodontal_probing.yaml scenes/oral_inspection.yaml; do
-    echo "Preparing $s (the first time only: about a minute)..."
+  for s in scenes/periodontal_probing.yaml scenes/oral_inspection.yaml \
+    scenes/periodontal_examination.yaml; do
+    echo "Preparing $s (the first time only: one to two minutes)..."
     "$cli" scene build "$s" --drawn | tail -1
   done
   echo "Opening the window on its start page: say who you are and pick a lesson (the"
@@ -43,6 +44,12 @@ echo "The oral inspection of the full mouth by a thorough scripted inspector (th
 echo "run builds the full mouth's sphere-trees, about a minute):"
 echo "  \$ $cli lesson run lessons/oral_inspection.yaml --student 'demo student' --device student:thorough --quiet"
 "$cli" lesson run lessons/oral_inspection.yaml --student "demo student" --device student:thorough --quiet
+echo
+echo "The full periodontal examination of the whole mouth (156 sites, then stage,"
+echo "extent and grade) by the careful student (the first run builds the scene's"
+echo "26 gingiva shares, about a minute and a half):"
+echo "  \$ $cli lesson run lessons/periodontal_examination.yaml --student 'demo student' --device student:careful --quiet"
+"$cli" lesson run lessons/periodontal_examination.yaml --student "demo student" --device student:careful --quiet
 echo
 echo "Every stored attempt (open a report.html in any browser):"
 echo "  \$ $cli results list"

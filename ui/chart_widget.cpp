@@ -44,25 +44,75 @@ ChartWidget::ChartWidget(QWidget* parent) : QWidget(parent) {
       "probed and charted.");
 }
 
-void ChartWidget::SetLesson(const std::vector<int>& teeth,
-                            const std::vector<SiteRef>& path,
-                            const std::map<std::pair<int, int>, double>& recession_mm) {
-  bands_.clear();
+std::vector<ChartWidget::Band> ChartWidget::MakeBands(bool wrap) const {
+  std::vector<Band> bands;
   for (bool upper : {true, false}) {
     std::vector<int> t;
-    for (int fdi : teeth)
+    for (int fdi : teeth_)
       if ((fdi / 10 <= 2) == upper) t.push_back(fdi);
     std::sort(t.begin(), t.end(), [](int a, int b) { return Rank(a) < Rank(b); });
     if (t.empty()) continue;
     // Upper: buccal then palatal; lower: lingual then buccal (as the chart is read).
-    if (upper) {
-      bands_.push_back({true, true, t});
-      bands_.push_back({true, false, t});
-    } else {
-      bands_.push_back({false, false, t});
-      bands_.push_back({false, true, t});
+    const std::array<bool, 2> surfaces =
+        upper ? std::array{true, false} : std::array{false, true};
+    if (!wrap) {
+      for (bool buccal : surfaces) bands.push_back({upper, buccal, t, ""});
+      continue;
+    }
+    // Split at the midline: the patient's right (quadrants 1 and 4) first.
+    std::vector<int> right, left;
+    for (int fdi : t) (fdi / 10 == 1 || fdi / 10 == 4 ? right : left).push_back(fdi);
+    for (const auto& [half, teeth] :
+         {std::pair{"right", right}, std::pair{"left", left}}) {
+      if (teeth.empty()) continue;
+      for (bool buccal : surfaces) bands.push_back({upper, buccal, teeth, half});
     }
   }
+  return bands;
+}
+
+QSize ChartWidget::NaturalSize(const std::vector<Band>& bands) const {
+  int teeth = 1;
+  for (const Band& b : bands)
+    teeth = std::max<int>(teeth, static_cast<int>(b.teeth.size()));
+  return {
+      kLabelW + teeth * (3 * kCell + kToothGap) + 8,
+      static_cast<int>(bands.size()) * (kBandTitle + kHeader + rows() * kRowH + 6) + 8};
+}
+
+bool ChartWidget::WrapFor(int width) const {
+  // A whole arch (more than 8 teeth in a row) shrunk below 60 % is split.
+  const std::vector<Band> whole = MakeBands(false);
+  int most = 0;
+  for (const Band& b : whole)
+    most = std::max<int>(most, static_cast<int>(b.teeth.size()));
+  return most > 8 && width < 0.6 * NaturalSize(whole).width();
+}
+
+void ChartWidget::Layout() {
+  bands_ = MakeBands(wrap_);
+  updateGeometry();
+  update();
+}
+
+void ChartWidget::resizeEvent(QResizeEvent* e) {
+  QWidget::resizeEvent(e);
+  const bool wrap = WrapFor(width());
+  if (wrap != wrap_) {
+    wrap_ = wrap;
+    Layout();
+  }
+}
+
+void ChartWidget::SetLesson(const std::vector<int>& teeth,
+                            const std::vector<SiteRef>& path,
+                            const std::map<std::pair<int, int>, double>& recession_mm,
+                            const std::vector<int>& missing) {
+  teeth_ = teeth;
+  missing_ = std::set<int>(missing.begin(), missing.end());
+  for (int fdi : missing)
+    if (std::find(teeth_.begin(), teeth_.end(), fdi) == teeth_.end())
+      teeth_.push_back(fdi);
   path_ = path;
   cursor_ = 0;
   last_entered_.reset();
@@ -71,19 +121,19 @@ void ChartWidget::SetLesson(const std::vector<int>& teeth,
   truth_.clear();
   recession_ = recession_mm;
   read_only_ = false;
-  updateGeometry();
-  update();
+  wrap_ = width() > 0 && WrapFor(width());
+  Layout();
 }
 
 void ChartWidget::ShowChart(const PerioChart& chart) {
-  std::vector<int> teeth;
+  std::vector<int> teeth, missing;
   std::map<std::pair<int, int>, double> recession;
   for (const ToothChart& t : chart.teeth) {
-    teeth.push_back(t.fdi);
+    (t.present ? teeth : missing).push_back(t.fdi);
     for (int s = 0; s < kSitesPerTooth; ++s)
       recession[{t.fdi, s}] = t.sites[s].recession_mm;
   }
-  SetLesson(teeth, StandardPath(teeth), recession);
+  SetLesson(teeth, StandardPath(teeth), recession, missing);
   for (const ToothChart& t : chart.teeth)
     for (int s = 0; s < kSitesPerTooth; ++s) {
       if (t.sites[s].pd_mm) pd_[{t.fdi, s}] = *t.sites[s].pd_mm;
@@ -135,14 +185,7 @@ bool ChartWidget::bleeding(const SiteRef& s) const {
 
 int ChartWidget::rows() const { return truth_.empty() ? kRows - 1 : kRows; }
 
-QSize ChartWidget::sizeHint() const {
-  int teeth = 1;
-  for (const Band& b : bands_)
-    teeth = std::max<int>(teeth, static_cast<int>(b.teeth.size()));
-  return {
-      kLabelW + teeth * (3 * kCell + kToothGap) + 8,
-      static_cast<int>(bands_.size()) * (kBandTitle + kHeader + rows() * kRowH + 6) + 8};
-}
+QSize ChartWidget::sizeHint() const { return NaturalSize(bands_); }
 
 QRect ChartWidget::CellRect(int band, int tooth_index, int cell, int row) const {
   const int y0 =
@@ -167,7 +210,7 @@ QSize ChartWidget::minimumSizeHint() const {
 bool ChartWidget::hasHeightForWidth() const { return true; }
 
 int ChartWidget::heightForWidth(int w) const {
-  const QSize n = sizeHint();
+  const QSize n = NaturalSize(MakeBands(WrapFor(w)));
   const double s =
       n.width() > 0 && w < n.width() ? std::max(0.4, double(w) / n.width()) : 1.0;
   return static_cast<int>(std::ceil(n.height() * s));
@@ -189,12 +232,14 @@ void ChartWidget::paintEvent(QPaintEvent*) {
     bold.setBold(true);
     p.setFont(bold);
     p.setPen(palette().text().color());
-    p.drawText(QRect(4, y0, 300, kBandTitle), Qt::AlignLeft | Qt::AlignVCenter,
-               QString("%1 %2")
-                   .arg(band.upper ? "upper" : "lower")
-                   .arg(band.buccal  ? "buccal"
-                        : band.upper ? "palatal"
-                                     : "lingual"));
+    p.drawText(
+        QRect(4, y0, 400, kBandTitle), Qt::AlignLeft | Qt::AlignVCenter,
+        QString("%1 %2%3")
+            .arg(band.upper ? "upper" : "lower")
+            .arg(band.buccal  ? "buccal"
+                 : band.upper ? "palatal"
+                              : "lingual")
+            .arg(*band.half ? QString(", the patient's %1").arg(band.half) : QString()));
     p.setFont(f);
     for (int r = 0; r < rows(); ++r)
       p.drawText(QRect(4, y0 + kBandTitle + kHeader + r * kRowH, kLabelW - 6, kRowH),
@@ -206,6 +251,17 @@ void ChartWidget::paintEvent(QPaintEvent*) {
       p.setPen(palette().text().color());
       p.drawText(head, Qt::AlignCenter, QString::number(fdi));
       p.setFont(f);
+      if (missing_.count(fdi)) {
+        // A missing tooth keeps its column: greyed, crossed, nothing to enter.
+        const QRect col = CellRect(b, t, 0, 0).united(CellRect(b, t, 2, rows() - 1));
+        p.fillRect(col, QColor(225, 225, 225));
+        p.setPen(QPen(QColor(150, 150, 150), 1.5));
+        p.drawLine(col.topLeft(), col.bottomRight());
+        p.drawLine(col.topRight(), col.bottomLeft());
+        p.setPen(QColor(90, 90, 90));
+        p.drawText(col, Qt::AlignCenter, "missing");
+        continue;
+      }
       const std::array<int, 3> sites = CellSites(fdi, band.buccal);
       for (int c = 0; c < 3; ++c) {
         const std::pair key{fdi, sites[c]};

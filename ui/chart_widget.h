@@ -26,9 +26,11 @@ class ChartWidget : public QWidget {
   explicit ChartWidget(QWidget* parent = nullptr);
 
   /// The lesson's teeth and path; clears the entries. `recession_mm` (per site,
-  /// clinical) is shown and used for CAL: the lesson gives it.
+  /// clinical) is shown and used for CAL: the lesson gives it. `missing` teeth
+  /// keep their columns, marked missing, with nothing to enter.
   void SetLesson(const std::vector<int>& teeth, const std::vector<SiteRef>& path,
-                 const std::map<std::pair<int, int>, double>& recession_mm);
+                 const std::map<std::pair<int, int>, double>& recession_mm,
+                 const std::vector<int>& missing = {});
   void SetProbing(std::optional<SiteRef> site);  // highlighted: the site the tip is in
   void SetTruth(const std::map<std::pair<int, int>, int>&
                     truth);  // practice: shown in a row once a site is entered
@@ -51,6 +53,9 @@ class ChartWidget : public QWidget {
   bool bleeding(const SiteRef& s) const;
   int entered() const { return static_cast<int>(pd_.size()); }
   bool shows_truth() const { return !truth_.empty(); }
+  /// Each arch's row split at the midline (the patient's right above the left),
+  /// as the chart is when the whole mouth would otherwise be too small to read.
+  bool wrapped() const { return wrap_; }
   QSize sizeHint() const override;
   QSize minimumSizeHint() const override;
   bool hasHeightForWidth() const override;
@@ -65,12 +70,22 @@ class ChartWidget : public QWidget {
   struct Band {
     bool upper, buccal;
     std::vector<int> teeth;
+    const char* half = "";  // wrapped: the patient's "right" or "left"
   };
   void Enter(int value);
+  void resizeEvent(QResizeEvent* e) override;
+  // The bands for the teeth, whole arches or (wrap) split at the midline.
+  std::vector<Band> MakeBands(bool wrap) const;
+  QSize NaturalSize(const std::vector<Band>& bands) const;
+  bool WrapFor(int width) const;
+  void Layout();
   double Scale() const;  // painted at this scale to fit the width
   QRect CellRect(int band, int tooth_index, int cell, int row) const;
   int rows() const;  // the true PD row only when there is truth to show (practice)
 
+  std::vector<int> teeth_;  // present and missing, in the lesson's order
+  std::set<int> missing_;
+  bool wrap_ = false;
   std::vector<Band> bands_;
   std::vector<SiteRef> path_;
   std::size_t cursor_ = 0;

@@ -553,7 +553,9 @@ void MainWindow::BeginSession() {
     std::map<std::pair<int, int>, double> recession;
     for (const SiteRef& site : lesson_spec_->path)
       recession[{site.fdi, site.site}] = lesson_->recession_mm(site);
-    chart_->SetLesson(lesson_spec_->teeth, lesson_spec_->path, recession);
+    std::vector<int> missing;
+    for (const auto& [fdi, why] : scene_->spec.missing) missing.push_back(fdi);
+    chart_->SetLesson(lesson_spec_->teeth, lesson_spec_->path, recession, missing);
     if (lesson_spec_->practice() && !inspection) {
       // Practice: the true depth of each site appears once the student has entered it.
       std::map<std::pair<int, int>, int> truth;

@@ -307,6 +307,13 @@ PerioChart TrueChart(const SceneSpec& scene, const std::vector<int>& teeth) {
       chart.teeth.push_back(t);
     }
   }
+  // The teeth that are gone, as a chart records them (nothing to probe).
+  for (const auto& [fdi, why] : scene.missing) {
+    ToothChart t;
+    t.fdi = fdi;
+    t.present = false;
+    chart.teeth.push_back(t);
+  }
   // The history, and the bone loss a radiograph shows at the worst of the teeth.
   chart.patient = scene.patient;
   if (chart.patient.given)

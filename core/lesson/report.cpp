@@ -160,7 +160,10 @@ std::string ChartBand(const LessonResult& r, bool upper, bool buccal) {
   std::ostringstream o;
   o << "<table class=chart><caption>" << (upper ? "upper " : "lower ")
     << (buccal ? "buccal" : (upper ? "palatal" : "lingual")) << "</caption><tr><th></th>";
-  for (int t : teeth) o << "<th colspan=3>" << t << "</th>";
+  for (int t : teeth) {
+    const ToothChart* c = r.true_chart.Find(t);
+    o << "<th colspan=3>" << t << (c && !c->present ? " missing" : "") << "</th>";
+  }
   o << "</tr>";
   auto row = [&](const char* label, auto cell) {
     o << "<tr><th>" << label << "</th>";

@@ -15,6 +15,11 @@ constexpr double kPi = std::numbers::pi;
 
 struct ToothFrame {
   const LessonGeometry::Tooth* g;
+  // Where the shank turns (the tool's -x): away from the arch on a buccal
+  // pass, toward the mouth's middle on a lingual one, as a clinician holds the
+  // probe; one direction for the whole pass, so the handle never swings round
+  // the working end between strokes.
+  Vector3 shank_W = Vector3::Zero();
   Vector3 World(const Vector3& p_T) const {
     return g->X_WT * ArchMirror(g->mirrored, p_T);
   }
@@ -58,7 +63,15 @@ struct ToothFrame {
       axis +=
           std::tan(lean) * (d >= 0 ? 1.0 : -1.0) * tangent_W;  // away from the contact
     }
-    return Quaternion::FromTwoVectors(Vector3::UnitZ(), axis.normalized());
+    const Vector3 z = axis.normalized();
+    Vector3 x = -(shank_W - shank_W.dot(z) * z);
+    if (x.norm() < 0.1) return Quaternion::FromTwoVectors(Vector3::UnitZ(), z);
+    x.normalize();
+    Matrix3 R;
+    R.col(0) = x;
+    R.col(1) = z.cross(x);
+    R.col(2) = z;
+    return Quaternion(R);
   }
   static constexpr double kColZoneDeg = 35, kColTiltDeg = 25;
 };
@@ -131,7 +144,9 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
     if (std::find(skipped_.begin(), skipped_.end(), pass.fdi) != skipped_.end()) continue;
     const LessonGeometry::Tooth* g = geometry.Find(pass.fdi);
     if (!g) continue;
-    const ToothFrame f{g};
+    ToothFrame f{g};
+    f.shank_W = g->X_WT.rotation() *
+                ArchMirror(g->mirrored, Vector3(0, pass.buccal ? 1.0 : -1.0, 0));
     // The surface in the tooth frame: buccal angles 0..pi, lingual pi..2 pi.
     // The tip goes in at the distal line angle (DB, DL), walks distally under
     // the contact into the col, then the whole arc to the mesial col, and back

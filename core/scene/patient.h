@@ -5,6 +5,7 @@
 // scene's anatomy, as a radiograph would show it.
 
 #include <optional>
+#include <string>
 
 namespace sulcus {
 
@@ -20,6 +21,13 @@ struct PatientFacts {
   // Radiographic bone loss at the worst site, % of the root below a healthy
   // crest (set from the anatomy: TrueChart).
   std::optional<double> bone_loss_pct;
+};
+
+/// A tooth the scene's `missing:` lists: why it was lost (periodontitis,
+/// caries, trauma, orthodontic, congenital or unknown) and where it was given.
+struct MissingTooth {
+  std::string reason;
+  int line = 0, column = 0;
 };
 
 }  // namespace sulcus

@@ -534,6 +534,61 @@ Material DefaultMaterial(Tissue t) {
   }
 }
 
+const std::vector<std::string>& MissingReasons() {
+  static const std::vector<std::string> reasons = {
+      "periodontitis", "caries", "trauma", "orthodontic", "congenital", "unknown"};
+  return reasons;
+}
+
+namespace {
+
+// `missing: {36: periodontitis, 18: unknown}`: teeth that are gone. Each is an
+// FDI number of the permanent dentition that no object of the scene is; the
+// teeth lost to periodontitis are the patient's count (or at most it, when the
+// patient gives a count that includes teeth lost before this dentition).
+void ReadMissing(Reader& r, const YAML::Node& root, SceneSpec* spec) {
+  const YAML::Node m = root["missing"];
+  if (!m || !r.IsMap(m, "'missing' (e.g. {36: periodontitis, 18: unknown})")) return;
+  r.CheckUnique(m, "'missing'");
+  int periodontitis = 0;
+  for (const auto& kv : m) {
+    const YAML::Node key = kv.first;
+    int fdi = 0;
+    if (!key.IsScalar() || !YAML::convert<int>::decode(key, fdi) || fdi / 10 < 1 ||
+        fdi / 10 > 4 || fdi % 10 < 1 || fdi % 10 > 8) {
+      r.Error(key, "'missing': '" + (key.IsScalar() ? key.Scalar() : std::string("?")) +
+                       "' is not a tooth of the permanent dentition (FDI 11 to 48)");
+      continue;
+    }
+    for (const ObjectSpec& o : spec->objects)
+      if (o.kind == ObjectSpec::Kind::kTooth && o.fdi == fdi)
+        r.Error(key, "tooth " + std::to_string(fdi) +
+                         " is listed as missing and is an object of the scene (line " +
+                         std::to_string(o.line) + "); give it in one place");
+    const std::string why = kv.second.IsScalar() ? kv.second.Scalar() : "";
+    const auto& reasons = MissingReasons();
+    if (std::find(reasons.begin(), reasons.end(), why) == reasons.end()) {
+      r.Error(kv.second, "tooth " + std::to_string(fdi) + " missing: '" + why +
+                             "' is not a reason; expected " + Join(reasons));
+      continue;
+    }
+    periodontitis += why == "periodontitis";
+    spec->missing[fdi] = {why, key.Mark().line + 1, key.Mark().column + 1};
+  }
+  PatientFacts& p = spec->patient;
+  if (p.teeth_lost_to_periodontitis == 0) {
+    p.teeth_lost_to_periodontitis = periodontitis;
+  } else if (p.teeth_lost_to_periodontitis < periodontitis) {
+    r.Error(root["patient"]["teeth_lost_to_periodontitis"],
+            "'teeth_lost_to_periodontitis' is " +
+                std::to_string(p.teeth_lost_to_periodontitis) + " but 'missing' (line " +
+                std::to_string(m.Mark().line + 1) + ") lists " +
+                std::to_string(periodontitis) + " teeth lost to periodontitis");
+  }
+}
+
+}  // namespace
+
 SceneSpec LoadSceneSpec(const fs::path& file) {
   Reader r(file, "scene file");
   SceneSpec spec;
@@ -541,7 +596,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
   const YAML::Node root = LoadYamlMap(r, "a scene is a map with at least 'objects:'");
   r.CheckKeys(root,
               {"name", "description", "tool", "haptics", "effects", "spheretree", "arch",
-               "gingiva", "mouth_open_mm", "patient", "objects"},
+               "gingiva", "mouth_open_mm", "patient", "missing", "objects"},
               "the scene");
   if (const YAML::Node p = root["patient"]; p && r.IsMap(p, "'patient'")) {
     PatientFacts& f = spec.patient;
@@ -674,6 +729,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     for (std::size_t i = 0; i < objects.size(); ++i)
       ReadObject(r, objects[i], folder, static_cast<int>(i), &spec, &names);
   }
+  ReadMissing(r, root, &spec);
   FollowAttachmentLoss(&spec);
   if (spec.gingiva) {
     // A collar around every tooth, carrying the tooth's site truth.

@@ -168,8 +168,14 @@ struct SceneSpec {
   double mouth_open_mm =
       0;  // raises the upper arch (and palate) so instruments fit between the arches
   PatientFacts patient;  // `patient:` (stage IV and the grade need it)
+  // `missing:`: teeth of the dentition that are gone, each with why it was lost;
+  // their place in the arch stays empty (the others keep theirs).
+  std::map<int, MissingTooth> missing;
   std::vector<ObjectSpec> objects;
 };
+
+/// Why a tooth is missing, as a chart records it.
+const std::vector<std::string>& MissingReasons();
 
 /// Each tooth's bone crest below its CEJ (mm, along its axis) where the scene's
 /// pockets, recession or furcation put it deeper than health (CrestDropMm, and

@@ -178,6 +178,67 @@ TEST(CaseScene, APatientInTheSceneGivesStageIVAndTheGrade) {
   }
 }
 
+// `missing:` lists the teeth that are gone: the chart holds them as missing,
+// the ones lost to periodontitis are the patient's count (tooth loss makes a
+// stage II chart stage III), and the others keep their places in the arch.
+TEST(CaseScene, MissingTeethAreChartedMissingAndTheLostOnesCount) {
+  const fs::path dir = Dir("missing");
+  std::ofstream(dir / "scene.yaml")
+      << "arch: true\ngingiva: true\npatient: {age: 50}\n"
+         "missing: {36: periodontitis, 25: caries, 18: unknown}\n"
+         "objects:\n"
+         "  - tooth: 35\n    pockets_mm: [4, 2, 4, 3, 2, 3]\n"
+         "  - tooth: 37\n    pockets_mm: [5, 3, 5, 4, 3, 4]\n"
+         "  - tooth: 24\n    pockets_mm: [4, 2, 5, 3, 2, 4]\n";
+  const SceneSpec scene = LoadSceneSpec(dir / "scene.yaml");
+  ASSERT_EQ(scene.missing.size(), 3u);
+  EXPECT_EQ(scene.missing.at(36).reason, "periodontitis");
+  EXPECT_EQ(scene.missing.at(25).line, 4);
+  EXPECT_EQ(scene.patient.teeth_lost_to_periodontitis, 1);
+  int teeth = 0;
+  for (const ObjectSpec& o : scene.objects) {
+    teeth += o.kind == ObjectSpec::Kind::kTooth;
+    EXPECT_NE(o.fdi, 36) << o.name;
+  }
+  EXPECT_EQ(teeth, 3);
+  const PerioChart truth = TrueChart(scene, {35, 37, 24});
+  for (int fdi : {36, 25, 18}) {
+    ASSERT_NE(truth.Find(fdi), nullptr) << fdi;
+    EXPECT_FALSE(truth.Find(fdi)->present) << fdi;
+  }
+  EXPECT_TRUE(truth.Find(35)->present);
+  // Worst interdental CAL 3 mm (5 - 1.5, half down): stage II by CAL, and
+  // one tooth lost to periodontitis makes it stage III; the extent counts the
+  // teeth present only.
+  const Diagnosis d = Classify2017(truth);
+  EXPECT_EQ(d.stage, Stage::kIII) << d.Summary();
+  bool said = false;
+  for (const std::string& l : d.path) said |= l.find("1 teeth lost") != std::string::npos;
+  EXPECT_TRUE(said) << "the path names the tooth loss";
+
+  // A tooth both missing and an object, a reason that is none, a number that
+  // is not a tooth, and a count of lost teeth below the list's: each with its line.
+  std::ofstream(dir / "bad.yaml")
+      << "patient: {age: 50, teeth_lost_to_periodontitis: 1}\n"
+         "missing: {36: periodontitis, 46: periodontitis, 26: forgot, 19: unknown}\n"
+         "objects:\n  - tooth: 36\n";
+  try {
+    LoadSceneSpec(dir / "bad.yaml");
+    ADD_FAILURE() << "a bad missing list loaded";
+  } catch (const LoadError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("tooth 36 is listed as missing and is an object of the scene "
+                        "(line 4)"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("'forgot' is not a reason"), std::string::npos) << what;
+    EXPECT_NE(what.find("'19' is not a tooth"), std::string::npos) << what;
+    EXPECT_NE(what.find("bad.yaml:1:"), std::string::npos) << what;
+    EXPECT_NE(what.find("lists 2 teeth lost to periodontitis"), std::string::npos)
+        << what;
+  }
+}
+
 // Generated cases of every stage, extent and grade the sextant's teeth can give
 // classify as asked over many seeds; the others are refused every time.
 TEST(CaseScene, EveryStageExtentAndGradeIsDrawnAsAskedOrRefused) {
