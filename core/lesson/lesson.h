@@ -154,6 +154,11 @@ struct LessonResult {
   double duration_s = 0;
   PerioChart true_chart, student_chart;
   Agreement agreement;  // the student's chart against the true one (calibration)
+  // With a reference examiner (the lesson's `calibration:`): the student's
+  // chart against the reference examiner's, and that chart.
+  std::optional<Agreement> reference_agreement;
+  PerioChart reference_chart;
+  std::string reference_name;  // the reference chart's file name
   Diagnosis true_dx, chart_dx;
   std::optional<DeclaredDiagnosis> declared;
   std::vector<std::pair<std::uint64_t, float>>

@@ -8,6 +8,7 @@
 #include "core/anatomy/gingiva.h"
 #include "core/anatomy/tooth.h"
 #include "core/base/yaml_reader.h"
+#include "core/lesson/answers.h"
 #include "core/lesson/inspection.h"
 #include "core/lesson/lesson_spec.h"
 #include "core/lesson/read_diagnosis.h"
@@ -287,6 +288,67 @@ std::vector<SiteRef> StandardPath(std::vector<int> teeth) {
   }
   return path;
 }
+
+namespace {
+
+// `calibration: {reference: FILE}`: the reference examiner's chart, read as an
+// answers file (the last entry of a site counts, as in an attempt) and checked
+// against the lesson's teeth; a case drawn anew for each attempt has no
+// reference examiner.
+void ReadReference(YamlReader& r, const YAML::Node& c, LessonSpec* spec) {
+  r.CheckKeys(c, {"reference"}, "'calibration'");
+  if (!c["reference"]) {
+    r.Error(c,
+            "'calibration' needs 'reference': the reference examiner's chart (an "
+            "answers file, such as an instructor's attempt's answers.yaml)");
+    return;
+  }
+  if (spec->case_spec.generated && spec->case_spec.random_seed) {
+    r.Error(c,
+            "a reference examiner charted one case, but 'case' draws a new one for "
+            "each attempt (seed: random); give the case a fixed seed");
+    return;
+  }
+  const fs::path folder =
+      spec->file.has_parent_path() ? spec->file.parent_path() : fs::path(".");
+  const fs::path file = folder / r.Text(c["reference"], "reference");
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) {
+    r.Error(c["reference"], "no reference examiner's chart at " + file.string() +
+                                " (a path relative to the lesson's folder)");
+    return;
+  }
+  try {
+    const Answers a = LoadAnswers(file);
+    CheckAnswersFor(a, spec->teeth);
+    PerioChart chart;
+    for (int fdi : spec->teeth) {
+      ToothChart t;
+      t.fdi = fdi;
+      chart.teeth.push_back(t);
+    }
+    for (const ChartEntry& e : a.entries)
+      if (ToothChart* t = chart.Find(e.site.fdi)) {
+        t->sites[e.site.site].pd_mm = e.pd_mm;
+        t->sites[e.site.site].bleeding = e.bleeding;
+      }
+    int sites = 0;
+    for (const ToothChart& t : chart.teeth)
+      for (const SiteValues& v : t.sites) sites += v.measured();
+    if (sites == 0) {
+      r.Error(c["reference"], "the reference examiner's chart " + file.string() +
+                                  " has no depth at any of the lesson's sites");
+      return;
+    }
+    spec->reference_file = file;
+    spec->reference = std::move(chart);
+  } catch (const LoadError& e) {
+    r.Error(c["reference"],
+            std::string("the reference examiner's chart cannot be used:\n") + e.what());
+  }
+}
+
+}  // namespace
 
 PerioChart TrueChart(const SceneSpec& scene, const std::vector<int>& teeth) {
   PerioChart chart;
@@ -604,7 +666,7 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
   else
     r.CheckKeys(root,
                 {"kind", "name", "description", "scene", "mode", "probe", "teeth", "path",
-                 "steps", "rubric", "time_limit_s", "pass_mark", "case"},
+                 "steps", "rubric", "time_limit_s", "pass_mark", "case", "calibration"},
                 "the lesson");
   if (root["name"]) spec.name = r.Text(root["name"], "name");
   if (root["description"]) spec.description = r.Text(root["description"], "description");
@@ -728,6 +790,8 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
       }
     }
   }
+  if (const YAML::Node c = root["calibration"]; c && r.IsMap(c, "'calibration'"))
+    ReadReference(r, c, &spec);
   if (spec.inspection()) {
     const std::vector<std::string> have =
         scene_ok ? SceneRegions(scene) : std::vector<std::string>{};

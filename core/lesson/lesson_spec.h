@@ -95,6 +95,13 @@ struct LessonSpec {
   double time_limit_s = 0;  // 0: none
   double pass_mark = 70;    // the score (of 100) an attempt passes with
   CaseSpec case_spec;
+  // `calibration: {reference: FILE}`: a reference examiner's chart of the same
+  // case (an answers file: an instructor's attempt's answers.yaml, or a chart
+  // written by hand). The report sets the student's chart against it, as a
+  // calibration exercise does, besides against the truth.
+  std::filesystem::path reference_file;
+  PerioChart reference;  // its depths and bleeding (empty without one)
+  bool has_reference() const { return !reference_file.empty(); }
   std::vector<std::string>
       regions;  // inspection: the regions examined (default: every one the scene has)
   bool inspection() const { return kind == Kind::kInspection; }

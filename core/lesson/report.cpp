@@ -88,9 +88,10 @@ std::string CalibrationJson(const Agreement& g) {
 
 // The chart as an examiner's calibration reads it: agreement, kappa, bias by
 // kind of site, and whether the clinical target is met.
-std::string CalibrationHtml(const Agreement& g) {
+std::string CalibrationHtml(const Agreement& g, const std::string& against = "the truth",
+                            const char* minus = "true") {
   std::ostringstream o;
-  o << "<h2>Calibration against the truth</h2>\n";
+  o << "<h2>Calibration against " << H(against) << "</h2>\n";
   if (g.sites == 0) {
     o << "<p class=meta>No site charted: nothing to compare.</p>\n";
     return o.str();
@@ -103,7 +104,7 @@ std::string CalibrationHtml(const Agreement& g) {
     << ", kappa for bleeding " << kappa(g.bleeding_kappa) << ". Target (within 1 mm at "
     << "90 % of sites or more, weighted kappa above 0.6): <b>"
     << (g.MeetsTarget() ? "met" : "not met") << "</b>.</p>\n";
-  o << "<table><tr><th>bias (charted minus true)</th>";
+  o << "<table><tr><th>bias (charted minus " << minus << ")</th>";
   const std::pair<const char*, const Bias*> kinds[] = {
       {"interdental", &g.interdental},   {"mid-sites", &g.mid},
       {"posterior teeth", &g.posterior}, {"anterior teeth", &g.anterior},
@@ -227,8 +228,10 @@ std::string ChartBand(const LessonResult& r, bool upper, bool buccal) {
 }
 
 // The per-site signed error map: each site a cell coloured by entry - truth,
-// with the technique error (reached - truth) beneath.
-std::string ErrorMap(const LessonResult& r) {
+// with the technique error (reached - truth) beneath. Against a reference
+// examiner's chart: entry - reference (over- and under-reading against the
+// examiner), with the reference's own error (reference - truth) beneath.
+std::string ErrorMap(const LessonResult& r, const PerioChart* reference = nullptr) {
   std::ostringstream o;
   const std::vector<int> lower = ChartOrder(r, false), upper = ChartOrder(r, true);
   const int cell = 32, gap = 8;
@@ -250,21 +253,34 @@ std::string ErrorMap(const LessonResult& r) {
         const int x = x0 + c * cell;
         if (!s) continue;
         std::string fill = "#cccccc", text = "?";
-        if (s->entry && s->entry->pd_mm) {
-          const int err = *s->entry->pd_mm - s->truth_mm;
+        std::optional<int> ref;
+        if (reference)
+          if (const ToothChart* t = reference->Find(teeth[i]))
+            ref = t->sites[sites[c]].pd_mm;
+        const std::optional<int> against = reference ? ref : std::optional(s->truth_mm);
+        if (s->entry && s->entry->pd_mm && against) {
+          const int err = *s->entry->pd_mm - *against;
           fill = ErrorColour(err);
           text = F("%+d", err);
         }
         o << "<rect x=\"" << x << "\" y=\"" << y << "\" width=\"" << cell - 2
           << "\" height=\"" << cell - 2 << "\" fill=\"" << fill << "\"><title>"
-          << s->site.ToString() << ": charted minus truth</title></rect>";
+          << s->site.ToString()
+          << (reference ? ": charted minus the reference examiner"
+                        : ": charted minus truth")
+          << "</title></rect>";
         o << "<text x=\"" << x + cell / 2 - 1 << "\" y=\"" << y + cell / 2 + 3
           << "\" fill=\"white\" text-anchor=\"middle\">" << text << "</text>";
-        const std::string tech =
-            s->reached_mm ? F("%+.1f", *s->reached_mm - s->truth_mm) : "-";
+        const std::string tech = reference ? (ref ? F("%+d", *ref - s->truth_mm) : "-")
+                                 : s->reached_mm
+                                     ? F("%+.1f", *s->reached_mm - s->truth_mm)
+                                     : "-";
         o << "<text x=\"" << x + cell / 2 - 1 << "\" y=\"" << y + cell + 10
           << "\" text-anchor=\"middle\" fill=\"#555\">" << tech << "<title>"
-          << s->site.ToString() << ": reached minus truth (technique)</title></text>";
+          << s->site.ToString()
+          << (reference ? ": the reference examiner minus truth"
+                        : ": reached minus truth (technique)")
+          << "</title></text>";
       }
       o << "<text x=\"" << x0 + cell * 3 / 2 << "\" y=\"" << y - 1
         << "\" text-anchor=\"middle\" font-weight=\"bold\">" << teeth[i] << "</text>";
@@ -421,6 +437,9 @@ std::string ReportJson(const LessonResult& r, const ReportInfo& info) {
     << ", \"bias_interdental_mm\": " << Num(r.bias_proximal_mm, 3)
     << ", \"force_in_band_pct\": " << Num(r.force_in_band_pct, 1) << "},\n";
   o << "  \"calibration\": " << CalibrationJson(r.agreement) << ",\n";
+  if (r.reference_agreement)
+    o << "  \"reference_calibration\": {\"reference\": " << JsonQuote(r.reference_name)
+      << ", \"agreement\": " << CalibrationJson(*r.reference_agreement) << "},\n";
   o << "  \"diagnosis\": {\"truth\": " << DxJson(r.true_dx)
     << ",\n    \"chart\": " << DxJson(r.chart_dx) << ",\n    \"declared\": ";
   if (r.declared)
@@ -664,6 +683,17 @@ std::string ReportHtml(const LessonResult& r, const ReportInfo& info) {
     o << "</table>\n";
 
     o << CalibrationHtml(r.agreement);
+    if (r.reference_agreement) {
+      o << CalibrationHtml(*r.reference_agreement,
+                           "the reference examiner (" + r.reference_name + ")",
+                           "the reference");
+      o << "<p class=legend>Over- and under-reading against the reference examiner: "
+           "charted minus the examiner's depth per site, with the examiner's own "
+           "difference from the truth beneath:<span style=\"background:#3a9d4a\"></span>"
+           "the same<span style=\"background:#e0a020\"></span>1 mm<span "
+           "style=\"background:#d03030\"></span>2 mm or more</p>\n"
+        << ErrorMap(r, &r.reference_chart) << "\n";
+    }
 
     o << "<h2>Periodontal chart</h2>\n<p class=meta>Depths in mm; red at 4 mm and over. "
          "\"entered\" is coloured by its "

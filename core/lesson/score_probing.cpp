@@ -245,6 +245,21 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
     t->sites[s.site.site].bleeding = s.entry->bleeding;
   }
   out.agreement = Agree(out.student_chart, out.true_chart);
+  if (spec_.has_reference()) {
+    out.reference_chart = spec_.reference;
+    out.reference_name = spec_.reference_file.filename().string();
+    out.reference_agreement = Agree(out.student_chart, out.reference_chart);
+    const Agreement& g = *out.reference_agreement;
+    L.push_back(Line(
+        "calibration", nullptr, 0, S::kInfo, 0,
+        Format("against the reference examiner (%s): %d sites, exact %.0f %%, within 1 "
+               "mm %.0f %%, weighted kappa %s, bias %+.2f mm: the target (within 1 mm "
+               "at 90 %% of sites, kappa above 0.6) is %s",
+               out.reference_name.c_str(), g.sites, g.exact_pct, g.within_1mm_pct,
+               g.depth_kappa ? Format("%.2f", *g.depth_kappa).c_str() : "-",
+               g.all.mean_mm().value_or(0), g.MeetsTarget() ? "met" : "not met"),
+        last_tick_));
+  }
   out.true_dx = Classify2017(out.true_chart);
   out.chart_dx = Classify2017(out.student_chart);
   out.declared = declared_;

@@ -152,6 +152,49 @@ TEST(LessonFile, ACaseTheTeethCannotHoldIsRefused) {
 
 // A key given twice is an error naming both lines (a YAML reader would keep
 // one silently): in a lesson, in answers, and a tooth twice in a chart.
+// A calibration lesson names its reference examiner's chart: a file that is
+// not there, a chart with a tooth the lesson does not examine, a case drawn
+// anew each attempt, and no reference at all are refused at their lines.
+TEST(LessonFile, ACalibrationReferenceThatCannotBeUsedIsRefused) {
+  const std::string head = "name: calibration\nscene: " + ProbingScene().string() +
+                           "\nteeth: [47, 46, 45, 44]\nsteps:\n  - instruction: probe\n"
+                           "    complete: read\n";
+  Write("ref_other_tooth.yaml", "chart:\n  36: {pd: [3, 2, 3, 3, 2, 3]}\n");
+  const fs::path a =
+      Write("cal_a.yaml", head + "calibration: {reference: nowhere.yaml}\n");
+  const fs::path b =
+      Write("cal_b.yaml", head + "calibration: {reference: ref_other_tooth.yaml}\n");
+  const fs::path c = Write("cal_c.yaml", head + "calibration: {}\n");
+  const fs::path d =
+      Write("cal_d.yaml", head +
+                              "case: {stage: III, extent: localized, seed: "
+                              "random}\ncalibration: {reference: x.yaml}\n");
+  const auto has = [](const std::vector<std::string>& e, const std::string& what) {
+    return std::any_of(e.begin(), e.end(), [&](const std::string& l) {
+      return l.find(what) != std::string::npos;
+    });
+  };
+  auto e = Errors(a);
+  EXPECT_TRUE(has(e, a.string() + ":7:")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(has(e, "no reference examiner's chart at")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(has(e, "nowhere.yaml")) << ::testing::PrintToString(e);
+  e = Errors(b);
+  EXPECT_TRUE(has(e, "ref_other_tooth.yaml:2:")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(has(e, "36")) << ::testing::PrintToString(e);
+  e = Errors(c);
+  EXPECT_TRUE(has(e, c.string() + ":7:")) << ::testing::PrintToString(e);
+  EXPECT_TRUE(has(e, "'calibration' needs 'reference'")) << ::testing::PrintToString(e);
+  e = Errors(d);
+  EXPECT_TRUE(has(e, "draws a new one for each attempt")) << ::testing::PrintToString(e);
+
+  const LessonSpec shipped = LoadLessonSpec(fs::path(SULCUS_SOURCE_DIR) / "lessons" /
+                                            "periodontal_calibration.yaml");
+  ASSERT_TRUE(shipped.has_reference());
+  ASSERT_NE(shipped.reference.Find(46), nullptr);
+  EXPECT_EQ(shipped.reference.Find(46)->sites[2].pd_mm, 6)
+      << "46 DB as the examiner read it";
+}
+
 TEST(LessonFile, AKeyGivenTwiceIsRefusedWithBothLines) {
   const fs::path scene = ProbingScene();
   const fs::path lesson = Write("twice.yaml",

@@ -114,6 +114,43 @@ TEST(Students, TheCarefulOneScoresNearlyFull) {
   }
 }
 
+// Examiner calibration against a reference examiner (the instructor's chart,
+// lessons/calibration/): the examiner read 46 DB and 47 MB 1 mm shallower than
+// the truth and missed 47 ML's bleeding, so any student's chart against the
+// examiner reads 2 mm more in all (both interdental, both deep) than against
+// the truth; the misreading student (2 mm over at three sites) misses the
+// target against the examiner as against the truth, the careful one meets it.
+TEST(Calibration, AgainstAReferenceExaminerTheStudentReadsAsTheExaminerDiffers) {
+  for (const std::string student : {"careful", "misreading"}) {
+    AttemptOptions o;
+    o.student = student;
+    o.device = "student:" + student;
+    o.cache_dir = Cache();
+    const AttemptOutcome out = RunAttempt(
+        fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_calibration.yaml", o);
+    const LessonResult& r = out.result;
+    ASSERT_TRUE(r.reference_agreement) << student;
+    const Agreement& truth = r.agreement;
+    const Agreement& ref = *r.reference_agreement;
+    EXPECT_EQ(ref.sites, 24) << student;
+    EXPECT_EQ(truth.sites, 24) << student;
+    EXPECT_NEAR(ref.all.sum_mm, truth.all.sum_mm + 2, 1e-9) << student;
+    EXPECT_NEAR(ref.interdental.sum_mm, truth.interdental.sum_mm + 2, 1e-9) << student;
+    EXPECT_NEAR(ref.mid.sum_mm, truth.mid.sum_mm, 1e-9) << student;
+    EXPECT_EQ(ref.deep.sites, 7) << "the sites the examiner read 5 mm or more";
+    ASSERT_TRUE(ref.bleeding_kappa) << student;
+    EXPECT_LT(*ref.bleeding_kappa, 1.0) << "47 ML's bleeding the examiner missed";
+    EXPECT_EQ(ref.MeetsTarget(), student == "careful") << student;
+    const std::string html = ReportHtml(r, {});
+    EXPECT_NE(html.find("Calibration against the reference examiner "
+                        "(sextant_reference_examiner.yaml)"),
+              std::string::npos);
+    EXPECT_NE(html.find("charted minus the reference examiner"), std::string::npos);
+    const std::string json = ReportJson(r, {});
+    EXPECT_NE(json.find("\"reference_calibration\""), std::string::npos);
+  }
+}
+
 TEST(Students, TheRoughOneFailsForceAndDamageAndBleedingIsFlagged) {
   const LessonResult r = Take("rough").result;
   EXPECT_EQ(Lines(r, "force", RubricLine::Status::kFail).size(), 24u)
