@@ -157,6 +157,7 @@ bool MainWindow::StartLesson(const LessonStart& start) {
   SceneSpec scene;
   try {
     scene = LessonScene(spec, seed);
+    FitLessonToCase(&spec, scene);
   } catch (const std::exception& e) {
     ShowErrors("Lesson", "The lesson's scene cannot be made.", Q(e.what()));
     return false;

@@ -302,6 +302,7 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
   }
   const auto t0 = Clock::now();
   out.scene = CompileScene(LessonScene(spec, out.seed), o.cache_dir, o.progress);
+  FitLessonToCase(&out.spec, out.scene->spec);
   out.compile_s = std::chrono::duration<double>(Clock::now() - t0).count();
   const CompiledScene& scene = *out.scene;
 

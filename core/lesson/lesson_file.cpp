@@ -350,6 +350,14 @@ void ReadReference(YamlReader& r, const YAML::Node& c, LessonSpec* spec) {
 
 }  // namespace
 
+void FitLessonToCase(LessonSpec* spec, const SceneSpec& scene) {
+  if (scene.missing.empty()) return;
+  auto gone = [&](int fdi) { return scene.missing.count(fdi) > 0; };
+  std::erase_if(spec->teeth, gone);
+  std::erase_if(spec->path, [&](const SiteRef& s) { return gone(s.fdi); });
+  for (StepSpec& st : spec->steps) std::erase_if(st.teeth, gone);
+}
+
 PerioChart TrueChart(const SceneSpec& scene, const std::vector<int>& teeth) {
   PerioChart chart;
   for (int fdi : teeth) {
@@ -392,13 +400,62 @@ namespace {
 // loss or by one complexity (a mobile diseased tooth, drifting, a collapsed
 // bite, few opposing pairs); the grade from the age (against the bone loss the
 // pockets leave) and the two risk factors, drawn toward the grade asked.
+// Occluding pairs: a tooth and its antagonist of the other jaw (11-41, 26-36,
+// ...), both in the scene.
+int OpposingPairs(const SceneSpec& s) {
+  std::set<int> teeth;
+  for (const ObjectSpec& o : s.objects)
+    if (o.kind == ObjectSpec::Kind::kTooth) teeth.insert(o.fdi);
+  int pairs = 0;
+  for (int q : {1, 2})
+    for (int p = 1; p <= 8; ++p)
+      pairs += teeth.count(q * 10 + p) && teeth.count((q == 1 ? 40 : 30) + p);
+  return pairs;
+}
+
+// Takes tooth `fdi` out of the scene (the tooth, its gingiva, its deposits)
+// and lists it as missing for `why`.
+void TakeOut(SceneSpec* s, int fdi, const std::string& why) {
+  std::erase_if(s->objects, [&](const ObjectSpec& o) {
+    return o.fdi == fdi &&
+           (o.kind == ObjectSpec::Kind::kTooth || o.kind == ObjectSpec::Kind::kGingiva ||
+            o.kind == ObjectSpec::Kind::kCalculus);
+  });
+  s->missing[fdi] = {why, 0, 0};
+}
+
 template <typename Uniform>
-void DrawPatient(const CaseSpec& c, int sick_tooth, Uniform& uniform, SceneSpec* s) {
+void DrawPatient(const CaseSpec& c, int sick_tooth, bool whole, Uniform& uniform,
+                 SceneSpec* s) {
   PatientFacts p;
   p.given = true;
-  p.age_years = uniform(25, 80);
+  // Grade A (under 0.25 % of the root lost a year of age) is an older
+  // patient's: in the whole mouth it is drawn from 60 to 90.
+  p.age_years = whole && c.grade == Grade::kA ? uniform(60, 90) : uniform(25, 80);
   p.opposing_pairs = uniform(10, 14);
-  if (c.stage == Stage::kIV) {
+  if (whole) {
+    // The whole mouth shows its own history: the teeth lost to periodontitis
+    // are its gaps of that reason, the opposing pairs are counted on it, and
+    // stage IV's complexity is a mobile diseased tooth, drifting or a collapsed
+    // bite (tooth loss was drawn with the gaps).
+    for (const auto& [fdi, m] : s->missing)
+      p.teeth_lost_to_periodontitis += m.reason == "periodontitis";
+    p.opposing_pairs = OpposingPairs(*s);
+    if (c.stage == Stage::kIV && p.teeth_lost_to_periodontitis < 5) {
+      switch (uniform(0, 2)) {
+        case 0:
+          for (ObjectSpec& o : s->objects)
+            if (o.kind == ObjectSpec::Kind::kTooth && o.fdi == sick_tooth)
+              o.mobility = uniform(2, 3);
+          break;
+        case 1:
+          p.drifting_flaring = true;
+          break;
+        default:
+          p.bite_collapse = true;
+      }
+    }
+  } else if (c.stage == Stage::kIV) {
     switch (uniform(0, 4)) {
       case 0:
         p.teeth_lost_to_periodontitis = uniform(5, 8);
@@ -447,18 +504,59 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
   // A patient only where the case asks for what needs one (the draws of the
   // other cases stay as they were).
   const bool patient = c.grade != Grade::kNone || c.stage == Stage::kIV;
+  // A lesson of more than a sextant draws the history of its teeth too: why
+  // each of the scene's gaps was lost (to periodontitis only from stage III),
+  // teeth taken out for stage IV by tooth loss (5 to 8 in all) or one for
+  // stage III, furcation involvement of diseased molars. A sextant's draws stay
+  // as they were.
+  const bool whole = teeth.size() > 8;
+  const bool molar_incisor = c.extent == Extent::kMolarIncisor;
   for (int attempt = 0; attempt < 5000; ++attempt) {
     SceneSpec s = scene;
-    // Which teeth are diseased: one or two for localized, most for generalized.
     std::vector<int> order = teeth;
     std::shuffle(order.begin(), order.end(), rng);
-    const int n = static_cast<int>(teeth.size());
+    auto first_molar_or_incisor = [](int fdi) {
+      return fdi % 10 == 6 || fdi % 10 == 1 || fdi % 10 == 2;
+    };
+    if (whole) {
+      int lost = 0;
+      for (auto& [fdi, m] : s.missing) {
+        m.reason = c.stage >= Stage::kIII && uniform(0, 1) == 0 ? "periodontitis"
+                   : uniform(0, 1) == 0                         ? "caries"
+                                                                : "unknown";
+        lost += m.reason == "periodontitis";
+      }
+      const int want = c.stage == Stage::kIV && uniform(0, 3) == 0 ? uniform(5, 8)
+                       : c.stage == Stage::kIII                    ? lost + uniform(0, 1)
+                                                                   : lost;
+      // Out of the shuffled order, never the teeth a molar-incisor case needs.
+      for (auto it = order.begin(); lost < want && it != order.end();) {
+        if (molar_incisor && first_molar_or_incisor(*it)) {
+          ++it;
+          continue;
+        }
+        TakeOut(&s, *it, "periodontitis");
+        ++lost;
+        it = order.erase(it);
+      }
+    }
+    // Which teeth are diseased: one or two for localized, most for generalized,
+    // the first molars and incisors for the molar-incisor pattern.
+    const int n = static_cast<int>(order.size());
+    if (molar_incisor)
+      std::stable_partition(order.begin(), order.end(), first_molar_or_incisor);
     const int diseased =
-        c.extent == Extent::kLocalized ? 1 : std::max(1, uniform((n + 1) / 2, n));
+        molar_incisor ? static_cast<int>(std::count_if(order.begin(), order.end(),
+                                                       first_molar_or_incisor))
+        : c.extent == Extent::kLocalized
+            // The whole mouth's healthy teeth lose no attachment (below), so a
+            // localized case has 2 or more diseased teeth, under 30 % of them.
+            ? (whole ? uniform(2, std::max(2, (3 * n - 1) / 10)) : 1)
+            : std::max(1, uniform((n + 1) / 2, n));
     for (ObjectSpec& o : s.objects) {
       if (o.kind != ObjectSpec::Kind::kTooth && o.kind != ObjectSpec::Kind::kGingiva)
         continue;
-      if (std::find(teeth.begin(), teeth.end(), o.fdi) == teeth.end()) continue;
+      if (std::find(order.begin(), order.end(), o.fdi) == order.end()) continue;
       if (o.kind == ObjectSpec::Kind::kGingiva)
         continue;  // refreshed from the tooth below
       const bool sick = std::find(order.begin(), order.begin() + diseased, o.fdi) !=
@@ -468,14 +566,24 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
       for (int site = 0; site < 6; ++site) {
         double pd, rec;
         if (sick) {
-          const int cal = IsInterdental(site) ? uniform(cal_lo, cal_hi)
-                                              : uniform(1, std::min(cal_lo, 3));
+          // Grade A in the whole mouth: the least loss the stage allows, so that
+          // an older patient's bone loss over age can stay under 0.25.
+          const int cal =
+              IsInterdental(site)
+                  ? uniform(cal_lo, whole && c.grade == Grade::kA ? cal_lo : cal_hi)
+                  : uniform(1, std::min(cal_lo, 3));
           rec = uniform(
               0, 2);  // the scene's recession: 0 keeps the margin 1.5 mm above the CEJ
           // Charted CAL = pd + rec - 1.5 with the half rounding down = pd + rec - 2.
           pd = std::max(1, cal - static_cast<int>(rec) + 2);
+          // Below stage III the whole mouth keeps its pockets under 6 mm: PD 6
+          // at two non-adjacent teeth is stage III's complexity.
+          if (whole && c.stage < Stage::kIII) pd = std::min(pd, 5.0);
         } else {
-          pd = uniform(1, 3);
+          // In the whole mouth a healthy tooth's interdental sulci are 1 or 2 mm
+          // (a 3 mm sulcus is charted as 1 mm of attachment lost, and a healthy
+          // mouth of those would be stage I everywhere).
+          pd = whole && IsInterdental(site) ? uniform(1, 2) : uniform(1, 3);
           rec = 0;
         }
         pd = std::min(pd, std::floor(max_loss - rec));
@@ -484,8 +592,20 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
         o.bleeding[site] = sick ? uniform(0, 2) > 0 : uniform(0, 9) == 0;
       }
       if (patient) o.mobility = sick ? uniform(0, 1) : 0;
+      if (whole) {
+        // A diseased molar's furcation: class I at most below stage III
+        // (class II or III would make it stage III).
+        o.furcation.clear();
+        const std::vector<std::string> entrances = FurcationEntrances(o.fdi);
+        if (sick && !entrances.empty()) {
+          const int hamp = uniform(0, c.stage >= Stage::kIII ? 2 : 1);
+          if (hamp > 0)
+            o.furcation[entrances[static_cast<std::size_t>(
+                uniform(0, static_cast<int>(entrances.size()) - 1))]] = hamp;
+        }
+      }
     }
-    if (patient) DrawPatient(c, order.front(), uniform, &s);
+    if (patient) DrawPatient(c, order.front(), whole, uniform, &s);
     for (ObjectSpec& g : s.objects) {
       if (g.kind != ObjectSpec::Kind::kGingiva) continue;
       for (const ObjectSpec& t : s.objects)
@@ -497,6 +617,11 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
         }
       if (g.trees.target_error_mm == 0)
         g.trees.leaves = std::min(g.trees.leaves, kCaseGingivaLeaves);
+    }
+    if (whole && !patient) {
+      s.patient.teeth_lost_to_periodontitis = 0;
+      for (const auto& [fdi, m] : s.missing)
+        s.patient.teeth_lost_to_periodontitis += m.reason == "periodontitis";
     }
     const Diagnosis d = Classify2017(TrueChart(s, teeth));
     if (d.kind == Diagnosis::Kind::kPeriodontitis && d.stage == c.stage &&
@@ -570,6 +695,19 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
     root["spheretree"] = trees;
     break;
   }
+  // The teeth the case took out leave the objects, and every gap is listed
+  // with the reason the case drew for it.
+  if (!cased.missing.empty()) {
+    YAML::Node objects(YAML::NodeType::Sequence);
+    for (const YAML::Node& o : root["objects"])
+      if (!(o.IsMap() && o["tooth"] && cased.missing.count(o["tooth"].as<int>(0))))
+        objects.push_back(o);
+    root["objects"] = objects;
+    YAML::Node missing(YAML::NodeType::Map);
+    missing.SetStyle(YAML::EmitterStyle::Flow);
+    for (const auto& [fdi, m] : cased.missing) missing[fdi] = m.reason;
+    root["missing"] = missing;
+  }
   for (YAML::Node o : root["objects"]) {
     if (!o.IsMap() || !o["tooth"]) continue;
     const int fdi = o["tooth"].as<int>(0);
@@ -596,6 +734,14 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
         o["mobility"] = t.mobility;
       else
         o.remove("mobility");
+      if (!t.furcation.empty()) {
+        YAML::Node f(YAML::NodeType::Map);
+        f.SetStyle(YAML::EmitterStyle::Flow);
+        for (const auto& [entrance, hamp] : t.furcation) f[entrance] = hamp;
+        o["furcation"] = f;
+      } else {
+        o.remove("furcation");
+      }
     }
   }
   YAML::Emitter e;
@@ -623,7 +769,10 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
       const auto& b = t < got.teeth.size() ? got.teeth[t].sites[s] : a;
       if (t >= got.teeth.size() || a.pd_mm != b.pd_mm ||
           a.recession_mm != b.recession_mm || a.bleeding != b.bleeding ||
-          want.teeth[t].mobility != got.teeth[t].mobility)
+          want.teeth[t].mobility != got.teeth[t].mobility ||
+          want.teeth[t].furcation != got.teeth[t].furcation ||
+          want.teeth[t].present != got.teeth[t].present ||
+          want.teeth[t].fdi != got.teeth[t].fdi)
         throw std::runtime_error(
             out.string() +
             ": the saved scene does not read back as the drawn case (tooth " +
@@ -695,13 +844,10 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
     if (c["extent"]) {
       const std::string ex = r.Text(c["extent"], "extent");
       const auto extent = ExtentFromString(ex);
-      if (extent && *extent == Extent::kMolarIncisor)
+      if (!extent || *extent == Extent::kNone)
         r.Error(c["extent"],
-                "a generated case is localized or generalized; a molar-incisor pattern "
-                "is not drawn yet (write its pockets in a scene of its own)");
-      else if (!extent || *extent == Extent::kNone)
-        r.Error(c["extent"], "'extent' must be localized or generalized" +
-                                 Suggest(ex, {"localized", "generalized"}));
+                "'extent' must be localized, generalized or molar-incisor" +
+                    Suggest(ex, {"localized", "generalized", "molar-incisor"}));
       else
         spec.case_spec.extent = *extent;
     }
@@ -780,7 +926,18 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
                        ? std::to_string(in_band) + " in its band must be under 30 %"
                        : std::string("2 of them non-adjacent")) +
                   "); the lesson has " + std::to_string(spec.teeth.size()));
-    else if (c.grade != Grade::kNone && scene_ok) {
+    else if (c.extent == Extent::kMolarIncisor &&
+             (std::none_of(spec.teeth.begin(), spec.teeth.end(),
+                           [](int t) { return t % 10 == 6; }) ||
+              std::none_of(spec.teeth.begin(), spec.teeth.end(),
+                           [](int t) { return t % 10 == 1 || t % 10 == 2; })))
+      r.Error(root["case"],
+              "a molar-incisor case needs first molars and incisors among the lesson's "
+              "teeth (" +
+                  Join(spec.teeth) + ")");
+    else if ((c.grade != Grade::kNone || c.extent == Extent::kMolarIncisor ||
+              spec.teeth.size() > 8) &&
+             scene_ok) {
       // A grade the teeth's bone loss cannot give at any age (stage III grade
       // A: 40 % lost by 160): drawn here once, so that no attempt meets it.
       try {

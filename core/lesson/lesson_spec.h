@@ -131,6 +131,11 @@ std::vector<SiteRef> StandardPath(std::vector<int> teeth);
 /// the same (docs/accuracy-cost: within 1 mm 100 % at both; at 512 it is not).
 inline constexpr int kCaseGingivaLeaves = 1024;
 
+/// The lesson on the scene its case drew: a tooth the case took out (stage IV
+/// by tooth loss, in a lesson of more than a sextant) leaves the lesson's
+/// teeth, path and steps.
+void FitLessonToCase(LessonSpec* spec, const SceneSpec& scene);
+
 /// The scene with a generated case applied: pockets, recession and bleeding of
 /// the lesson's teeth drawn from `seed` until the true chart classifies as asked
 /// (at most a few thousand draws; throws std::runtime_error when none fits).

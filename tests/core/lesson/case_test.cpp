@@ -292,5 +292,88 @@ TEST(CaseScene, EveryStageExtentAndGradeIsDrawnAsAskedOrRefused) {
               refused.size());
 }
 
+// The whole mouth (the full examination's 26 teeth): every stage, extent
+// (the molar-incisor pattern too) and grade over many seeds, each drawn with
+// the history of its teeth (why the scene's two gaps were lost, teeth taken out
+// for stage IV by tooth loss), furcation of diseased molars and mobility, and
+// classified as asked. Grade A is drawn at stage I and at a localized stage II
+// (the least loss on a few teeth, a patient of 60 to 90); with more teeth or a
+// deeper stage the worst tooth's bone loss over age is a quarter of a percent a
+// year or more even at 90, and it is refused.
+TEST(CaseScene, WholeMouthCasesOfEveryStageExtentAndGradeAreDrawnAsAsked) {
+  const LessonSpec lesson = LoadLessonSpec(fs::path(SULCUS_SOURCE_DIR) / "lessons" /
+                                           "periodontal_examination.yaml");
+  ASSERT_EQ(lesson.teeth.size(), 26u);
+  const SceneSpec scene = LoadSceneSpec(lesson.scene);
+  std::set<std::string> refused;
+  int drawn = 0, taken_out = 0, furcation = 0, molar_incisor = 0;
+  for (const Stage stage : {Stage::kI, Stage::kII, Stage::kIII, Stage::kIV})
+    for (const Extent extent :
+         {Extent::kLocalized, Extent::kGeneralized, Extent::kMolarIncisor})
+      for (const Grade grade : {Grade::kNone, Grade::kA, Grade::kB, Grade::kC}) {
+        CaseSpec c;
+        c.generated = true;
+        c.stage = stage;
+        c.extent = extent;
+        c.grade = grade;
+        const std::string name =
+            std::string(ToString(stage)) + " " + ToString(extent) + " " + ToString(grade);
+        int ok = 0, failed = 0;
+        for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+          try {
+            const SceneSpec s = ApplyCase(scene, lesson.teeth, c, seed);
+            const PerioChart truth = TrueChart(s, lesson.teeth);
+            const Diagnosis d = Classify2017(truth);
+            EXPECT_EQ(d.kind, Diagnosis::Kind::kPeriodontitis) << name << " " << seed;
+            EXPECT_EQ(d.stage, stage) << name << " seed " << seed;
+            EXPECT_EQ(d.extent, extent) << name << " seed " << seed;
+            if (grade != Grade::kNone) {
+              EXPECT_EQ(d.grade, grade) << name;
+            }
+            // The gaps and the teeth taken out are charted missing, each
+            // counted once in the teeth lost to periodontitis.
+            int lost = 0;
+            for (const auto& [fdi, m] : s.missing) {
+              lost += m.reason == "periodontitis";
+              ASSERT_NE(truth.Find(fdi), nullptr) << name;
+              EXPECT_FALSE(truth.Find(fdi)->present) << name;
+            }
+            EXPECT_GE(s.missing.size(), 2u) << "the scene's own gaps";
+            EXPECT_EQ(truth.patient.teeth_lost_to_periodontitis, lost) << name;
+            if (stage < Stage::kIII) {
+              EXPECT_EQ(lost, 0) << name;
+            }
+            taken_out += s.missing.size() > 2;
+            LessonSpec fitted = lesson;
+            FitLessonToCase(&fitted, s);
+            EXPECT_EQ(fitted.teeth.size(), 28 - s.missing.size()) << name;
+            EXPECT_EQ(fitted.path.size(), 6 * fitted.teeth.size()) << name;
+            for (const ToothChart& t : truth.teeth)
+              furcation += t.present && t.furcation > 0;
+            molar_incisor += d.extent == Extent::kMolarIncisor;
+            ++ok;
+          } catch (const std::runtime_error&) {
+            ++failed;
+          }
+        }
+        EXPECT_TRUE(ok == 0 || failed == 0) << name << ": drawn " << ok << ", refused "
+                                            << failed << " (a seed should not decide)";
+        if (ok == 0) refused.insert(name);
+        drawn += ok;
+      }
+  EXPECT_EQ(refused, (std::set<std::string>{"II generalized A", "II molar-incisor A",
+                                            "III localized A", "III generalized A",
+                                            "III molar-incisor A", "IV localized A",
+                                            "IV generalized A", "IV molar-incisor A"}))
+      << ::testing::PrintToString(refused);
+  EXPECT_GT(taken_out, 0) << "stage IV by tooth loss takes teeth out";
+  EXPECT_GT(furcation, 0);
+  EXPECT_GT(molar_incisor, 0);
+  std::printf(
+      "figure: whole mouth, %d cases drawn as asked (%d with teeth taken out, %d "
+      "furcations, %d molar-incisor), %zu combinations refused\n",
+      drawn, taken_out, furcation, molar_incisor, refused.size());
+}
+
 }  // namespace
 }  // namespace sulcus
