@@ -162,8 +162,14 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
         bias_prox += diff;
       }
     } else {
-      // A site left blank scores as a wrong depth, never better than a depth
-      // 1 mm off: leaving an uncertain site blank must not pay.
+      // A site left blank scores as a wrong depth and a wrong reading, never
+      // better than a depth 1 mm off: leaving an uncertain site blank must not pay.
+      L.push_back(
+          Line("reading", &site, 0, S::kFail, 0,
+               name + ": no reading entered" +
+                   (s.reached_mm ? Format(" (the probe reached %.1f mm)", *s.reached_mm)
+                                 : std::string(" (not probed)")),
+               last_tick_));
       L.push_back(Line("charting", &site, 0, S::kFail, 0,
                        name + ": not charted (scored as a wrong depth)", last_tick_));
     }

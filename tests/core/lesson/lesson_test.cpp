@@ -359,7 +359,57 @@ TEST(Students, TheLazyOneSkipsATeethAndCompletenessSaysWhich) {
     }
   EXPECT_EQ(blank,
             (std::set<std::string>{"46 DB", "46 B", "46 MB", "46 ML", "46 L", "46 DL"}));
+  // Its reading lines fail there too: no reading was entered.
+  std::set<std::string> unread;
+  for (const RubricLine* l : Lines(r, "reading", RubricLine::Status::kFail))
+    if (l->message.find("no reading entered") != std::string::npos) {
+      EXPECT_EQ(l->credit, 0);
+      unread.insert(l->site->ToString());
+    }
+  EXPECT_EQ(unread, blank);
   std::printf("figure: lazy %.1f / 100 (46 left blank)\n", r.total);
+}
+
+// The same hand, the same readings: an uncertain site charted 1 mm off scores
+// more than the site left blank, on the reading and charting lines and in all.
+TEST(Students, ABlankSiteIsNeverBetterThanAnHonestAttempt) {
+  const LessonSpec spec = LoadLessonSpec(Lesson());
+  const PerioChart truth = TrueChart(LoadSceneSpec(spec.scene), spec.teeth);
+  // Every site as it truly is, but 46 DB (7 mm) charted 6, or left blank.
+  auto answers = [&](const std::string& name, bool blank) {
+    std::string text = "entries:\n";
+    for (const SiteRef& site : spec.path) {
+      const SiteValues& v = truth.Find(site.fdi)->sites[site.site];
+      int pd = *v.pd_mm;
+      if (site.ToString() == "46 DB") {
+        if (blank) continue;
+        pd -= 1;
+      }
+      text += "  - {site: \"" + site.ToString() + "\", pd: " + std::to_string(pd) +
+              (v.bleeding ? ", bleeding: true" : "") + "}\n";
+    }
+    return test::WriteText(Out(name), text);
+  };
+  auto take = [&](const fs::path& file) {
+    AttemptOptions o;
+    o.device = "student:careful";
+    o.cache_dir = Cache();
+    o.answers = file;
+    return RunAttempt(Lesson(), o).result;
+  };
+  const LessonResult off = take(answers("off_by_one.yaml", false));
+  const LessonResult left = take(answers("left_blank.yaml", true));
+  EXPECT_EQ(off.sites_charted, 24);
+  EXPECT_EQ(left.sites_charted, 23);
+  for (const char* category : {"reading", "charting"}) {
+    ASSERT_TRUE(off.category_credit.count(category) &&
+                left.category_credit.count(category));
+    EXPECT_GT(off.category_credit.at(category), left.category_credit.at(category))
+        << category;
+  }
+  EXPECT_GT(off.total, left.total);
+  std::printf("figure: 46 DB charted 1 mm off %.2f, left blank %.2f\n", off.total,
+              left.total);
 }
 
 TEST(Replay, ARecordedAttemptGivesTheSameReport) {
