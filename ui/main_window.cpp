@@ -610,7 +610,8 @@ void MainWindow::UpdateDeviceHelp(const std::string& device) {
     text =
         "Mouse and keyboard: W/S, A/D, Q/E move the probe as the screen shows it "
         "(Shift: turn); N to the next site; R/F press harder/lighter along the probe, X "
-        "lets go; comma/period walk along the sulcus. Ctrl+drag moves the tool. F1 for "
+        "lets go; comma/period walk along the sulcus, T tilts into the col. Ctrl+drag "
+        "moves the tool. F1 for "
         "more.";
   } else if (name && name->kind == DeviceName::Kind::kStudent) {
     text = QString(

@@ -160,6 +160,49 @@ void MainWindow::keyPressEvent(QKeyEvent* e) {
       mouse_->Nudge((e->key() == Qt::Key_Period ? 0.3 : -0.3) * around, Vector3::Zero());
       return;
     }
+    case Qt::Key_T: {
+      // Into the col: at an interdental site the handle leans 20 degrees away
+      // from the contact, about the tip, so that the tip goes under the contact
+      // point; T again stands it back along the tooth.
+      const std::optional<SiteRef> at = lesson_ ? lesson_->tip_site() : std::nullopt;
+      if (!at || !IsInterdental(at->site)) {
+        statusBar()->showMessage(
+            "Tilting into the col needs the tip at an interdental site (MB, DB, ML, "
+            "DL): walk to the tooth's corner with comma or period first",
+            6000);
+        return;
+      }
+      const ProbingSite* p = SceneSite(*at);
+      const ProbingSite* mid = SceneSite({at->fdi, at->site < 3 ? 1 : 4});
+      if (!p || !mid) return;
+      // Toward the contact along the sulcus: the ring's tangent at the tip (so
+      // the working end turns in the sulcus, never into the tooth or the
+      // gingiva), on the side from the mid-site to this one.
+      // The hand's pose is above the tip by the press's travel down the probe.
+      const RigidTransform& X = mouse_->pose();
+      const Vector3 z = X.rotation() * Vector3::UnitZ();
+      const double travel = mouse_->press_travel_mm();
+      Vector3 radial = X.translation() - travel * z - p->origin_W;
+      radial -= p->axis_W * radial.dot(p->axis_W);
+      Vector3 toward = p->axis_W.cross(radial);
+      if (toward.norm() < 1e-6) return;
+      toward.normalize();
+      if (toward.dot(p->margin_W - mid->margin_W) < 0) toward = -toward;
+      const bool tilted = z.dot(-toward) > std::sin(10.0 * M_PI / 180);
+      const double lean = tilted ? 0.0 : 20.0 * M_PI / 180;
+      const Vector3 want = std::cos(lean) * p->axis_W - std::sin(lean) * toward;
+      // Turned about the tip, the press kept: the hand's point moves with the
+      // turned axis so that the tip stays where it is.
+      const Eigen::AngleAxisd turn(Quaternion::FromTwoVectors(z, want));
+      const Vector3 z_after = turn * z;
+      mouse_->Nudge(travel * (z_after - z), turn.angle() * turn.axis());
+      statusBar()->showMessage(tilted ? "The probe stands along the tooth again"
+                                      : "The probe leans 20 degrees away from the "
+                                        "contact: the tip goes under it into the col "
+                                        "(T again stands it back)",
+                               5000);
+      return;
+    }
     case Qt::Key_N: {
       const std::optional<SiteRef> next = lesson_ ? lesson_->next_site() : std::nullopt;
       if (!next) {
@@ -241,6 +284,7 @@ bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
       case Qt::Key_F:
       case Qt::Key_X:
       case Qt::Key_N:
+      case Qt::Key_T:
       case Qt::Key_Comma:
       case Qt::Key_Period:
         keyPressEvent(k);

@@ -445,6 +445,9 @@ QString MainWindow::HelpHtml(std::optional<HelpTopic> topic) const {
       "with that force, so 0.24 N holds it at the pocket floor (the white mark on the "
       "gauge). <b>Walking</b>: with the tip in a sulcus, comma and period move it along "
       "the sulcus 0.3 mm (left and right on the screen) while the press keeps it down. "
+      "<b>T</b> at an interdental site tilts the probe 20 degrees away from the contact "
+      "about its tip, so the tip goes under the contact point into the col; T again "
+      "stands it back along the tooth. "
       "Reset tool lifts it 6 mm above the site. Ctrl + drag moves it with the mouse, "
       "Ctrl + wheel pushes it. Drag without Ctrl turns the camera, the wheel zooms; "
       "the View buttons and Look at tooth place it.";

@@ -516,6 +516,68 @@ TEST(LessonWindow, APersonProbesFourSitesByKeysAndEachIsScored) {
   }
 }
 
+// T at an interdental site leans the probe away from the contact about its
+// tip (the tip goes under the contact point into the col), and T again stands
+// it back along the tooth; at a mid-site T says what it needs.
+TEST(LessonWindow, TTiltsTheProbeIntoTheColAndBack) {
+  MainWindow w;
+  w.resize(1280, 800);
+  w.show();
+  MainWindow::LessonStart start;
+  start.lesson = Lessons() / "periodontal_probing.yaml";
+  start.student = "Col Tilt";
+  start.device = "mouse";
+  start.mode = LessonSpec::Mode::kPractice;
+  start.results_dir = Out("col_tilt");
+  ASSERT_TRUE(w.StartLesson(start));
+  QWidget* view = w.view_widget();
+  ASSERT_TRUE(w.lesson()->next_site());
+  const SiteRef site = *w.lesson()->next_site();
+  ASSERT_TRUE(IsInterdental(site.site))
+      << site.ToString() << " (the path starts at 47 DB)";
+  view->setFocus();
+  Key(view, Qt::Key_N, "n");
+  for (int i = 0; i < 12; ++i) Key(view, Qt::Key_R, "r");
+  // At the floor with the press held (the gauge near it for half a second).
+  QElapsedTimer still;
+  bool holding = false;
+  ASSERT_TRUE(WaitFor(
+      [&] {
+        const bool in = w.lesson()->tip_site() == site && w.lesson()->tip_angle_deg() &&
+                        std::abs(w.gauge_force() - 0.24) < 0.03;
+        if (in && !holding) still.restart();
+        holding = in;
+        return in && still.elapsed() > 500;
+      },
+      60000))
+      << "the tip goes to the floor of " << site.ToString();
+  const double before = *w.lesson()->tip_angle_deg();
+  EXPECT_LT(before, 5.0) << "N places the probe along the tooth";
+  Key(view, Qt::Key_T, "t");
+  const bool leaned = WaitFor(
+      [&] {
+        return w.lesson()->tip_angle_deg() && *w.lesson()->tip_angle_deg() > 15.0 &&
+               w.lesson()->tip_site() == site && w.lesson()->tip_depth_mm() &&
+               *w.lesson()->tip_depth_mm() > 1.0;
+      },
+      20000);
+  EXPECT_TRUE(leaned) << "angle "
+                      << (w.lesson()->tip_angle_deg() ? *w.lesson()->tip_angle_deg()
+                                                      : -1);
+  EXPECT_TRUE(Save(&w, "col_tilt.png"));
+  const double tilted = w.lesson()->tip_angle_deg().value_or(-1);
+  Key(view, Qt::Key_T, "t");
+  EXPECT_TRUE(WaitFor(
+      [&] { return w.lesson()->tip_angle_deg() && *w.lesson()->tip_angle_deg() < 5.0; },
+      20000))
+      << "T again stands it back";
+  std::printf("figure: %s from %.1f degrees tilted into the col: %.1f, back %.1f\n",
+              site.ToString().c_str(), before, tilted,
+              w.lesson()->tip_angle_deg() ? *w.lesson()->tip_angle_deg() : -1.0);
+  Key(view, Qt::Key_X, "x");
+  ASSERT_TRUE(w.FinishLesson(false));
+}
+
 // The inspection lesson in the window: the thorough scripted inspector drives
 // the device through every step while the odontogram fills; the student adds
 // a status code and takes back a finding with the keyboard, submits the
