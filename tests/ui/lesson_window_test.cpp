@@ -76,6 +76,18 @@ bool Save(QWidget* w, const std::string& name) {
   return w->grab().save(QString::fromStdString(Out(name).string()));
 }
 
+// The sextant's practice lesson taken with the mouse and keys, as a person
+// without a haptic device takes it.
+MainWindow::LessonStart ByKeys(const std::string& student, const std::string& dir) {
+  MainWindow::LessonStart start;
+  start.lesson = Lessons() / "periodontal_probing.yaml";
+  start.student = student;
+  start.device = "mouse";
+  start.mode = LessonSpec::Mode::kPractice;
+  start.results_dir = Out(dir);
+  return start;
+}
+
 TEST(StartPage, ListsTheLessonsAndABrokenOneAsBroken) {
   const fs::path extra = Out("instructor");
   fs::create_directories(extra);
@@ -410,12 +422,7 @@ TEST(LessonWindow, APersonProbesFourSitesByKeysAndEachIsScored) {
   MainWindow w;
   w.resize(1280, 800);
   w.show();
-  MainWindow::LessonStart start;
-  start.lesson = Lessons() / "periodontal_probing.yaml";
-  start.student = "Key Hand";
-  start.device = "mouse";
-  start.mode = LessonSpec::Mode::kPractice;
-  start.results_dir = Out("person");
+  const MainWindow::LessonStart start = ByKeys("Key Hand", "person");
   ASSERT_TRUE(w.StartLesson(start));
   QWidget* view = w.view_widget();
   ChartWidget* chart = w.chart();
@@ -523,13 +530,7 @@ TEST(LessonWindow, TTiltsTheProbeIntoTheColAndBack) {
   MainWindow w;
   w.resize(1280, 800);
   w.show();
-  MainWindow::LessonStart start;
-  start.lesson = Lessons() / "periodontal_probing.yaml";
-  start.student = "Col Tilt";
-  start.device = "mouse";
-  start.mode = LessonSpec::Mode::kPractice;
-  start.results_dir = Out("col_tilt");
-  ASSERT_TRUE(w.StartLesson(start));
+  ASSERT_TRUE(w.StartLesson(ByKeys("Col Tilt", "col_tilt")));
   QWidget* view = w.view_widget();
   ASSERT_TRUE(w.lesson()->next_site());
   const SiteRef site = *w.lesson()->next_site();

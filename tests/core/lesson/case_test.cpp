@@ -239,16 +239,16 @@ TEST(CaseScene, MissingTeethAreChartedMissingAndTheLostOnesCount) {
   }
 }
 
-// Generated cases of every stage, extent and grade the sextant's teeth can give
-// classify as asked over many seeds; the others are refused every time.
-TEST(CaseScene, EveryStageExtentAndGradeIsDrawnAsAskedOrRefused) {
-  const LessonSpec lesson = LoadLessonSpec(fs::path(SULCUS_SOURCE_DIR) / "lessons" /
-                                           "periodontal_probing.yaml");
-  const SceneSpec scene = LoadSceneSpec(lesson.scene);
+// Every stage, extent and grade asked of ApplyCase, each over `seeds` seeds:
+// each case drawn goes to `check` (with its name and seed); returns the
+// combinations no seed could draw, and checks that a seed alone never decides.
+template <typename Check>
+std::set<std::string> DrawEveryCase(const SceneSpec& scene, const std::vector<int>& teeth,
+                                    const std::vector<Extent>& extents, int seeds,
+                                    int* drawn, Check check) {
   std::set<std::string> refused;
-  int drawn = 0;
   for (const Stage stage : {Stage::kI, Stage::kII, Stage::kIII, Stage::kIV})
-    for (const Extent extent : {Extent::kLocalized, Extent::kGeneralized})
+    for (const Extent extent : extents)
       for (const Grade grade : {Grade::kNone, Grade::kA, Grade::kB, Grade::kC}) {
         CaseSpec c;
         c.generated = true;
@@ -258,17 +258,10 @@ TEST(CaseScene, EveryStageExtentAndGradeIsDrawnAsAskedOrRefused) {
         const std::string name =
             std::string(ToString(stage)) + " " + ToString(extent) + " " + ToString(grade);
         int ok = 0, failed = 0;
-        for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+        for (std::uint64_t seed = 1; seed <= static_cast<std::uint64_t>(seeds); ++seed) {
           try {
-            const SceneSpec s = ApplyCase(scene, lesson.teeth, c, seed);
-            const Diagnosis d = Classify2017(TrueChart(s, lesson.teeth));
-            EXPECT_EQ(d.stage, stage) << name << " seed " << seed;
-            EXPECT_EQ(d.extent, extent) << name << " seed " << seed;
-            if (grade != Grade::kNone) {
-              EXPECT_EQ(d.grade, grade) << name;
-            }
-            EXPECT_EQ(s.patient.given, grade != Grade::kNone || stage == Stage::kIV)
-                << name;
+            const SceneSpec s = ApplyCase(scene, teeth, c, seed);
+            check(s, c, name + " seed " + std::to_string(seed));
             ++ok;
           } catch (const std::runtime_error&) {
             ++failed;
@@ -277,8 +270,30 @@ TEST(CaseScene, EveryStageExtentAndGradeIsDrawnAsAskedOrRefused) {
         EXPECT_TRUE(ok == 0 || failed == 0) << name << ": drawn " << ok << ", refused "
                                             << failed << " (a seed should not decide)";
         if (ok == 0) refused.insert(name);
-        drawn += ok;
+        *drawn += ok;
       }
+  return refused;
+}
+
+// Generated cases of every stage, extent and grade the sextant's teeth can give
+// classify as asked over many seeds; the others are refused every time.
+TEST(CaseScene, EveryStageExtentAndGradeIsDrawnAsAskedOrRefused) {
+  const LessonSpec lesson = LoadLessonSpec(fs::path(SULCUS_SOURCE_DIR) / "lessons" /
+                                           "periodontal_probing.yaml");
+  const SceneSpec scene = LoadSceneSpec(lesson.scene);
+  int drawn = 0;
+  const std::set<std::string> refused = DrawEveryCase(
+      scene, lesson.teeth, {Extent::kLocalized, Extent::kGeneralized}, 8, &drawn,
+      [&](const SceneSpec& s, const CaseSpec& c, const std::string& name) {
+        const Diagnosis d = Classify2017(TrueChart(s, lesson.teeth));
+        EXPECT_EQ(d.stage, c.stage) << name;
+        EXPECT_EQ(d.extent, c.extent) << name;
+        if (c.grade != Grade::kNone) {
+          EXPECT_EQ(d.grade, c.grade) << name;
+        }
+        EXPECT_EQ(s.patient.given, c.grade != Grade::kNone || c.stage == Stage::kIV)
+            << name;
+      });
   // Four teeth cannot hold a localized stage I (its 2 teeth are 50 %), and
   // bone loss at stage II or more is more than a quarter of a percent a year at
   // any age: grade A needs stage I.
@@ -305,62 +320,40 @@ TEST(CaseScene, WholeMouthCasesOfEveryStageExtentAndGradeAreDrawnAsAsked) {
                                            "periodontal_examination.yaml");
   ASSERT_EQ(lesson.teeth.size(), 26u);
   const SceneSpec scene = LoadSceneSpec(lesson.scene);
-  std::set<std::string> refused;
   int drawn = 0, taken_out = 0, furcation = 0, molar_incisor = 0;
-  for (const Stage stage : {Stage::kI, Stage::kII, Stage::kIII, Stage::kIV})
-    for (const Extent extent :
-         {Extent::kLocalized, Extent::kGeneralized, Extent::kMolarIncisor})
-      for (const Grade grade : {Grade::kNone, Grade::kA, Grade::kB, Grade::kC}) {
-        CaseSpec c;
-        c.generated = true;
-        c.stage = stage;
-        c.extent = extent;
-        c.grade = grade;
-        const std::string name =
-            std::string(ToString(stage)) + " " + ToString(extent) + " " + ToString(grade);
-        int ok = 0, failed = 0;
-        for (std::uint64_t seed = 1; seed <= 6; ++seed) {
-          try {
-            const SceneSpec s = ApplyCase(scene, lesson.teeth, c, seed);
-            const PerioChart truth = TrueChart(s, lesson.teeth);
-            const Diagnosis d = Classify2017(truth);
-            EXPECT_EQ(d.kind, Diagnosis::Kind::kPeriodontitis) << name << " " << seed;
-            EXPECT_EQ(d.stage, stage) << name << " seed " << seed;
-            EXPECT_EQ(d.extent, extent) << name << " seed " << seed;
-            if (grade != Grade::kNone) {
-              EXPECT_EQ(d.grade, grade) << name;
-            }
-            // The gaps and the teeth taken out are charted missing, each
-            // counted once in the teeth lost to periodontitis.
-            int lost = 0;
-            for (const auto& [fdi, m] : s.missing) {
-              lost += m.reason == "periodontitis";
-              ASSERT_NE(truth.Find(fdi), nullptr) << name;
-              EXPECT_FALSE(truth.Find(fdi)->present) << name;
-            }
-            EXPECT_GE(s.missing.size(), 2u) << "the scene's own gaps";
-            EXPECT_EQ(truth.patient.teeth_lost_to_periodontitis, lost) << name;
-            if (stage < Stage::kIII) {
-              EXPECT_EQ(lost, 0) << name;
-            }
-            taken_out += s.missing.size() > 2;
-            LessonSpec fitted = lesson;
-            FitLessonToCase(&fitted, s);
-            EXPECT_EQ(fitted.teeth.size(), 28 - s.missing.size()) << name;
-            EXPECT_EQ(fitted.path.size(), 6 * fitted.teeth.size()) << name;
-            for (const ToothChart& t : truth.teeth)
-              furcation += t.present && t.furcation > 0;
-            molar_incisor += d.extent == Extent::kMolarIncisor;
-            ++ok;
-          } catch (const std::runtime_error&) {
-            ++failed;
-          }
+  const std::set<std::string> refused = DrawEveryCase(
+      scene, lesson.teeth,
+      {Extent::kLocalized, Extent::kGeneralized, Extent::kMolarIncisor}, 6, &drawn,
+      [&](const SceneSpec& s, const CaseSpec& c, const std::string& name) {
+        const PerioChart truth = TrueChart(s, lesson.teeth);
+        const Diagnosis d = Classify2017(truth);
+        EXPECT_EQ(d.kind, Diagnosis::Kind::kPeriodontitis) << name;
+        EXPECT_EQ(d.stage, c.stage) << name;
+        EXPECT_EQ(d.extent, c.extent) << name;
+        if (c.grade != Grade::kNone) {
+          EXPECT_EQ(d.grade, c.grade) << name;
         }
-        EXPECT_TRUE(ok == 0 || failed == 0) << name << ": drawn " << ok << ", refused "
-                                            << failed << " (a seed should not decide)";
-        if (ok == 0) refused.insert(name);
-        drawn += ok;
-      }
+        // The gaps and the teeth taken out are charted missing, each counted
+        // once in the teeth lost to periodontitis.
+        int lost = 0;
+        for (const auto& [fdi, m] : s.missing) {
+          lost += m.reason == "periodontitis";
+          ASSERT_NE(truth.Find(fdi), nullptr) << name;
+          EXPECT_FALSE(truth.Find(fdi)->present) << name;
+        }
+        EXPECT_GE(s.missing.size(), 2u) << "the scene's own gaps";
+        EXPECT_EQ(truth.patient.teeth_lost_to_periodontitis, lost) << name;
+        if (c.stage < Stage::kIII) {
+          EXPECT_EQ(lost, 0) << name;
+        }
+        taken_out += s.missing.size() > 2;
+        LessonSpec fitted = lesson;
+        FitLessonToCase(&fitted, s);
+        EXPECT_EQ(fitted.teeth.size(), 28 - s.missing.size()) << name;
+        EXPECT_EQ(fitted.path.size(), 6 * fitted.teeth.size()) << name;
+        for (const ToothChart& t : truth.teeth) furcation += t.present && t.furcation > 0;
+        molar_incisor += d.extent == Extent::kMolarIncisor;
+      });
   EXPECT_EQ(refused, (std::set<std::string>{"II generalized A", "II molar-incisor A",
                                             "III localized A", "III generalized A",
                                             "III molar-incisor A", "IV localized A",
