@@ -404,14 +404,20 @@ void MainWindow::UpdateLessonPanel() {
     chart_->SetProbed(probed);
   }
   if (const auto angle = l.tip_angle_deg()) {
-    const QString colour = *angle <= 5 ? "#2a8a3a" : *angle <= 10 ? "#c88a00" : "#c02020";
+    // At an interdental site a tilt under the contact (up to 30 degrees) is the
+    // col's technique, not a fault: green there, as the scoring has it.
+    const bool col = tip && IsInterdental(tip->site) && *angle > 5 && *angle <= 30;
+    const QString colour = *angle <= 5 || col ? "#2a8a3a"
+                           : *angle <= 10     ? "#c88a00"
+                                              : "#c02020";
     const int bars = std::min(20, static_cast<int>(*angle));
     tilt_label_->setText(
         QString(
-            "Tilt from the long axis: <span style='color:%1'><b>%2&deg;</b> %3</span>")
+            "Tilt from the long axis: <span style='color:%1'><b>%2&deg;</b> %3</span>%4")
             .arg(colour)
             .arg(*angle, 0, 'f', 0)
-            .arg(QString(bars, QChar(0x2588))));
+            .arg(QString(bars, QChar(0x2588)))
+            .arg(col ? " into the col" : ""));
   } else {
     tilt_label_->setText("Tilt from the long axis: -");
   }
