@@ -630,8 +630,10 @@ bool SceneView::LookAtTooth(int fdi) {
     if (o.kind != ObjectSpec::Kind::kTooth || o.fdi != fdi) continue;
     const Vector3 occlusal = o.X_WO.rotation().col(2);
     fade_upper_ = fade_lower_ = false;
-    Frame(o.X_WO * Vector3(0, 0, 2), o.X_WO.rotation().col(1) + 0.4 * occlusal, 38,
-          occlusal);
+    // The head upright, as the clinician faces the patient: an upper tooth's
+    // crown points down on the screen, a lower one's up.
+    const Vector3 up = occlusal.z() >= 0 ? occlusal : Vector3(-occlusal);
+    Frame(o.X_WO * Vector3(0, 0, 2), o.X_WO.rotation().col(1) + 0.4 * occlusal, 38, up);
     return true;
   }
   return false;
