@@ -903,9 +903,13 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
     spec.teeth = ReadTeeth(r, root["teeth"], "teeth");
     for (std::size_t i = 0; i < spec.teeth.size(); ++i)
       if (scene_ok && !in_scene(spec.teeth[i]))
-        r.Error(root["teeth"][i], "tooth " + std::to_string(spec.teeth[i]) +
-                                      " is not in the scene " +
-                                      spec.scene.filename().string());
+        r.Error(root["teeth"][i],
+                "tooth " + std::to_string(spec.teeth[i]) + " is not in the scene " +
+                    spec.scene.filename().string() +
+                    (scene.missing.count(spec.teeth[i])
+                         ? " (it is missing there: " +
+                               scene.missing.at(spec.teeth[i]).reason + ")"
+                         : std::string()));
   } else {
     spec.teeth = scene_teeth;
   }

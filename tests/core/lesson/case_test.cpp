@@ -3,6 +3,7 @@
 // chart and classification, usable by a lesson without `case:`.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 
 #include "core/anatomy/tooth.h"
 #include "core/lesson/lesson_spec.h"
+#include "tests/common/load_errors.h"
 #include "tests/common/meshes.h"
 #include "tests/common/output.h"
 
@@ -215,6 +217,21 @@ TEST(CaseScene, MissingTeethAreChartedMissingAndTheLostOnesCount) {
   bool said = false;
   for (const std::string& l : d.path) said |= l.find("1 teeth lost") != std::string::npos;
   EXPECT_TRUE(said) << "the path names the tooth loss";
+
+  // A lesson that asks for a missing tooth is told it is missing.
+  std::ofstream(dir / "lesson.yaml")
+      << "scene: scene.yaml\nteeth: [35, 36]\nsteps:\n  - instruction: probe\n"
+         "    complete: read\n";
+  const std::vector<std::string> lesson_errors =
+      test::ErrorLines([&] { LoadLessonSpec(dir / "lesson.yaml"); });
+  EXPECT_TRUE(std::any_of(lesson_errors.begin(), lesson_errors.end(),
+                          [](const std::string& l) {
+                            return l.find(
+                                       "lesson.yaml:2:13: tooth 36 is not in the scene "
+                                       "scene.yaml (it is missing there: "
+                                       "periodontitis)") != std::string::npos;
+                          }))
+      << ::testing::PrintToString(lesson_errors);
 
   // A tooth both missing and an object, a reason that is none, a number that
   // is not a tooth, and a count of lost teeth below the list's: each with its line.
