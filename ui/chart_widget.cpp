@@ -3,6 +3,7 @@
 #include <QKeyEvent>
 #include <QMouseEvent>
 #include <QPainter>
+#include <QScrollArea>
 #include <algorithm>
 #include <cmath>
 
@@ -147,7 +148,32 @@ void ChartWidget::ShowChart(const PerioChart& chart) {
 void ChartWidget::SetProbing(std::optional<SiteRef> site) {
   if (site == probing_) return;
   probing_ = site;
+  if (site) ScrollTo(*site);
   update();
+}
+
+void ChartWidget::ScrollTo(const SiteRef& site) {
+  QScrollArea* area = nullptr;
+  for (QWidget* w = parentWidget(); w && !area; w = w->parentWidget())
+    area = qobject_cast<QScrollArea*>(w);
+  if (!area || !area->widget()) return;
+  for (int b = 0; b < static_cast<int>(bands_.size()); ++b) {
+    const Band& band = bands_[b];
+    if (band.buccal != (site.site < 3)) continue;
+    const auto it = std::find(band.teeth.begin(), band.teeth.end(), site.fdi);
+    if (it == band.teeth.end()) continue;
+    const int t = static_cast<int>(it - band.teeth.begin());
+    const double scale = Scale();
+    // The band's whole height (title, header, rows) around the site's column.
+    const QRect first = CellRect(b, t, 1, 0), last = CellRect(b, t, 1, rows() - 1);
+    const QPoint top(static_cast<int>(first.center().x() * scale),
+                     static_cast<int>((first.top() - kBandTitle - kHeader) * scale));
+    const QPoint bottom(top.x(), static_cast<int>(last.bottom() * scale));
+    const QPoint a = mapTo(area->widget(), top), z = mapTo(area->widget(), bottom);
+    area->ensureVisible(z.x(), z.y(), 40, 8);
+    area->ensureVisible(a.x(), a.y(), 40, 8);
+    return;
+  }
 }
 
 void ChartWidget::SetTruth(const std::map<std::pair<int, int>, int>& truth) {
@@ -342,6 +368,7 @@ void ChartWidget::Enter(int value) {
   e.bleeding = bleeding(s);
   if (on_entry) on_entry(e);
   ++cursor_;
+  if (cursor_ < path_.size()) ScrollTo(path_[cursor_]);
   update();
 }
 

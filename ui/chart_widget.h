@@ -73,6 +73,10 @@ class ChartWidget : public QWidget {
     const char* half = "";  // wrapped: the patient's "right" or "left"
   };
   void Enter(int value);
+  // Scrolls the panel the chart is in (a QScrollArea above it, if any) so
+  // that the site's cells are in view: the whole mouth's chart is taller than
+  // the panel.
+  void ScrollTo(const SiteRef& site);
   void resizeEvent(QResizeEvent* e) override;
   // The bands for the teeth, whole arches or (wrap) split at the midline.
   std::vector<Band> MakeBands(bool wrap) const;

@@ -13,6 +13,8 @@
 #include <QKeyEvent>
 #include <QMessageBox>
 #include <QMouseEvent>
+#include <QScrollArea>
+#include <QScrollBar>
 #include <QSurfaceFormat>
 #include <cmath>
 #include <filesystem>
@@ -349,6 +351,35 @@ TEST(ChartWidget, TwoDigitDepthsByAPrefixAndAConfirmationAbove12) {
   ASSERT_EQ(got.size(), 4u);
   EXPECT_EQ(*got[3].pd_mm, 15);
   EXPECT_EQ(got[3].site, (SiteRef{47, 2}));
+}
+
+// The whole mouth's chart is taller than its panel: as the cursor goes on to
+// the lower arch the panel scrolls down to it, and back up with the upper.
+TEST(ChartWidget, ThePanelFollowsTheCursorThroughTheWholeMouth) {
+  std::vector<int> teeth;
+  for (int q = 1; q <= 4; ++q)
+    for (int p = 1; p <= 7; ++p) teeth.push_back(q * 10 + p);
+  QScrollArea area;
+  area.setWidgetResizable(true);
+  auto* chart = new ChartWidget;
+  area.setWidget(chart);
+  area.resize(380, 300);
+  area.show();
+  chart->SetLesson(teeth, StandardPath(teeth), {});
+  QApplication::processEvents();
+  ASSERT_GT(chart->height(), area.viewport()->height()) << "the chart must be taller";
+  EXPECT_TRUE(chart->wrapped()) << "a whole arch in 380 px is split at the midline";
+  EXPECT_EQ(area.verticalScrollBar()->value(), 0);
+  // The upper arch: 14 teeth, 84 sites; then the lower's first.
+  for (int i = 0; i < 85; ++i) Press(chart, Qt::Key_2, "2");
+  QApplication::processEvents();
+  ASSERT_TRUE(chart->cursor());
+  EXPECT_GE(chart->cursor()->fdi / 10, 3) << "on the lower arch";
+  EXPECT_GT(area.verticalScrollBar()->value(), 0) << "scrolled down to the lower arch";
+  const int down = area.verticalScrollBar()->value();
+  chart->SetProbing(SiteRef{17, 2});
+  QApplication::processEvents();
+  EXPECT_LT(area.verticalScrollBar()->value(), down) << "back up to 17 being probed";
 }
 
 // No pocket reads 0 mm: "0" alone enters nothing and says why; "+ 0" is 10 mm.
