@@ -43,6 +43,13 @@ int OpposingPairs(const SceneSpec& s) {
   return pairs;
 }
 
+// The scene's gaps lost to periodontitis.
+int LostToPeriodontitis(const SceneSpec& s) {
+  return static_cast<int>(
+      std::count_if(s.missing.begin(), s.missing.end(),
+                    [](const auto& m) { return m.second.reason == "periodontitis"; }));
+}
+
 // Takes tooth `fdi` out of the scene (the tooth, its gingiva, its deposits)
 // and lists it as missing for `why`.
 void TakeOut(SceneSpec* s, int fdi, const std::string& why) {
@@ -58,6 +65,33 @@ void TakeOut(SceneSpec* s, int fdi, const std::string& why) {
 // loss or by one complexity (a mobile diseased tooth, drifting, a collapsed
 // bite, few opposing pairs); the grade from the age (against the bone loss the
 // pockets leave) and the two risk factors, drawn toward the grade asked.
+// The whole mouth's teeth lost: why each of the scene's gaps was lost (to
+// periodontitis only from stage III), and teeth taken out of `order` (never a
+// first molar or incisor a molar-incisor case needs) for stage IV by tooth
+// loss (5 to 8 in all) or one for stage III.
+template <typename Uniform>
+void DrawTeethLost(const CaseSpec& c, Uniform& uniform, std::vector<int>* order,
+                   SceneSpec* s) {
+  for (auto& [fdi, m] : s->missing)
+    m.reason = c.stage >= Stage::kIII && uniform(0, 1) == 0 ? "periodontitis"
+               : uniform(0, 1) == 0                         ? "caries"
+                                                            : "unknown";
+  int lost = LostToPeriodontitis(*s);
+  const int want = c.stage == Stage::kIV && uniform(0, 3) == 0 ? uniform(5, 8)
+                   : c.stage == Stage::kIII                    ? lost + uniform(0, 1)
+                                                               : lost;
+  const bool keep = c.extent == Extent::kMolarIncisor;
+  for (auto it = order->begin(); lost < want && it != order->end();) {
+    if (keep && (FirstMolar(*it) || Incisor(*it))) {
+      ++it;
+      continue;
+    }
+    TakeOut(s, *it, "periodontitis");
+    ++lost;
+    it = order->erase(it);
+  }
+}
+
 template <typename Uniform>
 void DrawPatient(const CaseSpec& c, int sick_tooth, bool whole, Uniform& uniform,
                  SceneSpec* s) {
@@ -72,8 +106,7 @@ void DrawPatient(const CaseSpec& c, int sick_tooth, bool whole, Uniform& uniform
     // are its gaps of that reason, the opposing pairs are counted on it, and
     // stage IV's complexity is a mobile diseased tooth, drifting or a collapsed
     // bite (tooth loss was drawn with the gaps).
-    for (const auto& [fdi, m] : s->missing)
-      p.teeth_lost_to_periodontitis += m.reason == "periodontitis";
+    p.teeth_lost_to_periodontitis = LostToPeriodontitis(*s);
     p.opposing_pairs = OpposingPairs(*s);
     if (c.stage == Stage::kIV && p.teeth_lost_to_periodontitis < 5) {
       switch (uniform(0, 2)) {
@@ -145,35 +178,12 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
   // as they were.
   const bool whole = teeth.size() > 8;
   const bool molar_incisor = c.extent == Extent::kMolarIncisor;
+  auto first_molar_or_incisor = [](int fdi) { return FirstMolar(fdi) || Incisor(fdi); };
   for (int attempt = 0; attempt < 5000; ++attempt) {
     SceneSpec s = scene;
     std::vector<int> order = teeth;
     std::shuffle(order.begin(), order.end(), rng);
-    auto first_molar_or_incisor = [](int fdi) {
-      return fdi % 10 == 6 || fdi % 10 == 1 || fdi % 10 == 2;
-    };
-    if (whole) {
-      int lost = 0;
-      for (auto& [fdi, m] : s.missing) {
-        m.reason = c.stage >= Stage::kIII && uniform(0, 1) == 0 ? "periodontitis"
-                   : uniform(0, 1) == 0                         ? "caries"
-                                                                : "unknown";
-        lost += m.reason == "periodontitis";
-      }
-      const int want = c.stage == Stage::kIV && uniform(0, 3) == 0 ? uniform(5, 8)
-                       : c.stage == Stage::kIII                    ? lost + uniform(0, 1)
-                                                                   : lost;
-      // Out of the shuffled order, never the teeth a molar-incisor case needs.
-      for (auto it = order.begin(); lost < want && it != order.end();) {
-        if (molar_incisor && first_molar_or_incisor(*it)) {
-          ++it;
-          continue;
-        }
-        TakeOut(&s, *it, "periodontitis");
-        ++lost;
-        it = order.erase(it);
-      }
-    }
+    if (whole) DrawTeethLost(c, uniform, &order, &s);
     // Which teeth are diseased: one or two for localized, most for generalized,
     // the first molars and incisors for the molar-incisor pattern.
     const int n = static_cast<int>(order.size());
@@ -252,11 +262,7 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
       if (g.trees.target_error_mm == 0)
         g.trees.leaves = std::min(g.trees.leaves, kCaseGingivaLeaves);
     }
-    if (whole && !patient) {
-      s.patient.teeth_lost_to_periodontitis = 0;
-      for (const auto& [fdi, m] : s.missing)
-        s.patient.teeth_lost_to_periodontitis += m.reason == "periodontitis";
-    }
+    if (whole && !patient) s.patient.teeth_lost_to_periodontitis = LostToPeriodontitis(s);
     const Diagnosis d = Classify2017(TrueChart(s, teeth));
     if (d.kind == Diagnosis::Kind::kPeriodontitis && d.stage == c.stage &&
         d.extent == c.extent && (c.grade == Grade::kNone || d.grade == c.grade))

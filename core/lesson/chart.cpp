@@ -23,9 +23,6 @@ std::string List(const std::vector<int>& teeth) {
   return teeth.empty() ? "none" : Join(teeth);
 }
 
-bool FirstMolar(int fdi) { return fdi % 10 == 6; }
-bool Incisor(int fdi) { return fdi % 10 == 1 || fdi % 10 == 2; }
-
 // Stage IV, or III, from the teeth lost to periodontitis; stage IV from the
 // complexity the history and the chart show, on a stage III case.
 void StageFromHistory(const PerioChart& chart, Diagnosis* d) {

@@ -53,6 +53,10 @@ struct PerioChart {
   const ToothChart* Find(int fdi) const;
 };
 
+/// The teeth of the molar-incisor pattern: first molars, incisors.
+inline bool FirstMolar(int fdi) { return fdi % 10 == 6; }
+inline bool Incisor(int fdi) { return fdi % 10 == 1 || fdi % 10 == 2; }
+
 /// Neighbours in the arch: the same quadrant one position apart, or the two
 /// central incisors of one jaw.
 bool AdjacentTeeth(int fdi_a, int fdi_b);

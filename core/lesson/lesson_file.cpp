@@ -534,10 +534,8 @@ LessonSpec LoadLessonSpec(const fs::path& file) {
                        : std::string("2 of them non-adjacent")) +
                   "); the lesson has " + std::to_string(spec.teeth.size()));
     else if (c.extent == Extent::kMolarIncisor &&
-             (std::none_of(spec.teeth.begin(), spec.teeth.end(),
-                           [](int t) { return t % 10 == 6; }) ||
-              std::none_of(spec.teeth.begin(), spec.teeth.end(),
-                           [](int t) { return t % 10 == 1 || t % 10 == 2; })))
+             (std::none_of(spec.teeth.begin(), spec.teeth.end(), FirstMolar) ||
+              std::none_of(spec.teeth.begin(), spec.teeth.end(), Incisor)))
       r.Error(root["case"],
               "a molar-incisor case needs first molars and incisors among the lesson's "
               "teeth (" +

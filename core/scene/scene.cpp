@@ -554,8 +554,8 @@ void ReadMissing(Reader& r, const YAML::Node& root, SceneSpec* spec) {
   for (const auto& kv : m) {
     const YAML::Node key = kv.first;
     int fdi = 0;
-    if (!key.IsScalar() || !YAML::convert<int>::decode(key, fdi) || fdi / 10 < 1 ||
-        fdi / 10 > 4 || fdi % 10 < 1 || fdi % 10 > 8) {
+    if (!key.IsScalar() || !YAML::convert<int>::decode(key, fdi) ||
+        !FdiTooth::Valid(fdi)) {
       r.Error(key, "'missing': '" + (key.IsScalar() ? key.Scalar() : std::string("?")) +
                        "' is not a tooth of the permanent dentition (FDI 11 to 48)");
       continue;
