@@ -27,7 +27,7 @@ build/release/tests/spheretree_public_test --gtest_filter='Cgal/*' | grep -E '^[
 echo "== collision and frame"
 "$bench/engine_bench" --benchmark_counters_tabular=true | tee "$out/engine_bench.txt"
 
-echo "== QP: generated contact sets, warm (and cold) starts, and DAQP (C) on the same frames"
+echo "== QP: generated contact sets, warm and cold, DAQP (C) on the same frames"
 # DAQP 0.11.0 (a dual active-set solver) from its source distribution on PyPI,
 # built here with Sulcus's release flags into a harness that integrates it as an
 # engine would (scripts/daqp_bench.c: one workspace a sequence, daqp_update_ldp a

@@ -48,8 +48,8 @@ echo
 echo "The full periodontal examination of the whole mouth (156 sites, then stage,"
 echo "extent and grade) by the careful student (the first run builds the scene's"
 echo "26 gingiva shares, about a minute and a half):"
-echo "  \$ $cli lesson run lessons/periodontal_examination.yaml --student 'demo student' \\"
-echo "      --device student:careful --quiet"
+echo "  \$ $cli lesson run lessons/periodontal_examination.yaml \\"
+echo "      --student 'demo student' --device student:careful --quiet"
 "$cli" lesson run lessons/periodontal_examination.yaml --student "demo student" \
   --device student:careful --quiet
 echo
