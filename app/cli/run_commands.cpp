@@ -107,6 +107,12 @@ class RunSummary final : public TickConsumer {
         max_jump_mm = jump;
         max_jump_tick = r.tick;
       }
+      // Beyond the device's own move in the tick: the tool's own jump.
+      const double own = jump - (at - last_at_).norm();
+      if (own > max_own_jump_mm) {
+        max_own_jump_mm = own;
+        max_own_jump_tick = r.tick;
+      }
     }
     const double spring = spec_.haptics.k_t * (tool - at).norm();
     if (r.force_W.norm() > kUnsupportedN && spring < kSpringHeldN) {
@@ -138,6 +144,8 @@ class RunSummary final : public TickConsumer {
   double worst_pop_n = 0;
   std::uint64_t unsupported = 0, longest_unsupported = 0, max_jump_tick = 0;
   double max_jump_mm = 0;
+  std::uint64_t max_own_jump_tick = 0;
+  double max_own_jump_mm = 0;
   static constexpr double kUnsupportedN = 0.3, kSpringHeldN = 0.05;
 
  private:
@@ -267,9 +275,13 @@ int Run(const RunArgs& a) {
                 summary.unsupported, RunSummary::kUnsupportedN, RunSummary::kSpringHeldN,
                 summary.longest_unsupported);
   }
-  std::printf("; the rendered tool's largest jump in a tick %.3f mm at %.3f s\n",
-              summary.max_jump_mm,
-              static_cast<double>(summary.max_jump_tick) / so.rate_hz);
+  std::printf(
+      "; the rendered tool's largest jump in a tick %.3f mm at %.3f s, "
+      "beyond the device's own move %.3f mm at %.3f s (%" PRIu64 " slips eased)\n",
+      summary.max_jump_mm, static_cast<double>(summary.max_jump_tick) / so.rate_hz,
+      summary.max_own_jump_mm,
+      static_cast<double>(summary.max_own_jump_tick) / so.rate_hz,
+      loop.data().eased_frames);
   std::printf("faults: %" PRIu64 " (engine %" PRIu64 ", overruns %" PRIu64
               ", device stalls %" PRIu64 ", non-finite output %" PRIu64
               "); events %" PRIu64 ", dropped %" PRIu64 "; ticks not delivered %" PRIu64

@@ -242,6 +242,34 @@ void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH,
   done(EngineData::Friction::kNone);
 }
 
+// How far the rendered tool may move this frame (EngineParams::slip_step_mm):
+// as far as the device moved, plus the slip step; a tool farther from the
+// device than the force limit's stretch of the spring closes on it to there
+// unhindered (the force does not change).
+double SlipAllowance(const EngineParams& p, const RigidTransform& X_WH,
+                     const EngineData& d) {
+  const double saturated =
+      (d.X_WG.translation() - X_WH.translation()).norm() - p.max_force_n / p.k_t;
+  return d.device_move_mm + p.slip_step_mm + std::max(0.0, saturated);
+}
+
+// Shortens a move longer than `allowed` along the straight way from the last
+// pose, if that pose overlaps the frame's pairs no more than the whole one.
+bool EaseAlongTheWay(const EngineModel& model, double allowed, EngineData* d,
+                     RigidTransform* X, double* move) {
+  if (*move <= allowed) return false;
+  const double s = allowed / *move;
+  const Vector6 dq = d->X_WG.DifferenceTo(*X);
+  const RigidTransform X_s =
+      Orthonormalised(d->X_WG.Perturbed(s * dq.head<3>(), s * dq.tail<3>()));
+  const double worst = WorstPenetration(model.world, X_s, *d);
+  if (worst > std::max(model.params.penetration_tolerance_mm, d->max_penetration_mm))
+    return false;
+  *X = X_s;
+  *move = MoveBound(d->X_WG.DifferenceTo(X_s), model.world.tool_reach());
+  return true;
+}
+
 // A frame inside an object: the search for free space, and no force.
 void InsideFrame(const EngineModel& model, const RigidTransform& X_WH,
                  Clock::time_point t0, EngineData* d) {
@@ -303,6 +331,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     d->timings.total_us = Micros(t0, Clock::now());
     return;
   }
+  d->device_step = d->initialized ? d->X_WH.DifferenceTo(X_WH) : Vector6(Vector6::Zero());
+  d->device_move_mm = MoveBound(d->device_step, world.tool_reach());
   d->X_WH = X_WH;
   if (!d->initialized) ResetTool(X_WH, d);
   if (d->inside) return InsideFrame(model, X_WH, t0, d);
@@ -360,6 +390,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   d->node_budget_hit = false;
   bool crowded_frame = false;  // a query of this frame met more than solve_pairs
   bool accepted = false, deep = false;
+  bool eased = false;                  // this frame's move was shortened to ease a slip
+  double trust_mm = 0, trust_rad = 0;  // the box it was kept in, then
   double overlap = 0;  // deepest overlap of the rendered tool at the frame's start
   d->sweeps = 0;
   for (int sweep = 0; sweep < EngineData::kMaxSweeps; ++sweep) {
@@ -443,9 +475,26 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
         moment_part = lever.cross(n);
         d->b[i] = -gap;
       }
+      // Easing a slip: rows after the pairs' keep the frame's whole move
+      // (from the last frame's pose), along each axis, between staying and
+      // the device's own step, widened by trust_mm (the turn by trust_rad).
+      int rows = m;
+      if (eased) {
+        const Vector6 o = d->X_WG.DifferenceTo(X);
+        for (int k = 0; k < kQpVars; ++k) {
+          const double h = d->device_step[k], a = k < 3 ? trust_mm : trust_rad;
+          for (const double sign : {1.0, -1.0}) {
+            double* row = d->A.data() + kQpVars * rows;
+            std::fill(row, row + kQpVars, 0.0);
+            row[k] = sign;
+            // sign (o + q) >= -(a + max(0, -sign h))
+            d->b[rows++] = -(a + std::max(0.0, -sign * h)) - sign * o[k];
+          }
+        }
+      }
       const Vector6 target = X.DifferenceTo(X_target);
       const auto t_solve = Clock::now();
-      sol = &d->qp.Solve(d->A.data(), d->b.data(), m, g, target, d->warm_rows.data(),
+      sol = &d->qp.Solve(d->A.data(), d->b.data(), rows, g, target, d->warm_rows.data(),
                          num_warm);
       const auto t_solved = Clock::now();
       d->timings.constraints_us += Micros(t_build, t_solve);
@@ -467,7 +516,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
           worst = std::max(worst, -world.PairGap(X, d->pairs[i]));
       double slack = 0;
       for (int i = 0; i < sol->num_active; ++i)
-        slack = std::max(slack, world.PairGap(X, d->pairs[sol->active[i]]));
+        if (sol->active[i] < m)
+          slack = std::max(slack, world.PairGap(X, d->pairs[sol->active[i]]));
       d->max_penetration_mm = worst;
       if (sol->status == QpStatus::kInfeasibleRelaxed) break;
       // A tool that stopped short of a long move by a hundredth of it (a tool
@@ -491,6 +541,22 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     d->sweep_move_mm[sweep] = move;
     // Every pair left out had gap >= margin, so a shorter move cannot reach it.
     if (move < margin) {
+      // A slip (the tool moving further than the device did plus slip_step_mm:
+      // off an edge, over a bump, a contact ending) is solved again, with the
+      // same pairs, toward the point that far along its move: the tool goes
+      // where it would have gone, round the surface, over a few frames.
+      const double allowed = SlipAllowance(p, X_WH, *d);
+      if (p.slip_step_mm > 0 && model.friction.empty() && !eased && move > allowed &&
+          overlap <= 10 * p.penetration_tolerance_mm && m + 2 * kQpVars <= p.max_pairs &&
+          sweep < EngineData::kMaxSweeps - 1) {
+        eased = true;
+        // A box whose diagonal in a plane is the slip step (and what saturation
+        // frees): a slip in the plane it happens in goes at most that far
+        // beyond the device's own step.
+        trust_mm = (allowed - d->device_move_mm) / std::sqrt(2.0);
+        trust_rad = 0.5 * trust_mm / reach;
+        continue;
+      }
       accepted = true;
       break;
     }
@@ -517,6 +583,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   d->margin_cap_mm = std::min(cap, EngineData::kMarginCapMaxMm);
   if (crowded_frame) ++d->shortened_frames;
   if (capped) ++d->capped_frames;
+  if (eased && accepted) ++d->eased_frames;
   if (deep || (!accepted && ((d->pair_overflow && sol == nullptr) ||
                              overlap > 10 * p.penetration_tolerance_mm))) {
     // Inside an object, overlapping it by more pairs than a set holds even at
@@ -539,14 +606,21 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       ApplyFriction(model, X_WH, *sol, &X, d);
       move = MoveBound(d->X_WG.DifferenceTo(X),
                        reach);  // a stuck tool did not move: the next margin is small
+      // With friction the slip is eased after it (a tool let go by the cone):
+      // along the straight way to the friction's pose, checked exactly.
+      if (p.slip_step_mm > 0 && overlap <= 10 * p.penetration_tolerance_mm &&
+          EaseAlongTheWay(model, SlipAllowance(p, X_WH, *d), d, &X, &move))
+        ++d->eased_frames;
     }
     d->X_WG = X;
     d->last_move_mm = move;
-    d->active_contacts = sol->num_active;
+    d->active_contacts = 0;
     d->num_active_keys = 0;
     double total = 0;
     for (int i = 0; i < sol->num_active; ++i) {
       const int row = sol->active[i];
+      if (row >= d->num_pairs) continue;  // a row of the slip's box, not a pair
+      ++d->active_contacts;
       d->active_keys[d->num_active_keys] = d->pairs[row].key();
       // The row's share of the contact force: its multiplier times the
       // translational part of its normal.

@@ -31,6 +31,14 @@ struct EngineParams {
       1e-4;  // re-linearise while the exact check exceeds it
   int max_linearizations = 4;
   double max_step_mm = 2.0;  // most a tool point moves per frame (2 m/s at 1 kHz)
+  // Most a tool point of the rendered tool moves in a frame beyond what the
+  // device itself moved in it (0.05 mm: 50 mm/s at 1 kHz; the scene sets it
+  // from its rate). A tool slipping off an edge closes on the device over a few
+  // frames instead of in one jump: the spring's force falls by at most k_t times
+  // this a frame beyond the hand's move, a quick fall and not a click, and the
+  // force sent is always the spring's (the loop limits rises only). A tool
+  // sliding along a surface at the hand's speed is not slowed. 0: no bound.
+  double slip_step_mm = 0.05;
   // Pairs a frame can hold. A probe laid along a finely fitted tooth meets about
   // 80 of its leaves per tool leaf within a fraction of a millimetre: 4,000 pairs
   // (the oral inspection at 10 kHz); the set holds four times that.
@@ -142,6 +150,10 @@ struct EngineData {
       0;  // frames that took a shorter step for solve_pairs (all frames)
   std::uint64_t capped_frames =
       0;  // frames whose step the margin cap shortened (all frames)
+  std::uint64_t eased_frames =
+      0;  // frames whose move slip_step_mm shortened, a slip eased (all frames)
+  double device_move_mm = 0;  // how far a tool point of the device moved this frame
+  Vector6 device_step = Vector6::Zero();  // the device's own step, (dp, dtheta)
 
   // Solver report of the last pass.
   QpStatus qp_status = QpStatus::kSolved;

@@ -170,16 +170,17 @@ void HapticLoop::Tick(bool overrun) noexcept {
   const std::uint64_t engine_faults_before = data_.faults.total();
   if (!paused_) Step(model_, sample_.X_WH, &data_);
   Vector3 F = data_.force_W, T = data_.torque_W;
-  // Slip limit (SafetyParams::slip_n_per_s): the change not explained by the
-  // device's move is spread over ticks.
+  // Rise limit (SafetyParams::slip_n_per_s): a rise of the force not explained
+  // by the device's move is spread over ticks. A fall is sent at once: the
+  // engine already eases a slip (EngineParams::slip_step_mm), and force the
+  // contact no longer gives is never held.
   if (options_.safety.slip_n_per_s > 0 && F.allFinite()) {
     const Vector3 at = sample_.X_WH.translation();
     if (contact_force_valid_ && at.allFinite()) {
       const double allowed = options_.safety.slip_n_per_s / rate +
                              model_.params.k_t * (at - contact_device_W_).norm();
-      const Vector3 change = F - contact_force_W_;
-      if (change.norm() > allowed)
-        F = contact_force_W_ + change * (allowed / change.norm());
+      const double before = contact_force_W_.norm(), now = F.norm();
+      if (now > before + allowed) F *= (before + allowed) / now;
     }
     contact_force_W_ = F;
     contact_device_W_ = at;

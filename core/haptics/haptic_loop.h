@@ -19,19 +19,20 @@ namespace sulcus {
 struct SafetyParams {
   double ramp_s = 0.5;  // output rises linearly over this after a start or a fault
   double device_timeout_s = 0.010;  // no fresh reading for this long: zero force
-  // The contact force changes within a tick by at most what the device's own
-  // move explains (k_t times how far it moved) plus this rate times the tick:
-  // a rendered tool that slips over a sphere bump or off an edge in one tick
-  // (up to 2 mm) would otherwise be felt as a click; its force now follows in
-  // a few ticks (a 2 N slip over 50 ms at 1 kHz). 0: no limit. Faults, pauses and a
-  // lost device still cut the force at once.
+  // The contact force rises within a tick by at most what the device's own
+  // move explains (k_t times how far it moved) plus this rate times the tick
+  // (a rendered tool pushed out of an overlap would otherwise be felt as a
+  // knock). A fall is never held back: the engine eases a slip off an edge
+  // (EngineParams::slip_step_mm), so the force sent is what the contact gives.
+  // 0: no limit. Faults, pauses and a lost device still cut the force at once.
   double slip_n_per_s = 40.0;
 };
 
 /// How much a force's change over a tick exceeds what the device's own move
 /// explains (k_t times how far it moved), N. Above kPopN it is a pop: a click
-/// the hand feels. The slip limit (SafetyParams::slip_n_per_s) keeps it at most
-/// slip_n_per_s over the rate for the contact force.
+/// the hand feels. The engine's slip easing (EngineParams::slip_step_mm) keeps a
+/// fall at most k_t times slip_step_mm a tick, the loop's rise limit
+/// (SafetyParams::slip_n_per_s) a rise at most slip_n_per_s over the rate.
 inline double UnexplainedForceChange(const Vector3& force_before,
                                      const Vector3& force_after,
                                      const Vector3& device_before,

@@ -679,6 +679,8 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     }
     if (h["rate_hz"])
       spec.rate_hz = r.Number(h["rate_hz"], "rate_hz", 100, 10000, spec.rate_hz, "Hz");
+    // A slip eased at 50 mm/s whatever the rate (0.05 mm a frame at 1 kHz).
+    p.slip_step_mm = 50.0 / spec.rate_hz;
     if (const YAML::Node s = h["surface"]) {
       const std::string v = s.IsScalar() ? s.Scalar() : "";
       if (v == "planes" || v == "spheres") {

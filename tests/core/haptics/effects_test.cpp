@@ -133,6 +133,9 @@ TEST(Effects, ACariousLesionIsSofterAndCatchesAFirmPress) {
   Rig lesion(Caries());
   lesion.Hold(At(0, 0, -0.5), 600, EventKind::kCariesCatch);
   Rig sound(Caries());
+  // Over the sound enamel first, then down onto it (a diagonal press would
+  // rest in a valley between the block's spheres, with another force).
+  sound.Hold(At(2.5, 0, 2), 100, EventKind::kCariesCatch);
   sound.Hold(At(2.5, 0, -0.5), 600, EventKind::kCariesCatch);
   const double soft = lesion.loop->last_record().force_W.z();
   const double firm = sound.loop->last_record().force_W.z();

@@ -416,6 +416,9 @@ struct DeepStart {
   bool finite = true;
   double end_gap = 0;  // |p_G - p_H| at the end (the device out in free space)
   std::uint64_t inside_faults = 0;
+  // Frames sending more than 0.5 N with the device out in free space and the
+  // rendered tool more than 5 mm from it: a pull toward a tool left behind.
+  int pulling_back = 0;
 };
 
 DeepStart RunDeepStart(const test::Scene& scene, const RigidTransform& inside,
@@ -447,6 +450,8 @@ DeepStart RunDeepStart(const test::Scene& scene, const RigidTransform& inside,
     if (r.frames_to_free >= 0)
       r.max_penetration_after = std::max(r.max_penetration_after, pen);
     r.end_gap = (d.X_WG.translation() - X_WH.translation()).norm();
+    const bool device_free = !at_device.overflow && at_device.pairs == 0;
+    if (device_free && r.end_gap > 5.0 && d.force_W.norm() > 0.5) ++r.pulling_back;
   }
   r.inside_faults = d.faults.inside;
   return r;
@@ -463,6 +468,7 @@ void ExpectRecovers(const DeepStart& r) {
   EXPECT_LT(r.end_gap, 1e-6)
       << "out in free space, the rendered tool follows the device again";
   EXPECT_GE(r.inside_faults, 1u);
+  EXPECT_EQ(r.pulling_back, 0) << "the hand, out in free space, was pulled back";
 }
 
 TEST(HardCasesDeepStart, FiveMillimetresInsideABlock) {

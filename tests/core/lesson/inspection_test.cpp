@@ -12,9 +12,12 @@
 #include <map>
 #include <set>
 
+#include "core/collision/collision.h"
+#include "core/haptics/scripted_device.h"
 #include "core/lesson/attempt.h"
 #include "core/lesson/report.h"
 #include "core/lesson/scripted_inspector.h"
+#include "core/scene/scene.h"
 #include "core/spheretree/cache.h"
 #include "tests/common/load_errors.h"
 #include "tests/common/output.h"
@@ -428,6 +431,92 @@ TEST(Inspectors, TheRoughOneIsScoredForDamageWithItsMoments) {
   EXPECT_GT(
       Messages(r, "damage", RubricLine::Status::kFail).size(),
       Messages(Take("thorough").result, "damage", RubricLine::Status::kFail).size());
+}
+
+// A session started with the probe's shank 2.5 mm or more inside the right
+// cheek (the shank leaning out over 46's buccal side, as the scripted insert
+// once held it), the hand then drawn out toward the middle of the mouth. The
+// engine brings the rendered tool to free space (never more than
+// free_search_max_mm from the hand); once the hand is out in free space the
+// tool rejoins it. No tick sends more than 0.5 N while the tool is more than
+// 5 mm from a hand that is itself in free space (a pull toward a tool pinned
+// on the far side of the cheek), and the tool ends at the hand.
+TEST(DeepStartInTheMouth, AShankStartedInTheCheekRejoinsTheHandWithoutPullingItBack) {
+  const SceneSpec spec =
+      LoadSceneSpec((fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml"));
+  const auto scene = CompileScene(spec, DefaultCacheDir());
+  const EngineModel& model = *scene->model;
+  int tooth = -1;
+  for (std::size_t i = 0; i < spec.objects.size(); ++i)
+    if (spec.objects[i].kind == ObjectSpec::Kind::kTooth && spec.objects[i].fdi == 46)
+      tooth = static_cast<int>(i);
+  ASSERT_GE(tooth, 0);
+  ScriptTarget t = FindScriptTarget(*scene, "insert", tooth);
+  t.shank_W = -t.shank_W;  // out over the buccal side, through the cheek
+  const Quaternion q = ScriptOrientation(t);
+  CollisionScratch scratch;
+  std::vector<ContactPair> pairs(200000);
+  // The deepest overlap with a cheek, and whether the pose overlaps anything.
+  const auto cheek_overlap = [&](const RigidTransform& X, bool* any) {
+    const CollisionStats cs = FindContacts(model.world, X, 0.0, &scratch, pairs.data(),
+                                           static_cast<int>(pairs.size()));
+    double deepest = 0;
+    for (int k = 0; k < cs.pairs; ++k)
+      if (ObjectName(spec, pairs[k].object).find("cheek") != std::string::npos)
+        deepest = std::max(deepest, -pairs[k].gap);
+    if (any) *any = cs.pairs > 0 || cs.overflow;
+    return deepest;
+  };
+  // The tip above the margin, moved out buccally until the shank is 2.5 mm in.
+  const Vector3 above = t.p_W + 3.0 * t.axis_W;
+  RigidTransform start;
+  double depth = 0, out_mm = 0;
+  for (; out_mm <= 12; out_mm += 0.25) {
+    start = RigidTransform(q, above + out_mm * t.n_W);
+    depth = cheek_overlap(start, nullptr);
+    if (depth >= 2.5) break;
+  }
+  ASSERT_GE(depth, 2.5) << "the shank does not reach into the cheek";
+  // Held 300 frames, then drawn out of the cheek, lingually over the tooth and
+  // up, over 1,250, to the first place where the whole probe is free.
+  Vector3 out_W = Vector3::Zero();
+  for (double lingual = 4; lingual <= 16 && out_W.isZero(); lingual += 2) {
+    for (double up = 0; up <= 6 && out_W.isZero(); up += 2) {
+      const Vector3 o = -(lingual + out_mm) * t.n_W + up * t.axis_W;
+      bool touches = true;
+      cheek_overlap(RigidTransform(start.rotation(), start.translation() + o), &touches);
+      if (!touches) out_W = o;
+    }
+  }
+  ASSERT_FALSE(out_W.isZero()) << "no free place for the hand to go";
+  EngineData d(model);
+  ResetTool(start, &d);
+  int pulling = 0, free_frames = 0;
+  double end_gap = 0, worst = 0;
+  for (int i = 0; i < 1950; ++i) {
+    const double s = std::clamp((i - 300) / 1250.0, 0.0, 1.0);
+    const RigidTransform X_WH(start.rotation(), start.translation() + s * out_W);
+    Step(model, X_WH, &d);
+    bool device_touches = false;
+    cheek_overlap(X_WH, &device_touches);
+    const double gap = (d.X_WG.translation() - X_WH.translation()).norm();
+    if (!device_touches) {
+      ++free_frames;
+      if (gap > 5.0 && d.force_W.norm() > 0.5) ++pulling;
+      if (gap > 5.0) worst = std::max(worst, d.force_W.norm());
+    }
+    end_gap = gap;
+  }
+  std::printf(
+      "figure: started %.2f mm in the cheek (the tip %.2f mm buccal of the "
+      "margin); %llu deep-start faults, %d frames free, %d pulling back (worst "
+      "%.2f N), ends %.3g mm from the hand\n",
+      depth, out_mm, static_cast<unsigned long long>(d.faults.inside), free_frames,
+      pulling, worst, end_gap);
+  EXPECT_GE(d.faults.inside, 1u) << "the start was not deep: the case is not tested";
+  EXPECT_GT(free_frames, 300) << "the hand never got out";
+  EXPECT_EQ(pulling, 0) << "the hand, out in free space, was pulled back";
+  EXPECT_LT(end_gap, 1e-6) << "the rendered tool ends at the hand";
 }
 
 }  // namespace

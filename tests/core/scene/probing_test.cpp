@@ -615,11 +615,13 @@ TEST(Probing, EnamelAndRootFeelDifferentUnderASlidingTip) {
     EXPECT_GT(biggest, 0.5 * allowed) << z;
     EXPECT_LE(biggest, allowed + 1e-9) << z;
     // 3.2 mm slid in those ticks: about 2 * 3.2 / period sign changes (the tip slides a
-    // little less than the device).
+    // little less than the device, and on the root a little more along the surface:
+    // a slip over one of its leaf spheres' bumps is eased, EngineParams::slip_step_mm,
+    // so the tip goes over the bump where it jumped across it).
     const double period =
         z > 0 ? on->effects.texture.enamel.period_mm : on->effects.texture.root.period_mm;
     EXPECT_GT(sign_changes, 2 * 1.5 / period) << z;
-    EXPECT_LT(sign_changes, 2 * 4.0 / period) << z;
+    EXPECT_LT(sign_changes, 2 * 4.5 / period) << z;
   }
 }
 
