@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <set>
 #include <string>
 #include <thread>
@@ -79,6 +81,43 @@ void TraceTick(const HapticLoop& l, const SceneSpec& spec, double rate_hz) {
   }
 }
 
+// The share of a signal's energy above `above_hz`, in percent: Welch's method
+// (segments of 256 ticks, half overlapping, Hann window, each segment's mean
+// removed); segments where the signal is zero throughout (no contact) add
+// nothing. -1 when no segment holds any energy.
+double HighFrequencyShare(const std::vector<float>& x, double rate_hz, double above_hz) {
+  constexpr int kN = 256;
+  if (x.size() < kN) return -1;
+  std::vector<double> window(kN), cos_table(kN), sin_table(kN), y(kN);
+  for (int i = 0; i < kN; ++i) {
+    window[static_cast<std::size_t>(i)] =
+        0.5 - 0.5 * std::cos(2 * std::numbers::pi * i / (kN - 1));
+    cos_table[static_cast<std::size_t>(i)] = std::cos(2 * std::numbers::pi * i / kN);
+    sin_table[static_cast<std::size_t>(i)] = std::sin(2 * std::numbers::pi * i / kN);
+  }
+  double total = 0, high = 0;
+  for (std::size_t start = 0; start + kN <= x.size(); start += kN / 2) {
+    double mean = 0;
+    for (int i = 0; i < kN; ++i) mean += x[start + static_cast<std::size_t>(i)];
+    mean /= kN;
+    for (int i = 0; i < kN; ++i)
+      y[static_cast<std::size_t>(i)] = (x[start + static_cast<std::size_t>(i)] - mean) *
+                                       window[static_cast<std::size_t>(i)];
+    for (int k = 1; k <= kN / 2; ++k) {
+      double re = 0, im = 0;
+      for (int i = 0; i < kN; ++i) {
+        const auto j = static_cast<std::size_t>((k * i) % kN);
+        re += y[static_cast<std::size_t>(i)] * cos_table[j];
+        im -= y[static_cast<std::size_t>(i)] * sin_table[j];
+      }
+      const double e = re * re + im * im;
+      total += e;
+      if (k * rate_hz / kN > above_hz) high += e;
+    }
+  }
+  return total > 0 ? 100.0 * high / total : -1;
+}
+
 // Counts what the run did, from the tick stream.
 class RunSummary final : public TickConsumer {
  public:
@@ -124,6 +163,8 @@ class RunSummary final : public TickConsumer {
     last_tool_ = tool;
     last_force_ = r.force_W;
     last_at_ = at;
+    if (force_n.size() < kMaxForceSamples)
+      force_n.push_back(static_cast<float>(r.force_W.norm()));
     events += static_cast<std::uint64_t>(r.num_events);
     for (int i = 0; i < r.num_events; ++i) {
       const HapticEvent& e = r.events[i];
@@ -147,6 +188,9 @@ class RunSummary final : public TickConsumer {
   std::uint64_t max_own_jump_tick = 0;
   double max_own_jump_mm = 0;
   static constexpr double kUnsupportedN = 0.3, kSpringHeldN = 0.05;
+  // The force sent, a tick at a time (the first hour at 1 kHz), for its spectrum.
+  static constexpr std::size_t kMaxForceSamples = 3600000;
+  std::vector<float> force_n;
 
  private:
   const SceneSpec& spec_;
@@ -158,7 +202,9 @@ class RunSummary final : public TickConsumer {
 };
 
 int Run(const RunArgs& a) {
-  const SceneSpec spec = LoadSceneSpec(a.scene);
+  SceneSpec spec = LoadSceneSpec(a.scene);
+  // A rate of its own: the slip eased at the scene's speed (mm/s), not per frame.
+  if (a.rate_hz > 0) spec.haptics.slip_step_mm *= spec.rate_hz / a.rate_hz;
   std::fprintf(stderr, "compiling %s ...\n", a.scene.c_str());
   const auto t0 = std::chrono::steady_clock::now();
   const auto scene = CompileScene(spec, DefaultCacheDir());
@@ -282,6 +328,12 @@ int Run(const RunArgs& a) {
       summary.max_own_jump_mm,
       static_cast<double>(summary.max_own_jump_tick) / so.rate_hz,
       loop.data().eased_frames);
+  if (const double share = HighFrequencyShare(summary.force_n, so.rate_hz, 100.0);
+      share >= 0)
+    std::printf(
+        "spectrum: %.2f %% of the force's energy above 100 Hz (256-tick Hann segments, "
+        "each one's mean removed)\n",
+        share);
   std::printf("faults: %" PRIu64 " (engine %" PRIu64 ", overruns %" PRIu64
               ", device stalls %" PRIu64 ", non-finite output %" PRIu64
               "); events %" PRIu64 ", dropped %" PRIu64 "; ticks not delivered %" PRIu64

@@ -242,6 +242,25 @@ void ApplyFriction(const EngineModel& model, const RigidTransform& X_WH,
   done(EngineData::Friction::kNone);
 }
 
+// The directions an eased slip's move is bounded along: the three axes and the
+// cube's four diagonals for the translation (their polyhedron reaches at most
+// kTrustSpread times its half-width, along a face's diagonal), then the three
+// axes of the turn.
+constexpr int kTrustDirections = 10;
+constexpr double kTrustSpread = 1.2248;  // 3 / sqrt(6)
+const std::array<Vector6, kTrustDirections> kTrustDirection = [] {
+  std::array<Vector6, kTrustDirections> t;
+  for (auto& u : t) u.setZero();
+  for (int k = 0; k < 3; ++k) t[static_cast<std::size_t>(k)][k] = 1;
+  const double c = 1 / std::sqrt(3.0);
+  t[3].head<3>() = Vector3(c, c, c);
+  t[4].head<3>() = Vector3(c, c, -c);
+  t[5].head<3>() = Vector3(c, -c, c);
+  t[6].head<3>() = Vector3(-c, c, c);
+  for (int k = 0; k < 3; ++k) t[static_cast<std::size_t>(7 + k)][3 + k] = 1;
+  return t;
+}();
+
 // How far the rendered tool may move this frame (EngineParams::slip_step_mm):
 // as far as the device moved, plus the slip step; a tool farther from the
 // device than the force limit's stretch of the spring closes on it to there
@@ -303,6 +322,7 @@ EngineData::EngineData(const EngineModel& model)
 void ResetTool(const RigidTransform& X_WG, EngineData* d) {
   d->margin_cap_mm = EngineData::kMarginCapMaxMm;
   d->X_WG = X_WG;
+  d->eased_held = false;
   d->X_WH = X_WG;
   d->num_pairs = 0;
   d->num_active_keys = 0;
@@ -392,6 +412,8 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   bool accepted = false, deep = false;
   bool eased = false;                  // this frame's move was shortened to ease a slip
   double trust_mm = 0, trust_rad = 0;  // the box it was kept in, then
+  double eased_allowed = 0;            // and the move it was allowed
+  bool reuse_pairs = false;            // the next try solves with this try's pairs
   double overlap = 0;  // deepest overlap of the rendered tool at the frame's start
   d->sweeps = 0;
   for (int sweep = 0; sweep < EngineData::kMaxSweeps; ++sweep) {
@@ -402,39 +424,45 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
         step_scale < 1.0 ? d->X_WG.Perturbed(step_scale * to_device.head<3>(),
                                              step_scale * to_device.tail<3>())
                          : X_WH;
-    const auto t_collide = Clock::now();
-    // Past the capacity the set is not used: the query stops there. Every try
-    // but the last keeps to solve_pairs.
-    const bool whole_set = p.solve_pairs <= 0 || sweep == EngineData::kMaxSweeps - 1 ||
-                           margin <= lowest_cap || margin > cap;
-    const int capacity = whole_set ? p.max_pairs : std::min(p.max_pairs, p.solve_pairs);
-    const CollisionStats cs =
-        FindContacts(world, d->X_WG, margin, &d->scratch, d->pairs.data(), capacity,
-                     QueryLimits{true, p.max_node_tests});
-    d->num_pairs = cs.pairs;
-    d->node_tests += cs.node_tests;
-    d->timings.collide_us += Micros(t_collide, Clock::now());
-    const bool over_budget = cs.cut_short && !cs.overflow;
-    const bool crowded = cs.overflow && capacity < p.max_pairs;  // past solve_pairs only
-    d->node_budget_hit = d->node_budget_hit || over_budget;
-    d->pair_overflow = (cs.overflow && !crowded) || cs.stack_overflow || over_budget;
-    crowded_frame = crowded_frame || crowded;
-    if (sweep == 0 && !d->pair_overflow && !crowded)
-      for (int i = 0; i < cs.pairs; ++i) overlap = std::max(overlap, -d->pairs[i].gap);
-    if (crowded) {
-      // More pairs than a frame solves with: a smaller margin (the cap, from
-      // now on) and a step within it.
-      cap = std::max(lowest_cap, p.base_margin_mm + 0.5 * (margin - p.base_margin_mm));
-      margin = cap;
-      fit_step();
-      continue;
+    // An eased slip is solved again with the pairs it has (the same pose, the
+    // same margin).
+    if (!reuse_pairs) {
+      const auto t_collide = Clock::now();
+      // Past the capacity the set is not used: the query stops there. Every try
+      // but the last keeps to solve_pairs.
+      const bool whole_set = p.solve_pairs <= 0 || sweep == EngineData::kMaxSweeps - 1 ||
+                             margin <= lowest_cap || margin > cap;
+      const int capacity = whole_set ? p.max_pairs : std::min(p.max_pairs, p.solve_pairs);
+      const CollisionStats cs =
+          FindContacts(world, d->X_WG, margin, &d->scratch, d->pairs.data(), capacity,
+                       QueryLimits{true, p.max_node_tests});
+      d->num_pairs = cs.pairs;
+      d->node_tests += cs.node_tests;
+      d->timings.collide_us += Micros(t_collide, Clock::now());
+      const bool over_budget = cs.cut_short && !cs.overflow;
+      const bool crowded =
+          cs.overflow && capacity < p.max_pairs;  // past solve_pairs only
+      d->node_budget_hit = d->node_budget_hit || over_budget;
+      d->pair_overflow = (cs.overflow && !crowded) || cs.stack_overflow || over_budget;
+      crowded_frame = crowded_frame || crowded;
+      if (sweep == 0 && !d->pair_overflow && !crowded)
+        for (int i = 0; i < cs.pairs; ++i) overlap = std::max(overlap, -d->pairs[i].gap);
+      if (crowded) {
+        // More pairs than a frame solves with: a smaller margin (the cap, from
+        // now on) and a step within it.
+        cap = std::max(lowest_cap, p.base_margin_mm + 0.5 * (margin - p.base_margin_mm));
+        margin = cap;
+        fit_step();
+        continue;
+      }
+      if (d->pair_overflow) {
+        // Too many pairs to trust the set: try a shorter step with a smaller margin.
+        step_scale *= 0.5;
+        margin = p.base_margin_mm + 1.25 * step_scale * device_move;
+        continue;
+      }
     }
-    if (d->pair_overflow) {
-      // Too many pairs to trust the set: try a shorter step with a smaller margin.
-      step_scale *= 0.5;
-      margin = p.base_margin_mm + 1.25 * step_scale * device_move;
-      continue;
-    }
+    reuse_pairs = false;
 
     // Warm start: last frame's active pairs (at most 8 keys), found by key.
     int num_warm = 0;
@@ -481,14 +509,15 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
       int rows = m;
       if (eased) {
         const Vector6 o = d->X_WG.DifferenceTo(X);
-        for (int k = 0; k < kQpVars; ++k) {
-          const double h = d->device_step[k], a = k < 3 ? trust_mm : trust_rad;
+        for (int k = 0; k < kTrustDirections; ++k) {
+          const Vector6& u = kTrustDirection[static_cast<std::size_t>(k)];
+          const double h = u.dot(d->device_step), at = u.dot(o),
+                       a = k < kTrustDirections - 3 ? trust_mm : trust_rad;
           for (const double sign : {1.0, -1.0}) {
-            double* row = d->A.data() + kQpVars * rows;
-            std::fill(row, row + kQpVars, 0.0);
-            row[k] = sign;
-            // sign (o + q) >= -(a + max(0, -sign h))
-            d->b[rows++] = -(a + std::max(0.0, -sign * h)) - sign * o[k];
+            Eigen::Map<Vector6> row(d->A.data() + kQpVars * rows);
+            row = sign * u;
+            // sign u.(o + q) >= -(a + max(0, -sign u.h))
+            d->b[rows++] = -(a + std::max(0.0, -sign * h)) - sign * at;
           }
         }
       }
@@ -543,17 +572,21 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
     if (move < margin) {
       // A slip (the tool moving further than the device did plus slip_step_mm:
       // off an edge, over a bump, a contact ending) is solved again, with the
-      // same pairs, toward the point that far along its move: the tool goes
-      // where it would have gone, round the surface, over a few frames.
+      // same pairs, within a box of that size round the last pose: the tool
+      // closes on the device round the surface over a few frames. A tool the
+      // box held in a valley between sphere bumps (its last eased frame moved
+      // it less than a quarter of its allowance) takes its whole move once.
       const double allowed = SlipAllowance(p, X_WH, *d);
-      if (p.slip_step_mm > 0 && model.friction.empty() && !eased && move > allowed &&
-          overlap <= 10 * p.penetration_tolerance_mm && m + 2 * kQpVars <= p.max_pairs &&
-          sweep < EngineData::kMaxSweeps - 1) {
+      if (p.slip_step_mm > 0 && model.friction.empty() && !eased && !d->eased_held &&
+          move > allowed && overlap <= 10 * p.penetration_tolerance_mm &&
+          m + 2 * kTrustDirections <= p.max_pairs && sweep < EngineData::kMaxSweeps - 1) {
         eased = true;
-        // A box whose diagonal in a plane is the slip step (and what saturation
-        // frees): a slip in the plane it happens in goes at most that far
-        // beyond the device's own step.
-        trust_mm = (allowed - d->device_move_mm) / std::sqrt(2.0);
+        reuse_pairs = true;
+        eased_allowed = allowed;
+        // A polyhedron round the last pose (a cube cut by the planes across its
+        // corners) that reaches at most the slip step (and what saturation
+        // frees) beyond the device's own step, in any direction.
+        trust_mm = (allowed - d->device_move_mm) / kTrustSpread;
         trust_rad = 0.5 * trust_mm / reach;
         continue;
       }
@@ -584,6 +617,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
   if (crowded_frame) ++d->shortened_frames;
   if (capped) ++d->capped_frames;
   if (eased && accepted) ++d->eased_frames;
+  d->eased_held = eased && accepted && move < 0.25 * eased_allowed;
   if (deep || (!accepted && ((d->pair_overflow && sol == nullptr) ||
                              overlap > 10 * p.penetration_tolerance_mm))) {
     // Inside an object, overlapping it by more pairs than a set holds even at

@@ -153,6 +153,7 @@ struct EngineData {
   std::uint64_t eased_frames =
       0;  // frames whose move slip_step_mm shortened, a slip eased (all frames)
   double device_move_mm = 0;  // how far a tool point of the device moved this frame
+  bool eased_held = false;    // this frame's eased move was under a quarter of its due
   Vector6 device_step = Vector6::Zero();  // the device's own step, (dp, dtheta)
 
   // Solver report of the last pass.

@@ -653,7 +653,7 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
   if (const YAML::Node h = root["haptics"]; h && r.IsMap(h, "'haptics'")) {
     r.CheckKeys(h,
                 {"k_t_n_per_mm", "k_r_nmm_per_rad", "max_force_n", "max_torque_nmm",
-                 "rate_hz", "surface", "solve_pairs"},
+                 "rate_hz", "surface", "solve_pairs", "slip_mm_per_s"},
                 "'haptics'");
     EngineParams& p = spec.haptics;
     if (h["k_t_n_per_mm"])
@@ -679,8 +679,13 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     }
     if (h["rate_hz"])
       spec.rate_hz = r.Number(h["rate_hz"], "rate_hz", 100, 10000, spec.rate_hz, "Hz");
-    // A slip eased at 50 mm/s whatever the rate (0.05 mm a frame at 1 kHz).
-    p.slip_step_mm = 50.0 / spec.rate_hz;
+    // A slip eased at 50 mm/s whatever the rate (0.05 mm a frame at 1 kHz);
+    // 0: not eased (a slip is felt in one tick, as a click).
+    double slip_mm_per_s = 50.0;
+    if (h["slip_mm_per_s"])
+      slip_mm_per_s =
+          r.Number(h["slip_mm_per_s"], "slip_mm_per_s", 0, 1000, slip_mm_per_s, "mm/s");
+    p.slip_step_mm = slip_mm_per_s / spec.rate_hz;
     if (const YAML::Node s = h["surface"]) {
       const std::string v = s.IsScalar() ? s.Scalar() : "";
       if (v == "planes" || v == "spheres") {

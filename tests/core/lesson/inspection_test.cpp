@@ -11,6 +11,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "core/collision/collision.h"
 #include "core/haptics/scripted_device.h"
@@ -433,90 +434,166 @@ TEST(Inspectors, TheRoughOneIsScoredForDamageWithItsMoments) {
       Messages(Take("thorough").result, "damage", RubricLine::Status::kFail).size());
 }
 
-// A session started with the probe's shank 2.5 mm or more inside the right
-// cheek (the shank leaning out over 46's buccal side, as the scripted insert
-// once held it), the hand then drawn out toward the middle of the mouth. The
-// engine brings the rendered tool to free space (never more than
-// free_search_max_mm from the hand); once the hand is out in free space the
-// tool rejoins it. No tick sends more than 0.5 N while the tool is more than
-// 5 mm from a hand that is itself in free space (a pull toward a tool pinned
-// on the far side of the cheek), and the tool ends at the hand.
-TEST(DeepStartInTheMouth, AShankStartedInTheCheekRejoinsTheHandWithoutPullingItBack) {
-  const SceneSpec spec =
-      LoadSceneSpec((fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml"));
-  const auto scene = CompileScene(spec, DefaultCacheDir());
-  const EngineModel& model = *scene->model;
-  int tooth = -1;
-  for (std::size_t i = 0; i < spec.objects.size(); ++i)
-    if (spec.objects[i].kind == ObjectSpec::Kind::kTooth && spec.objects[i].fdi == 46)
-      tooth = static_cast<int>(i);
-  ASSERT_GE(tooth, 0);
-  ScriptTarget t = FindScriptTarget(*scene, "insert", tooth);
-  t.shank_W = -t.shank_W;  // out over the buccal side, through the cheek
-  const Quaternion q = ScriptOrientation(t);
-  CollisionScratch scratch;
-  std::vector<ContactPair> pairs(200000);
-  // The deepest overlap with a cheek, and whether the pose overlaps anything.
-  const auto cheek_overlap = [&](const RigidTransform& X, bool* any) {
-    const CollisionStats cs = FindContacts(model.world, X, 0.0, &scratch, pairs.data(),
-                                           static_cast<int>(pairs.size()));
-    double deepest = 0;
-    for (int k = 0; k < cs.pairs; ++k)
-      if (ObjectName(spec, pairs[k].object).find("cheek") != std::string::npos)
-        deepest = std::max(deepest, -pairs[k].gap);
-    if (any) *any = cs.pairs > 0 || cs.overflow;
-    return deepest;
-  };
-  // The tip above the margin, moved out buccally until the shank is 2.5 mm in.
-  const Vector3 above = t.p_W + 3.0 * t.axis_W;
-  RigidTransform start;
-  double depth = 0, out_mm = 0;
-  for (; out_mm <= 12; out_mm += 0.25) {
-    start = RigidTransform(q, above + out_mm * t.n_W);
-    depth = cheek_overlap(start, nullptr);
-    if (depth >= 2.5) break;
-  }
-  ASSERT_GE(depth, 2.5) << "the shank does not reach into the cheek";
-  // Held 300 frames, then drawn out of the cheek, lingually over the tooth and
-  // up, over 1,250, to the first place where the whole probe is free.
-  Vector3 out_W = Vector3::Zero();
-  for (double lingual = 4; lingual <= 16 && out_W.isZero(); lingual += 2) {
-    for (double up = 0; up <= 6 && out_W.isZero(); up += 2) {
-      const Vector3 o = -(lingual + out_mm) * t.n_W + up * t.axis_W;
-      bool touches = true;
-      cheek_overlap(RigidTransform(start.rotation(), start.translation() + o), &touches);
-      if (!touches) out_W = o;
-    }
-  }
-  ASSERT_FALSE(out_W.isZero()) << "no free place for the hand to go";
+// A session started with the probe deep in the mouth's tissue, the hand then
+// drawn out over 1,250 frames to a place where the whole probe is free (after
+// 300 frames held). The engine brings the rendered tool to free space (never
+// more than free_search_max_mm from the hand); once the hand is out in free
+// space the tool rejoins it. No frame sends more than 0.5 N while the tool is
+// more than 5 mm from a hand that is itself in free space (a pull toward a tool
+// pinned on the far side of a wall), and the tool ends at the hand.
+struct MouthStart {
+  std::uint64_t inside_faults = 0;
+  int free_frames = 0, pulling = 0;
+  double worst_pull = 0, end_gap = 0;
+};
+
+// Whether the whole probe at X overlaps anything, and how deep it is in the
+// objects whose names hold `name` (all when empty).
+double Overlap(const CompiledScene& scene, const RigidTransform& X,
+               const std::string& name, bool* any) {
+  static CollisionScratch scratch;
+  static std::vector<ContactPair> pairs(200000);
+  const CollisionStats cs = FindContacts(scene.model->world, X, 0.0, &scratch,
+                                         pairs.data(), static_cast<int>(pairs.size()));
+  double deepest = 0;
+  for (int k = 0; k < cs.pairs; ++k)
+    if (ObjectName(scene.spec, pairs[k].object).find(name) != std::string::npos)
+      deepest = std::max(deepest, -pairs[k].gap);
+  if (any) *any = cs.pairs > 0 || cs.overflow;
+  return deepest;
+}
+
+MouthStart RunMouthStart(const CompiledScene& scene, const RigidTransform& start,
+                         const Vector3& out_W) {
+  const EngineModel& model = *scene.model;
   EngineData d(model);
   ResetTool(start, &d);
-  int pulling = 0, free_frames = 0;
-  double end_gap = 0, worst = 0;
+  MouthStart r;
   for (int i = 0; i < 1950; ++i) {
     const double s = std::clamp((i - 300) / 1250.0, 0.0, 1.0);
     const RigidTransform X_WH(start.rotation(), start.translation() + s * out_W);
     Step(model, X_WH, &d);
     bool device_touches = false;
-    cheek_overlap(X_WH, &device_touches);
+    Overlap(scene, X_WH, "", &device_touches);
     const double gap = (d.X_WG.translation() - X_WH.translation()).norm();
     if (!device_touches) {
-      ++free_frames;
-      if (gap > 5.0 && d.force_W.norm() > 0.5) ++pulling;
-      if (gap > 5.0) worst = std::max(worst, d.force_W.norm());
+      ++r.free_frames;
+      if (gap > 5.0 && d.force_W.norm() > 0.5) ++r.pulling;
+      if (gap > 5.0) r.worst_pull = std::max(r.worst_pull, d.force_W.norm());
     }
-    end_gap = gap;
+    r.end_gap = gap;
   }
+  r.inside_faults = d.faults.inside;
+  return r;
+}
+
+// The first of `moves` (offsets of the hand from `start`) where the whole
+// probe is free; zero when none is.
+Vector3 FirstFree(const CompiledScene& scene, const RigidTransform& start,
+                  const std::vector<Vector3>& moves) {
+  for (const Vector3& o : moves) {
+    bool touches = true;
+    Overlap(scene, RigidTransform(start.rotation(), start.translation() + o), "",
+            &touches);
+    if (!touches) return o;
+  }
+  return Vector3::Zero();
+}
+
+void ExpectRejoins(const MouthStart& r) {
+  EXPECT_GE(r.inside_faults, 1u) << "the start was not deep: the case is not tested";
+  EXPECT_GT(r.free_frames, 300) << "the hand never got out";
+  EXPECT_EQ(r.pulling, 0) << "the hand, out in free space, was pulled back";
+  EXPECT_LT(r.end_gap, 1e-6) << "the rendered tool ends at the hand";
+}
+
+int ToothIndex(const SceneSpec& spec, int fdi) {
+  for (std::size_t i = 0; i < spec.objects.size(); ++i)
+    if (spec.objects[i].kind == ObjectSpec::Kind::kTooth && spec.objects[i].fdi == fdi)
+      return static_cast<int>(i);
+  return -1;
+}
+
+// The probe's shank 2.5 mm or more inside the right cheek (leaning out over
+// 46's buccal side, as the scripted insert once held it), drawn out lingually
+// over the tooth and up.
+TEST(DeepStartInTheMouth, AShankStartedInTheCheekRejoinsTheHandWithoutPullingItBack) {
+  const SceneSpec spec =
+      LoadSceneSpec((fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml"));
+  const auto scene = CompileScene(spec, DefaultCacheDir());
+  const int tooth = ToothIndex(spec, 46);
+  ASSERT_GE(tooth, 0);
+  ScriptTarget t = FindScriptTarget(*scene, "insert", tooth);
+  t.shank_W = -t.shank_W;  // out over the buccal side, through the cheek
+  const Quaternion q = ScriptOrientation(t);
+  // The tip above the margin, moved out buccally until the shank is 2.5 mm in.
+  RigidTransform start;
+  double depth = 0, out_mm = 0;
+  for (; out_mm <= 12; out_mm += 0.25) {
+    start = RigidTransform(q, t.p_W + 3.0 * t.axis_W + out_mm * t.n_W);
+    depth = Overlap(*scene, start, "cheek", nullptr);
+    if (depth >= 2.5) break;
+  }
+  ASSERT_GE(depth, 2.5) << "the shank does not reach into the cheek";
+  std::vector<Vector3> moves;
+  for (double lingual = 4; lingual <= 16; lingual += 2)
+    for (double up = 0; up <= 6; up += 2)
+      moves.push_back(-(lingual + out_mm) * t.n_W + up * t.axis_W);
+  const Vector3 out_W = FirstFree(*scene, start, moves);
+  ASSERT_FALSE(out_W.isZero()) << "no free place for the hand to go";
+  const MouthStart r = RunMouthStart(*scene, start, out_W);
   std::printf(
-      "figure: started %.2f mm in the cheek (the tip %.2f mm buccal of the "
+      "figure: the cheek: started %.2f mm in (the tip %.2f mm buccal of the "
       "margin); %llu deep-start faults, %d frames free, %d pulling back (worst "
       "%.2f N), ends %.3g mm from the hand\n",
-      depth, out_mm, static_cast<unsigned long long>(d.faults.inside), free_frames,
-      pulling, worst, end_gap);
-  EXPECT_GE(d.faults.inside, 1u) << "the start was not deep: the case is not tested";
-  EXPECT_GT(free_frames, 300) << "the hand never got out";
-  EXPECT_EQ(pulling, 0) << "the hand, out in free space, was pulled back";
-  EXPECT_LT(end_gap, 1e-6) << "the rendered tool ends at the hand";
+      depth, out_mm, static_cast<unsigned long long>(r.inside_faults), r.free_frames,
+      r.pulling, r.worst_pull, r.end_gap);
+  ExpectRejoins(r);
+}
+
+// The closed mouth (the oral scene with mouth_open_mm: 0): the probe's tip
+// 1 mm or more into 11's incisal edge, where the arches meet, its handle out
+// in front; drawn out forward, through the upper lip, until it is free.
+TEST(DeepStartInTheMouth, AClosedMouthStartRejoinsTheHandOutsideWithoutPullingItBack) {
+  std::ifstream in(fs::path(SULCUS_SOURCE_DIR) / "scenes" / "oral_inspection.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  const std::size_t at = yaml.find("\nmouth_open_mm:");
+  ASSERT_NE(at, std::string::npos);
+  yaml.replace(at, yaml.find('\n', at + 1) - at, "\nmouth_open_mm: 0");
+  const fs::path file = Out("closed_mouth.yaml");
+  std::ofstream(file) << yaml;
+  const SceneSpec spec = LoadSceneSpec(file);
+  ASSERT_EQ(spec.mouth_open_mm, 0);
+  const auto scene = CompileScene(spec, DefaultCacheDir());
+  const int tooth = ToothIndex(spec, 11);
+  ASSERT_GE(tooth, 0);
+  ScriptTarget t = FindScriptTarget(*scene, "poke", tooth);
+  const Vector3 forward = spec.objects[static_cast<std::size_t>(tooth)].X_WO.rotation() *
+                          Vector3::UnitY();  // labial
+  t.tool_axis_W = forward;                   // the handle out in front of the mouth
+  const Quaternion q = ScriptOrientation(t);
+  RigidTransform start;
+  double depth = 0;
+  for (double into = 0; into <= 4; into += 0.25) {
+    start = RigidTransform(q, t.p_W - into * t.n_W);
+    depth = Overlap(*scene, start, "tooth", nullptr);
+    if (depth >= 1.0) break;
+  }
+  ASSERT_GE(depth, 1.0) << "the tip does not reach into the teeth";
+  std::vector<Vector3> moves;
+  for (double ahead = 15; ahead <= 40; ahead += 5) moves.push_back(ahead * forward);
+  const Vector3 out_W = FirstFree(*scene, start, moves);
+  ASSERT_FALSE(out_W.isZero()) << "no free place for the hand to go";
+  const MouthStart r = RunMouthStart(*scene, start, out_W);
+  std::printf(
+      "figure: the closed mouth: started %.2f mm in the teeth; %llu deep-start "
+      "faults, %d frames free, %d pulling back (worst %.2f N), ends %.3g mm "
+      "from the hand, %.0f mm ahead\n",
+      depth, static_cast<unsigned long long>(r.inside_faults), r.free_frames, r.pulling,
+      r.worst_pull, r.end_gap, out_W.norm());
+  ExpectRejoins(r);
 }
 
 }  // namespace

@@ -61,7 +61,8 @@ TEST(SceneFile, UnknownKeysSuggestTheNearestOne) {
   EXPECT_EQ(Errors("haptics:\n  wobble: 3\nobjects: []\n"),
             (Lines{"2:3: unknown key 'wobble' in 'haptics' (expected one of: "
                    "k_t_n_per_mm, k_r_nmm_per_rad, "
-                   "max_force_n, max_torque_nmm, rate_hz, surface, solve_pairs)"}));
+                   "max_force_n, max_torque_nmm, rate_hz, surface, solve_pairs, "
+                   "slip_mm_per_s)"}));
   EXPECT_EQ(Errors("haptics:\n  surface: smooth\nobjects: []\n"),
             (Lines{"2:12: 'surface' must be 'planes' (leaf spheres clipped by planes "
                    "fitted to the mesh, the default) "
