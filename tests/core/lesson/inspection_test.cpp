@@ -500,6 +500,19 @@ Vector3 FirstFree(const CompiledScene& scene, const RigidTransform& start,
   return Vector3::Zero();
 }
 
+// Runs the start toward the first free place among `moves`; false (with a
+// failure) when none is free.
+bool RunToFreeSpace(const CompiledScene& scene, const RigidTransform& start,
+                    const std::vector<Vector3>& moves, MouthStart* r, Vector3* out_W) {
+  *out_W = FirstFree(scene, start, moves);
+  if (out_W->isZero()) {
+    ADD_FAILURE() << "no free place for the hand to go";
+    return false;
+  }
+  *r = RunMouthStart(scene, start, *out_W);
+  return true;
+}
+
 void ExpectRejoins(const MouthStart& r) {
   EXPECT_GE(r.inside_faults, 1u) << "the start was not deep: the case is not tested";
   EXPECT_GT(r.free_frames, 300) << "the hand never got out";
@@ -539,9 +552,9 @@ TEST(DeepStartInTheMouth, AShankStartedInTheCheekRejoinsTheHandWithoutPullingItB
   for (double lingual = 4; lingual <= 16; lingual += 2)
     for (double up = 0; up <= 6; up += 2)
       moves.push_back(-(lingual + out_mm) * t.n_W + up * t.axis_W);
-  const Vector3 out_W = FirstFree(*scene, start, moves);
-  ASSERT_FALSE(out_W.isZero()) << "no free place for the hand to go";
-  const MouthStart r = RunMouthStart(*scene, start, out_W);
+  MouthStart r;
+  Vector3 out_W;
+  if (!RunToFreeSpace(*scene, start, moves, &r, &out_W)) return;
   std::printf(
       "figure: the cheek: started %.2f mm in (the tip %.2f mm buccal of the "
       "margin); %llu deep-start faults, %d frames free, %d pulling back (worst "
@@ -584,9 +597,9 @@ TEST(DeepStartInTheMouth, AClosedMouthStartRejoinsTheHandOutsideWithoutPullingIt
   ASSERT_GE(depth, 1.0) << "the tip does not reach into the teeth";
   std::vector<Vector3> moves;
   for (double ahead = 15; ahead <= 40; ahead += 5) moves.push_back(ahead * forward);
-  const Vector3 out_W = FirstFree(*scene, start, moves);
-  ASSERT_FALSE(out_W.isZero()) << "no free place for the hand to go";
-  const MouthStart r = RunMouthStart(*scene, start, out_W);
+  MouthStart r;
+  Vector3 out_W;
+  if (!RunToFreeSpace(*scene, start, moves, &r, &out_W)) return;
   std::printf(
       "figure: the closed mouth: started %.2f mm in the teeth; %llu deep-start "
       "faults, %d frames free, %d pulling back (worst %.2f N), ends %.3g mm "
