@@ -31,20 +31,17 @@ std::shared_ptr<ScenePreparer::Job> ScenePreparer::Prepare(const SceneSpec& spec
   workers_.emplace_back(job, [job, spec] {
     const auto t0 = std::chrono::steady_clock::now();
     try {
+      // The gingiva as drawn is built with the trees, in the same workers.
       std::unique_ptr<CompiledScene> scene =
-          CompileScene(spec, DefaultCacheDir(), [job](std::string_view stage, double f) {
-            std::lock_guard lock(job->mutex);
-            job->stage = stage;
-            job->fraction = 0.85 * f;
-            return !job->cancel.load();
-          });
-      SeenGingiva seen = BuildSeenGingiva(
-          *scene, DefaultCacheDir(), [job](std::string_view stage, double f) {
-            std::lock_guard lock(job->mutex);
-            job->stage = "the gingiva as drawn, " + std::string(stage);
-            job->fraction = 0.85 + 0.15 * f;
-            return !job->cancel.load();
-          });
+          CompileScene(spec, DefaultCacheDir(),
+                       [job](std::string_view stage, double f) {
+                         std::lock_guard lock(job->mutex);
+                         job->stage = stage;
+                         job->fraction = f;
+                         return !job->cancel.load();
+                       },
+                       {.seen_gingiva = true});
+      SeenGingiva seen = std::move(scene->seen);
       std::lock_guard lock(job->mutex);
       job->seen = std::move(seen);
       job->result = std::move(scene);

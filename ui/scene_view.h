@@ -26,7 +26,7 @@ class SceneView {
   explicit SceneView(vtkRenderer* renderer);
 
   /// Replaces what is shown by the scene (which must outlive the view's use of it).
-  /// `seen`: the shares of the gingiva as the eye sees them (BuildSeenGingiva),
+  /// `seen`: the shares of the gingiva as the eye sees them (CompiledScene::seen),
   /// drawn instead of the engine's meshes; null: everything as the engine has it.
   void Load(const CompiledScene& scene, const SeenGingiva* seen = nullptr);
   /// Moves the tools and highlights contacts from the latest snapshot.

@@ -1,5 +1,6 @@
 // `sulcus-cli mesh ...`: inspect, convert and generate meshes.
 
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -9,6 +10,7 @@
 #include "core/base/files.h"
 #include "core/geometry/mesh_io.h"
 #include "core/geometry/primitives.h"
+#include "core/geometry/simplify.h"
 
 namespace sulcus::cli {
 namespace {
@@ -49,6 +51,34 @@ int MeshInfo(const std::string& file) {
   return r.IsSolid() ? 0 : 1;
 }
 
+// Simplifies `in` with Sulcus's decimation and, side by side, with OpenMesh's
+// under the same rules: faces kept, time, the largest distance of the result's
+// vertices from the input's planes is bounded by construction and not printed.
+void MeshSimplify(const std::string& in, const std::string& out, double error_mm,
+                  bool compare) {
+  const TriangleMesh mesh = LoadMesh(in, {.require_closed_manifold = false});
+  using Clock = std::chrono::steady_clock;
+  auto timed = [&](auto&& simplify, const char* who) {
+    const auto t0 = Clock::now();
+    TriangleMesh m = simplify(mesh, error_mm);
+    const double s = std::chrono::duration<double>(Clock::now() - t0).count();
+    const MeshReport r = m.Check();
+    std::printf("  %-9s %7zu faces (%.1f %% of %zu), %.3f s; %s, %s\n", who,
+                m.num_faces(),
+                100.0 * m.num_faces() / std::max<std::size_t>(1, mesh.num_faces()),
+                mesh.num_faces(), s, r.closed() ? "closed" : "open",
+                r.manifold() ? "manifold" : "NOT manifold");
+    return m;
+  };
+  std::printf("simplify %s within %.3g mm\n", in.c_str(), error_mm);
+  const TriangleMesh result = timed(Simplify, "sulcus");
+  if (compare) timed(SimplifyWithOpenMesh, "openmesh");
+  if (!out.empty()) {
+    SaveMesh(result, out);
+    std::printf("wrote %s\n", out.c_str());
+  }
+}
+
 }  // namespace
 
 void AddMeshCommands(CLI::App& app) {
@@ -75,6 +105,24 @@ void AddMeshCommands(CLI::App& app) {
     SaveMesh(mesh, *out, {.binary = *binary});
     std::printf("wrote %s: %zu vertices, %zu faces\n", out->c_str(), mesh.num_vertices(),
                 mesh.num_faces());
+  });
+
+  auto simplify_in = std::make_shared<std::string>();
+  auto simplify_out = std::make_shared<std::string>();
+  auto error_mm = std::make_shared<double>(0.02);
+  auto compare = std::make_shared<bool>(false);
+  CLI::App* simplify = mesh->add_subcommand(
+      "simplify", "Collapse edges within a quadric error bound; time it");
+  simplify->add_option("IN", *simplify_in, "Input mesh")->required();
+  simplify->add_option("-o,--output", *simplify_out, "Output mesh (optional)");
+  simplify->add_option("--error", *error_mm, "Largest distance from the planes, mm")
+      ->check(Finite() & CLI::Range(1e-6, 10.0));
+  simplify->add_flag("--compare", *compare,
+                     "Also run OpenMesh's decimater under the same rules, side by side");
+  simplify->callback([=] {
+    if (!simplify_out->empty())
+      RefuseOverwrite(*simplify_out, {{*simplify_in, "the mesh being simplified"}});
+    MeshSimplify(*simplify_in, *simplify_out, *error_mm, *compare);
   });
 
   auto shape = std::make_shared<std::string>();

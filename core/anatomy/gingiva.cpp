@@ -353,8 +353,15 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& param
   const auto near_side = [&field, cell_mm](const Vector3& p) {
     return std::max(field.Uncut(p), field.Cut(p) - 2 * cell_mm);
   };
+  // The felt surface keeps OpenMesh's decimation: its meshes, and with them its
+  // sphere-trees and every reading measured on them (the lessons' figures, the
+  // recorded attempts replayed in the tests), stay as they were. The seen one,
+  // only drawn, takes Sulcus's own, four to six times faster.
+  const TriangleMesh iso = Isosurface(near_side, field.box(), cell_mm);
   TriangleMesh mesh = RimsOntoField(
-      ClipByPlanes(Simplify(Isosurface(near_side, field.box(), cell_mm), 0.02), planes),
+      ClipByPlanes(surface == GingivaSurface::kSeen ? Simplify(iso, 0.02)
+                                                    : SimplifyWithOpenMesh(iso, 0.02),
+                   planes),
       field, planes, cell_mm);
   if (mesh.num_faces() == 0)
     throw std::invalid_argument("the gingiva of tooth " +

@@ -105,7 +105,7 @@ inline constexpr double kSeenWallMm = -0.2;
 
 /// Changes whenever the seen gingiva's geometry does and the felt one's does
 /// not (its meshes are cached by both).
-inline constexpr int kSeenGingivaVersion = 8;
+inline constexpr int kSeenGingivaVersion = 9;
 
 /// A tooth's outer surface as a table, in its frame: for each of 144 angles
 /// around the axis and each height 0.1 mm apart, the farthest crossing of the

@@ -562,20 +562,17 @@ void OnEachCore(int jobs, const Work& work) {
   for (std::thread& t : pool) t.join();
 }
 
-}  // namespace
+// The shares of the seen gingiva to build (`jobs`) and, as for CompileScene's
+// meshes, for each share whose generator sees what an earlier one's sees (its
+// mirrored twin) that share (`twin`, else -1): its mesh is the twin's, mirrored.
+struct SeenPlan {
+  std::vector<int> jobs, twin;
+};
 
-SeenGingiva BuildSeenGingiva(const CompiledScene& scene,
-                             const std::filesystem::path& cache_dir,
-                             const BuildProgress& progress) {
-  const auto& objects = scene.spec.objects;
+SeenPlan PlanSeenGingiva(const std::vector<ObjectSpec>& objects) {
   const int n = static_cast<int>(objects.size());
-  SeenGingiva out;
-  out.meshes.resize(n);
-  out.normals.resize(n);
-  out.caps.resize(n);
-  // As CompileScene's meshes: a share whose generator sees what an earlier
-  // one's sees (its mirrored twin) is that share's mesh, mirrored.
-  std::vector<int> jobs, twin(n, -1);
+  SeenPlan plan;
+  plan.twin.assign(n, -1);
   std::map<std::string, int> first;
   for (int i = 0; i < n; ++i) {
     if (objects[i].kind != ObjectSpec::Kind::kGingiva ||
@@ -583,50 +580,31 @@ SeenGingiva BuildSeenGingiva(const CompiledScene& scene,
       continue;
     const auto [it, added] = first.try_emplace(GeneratorKey(objects[i]), i);
     if (added)
-      jobs.push_back(i);
+      plan.jobs.push_back(i);
     else
-      twin[i] = it->second;
+      plan.twin[i] = it->second;
   }
-  const int count = static_cast<int>(jobs.size());
-  std::mutex mutex;
-  std::exception_ptr failure;
-  std::atomic<bool> halt{false};
-  std::atomic<int> next{0};
-  int made = 0;
-  OnEachCore(count, [&] {
-    for (int job = next++; job < count && !halt; job = next++) {
-      const int i = jobs[job];
-      try {
-        out.meshes[i] = MakeObjectMeshCached(objects[i], cache_dir, &out.normals[i], true,
-                                             &out.caps[i]);
-        std::lock_guard lock(mutex);
-        ++made;
-        if (progress &&
-            !progress(objects[i].name, static_cast<double>(made) / std::max(count, 1)))
-          halt = true;
-      } catch (...) {
-        std::lock_guard lock(mutex);
-        if (!failure) failure = std::current_exception();
-        halt = true;
-      }
-    }
-  });
-  if (failure) std::rethrow_exception(failure);
-  if (halt) throw BuildCancelled();
-  for (int i = 0; i < n; ++i) {
-    if (twin[i] < 0) continue;
-    const int j = twin[i];
-    const bool mirror = objects[i].mirrored != objects[j].mirrored;
-    out.meshes[i] = ArchMirror(mirror, out.meshes[j]);
-    out.normals[i] = ArchMirror(mirror, out.normals[j]);
-    out.caps[i] = out.caps[j];  // (mirroring keeps the faces' order)
-  }
-  return out;
+  return plan;
 }
+
+void MirrorSeenTwins(const std::vector<ObjectSpec>& objects, const SeenPlan& plan,
+                     SeenGingiva* out) {
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const int j = plan.twin[i];
+    if (j < 0) continue;
+    const bool mirror = objects[i].mirrored != objects[j].mirrored;
+    out->meshes[i] = ArchMirror(mirror, out->meshes[j]);
+    out->normals[i] = ArchMirror(mirror, out->normals[j]);
+    out->caps[i] = out->caps[j];  // (mirroring keeps the faces' order)
+  }
+}
+
+}  // namespace
 
 std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
                                             const std::filesystem::path& cache_dir,
-                                            const BuildProgress& progress) {
+                                            const BuildProgress& progress,
+                                            const CompileOptions& options) {
   auto scene = std::make_unique<CompiledScene>();
   scene->spec = spec;
   FollowAttachmentLoss(&scene->spec);  // the pockets may have changed since loading
@@ -640,10 +618,21 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
   std::stable_partition(scene->spec.objects.begin(), scene->spec.objects.end(),
                         [&](const ObjectSpec& o) { return !soft(o); });
   const int n = static_cast<int>(spec.objects.size());
+  // The seen gingiva's shares, when asked for: jobs after the trees'.
+  const SeenPlan seen_plan =
+      options.seen_gingiva ? PlanSeenGingiva(scene->spec.objects) : SeenPlan{};
+  const int seen_jobs = static_cast<int>(seen_plan.jobs.size());
+  if (options.seen_gingiva) {
+    scene->seen.meshes.resize(n);
+    scene->seen.normals.resize(n);
+    scene->seen.caps.resize(n);
+  }
   // One bar over both phases: the meshes are the first tenth of each object's
-  // share (the trees below go on from there), so it never runs backwards.
+  // share (the trees below go on from there), so it never runs backwards; a
+  // seen share is one more share.
+  const int shares = n + 1 + seen_jobs;
   auto report = [&](int i, std::string_view stage, double f) {
-    if (progress && !progress(stage, f * (i + 1) / (n + 1))) throw BuildCancelled();
+    if (progress && !progress(stage, f * (i + 1) / shares)) throw BuildCancelled();
   };
   using Clock = std::chrono::steady_clock;
   const auto Since = [](Clock::time_point t) {
@@ -724,24 +713,31 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
   for (int i = 0; i < n; ++i) order[i] = i;
   std::stable_partition(order.begin(), order.end(),
                         [&](int i) { return !scene->spec.objects[i].mirrored; });
-  std::vector<double> done(n + 1, 0.0);
+  std::vector<double> done(shares, 0.0);
   std::mutex progress_mutex;
   std::atomic<int> next{0};
   std::atomic<bool> stop{false};
   std::exception_ptr failure;
   auto worker = [&] {
-    for (int job = next++; job <= n && !stop; job = next++) {
+    for (int job = next++; job < shares && !stop; job = next++) {
       const BuildProgress inner = [&, job](std::string_view stage, double f) {
         if (stop) return false;
         std::lock_guard lock(progress_mutex);
         done[job] = f;
         double total = done[0];
         for (int j = 1; j <= n; ++j) total += 0.1 + 0.9 * done[j];
-        if (progress && !progress(stage, total / (n + 1))) stop = true;
+        for (int j = n + 1; j < shares; ++j) total += done[j];
+        if (progress && !progress(stage, total / shares)) stop = true;
         return !stop.load();
       };
       try {
-        if (job == 0) {
+        if (job > n) {
+          const int i = seen_plan.jobs[job - n - 1];
+          SeenGingiva& seen = scene->seen;
+          seen.meshes[i] = MakeObjectMeshCached(scene->spec.objects[i], cache_dir,
+                                                &seen.normals[i], true, &seen.caps[i]);
+          inner("the gingiva as drawn, " + scene->spec.objects[i].name, 1.0);
+        } else if (job == 0) {
           scene->tool_tree =
               LoadOrBuildSphereTree(scene->tool_mesh, ToolTreeParams(), cache_dir, inner);
           inner("tool", 1.0);
@@ -765,7 +761,7 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
       } catch (...) {
         std::lock_guard lock(progress_mutex);
         if (!failure) {
-          if (job == 0) {
+          if (job == 0 || job > n) {
             failure = std::current_exception();
           } else {
             failure = NamedFailure(scene->spec, scene->spec.objects[order[job - 1]]);
@@ -775,9 +771,10 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
       }
     }
   };
-  OnEachCore(n + 1, worker);
+  OnEachCore(shares, worker);
   if (failure) std::rethrow_exception(failure);
   if (stop) throw BuildCancelled();
+  if (options.seen_gingiva) MirrorSeenTwins(scene->spec.objects, seen_plan, &scene->seen);
   const auto& objs = scene->spec.objects;
   int soft_first = n;
   while (soft_first > 0 && soft(objs[soft_first - 1])) --soft_first;

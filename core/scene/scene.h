@@ -248,6 +248,21 @@ TriangleMesh MakeObjectMeshCached(const ObjectSpec& object,
                                   std::vector<Vector3>* normals = nullptr,
                                   bool seen = false, std::vector<char>* caps = nullptr);
 
+/// What the window draws for the shares of an arch's gingiva: per object of
+/// the compiled scene, the seen gingiva's mesh and normals (the sulcus closed
+/// round the tooth, the papillae full: GingivaSurface::kSeen), empty for every
+/// other object, which is drawn as the engine has it. A share's mirrored twin
+/// is its mesh mirrored, as in CompileScene.
+struct SeenGingiva {
+  std::vector<TriangleMesh> meshes;
+  std::vector<std::vector<Vector3>> normals;
+  // Per object, per face of its seen mesh: 1 for a face of the flat cap on
+  // the cut toward a neighbour, where two shares meet face to face (drawn
+  // only while the gingiva is opaque: through translucent gingiva the two
+  // coinciding caps would show as a dark plane between the teeth).
+  std::vector<std::vector<char>> caps;
+};
+
 /// A compiled scene: everything the engine needs, immutable after construction.
 struct CompiledScene {
   SceneSpec spec;
@@ -263,7 +278,11 @@ struct CompiledScene {
   std::unique_ptr<EngineModel>
       model;             // the hard objects: spec.objects[0 .. effects.soft_first)
   EffectsModel effects;  // what the scene's effects need (soft objects last)
-  // Wall time of the two stages of CompileScene, each on all cores (cache hits included).
+  // The gingiva as the window draws it, when CompileScene was asked for it
+  // (CompileOptions::seen_gingiva); else empty.
+  SeenGingiva seen;
+  // Wall time of the two stages of CompileScene, each on all cores (cache hits
+  // included); the trees' stage includes the seen gingiva when it was asked for.
   double mesh_seconds = 0, tree_seconds = 0;
   // Per object: whether its sphere-tree was built (not in the cache), and the
   // seconds it took (built or read).
@@ -274,31 +293,19 @@ struct CompiledScene {
 /// Stiffness of soft gingiva and of the pocket floor under gingiva_compliance (N/mm).
 inline constexpr double kGingivaWallStiffness = 0.05, kPocketFloorStiffness = 2.0;
 
+struct CompileOptions {
+  /// Also build CompiledScene::seen, in the same workers as the trees (after
+  /// them, so that the shares' quick meshes fill the cores a long tree leaves
+  /// idle): what the window draws.
+  bool seen_gingiva = false;
+};
+
 /// Builds meshes and sphere-trees (through the cache in `cache_dir`) and the
 /// engine model. Progress is reported per object.
 std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
                                             const std::filesystem::path& cache_dir,
-                                            const BuildProgress& progress = {});
-
-/// What the window draws for the shares of an arch's gingiva: per object of
-/// the compiled scene, the seen gingiva's mesh and normals (the sulcus closed
-/// round the tooth, the papillae full: GingivaSurface::kSeen), empty for every
-/// other object, which is drawn as the engine has it. Built through the cache
-/// (one worker per core; a share's mirrored twin is its mesh mirrored, as in
-/// CompileScene); about as long as the shares' meshes in CompileScene when the cache is
-/// cold.
-struct SeenGingiva {
-  std::vector<TriangleMesh> meshes;
-  std::vector<std::vector<Vector3>> normals;
-  // Per object, per face of its seen mesh: 1 for a face of the flat cap on
-  // the cut toward a neighbour, where two shares meet face to face (drawn
-  // only while the gingiva is opaque: through translucent gingiva the two
-  // coinciding caps would show as a dark plane between the teeth).
-  std::vector<std::vector<char>> caps;
-};
-SeenGingiva BuildSeenGingiva(const CompiledScene& scene,
-                             const std::filesystem::path& cache_dir,
-                             const BuildProgress& progress = {});
+                                            const BuildProgress& progress = {},
+                                            const CompileOptions& options = {});
 
 /// Where a named scripted trajectory works in a compiled scene: on object
 /// `object` (-1: the first tooth, else the first object). For teeth, `insert`

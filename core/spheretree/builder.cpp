@@ -141,7 +141,7 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
     cover.eps = eps;
     for (int round = 0;; ++round) {
       tick();
-      cover.lists = ComputeCovers(cands, pieces, PieceBvh(pieces), eps);
+      cover.lists = ComputeCovers(cands, PieceBvh(pieces), eps);
       if (round == 3 || !refine_binding(cover.lists, 0.6 * eps)) break;
     }
     cover.chosen = GreedyCover(cover.lists, eps, pieces.size(), capacity);

@@ -52,8 +52,9 @@ Piece MakePiece(const Vector3& a, const Vector3& b, const Vector3& c);
 
 // Farthest corner of a piece from c (squared).
 inline double FarCorner2(const Piece& p, const Vector3& c) {
-  return std::max({(p.v[0] - c).squaredNorm(), (p.v[1] - c).squaredNorm(),
-                   (p.v[2] - c).squaredNorm()});
+  const double a = (p.v[0] - c).squaredNorm(), b = (p.v[1] - c).squaredNorm(),
+               d = (p.v[2] - c).squaredNorm();
+  return std::max(std::max(a, b), d);
 }
 
 // Splits every face into n^2 similar pieces, n chosen so that edges are <= h.
@@ -73,13 +74,30 @@ class PieceBvh {
     if (pieces.empty()) return;
     nodes_.push_back({});
     BuildInto(0, 0, static_cast<std::int32_t>(pieces.size()));
+    // The corners again, in the hierarchy's order: a query reads them in a row.
+    corners_.reserve(9 * pieces.size());
+    for (const std::int32_t i : order_)
+      for (const Vector3& v : pieces[i].v)
+        corners_.insert(corners_.end(), {v.x(), v.y(), v.z()});
   }
 
-  // Calls fn(piece) for every piece whose three corners are within `radius` of c.
+  // Calls fn(piece, r2) for every piece whose three corners are within
+  // `radius` of c, r2 being FarCorner2(piece, c).
   template <typename Fn>
   void ForEachEnclosed(const Vector3& c, double radius, Fn&& fn) const {
     if (nodes_.empty()) return;
     const double r2 = radius * radius;
+    const double cx = c.x(), cy = c.y(), cz = c.z();
+    // FarCorner2 on the stored corners (the same sums in the same order).
+    auto far2 = [&](std::int32_t i) {
+      const double* v = &corners_[9 * static_cast<std::size_t>(i)];
+      double m = 0;
+      for (int k = 0; k < 3; ++k, v += 3) {
+        const double dx = v[0] - cx, dy = v[1] - cy, dz = v[2] - cz;
+        m = std::max(m, dx * dx + dy * dy + dz * dz);
+      }
+      return m;
+    };
     std::int32_t stack[128];
     int top = 0;
     stack[top++] = 0;
@@ -89,13 +107,13 @@ class PieceBvh {
       if ((near - c).squaredNorm() > r2) continue;
       const Vector3 far = (c - n.box.min).cwiseAbs().cwiseMax((c - n.box.max).cwiseAbs());
       if (far.squaredNorm() <= r2) {  // the whole box is inside the ball
-        for (std::int32_t i = n.begin; i < n.end; ++i) fn(order_[i]);
+        for (std::int32_t i = n.begin; i < n.end; ++i) fn(order_[i], far2(i));
         continue;
       }
       if (n.left < 0) {
         for (std::int32_t i = n.begin; i < n.end; ++i) {
-          const Piece& p = pieces_[order_[i]];
-          if (FarCorner2(p, c) <= r2) fn(order_[i]);
+          const double d2 = far2(i);
+          if (d2 <= r2) fn(order_[i], d2);
         }
         continue;
       }
@@ -137,6 +155,7 @@ class PieceBvh {
   const std::vector<Piece>& pieces_;
   std::vector<std::int32_t> order_;
   std::vector<Node> nodes_;
+  std::vector<double> corners_;  // 9 per piece, in order_
 };
 
 // ---- Medial candidates (medial_candidates.cpp) ----
@@ -168,8 +187,7 @@ struct CoverLists {
   std::vector<float> need;  // protrusion bound needed for the item, ascending per list
 };
 
-CoverLists ComputeCovers(const std::vector<Candidate>& cands,
-                         const std::vector<Piece>& pieces, const PieceBvh& bvh,
+CoverLists ComputeCovers(const std::vector<Candidate>& cands, const PieceBvh& bvh,
                          double eps_max);
 
 // Lazy greedy set cover using, for each candidate, the pieces it encloses within

@@ -12,8 +12,7 @@
 
 namespace sulcus::tree_build {
 
-CoverLists ComputeCovers(const std::vector<Candidate>& cands,
-                         const std::vector<Piece>& pieces, const PieceBvh& bvh,
+CoverLists ComputeCovers(const std::vector<Candidate>& cands, const PieceBvh& bvh,
                          double eps_max) {
   CoverLists lists;
   lists.start.reserve(cands.size() + 1);
@@ -21,8 +20,7 @@ CoverLists ComputeCovers(const std::vector<Candidate>& cands,
   std::vector<std::pair<float, std::int32_t>> found;
   for (const Candidate& c : cands) {
     found.clear();
-    bvh.ForEachEnclosed(c.c, c.depth + eps_max, [&](std::int32_t p) {
-      const double r2 = FarCorner2(pieces[p], c.c);
+    bvh.ForEachEnclosed(c.c, c.depth + eps_max, [&](std::int32_t p, double r2) {
       // Rounded up so that a prefix never claims a piece it does not enclose.
       found.push_back(
           {std::nextafter(static_cast<float>(std::sqrt(r2) - c.depth), 1e30f), p});
@@ -205,7 +203,7 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
   };
   auto attempt = [&](double eps) {
     tick();
-    if (eps > out.lists_eps) use_lists(ComputeCovers(cands, pieces, bvh, eps), eps);
+    if (eps > out.lists_eps) use_lists(ComputeCovers(cands, bvh, eps), eps);
     return GreedyCover(out.lists, eps, pieces.size(), budget, &out.limits);
   };
   // Bracket: grow until every piece is reachable and the cover fits.
@@ -225,7 +223,7 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
   std::optional<std::vector<std::int32_t>> first_half;
   double found = 0;
   for (double e = reach_eps > 0 ? 0.5 * hi : hi;;) {
-    CoverLists lists = ComputeCovers(cands, pieces, bvh, e);
+    CoverLists lists = ComputeCovers(cands, bvh, e);
     const std::vector<float> floor = PieceFloors(lists, pieces.size());
     std::vector<std::int32_t> unreached;
     for (std::size_t p = 0; p < pieces.size(); ++p)
@@ -255,7 +253,7 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
     if (e == hi) next();
     while (!reaches(hi)) next();
     const double half = 0.5 * hi;
-    if (half != e) lists = ComputeCovers(cands, pieces, bvh, half);
+    if (half != e) lists = ComputeCovers(cands, bvh, half);
     if (!AddHardPieces(cands, pieces, half, hi, &lists)) break;
     use_lists(std::move(lists), hi);
     tick();

@@ -908,8 +908,8 @@ TEST(SceneCompile, TheGingivaAsDrawnIsAClosedMeshWithItsCapsMarked) {
       LoadSceneSpec(Write("gingiva_seen.yaml",
                           "arch: true\ngingiva: arch\nobjects:\n  - tooth: 11\n  - "
                           "tooth: 12\n  - tooth: 21\n  - tooth: 22\n")),
-      cache);
-  const SeenGingiva seen = BuildSeenGingiva(*scene, cache);
+      cache, {}, {.seen_gingiva = true});
+  const SeenGingiva& seen = scene->seen;
   const std::size_t n = scene->spec.objects.size();
   ASSERT_EQ(seen.meshes.size(), n);
   ASSERT_EQ(seen.caps.size(), n);
