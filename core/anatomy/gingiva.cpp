@@ -356,7 +356,7 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& param
   // The felt surface keeps OpenMesh's decimation: its meshes, and with them its
   // sphere-trees and every reading measured on them (the lessons' figures, the
   // recorded attempts replayed in the tests), stay as they were. The seen one,
-  // only drawn, takes Sulcus's own, four to six times faster.
+  // only drawn, takes Sulcus's own, about twice as fast again.
   const TriangleMesh iso = Isosurface(near_side, field.box(), cell_mm);
   TriangleMesh mesh = RimsOntoField(
       ClipByPlanes(surface == GingivaSurface::kSeen ? Simplify(iso, 0.02)

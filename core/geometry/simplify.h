@@ -20,7 +20,12 @@ TriangleMesh Simplify(const TriangleMesh& mesh, double max_error_mm);
 /// flipping and aspect ratio modules): the reference Simplify is measured
 /// against (tests and `sulcus-cli mesh simplify --compare`), four to six times
 /// slower, and what the felt gingiva is simplified with (its meshes and trees
-/// stay as every reading was measured on them).
-TriangleMesh SimplifyWithOpenMesh(const TriangleMesh& mesh, double max_error_mm);
+/// stay as every reading was measured on them). The decimater asks the mesh
+/// whether each collapse keeps its topology; Sulcus answers with the same
+/// test as OpenMesh, without the allocations of the library's own answer
+/// (`library_collapse_check`: the library's, slower, for the test that keeps
+/// the two the same).
+TriangleMesh SimplifyWithOpenMesh(const TriangleMesh& mesh, double max_error_mm,
+                                  bool library_collapse_check = false);
 
 }  // namespace sulcus
