@@ -62,6 +62,21 @@ inline double FarCorner2(const Piece& p, const Vector3& c) {
 std::vector<Piece> Subdivide(const TriangleMesh& mesh, double h,
                              std::vector<Vector3>* normals, double orientation);
 
+// Orders order[begin, end) about its middle along the box's longest axis by
+// point(i) (a position) and returns the middle: the split of the two
+// hierarchies here (over pieces, and over leaves in leaf_refine.cpp).
+template <typename Point>
+std::int32_t SplitAtMedian(std::vector<std::int32_t>* order, std::int32_t begin,
+                           std::int32_t end, const Aabb& box, const Point& point) {
+  int axis;
+  box.extent().maxCoeff(&axis);
+  const std::int32_t mid = begin + (end - begin) / 2;
+  std::nth_element(
+      order->begin() + begin, order->begin() + mid, order->begin() + end,
+      [&](std::int32_t a, std::int32_t b) { return point(a)[axis] < point(b)[axis]; });
+  return mid;
+}
+
 // A bounding-volume hierarchy over pieces (boxes around their corners), for
 // "which pieces lie wholly inside this ball" queries: only nodes whose box meets
 // the ball are visited, and a node whose box is inside the ball is taken whole.
@@ -136,13 +151,8 @@ class PieceBvh {
     }
     nodes_[slot] = {box, begin, end, -1};
     if (end - begin <= kLeafSize) return;
-    int axis;
-    box.extent().maxCoeff(&axis);
-    const std::int32_t mid = begin + (end - begin) / 2;
-    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                     [&](std::int32_t a, std::int32_t b) {
-                       return pieces_[a].centroid[axis] < pieces_[b].centroid[axis];
-                     });
+    const std::int32_t mid = SplitAtMedian(
+        &order_, begin, end, box, [&](std::int32_t i) { return pieces_[i].centroid; });
     // Children are allocated as a pair so that the right one is left + 1.
     const auto left = static_cast<std::int32_t>(nodes_.size());
     nodes_.push_back({});

@@ -244,13 +244,8 @@ class LeafKdTree {
     }
     nodes_[slot] = n;
     if (end - begin <= kBucket) return;
-    int axis;
-    n.box.extent().maxCoeff(&axis);
-    const std::int32_t mid = begin + (end - begin) / 2;
-    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                     [&](std::int32_t a, std::int32_t b) {
-                       return leaves_[a].c[axis] < leaves_[b].c[axis];
-                     });
+    const std::int32_t mid = SplitAtMedian(&order_, begin, end, n.box,
+                                           [&](std::int32_t i) { return leaves_[i].c; });
     const auto left = static_cast<std::int32_t>(nodes_.size());
     nodes_.push_back({});
     nodes_.push_back({});
