@@ -34,25 +34,77 @@ double AroundTooth(const std::array<double, 6>& site, double th) {
 
 }  // namespace
 
+namespace {
+
+// Where the horizontal ray o + t d crosses the triangle (a, b, c): t, or -1
+// when it misses (the test OuterRadius and OuterRadii share).
+double RayCrossing(const Vector3& o, const Vector3& d, const Vector3& a, const Vector3& b,
+                   const Vector3& c) {
+  const Vector3 e1 = b - a, e2 = c - a;
+  const Vector3 p = d.cross(e2);
+  const double det = e1.dot(p);
+  if (std::abs(det) < 1e-14) return -1;
+  const Vector3 s = o - a;
+  const double u = s.dot(p) / det;
+  if (u < 0 || u > 1) return -1;
+  const Vector3 q = s.cross(e1);
+  const double w = d.dot(q) / det;
+  if (w < 0 || u + w > 1) return -1;
+  return e2.dot(q) / det;
+}
+
+}  // namespace
+
 // The farthest crossing of the horizontal ray from (0, 0, z) along angle th with
 // the mesh (the tooth's outer surface in that direction), or 0 when it misses.
 double OuterRadius(const TriangleMesh& mesh, double th, double z) {
   const Vector3 o(0, 0, z), d(std::cos(th), std::sin(th), 0);
   double best = 0;
   const auto& v = mesh.vertices();
+  for (const auto& f : mesh.faces())
+    best = std::max(best, RayCrossing(o, d, v[f[0]], v[f[1]], v[f[2]]));
+  return best;
+}
+
+OuterRadii::OuterRadii(const TriangleMesh& mesh) : mesh_(mesh) {
+  const Aabb box = mesh.Bounds();
+  if (box.empty()) return;
+  // A face is listed in every band its heights reach, widened by far more than
+  // rounding: a ray at a height a face does not reach cannot cross it.
+  constexpr double kSlack = 1e-6;
+  z0_ = box.min.z() - kSlack;
+  bands_ = static_cast<int>((box.max.z() + kSlack - z0_) / kBandMm) + 1;
+  const auto& v = mesh.vertices();
+  auto range = [&](const TriangleMesh::Face& f) {
+    const double lo = std::min({v[f[0]].z(), v[f[1]].z(), v[f[2]].z()}) - kSlack,
+                 hi = std::max({v[f[0]].z(), v[f[1]].z(), v[f[2]].z()}) + kSlack;
+    return std::pair(std::clamp(static_cast<int>((lo - z0_) / kBandMm), 0, bands_ - 1),
+                     std::clamp(static_cast<int>((hi - z0_) / kBandMm), 0, bands_ - 1));
+  };
+  start_.assign(bands_ + 1, 0);
   for (const auto& f : mesh.faces()) {
-    const Vector3& a = v[f[0]];
-    const Vector3 e1 = v[f[1]] - a, e2 = v[f[2]] - a;
-    const Vector3 p = d.cross(e2);
-    const double det = e1.dot(p);
-    if (std::abs(det) < 1e-14) continue;
-    const Vector3 s = o - a;
-    const double u = s.dot(p) / det;
-    if (u < 0 || u > 1) continue;
-    const Vector3 q = s.cross(e1);
-    const double w = d.dot(q) / det;
-    if (w < 0 || u + w > 1) continue;
-    best = std::max(best, e2.dot(q) / det);
+    const auto [b0, b1] = range(f);
+    for (int b = b0; b <= b1; ++b) ++start_[b + 1];
+  }
+  for (int b = 0; b < bands_; ++b) start_[b + 1] += start_[b];
+  faces_.resize(start_[bands_]);
+  std::vector<std::int32_t> fill(start_.begin(), start_.end() - 1);
+  for (std::size_t i = 0; i < mesh.faces().size(); ++i) {
+    const auto [b0, b1] = range(mesh.faces()[i]);
+    for (int b = b0; b <= b1; ++b) faces_[fill[b]++] = static_cast<std::int32_t>(i);
+  }
+}
+
+double OuterRadii::At(double th, double z) const {
+  const double x = (z - z0_) / kBandMm;
+  if (bands_ == 0 || !(x >= 0) || x >= bands_) return 0;
+  const int b = static_cast<int>(x);
+  const Vector3 o(0, 0, z), d(std::cos(th), std::sin(th), 0);
+  const auto& v = mesh_.vertices();
+  double best = 0;
+  for (std::int32_t k = start_[b]; k < start_[b + 1]; ++k) {
+    const TriangleMesh::Face& f = mesh_.faces()[faces_[k]];
+    best = std::max(best, RayCrossing(o, d, v[f[0]], v[f[1]], v[f[2]]));
   }
   return best;
 }
@@ -191,6 +243,7 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
   GingivaModel out;
   out.site_angle = SiteAngles();
   std::vector<double> r_in_at(n), z_m_at(n), z_f_at(n), r_floor_at(n), r_out_at(n);
+  const OuterRadii radii(tooth.mesh);
   for (int k = 0; k < n; ++k) {
     const double th = 2 * kPi * k / n;
     // The CEJ height at this angle (the tooth's CEJ curve has 72 points, evenly spaced).
@@ -204,14 +257,13 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
     const double z_f = z_m - AroundTooth(p.pocket_mm, th);
     double widest = 0;
     for (int j = 0; j <= 12; ++j)
-      widest =
-          std::max(widest, OuterRadius(tooth.mesh, th, z_f + (z_m - z_f) * j / 12.0));
+      widest = std::max(widest, radii.At(th, z_f + (z_m - z_f) * j / 12.0));
     const double r_in = widest + p.gap_mm;
     const double thickness =
         (p.thickness_mm > 0 ? p.thickness_mm : GingivaThicknessMm(tooth.tooth)) *
         (0.35 + 0.65 * std::sin(th) * std::sin(th));
     const double r_out = r_in + thickness;
-    const double r_floor = std::max(0.3, OuterRadius(tooth.mesh, th, z_f) - 0.3);
+    const double r_floor = std::max(0.3, radii.At(th, z_f) - 0.3);
     auto& ring = rings[k];
     int i = 0;
     for (int j = 0; j < wall_levels; ++j)

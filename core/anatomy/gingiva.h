@@ -12,6 +12,7 @@
 // Soft-tissue behaviour (displacing the gingiva) is an effect, not geometry.
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "core/anatomy/mesh_clip.h"
@@ -208,6 +209,23 @@ inline double MaxAttachmentLoss(const ToothDimensions& d) {
 /// (radians from +x) with the mesh: the tooth's outer surface in that
 /// direction at that height, or 0 when the ray misses.
 double OuterRadius(const TriangleMesh& mesh, double th, double z);
+
+/// OuterRadius for many rays at one mesh: its faces sorted into 0.1 mm bands
+/// of height, so that a ray tests only the faces that reach its height (the
+/// same answers, each face's test computed as OuterRadius computes it).
+/// Holds a reference to the mesh, which must outlive it.
+class OuterRadii {
+ public:
+  explicit OuterRadii(const TriangleMesh& mesh);
+  double At(double th, double z) const;
+
+ private:
+  static constexpr double kBandMm = 0.1;
+  const TriangleMesh& mesh_;
+  double z0_ = 0;
+  int bands_ = 0;
+  std::vector<std::int32_t> start_, faces_;  // band b: faces_[start_[b] .. start_[b+1])
+};
 
 /// Site angles in the tooth frame, in charting order (MB, B, DB, ML, L, DL).
 const std::array<double, 6>& SiteAngles();

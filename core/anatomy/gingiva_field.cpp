@@ -155,9 +155,9 @@ CollarAt Collar(const GingivaModel& g, const Vector3& q,
 // where it meets the neighbour that lies that way.
 Vector3 ContactPoint(const ToothModel& tooth, double th) {
   double best = 0, at = 0;
+  const OuterRadii radii(tooth.mesh);
   for (int j = 0; j <= 24; ++j) {
-    const double z = tooth.dimensions.crown_height * j / 24.0,
-                 r = OuterRadius(tooth.mesh, th, z);
+    const double z = tooth.dimensions.crown_height * j / 24.0, r = radii.At(th, z);
     if (r > best) best = r, at = z;
   }
   return Vector3(best * std::cos(th), best * std::sin(th), at);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
 
@@ -293,11 +295,9 @@ ToothDimensions Dimensions(const FdiTooth& t) {
   return (t.upper() ? upper : lower)[t.position - 1];
 }
 
-ToothModel GenerateTooth(int fdi, const ToothParams& params) {
-  if (params.resolution < 2 || params.resolution > 7) {
-    throw std::invalid_argument("tooth resolution " + std::to_string(params.resolution) +
-                                " is out of range (2 to 7)");
-  }
+namespace {
+
+ToothModel MakeTooth(int fdi, const ToothParams& params) {
   ToothModel m;
   m.tooth = FdiTooth::Parse(fdi);
   m.dimensions = Dimensions(m.tooth);
@@ -324,6 +324,29 @@ ToothModel GenerateTooth(int fdi, const ToothParams& params) {
     m.cej.push_back(
         FirstExit(shape, start, Vector3(std::cos(th), std::sin(th), 0), 20.0));
   }
+  return m;
+}
+
+}  // namespace
+
+ToothModel GenerateTooth(int fdi, const ToothParams& params) {
+  if (params.resolution < 2 || params.resolution > 7) {
+    throw std::invalid_argument("tooth resolution " + std::to_string(params.resolution) +
+                                " is out of range (2 to 7)");
+  }
+  // A scene's compile asks for the same tooth again and again (each share of
+  // the gingiva, its neighbours', the effects' collars), and the answer never
+  // changes: each tooth is made once per resolution (at most 32 x 6 of them).
+  static std::mutex mutex;
+  static std::map<std::pair<int, int>, ToothModel> made;
+  const std::pair key(fdi, params.resolution);
+  {
+    std::lock_guard lock(mutex);
+    if (const auto it = made.find(key); it != made.end()) return it->second;
+  }
+  ToothModel m = MakeTooth(fdi, params);  // (throws for a number that is not a tooth)
+  std::lock_guard lock(mutex);
+  made.try_emplace(key, m);
   return m;
 }
 

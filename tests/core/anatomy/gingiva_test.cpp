@@ -79,6 +79,34 @@ TEST(Gingiva, PocketFloorLiesAtTheDepthBelowTheMarginMeasuredOnTheMesh) {
   }
 }
 
+// The gingiva measures its tooth with thousands of horizontal rays; OuterRadii
+// tests only the faces at a ray's height and must answer exactly as the scan
+// of every face does, hits, misses and the heights past the tooth's ends.
+TEST(Gingiva, OuterRadiiAnswerAsTheScanOfEveryFaceDoes) {
+  for (const int fdi : {11, 36, 47}) {
+    const ToothModel tooth = GenerateTooth(fdi);
+    const OuterRadii radii(tooth.mesh);
+    const Aabb box = tooth.mesh.Bounds();
+    int hits = 0, misses = 0;
+    for (int a = 0; a < 37; ++a) {
+      const double th = 2 * std::numbers::pi * a / 37;
+      for (int k = -3; k <= 83; ++k) {
+        const double z = box.min.z() + (box.max.z() - box.min.z()) * k / 80.0;
+        const double scan = OuterRadius(tooth.mesh, th, z);
+        ASSERT_EQ(radii.At(th, z), scan) << fdi << " at " << th << ", " << z;
+        (scan > 0 ? hits : misses) += 1;
+      }
+    }
+    EXPECT_GT(hits, 2000) << fdi;  // of 3,219 rays (a molar's miss between its roots)
+    EXPECT_GT(misses, 100) << fdi << ": above and below the tooth";
+  }
+  // And the same tooth again is the same tooth (GenerateTooth makes each once).
+  const ToothModel a = GenerateTooth(36), b = GenerateTooth(36);
+  EXPECT_EQ(a.mesh.vertices(), b.mesh.vertices());
+  EXPECT_EQ(a.cej, b.cej);
+  EXPECT_NE(GenerateTooth(36, {.resolution = 3}).mesh.num_faces(), a.mesh.num_faces());
+}
+
 TEST(Gingiva, MarginFollowsTheCejAndRecession) {
   const ToothModel tooth = GenerateTooth(46);
   GingivaParams p;
