@@ -6,6 +6,7 @@
 // (leaf_refine.cpp), and the hierarchy (hierarchy.cpp).
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -249,6 +250,99 @@ struct Leaf {
   Vector3 c;
   double depth;
   std::vector<std::int32_t> pieces;
+};
+
+// Balls (anything with a centre c and a depth: leaves, candidates) in a k-d
+// tree of their centres, each node with the deepest ball under it: a node
+// whose box is farther from a piece than the best bound found plus that depth
+// holds no better ball (AssignPieces, and the pieces' first reach in the
+// cover's bracket).
+template <typename Ball>
+class CentreKdTree {
+ public:
+  explicit CentreKdTree(const std::vector<Ball>& leaves) : leaves_(leaves) {
+    order_.resize(leaves.size());
+    std::iota(order_.begin(), order_.end(), 0);
+    if (leaves.empty()) return;
+    nodes_.reserve(2 * leaves.size() / kBucket + 2);
+    nodes_.push_back({});
+    Build(0, 0, static_cast<std::int32_t>(leaves.size()));
+  }
+
+  // The ball with the smallest bound sqrt(FarCorner2(piece, c)) - depth,
+  // the lowest index among equals (as a scan in index order finds it).
+  std::size_t Best(const Piece& piece) const {
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t best_leaf = 0;
+    const Vector3& x = piece.centroid;
+    std::int32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[stack[--top]];
+      const Vector3 near = x.cwiseMax(n.box.min).cwiseMin(n.box.max);
+      // (a margin for rounding: a node is passed over only when clearly worse)
+      const double lower = (near - x).norm() - n.max_depth;
+      if (lower > best + 1e-9 * (1 + std::abs(best))) continue;
+      if (n.left < 0) {
+        for (std::int32_t k = n.begin; k < n.end; ++k) {
+          const auto i = static_cast<std::size_t>(order_[k]);
+          const Ball& l = leaves_[i];
+          // The centroid's distance is a lower bound on the far corner's.
+          if ((x - l.c).norm() - l.depth > best) continue;
+          const double e = std::sqrt(FarCorner2(piece, l.c)) - l.depth;
+          if (e < best || (e == best && i < best_leaf)) {
+            best = e;
+            best_leaf = i;
+          }
+        }
+        continue;
+      }
+      // The nearer child on top, searched first.
+      const Node& a = nodes_[n.left];
+      const bool left_near =
+          (x.cwiseMax(a.box.min).cwiseMin(a.box.max) - x).squaredNorm() <=
+          (x.cwiseMax(nodes_[n.left + 1].box.min).cwiseMin(nodes_[n.left + 1].box.max) -
+           x)
+              .squaredNorm();
+      stack[top++] = left_near ? n.left + 1 : n.left;
+      stack[top++] = left_near ? n.left : n.left + 1;
+    }
+    return best_leaf;
+  }
+
+ private:
+  static constexpr std::int32_t kBucket = 8;
+  struct Node {
+    Aabb box;  // of the centres
+    double max_depth = 0;
+    std::int32_t begin = 0, end = 0, left = -1;
+  };
+
+  void Build(std::int32_t slot, std::int32_t begin, std::int32_t end) {
+    Node n;
+    n.begin = begin;
+    n.end = end;
+    n.max_depth = -std::numeric_limits<double>::infinity();
+    for (std::int32_t k = begin; k < end; ++k) {
+      n.box.Extend(leaves_[order_[k]].c);
+      n.max_depth = std::max(n.max_depth, leaves_[order_[k]].depth);
+    }
+    nodes_[slot] = n;
+    if (end - begin <= kBucket) return;
+    const std::int32_t mid = SplitAtMedian(&order_, begin, end, n.box,
+                                           [&](std::int32_t i) { return leaves_[i].c; });
+    const auto left = static_cast<std::int32_t>(nodes_.size());
+    nodes_.push_back({});
+    nodes_.push_back({});
+    Build(left, begin, mid);
+    Build(left + 1, mid, end);
+    nodes_[slot].left = left;
+  }
+
+  const std::vector<Ball>& leaves_;
+  std::vector<std::int32_t> order_;
+  std::vector<Node> nodes_;
 };
 
 // Gives each piece to the leaf that encloses it with the smallest protrusion bound.

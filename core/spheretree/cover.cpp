@@ -186,6 +186,54 @@ bool AddHardPieces(const std::vector<Candidate>& cands, const std::vector<Piece>
   return true;
 }
 
+// ComputeCovers' test, as its query makes it: the candidate encloses the
+// piece within the bound eps (every corner within depth + eps of the centre,
+// the squared distances summed in the same order).
+bool EnclosesAsQueried(const Candidate& c, const Piece& p, double eps) {
+  const double radius = c.depth + eps;
+  const double r2 = radius * radius;
+  double m = 0;
+  for (const Vector3& v : p.v) {
+    const double dx = v.x() - c.c.x(), dy = v.y() - c.c.y(), dz = v.z() - c.c.z();
+    m = std::max(m, dx * dx + dy * dy + dz * dz);
+  }
+  return m <= r2;
+}
+
+// For each piece, the index of the first of `bounds` (ascending) at which
+// some candidate encloses it (ComputeCovers' test), or bounds.size() when
+// none does. Found from the candidate with the smallest bound for it (a k-d
+// search); where that bound lies within rounding of one of `bounds`, the test
+// itself decides, over every candidate.
+std::vector<int> FirstReach(const std::vector<Candidate>& cands,
+                            const std::vector<Piece>& pieces,
+                            const std::vector<double>& bounds) {
+  const CentreKdTree<Candidate> tree(cands);
+  const int n = static_cast<int>(bounds.size());
+  std::vector<int> first(pieces.size(), n);
+  for (std::size_t p = 0; p < pieces.size(); ++p) {
+    const Piece& piece = pieces[p];
+    const Candidate& best = cands[tree.Best(piece)];
+    const double g = std::sqrt(FarCorner2(piece, best.c)) - best.depth;
+    int k = static_cast<int>(std::lower_bound(bounds.begin(), bounds.end(), g) -
+                             bounds.begin());
+    const double tie = 1e-9 * (1 + std::abs(g));
+    const bool near_bound =
+        (k < n && bounds[k] - g < tie) || (k > 0 && g - bounds[k - 1] < tie);
+    if (near_bound) {
+      k = std::max(0, k - 1);
+      auto reached = [&](int at) {
+        for (const Candidate& c : cands)
+          if (EnclosesAsQueried(c, piece, bounds[at])) return true;
+        return false;
+      };
+      while (k < n && !reached(k)) ++k;
+    }
+    first[p] = k;
+  }
+  return first;
+}
+
 }  // namespace
 
 MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
@@ -220,6 +268,23 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
   // pieces' entries) give the bisection below it the same covers as the
   // lists at it would, for a fraction of their size. A first bound from an
   // earlier round (reach_eps) is checked the same way from half of it.
+  // A first bracket (no earlier round) used to compute the lists at each bound
+  // it passed only to count the pieces they leave unreached. Each piece's
+  // first reaching bound gives those counts for every bound at once; the
+  // bracket steps (ticks, growth and its limit as before) to the first bound
+  // whose count stops it below, and the lists are computed there alone.
+  if (!(reach_eps > 0)) {
+    std::vector<double> bounds;
+    for (double e = hi; e <= 4 * diag; e *= grow) bounds.push_back(e);
+    std::vector<std::size_t> reached_first(bounds.size() + 1, 0);
+    for (const int k : FirstReach(cands, pieces, bounds)) ++reached_first[k];
+    std::size_t unreached = pieces.size() - reached_first[0];
+    for (std::size_t k = 0; unreached > 0 && !SearchPays(unreached, cands.size()); ++k) {
+      tick();
+      next();
+      unreached -= reached_first[k + 1];
+    }
+  }
   std::optional<std::vector<std::int32_t>> first_half;
   double found = 0;
   for (double e = reach_eps > 0 ? 0.5 * hi : hi;;) {
