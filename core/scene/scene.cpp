@@ -21,6 +21,7 @@
 #include "core/base/text.h"
 #include "core/base/yaml_reader.h"
 #include "core/scene/mesh_paths.h"
+#include "core/scene/scene_settings.h"
 
 namespace sulcus {
 namespace {
@@ -38,19 +39,6 @@ constexpr TissueName kTissues[] = {
     {"palate", Tissue::kPalate},    {"lip", Tissue::kLip},
     {"mucosa", Tissue::kMucosa},    {"metal", Tissue::kMetal},
     {"calculus", Tissue::kCalculus}};
-struct EffectName {
-  const char* name;
-  Effect effect;
-};
-constexpr EffectName kEffects[] = {{"contact", Effect::kContact},
-                                   {"gingiva_compliance", Effect::kGingivaCompliance},
-                                   {"friction", Effect::kFriction},
-                                   {"surface_texture", Effect::kSurfaceTexture},
-                                   {"probing_depth", Effect::kProbingDepth},
-                                   {"bleeding_on_probing", Effect::kBleedingOnProbing},
-                                   {"tissue_damage", Effect::kTissueDamage},
-                                   {"caries_catch", Effect::kCariesCatch},
-                                   {"calculus", Effect::kCalculus}};
 const std::vector<std::string> kProbes = {"williams", "unc15", "who", "explorer23",
                                           "explorer1112"};
 
@@ -507,13 +495,6 @@ const char* ToString(Tissue t) {
   return "?";
 }
 
-const char* ToString(Effect e) {
-  for (const auto& en : kEffects) {
-    if (en.effect == e) return en.name;
-  }
-  return "?";
-}
-
 Material DefaultMaterial(Tissue t) {
   // Stiffness: hard tissue rigid, soft tissue compliant (approx.); damage limits
   // as the clinical literature gives them (0.5 N tongue and cheek, 0.30 N gingiva).
@@ -650,74 +631,9 @@ SceneSpec LoadSceneSpec(const fs::path& file) {
     }
     spec.X_TG = ReadPose(r, tool, "grip_at", "grip_turn_deg");
   }
-  if (const YAML::Node h = root["haptics"]; h && r.IsMap(h, "'haptics'")) {
-    r.CheckKeys(h,
-                {"k_t_n_per_mm", "k_r_nmm_per_rad", "max_force_n", "max_torque_nmm",
-                 "rate_hz", "surface", "solve_pairs", "slip_mm_per_s"},
-                "'haptics'");
-    EngineParams& p = spec.haptics;
-    if (h["k_t_n_per_mm"])
-      p.k_t = r.Number(h["k_t_n_per_mm"], "k_t_n_per_mm", 1e-3, 100, p.k_t, "N/mm");
-    if (h["k_r_nmm_per_rad"])
-      p.k_r =
-          r.Number(h["k_r_nmm_per_rad"], "k_r_nmm_per_rad", 1e-3, 1e6, p.k_r, "N*mm/rad");
-    if (h["max_force_n"])
-      p.max_force_n =
-          r.Number(h["max_force_n"], "max_force_n", 0, 50, p.max_force_n, "N");
-    if (h["max_torque_nmm"])
-      p.max_torque_nmm = r.Number(h["max_torque_nmm"], "max_torque_nmm", 0, 5000,
-                                  p.max_torque_nmm, "N*mm");
-    if (h["solve_pairs"]) {
-      p.solve_pairs =
-          r.Integer(h["solve_pairs"], "solve_pairs", 0, p.max_pairs, p.solve_pairs);
-      if (p.solve_pairs > 0 && p.solve_pairs < 16) {
-        r.Error(h["solve_pairs"],
-                "'solve_pairs' must be 0 (no limit) or at least 16 (a probe resting on a "
-                "tooth "
-                "alone meets a dozen pairs)");
-      }
-    }
-    if (h["rate_hz"])
-      spec.rate_hz = r.Number(h["rate_hz"], "rate_hz", 100, 10000, spec.rate_hz, "Hz");
-    // A slip eased at 50 mm/s whatever the rate (0.05 mm a frame at 1 kHz);
-    // 0: not eased (a slip is felt in one tick, as a click).
-    double slip_mm_per_s = 50.0;
-    if (h["slip_mm_per_s"])
-      slip_mm_per_s =
-          r.Number(h["slip_mm_per_s"], "slip_mm_per_s", 0, 1000, slip_mm_per_s, "mm/s");
-    p.slip_step_mm = slip_mm_per_s / spec.rate_hz;
-    if (const YAML::Node s = h["surface"]) {
-      const std::string v = s.IsScalar() ? s.Scalar() : "";
-      if (v == "planes" || v == "spheres") {
-        spec.leaf_planes = v == "planes";
-      } else {
-        r.Error(s,
-                "'surface' must be 'planes' (leaf spheres clipped by planes fitted to "
-                "the mesh, the default) or "
-                "'spheres' (the leaf spheres alone)");
-      }
-    }
-  }
-  if (const YAML::Node e = root["effects"]) {
-    if (!e.IsSequence()) {
-      r.Error(e, "'effects' must be a list, e.g. [contact, probing_depth]");
-    } else {
-      for (const YAML::Node& item : e) {
-        const std::string name = item.IsScalar() ? item.Scalar() : "";
-        bool found = false;
-        for (const auto& en : kEffects) {
-          if (name == en.name) {
-            found = true;
-            if (!spec.HasEffect(en.effect)) {
-              spec.effects.push_back(en.effect);
-            }
-          }
-        }
-        if (!found)
-          r.Error(item, "unknown effect '" + name + "'" + Suggest(name, Names(kEffects)));
-      }
-    }
-  }
+  if (const YAML::Node h = root["haptics"]; h && r.IsMap(h, "'haptics'"))
+    ReadHaptics(r, h, &spec);
+  if (const YAML::Node e = root["effects"]) ReadEffects(r, e, &spec);
   const YAML::Node trees = root["spheretree"];
   if (trees) ReadTreeParams(r, trees, "'spheretree'", true, &spec.trees);
   // The collars': `spheretree: gingiva:` over the scene's.

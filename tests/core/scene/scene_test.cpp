@@ -14,42 +14,17 @@
 #include "core/anatomy/soft_tissue.h"
 #include "tests/common/meshes.h"
 #include "tests/common/output.h"
+#include "tests/core/scene/scene_file_errors.h"
 
 namespace sulcus {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Dir() { return test::OutputPath("scenes"); }
-
-fs::path Write(const std::string& name, const std::string& yaml) {
-  return test::WriteText(Dir() / name, yaml);
-}
-
-// Loads `yaml` and returns every error as "line:column: message" (file stripped).
-// Each call writes its own file: ctest runs these tests in parallel.
-std::vector<std::string> Errors(const std::string& yaml) {
-  static int calls = 0;
-  const fs::path p =
-      Write(std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-                "_" + std::to_string(++calls) + ".yaml",
-            yaml);
-  try {
-    LoadSceneSpec(p);
-  } catch (const LoadError& e) {
-    std::vector<std::string> out;
-    for (const ErrorAt& err : e.errors()) {
-      EXPECT_EQ(err.file, p.string());
-      EXPECT_EQ(err.ToString().rfind(p.string() + ":", 0), 0u);
-      out.push_back(std::to_string(err.line) + ":" + std::to_string(err.column) + ": " +
-                    err.message);
-    }
-    return out;
-  }
-  return {"accepted"};
-}
-
-using Lines = std::vector<std::string>;
+using test::Dir;
+using test::Errors;
+using test::Lines;
+using test::Write;
 
 TEST(SceneFile, UnknownKeysSuggestTheNearestOne) {
   EXPECT_EQ(Errors("name: x\nobjets:\n  - tooth: 46\n"),
@@ -58,34 +33,9 @@ TEST(SceneFile, UnknownKeysSuggestTheNearestOne) {
   EXPECT_EQ(
       Errors("objects:\n  - tooth: 46\n    pocket_mm: [1, 2, 3, 1, 2, 3]\n"),
       (Lines{"3:5: unknown key 'pocket_mm' in an object; did you mean 'pockets_mm'?"}));
-  EXPECT_EQ(Errors("haptics:\n  wobble: 3\nobjects: []\n"),
-            (Lines{"2:3: unknown key 'wobble' in 'haptics' (expected one of: "
-                   "k_t_n_per_mm, k_r_nmm_per_rad, "
-                   "max_force_n, max_torque_nmm, rate_hz, surface, solve_pairs, "
-                   "slip_mm_per_s)"}));
-  EXPECT_EQ(Errors("haptics:\n  surface: smooth\nobjects: []\n"),
-            (Lines{"2:12: 'surface' must be 'planes' (leaf spheres clipped by planes "
-                   "fitted to the mesh, the default) "
-                   "or 'spheres' (the leaf spheres alone)"}));
-  EXPECT_EQ(Errors("haptics:\n  solve_pairs: 8\nobjects: []\n"),
-            (Lines{"2:16: 'solve_pairs' must be 0 (no limit) or at least 16 (a probe "
-                   "resting on a tooth alone meets "
-                   "a dozen pairs)"}));
-  EXPECT_EQ(Errors("haptics:\n  solve_pairs: 100000\nobjects: []\n"),
-            (Lines{"2:16: 'solve_pairs' is 100000, expected 0 to 16384"}));
-  EXPECT_EQ(LoadSceneSpec(
-                Write("solve_pairs.yaml", "haptics:\n  solve_pairs: 0\nobjects: []\n"))
-                .haptics.solve_pairs,
-            0);
-  EXPECT_EQ(LoadSceneSpec(Write("solve_pairs_64.yaml",
-                                "haptics:\n  solve_pairs: 64\nobjects: []\n"))
-                .haptics.solve_pairs,
-            64);
 }
 
 TEST(SceneFile, WrongTypesAndRanges) {
-  EXPECT_EQ(Errors("haptics:\n  k_t_n_per_mm: stiff\nobjects: []\n"),
-            (Lines{"2:17: 'k_t_n_per_mm' must be a number (N/mm), found 'stiff'"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    pockets_mm: [3, -1, 3, 3, 3, 3]\n"),
             (Lines{"3:21: 'pockets_mm' is -1 mm, expected 0 to 15"}));
   EXPECT_EQ(Errors("objects:\n  - tooth: 46\n    pockets_mm: [3, 3, 3]\n"),
@@ -282,12 +232,6 @@ TEST(SceneFile, AMeshFarTooLargeForAMouthIsRefusedBeforeItsTreesAreBuilt) {
   EXPECT_FALSE(asked) << "refused before any tree was built";
   EXPECT_EQ(Errors("objects:\n  - box: [1000, 1, 1]\n    tissue: bone\n"),
             (Lines{"2:11: 'box' is 1000 mm, expected 0.001 to 200"}));
-}
-
-TEST(SceneFile, EffectsAreValidatedEvenBeforeTheyExist) {
-  EXPECT_EQ(
-      Errors("effects: [contact, probing_dept]\nobjects: []\n"),
-      (Lines{"1:20: unknown effect 'probing_dept'; did you mean 'probing_depth'?"}));
 }
 
 TEST(SceneFile, ManyErrorsAtOnceAndSyntaxErrors) {
