@@ -5,7 +5,6 @@
 #include <string>
 #include <vector>
 
-
 namespace sulcus {
 namespace {
 
@@ -44,8 +43,7 @@ void ReadHaptics(YamlReader& r, const YAML::Node& h, SceneSpec* spec) {
     p.k_r =
         r.Number(h["k_r_nmm_per_rad"], "k_r_nmm_per_rad", 1e-3, 1e6, p.k_r, "N*mm/rad");
   if (h["max_force_n"])
-    p.max_force_n =
-        r.Number(h["max_force_n"], "max_force_n", 0, 50, p.max_force_n, "N");
+    p.max_force_n = r.Number(h["max_force_n"], "max_force_n", 0, 50, p.max_force_n, "N");
   if (h["max_torque_nmm"])
     p.max_torque_nmm = r.Number(h["max_torque_nmm"], "max_torque_nmm", 0, 5000,
                                 p.max_torque_nmm, "N*mm");

@@ -63,19 +63,42 @@ inline double FarCorner2(const Piece& p, const Vector3& c) {
 std::vector<Piece> Subdivide(const TriangleMesh& mesh, double h,
                              std::vector<Vector3>* normals, double orientation);
 
-// Orders order[begin, end) about its middle along the box's longest axis by
-// point(i) (a position) and returns the middle: the split of the two
-// hierarchies here (over pieces, and over leaves in leaf_refine.cpp).
-template <typename Point>
-std::int32_t SplitAtMedian(std::vector<std::int32_t>* order, std::int32_t begin,
-                           std::int32_t end, const Aabb& box, const Point& point) {
+// FarCorner2 of a piece whose three corners are the 9 coordinates at v, summed
+// in this order: the cover's query and the tests that must agree with it
+// exactly compute it so.
+inline double FarCorner2Of(const double* v, double cx, double cy, double cz) {
+  double m = 0;
+  for (int k = 0; k < 3; ++k, v += 3) {
+    const double dx = v[0] - cx, dy = v[1] - cy, dz = v[2] - cz;
+    m = std::max(m, dx * dx + dy * dy + dz * dz);
+  }
+  return m;
+}
+
+// Builds a binary hierarchy over order[begin, end) into nodes[slot] and the
+// nodes after it: make(begin, end) gives a node over those items (its `box`
+// and what else it keeps, `left` = -1); one of more than `bucket` items is
+// ordered about its middle along its box's longest axis by point(i) and gets
+// two children, at `left` and `left` + 1. The two hierarchies here (over
+// pieces, and over balls' centres) are built so.
+template <typename Node, typename Make, typename Point>
+void BuildMedianTree(std::vector<std::int32_t>* order, std::vector<Node>* nodes,
+                     std::int32_t slot, std::int32_t begin, std::int32_t end,
+                     std::int32_t bucket, const Make& make, const Point& point) {
+  (*nodes)[slot] = make(begin, end);
+  if (end - begin <= bucket) return;
   int axis;
-  box.extent().maxCoeff(&axis);
+  (*nodes)[slot].box.extent().maxCoeff(&axis);
   const std::int32_t mid = begin + (end - begin) / 2;
   std::nth_element(
       order->begin() + begin, order->begin() + mid, order->begin() + end,
       [&](std::int32_t a, std::int32_t b) { return point(a)[axis] < point(b)[axis]; });
-  return mid;
+  const auto left = static_cast<std::int32_t>(nodes->size());
+  nodes->emplace_back();
+  nodes->emplace_back();
+  BuildMedianTree(order, nodes, left, begin, mid, bucket, make, point);
+  BuildMedianTree(order, nodes, left + 1, mid, end, bucket, make, point);
+  (*nodes)[slot].left = left;
 }
 
 // A bounding-volume hierarchy over pieces (boxes around their corners), for
@@ -89,7 +112,15 @@ class PieceBvh {
     nodes_.reserve(2 * pieces.size() / kLeafSize + 2);
     if (pieces.empty()) return;
     nodes_.push_back({});
-    BuildInto(0, 0, static_cast<std::int32_t>(pieces.size()));
+    BuildMedianTree(
+        &order_, &nodes_, 0, 0, static_cast<std::int32_t>(pieces.size()), kLeafSize,
+        [&](std::int32_t begin, std::int32_t end) {
+          Aabb box;
+          for (std::int32_t i = begin; i < end; ++i)
+            for (const Vector3& v : pieces_[order_[i]].v) box.Extend(v);
+          return Node{box, begin, end, -1};
+        },
+        [&](std::int32_t i) { return pieces_[i].centroid; });
     // The corners again, in the hierarchy's order: a query reads them in a row.
     corners_.reserve(9 * pieces.size());
     for (const std::int32_t i : order_)
@@ -104,15 +135,8 @@ class PieceBvh {
     if (nodes_.empty()) return;
     const double r2 = radius * radius;
     const double cx = c.x(), cy = c.y(), cz = c.z();
-    // FarCorner2 on the stored corners (the same sums in the same order).
     auto far2 = [&](std::int32_t i) {
-      const double* v = &corners_[9 * static_cast<std::size_t>(i)];
-      double m = 0;
-      for (int k = 0; k < 3; ++k, v += 3) {
-        const double dx = v[0] - cx, dy = v[1] - cy, dz = v[2] - cz;
-        m = std::max(m, dx * dx + dy * dy + dz * dz);
-      }
-      return m;
+      return FarCorner2Of(&corners_[9 * static_cast<std::size_t>(i)], cx, cy, cz);
     };
     std::int32_t stack[128];
     int top = 0;
@@ -144,24 +168,6 @@ class PieceBvh {
     Aabb box;
     std::int32_t begin, end, left;  // left < 0: a leaf; children at left, left + 1
   };
-
-  void BuildInto(std::int32_t slot, std::int32_t begin, std::int32_t end) {
-    Aabb box;
-    for (std::int32_t i = begin; i < end; ++i) {
-      for (const Vector3& v : pieces_[order_[i]].v) box.Extend(v);
-    }
-    nodes_[slot] = {box, begin, end, -1};
-    if (end - begin <= kLeafSize) return;
-    const std::int32_t mid = SplitAtMedian(
-        &order_, begin, end, box, [&](std::int32_t i) { return pieces_[i].centroid; });
-    // Children are allocated as a pair so that the right one is left + 1.
-    const auto left = static_cast<std::int32_t>(nodes_.size());
-    nodes_.push_back({});
-    nodes_.push_back({});
-    BuildInto(left, begin, mid);
-    BuildInto(left + 1, mid, end);
-    nodes_[slot].left = left;
-  }
 
   const std::vector<Piece>& pieces_;
   std::vector<std::int32_t> order_;
@@ -266,7 +272,20 @@ class CentreKdTree {
     if (leaves.empty()) return;
     nodes_.reserve(2 * leaves.size() / kBucket + 2);
     nodes_.push_back({});
-    Build(0, 0, static_cast<std::int32_t>(leaves.size()));
+    BuildMedianTree(
+        &order_, &nodes_, 0, 0, static_cast<std::int32_t>(leaves.size()), kBucket,
+        [&](std::int32_t begin, std::int32_t end) {
+          Node n;
+          n.begin = begin;
+          n.end = end;
+          n.max_depth = -std::numeric_limits<double>::infinity();
+          for (std::int32_t k = begin; k < end; ++k) {
+            n.box.Extend(leaves_[order_[k]].c);
+            n.max_depth = std::max(n.max_depth, leaves_[order_[k]].depth);
+          }
+          return n;
+        },
+        [&](std::int32_t i) { return leaves_[i].c; });
   }
 
   // The ball with the smallest bound sqrt(FarCorner2(piece, c)) - depth,
@@ -318,27 +337,6 @@ class CentreKdTree {
     double max_depth = 0;
     std::int32_t begin = 0, end = 0, left = -1;
   };
-
-  void Build(std::int32_t slot, std::int32_t begin, std::int32_t end) {
-    Node n;
-    n.begin = begin;
-    n.end = end;
-    n.max_depth = -std::numeric_limits<double>::infinity();
-    for (std::int32_t k = begin; k < end; ++k) {
-      n.box.Extend(leaves_[order_[k]].c);
-      n.max_depth = std::max(n.max_depth, leaves_[order_[k]].depth);
-    }
-    nodes_[slot] = n;
-    if (end - begin <= kBucket) return;
-    const std::int32_t mid = SplitAtMedian(&order_, begin, end, n.box,
-                                           [&](std::int32_t i) { return leaves_[i].c; });
-    const auto left = static_cast<std::int32_t>(nodes_.size());
-    nodes_.push_back({});
-    nodes_.push_back({});
-    Build(left, begin, mid);
-    Build(left + 1, mid, end);
-    nodes_[slot].left = left;
-  }
 
   const std::vector<Ball>& leaves_;
   std::vector<std::int32_t> order_;

@@ -187,17 +187,11 @@ bool AddHardPieces(const std::vector<Candidate>& cands, const std::vector<Piece>
 }
 
 // ComputeCovers' test, as its query makes it: the candidate encloses the
-// piece within the bound eps (every corner within depth + eps of the centre,
-// the squared distances summed in the same order).
+// piece within the bound eps (every corner within depth + eps of the centre).
 bool EnclosesAsQueried(const Candidate& c, const Piece& p, double eps) {
   const double radius = c.depth + eps;
-  const double r2 = radius * radius;
-  double m = 0;
-  for (const Vector3& v : p.v) {
-    const double dx = v.x() - c.c.x(), dy = v.y() - c.c.y(), dz = v.z() - c.c.z();
-    m = std::max(m, dx * dx + dy * dy + dz * dz);
-  }
-  return m <= r2;
+  static_assert(sizeof(p.v) == 9 * sizeof(double), "a piece's corners lie in a row");
+  return FarCorner2Of(p.v[0].data(), c.c.x(), c.c.y(), c.c.z()) <= radius * radius;
 }
 
 // For each piece, the index of the first of `bounds` (ascending) at which

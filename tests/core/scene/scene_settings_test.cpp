@@ -46,10 +46,10 @@ TEST(SceneSettings, TheSlipSpeedIsReadAsAStepAFrame) {
   EXPECT_DOUBLE_EQ(
       LoadSceneSpec(Write("slip_default.yaml", "objects: []\n")).haptics.slip_step_mm,
       0.05);
-  EXPECT_DOUBLE_EQ(LoadSceneSpec(Write("slip_off.yaml",
-                                       "haptics: {slip_mm_per_s: 0}\nobjects: []\n"))
-                       .haptics.slip_step_mm,
-                   0.0);
+  EXPECT_DOUBLE_EQ(
+      LoadSceneSpec(Write("slip_off.yaml", "haptics: {slip_mm_per_s: 0}\nobjects: []\n"))
+          .haptics.slip_step_mm,
+      0.0);
   EXPECT_DOUBLE_EQ(
       LoadSceneSpec(Write("slip_fast.yaml",
                           "haptics: {slip_mm_per_s: 100, rate_hz: 2000}\nobjects: []\n"))
