@@ -20,6 +20,7 @@ CollisionWorld::CollisionWorld(const SphereTree& tool, const std::vector<Object>
   ofirst_.reserve(total);
   ocount_.reserve(total);
   planes_.reserve(total * kPlaneStride);
+  concave_.reserve(total);
   for (const Object& o : objects_) {
     const SphereTree& t = *o.tree;
     for (std::size_t n = 0; n < t.size(); ++n) {
@@ -30,6 +31,8 @@ CollisionWorld::CollisionWorld(const SphereTree& tool, const std::vector<Object>
       orad_.push_back(t.r[n]);
       ofirst_.push_back(t.first_child[n]);
       ocount_.push_back(t.child_count[n]);
+      concave_.push_back(
+          o.planes != nullptr && n < o.planes->concave.size() ? o.planes->concave[n] : 0);
       for (int j = 0; j < LeafPlanes::kMaxPlanes; ++j) {
         const bool used = o.planes != nullptr && n < o.planes->d.size() &&
                           o.planes->d[n][j] < LeafPlanes::kNone;
@@ -49,23 +52,56 @@ CollisionWorld::CollisionWorld(const SphereTree& tool, const std::vector<Object>
 }
 
 double CollisionWorld::ClippedGap(std::size_t k, const Vector3& c_W, double r,
-                                  Vector3* normal) const {
+                                  Vector3* normal, int piece) const {
   const Vector3 c(ox_[k], oy_[k], oz_[k]);
   const double* pl = &planes_[k * kPlaneStride];
-  Vector3 dir, nearest;
-  double gap = PolyhedronDistance(pl, c_W, &dir, &nearest);
-  // Outside, with the polyhedron's nearest point in the sphere: that is the
-  // cut sphere's nearest point too (the common case, a tool over a face).
-  if (!(gap > 0 && (nearest - c).squaredNorm() <= orad_[k] * orad_[k])) {
-    for (int j = 0; j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone;
-         ++j) {
+  Vector3 dir;
+  double gap = 0;
+  const unsigned united = concave_[k];
+  if (united == 0) {
+    gap = CutBallDistance(c, orad_[k], pl, c_W, &dir);
+  } else {
+    // The ball cut by the other planes and by the union of the crease's: the
+    // part `piece`, or the nearest part (the ball cut by the others and by
+    // each of the crease's).
+    int used = 0;
+    while (used < LeafPlanes::kMaxPlanes && pl[4 * used + 3] < LeafPlanes::kNone) ++used;
+    gap = LeafPlanes::kNone;
+    for (int u = 0; u < used; ++u) {
+      if (!(united & (1u << u)) || (piece > 0 && u != piece - 1)) continue;
+      double some[kPlaneStride];
+      int taken = 0;
+      for (int j = 0; j < used; ++j)
+        if (j == u || !(united & (1u << j)))
+          std::copy_n(pl + 4 * j, 4, some + 4 * taken++);
+      for (int j = taken; j < LeafPlanes::kMaxPlanes; ++j) {
+        std::fill_n(some + 4 * j, 3, 0.0);
+        some[4 * j + 3] = LeafPlanes::kNone;
+      }
       Vector3 d;
-      const double g = BallHalfSpaceDistance(c, orad_[k], &pl[4 * j], c_W, &d);
-      if (g > gap) gap = g, dir = d;
+      const double g = CutBallDistance(c, orad_[k], some, c_W, &d);
+      if (g < gap) gap = g, dir = d;
     }
   }
   if (normal) *normal = dir;
   return gap - r;
+}
+
+double CollisionWorld::CutBallDistance(const Vector3& c, double R, const double* pl,
+                                       const Vector3& c_W, Vector3* dir) {
+  Vector3 nearest;
+  double gap = PolyhedronDistance(pl, c_W, dir, &nearest);
+  // Outside, with the polyhedron's nearest point in the sphere: that is the
+  // cut sphere's nearest point too (the common case, a tool over a face).
+  if (!(gap > 0 && (nearest - c).squaredNorm() <= R * R)) {
+    for (int j = 0; j < LeafPlanes::kMaxPlanes && pl[4 * j + 3] < LeafPlanes::kNone;
+         ++j) {
+      Vector3 d;
+      const double g = BallHalfSpaceDistance(c, R, &pl[4 * j], c_W, &d);
+      if (g > gap) gap = g, *dir = d;
+    }
+  }
+  return gap;
 }
 
 double CollisionWorld::PolyhedronDistance(const double* pl, const Vector3& q,
@@ -221,19 +257,32 @@ CollisionStats FindContacts(const CollisionWorld& world, const RigidTransform& X
     // A pair that overlaps: emitted when both are leaves, else pushed to be split.
     auto hit = [&](std::int32_t a, std::int32_t b, double dist2) {
       if (tool.child_count[a] == 0 && ocount[b] == 0) {
+        auto emit = [&](int piece, double gap) {
+          if (stats.pairs < capacity) {
+            out[stats.pairs++] = {obj, b, a, piece, gap};
+          } else {
+            stats.overflow = true;
+            if (limits.stop_when_full) stats.cut_short = true;
+          }
+        };
         double gap = std::sqrt(dist2) - tr[a] - br[b];
         if (gap < CollisionWorld::kPlanesWithinMm && world.Clipped(base + b)) {
-          // A clipped leaf: its gap as LeafGap gives it; a pair only within the margin.
-          gap = world.ClippedGap(base + b, R * Vector3(tx[a], ty[a], tz[a]) + p, tr[a],
-                                 nullptr);
+          // A clipped leaf: its gap as LeafGap gives it; a pair only within the
+          // margin; on a concave crease, a pair for each part within it.
+          const Vector3 a_W = R * Vector3(tx[a], ty[a], tz[a]) + p;
+          const unsigned united = world.concave_[base + b];
+          if (united != 0) {
+            for (int j = 0; j < LeafPlanes::kMaxPlanes; ++j) {
+              if (!(united & (1u << j))) continue;
+              gap = world.ClippedGap(base + b, a_W, tr[a], nullptr, j + 1);
+              if (gap < margin) emit(j + 1, gap);
+            }
+            return;
+          }
+          gap = world.ClippedGap(base + b, a_W, tr[a], nullptr, 0);
           if (!(gap < margin)) return;
         }
-        if (stats.pairs < capacity) {
-          out[stats.pairs++] = {obj, b, a, gap};
-        } else {
-          stats.overflow = true;
-          if (limits.stop_when_full) stats.cut_short = true;
-        }
+        emit(0, gap);
       } else if (top == CollisionScratch::kStackCapacity) {
         stats.stack_overflow = true;
       } else {
@@ -288,8 +337,17 @@ std::vector<ContactPair> FindContactsReference(const CollisionWorld& world,
       const double gap = (ca - cb).norm() - tool.r[a] - ot.r[b];
       if (!(gap < margin)) return;
       if (tool.IsLeaf(a) && ot.IsLeaf(b)) {
+        const unsigned united = world.UnitedPlanes(obj, b);
+        if (united != 0 && gap < CollisionWorld::kPlanesWithinMm) {
+          for (int j = 0; j < LeafPlanes::kMaxPlanes; ++j) {
+            if (!(united & (1u << j))) continue;
+            const double part = world.LeafGap(obj, b, ca, tool.r[a], nullptr, j + 1);
+            if (part < margin) out.push_back({obj, b, a, j + 1, part});
+          }
+          return;
+        }
         const double leaf_gap = world.LeafGap(obj, b, ca, tool.r[a]);
-        if (leaf_gap < margin) out.push_back({obj, b, a, leaf_gap});
+        if (leaf_gap < margin) out.push_back({obj, b, a, 0, leaf_gap});
         return;
       }
       if (tool.IsLeaf(a)) {

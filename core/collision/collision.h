@@ -21,21 +21,29 @@ namespace sulcus {
 
 /// One leaf pair. gap = |c_T - c_O| - r_T - r_O at the query pose (negative when
 /// the spheres overlap), or, when the object's leaf is clipped by planes, as
-/// CollisionWorld::LeafGap gives it.
+/// CollisionWorld::LeafGap gives it. A leaf on a concave crease (the union of
+/// its planes' half spaces, leaf_planes.h) makes one pair for each part of the
+/// union near the tool sphere, so that the frame keeps the tool out of every
+/// part (a constraint on the nearest part alone would let it into the other).
 struct ContactPair {
   std::int32_t object = 0;       // index of the object in the world
   std::int32_t object_leaf = 0;  // node index in that object's tree
   std::int32_t tool_leaf = 0;    // node index in the tool's tree
+  /// 0: the whole leaf; j + 1: on a concave crease, its part below plane j.
+  std::int32_t piece = 0;
   double gap = 0;
 
   /// Stable identity of the pair across frames (for warm starts).
   std::uint64_t key() const {
-    return (static_cast<std::uint64_t>(object) << 48) |
+    return (static_cast<std::uint64_t>(piece) << 62) |
+           (static_cast<std::uint64_t>(object) << 48) |
            (static_cast<std::uint64_t>(object_leaf) << 24) |
            static_cast<std::uint64_t>(tool_leaf);
   }
   /// The object of a pair from its key.
-  static int ObjectOfKey(std::uint64_t key) { return static_cast<int>(key >> 48); }
+  static int ObjectOfKey(std::uint64_t key) {
+    return static_cast<int>((key >> 48) & 0x3fffu);
+  }
   /// The tool's leaf of a pair from its key.
   static int ToolLeafOfKey(std::uint64_t key) {
     return static_cast<int>(key & 0xffffffu);
@@ -56,7 +64,7 @@ class CollisionWorld {
     const LeafPlanes* planes =
         nullptr;  // the leaves' clipping planes (none: spheres); copied
   };
-  /// Precondition: every tree is valid (SphereTree::Validate). Up to 65,535
+  /// Precondition: every tree is valid (SphereTree::Validate). Up to 16,383
   /// objects and 2^24 nodes per tree.
   CollisionWorld(const SphereTree& tool, const std::vector<Object>& objects);
 
@@ -82,6 +90,9 @@ class CollisionWorld {
   /// the nearest face), and for each plane the exact distance to the part of the
   /// sphere below it (to the sphere, or to the rim of the disc the plane cuts);
   /// when the polyhedron's nearest point lies in the sphere it is exact alone.
+  /// A leaf on a concave crease (LeafPlanes::concave) is the union of the
+  /// sphere cut by its other planes and each of the crease's: the smallest of
+  /// their gaps.
   /// `normal`, when given, receives the unit direction in which that gap grows
   /// for the tool sphere (zero when the centres coincide).
   ///
@@ -91,13 +102,17 @@ class CollisionWorld {
   /// a tool sliding on the face toward the leaf meets the sphere's cap (cut away
   /// by the plane) before the rim, and a constraint on the cap would hold it
   /// back at every leaf.
+  ///
+  /// `piece` (ContactPair::piece): j + 1 for the part of a concave leaf below
+  /// its plane j (and its planes outside the crease), 0 for the whole leaf.
   double LeafGap(int i, std::int32_t n, const Vector3& c_W, double r,
-                 Vector3* normal = nullptr) const {
+                 Vector3* normal = nullptr, int piece = 0) const {
     const std::size_t k = offset_[i] + n;
     const Vector3 away(c_W.x() - ox_[k], c_W.y() - oy_[k], c_W.z() - oz_[k]);
     const double dist = away.norm();
     const double sphere = dist - r - orad_[k];
-    if (sphere < kPlanesWithinMm && Clipped(k)) return ClippedGap(k, c_W, r, normal);
+    if (sphere < kPlanesWithinMm && Clipped(k))
+      return ClippedGap(k, c_W, r, normal, piece);
     if (normal) *normal = dist > 1e-12 ? Vector3(away / dist) : Vector3::Zero();
     return sphere;
   }
@@ -105,8 +120,11 @@ class CollisionWorld {
   double PairGap(const RigidTransform& X_WT, const ContactPair& c,
                  Vector3* normal = nullptr) const {
     return LeafGap(c.object, c.object_leaf, X_WT * tool_->center(c.tool_leaf),
-                   tool_->r[c.tool_leaf], normal);
+                   tool_->r[c.tool_leaf], normal, c.piece);
   }
+  /// The planes of object i's leaf n united on a concave crease (bit j: plane
+  /// j; LeafPlanes::concave), 0 for any other leaf.
+  unsigned UnitedPlanes(int i, std::int32_t n) const { return concave_[offset_[i] + n]; }
   /// Largest distance from the tool origin to a point of a tool leaf sphere.
   double tool_reach() const { return tool_reach_; }
 
@@ -115,7 +133,12 @@ class CollisionWorld {
     return planes_[k * kPlaneStride + 3] < LeafPlanes::kNone;
   }
   // LeafGap of a clipped leaf (flat index k), within kPlanesWithinMm.
-  double ClippedGap(std::size_t k, const Vector3& c_W, double r, Vector3* normal) const;
+  double ClippedGap(std::size_t k, const Vector3& c_W, double r, Vector3* normal,
+                    int piece) const;
+  // The distance from c_W to the ball (c, R) cut by the planes at pl (as
+  // stored: kPlaneStride doubles, the used ones first).
+  static double CutBallDistance(const Vector3& c, double R, const double* pl,
+                                const Vector3& c_W, Vector3* dir);
   // Signed distance from q to {x : n_j . x <= d_j} for a leaf's used planes
   // (kPlaneStride doubles at pl), the unit direction in which it grows, and
   // the nearest point (q itself inside).
@@ -137,6 +160,7 @@ class CollisionWorld {
   // of kMaxPlanes, the used ones first (n zero, d kNone: none).
   static constexpr int kPlaneStride = 4 * LeafPlanes::kMaxPlanes;
   std::vector<double> planes_;
+  std::vector<std::uint8_t> concave_;  // per node: LeafPlanes::concave
   std::vector<std::int32_t> ofirst_;
   std::vector<std::uint8_t> ocount_;
   double tool_reach_ = 0;

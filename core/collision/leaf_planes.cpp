@@ -65,6 +65,19 @@ int LeafPlanes::count() const {
       std::count_if(d.begin(), d.end(), [](const auto& x) { return x[0] < kNone; }));
 }
 
+bool LeafPlanes::Below(std::size_t node, const Vector3& p, double tolerance) const {
+  const std::uint8_t united = node < concave.size() ? concave[node] : 0;
+  bool cut = true, any_united = united == 0;
+  for (int j = 0; j < kMaxPlanes && d[node][j] < kNone; ++j) {
+    const bool below = n[node][j].dot(p) <= d[node][j] + tolerance;
+    if (united & (1u << j))
+      any_united = any_united || below;
+    else
+      cut = cut && below;
+  }
+  return cut && any_united;
+}
+
 LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree,
                          const LeafPlaneParams& params) {
   constexpr int K = LeafPlanes::kMaxPlanes;
@@ -75,6 +88,7 @@ LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree,
   no_d.fill(LeafPlanes::kNone);
   out.n.assign(tree.size(), no_n);
   out.d.assign(tree.size(), no_d);
+  out.concave.assign(tree.size(), 0);
   if (tree.empty()) return out;
   const auto& V = mesh.vertices();
   const auto& F = mesh.faces();
@@ -158,23 +172,76 @@ LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree,
       for (int g = 0; g < groups; ++g)
         if (sum[g].norm() > 1e-12) seeds[g] = sum[g].normalized();
     }
-    // Each plane's offset bounds every face inside the sphere; a plane that
-    // does not cut the sphere changes nothing and is left out.
-    int kept = 0;
-    for (int g = 0; g < groups; ++g) {
-      const Vector3 n = seeds[g];
-      double d = -LeafPlanes::kNone;
-      for (const Meeting& m : meeting) {
+    // by[g][h]: the largest n_g.p over the part inside the sphere of the faces
+    // of group h (-kNone: none).
+    std::array<std::array<double, K>, K> by;
+    for (auto& row : by) row.fill(-LeafPlanes::kNone);
+    for (const Meeting& m : meeting) {
+      int h = 0;
+      for (int g = 1; g < groups; ++g)
+        if (m.normal.dot(seeds[g]) > m.normal.dot(seeds[h])) h = g;
+      const auto& f = F[m.face];
+      for (int g = 0; g < groups; ++g) {
         double top = 0;
-        if (MaxOverTriangleInBall(V[F[m.face][0]], V[F[m.face][1]], V[F[m.face][2]], o, R,
-                                  n, &top))
-          d = std::max(d, top);
+        if (MaxOverTriangleInBall(V[f[0]], V[f[1]], V[f[2]], o, R, seeds[g], &top))
+          by[g][h] = std::max(by[g][h], top);
       }
-      if (d >= n.dot(o) + R - 1e-9) continue;
-      out.n[leaf][kept] = n;
-      out.d[leaf][kept] = d;
+    }
+    // A concave crease: two or three groups each of whose planes the others'
+    // faces rise above, which lowers their planes by more than the lift in
+    // all. Their planes are united, each bounding the faces of its own group
+    // and of the groups outside the crease; every other plane bounds every
+    // face (-kNone: none).
+    constexpr double kRaised = 1e-6;  // mm: above round-off
+    unsigned united = 0;
+    auto offset = [&](int g) {
+      double d = -LeafPlanes::kNone;
+      for (int h = 0; h < groups; ++h)
+        if (h == g || !(united & (1u << g)) || !(united & (1u << h)))
+          d = std::max(d, by[g][h]);
+      return d;
+    };
+    auto cuts = [&](int g) { return offset(g) < seeds[g].dot(o) + R - 1e-9; };
+    // Whether the groups in `mask` form a crease, and by how much it lowers
+    // their planes in all.
+    auto crease = [&](unsigned mask, double* lowered) {
+      united = mask;
+      bool ok = params.concave_lift_mm > 0;
+      *lowered = 0;
+      for (int g = 0; g < groups && ok; ++g) {
+        if (!(mask & (1u << g))) continue;
+        const double own = offset(g);
+        ok = own > -LeafPlanes::kNone && cuts(g);
+        for (int h = 0; h < groups && ok; ++h)
+          if (h != g && (mask & (1u << h))) ok = by[g][h] > own + kRaised;
+        double all = -LeafPlanes::kNone;
+        for (int h = 0; h < groups; ++h) all = std::max(all, by[g][h]);
+        *lowered += all - own;
+      }
+      united = 0;
+      return ok && *lowered > params.concave_lift_mm;
+    };
+    unsigned best = 0;
+    double best_lowered = 0;
+    for (const unsigned mask : {7u, 3u, 5u, 6u}) {
+      if (mask >= (1u << groups)) continue;
+      double lowered = 0;
+      if (crease(mask, &lowered) && lowered > best_lowered)
+        best = mask, best_lowered = lowered;
+      if (best == 7u) break;  // all three: a corner
+    }
+    united = best;
+    // A plane that does not cut the sphere changes nothing and is left out.
+    int kept = 0;
+    std::uint8_t kept_united = 0;
+    for (int g = 0; g < groups; ++g) {
+      if (!cuts(g)) continue;
+      out.n[leaf][kept] = seeds[g];
+      out.d[leaf][kept] = offset(g);
+      if (united & (1u << g)) kept_united |= static_cast<std::uint8_t>(1u << kept);
       ++kept;
     }
+    out.concave[leaf] = kept_united;
   }
   return out;
 }

@@ -489,7 +489,7 @@ void Step(const EngineModel& model, const RigidTransform& X_WH, EngineData* d) n
         const Vector3 cT = X * tool.center(c.tool_leaf);
         Vector3 n;
         const double gap =
-            world.LeafGap(c.object, c.object_leaf, cT, tool.r[c.tool_leaf], &n);
+            world.LeafGap(c.object, c.object_leaf, cT, tool.r[c.tool_leaf], &n, c.piece);
         if (n.squaredNorm() == 0) {
           // Coincident centres: no direction is defined; push along the line from
           // the object sphere to the tool origin (or +z when that too is degenerate).

@@ -245,7 +245,7 @@ void HapticLoop::Tick(bool overrun) noexcept {
 void HapticLoop::UpdateContacts() noexcept {
   std::array<std::uint64_t, HapticSnapshot::kMaxObjects / 64> now{};
   for (int i = 0; i < data_.num_active_keys; ++i) {
-    const auto object = static_cast<int>(data_.active_keys[i] >> 48);
+    const int object = ContactPair::ObjectOfKey(data_.active_keys[i]);
     if (object < HapticSnapshot::kMaxObjects)
       now[object / 64] |= std::uint64_t{1} << (object % 64);
   }

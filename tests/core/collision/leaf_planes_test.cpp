@@ -55,10 +55,7 @@ void ExpectPlanesBoundTheSurface(const TriangleMesh& mesh, const SphereTree& tre
     bool covered = false;
     for (std::size_t n = 0; n < tree.size(); ++n) {
       if (!tree.IsLeaf(n) || (p - tree.center(n)).norm() > tree.r[n] + 1e-9) continue;
-      bool below = true;
-      for (int j = 0; j < LeafPlanes::kMaxPlanes; ++j)
-        below = below && (planes.d[n][j] >= LeafPlanes::kNone ||
-                          planes.n[n][j].dot(p) <= planes.d[n][j] + 1e-9);
+      const bool below = planes.Below(n, p, 1e-9);
       if (!below) ++cut;
       covered = covered || below;
     }
@@ -114,6 +111,80 @@ TEST(LeafPlanes, AThinWallIsCutByBothItsFaces) {
   }
   EXPECT_GT(both, 16);
   ExpectPlanesBoundTheSurface(sheet, t, p);
+}
+
+// A block with a V groove along y: faces inclined 35 degrees meeting at
+// x = 0, z = 0 (an interior angle of 110 degrees), 10 mm wide, 20 mm long,
+// 4 mm below the crease.
+TriangleMesh VGroove() {
+  const double t = std::tan(35 * M_PI / 180);
+  const double prof[5][2] = {{-5, 5 * t}, {0, 0}, {5, 5 * t}, {5, -4}, {-5, -4}};
+  std::vector<Vector3> v;
+  for (const double y : {-10.0, 10.0})
+    for (const auto& p : prof) v.emplace_back(p[0], y, p[1]);
+  std::vector<std::array<int, 3>> f;
+  for (const auto& k : {std::array<int, 3>{1, 2, 3}, {1, 3, 4}, {1, 4, 0}}) {
+    f.push_back({k[2], k[1], k[0]});
+    f.push_back({k[0] + 5, k[1] + 5, k[2] + 5});
+  }
+  for (int i = 0; i < 5; ++i) {
+    const int j = (i + 1) % 5;
+    f.push_back({i, j, j + 5});
+    f.push_back({i, j + 5, i + 5});
+  }
+  return TriangleMesh(std::move(v), std::move(f));
+}
+
+// In the groove, a leaf across the crease meets both faces, each rising above
+// the other's plane. Cut by the intersection of the two planes (each lifted
+// over the other face) it would hold a tool off the crease; cut by their union
+// (each plane bounding its own face) it is the groove itself: a ball that
+// touches both faces has gap 0 to the leaves there, and the space just above
+// the crease is outside them.
+TEST(LeafPlanes, AConcaveCreaseIsCutByTheUnionOfItsTwoFaces) {
+  const TriangleMesh block = VGroove();
+  ASSERT_TRUE(block.Check().IsSolid());
+  SphereTreeParams fine;
+  fine.levels = 5;
+  fine.leaves = 1024;
+  const SphereTree tree = BuildSphereTree(block, fine);
+  const LeafPlanes planes = FitLeafPlanes(block, tree);
+  ExpectPlanesBoundTheSurface(block, tree, planes);
+  LeafPlaneParams never;
+  never.concave_lift_mm = 0;
+  const LeafPlanes lifted = FitLeafPlanes(block, tree, never);
+  ExpectPlanesBoundTheSurface(block, tree, lifted);
+  const CollisionWorld world(tree, {{&tree, RigidTransform::Identity(), &planes}});
+  const CollisionWorld world_lifted(tree, {{&tree, RigidTransform::Identity(), &lifted}});
+  const double r = 0.1, h = r / std::sin(55 * M_PI / 180);
+  int crease_leaves = 0;
+  for (double y = -3; y <= 3; y += 0.5) {
+    const Vector3 ball(0, y, h);  // touching both faces
+    double gap = 1e9, gap_lifted = 1e9;
+    for (std::size_t n = 0; n < tree.size(); ++n) {
+      if (!tree.IsLeaf(n)) continue;
+      gap = std::min(gap, world.LeafGap(0, static_cast<std::int32_t>(n), ball, r));
+      gap_lifted = std::min(
+          gap_lifted, world_lifted.LeafGap(0, static_cast<std::int32_t>(n), ball, r));
+      // Across the crease, away from the block's ends (a leaf there meets four
+      // groups of faces, and holds three planes).
+      const Vector3 c = tree.center(n);
+      if ((c - Vector3(0, y, 0)).norm() >= tree.r[n] || std::abs(c.y()) + tree.r[n] >= 10)
+        continue;
+      ++crease_leaves;
+      EXPECT_TRUE(planes.concave[n]) << "leaf " << n << " across the crease at y " << y;
+      EXPECT_FALSE(planes.Below(n, Vector3(0, y, 0.002), 0)) << "above the crease";
+      EXPECT_TRUE(planes.Below(n, Vector3(0, y, -0.002), 0)) << "below it";
+    }
+    EXPECT_NEAR(gap, 0, 1e-9) << "y " << y;
+    EXPECT_LT(gap_lifted, -0.02) << "y " << y << ": lifted planes push the ball off";
+  }
+  EXPECT_GT(crease_leaves, 8);
+  // A convex edge stays an intersection: the box's leaves are not concave.
+  const TriangleMesh box = MakeBox(Vector3(16, 16, 4), 8);
+  const SphereTree bt = Tree(box, 128);
+  const LeafPlanes bp = FitLeafPlanes(box, bt);
+  EXPECT_EQ(std::count(bp.concave.begin(), bp.concave.end(), 1), 0);
 }
 
 TEST(LeafPlanes, FastQueryMatchesTheReferenceOnClippedLeaves) {

@@ -302,6 +302,7 @@ TEST(Probing, ADeepenedPocketHasItsBoneLoweredToo) {
 
 #include "core/anatomy/mesh_contact.h"
 #include "core/anatomy/probe.h"
+#include "core/geometry/mesh_io.h"
 #include "core/haptics/engine.h"
 #include "core/spheretree/metrics.h"
 
@@ -408,6 +409,148 @@ TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
   EXPECT_LE(wall_err, 0.05 + 1e-6) << "the fit asked for";
   EXPECT_LT(fitted, truth + allowed) << "as far down as the spheres' geometry allows";
   EXPECT_GT(fitted, truth - 0.15) << "and never below the true limit (through the walls)";
+}
+
+// The wedge: two slabs leaning 35 degrees, their top faces meeting in a V.
+// The probe, upright and tilted across and along the crease, is pushed 0.5 mm
+// past where its exact mesh meets the slabs, then slid along the crease. Every
+// 20 frames, for each slab the engine holds the tool against (an active pair),
+// the exact distance between the probe's mesh there and the slab's: the air
+// gap a hand feels. The slabs' leaves are clipped by planes, so both faces,
+// and the crease where they meet, are felt where they are.
+struct CreaseGaps {
+  double tip = 0;               // the largest air gap felt with the tip in the crease
+  double lying = 0;             // with the working end lying in it
+  double face = 0;              // with the working end lying on one face, for comparison
+  double probe_protrusion = 0;  // the probe tree's worst leaf (the tool is spheres)
+};
+
+// `half_length`: how far the crease runs either way from y = 0.
+CreaseGaps FeltInTheCrease(const std::string& file, double half_length) {
+  const SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard" / file);
+  const auto scene = CompileScene(spec, Cache());
+  std::vector<TriangleMesh> slabs;
+  for (std::size_t i = 0; i < scene->meshes.size(); ++i) {
+    TriangleMesh m = scene->meshes[i];
+    m.Transform(scene->spec.objects[i].X_WO.rotation(),
+                scene->spec.objects[i].X_WO.translation());
+    slabs.push_back(std::move(m));
+  }
+  auto posed = [&](const RigidTransform& X) {
+    TriangleMesh probe = scene->tool_mesh;
+    probe.Transform(X.rotation(), X.translation());
+    return probe;
+  };
+  const double deg = std::numbers::pi / 180;
+  // Upright or tilted, the tip at the crease's middle slides 2 mm either way
+  // along it; lying in it, the working end along the crease from the tip 1 mm
+  // from its end (the shank rising clear of the faces), 0.5 mm. Each is pushed along -up
+  // from `at`. For comparison, the probe lying on one face, away from the crease.
+  struct Tilt {
+    const char* name;
+    Matrix3 R;
+    Vector3 at = Vector3::Zero();
+    double slide = 2;
+    Vector3 up = Vector3::UnitZ();
+  };
+  const Matrix3 lying(Eigen::AngleAxisd(-90 * deg, Vector3::UnitX()));
+  auto rolled = [&](double a) {
+    return Matrix3(lying * Eigen::AngleAxisd(a * deg, Vector3::UnitZ()));
+  };
+  const Vector3 in_crease(0, 1 - half_length, 0);
+  const double t = 35 * deg;
+  const Tilt tilts[] = {
+      {"upright", Matrix3::Identity()},
+      {"20 deg across", Matrix3(Eigen::AngleAxisd(20 * deg, Vector3::UnitY()))},
+      {"20 deg across, the other way",
+       Matrix3(Eigen::AngleAxisd(-20 * deg, Vector3::UnitY()))},
+      {"30 deg along", Matrix3(Eigen::AngleAxisd(30 * deg, Vector3::UnitX()))},
+      {"20 along, 15 across", Matrix3(Eigen::AngleAxisd(20 * deg, Vector3::UnitX()) *
+                                      Eigen::AngleAxisd(15 * deg, Vector3::UnitY()))},
+      {"lying in the crease, its shank rising", rolled(90), in_crease, 0.5},
+      {"lying on the left face", Matrix3(Eigen::AngleAxisd(t, Vector3::UnitY()) * lying),
+       Vector3(-2.5, 1 - half_length, 0.11 + 2.5 * std::tan(t)), 0.5,
+       Vector3(std::sin(t), 0, std::cos(t))},
+  };
+  CreaseGaps out;
+  for (const Tilt& tilt : tilts) {
+    auto pose = [&](double s, double y) {
+      return RigidTransform(tilt.R, tilt.at + Vector3(0, y, 0) + s * tilt.up);
+    };
+    auto free_at = [&](double s) {
+      const TriangleMesh probe = posed(pose(s, 0));
+      for (const TriangleMesh& w : slabs)
+        if (MeshesIntersect(probe, w)) return false;
+      return true;
+    };
+    double lo = -0.6, hi = 5.0;  // in both slabs at lo
+    EXPECT_TRUE(free_at(hi)) << tilt.name;
+    EXPECT_FALSE(free_at(lo)) << tilt.name;
+    while (hi - lo > 0.001) {
+      const double mid = 0.5 * (lo + hi);
+      (free_at(mid) ? hi : lo) = mid;
+    }
+    EngineData d(*scene->model);
+    const auto device = [&](int i) {
+      return pose(std::max(hi - 0.5, 5 - 0.01 * i),
+                  i < 700 ? 0 : tilt.slide * std::sin((i - 700) * 0.004));
+    };
+    ResetTool(device(0), &d);
+    double gap_max = 0;
+    int samples = 0;
+    for (int i = 0; i <= 2300; ++i) {
+      Step(*scene->model, device(i), &d);
+      if (i < 600 || i % 20 != 0) continue;
+      const TriangleMesh probe = posed(d.X_WG);
+      std::vector<char> touching(slabs.size(), 0);
+      for (int k = 0; k < d.num_active_keys; ++k)
+        touching[static_cast<std::size_t>(ContactPair::ObjectOfKey(d.active_keys[k]))] =
+            1;
+      for (std::size_t o = 0; o < slabs.size(); ++o) {
+        if (!touching[o]) continue;
+        const MeshContact c = MeasureContact(probe, slabs[o]);
+        EXPECT_FALSE(c.intersect) << tilt.name << " frame " << i << " slab " << o;
+        gap_max = std::max(gap_max, c.gap_mm);
+        ++samples;
+      }
+    }
+    EXPECT_EQ(d.faults.total(), 0u) << tilt.name;
+    EXPECT_GT(samples, 50) << tilt.name << ": held against the slabs";
+    std::printf(
+        "%s, probe %s: the exact meshes meet at %.3f mm; air gap felt "
+        "at most %.4f mm over %d contacts\n",
+        file.c_str(), tilt.name, hi, gap_max, samples);
+    const std::string name = tilt.name;
+    double& kind = name.starts_with("lying in")   ? out.lying
+                   : name.starts_with("lying on") ? out.face
+                                                  : out.tip;
+    kind = std::max(kind, gap_max);
+  }
+  EvalParams quick;
+  quick.surface_samples = 20000;
+  quick.points_per_sphere = 96;
+  quick.volume_samples_per_sphere = 0;
+  out.probe_protrusion = EvaluateSphereTree(scene->tool_mesh, scene->tool_tree, quick)
+                             .leaves()
+                             .protrusion_max_mm;
+  std::printf("%s: the probe's tree protrudes at most %.4f mm\n", file.c_str(),
+              out.probe_protrusion);
+  return out;
+}
+
+TEST(Probing, TheTipRestsInTheWedgesCreaseWhereTheTrueGeometryStopsIt) {
+  const CreaseGaps g = FeltInTheCrease("wedge.yaml", 5);
+  EXPECT_LE(g.tip, 0.02) << "mm";
+  EXPECT_LE(g.lying, g.probe_protrusion) << "mm";
+  EXPECT_LE(g.face, g.probe_protrusion) << "mm";
+}
+
+TEST(Probing, AConcaveCreaseInOneMeshIsFeltWhereItIs) {
+  const CreaseGaps g = FeltInTheCrease("v_groove.yaml", 12);
+  EXPECT_LE(g.tip, 0.02) << "mm";
+  EXPECT_LE(g.lying, g.probe_protrusion) << "mm";
+  EXPECT_LE(g.face, g.probe_protrusion) << "mm";
 }
 
 }  // namespace
