@@ -96,6 +96,19 @@ void AddSceneCommands(CLI::App& app) {
     }
     std::printf("sphere-trees built: %s; %d from the cache\n",
                 built.empty() ? "none" : built.c_str(), hits);
+    // The felt surface: leaves cut by planes, and of them those on a concave
+    // crease (cut by the union of their planes; core/collision/leaf_planes.h).
+    std::size_t leaves = 0, clipped = 0, creases = 0;
+    for (std::size_t i = 0; i < compiled->planes.size(); ++i) {
+      leaves += compiled->trees[i].NumLeaves();
+      clipped += static_cast<std::size_t>(compiled->planes[i].count());
+      for (const std::uint8_t c : compiled->planes[i].concave) creases += c != 0;
+    }
+    if (compiled->spec.leaf_planes)
+      std::printf(
+          "leaf planes: %zu of %zu leaves cut by planes, %zu of them on a concave "
+          "crease\n",
+          clipped, leaves, creases);
     if (*build_drawn) {
       std::size_t shares = 0, seen_triangles = 0;
       for (const TriangleMesh& m : compiled->seen.meshes) {
