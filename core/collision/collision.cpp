@@ -69,15 +69,13 @@ double CollisionWorld::ClippedGap(std::size_t k, const Vector3& c_W, double r,
     gap = LeafPlanes::kNone;
     for (int u = 0; u < used; ++u) {
       if (!(united & (1u << u)) || (piece > 0 && u != piece - 1)) continue;
+      // Plane u and the planes outside the crease, ended by an unused one.
       double some[kPlaneStride];
       int taken = 0;
       for (int j = 0; j < used; ++j)
         if (j == u || !(united & (1u << j)))
           std::copy_n(pl + 4 * j, 4, some + 4 * taken++);
-      for (int j = taken; j < LeafPlanes::kMaxPlanes; ++j) {
-        std::fill_n(some + 4 * j, 3, 0.0);
-        some[4 * j + 3] = LeafPlanes::kNone;
-      }
+      if (taken < LeafPlanes::kMaxPlanes) some[4 * taken + 3] = LeafPlanes::kNone;
       Vector3 d;
       const double g = CutBallDistance(c, orad_[k], some, c_W, &d);
       if (g < gap) gap = g, dir = d;

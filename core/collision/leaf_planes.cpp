@@ -193,51 +193,48 @@ LeafPlanes FitLeafPlanes(const TriangleMesh& mesh, const SphereTree& tree,
     // and of the groups outside the crease; every other plane bounds every
     // face (-kNone: none).
     constexpr double kRaised = 1e-6;  // mm: above round-off
-    unsigned united = 0;
-    auto offset = [&](int g) {
+    // Plane g's offset with the groups in `mask` united.
+    auto offset = [&](int g, unsigned mask) {
       double d = -LeafPlanes::kNone;
       for (int h = 0; h < groups; ++h)
-        if (h == g || !(united & (1u << g)) || !(united & (1u << h)))
+        if (h == g || !(mask & (1u << g)) || !(mask & (1u << h)))
           d = std::max(d, by[g][h]);
       return d;
     };
-    auto cuts = [&](int g) { return offset(g) < seeds[g].dot(o) + R - 1e-9; };
+    auto cuts = [&](int g, unsigned mask) {
+      return offset(g, mask) < seeds[g].dot(o) + R - 1e-9;
+    };
     // Whether the groups in `mask` form a crease, and by how much it lowers
     // their planes in all.
     auto crease = [&](unsigned mask, double* lowered) {
-      united = mask;
       bool ok = params.concave_lift_mm > 0;
       *lowered = 0;
       for (int g = 0; g < groups && ok; ++g) {
         if (!(mask & (1u << g))) continue;
-        const double own = offset(g);
-        ok = own > -LeafPlanes::kNone && cuts(g);
+        const double own = offset(g, mask);
+        ok = own > -LeafPlanes::kNone && cuts(g, mask);
         for (int h = 0; h < groups && ok; ++h)
           if (h != g && (mask & (1u << h))) ok = by[g][h] > own + kRaised;
-        double all = -LeafPlanes::kNone;
-        for (int h = 0; h < groups; ++h) all = std::max(all, by[g][h]);
-        *lowered += all - own;
+        *lowered += offset(g, 0) - own;
       }
-      united = 0;
       return ok && *lowered > params.concave_lift_mm;
     };
-    unsigned best = 0;
+    unsigned united = 0;
     double best_lowered = 0;
     for (const unsigned mask : {7u, 3u, 5u, 6u}) {
       if (mask >= (1u << groups)) continue;
       double lowered = 0;
       if (crease(mask, &lowered) && lowered > best_lowered)
-        best = mask, best_lowered = lowered;
-      if (best == 7u) break;  // all three: a corner
+        united = mask, best_lowered = lowered;
+      if (united == 7u) break;  // all three: a corner
     }
-    united = best;
     // A plane that does not cut the sphere changes nothing and is left out.
     int kept = 0;
     std::uint8_t kept_united = 0;
     for (int g = 0; g < groups; ++g) {
-      if (!cuts(g)) continue;
+      if (!cuts(g, united)) continue;
       out.n[leaf][kept] = seeds[g];
-      out.d[leaf][kept] = offset(g);
+      out.d[leaf][kept] = offset(g, united);
       if (united & (1u << g)) kept_united |= static_cast<std::uint8_t>(1u << kept);
       ++kept;
     }

@@ -266,33 +266,33 @@ struct Leaf {
 template <typename Ball>
 class CentreKdTree {
  public:
-  explicit CentreKdTree(const std::vector<Ball>& leaves) : leaves_(leaves) {
-    order_.resize(leaves.size());
+  explicit CentreKdTree(const std::vector<Ball>& balls) : balls_(balls) {
+    order_.resize(balls.size());
     std::iota(order_.begin(), order_.end(), 0);
-    if (leaves.empty()) return;
-    nodes_.reserve(2 * leaves.size() / kBucket + 2);
+    if (balls.empty()) return;
+    nodes_.reserve(2 * balls.size() / kBucket + 2);
     nodes_.push_back({});
     BuildMedianTree(
-        &order_, &nodes_, 0, 0, static_cast<std::int32_t>(leaves.size()), kBucket,
+        &order_, &nodes_, 0, 0, static_cast<std::int32_t>(balls.size()), kBucket,
         [&](std::int32_t begin, std::int32_t end) {
           Node n;
           n.begin = begin;
           n.end = end;
           n.max_depth = -std::numeric_limits<double>::infinity();
           for (std::int32_t k = begin; k < end; ++k) {
-            n.box.Extend(leaves_[order_[k]].c);
-            n.max_depth = std::max(n.max_depth, leaves_[order_[k]].depth);
+            n.box.Extend(balls_[order_[k]].c);
+            n.max_depth = std::max(n.max_depth, balls_[order_[k]].depth);
           }
           return n;
         },
-        [&](std::int32_t i) { return leaves_[i].c; });
+        [&](std::int32_t i) { return balls_[i].c; });
   }
 
   // The ball with the smallest bound sqrt(FarCorner2(piece, c)) - depth,
   // the lowest index among equals (as a scan in index order finds it).
   std::size_t Best(const Piece& piece) const {
     double best = std::numeric_limits<double>::infinity();
-    std::size_t best_leaf = 0;
+    std::size_t best_ball = 0;
     const Vector3& x = piece.centroid;
     std::int32_t stack[128];
     int top = 0;
@@ -306,13 +306,13 @@ class CentreKdTree {
       if (n.left < 0) {
         for (std::int32_t k = n.begin; k < n.end; ++k) {
           const auto i = static_cast<std::size_t>(order_[k]);
-          const Ball& l = leaves_[i];
+          const Ball& l = balls_[i];
           // The centroid's distance is a lower bound on the far corner's.
           if ((x - l.c).norm() - l.depth > best) continue;
           const double e = std::sqrt(FarCorner2(piece, l.c)) - l.depth;
-          if (e < best || (e == best && i < best_leaf)) {
+          if (e < best || (e == best && i < best_ball)) {
             best = e;
-            best_leaf = i;
+            best_ball = i;
           }
         }
         continue;
@@ -327,7 +327,7 @@ class CentreKdTree {
       stack[top++] = left_near ? n.left + 1 : n.left;
       stack[top++] = left_near ? n.left : n.left + 1;
     }
-    return best_leaf;
+    return best_ball;
   }
 
  private:
@@ -338,7 +338,7 @@ class CentreKdTree {
     std::int32_t begin = 0, end = 0, left = -1;
   };
 
-  const std::vector<Ball>& leaves_;
+  const std::vector<Ball>& balls_;
   std::vector<std::int32_t> order_;
   std::vector<Node> nodes_;
 };

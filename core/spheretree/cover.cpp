@@ -262,11 +262,11 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
   // pieces' entries) give the bisection below it the same covers as the
   // lists at it would, for a fraction of their size. A first bound from an
   // earlier round (reach_eps) is checked the same way from half of it.
-  // A first bracket (no earlier round) used to compute the lists at each bound
-  // it passed only to count the pieces they leave unreached. Each piece's
-  // first reaching bound gives those counts for every bound at once; the
-  // bracket steps (ticks, growth and its limit as before) to the first bound
-  // whose count stops it below, and the lists are computed there alone.
+  // A first bracket (no earlier round) needs, at each bound it passes, only
+  // how many pieces no candidate reaches. Each piece's first reaching bound
+  // gives those counts for every bound at once: the bracket steps (ticks,
+  // growth and its limit as below) to the first bound whose count stops it,
+  // and the lists are computed there alone.
   if (!(reach_eps > 0)) {
     std::vector<double> bounds;
     for (double e = hi; e <= 4 * diag; e *= grow) bounds.push_back(e);

@@ -4,8 +4,10 @@
 // does not name is not in the loop at all.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <numbers>
 #include <optional>
 
@@ -309,6 +311,48 @@ TEST(Probing, ADeepenedPocketHasItsBoneLoweredToo) {
 namespace sulcus {
 namespace {
 
+// A compiled scene's objects as their exact meshes, placed in the world (those
+// `keep` accepts; every one by default), and the probe's exact mesh at a pose:
+// what the engine's felt surface is measured against.
+struct ExactScene {
+  explicit ExactScene(const CompiledScene& scene,
+                      const std::function<bool(const ObjectSpec&)>& keep = {})
+      : tool(scene.tool_mesh) {
+    for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+      const ObjectSpec& o = scene.spec.objects[i];
+      if (keep && !keep(o)) continue;
+      TriangleMesh m = scene.meshes[i];
+      m.Transform(o.X_WO.rotation(), o.X_WO.translation());
+      objects.push_back(std::move(m));
+    }
+  }
+  TriangleMesh Probe(const RigidTransform& X) const {
+    TriangleMesh probe = tool;
+    probe.Transform(X.rotation(), X.translation());
+    return probe;
+  }
+  // Whether the probe at X meets none of the objects (exact triangle tests).
+  bool ProbeFree(const RigidTransform& X) const {
+    const TriangleMesh probe = Probe(X);
+    for (const TriangleMesh& m : objects)
+      if (MeshesIntersect(probe, m)) return false;
+    return true;
+  }
+  std::vector<TriangleMesh> objects;
+  const TriangleMesh& tool;
+};
+
+// Bisection between a value where `free_at` is false and one where it is true,
+// to within `tolerance`: the free end.
+double FreeEnd(const std::function<bool(double)>& free_at, double touching, double free,
+               double tolerance) {
+  while (std::abs(free - touching) > tolerance) {
+    const double mid = 0.5 * (touching + free);
+    (free_at(mid) ? free : touching) = mid;
+  }
+  return free;
+}
+
 // The narrow slot (0.7 mm between two walls; the probe's tip 0.5 mm, its working
 // end widening to 1 mm over 13 mm): how far down the tip can go is set by where
 // the working end wedges between the walls' top edges. Its taper is shallow
@@ -336,30 +380,17 @@ TEST(Probing, TheTipGoesDownTheNarrowSlotAsFarAsTheTrueGeometryAllows) {
   const auto coarse = CompileScene(spec, Cache());
   // The true limit: the lowest tip height at which the probe's exact mesh meets
   // neither wall (bisection on exact triangle intersection).
-  std::vector<TriangleMesh> walls;
-  for (std::size_t i = 0; i < coarse->meshes.size(); ++i) {
-    if (coarse->spec.objects[i].name.find("wall") == std::string::npos) continue;
-    TriangleMesh m = coarse->meshes[i];
-    m.Transform(coarse->spec.objects[i].X_WO.rotation(),
-                coarse->spec.objects[i].X_WO.translation());
-    walls.push_back(std::move(m));
-  }
-  ASSERT_EQ(walls.size(), 2u);
+  const ExactScene walls(*coarse, [](const ObjectSpec& o) {
+    return o.name.find("wall") != std::string::npos;
+  });
+  ASSERT_EQ(walls.objects.size(), 2u);
   auto free_at = [&](double z) {
-    TriangleMesh probe = coarse->tool_mesh;
-    probe.Transform(Matrix3::Identity(), Vector3(0, 0, z));
-    for (const TriangleMesh& w : walls)
-      if (MeshesIntersect(probe, w)) return false;
-    return true;
+    return walls.ProbeFree(RigidTransform(Matrix3::Identity(), Vector3(0, 0, z)));
   };
-  double lo = -4.0, hi = 8.0;  // touching at lo (or the floor), free at hi
+  const double lo = -4.0, hi = 8.0;  // touching at lo (or the floor), free at hi
   ASSERT_TRUE(free_at(hi));
   ASSERT_FALSE(free_at(lo));
-  while (hi - lo > 0.005) {
-    const double mid = 0.5 * (lo + hi);
-    (free_at(mid) ? hi : lo) = mid;
-  }
-  const double truth = hi;
+  const double truth = FreeEnd(free_at, lo, hi, 0.005);
   const double with_512 = depth_reached(*coarse);
   for (ObjectSpec& o : spec.objects) {
     if (o.name.find("wall") == std::string::npos) continue;
@@ -430,18 +461,7 @@ CreaseGaps FeltInTheCrease(const std::string& file, double half_length) {
   const SceneSpec spec =
       LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "tests/scenes/hard" / file);
   const auto scene = CompileScene(spec, Cache());
-  std::vector<TriangleMesh> slabs;
-  for (std::size_t i = 0; i < scene->meshes.size(); ++i) {
-    TriangleMesh m = scene->meshes[i];
-    m.Transform(scene->spec.objects[i].X_WO.rotation(),
-                scene->spec.objects[i].X_WO.translation());
-    slabs.push_back(std::move(m));
-  }
-  auto posed = [&](const RigidTransform& X) {
-    TriangleMesh probe = scene->tool_mesh;
-    probe.Transform(X.rotation(), X.translation());
-    return probe;
-  };
+  const ExactScene exact(*scene);
   const double deg = std::numbers::pi / 180;
   // Upright or tilted, the tip at the crease's middle slides 2 mm either way
   // along it; lying in it, the working end along the crease from the tip 1 mm
@@ -478,19 +498,11 @@ CreaseGaps FeltInTheCrease(const std::string& file, double half_length) {
     auto pose = [&](double s, double y) {
       return RigidTransform(tilt.R, tilt.at + Vector3(0, y, 0) + s * tilt.up);
     };
-    auto free_at = [&](double s) {
-      const TriangleMesh probe = posed(pose(s, 0));
-      for (const TriangleMesh& w : slabs)
-        if (MeshesIntersect(probe, w)) return false;
-      return true;
-    };
-    double lo = -0.6, hi = 5.0;  // in both slabs at lo
-    EXPECT_TRUE(free_at(hi)) << tilt.name;
+    auto free_at = [&](double s) { return exact.ProbeFree(pose(s, 0)); };
+    const double lo = -0.6, start = 5.0;  // in both slabs at lo
+    EXPECT_TRUE(free_at(start)) << tilt.name;
     EXPECT_FALSE(free_at(lo)) << tilt.name;
-    while (hi - lo > 0.001) {
-      const double mid = 0.5 * (lo + hi);
-      (free_at(mid) ? hi : lo) = mid;
-    }
+    const double hi = FreeEnd(free_at, lo, start, 0.001);
     EngineData d(*scene->model);
     const auto device = [&](int i) {
       return pose(std::max(hi - 0.5, 5 - 0.01 * i),
@@ -502,14 +514,14 @@ CreaseGaps FeltInTheCrease(const std::string& file, double half_length) {
     for (int i = 0; i <= 2300; ++i) {
       Step(*scene->model, device(i), &d);
       if (i < 600 || i % 20 != 0) continue;
-      const TriangleMesh probe = posed(d.X_WG);
-      std::vector<char> touching(slabs.size(), 0);
+      const TriangleMesh probe = exact.Probe(d.X_WG);
+      std::vector<char> touching(exact.objects.size(), 0);
       for (int k = 0; k < d.num_active_keys; ++k)
         touching[static_cast<std::size_t>(ContactPair::ObjectOfKey(d.active_keys[k]))] =
             1;
-      for (std::size_t o = 0; o < slabs.size(); ++o) {
+      for (std::size_t o = 0; o < exact.objects.size(); ++o) {
         if (!touching[o]) continue;
-        const MeshContact c = MeasureContact(probe, slabs[o]);
+        const MeshContact c = MeasureContact(probe, exact.objects[o]);
         EXPECT_FALSE(c.intersect) << tilt.name << " frame " << i << " slab " << o;
         gap_max = std::max(gap_max, c.gap_mm);
         ++samples;
@@ -1053,20 +1065,10 @@ TEST(Probing, AProbeGoesIntoTheFurcationAsFarAsItsClassLeavesTheBoneOpen) {
             .toRotationMatrix();
     const double start = entrance_y + 4.0, end = -entrance_y - 3.0;
     // How far in the exact meshes let it go along that line (bisection).
-    std::vector<TriangleMesh> solids;
-    for (std::size_t i = 0; i < scene->meshes.size(); ++i) {
-      TriangleMesh m = scene->meshes[i];
-      m.Transform(scene->spec.objects[i].X_WO.rotation(),
-                  scene->spec.objects[i].X_WO.translation());
-      solids.push_back(std::move(m));
-    }
+    const ExactScene exact(*scene);
     // Whether the probe at a pose is free of the exact meshes.
     auto free_pose = [&](const Matrix3& R_tool, const Vector3& t) {
-      TriangleMesh probe = scene->tool_mesh;
-      probe.Transform(R_tool, t);
-      for (const TriangleMesh& m : solids)
-        if (MeshesIntersect(probe, m)) return false;
-      return true;
+      return exact.ProbeFree(RigidTransform(R_tool, t));
     };
     auto free_at = [&](double y) { return free_pose(R_WG, world(Vector3(0, y, z))); };
     ASSERT_TRUE(free_at(start));
