@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstring>
 #include <exception>
 #include <fstream>
@@ -627,23 +628,19 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
     scene->seen.normals.resize(n);
     scene->seen.caps.resize(n);
   }
-  // One bar over both phases: the meshes are the first tenth of each object's
-  // share (the trees below go on from there), so it never runs backwards; a
-  // seen share is one more share.
+  // One bar over meshes and trees: each object's mesh is the first tenth of
+  // its share, its tree the rest; the tool's tree and each seen share are one
+  // more share.
   const int shares = n + 1 + seen_jobs;
-  auto report = [&](int i, std::string_view stage, double f) {
-    if (progress && !progress(stage, f * (i + 1) / shares)) throw BuildCancelled();
-  };
   using Clock = std::chrono::steady_clock;
   const auto Since = [](Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
   };
   const auto t_meshes = Clock::now();
-  // Meshes: one worker per core too (a gingiva's share of its arch takes about
-  // a second to sample and simplify); progress in order of completion. A
-  // share whose generator sees what an earlier one's sees (its twin on the
-  // other side of the arch, the key in the unmirrored frame) is not built: it
-  // is its twin's mesh, mirrored.
+  // Meshes (a gingiva's share of its arch takes about a second to sample and
+  // simplify), made by the workers below. A share whose generator sees what
+  // an earlier one's sees (its twin on the other side of the arch, the key in
+  // the unmirrored frame) is not built: it is its twin's mesh, mirrored.
   scene->meshes.resize(n);
   scene->normals.resize(n);
   scene->object_tree_seconds.assign(n, 0.0);
@@ -658,76 +655,99 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
       if (!added) twin[i] = it->second;
     }
   }
-  {
-    std::vector<int> mesh_order;
-    for (int i = 0; i < n; ++i)
-      if (twin[i] < 0) mesh_order.push_back(i);
-    const int jobs = static_cast<int>(mesh_order.size());
-    std::atomic<int> next_mesh{0};
-    std::atomic<bool> halt{false};
-    std::mutex mesh_mutex;
-    std::exception_ptr mesh_failure;
-    int made = 0;
-    auto mesher = [&] {
-      for (int job = next_mesh++; job < jobs && !halt; job = next_mesh++) {
-        const int i = mesh_order[job];
-        try {
-          scene->meshes[i] =
-              MakeObjectMeshCached(scene->spec.objects[i], cache_dir, &scene->normals[i]);
-          std::lock_guard lock(mesh_mutex);
-          report(made++, scene->spec.objects[i].name, 0.1);
-        } catch (...) {
-          std::lock_guard lock(mesh_mutex);
-          if (!mesh_failure) mesh_failure = std::current_exception();
-          halt = true;
-        }
-      }
-    };
-    OnEachCore(jobs, mesher);
-    if (mesh_failure) std::rethrow_exception(mesh_failure);
-    for (int i = 0; i < n; ++i) {
-      if (twin[i] < 0) continue;
-      const int j = twin[i];
-      const bool mirror =
-          scene->spec.objects[i].mirrored != scene->spec.objects[j].mirrored;
-      scene->meshes[i] = ArchMirror(mirror, scene->meshes[j]);
-      scene->normals[i] = ArchMirror(mirror, scene->normals[j]);
-      report(made++, scene->spec.objects[i].name, 0.1);
-    }
-  }
-  const auto t_trees = Clock::now();
-  scene->mesh_seconds = Since(t_meshes);
-  // Trees: one worker per core, jobs handed out in order; progress from the
-  // workers is serialised, and a cancel or an error stops them all.
+  // Trees: a tree's job waits for its object's mesh only, so that a long
+  // tree (a generated case's jaw) starts while the other meshes are made.
   scene->trees.resize(n);
   scene->planes.resize(n);
   scene->tool_mesh = MakeProbe(spec.probe).collision_mesh;
-  // Job 0 is the tool's tree, then the objects in order (the soft, quick ones
-  // last), so that no core is left alone with a long job at the end. done[j]
-  // is job j's fraction; the meshes above were the first 0.1 of each object.
-  // A mirrored object (a tooth on the left of the arch, its gingiva) gets
-  // the tree of its unmirrored mesh, mirrored: the same tooth on the right
-  // has that mesh, so the two share one build (through the cache). The
+  // One worker per core takes the jobs in this order: the hard objects'
+  // meshes, job 0 (the tool's tree) and their trees, then the soft objects'
+  // meshes (a share whose twin's is made is not among them) and trees (the
+  // soft, quick ones last, so that no core is left alone with a long job at
+  // the end), then the seen gingiva's shares. A long hard tree (a generated
+  // case's jaw) so starts while the gingiva's meshes are made.
+  // Progress from the workers is serialised, and a cancel or an error stops
+  // them all. A mirrored object (a tooth on the left of the arch, its gingiva)
+  // gets the tree of its unmirrored mesh, mirrored: the same tooth on the
+  // right has that mesh, so the two share one build (through the cache). The
   // mirrored ones go after all the others, so that their twin is built first.
   std::vector<int> order(n);
   for (int i = 0; i < n; ++i) order[i] = i;
   std::stable_partition(order.begin(), order.end(),
                         [&](int i) { return !scene->spec.objects[i].mirrored; });
+  // slots: >= 0 a tree job (job 0 the tool, j the tree of order[j - 1], past n a
+  // seen share), < 0 the mesh of object -1 - slot.
+  std::vector<int> slots;
+  for (const bool soft_part : {false, true}) {
+    for (int i = 0; i < n; ++i)
+      if (twin[i] < 0 && soft(scene->spec.objects[i]) == soft_part)
+        slots.push_back(-1 - i);
+    if (!soft_part) slots.push_back(0);
+    for (int j = 1; j <= n; ++j)
+      if (soft(scene->spec.objects[order[j - 1]]) == soft_part) slots.push_back(j);
+  }
+  for (int j = n + 1; j < shares; ++j) slots.push_back(j);
+  const int num_slots = static_cast<int>(slots.size());
+  // done[j] is tree job j's fraction; an object's mesh is the first 0.1 of its
+  // share, its tree the rest.
   std::vector<double> done(shares, 0.0);
+  std::vector<char> mesh_ready(n, 0);
+  int meshes_left = n;
+  auto t_trees = Clock::now();
   std::mutex progress_mutex;
+  std::condition_variable mesh_made;
   std::atomic<int> next{0};
   std::atomic<bool> stop{false};
   std::exception_ptr failure;
+  // Under progress_mutex: reports the whole build's fraction.
+  auto overall = [&](std::string_view stage) {
+    double total = done[0];
+    for (int j = 1; j <= n; ++j) total += 0.1 * mesh_ready[order[j - 1]] + 0.9 * done[j];
+    for (int j = n + 1; j < shares; ++j) total += done[j];
+    if (progress && !progress(stage, total / shares)) {
+      stop = true;
+      mesh_made.notify_all();  // no tree waits for a mesh no one will make
+    }
+  };
   auto worker = [&] {
-    for (int job = next++; job < shares && !stop; job = next++) {
+    for (int k = next++; k < num_slots && !stop; k = next++) {
+      if (slots[k] < 0) {
+        const int i = -1 - slots[k];
+        try {
+          TriangleMesh mesh =
+              MakeObjectMeshCached(scene->spec.objects[i], cache_dir, &scene->normals[i]);
+          std::lock_guard lock(progress_mutex);
+          scene->meshes[i] = std::move(mesh);
+          mesh_ready[i] = 1;
+          // Its twins: its mesh, mirrored.
+          for (int k = 0; k < n; ++k) {
+            if (twin[k] != i) continue;
+            const bool mirror =
+                scene->spec.objects[k].mirrored != scene->spec.objects[i].mirrored;
+            scene->meshes[k] = ArchMirror(mirror, scene->meshes[i]);
+            scene->normals[k] = ArchMirror(mirror, scene->normals[i]);
+            mesh_ready[k] = 1;
+            --meshes_left;
+          }
+          if (--meshes_left == 0) {
+            scene->mesh_seconds = Since(t_meshes);
+            t_trees = Clock::now();
+          }
+          overall(scene->spec.objects[i].name);
+        } catch (...) {
+          std::lock_guard lock(progress_mutex);
+          if (!failure) failure = std::current_exception();
+          stop = true;
+        }
+        mesh_made.notify_all();
+        continue;
+      }
+      const int job = slots[k];
       const BuildProgress inner = [&, job](std::string_view stage, double f) {
         if (stop) return false;
         std::lock_guard lock(progress_mutex);
         done[job] = f;
-        double total = done[0];
-        for (int j = 1; j <= n; ++j) total += 0.1 + 0.9 * done[j];
-        for (int j = n + 1; j < shares; ++j) total += done[j];
-        if (progress && !progress(stage, total / shares)) stop = true;
+        overall(stage);
         return !stop.load();
       };
       try {
@@ -744,6 +764,11 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
         } else {
           // The partitioned list's own settings: spec.objects is in the file's order.
           const int i = order[job - 1];
+          {
+            std::unique_lock lock(progress_mutex);
+            mesh_made.wait(lock, [&] { return mesh_ready[i] || stop; });
+          }
+          if (stop) continue;
           const ObjectSpec& o = scene->spec.objects[i];
           CacheOutcome cached;
           const auto t0 = Clock::now();
@@ -768,10 +793,11 @@ std::unique_ptr<CompiledScene> CompileScene(const SceneSpec& spec,
           }
         }
         stop = true;
+        mesh_made.notify_all();
       }
     }
   };
-  OnEachCore(shares, worker);
+  OnEachCore(num_slots, worker);
   if (failure) std::rethrow_exception(failure);
   if (stop) throw BuildCancelled();
   if (options.seen_gingiva) MirrorSeenTwins(scene->spec.objects, seen_plan, &scene->seen);
