@@ -1,6 +1,9 @@
 #pragma once
-// A scene object's gingiva as the generator takes it: shared by the compiler
-// (core/scene/compile.cpp) and the scripted devices' aim (script_target.cpp).
+// A scene object's gingiva as the generator takes it: shared by the objects'
+// meshes (object_mesh.cpp), the compiler's effects (compile.cpp) and the
+// scripted devices' aim (script_target.cpp).
+
+#include <vector>
 
 #include "core/anatomy/gingiva.h"
 #include "core/scene/scene.h"
@@ -10,5 +13,17 @@ namespace sulcus {
 /// The gingiva parameters of a tooth object (or a share of an arch's gingiva):
 /// its pockets, recession and, for a share, the bone crest it reaches.
 GingivaParams GingivaOf(const ObjectSpec& o);
+
+/// A share of the arch's gingiva's neighbours: their teeth and collars, and
+/// the map from this tooth's (unmirrored) frame to each of theirs (`next`, as
+/// the share's generator takes them).
+struct ShareNeighbours {
+  explicit ShareNeighbours(const ObjectSpec& o);
+  ShareNeighbours(const ShareNeighbours&) = delete;
+  ShareNeighbours& operator=(const ShareNeighbours&) = delete;
+  std::vector<ToothModel> teeth;
+  std::vector<GingivaModel> collars;
+  std::vector<GingivaNeighbour> next;
+};
 
 }  // namespace sulcus
