@@ -92,6 +92,12 @@ void AddSphereTreeCommands(CLI::App& app) {
           {"mean", SphereTreeParams::Spend::kMean},
           {"worst", SphereTreeParams::Spend::kWorst}}));
   build
+      ->add_option("--tighten-passes", b->params.tighten_passes,
+                   "Times the leaves are tightened after the cover (worst, target "
+                   "error; mean tightens once before trading)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 8));
+  build
       ->add_option("--samples", b->params.samples,
                    "Surface samples (0: automatic; at most 10,000,000)")
       ->check(WholeNumber() & CLI::Range(0, 10000000));

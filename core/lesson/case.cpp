@@ -259,8 +259,11 @@ SceneSpec ApplyCase(const SceneSpec& scene, const std::vector<int>& teeth,
           g.bleeding = t.bleeding;
           g.has_sites = true;
         }
-      if (g.trees.target_error_mm == 0)
+      if (g.trees.target_error_mm == 0) {
         g.trees.leaves = std::min(g.trees.leaves, kCaseGingivaLeaves);
+        g.trees.spend = SphereTreeParams::Spend::kWorst;
+        g.trees.tighten_passes = kCaseGingivaTightenPasses;
+      }
     }
     if (whole && !patient) s.patient.teeth_lost_to_periodontitis = LostToPeriodontitis(s);
     const Diagnosis d = Classify2017(TrueChart(s, teeth));
@@ -320,7 +323,8 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
     if (p.opposing_pairs) n["opposing_pairs"] = *p.opposing_pairs;
     root["patient"] = n;
   }
-  // The gingiva's trees as the case is built (kCaseGingivaLeaves), so that the
+  // The gingiva's trees as the case is built (kCaseGingivaLeaves, on the
+  // min-max cover tightened kCaseGingivaTightenPasses times), so that the
   // saved scene opens from the trees its lesson built.
   for (const ObjectSpec& g : cased.objects) {
     if (g.kind != ObjectSpec::Kind::kGingiva || g.trees.target_error_mm > 0) continue;
@@ -331,6 +335,8 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
     gt["levels"] = g.trees.levels;
     gt["branch"] = g.trees.branching;
     gt["leaves"] = g.trees.leaves;
+    gt["spend"] = g.trees.spend == SphereTreeParams::Spend::kWorst ? "worst" : "mean";
+    gt["tighten_passes"] = g.trees.tighten_passes;
     trees["gingiva"] = gt;
     root["spheretree"] = trees;
     break;

@@ -95,7 +95,8 @@ void ForEachSurface(Reader& r, const YAML::Node& c, const std::string& not_a_map
 void ReadTreeParams(Reader& r, const YAML::Node& t, const std::string& where,
                     bool gingiva_allowed, SphereTreeParams* p) {
   if (!r.IsMap(t, where)) return;
-  std::vector<std::string> keys = {"levels", "branch", "leaves", "target_error_mm"};
+  std::vector<std::string> keys = {"levels",          "branch", "leaves",
+                                   "target_error_mm", "spend",  "tighten_passes"};
   if (gingiva_allowed) keys.push_back("gingiva");
   r.CheckKeys(t, keys, where);
   if (t["levels"]) p->levels = r.Integer(t["levels"], "levels", 1, 8, p->levels);
@@ -104,6 +105,20 @@ void ReadTreeParams(Reader& r, const YAML::Node& t, const std::string& where,
   if (t["target_error_mm"])
     p->target_error_mm =
         r.Number(t["target_error_mm"], "target_error_mm", kMinTargetErrorMm, 10, 0, "mm");
+  if (t["spend"]) {
+    const std::string spend = r.Text(t["spend"], "spend");
+    if (spend == "mean") {
+      p->spend = SphereTreeParams::Spend::kMean;
+    } else if (spend == "worst") {
+      p->spend = SphereTreeParams::Spend::kWorst;
+    } else if (t["spend"].IsScalar()) {  // (else Text has said what is wrong)
+      r.Error(t["spend"],
+              "in " + where + ": 'spend' is '" + spend + "' (expected mean or worst)");
+    }
+  }
+  if (t["tighten_passes"])
+    p->tighten_passes =
+        r.Integer(t["tighten_passes"], "tighten_passes", 1, 8, p->tighten_passes);
   const std::size_t capacity = LeafCapacity(p->levels, p->branching);
   if (p->target_error_mm == 0 && static_cast<std::size_t>(p->leaves) > capacity) {
     r.Error(t, "in " + where + ": " + std::to_string(p->leaves) +

@@ -211,7 +211,8 @@ std::vector<std::string> FurcationEntrances(int fdi);
 /// bone that goes with them. A jaw whose crest has dropped below a tooth's
 /// furcation (so that the bone between the roots is modelled, whole or with
 /// its class's defect) and that has no `spheretree` of its own gets at least
-/// kFurcationJawLeaves leaves (5 levels, spent on the min-max cover only), so
+/// kFurcationJawLeaves leaves (5 levels, spent on the min-max cover only and
+/// tightened once), so
 /// that a probe feels that bone as it is.
 void FollowAttachmentLoss(SceneSpec* spec);
 inline constexpr int kFurcationJawLeaves = 2048;

@@ -30,6 +30,9 @@ std::string SphereTreeParams::ToString() const {
   s << "levels=" << levels << " branch=" << branching << " leaves=" << leaves
     << " target_error_mm=" << target_error_mm << " samples=" << samples
     << " seed=" << seed << " spend=" << (spend == Spend::kMean ? "mean" : "worst");
+  // (named only when not the default, so that every tree cached before the
+  // passes could be chosen keeps its key)
+  if (tighten_passes != 3) s << " passes=" << tighten_passes;
   return s.str();
 }
 
@@ -45,6 +48,10 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
   if (params.branching < 2 || params.branching > 32) {
     throw SphereTreeError("branching " + std::to_string(params.branching) +
                           " is out of range (expected 2 to 32)");
+  }
+  if (params.tighten_passes < 1 || params.tighten_passes > 8) {
+    throw SphereTreeError("tightening passes " + std::to_string(params.tighten_passes) +
+                          " is out of range (expected 1 to 8)");
   }
   const std::size_t capacity =
       std::min<std::size_t>(LeafCapacity(params.levels, params.branching), kMaxLeaves);
@@ -173,8 +180,8 @@ SphereTree BuildSphereTree(const TriangleMesh& mesh, const SphereTreeParams& par
     AssignPieces(&out, *work);
     const bool budgeted = params.target_error_mm == 0;
     const bool trade = budgeted && params.spend == SphereTreeParams::Spend::kMean;
-    // Three tightening passes, or one before trading.
-    for (int pass = 0; pass < (trade ? 1 : 3); ++pass) {
+    // The passes asked for, or one before trading.
+    for (int pass = 0; pass < (trade ? 1 : params.tighten_passes); ++pass) {
       ShrinkLeaves(&out, work, index, oracle, 4 * max_pieces, 2);
       if (budgeted) SplitLeavesInTwo(&out, budget, *work, index, oracle);
     }

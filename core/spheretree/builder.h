@@ -44,6 +44,14 @@ struct SphereTreeParams {
   /// only, tightened; what tools use (ToolTreeParams). With a target error
   /// there is no budget to trade, and this is ignored.
   enum class Spend { kMean, kWorst } spend = Spend::kMean;
+  /// How many times the leaves are tightened after the cover (the pieces at
+  /// each leaf's rim split, each piece given to the leaf that holds it with
+  /// the widest margin, the leaves re-centred), 1 to 8: the last step of
+  /// kWorst and of a target error. kMean tightens once before it trades,
+  /// whatever this is. Each pass costs about a sixth of a build; on a case's
+  /// jaw (2,048 leaves) one pass against three left the worst leaf 0.49
+  /// against 0.48 mm and the mean 0.25 against 0.24 mm, in 3.9 against 5.7 s.
+  int tighten_passes = 3;
 
   /// Text that identifies these parameters (for cache keys and reports).
   std::string ToString() const;

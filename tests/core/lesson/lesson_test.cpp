@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
 
@@ -499,6 +500,8 @@ TEST(GeneratedCase, OnlyTheGingivaIsRebuiltAndASavedCaseOpensFromTheCache) {
       EXPECT_TRUE(drawn->tree_built[i]) << o.name << ": its pockets changed";
       EXPECT_EQ(drawn->trees[i].NumLeaves(), static_cast<std::size_t>(kCaseGingivaLeaves))
           << o.name;
+      EXPECT_EQ(o.trees.spend, SphereTreeParams::Spend::kWorst) << o.name;
+      EXPECT_EQ(o.trees.tighten_passes, kCaseGingivaTightenPasses) << o.name;
     } else if (o.kind == ObjectSpec::Kind::kTooth) {
       EXPECT_FALSE(drawn->tree_built[i]) << o.name << ": a tooth is the scene's";
     }
@@ -508,6 +511,12 @@ TEST(GeneratedCase, OnlyTheGingivaIsRebuiltAndASavedCaseOpensFromTheCache) {
   const fs::path saved = Out("case-4242.yaml");
   fs::remove(saved);
   const SceneSpec back = SaveCaseScene(spec, spec.case_spec, 4242, saved);
+  std::ifstream saved_in(saved);
+  const std::string text((std::istreambuf_iterator<char>(saved_in)), {});
+  EXPECT_NE(text.find("gingiva: {levels: 5, branch: 8, leaves: 1024, spend: worst, "
+                      "tighten_passes: 1}"),
+            std::string::npos)
+      << text;
   const auto opened = CompileScene(back, cache);
   for (std::size_t i = 0; i < opened->spec.objects.size(); ++i) {
     EXPECT_FALSE(opened->tree_built[i]) << opened->spec.objects[i].name;

@@ -326,7 +326,44 @@ TEST(SceneFile, SphereTreeSettingsPerObjectAndForTheCollars) {
   EXPECT_EQ(Errors("spheretree: {gingiva: {gingiva: {}}}\nobjects:\n  - tooth: 46\n"),
             (Lines{"1:24: unknown key 'gingiva' in 'spheretree: gingiva' (expected one "
                    "of: levels, branch, leaves, "
-                   "target_error_mm)"}));
+                   "target_error_mm, spend, tighten_passes)"}));
+  EXPECT_EQ(Errors("spheretree: {spend: avg}\nobjects:\n  - tooth: 46\n"),
+            (Lines{"1:21: in 'spheretree': 'spend' is 'avg' (expected mean or worst)"}));
+  const Lines passes =
+      Errors("objects:\n  - tooth: 46\n    spheretree: {tighten_passes: 0}\n");
+  ASSERT_EQ(passes.size(), 1u);
+  EXPECT_NE(passes[0].find("'tighten_passes' is 0, expected 1 to 8"), std::string::npos)
+      << passes[0];
+}
+
+// What a budget is spent on and how often the leaves are tightened, read for
+// the scene, the gingiva and an object, and part of the trees' cache key only
+// when not the default (every tree cached before stays found).
+TEST(SceneFile, TheSpendAndTheTighteningPassesAreRead) {
+  const SceneSpec spec = LoadSceneSpec(
+      Write("spend.yaml",
+            "spheretree: {spend: worst, gingiva: {leaves: 256, tighten_passes: 1}}\n"
+            "gingiva: true\nobjects:\n  - tooth: 46\n"
+            "  - box: [2, 2, 2]\n    tissue: bone\n"
+            "    spheretree: {spend: mean, tighten_passes: 2}\n"));
+  const ObjectSpec* tooth = nullptr;
+  const ObjectSpec* gingiva = nullptr;
+  const ObjectSpec* box = nullptr;
+  for (const ObjectSpec& o : spec.objects) {
+    if (o.kind == ObjectSpec::Kind::kTooth) tooth = &o;
+    if (o.kind == ObjectSpec::Kind::kGingiva) gingiva = &o;
+    if (o.kind == ObjectSpec::Kind::kBox) box = &o;
+  }
+  ASSERT_TRUE(tooth && gingiva && box);
+  EXPECT_EQ(tooth->trees.spend, SphereTreeParams::Spend::kWorst);
+  EXPECT_EQ(tooth->trees.tighten_passes, 3);
+  EXPECT_EQ(gingiva->trees.spend, SphereTreeParams::Spend::kWorst);
+  EXPECT_EQ(gingiva->trees.tighten_passes, 1);
+  EXPECT_EQ(gingiva->trees.leaves, 256);
+  EXPECT_EQ(box->trees.spend, SphereTreeParams::Spend::kMean);
+  EXPECT_EQ(box->trees.tighten_passes, 2);
+  EXPECT_EQ(tooth->trees.ToString().find("passes"), std::string::npos);
+  EXPECT_NE(gingiva->trees.ToString().find(" passes=1"), std::string::npos);
 }
 
 TEST(SceneFile, ShippedScenesValidate) {
@@ -521,6 +558,8 @@ TEST(SceneFile, FurcationByEntranceAndTheBoneBelowIt) {
   // defect (class 0 only) keeps the scene's.
   EXPECT_EQ(s.objects[2].trees.leaves, kFurcationJawLeaves);
   EXPECT_EQ(s.objects[2].trees.levels, 5);
+  EXPECT_EQ(s.objects[2].trees.spend, SphereTreeParams::Spend::kWorst);
+  EXPECT_EQ(s.objects[2].trees.tighten_passes, 1);
   const SceneSpec own =
       LoadSceneSpec(Write("furcation_own_tree.yaml",
                           "arch: true\nobjects:\n  - tooth: 36\n    furcation: {B: 2}\n"
