@@ -330,6 +330,35 @@ class CentreKdTree {
     return best_ball;
   }
 
+  // The indices of the balls whose bound from x, |x - c| - depth, is at most
+  // `bound` (and a few within rounding of it), in increasing order: every
+  // ball that can enclose a piece of centroid x within the protrusion
+  // `bound`, since no point of a piece lies further from a centre than its
+  // farthest corner.
+  void Within(const Vector3& x, double bound, std::vector<std::int32_t>* out) const {
+    out->clear();
+    if (nodes_.empty()) return;
+    const double slack = bound + 1e-9 * (1 + std::abs(bound));
+    std::int32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[stack[--top]];
+      const Vector3 near = x.cwiseMax(n.box.min).cwiseMin(n.box.max);
+      if ((near - x).norm() - n.max_depth > slack) continue;
+      if (n.left < 0) {
+        for (std::int32_t k = n.begin; k < n.end; ++k) {
+          const Ball& l = balls_[order_[k]];
+          if ((x - l.c).norm() - l.depth <= slack) out->push_back(order_[k]);
+        }
+        continue;
+      }
+      stack[top++] = n.left;
+      stack[top++] = n.left + 1;
+    }
+    std::sort(out->begin(), out->end());
+  }
+
  private:
   static constexpr std::int32_t kBucket = 8;
   struct Node {

@@ -147,10 +147,15 @@ bool AddHardPieces(const std::vector<Candidate>& cands, const std::vector<Piece>
     float need;
   };
   std::vector<Extra> extra, mine;
+  // (the candidates that can reach each hard piece within the cap, from a k-d
+  // tree, in index order: the same entries, in the same order, as a scan)
+  const CentreKdTree<Candidate> tree(cands);
+  std::vector<std::int32_t> near;
   for (const std::int32_t p : hard) {
     mine.clear();
     float best = floor[p];
-    for (std::size_t i = 0; i < cands.size(); ++i) {
+    tree.Within(pieces[p].centroid, cap, &near);
+    for (const std::int32_t i : near) {
       if (!Encloses(cands[i], pieces[p], cap) || Encloses(cands[i], pieces[p], eps_g))
         continue;
       const float need = Need(cands[i], pieces[p]);
@@ -300,11 +305,14 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
       continue;
     }
     // The first bound of the bracket that reaches every piece.
+    const CentreKdTree<Candidate> tree(cands);
+    std::vector<std::int32_t> near;
     auto reaches = [&](double eps) {
       for (const std::int32_t p : unreached) {
-        bool any = false;
-        for (std::size_t i = 0; i < cands.size() && !any; ++i)
-          any = Encloses(cands[i], pieces[p], eps);
+        tree.Within(pieces[p].centroid, eps, &near);
+        const bool any = std::any_of(near.begin(), near.end(), [&](std::int32_t i) {
+          return Encloses(cands[i], pieces[p], eps);
+        });
         if (!any) return false;
       }
       return true;

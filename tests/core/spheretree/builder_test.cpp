@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <numbers>
+#include <random>
 
 #include "core/geometry/primitives.h"
+#include "core/spheretree/builder_stages.h"
 #include "core/spheretree/metrics.h"
 #include "tests/common/compare.h"
 
@@ -201,6 +203,36 @@ TEST(Builder, BadInputIsRejectedClearly) {
   p = Small();
   p.tighten_passes = 0;
   ExpectBuildError(box, p, "tightening passes 0 is out of range (expected 1 to 8)");
+}
+
+// The candidates' k-d tree finds every ball that can reach a point within a
+// bound, |x - c| - depth <= bound, exactly as a scan of all of them does and in
+// the same (index) order: the cover's search for its hardest pieces relies on
+// it to list the same entries as the scan it replaced.
+TEST(CentreKdTree, WithinFindsWhatAScanFinds) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> at(-20, 20), deep(0, 3);
+  std::vector<tree_build::Candidate> balls(5000);
+  for (auto& b : balls) b = {Vector3(at(rng), at(rng), 0.2 * at(rng)), deep(rng)};
+  const tree_build::CentreKdTree<tree_build::Candidate> tree(balls);
+  std::vector<std::int32_t> found;
+  std::size_t total = 0;
+  for (int q = 0; q < 200; ++q) {
+    const Vector3 x(at(rng), at(rng), 0.2 * at(rng));
+    const double bound = 0.05 * (q % 40);
+    tree.Within(x, bound, &found);
+    std::vector<std::int32_t> scan;
+    for (std::size_t i = 0; i < balls.size(); ++i)
+      if ((x - balls[i].c).norm() - balls[i].depth <= bound)
+        scan.push_back(static_cast<std::int32_t>(i));
+    EXPECT_EQ(found, scan) << "query " << q;
+    total += scan.size();
+  }
+  EXPECT_GT(total, 200u) << "the queries find balls";
+  const std::vector<tree_build::Candidate> no_balls;
+  const tree_build::CentreKdTree<tree_build::Candidate> none(no_balls);
+  none.Within(Vector3::Zero(), 1.0, &found);
+  EXPECT_TRUE(found.empty());
 }
 
 // The min-max cover tightened once instead of three times: every guarantee
