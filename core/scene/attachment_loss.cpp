@@ -100,7 +100,7 @@ void FollowAttachmentLoss(SceneSpec* spec) {
       jaw.trees.levels = std::max(jaw.trees.levels, 5);
       jaw.trees.leaves = kFurcationJawLeaves;
       jaw.trees.spend = SphereTreeParams::Spend::kWorst;
-      jaw.trees.tighten_passes = 1;
+      jaw.trees.tighten_passes = kFurcationJawTightenPasses;
     }
   }
 }

@@ -212,10 +212,11 @@ std::vector<std::string> FurcationEntrances(int fdi);
 /// furcation (so that the bone between the roots is modelled, whole or with
 /// its class's defect) and that has no `spheretree` of its own gets at least
 /// kFurcationJawLeaves leaves (5 levels, spent on the min-max cover only and
-/// tightened once), so
-/// that a probe feels that bone as it is.
+/// tightened kFurcationJawTightenPasses times), so that a probe feels that
+/// bone as it is.
 void FollowAttachmentLoss(SceneSpec* spec);
 inline constexpr int kFurcationJawLeaves = 2048;
+inline constexpr int kFurcationJawTightenPasses = 1;
 
 /// For a scene with `gingiva: arch` (none else), joins the gingiva of
 /// neighbouring teeth into one per arch: each gingiva

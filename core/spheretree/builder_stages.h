@@ -101,6 +101,24 @@ void BuildMedianTree(std::vector<std::int32_t>* order, std::vector<Node>* nodes,
   (*nodes)[slot].left = left;
 }
 
+// Depth first over a hierarchy that BuildMedianTree made (the root first, a
+// node's children at left and left + 1, none when left < 0), the right child
+// first: `visit(node)` says whether to go on into its children (a leaf's
+// items are the visitor's to go through).
+template <typename Node, typename Visit>
+void VisitNodes(const std::vector<Node>& nodes, Visit&& visit) {
+  if (nodes.empty()) return;
+  std::int32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes[stack[--top]];
+    if (!visit(n) || n.left < 0) continue;
+    stack[top++] = n.left;
+    stack[top++] = n.left + 1;
+  }
+}
+
 // A bounding-volume hierarchy over pieces (boxes around their corners), for
 // "which pieces lie wholly inside this ball" queries: only nodes whose box meets
 // the ball are visited, and a node whose box is inside the ball is taken whole.
@@ -132,34 +150,27 @@ class PieceBvh {
   // `radius` of c, r2 being FarCorner2(piece, c).
   template <typename Fn>
   void ForEachEnclosed(const Vector3& c, double radius, Fn&& fn) const {
-    if (nodes_.empty()) return;
     const double r2 = radius * radius;
     const double cx = c.x(), cy = c.y(), cz = c.z();
     auto far2 = [&](std::int32_t i) {
       return FarCorner2Of(&corners_[9 * static_cast<std::size_t>(i)], cx, cy, cz);
     };
-    std::int32_t stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const Node& n = nodes_[stack[--top]];
+    VisitNodes(nodes_, [&](const Node& n) {
       const Vector3 near = c.cwiseMax(n.box.min).cwiseMin(n.box.max);
-      if ((near - c).squaredNorm() > r2) continue;
+      if ((near - c).squaredNorm() > r2) return false;
       const Vector3 far = (c - n.box.min).cwiseAbs().cwiseMax((c - n.box.max).cwiseAbs());
       if (far.squaredNorm() <= r2) {  // the whole box is inside the ball
         for (std::int32_t i = n.begin; i < n.end; ++i) fn(order_[i], far2(i));
-        continue;
+        return false;
       }
       if (n.left < 0) {
         for (std::int32_t i = n.begin; i < n.end; ++i) {
           const double d2 = far2(i);
           if (d2 <= r2) fn(order_[i], d2);
         }
-        continue;
       }
-      stack[top++] = n.left;
-      stack[top++] = n.left + 1;
-    }
+      return true;
+    });
   }
 
  private:
@@ -337,25 +348,18 @@ class CentreKdTree {
   // farthest corner.
   void Within(const Vector3& x, double bound, std::vector<std::int32_t>* out) const {
     out->clear();
-    if (nodes_.empty()) return;
     const double slack = bound + 1e-9 * (1 + std::abs(bound));
-    std::int32_t stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const Node& n = nodes_[stack[--top]];
+    VisitNodes(nodes_, [&](const Node& n) {
       const Vector3 near = x.cwiseMax(n.box.min).cwiseMin(n.box.max);
-      if ((near - x).norm() - n.max_depth > slack) continue;
+      if ((near - x).norm() - n.max_depth > slack) return false;
       if (n.left < 0) {
         for (std::int32_t k = n.begin; k < n.end; ++k) {
           const Ball& l = balls_[order_[k]];
           if ((x - l.c).norm() - l.depth <= slack) out->push_back(order_[k]);
         }
-        continue;
       }
-      stack[top++] = n.left;
-      stack[top++] = n.left + 1;
-    }
+      return true;
+    });
     std::sort(out->begin(), out->end());
   }
 

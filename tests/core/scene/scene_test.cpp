@@ -559,7 +559,7 @@ TEST(SceneFile, FurcationByEntranceAndTheBoneBelowIt) {
   EXPECT_EQ(s.objects[2].trees.leaves, kFurcationJawLeaves);
   EXPECT_EQ(s.objects[2].trees.levels, 5);
   EXPECT_EQ(s.objects[2].trees.spend, SphereTreeParams::Spend::kWorst);
-  EXPECT_EQ(s.objects[2].trees.tighten_passes, 1);
+  EXPECT_EQ(s.objects[2].trees.tighten_passes, kFurcationJawTightenPasses);
   const SceneSpec own =
       LoadSceneSpec(Write("furcation_own_tree.yaml",
                           "arch: true\nobjects:\n  - tooth: 36\n    furcation: {B: 2}\n"
