@@ -21,7 +21,8 @@ for variant in "512 worst 1" "768 worst 1" "1024 worst 1" "1024 mean 3" "3072 me
   read -r leaves spend passes <<<"$variant"
   name="${leaves}_$spend"
   pattern="gingiva: {levels: 5, branch: 8,"
-  sed "s/$pattern .*}/$pattern leaves: $leaves, spend: $spend, tighten_passes: $passes}/" \
+  trees="leaves: $leaves, spend: $spend, tighten_passes: $passes"
+  sed "s/$pattern .*}/$pattern $trees}/" \
     "$tmp/scenes/case.yaml" >"$tmp/scenes/case_$name.yaml"
   grep -q "leaves: $leaves, spend: $spend" "$tmp/scenes/case_$name.yaml" ||
     { echo "error: the saved case names no gingiva resolution" >&2; exit 1; }

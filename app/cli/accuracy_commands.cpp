@@ -692,7 +692,7 @@ void AddAccuracyCommands(CLI::App& app) {
       const TreeMetrics m = EvaluateSphereTree(object, tree, fit_eval);
       const FrameStats f = RunSlide(probe, tree, box, EngineParams{});
       std::printf("  %5s  %7.3f  %7.3f  %7.2f  %7.2f  %12.2f  %6.2f  %5.0f  %6llu\n",
-                  spend == SphereTreeParams::Spend::kMean ? "mean" : "worst",
+                  SpendName(spend),
                   100 * m.leaves().protrusion_max_mm / m.largest_extent_mm,
                   100 * m.leaves().protrusion_mean_mm / m.largest_extent_mm,
                   m.leaves().overlap, build_s, f.p50_us, f.p99_us, f.mean_pairs,

@@ -89,8 +89,9 @@ void AddSphereTreeCommands(CLI::App& app) {
                    "(default); worst: the "
                    "min-max cover only (what tools use)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, SphereTreeParams::Spend>{
-          {"mean", SphereTreeParams::Spend::kMean},
-          {"worst", SphereTreeParams::Spend::kWorst}}));
+          {SpendName(SphereTreeParams::Spend::kMean), SphereTreeParams::Spend::kMean},
+          {SpendName(SphereTreeParams::Spend::kWorst),
+           SphereTreeParams::Spend::kWorst}}));
   build
       ->add_option("--tighten-passes", b->params.tighten_passes,
                    "Times the leaves are tightened after the cover (worst, target "

@@ -335,7 +335,7 @@ SceneSpec SaveCaseScene(const LessonSpec& lesson, const CaseSpec& c, std::uint64
     gt["levels"] = g.trees.levels;
     gt["branch"] = g.trees.branching;
     gt["leaves"] = g.trees.leaves;
-    gt["spend"] = g.trees.spend == SphereTreeParams::Spend::kWorst ? "worst" : "mean";
+    gt["spend"] = SpendName(g.trees.spend);
     gt["tighten_passes"] = g.trees.tighten_passes;
     trees["gingiva"] = gt;
     root["spheretree"] = trees;

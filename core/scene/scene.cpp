@@ -107,10 +107,8 @@ void ReadTreeParams(Reader& r, const YAML::Node& t, const std::string& where,
         r.Number(t["target_error_mm"], "target_error_mm", kMinTargetErrorMm, 10, 0, "mm");
   if (t["spend"]) {
     const std::string spend = r.Text(t["spend"], "spend");
-    if (spend == "mean") {
-      p->spend = SphereTreeParams::Spend::kMean;
-    } else if (spend == "worst") {
-      p->spend = SphereTreeParams::Spend::kWorst;
+    if (const auto parsed = ParseSpend(spend)) {
+      p->spend = *parsed;
     } else if (t["spend"].IsScalar()) {  // (else Text has said what is wrong)
       r.Error(t["spend"],
               "in " + where + ": 'spend' is '" + spend + "' (expected mean or worst)");

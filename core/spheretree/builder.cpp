@@ -24,12 +24,23 @@ double Seconds(Clock::time_point since) {
 
 }  // namespace
 
+const char* SpendName(SphereTreeParams::Spend spend) {
+  return spend == SphereTreeParams::Spend::kMean ? "mean" : "worst";
+}
+
+std::optional<SphereTreeParams::Spend> ParseSpend(std::string_view name) {
+  for (const auto spend :
+       {SphereTreeParams::Spend::kMean, SphereTreeParams::Spend::kWorst})
+    if (name == SpendName(spend)) return spend;
+  return std::nullopt;
+}
+
 std::string SphereTreeParams::ToString() const {
   std::ostringstream s;
   s.precision(17);
   s << "levels=" << levels << " branch=" << branching << " leaves=" << leaves
     << " target_error_mm=" << target_error_mm << " samples=" << samples
-    << " seed=" << seed << " spend=" << (spend == Spend::kMean ? "mean" : "worst");
+    << " seed=" << seed << " spend=" << SpendName(spend);
   // (named only when not the default, so that every tree cached before the
   // passes could be chosen keeps its key)
   if (tighten_passes != 3) s << " passes=" << tighten_passes;

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -60,6 +61,12 @@ struct SphereTreeParams {
 /// The parameters a tool's tree is built with: the default budget, spent evenly
 /// (Spend::kWorst). A tool's tip is in every contact; trading would crowd
 /// leaves there and multiply the engine's contact pairs.
+/// A spend's name, "mean" or "worst", as scene files, the command line and
+/// the cache keys write it.
+const char* SpendName(SphereTreeParams::Spend spend);
+/// The spend of that name, or nothing for another word.
+std::optional<SphereTreeParams::Spend> ParseSpend(std::string_view name);
+
 inline SphereTreeParams ToolTreeParams() {
   SphereTreeParams p;
   p.spend = SphereTreeParams::Spend::kWorst;

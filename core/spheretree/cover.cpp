@@ -131,7 +131,8 @@ float Need(const Candidate& c, const Piece& p) {
 // entries it would see in the lists at `cap`. At 1.6 mm a gingiva's lists hold
 // 20 to 30 million entries, for a cover at 0.3 mm. Returns false, leaving
 // `general` as it was, when too many pieces are hard for the search to pay.
-bool AddHardPieces(const std::vector<Candidate>& cands, const std::vector<Piece>& pieces,
+bool AddHardPieces(const std::vector<Candidate>& cands,
+                   const CentreKdTree<Candidate>& tree, const std::vector<Piece>& pieces,
                    double eps_g, double cap, CoverLists* general) {
   const std::vector<float> floor = PieceFloors(*general, pieces.size());
   const auto feps = static_cast<float>(eps_g);
@@ -147,9 +148,9 @@ bool AddHardPieces(const std::vector<Candidate>& cands, const std::vector<Piece>
     float need;
   };
   std::vector<Extra> extra, mine;
-  // (the candidates that can reach each hard piece within the cap, from a k-d
-  // tree, in index order: the same entries, in the same order, as a scan)
-  const CentreKdTree<Candidate> tree(cands);
+  // (the candidates that can reach each hard piece within the cap, from the
+  // k-d tree over them, in index order: the same entries, in the same order,
+  // as a scan)
   std::vector<std::int32_t> near;
   for (const std::int32_t p : hard) {
     mine.clear();
@@ -160,7 +161,7 @@ bool AddHardPieces(const std::vector<Candidate>& cands, const std::vector<Piece>
         continue;
       const float need = Need(cands[i], pieces[p]);
       best = std::min(best, need);
-      mine.push_back({static_cast<std::int32_t>(i), p, need});
+      mine.push_back({i, p, need});
     }
     const float limit = std::nextafter(kFloorSlack * best, inf);
     for (const Extra& e : mine)
@@ -202,14 +203,16 @@ bool EnclosesAsQueried(const Candidate& c, const Piece& p, double eps) {
 // For each piece, the index of the first of `bounds` (ascending) at which
 // some candidate encloses it (ComputeCovers' test), or bounds.size() when
 // none does. Found from the candidate with the smallest bound for it (a k-d
-// search); where that bound lies within rounding of one of `bounds`, the test
-// itself decides, over every candidate.
+// search over `tree`, the k-d tree of `cands`); where that bound lies within
+// rounding of one of `bounds`, the test itself decides, over the candidates
+// that can reach the piece there.
 std::vector<int> FirstReach(const std::vector<Candidate>& cands,
+                            const CentreKdTree<Candidate>& tree,
                             const std::vector<Piece>& pieces,
                             const std::vector<double>& bounds) {
-  const CentreKdTree<Candidate> tree(cands);
   const int n = static_cast<int>(bounds.size());
   std::vector<int> first(pieces.size(), n);
+  std::vector<std::int32_t> near;
   for (std::size_t p = 0; p < pieces.size(); ++p) {
     const Piece& piece = pieces[p];
     const Candidate& best = cands[tree.Best(piece)];
@@ -222,9 +225,10 @@ std::vector<int> FirstReach(const std::vector<Candidate>& cands,
     if (near_bound) {
       k = std::max(0, k - 1);
       auto reached = [&](int at) {
-        for (const Candidate& c : cands)
-          if (EnclosesAsQueried(c, piece, bounds[at])) return true;
-        return false;
+        tree.Within(piece.centroid, bounds[at], &near);
+        return std::any_of(near.begin(), near.end(), [&](std::int32_t i) {
+          return EnclosesAsQueried(cands[i], piece, bounds[at]);
+        });
       };
       while (k < n && !reached(k)) ++k;
     }
@@ -240,6 +244,12 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
                             double start_eps, double reach_eps, double diag,
                             const std::function<void()>& tick) {
   const PieceBvh bvh(pieces);
+  // The candidates' k-d tree, made once when a search first needs it.
+  std::optional<CentreKdTree<Candidate>> kd;
+  auto cand_tree = [&]() -> const CentreKdTree<Candidate>& {
+    if (!kd) kd.emplace(cands);
+    return *kd;
+  };
   MinMaxCover out;
   auto use_lists = [&](CoverLists lists, double eps) {
     out.lists = std::move(lists);
@@ -276,7 +286,7 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
     std::vector<double> bounds;
     for (double e = hi; e <= 4 * diag; e *= grow) bounds.push_back(e);
     std::vector<std::size_t> reached_first(bounds.size() + 1, 0);
-    for (const int k : FirstReach(cands, pieces, bounds)) ++reached_first[k];
+    for (const int k : FirstReach(cands, cand_tree(), pieces, bounds)) ++reached_first[k];
     std::size_t unreached = pieces.size() - reached_first[0];
     for (std::size_t k = 0; unreached > 0 && !SearchPays(unreached, cands.size()); ++k) {
       tick();
@@ -305,11 +315,10 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
       continue;
     }
     // The first bound of the bracket that reaches every piece.
-    const CentreKdTree<Candidate> tree(cands);
     std::vector<std::int32_t> near;
     auto reaches = [&](double eps) {
       for (const std::int32_t p : unreached) {
-        tree.Within(pieces[p].centroid, eps, &near);
+        cand_tree().Within(pieces[p].centroid, eps, &near);
         const bool any = std::any_of(near.begin(), near.end(), [&](std::int32_t i) {
           return Encloses(cands[i], pieces[p], eps);
         });
@@ -321,7 +330,7 @@ MinMaxCover CoverWithBudget(const std::vector<Candidate>& cands,
     while (!reaches(hi)) next();
     const double half = 0.5 * hi;
     if (half != e) lists = ComputeCovers(cands, bvh, half);
-    if (!AddHardPieces(cands, pieces, half, hi, &lists)) break;
+    if (!AddHardPieces(cands, cand_tree(), pieces, half, hi, &lists)) break;
     use_lists(std::move(lists), hi);
     tick();
     first_half = GreedyCover(out.lists, half, pieces.size(), budget, &out.limits);
