@@ -27,7 +27,7 @@ results="$dir/station"
 trap 'pg stop -m immediate 2>/dev/null || true; rm -rf "$dir"' EXIT
 
 pg -o "$opts" start
-"$cli" results list --results "$url" >/dev/null  # the tables
+SULCUS_RESULTS_URL=$url "$cli" results list >/dev/null  # the tables
 pg stop
 echo "taking $n attempts (student:$student) with the server stopped..."
 for ((i = 0; i < n; ++i)); do
@@ -42,4 +42,4 @@ t0=$(date +%s.%N)
 SULCUS_RESULTS_DIR=$results SULCUS_RESULTS_URL=$url "$cli" results sync | tail -n 1
 t1=$(date +%s.%N)
 python3 -c "print(f'sync of $waiting attempts: {$t1 - $t0:.1f} s, {($t1 - $t0) / max(1, $waiting):.2f} s an attempt')"
-"$cli" results list --results "$url" | tail -n 1
+SULCUS_RESULTS_URL=$url "$cli" results list | tail -n 1

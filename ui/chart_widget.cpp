@@ -198,6 +198,16 @@ std::optional<SiteRef> ChartWidget::cursor() const {
   return path_[cursor_];
 }
 
+bool ChartWidget::SelectSite(const SiteRef& s) {
+  for (std::size_t i = 0; i < path_.size(); ++i)
+    if (path_[i] == s) {
+      cursor_ = i;
+      update();
+      return true;
+    }
+  return false;
+}
+
 std::optional<int> ChartWidget::depth(const SiteRef& s) const {
   const auto it = pd_.find({s.fdi, s.site});
   if (it == pd_.end()) return std::nullopt;

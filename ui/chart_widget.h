@@ -49,6 +49,9 @@ class ChartWidget : public QWidget {
   std::function<void(const ChartEntry&)> on_entry;
 
   std::optional<SiteRef> cursor() const;
+  /// Puts the cursor on a site of the path, as a click on its cell does
+  /// (false: not on the path).
+  bool SelectSite(const SiteRef& s);
   std::optional<int> depth(const SiteRef& s) const;
   bool bleeding(const SiteRef& s) const;
   int entered() const { return static_cast<int>(pd_.size()); }

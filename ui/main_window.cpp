@@ -110,6 +110,8 @@ void MainWindow::BuildUi() {
   view_->AttachLoupe(loupe, loupe_marks);
   setCentralWidget(vtk_widget_);
   vtk_widget_->installEventFilter(this);  // the tool keys reach the mouse device, not VTK
+  // And from the lesson's panel (the chart, the feedback list) too.
+  qApp->installEventFilter(this);
 
   // The side panel: gauge, status, controls, events.
   auto* panel = new QWidget;
@@ -569,6 +571,7 @@ void MainWindow::BeginSession() {
     shown_findings_ = 0;
     views_sent_ = 0;
     looked_at_ = 0;
+    looked_lingual_ = false;
     lesson_dock_->show();
     lesson_dock_->raise();
   }
@@ -756,8 +759,8 @@ QWidget* MainWindow::view_widget() const { return vtk_widget_; }
 void MainWindow::SetGingivaTranslucent(bool on) { translucent_->setChecked(on); }
 void MainWindow::SetLipsAndCheeksHidden(bool hidden) { lips_hidden_->setChecked(hidden); }
 
-bool MainWindow::LookAtTooth(int fdi) {
-  const bool ok = view_->LookAtTooth(fdi);
+bool MainWindow::LookAtTooth(int fdi, bool lingual) {
+  const bool ok = view_->LookAtTooth(fdi, lingual);
   if (!ok) statusBar()->showMessage(QString("Tooth %1 is not in this scene").arg(fdi));
   vtk_widget_->renderWindow()->Render();
   return ok;
@@ -773,11 +776,7 @@ void MainWindow::closeEvent(QCloseEvent* e) {
   settings.setValue("window/geometry", saveGeometry());
   settings.setValue("window/state", saveState(kDockLayoutVersion));
   // A lesson in progress is kept: scored as far as it went, stored, its report written.
-  if (lesson_) {
-    if (!lesson_->done())
-      lesson_->SetEnding("the window was closed before the last step");
-    FinishLesson(/*show_report=*/false);
-  }
+  if (lesson_) LeaveLesson("the window was closed before the last step");
   StopSession();
   QMainWindow::closeEvent(e);
 }

@@ -44,13 +44,16 @@ class QVTKOpenGLNativeWidget;
 class vtkGenericOpenGLRenderWindow;
 class vtkRenderer;
 
+namespace sulcus {
+class MouseKeyboardDevice;
+}  // namespace sulcus
+
 namespace sulcus::ui {
 
 class ChartWidget;
 class OdontogramWidget;
 class ForceGauge;
 class ForcePlot;
-class MouseKeyboardDevice;
 class SceneView;
 
 class MainWindow : public QMainWindow {
@@ -79,7 +82,7 @@ class MainWindow : public QMainWindow {
   MouseKeyboardDevice* mouse() const { return mouse_; }
   QWidget* view_widget() const;
   void ShowSpheres(int level);
-  bool LookAtTooth(int fdi);
+  bool LookAtTooth(int fdi, bool lingual = false);
   /// The camera's axes in the world: right, up and into the screen (the keys
   /// move the probe along them).
   struct ViewAxes {
@@ -89,8 +92,14 @@ class MainWindow : public QMainWindow {
   /// Mouse and keyboard: the probe along a site's line, its tip this far above
   /// the margin (the press let go). False without the mouse or the site.
   bool PlaceProbeAt(const SiteRef& site, double above_margin_mm);
+  /// The site N goes to and the camera follows: the chart's selected cell when
+  /// it is a site of the lesson not yet charted (the student chose it), else
+  /// the lesson's next site.
+  std::optional<SiteRef> ProbeTarget() const;
   /// The press's step (R and F), N.
   static constexpr double kPressStepN = 0.02;
+  /// The walking keys: along the sulcus a press, and the lift of its stroke.
+  static constexpr double kWalkStepMm = 0.4, kWalkLiftMm = 1.0;
   void SetGingivaTranslucent(bool on);
   /// As the "hide lips and cheeks" box does.
   void SetLipsAndCheeksHidden(bool hidden);
@@ -131,6 +140,9 @@ class MainWindow : public QMainWindow {
   /// Ends the lesson: the recording written, the attempt scored, its entries and
   /// report saved, stored in the results database, and the report shown.
   bool FinishLesson(bool show_report = true);
+  /// Ends the lesson in progress as the student leaves it (`why` kept in the
+  /// result when a step is left undone), stored, no report shown.
+  void LeaveLesson(const std::string& why);
   /// Keeps the attempts that were started and never kept (Sulcus stopped
   /// mid-lesson): each rebuilt from its recording and entries, stored as
   /// incomplete, and the student told. Returns how many were kept.
@@ -210,6 +222,12 @@ class MainWindow : public QMainWindow {
   void ShowReport(const LessonResult& r, const std::filesystem::path& html);
   const ProbingSite* SceneSite(const SiteRef& s) const;
   QString HeldBackText() const;
+  // The keys' tip: where the press has taken the hand, and the hand put so
+  // that its tip is at X_WT with the press kept.
+  RigidTransform KeyTipPose() const;
+  // Blood at the margins the lesson shows (3D view and loupe).
+  void ShowBlood(const std::vector<BloodMark>& marks);
+  void PlaceKeyTip(const RigidTransform& X_WT);
   void UpdateLoupe(const std::optional<SiteRef>& tip);
   static constexpr double kHeldBackMm = 2.0;
   static constexpr int kDockLayoutVersion = 2;
@@ -274,6 +292,7 @@ class MainWindow : public QMainWindow {
   QPushButton *diagnose_button_ = nullptr, *finish_button_ = nullptr;
   std::size_t feedback_shown_ = 0;
   int looked_at_ = 0;
+  bool looked_lingual_ = false;
   bool aids_locked_ = false;
   std::optional<LessonResult> last_result_;
   std::filesystem::path last_report_;

@@ -3,14 +3,17 @@
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkCamera.h>
 
+#include <QAbstractSpinBox>
 #include <QCheckBox>
 #include <QKeyEvent>
+#include <QLineEdit>
 #include <QMouseEvent>
 #include <QStatusBar>
 #include <QWheelEvent>
 #include <algorithm>
 #include <cmath>
 
+#include "core/haptics/probe_keys.h"
 #include "ui/force_gauge.h"
 #include "ui/main_window.h"
 #include "ui/main_window_parts.h"
@@ -63,8 +66,7 @@ void MainWindow::UpdateLoupe(const std::optional<SiteRef>& tip) {
     return;
   }
   // Centred where the margin meets the probe, seen square to the probe from
-  // outside the tooth, the tip down: 8 mm across (the Williams probe's first
-  // three bands).
+  // outside the tooth: 8 mm across (the Williams probe's first three bands).
   const RigidTransform& X_WG = view_->graphic_pose();
   const Vector3 tip_W = X_WG.translation();
   const Vector3 axis_W = X_WG.rotation() * Vector3::UnitZ();
@@ -73,16 +75,21 @@ void MainWindow::UpdateLoupe(const std::optional<SiteRef>& tip) {
   out_W -= site->axis_W * out_W.dot(site->axis_W);
   out_W -= axis_W * out_W.dot(axis_W);
   if (out_W.norm() < 1e-6) out_W = axis_W.unitOrthogonal();
-  view_->ShowLoupe(focus_W, out_W.normalized(), axis_W, 8.0);
+  // Oriented as the view: the probe's handle up on the screen when it is up
+  // in the view (a lower tooth), down when it is down (an upper one).
+  const Vector3 up_W = axis_W.dot(CameraAxes().up) >= 0 ? axis_W : Vector3(-axis_W);
+  view_->ShowLoupe(focus_W, out_W.normalized(), up_W, 8.0);
 }
 
 bool MainWindow::PlaceProbeAt(const SiteRef& site, double above_margin_mm) {
   const ProbingSite* p = SceneSite(site);
   if (!mouse_ || !p) return false;
-  const Vector3 down = (p->floor_W - p->margin_W).normalized();
-  // Along the site's line (parallel to the long axis), the tip above the margin.
-  mouse_->Set(RigidTransform(Quaternion::FromTwoVectors(Vector3::UnitZ(), -down),
-                             p->margin_W - above_margin_mm * down));
+  // In the site's own sulcus at its angle round the tooth, along the long
+  // axis, the tip above the margin (probe_keys.h: the scripted keys too).
+  mouse_->Set(PoseOverSite(*p, above_margin_mm));
+  // The tool goes there too, whatever stood between (a crown, the other arch):
+  // the probe is never left held back behind a tooth.
+  if (session_) session_->loop().Send({HapticCommand::Kind::kResetTool});
   statusBar()->showMessage(
       QString("The probe is over %1, %2 mm above the margin: press R to push it down")
           .arg(Q(site.ToString()))
@@ -140,30 +147,32 @@ void MainWindow::keyPressEvent(QKeyEvent* e) {
       return;
     case Qt::Key_Comma:
     case Qt::Key_Period: {
-      // The walking stroke: along the sulcus round the tooth the tip is in,
-      // 0.3 mm a press (the press keeps the tip at the floor meanwhile).
+      // The walking stroke: along the sulcus' own curve round the tooth the
+      // tip is in, 0.4 mm a press, lifted 1 mm and pressed back to the floor
+      // (an up-and-down stroke a press).
       const std::optional<SiteRef> at = lesson_ ? lesson_->tip_site() : std::nullopt;
       const ProbingSite* p = at ? SceneSite(*at) : nullptr;
-      if (!p) {
+      if (!p || !p->ring) {
         statusBar()->showMessage(
             "Walking needs the tip in a sulcus: press N to place the probe at the "
             "next site, then R to push it down",
             6000);
         return;
       }
-      const Vector3 tip = mouse_->pose().translation();
-      Vector3 around = p->axis_W.cross(tip - p->origin_W);
-      if (around.norm() < 1e-9) return;
+      const RigidTransform tip = mouse_->tip_pose();
       // Comma walks to the screen's left, period to its right.
-      around.normalize();
-      if (around.dot(v.right) < 0) around = -around;
-      mouse_->Nudge((e->key() == Qt::Key_Period ? 0.3 : -0.3) * around, Vector3::Zero());
+      const double right = SulcusTangent(*p->ring, tip.translation()).dot(v.right);
+      const double sign = (e->key() == Qt::Key_Period) == (right >= 0) ? 1.0 : -1.0;
+      if (const auto to = WalkAlongSulcus(*p, tip, sign * kWalkStepMm)) {
+        mouse_->PlaceTip(*to);
+        mouse_->Lift(kWalkLiftMm);
+      }
       return;
     }
     case Qt::Key_T: {
-      // Into the col: at an interdental site the handle leans 20 degrees away
-      // from the contact, about the tip, so that the tip goes under the contact
-      // point; T again stands it back along the tooth.
+      // Into the col: at an interdental site the tip goes along the sulcus
+      // under the contact point and the handle leans 20 degrees away from the
+      // contact (probe_keys.h); T again stands it back along the tooth.
       const std::optional<SiteRef> at = lesson_ ? lesson_->tip_site() : std::nullopt;
       if (!at || !IsInterdental(at->site)) {
         statusBar()->showMessage(
@@ -173,38 +182,26 @@ void MainWindow::keyPressEvent(QKeyEvent* e) {
         return;
       }
       const ProbingSite* p = SceneSite(*at);
-      const ProbingSite* mid = SceneSite({at->fdi, at->site < 3 ? 1 : 4});
-      if (!p || !mid) return;
-      // Toward the contact along the sulcus: the ring's tangent at the tip (so
-      // the working end turns in the sulcus, never into the tooth or the
-      // gingiva), on the side from the mid-site to this one.
-      // The hand's pose is above the tip by the press's travel down the probe.
-      const RigidTransform& X = mouse_->pose();
-      const Vector3 z = X.rotation() * Vector3::UnitZ();
-      const double travel = mouse_->press_travel_mm();
-      Vector3 radial = X.translation() - travel * z - p->origin_W;
-      radial -= p->axis_W * radial.dot(p->axis_W);
-      Vector3 toward = p->axis_W.cross(radial);
-      if (toward.norm() < 1e-6) return;
-      toward.normalize();
-      if (toward.dot(p->margin_W - mid->margin_W) < 0) toward = -toward;
-      const bool tilted = z.dot(-toward) > std::sin(10.0 * M_PI / 180);
-      const double lean = tilted ? 0.0 : 20.0 * M_PI / 180;
-      const Vector3 want = std::cos(lean) * p->axis_W - std::sin(lean) * toward;
-      // Turned about the tip, the press kept: the hand's point moves with the
-      // turned axis so that the tip stays where it is.
-      const Eigen::AngleAxisd turn(Quaternion::FromTwoVectors(z, want));
-      const Vector3 z_after = turn * z;
-      mouse_->Nudge(travel * (z_after - z), turn.angle() * turn.axis());
+      if (!p || !p->ring) return;
+      const RigidTransform tip = mouse_->tip_pose();
+      const Vector3 z = tip.rotation() * Vector3::UnitZ();
+      const bool tilted = z.dot(p->ring->AxisW()) < std::cos(10.0 * M_PI / 180);
+      if (tilted) {
+        mouse_->PlaceTip(
+            RigidTransform(Quaternion::FromTwoVectors(Vector3::UnitZ(), p->ring->AxisW()),
+                           tip.translation()));
+      } else if (const auto to = TiltIntoCol(*p, tip)) {
+        mouse_->PlaceTip(*to);
+      }
       statusBar()->showMessage(tilted ? "The probe stands along the tooth again"
-                                      : "The probe leans 20 degrees away from the "
-                                        "contact: the tip goes under it into the col "
-                                        "(T again stands it back)",
+                                      : "The tip goes along the sulcus under the "
+                                        "contact point and the probe leans 20 degrees "
+                                        "away from it: the col (T again stands it back)",
                                5000);
       return;
     }
     case Qt::Key_N: {
-      const std::optional<SiteRef> next = lesson_ ? lesson_->next_site() : std::nullopt;
+      const std::optional<SiteRef> next = ProbeTarget();
       if (!next) {
         statusBar()->showMessage("No site is next in this lesson", 4000);
       } else if (aids_locked_) {
@@ -271,7 +268,15 @@ bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
       return true;
     }
   }
-  if (watched == vtk_widget_ && e->type() == QEvent::KeyPress && mouse_) {
+  // The probe's keys reach the probe from wherever the focus is in this window
+  // (the 3D view, the chart, the feedback list, a button), except a field the
+  // student types text in.
+  auto* widget = qobject_cast<QWidget*>(watched);
+  const bool ours =
+      widget && (widget == vtk_widget_ || (lesson_ && widget->window() == this &&
+                                           !qobject_cast<QLineEdit*>(widget) &&
+                                           !qobject_cast<QAbstractSpinBox*>(widget)));
+  if (ours && e->type() == QEvent::KeyPress && mouse_) {
     auto* k = static_cast<QKeyEvent*>(e);
     switch (k->key()) {
       case Qt::Key_W:

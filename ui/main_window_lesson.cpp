@@ -162,7 +162,7 @@ bool MainWindow::StartLesson(const LessonStart& start) {
     ShowErrors("Lesson", "The lesson's scene cannot be made.", Q(e.what()));
     return false;
   }
-  if (lesson_) FinishLesson();
+  if (lesson_) LeaveLesson("the student started another lesson");
   // The attempt's folder: its recording, entries and report.
   const std::filesystem::path results =
       start.results_dir.empty() ? DefaultResultsDir() : start.results_dir;
@@ -245,6 +245,17 @@ void MainWindow::PrepareLesson(const std::filesystem::path& lesson,
 }
 
 bool MainWindow::ShowStartPage() {
+  // A lesson in progress is left only when the student says so, and kept as
+  // the student left it (never taken for an attempt cut short by a crash).
+  if (lesson_) {
+    const auto answer = QMessageBox::question(
+        this, "Leave the lesson?",
+        "A lesson is in progress. Leave it for another? Your attempt is kept as you "
+        "leave it: scored as far as it went and stored.",
+        QMessageBox::Yes | QMessageBox::No, QMessageBox::No);
+    if (answer != QMessageBox::Yes) return false;
+    LeaveLesson("the student left it for another lesson");
+  }
   RecoverUnfinishedAttempts();
   StartDialog dialog(lesson_dirs_, ResultsPlaceFor(DefaultResultsDir()), this);
   dialog.SetPreparation(
@@ -379,24 +390,33 @@ void MainWindow::UpdateLessonPanel() {
       }
   }
   const std::optional<SiteRef> next =
-      lesson_spec_->inspection() ? std::nullopt : l.next_site();
+      lesson_spec_->inspection() ? std::nullopt : ProbeTarget();
   next_label_->setText(next ? QString("Next: <b>%1</b>").arg(Q(next->ToString()))
                             : QString());
-  if (next && next->fdi != looked_at_ && !lesson_spec_->inspection()) {
-    looked_at_ = next->fdi;
-    LookAtTooth(next->fdi);  // the camera to the tooth the lesson asks for
+  // The camera to the tooth and the side the student probes next (the side
+  // being probed: buccal, or lingual and palatal from inside the arch).
+  if (const std::optional<SiteRef> target = ProbeTarget();
+      target && !lesson_spec_->inspection()) {
+    const bool lingual = target->site >= 3;
+    if (target->fdi != looked_at_ || lingual != looked_lingual_) {
+      looked_at_ = target->fdi;
+      looked_lingual_ = lingual;
+      LookAtTooth(target->fdi, lingual);
+    }
   }
   const std::optional<SiteRef> tip = l.tip_site();
   if (!lesson_spec_->inspection()) {
     QString where =
         tip ? QString("You are in the sulcus of <b>%1</b>").arg(Q(tip->ToString()))
             : QString("The tip is not in a sulcus");
-    if (tip && l.tip_depth_mm())
+    // Practice only: an assessment tests reading the probe's markings.
+    if (tip && l.tip_depth_mm() && !aids_locked_)
       where += QString(", %1 mm below the margin").arg(*l.tip_depth_mm(), 0, 'f', 1);
     tip_label_->setText(where + HeldBackText());
   }
   chart_->SetProbing(tip);
   UpdateLoupe(tip);
+  ShowBlood(l.blood_shown());
   {
     std::set<std::pair<int, int>> probed;
     for (const SiteResult& x : l.sites())
@@ -404,20 +424,46 @@ void MainWindow::UpdateLessonPanel() {
     chart_->SetProbed(probed);
   }
   if (const auto angle = l.tip_angle_deg()) {
-    // At an interdental site a tilt under the contact (up to 30 degrees) is the
-    // col's technique, not a fault: green there, as the scoring has it.
-    const bool col = tip && IsInterdental(tip->site) && *angle > 5 && *angle <= 30;
-    const QString colour = *angle <= 5 || col ? "#2a8a3a"
-                           : *angle <= 10     ? "#c88a00"
-                                              : "#c02020";
+    // The panel says what the score will: at an interdental site with a
+    // contact the col under it (the tip locator's one rule), elsewhere the
+    // angle against the rubric's limits.
+    const SiteResult* at = nullptr;
+    for (const SiteResult& x : l.sites())
+      if (tip && x.site == *tip) at = &x;
     const int bars = std::min(20, static_cast<int>(*angle));
-    tilt_label_->setText(
-        QString(
-            "Tilt from the long axis: <span style='color:%1'><b>%2&deg;</b> %3</span>%4")
-            .arg(colour)
-            .arg(*angle, 0, 'f', 0)
-            .arg(QString(bars, QChar(0x2588)))
-            .arg(col ? " into the col" : ""));
+    QString text = QString("Tilt from the long axis: <b>%1&deg;</b> %2")
+                       .arg(*angle, 0, 'f', 0)
+                       .arg(QString(bars, QChar(0x2588)));
+    if (at && at->interproximal_contact) {
+      const double to = l.tip_location().to_contact_mm;
+      if (l.tip_under_contact())
+        text +=
+            "<br><span style='color:#2a8a3a'><b>Under the contact: the col is "
+            "reached</b></span>";
+      else if (l.tip_location().depth_mm < TipLocator::kColDepthMm)
+        text += QString(
+                    "<br><span style='color:#c88a00'>Go deeper (%1 mm at least) to "
+                    "reach the col under the contact</span>")
+                    .arg(TipLocator::kColDepthMm, 0, 'f', 1);
+      else
+        text += QString(
+                    "<br><span style='color:#c88a00'>%1 mm from the contact: the col "
+                    "is within %2 mm (T tilts the tip under it)</span>")
+                    .arg(to, 0, 'f', 1)
+                    .arg(lesson_spec_->rubric.col_reach_mm, 0, 'f', 1);
+    } else {
+      const RubricLine::Status st = AngleStatus(*angle, lesson_spec_->rubric);
+      const QString colour = st == RubricLine::Status::kPass      ? "#2a8a3a"
+                             : st == RubricLine::Status::kPartial ? "#c88a00"
+                                                                  : "#c02020";
+      text = QString(
+                 "Tilt from the long axis: <span style='color:%1'><b>%2&deg;</b> "
+                 "%3</span>")
+                 .arg(colour)
+                 .arg(*angle, 0, 'f', 0)
+                 .arg(QString(bars, QChar(0x2588)));
+    }
+    tilt_label_->setText(text);
   } else {
     tilt_label_->setText("Tilt from the long axis: -");
   }
@@ -425,6 +471,38 @@ void MainWindow::UpdateLessonPanel() {
     feedback_->insertItem(0, Q(l.feedback()[feedback_shown_]));
     while (feedback_->count() > 50) delete feedback_->takeItem(feedback_->count() - 1);
   }
+}
+
+void MainWindow::ShowBlood(const std::vector<BloodMark>& marks) {
+  // Each mark: beads along the margin centred on the site's angle, a drop at
+  // first that runs along the margin into a line 3.4 mm long.
+  std::vector<std::pair<Vector3, double>> beads;
+  for (const BloodMark& m : marks) {
+    const ProbingSite* p = SceneSite(m.site);
+    if (!p || !p->ring) continue;
+    const SulcusRing& r = *p->ring;
+    Vector3 at = r.ToRing(p->margin_W);
+    const double phi = std::atan2(at.y(), at.x());
+    const double radius = std::max(0.5, std::hypot(at.x(), at.y()));
+    const double half_mm = 0.1 + 1.6 * m.grown;
+    const int n = std::max(1, static_cast<int>(half_mm / 0.08));
+    for (int i = -n; i <= n; ++i) {
+      const double along = half_mm * i / n;
+      const double fall = 1.0 - std::abs(along) / (half_mm + 0.3);
+      // On the gingiva's rim just outside the sulcus, thickest at the site.
+      beads.push_back({r.PointAt(phi + along / radius, -0.12, 0.35), 0.12 + 0.16 * fall});
+    }
+  }
+  view_->ShowBlood(beads);
+}
+
+std::optional<SiteRef> MainWindow::ProbeTarget() const {
+  if (!lesson_ || !lesson_spec_ || lesson_spec_->inspection()) return std::nullopt;
+  if (const std::optional<SiteRef> c = chart_->cursor()) {
+    for (const SiteResult& s : lesson_->sites())
+      if (s.site == *c && !(s.entry && s.entry->pd_mm)) return c;
+  }
+  return lesson_->next_site();
 }
 
 bool MainWindow::DeclareDiagnosis(const DeclaredDiagnosis& d) {
@@ -552,10 +630,19 @@ void MainWindow::UpdateResultsFooter() {
       "station and stored at the next start or by `sulcus-cli results sync`.");
 }
 
+void MainWindow::LeaveLesson(const std::string& why) {
+  if (!lesson_) return;
+  if (!lesson_->done()) lesson_->SetEnding(why);
+  FinishLesson(/*show_report=*/false);
+}
+
 int MainWindow::RecoverUnfinishedAttempts(const std::filesystem::path& results_dir) {
   const std::filesystem::path results =
       results_dir.empty() ? DefaultResultsDir() : results_dir;
-  const std::vector<std::filesystem::path> dirs = UnfinishedAttempts(results);
+  std::vector<std::filesystem::path> dirs = UnfinishedAttempts(results);
+  // Never the attempt being taken now: it is not unfinished, it is going on.
+  if (lesson_)
+    dirs.erase(std::remove(dirs.begin(), dirs.end(), attempt_.dir), dirs.end());
   if (dirs.empty()) return 0;
   const ResultsPlace place = ResultsPlaceFor(results);
   try {
@@ -669,6 +756,7 @@ bool MainWindow::FinishLesson(bool show_report) {
   scripted_student_.reset();
   recording_file_.clear();
   SetAidsLocked(false);
+  view_->ShowBlood({});
   lesson_dock_->hide();
   if (!problems.isEmpty())
     ShowErrors("Lesson",

@@ -321,14 +321,45 @@ void SceneView::Load(const CompiledScene& scene, const SeenGingiva* seen) {
   contact_poly_->SetPoints(contact_points_);
   contact_poly_->GetPointData()->SetScalars(contact_radii_);
   contact_actor_ = SphereGlyphs(contact_poly_, 12, 8);
-  contact_actor_->GetProperty()->SetColor(1.0, 0.25, 0.2);
-  contact_actor_->GetProperty()->SetOpacity(0.6);
+  // Contacts in a pale blue: in a probing lesson red is the blood's alone.
+  contact_actor_->GetProperty()->SetColor(0.35, 0.75, 1.0);
+  contact_actor_->GetProperty()->SetOpacity(0.35);
   contact_actor_->SetVisibility(false);
   renderer_->AddActor(contact_actor_);
+  // Blood at the margin: beads along it (ShowBlood), before the loupe is
+  // filled so that the loupe shows it too.
+  blood_points_ = vtkSmartPointer<vtkPoints>::New();
+  blood_radii_ = vtkSmartPointer<vtkDoubleArray>::New();
+  blood_radii_->SetName("radius");
+  blood_poly_ = vtkSmartPointer<vtkPolyData>::New();
+  blood_poly_->SetPoints(blood_points_);
+  blood_poly_->GetPointData()->SetScalars(blood_radii_);
+  blood_actor_ = SphereGlyphs(blood_poly_, 10, 8);
+  blood_actor_->GetProperty()->SetColor(0.62, 0.02, 0.04);
+  blood_actor_->GetProperty()->SetSpecular(0.6);
+  blood_actor_->GetProperty()->SetSpecularPower(40);
+  blood_actor_->SetVisibility(false);
+  renderer_->AddActor(blood_actor_);
+  blood_shown_ = 0;
   spheres_shown_ = -1;
   FillLoupe();
   ShowLoupe(std::nullopt, Vector3::UnitX(), Vector3::UnitZ(), 1);
   View(Side::kBuccal);
+}
+
+void SceneView::ShowBlood(const std::vector<std::pair<Vector3, double>>& beads) {
+  if (!blood_actor_) return;
+  blood_points_->Reset();
+  blood_radii_->Reset();
+  for (const auto& [p, r] : beads) {
+    blood_points_->InsertNextPoint(p.x(), p.y(), p.z());
+    blood_radii_->InsertNextValue(r);
+  }
+  blood_points_->Modified();
+  blood_radii_->Modified();
+  blood_poly_->Modified();
+  blood_actor_->SetVisibility(!beads.empty());
+  blood_shown_ = static_cast<int>(beads.size());
 }
 
 void SceneView::AttachLoupe(vtkRenderer* loupe, vtkRenderer* overlay) {
@@ -624,7 +655,7 @@ SceneView::CameraPose SceneView::Camera() const {
           c->GetViewAngle()};
 }
 
-bool SceneView::LookAtTooth(int fdi) {
+bool SceneView::LookAtTooth(int fdi, bool lingual) {
   if (!scene_) return false;
   for (const ObjectSpec& o : scene_->spec.objects) {
     if (o.kind != ObjectSpec::Kind::kTooth || o.fdi != fdi) continue;
@@ -633,7 +664,11 @@ bool SceneView::LookAtTooth(int fdi) {
     // The head upright, as the clinician faces the patient: an upper tooth's
     // crown points down on the screen, a lower one's up.
     const Vector3 up = occlusal.z() >= 0 ? occlusal : Vector3(-occlusal);
-    Frame(o.X_WO * Vector3(0, 0, 2), o.X_WO.rotation().col(1) + 0.4 * occlusal, 38, up);
+    const Vector3 buccal = o.X_WO.rotation().col(1);
+    if (lingual)
+      Frame(o.X_WO * Vector3(0, 0, 1), -buccal + 0.5 * occlusal, 26, up);
+    else
+      Frame(o.X_WO * Vector3(0, 0, 2), buccal + 0.4 * occlusal, 38, up);
     return true;
   }
   return false;

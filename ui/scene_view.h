@@ -35,6 +35,9 @@ class SceneView {
   void ShowGhost(const std::optional<RigidTransform>& X_WG);
   const std::optional<RigidTransform>& ghost() const { return ghost_; }
 
+  /// Blood at the gingival margin: beads (world point, radius mm); empty hides it.
+  void ShowBlood(const std::vector<std::pair<Vector3, double>>& beads);
+  int blood_beads() const { return blood_shown_; }
   /// Shows the spheres of every object's tree cut at `level` (0 root); -1 hides them.
   void ShowSpheres(int level);
   int spheres_shown() const { return spheres_shown_; }
@@ -53,8 +56,10 @@ class SceneView {
               const Vector3& up) {
     Frame(focus, from_dir, distance, up);
   }
-  /// Frames one tooth from its buccal side; false if the scene has no such tooth.
-  bool LookAtTooth(int fdi);
+  /// Frames one tooth from its buccal side (or its lingual or palatal side,
+  /// from inside the arch, close enough that the other side's teeth do not
+  /// hide it), the head upright; false if the scene has no such tooth.
+  bool LookAtTooth(int fdi, bool lingual = false);
 
   /// A magnified inset over a corner of the same window: `loupe` draws what
   /// the main view draws; `overlay` (a renderer on the window's upper layer with
@@ -98,6 +103,11 @@ class SceneView {
   vtkSmartPointer<vtkPoints> contact_points_;
   vtkSmartPointer<vtkDoubleArray> contact_radii_;
   vtkSmartPointer<vtkPolyData> contact_poly_;
+  vtkSmartPointer<vtkActor> blood_actor_;
+  vtkSmartPointer<vtkPoints> blood_points_;
+  vtkSmartPointer<vtkDoubleArray> blood_radii_;
+  vtkSmartPointer<vtkPolyData> blood_poly_;
+  int blood_shown_ = 0;
   RigidTransform X_WG_;
   int spheres_shown_ = -1;
   int see_through_ = 0;

@@ -16,6 +16,7 @@
 #include <QVBoxLayout>
 #include <algorithm>
 
+#include "core/base/text.h"
 #include "core/lesson/results.h"
 
 namespace sulcus::ui {
@@ -41,6 +42,11 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
   student_->setToolTip(
       "Your name: pick it, or type a new one. Your results are kept under it.");
   form->addRow("Student", student_);
+  name_problem_ = new QLabel;
+  name_problem_->setStyleSheet("color: #c02020");
+  name_problem_->setWordWrap(true);
+  name_problem_->hide();
+  form->addRow("", name_problem_);
   layout->addLayout(form);
   list_ = new QListWidget;
   list_->setToolTip("The lessons shipped with Sulcus and your instructor's own.");
@@ -125,7 +131,7 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
         it.broken ? "<b>This lesson file has errors</b> (tell your instructor):<br><tt>" +
                         Q(it.errors).toHtmlEscaped().replace("\n", "<br>") + "</tt>"
                   : Q(it.description).toHtmlEscaped());
-    start_->setEnabled(!it.broken);
+    start_->setEnabled(!it.broken && name_problem_->isHidden());
     ShowCase(it);
     RequestPreparation();
   });
@@ -161,6 +167,12 @@ void StartDialog::SetStudent(const QString& name) {
 }
 
 void StartDialog::Refresh() {
+  // The name checked where it is typed: a name the results could not keep, or
+  // would show wrongly, is refused here with the reason, never after the lesson.
+  const std::string typed = student_->currentText().trimmed().toStdString();
+  const std::string why = typed.empty() ? "" : NameProblem(student());
+  name_problem_->setText(Q(why));
+  name_problem_->setVisible(!why.empty());
   const int keep = list_->currentRow();
   items_.clear();
   list_->clear();
@@ -202,6 +214,10 @@ void StartDialog::Refresh() {
   }
   if (!items_.empty())
     list_->setCurrentRow(keep >= 0 && keep < static_cast<int>(items_.size()) ? keep : 0);
+  if (start_) {
+    const Item* it = Current();
+    start_->setEnabled(why.empty() && (!it || !it->broken));
+  }
 }
 
 void StartDialog::SetPreparation(
@@ -285,8 +301,16 @@ bool StartDialog::SelectLesson(const std::filesystem::path& file) {
 }
 
 std::string StartDialog::student() const {
-  const std::string s = student_->currentText().trimmed().toStdString();
+  // As Unicode composes it (NFC): one name, however the keyboard spelled it.
+  const std::string s = student_->currentText()
+                            .trimmed()
+                            .normalized(QString::NormalizationForm_C)
+                            .toStdString();
   return s.empty() ? "student" : s;
+}
+
+QString StartDialog::name_problem() const {
+  return name_problem_->isHidden() ? QString() : name_problem_->text();
 }
 
 std::filesystem::path StartDialog::lesson() const {

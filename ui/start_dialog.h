@@ -35,6 +35,8 @@ class StartDialog : public QDialog {
               QWidget* parent = nullptr);
 
   std::string student() const;
+  /// Why the typed name is refused ("" when it is not).
+  QString name_problem() const;
   /// The names offered to pick from (a shared store offers none of the cohort's).
   std::vector<std::string> offered_students() const;
   std::filesystem::path lesson() const;
@@ -79,6 +81,7 @@ class StartDialog : public QDialog {
   QComboBox* student_ = nullptr;
   QListWidget* list_ = nullptr;
   QLabel* about_ = nullptr;
+  QLabel* name_problem_ = nullptr;  // why the typed name cannot be used
   QRadioButton *own_mode_ = nullptr, *practice_ = nullptr, *assessment_ = nullptr;
   QPushButton* start_ = nullptr;
   QGroupBox* case_box_ = nullptr;

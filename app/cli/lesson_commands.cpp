@@ -18,6 +18,7 @@
 
 #include "app/cli/commands.h"
 #include "core/base/files.h"
+#include "core/base/text.h"
 #include "core/lesson/attempt.h"
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
@@ -83,7 +84,16 @@ struct RunArgs {
 // --results: a folder, or a PostgreSQL URL (the attempts' folders then stay in
 // the default folder). Without it: the default folder and $SULCUS_RESULTS_URL.
 ResultsPlace ResultsOf(const std::string& option) {
-  if (IsResultsUrl(option)) return ResultsPlace(DefaultResultsDir(), option);
+  if (IsResultsUrl(option)) {
+    // Every user of the machine sees a command line (ps): a password there is
+    // refused, with where to put it instead.
+    if (!UrlPassword(option).empty())
+      throw std::invalid_argument(
+          "--results " + RedactUrl(option) +
+          ": a password on the command line is shown to every user of this machine; "
+          "give it in SULCUS_RESULTS_URL or a pgpass file (~/.pgpass) instead");
+    return ResultsPlace(DefaultResultsDir(), option);
+  }
   return ResultsPlaceFor(option.empty() ? DefaultResultsDir() : fs::path(option));
 }
 
@@ -123,6 +133,10 @@ void CheckReportFolder(const fs::path& dir) {
 }
 
 int RunLesson(const RunArgs& a) {
+  // The name checked at the door, before the lesson: never refused after it.
+  if (const std::string why = NameProblem(a.student); !why.empty())
+    throw std::invalid_argument("--student '" + TerminalSafe(Shorten(a.student, 60)) +
+                                "': " + why);
   const ResultsPlace results = ResultsOf(a.results);
   if (!a.out_dir.empty()) CheckReportFolder(a.out_dir);
   const AttemptFolder folder = NewAttemptFolder(results.dir, a.student);
@@ -215,7 +229,19 @@ int Report(const ReportArgs& a) {
     if (row->generated_case) o.seed = row->case_seed;
     info.attempt_id = row->id;
     info.started = row->started;
-    if (out_dir.empty()) out_dir = row->report_dir;
+    if (out_dir.empty()) {
+      // A folder read from the store is not trusted: the report is written
+      // there only when it lies inside this results folder (a row can say
+      // anything); otherwise -o names where.
+      const ResultsPlace place = ResultsOf(a.results);
+      if (!IsInsideFolder(row->report_dir, place.dir / "attempts"))
+        throw std::invalid_argument("attempt " + a.what + "'s stored report folder '" +
+                                    TerminalSafe(Shorten(row->report_dir, 120)) +
+                                    "' is not inside " +
+                                    (place.dir / "attempts").string() +
+                                    "; give the folder to write the report in with -o");
+      out_dir = row->report_dir;
+    }
   } else {
     recording = a.what;
     if (lesson.empty())
@@ -427,11 +453,15 @@ void AddLessonCommands(CLI::App& app) {
       const bool sites = a.sites_total > 0;
       char within[16];
       std::snprintf(within, sizeof within, "%.0f%%", a.within_1mm_pct);
+      // Names and texts from the store as safe to read: a name cannot forge a
+      // row, move the cursor or turn the line round.
       std::printf("%6lld  %-20s  %-16s  %-36s  %6.1f  %8s  %s\n",
-                  static_cast<long long>(a.id), a.started.c_str(), a.student.c_str(),
-                  a.lesson_name.substr(0, 36).c_str(), a.total, sites ? within : "-",
-                  ((sites ? a.declared_dx : std::string("-")) +
-                   (a.complete ? "" : "  [incomplete: " + a.ended + "]"))
+                  static_cast<long long>(a.id), TerminalSafe(a.started).c_str(),
+                  TerminalSafe(a.student).c_str(),
+                  TerminalSafe(a.lesson_name.substr(0, 36)).c_str(), a.total,
+                  sites ? within : "-",
+                  TerminalSafe((sites ? a.declared_dx : std::string("-")) +
+                               (a.complete ? "" : "  [incomplete: " + a.ended + "]"))
                       .c_str());
     }
     std::printf("%zu attempts in %s\n", rows.size(), db->where().c_str());
@@ -448,12 +478,14 @@ void AddLessonCommands(CLI::App& app) {
         "bias %+.2f mm; force in band %.0f %%; %.1f s\ndiagnosis: truth %s; chart %s; "
         "declared %s\n"
         "recording %s\nreport %s/report.html\n",
-        static_cast<long long>(a->id), a->student.c_str(), a->lesson_name.c_str(),
-        a->mode.c_str(), a->started.c_str(), a->total, a->sites_read, a->sites_total,
+        static_cast<long long>(a->id), TerminalSafe(a->student).c_str(),
+        TerminalSafe(a->lesson_name).c_str(), TerminalSafe(a->mode).c_str(),
+        TerminalSafe(a->started).c_str(), a->total, a->sites_read, a->sites_total,
         a->sites_charted, a->within_1mm_pct, a->bias_mm, a->force_in_band_pct,
-        a->duration_s, a->true_dx.c_str(), a->chart_dx.c_str(), a->declared_dx.c_str(),
-        a->recording.c_str(), a->report_dir.c_str());
-    if (!a->complete) std::printf("incomplete: %s\n", a->ended.c_str());
+        a->duration_s, TerminalSafe(a->true_dx).c_str(),
+        TerminalSafe(a->chart_dx).c_str(), TerminalSafe(a->declared_dx).c_str(),
+        TerminalSafe(a->recording).c_str(), TerminalSafe(a->report_dir).c_str());
+    if (!a->complete) std::printf("incomplete: %s\n", TerminalSafe(a->ended).c_str());
     for (const SiteRow& s : db->Sites(a->student, a->lesson_file)) {
       if (s.attempt != a->id) continue;
       std::printf("  %d %-2s truth %d  reached %s  entered %s  %.2f N\n", s.fdi,

@@ -32,6 +32,42 @@ double AroundTooth(const std::array<double, 6>& site, double th) {
   return knots[i] + s * (knots[(i + 1) % 8] - knots[i]);
 }
 
+// The pocket's depth around the tooth, so that each site's value is the
+// deepest of its zone (core/haptics/tip_locator.h: thirds of the facial and
+// oral halves of the outline, a mid site's zone reaching about 30 degrees
+// either side of its line, an interdental site's about 15 toward the mid site
+// and all the way to the interproximal point): between two neighbouring knots
+// (the six sites, and the mesial and distal points, each the shallower of its
+// two sites) the depth stays at the shallower knot's value and rises to the
+// deeper one within the deeper one's zone: with a flat top by the deeper
+// site's line (which the meshes resolve), over 20 degrees to a mid site, over
+// 9 to an interdental site from its mid site, and smoothly over the whole
+// 45 degrees between an interdental site and the interproximal point.
+double PocketAroundTooth(const std::array<double, 6>& site, double th) {
+  const double knots[8] = {std::min(site[0], site[3]), site[0], site[1], site[2],
+                           std::min(site[2], site[5]), site[5], site[4], site[3]};
+  double a = std::fmod(th, 2 * kPi);
+  if (a < 0) a += 2 * kPi;
+  const double x = a / (kPi / 4);
+  const int i = static_cast<int>(std::floor(x)) % 8;
+  const int j = (i + 1) % 8;
+  const double lo = knots[i], hi = knots[j];
+  const double t = x - std::floor(x);
+  // Knots 0 and 4 are the interproximal points, 2 and 6 the mid sites.
+  if (i % 4 == 0 || j % 4 == 0) {
+    const double s = 0.5 - 0.5 * std::cos(kPi * t);
+    return lo + s * (hi - lo);
+  }
+  const bool deep_is_mid = (hi >= lo ? j : i) % 4 == 2;
+  const double top = (deep_is_mid ? 8.0 : 5.0) * kPi / 180;
+  const double rise = (deep_is_mid ? 20.0 : 9.0) * kPi / 180;
+  const double from = t * (kPi / 4), to = kPi / 4 - from;
+  const double left = hi >= lo ? to : from;  // from the deeper knot
+  const double u = std::clamp(1.0 - (left - top) / rise, 0.0, 1.0);
+  const double s = 0.5 - 0.5 * std::cos(kPi * u);
+  return std::min(lo, hi) + s * std::abs(hi - lo);
+}
+
 }  // namespace
 
 namespace {
@@ -254,7 +290,7 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
     const double papilla = p.papilla_mm * c2 * c2;
     const double z_m =
         cej_z + p.margin_above_cej_mm - AroundTooth(p.recession_mm, th) + papilla;
-    const double z_f = z_m - AroundTooth(p.pocket_mm, th);
+    const double z_f = z_m - PocketAroundTooth(p.pocket_mm, th);
     double widest = 0;
     for (int j = 0; j <= 12; ++j)
       widest = std::max(widest, radii.At(th, z_f + (z_m - z_f) * j / 12.0));

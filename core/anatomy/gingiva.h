@@ -71,7 +71,7 @@ struct GingivaModel {
 };
 
 /// Changes whenever the share's geometry does (its meshes are cached by it).
-inline constexpr int kGingivaShareVersion = 37;
+inline constexpr int kGingivaShareVersion = 39;
 
 /// A neighbouring tooth on the arch, for the gingiva between the two.
 struct GingivaNeighbour {

@@ -77,6 +77,13 @@ AtomicFile::AtomicFile(fs::path path, bool binary) : path_(std::move(path)) {
                     " (check the folder exists and can be written)");
 }
 
+void SyncFolder(const std::filesystem::path& dir) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd < 0) return;
+  (void)::fsync(fd);
+  ::close(fd);
+}
+
 AtomicFile::~AtomicFile() {
   if (committed_ || direct_) return;
   out_.close();

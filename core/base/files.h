@@ -48,6 +48,10 @@ bool IsInsideFolder(const std::filesystem::path& file,
 /// A results database's own files (the database and SQLite's -wal and -shm).
 std::vector<KeptFile> StoreFiles(const std::filesystem::path& db);
 
+/// Flushes a folder's entries to the disk (a file created, renamed or removed
+/// in it survives a crash). Best effort: errors are ignored.
+void SyncFolder(const std::filesystem::path& dir);
+
 /// Writes `path` through a temporary file in the same folder, flushed, checked
 /// and renamed onto it by Commit(). A path that exists and is not a regular
 /// file (a device such as /dev/stdout, a FIFO) is written directly, with its

@@ -18,6 +18,87 @@ std::string Shorten(std::string_view text, std::size_t max) {
   return out;
 }
 
+namespace {
+
+// The next code point of `text` at `i` (advanced past it), or -1 for a byte
+// that does not begin a well-formed UTF-8 sequence (i advanced by one).
+long NextCodePoint(std::string_view text, std::size_t* i) {
+  const auto b = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+  const unsigned char c = b(*i);
+  int len = c < 0x80         ? 1
+            : (c >> 5) == 6  ? 2
+            : (c >> 4) == 14 ? 3
+            : (c >> 3) == 30 ? 4
+                             : 0;
+  if (len == 0 || *i + len > text.size()) {
+    ++*i;
+    return -1;
+  }
+  long cp = len == 1 ? c : c & (0x7f >> len);
+  for (int k = 1; k < len; ++k) {
+    if ((b(*i + k) & 0xC0) != 0x80) {
+      ++*i;
+      return -1;
+    }
+    cp = (cp << 6) | (b(*i + k) & 0x3f);
+  }
+  // Overlong forms, surrogates and beyond U+10FFFF are not UTF-8.
+  static const long min_of[5] = {0, 0, 0x80, 0x800, 0x10000};
+  if (cp < min_of[len] || (cp >= 0xD800 && cp <= 0xDFFF) || cp > 0x10FFFF) {
+    ++*i;
+    return -1;
+  }
+  *i += static_cast<std::size_t>(len);
+  return cp;
+}
+
+bool Unsafe(long cp) {
+  return cp < 0x20 || (cp >= 0x7f && cp <= 0x9f) || (cp >= 0x202A && cp <= 0x202E) ||
+         (cp >= 0x2066 && cp <= 0x2069);
+}
+
+}  // namespace
+
+std::string TerminalSafe(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const std::size_t from = i;
+    const long cp = NextCodePoint(text, &i);
+    char buf[32];
+    if (cp < 0) {
+      std::snprintf(buf, sizeof buf, "\\x%02X", static_cast<unsigned char>(text[from]));
+      out += buf;
+    } else if (Unsafe(cp)) {
+      if (cp < 0x100)
+        std::snprintf(buf, sizeof buf, "\\x%02lX", cp);
+      else
+        std::snprintf(buf, sizeof buf, "\\u{%04lX}", cp);
+      out += buf;
+    } else {
+      out.append(text.substr(from, i - from));
+    }
+  }
+  return out;
+}
+
+std::string NameProblem(std::string_view name) {
+  if (name.empty()) return "a name is needed";
+  std::size_t i = 0, chars = 0;
+  while (i < name.size()) {
+    const long cp = NextCodePoint(name, &i);
+    if (cp < 0) return "the name is not valid UTF-8 text";
+    if (Unsafe(cp))
+      return "the name holds a control character or a text-direction override";
+    ++chars;
+  }
+  if (chars > kMaxNameChars)
+    return "the name has " + std::to_string(chars) + " characters; at most " +
+           std::to_string(kMaxNameChars);
+  return "";
+}
+
 std::string ShortenQuoted(std::string_view message, std::size_t max) {
   std::string out;
   std::size_t i = 0;

@@ -84,7 +84,7 @@ class ProbingDepth final : public LoopEffect {
   }
   void Apply(const EngineModel&, const EngineData& data, Vector3* force_W, Vector3*,
              HapticLoop* loop) noexcept override {
-    const TipLocation at = locator_.Locate(data.X_WG, tracker_.site());
+    const TipLocation at = locator_.Locate(data.X_WG, tracker_.held());
     const double f = TipLocator::ProbingForce(*force_W, data.X_WG);
     ProbeReading r;
     if (tracker_.Update(loop->tick(), at, f, &r) && readings_ && !r.update) {

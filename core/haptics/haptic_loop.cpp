@@ -110,7 +110,7 @@ void HapticLoop::Apply(const HapticCommand& c) noexcept {
       paused_ = false;
       break;
     case K::kResetTool:
-      Reset(sample_.X_WH);
+      reset_pending_ = true;  // to the hand's pose read this tick (below)
       break;
     case K::kSetForceScale:
       options_.force_scale = std::clamp(v, 0.0, 1.0);
@@ -166,6 +166,12 @@ void HapticLoop::Tick(bool overrun) noexcept {
     Emit(HapticEvent::Of(EventKind::kDeviceLost));
   }
   record_.sample = sample_;
+  // A reset takes the tool to the hand as read this tick: a hand put
+  // somewhere new (N, Reset tool) and the reset sent after it arrive together.
+  if (reset_pending_) {
+    reset_pending_ = false;
+    Reset(sample_.X_WH);
+  }
 
   const std::uint64_t engine_faults_before = data_.faults.total();
   if (!paused_) Step(model_, sample_.X_WH, &data_);

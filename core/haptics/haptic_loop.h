@@ -272,6 +272,7 @@ class HapticLoop {
   std::uint64_t tick_ = 0;
   std::uint64_t ramp_start_tick_ = 0;
   std::uint64_t last_fresh_tick_ = 0;
+  bool reset_pending_ = false;
   bool paused_ = false, device_ok_ = true, force_above_ = false;
   double output_scale_ = 0;
   double force_limit_n_, torque_limit_nmm_;

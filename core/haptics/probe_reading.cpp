@@ -13,6 +13,7 @@ ProbeReadingTracker::ProbeReadingTracker(double rate_hz) {
 void ProbeReadingTracker::Reset() noexcept {
   cur().site = cand().site = -1;
   away_ = false;
+  last_in_ = -1;
 }
 
 void ProbeReadingTracker::Visit::Start(int s, std::uint64_t tick) {
@@ -24,12 +25,14 @@ void ProbeReadingTracker::Visit::Start(int s, std::uint64_t tick) {
   count = 0;
   hist.fill(0);
   reported = false;
+  sealed = false;
   reported_depth = 0;
 }
 
 void ProbeReadingTracker::Visit::Add(std::uint64_t tick, const TipLocation& at,
                                      double f_raw) {
   last = tick;
+  if (sealed) return;  // charted: the rest of this visit is not its reading
   const double depth = at.depth_mm;
   if (depth > deepest) {
     if (depth > restart_at + kRestartMm) {
@@ -67,7 +70,7 @@ double ProbeReadingTracker::Visit::Median() const {
 
 bool ProbeReadingTracker::Emit(Visit& v, std::uint64_t left, ProbeReading* out) const {
   if (v.site < 0 || v.deepest < kMinDepthMm) return false;
-  if (v.reported && v.deepest <= v.reported_depth) return false;
+  if (v.reported && (v.sealed || v.deepest <= v.reported_depth)) return false;
   out->site = v.site;
   out->depth_mm = v.deepest;
   out->held_force_n = v.Median();
@@ -86,6 +89,7 @@ bool ProbeReadingTracker::Emit(Visit& v, std::uint64_t left, ProbeReading* out) 
 bool ProbeReadingTracker::Update(std::uint64_t tick, const TipLocation& where,
                                  double force_n, ProbeReading* out) noexcept {
   const double f = std::isfinite(force_n) ? std::max(0.0, force_n) : 0.0;
+  if (where.site >= 0) last_in_ = where.site;
   if (where.site == cur().site) {
     away_ = false;
     cand().site = -1;
@@ -120,7 +124,12 @@ bool ProbeReadingTracker::Update(std::uint64_t tick, const TipLocation& where,
 }
 
 bool ProbeReadingTracker::Complete(std::uint64_t tick, ProbeReading* out) noexcept {
-  return Emit(cur(), tick, out);
+  const bool read = Emit(cur(), tick, out);
+  if (cur().site >= 0) {
+    cur().sealed = true;
+    cur().reported = true;
+  }
+  return read;
 }
 
 }  // namespace sulcus

@@ -21,9 +21,6 @@
 //   half of the swing is left out). The highest tick within kDwellMm of the
 //   deepest point is kept apart as the peak (it is what damages tissue).
 // - A visit is a reading when it went at least kMinDepthMm below the margin.
-// - Complete() ends the visit's reading at once (the student charts the site
-//   while the tip is in it, or the attempt ends with the tip still in); the
-//   rest of that visit only updates the same reading if it goes deeper.
 //
 // Deterministic over the tick stream (replay is bit for bit), allocation-free
 // and non-throwing after construction, so the haptic loop can run it too.
@@ -63,11 +60,15 @@ class ProbeReadingTracker {
   /// and fills *out when a visit ended with a reading (or a deeper update).
   bool Update(std::uint64_t tick, const TipLocation& where, double force_n,
               ProbeReading* out) noexcept;
-  /// Ends the current visit's reading now; false when the tip is in no site or
-  /// has not gone kMinDepthMm deep (or nothing is new since the last report).
+  /// Ends the current visit's reading now and seals the visit (the rest of it
+  /// reads nothing); false when the tip is in no site or has not gone
+  /// kMinDepthMm deep (or nothing is new since the last report).
   bool Complete(std::uint64_t tick, ProbeReading* out) noexcept;
-  /// The site of the current visit (-1: none). Use it as the locator's `held`.
+  /// The site of the current visit (-1: none).
   int site() const { return visits_[static_cast<std::size_t>(cur_index_)].site; }
+  /// The site the tip was last in (the current visit's, or the last one's
+  /// after the tip has come out): the locator's `held`.
+  int held() const { return site() >= 0 ? site() : last_in_; }
   void Reset() noexcept;
 
  private:
@@ -79,7 +80,7 @@ class ProbeReadingTracker {
     bool dwelling = false;
     int count = 0;
     std::array<std::uint32_t, kBins> hist{};
-    bool reported = false;
+    bool reported = false, sealed = false;
     double reported_depth = 0;
     void Start(int s, std::uint64_t tick);
     void Add(std::uint64_t tick, const TipLocation& at, double f_raw);
@@ -95,6 +96,7 @@ class ProbeReadingTracker {
   Visit& cand() { return visits_[static_cast<std::size_t>(1 - cur_index_)]; }
   std::uint64_t away_since_ = 0;
   bool away_ = false;
+  int last_in_ = -1;
 };
 
 }  // namespace sulcus

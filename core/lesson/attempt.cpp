@@ -10,6 +10,7 @@
 #include <fstream>
 #include <random>
 
+#include "core/base/files.h"
 #include "core/base/yaml_reader.h"
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
@@ -99,32 +100,62 @@ std::string AttemptUuid(const fs::path& dir) {
 
 std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
                          const std::filesystem::path& report_dir,
-                         const ResultsPlace& results) {
+                         const ResultsPlace& results,
+                         const std::function<void(const char*)>& step) {
+  auto at = [&](const char* name) {
+    if (step) step(name);
+  };
+  // Write-ahead: the folder says the attempt waits for the store, durably,
+  // before anything else is written, and stops saying so only after its row is
+  // committed. A stop at any instant (a kill, Ctrl-C while the server hangs, a
+  // full disk) leaves the attempt stored, or waiting: `results sync`, `lesson
+  // recover` and the start page store it then, once (by its UUID).
+  const fs::path unstored = folder.dir / kUnstoredFile;
+  auto mark_waiting = [&](const std::string& why) {
+    AtomicFile w(unstored);
+    w.stream() << "This attempt is kept here but is not in the results store ("
+               << results.Describe() << "): " << why
+               << "\n`sulcus-cli results sync` stores it once the store can take it.\n";
+    w.Commit();
+    SyncFolder(folder.dir);
+  };
+  at("start");
+  try {
+    mark_waiting("it was being stored when the station stopped");
+  } catch (const std::exception&) {
+    // A full disk: the marker and the recording say it was never kept (no
+    // report), which waits for recovery just the same.
+  }
+  at("marked");
+  const std::string uuid = AttemptUuid(folder.dir);
   SaveAnswers(AnswersOf(r), folder.answers());
+  at("answers");
   ReportInfo info;
   info.recording = folder.recording().string();
   info.started = folder.started;
   WriteReport(r, info, report_dir);
-  const std::string uuid = AttemptUuid(folder.dir);
-  // Until its row is in the store the folder says so, so that `results sync`,
-  // `lesson recover` and the start page store it later (once: by its UUID).
-  const fs::path unstored = folder.dir / kUnstoredFile;
+  at("report");
   try {
     const std::unique_ptr<ResultsStore> store = OpenResults(results);
     info.attempt_id = store->Store(r, folder.started, info.recording,
                                    folder.answers().string(), report_dir.string(), uuid);
   } catch (const std::exception& e) {
-    std::ofstream why(unstored);
-    why << "This attempt is kept here but is not in the results store ("
-        << results.Describe() << "): " << e.what()
-        << "\n`sulcus-cli results sync` stores it once the store can take it.\n";
+    try {
+      mark_waiting(e.what());
+    } catch (const std::exception&) {
+    }
     throw;
   }
+  at("stored");
   std::error_code ec;
   fs::remove(unstored, ec);
+  SyncFolder(folder.dir);
+  at("unmarked");
   // The record for the school's LMS: sent, or left waiting in the folder.
   QueueStatements(folder.dir, r, uuid, folder.started, XapiSettingsFromEnv());
+  at("xapi");
   WriteReport(r, info, report_dir);  // again, now naming its attempt
+  at("kept");
   return info.attempt_id;
 }
 

@@ -72,15 +72,20 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
 /// What the student entered, every tick resolved: each site's entry and the declaration.
 Answers AnswersOf(const LessonResult& r);
 
-/// Keeps a finished attempt: its entries and its report (in `report_dir`) first,
-/// then its row in the results store of `results` (with the attempt's UUID, so
-/// that storing it again finds it), then the report again naming the attempt; so
-/// a store that fails or cannot be reached loses nothing: the folder says so
-/// (kUnstoredFile) until `sulcus-cli results sync` stores it. Returns the
-/// attempt's id. Throws ResultsError (store) or std::runtime_error (files).
+/// Keeps a finished attempt, write-ahead: the folder is marked waiting
+/// (kUnstoredFile, flushed to the disk) first; then its entries and its report
+/// (in `report_dir`), its row in the results store of `results` (with the
+/// attempt's UUID, so that storing it again finds it), the mark removed once
+/// the row is committed, the xAPI statements, and the report again naming the
+/// attempt. So a stop at any instant, or a store that fails or cannot be
+/// reached, loses nothing: the folder says it waits until `sulcus-cli results
+/// sync` stores it, once. Returns the attempt's id. Throws ResultsError
+/// (store) or std::runtime_error (files). `step`, when given, is called with
+/// the name of each step as it is reached (the kill sweep's test stops there).
 std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
                          const std::filesystem::path& report_dir,
-                         const ResultsPlace& results);
+                         const ResultsPlace& results,
+                         const std::function<void(const char*)>& step = {});
 
 /// The attempt's UUID (version 4), made once and kept in its folder (`uuid`).
 std::string AttemptUuid(const std::filesystem::path& dir);

@@ -28,6 +28,12 @@ const char* ToString(RubricLine::Status s) {
   return "?";
 }
 
+RubricLine::Status AngleStatus(double angle_deg, const RubricSpec& rubric) {
+  return angle_deg <= rubric.angle_full_deg   ? S::kPass
+         : angle_deg <= rubric.angle_pass_deg ? S::kPartial
+                                              : S::kFail;
+}
+
 std::string DeclaredDiagnosis::Summary() const {
   if (!periodontitis) return "no periodontitis";
   std::string s =
@@ -114,6 +120,33 @@ LessonRun::LessonRun(const LessonSpec& spec, const CompiledScene& scene,
   near_other_.assign(sites_.size(), 0);
   in_contact_.assign(scene.spec.objects.size(), 0);
   surfaces_.resize(geometry_.teeth.size());
+  // The surfaces' arcs: the tooth's own sulcus, from the col's midline on one
+  // side to the other's (tip_locator.h), short of each by kColMarginMm.
+  arcs_.assign(geometry_.teeth.size(),
+               {std::pair{kArcFromDeg, kArcToDeg}, std::pair{kArcFromDeg, kArcToDeg}});
+  for (std::size_t i = 0; i < geometry_.teeth.size(); ++i) {
+    const ProbingSite* site = nullptr;
+    for (const ProbingSite& p : scene.effects.sites)
+      if (p.fdi == geometry_.teeth[i].fdi && p.ring) site = &p;
+    if (!site) continue;
+    const SulcusRing& g = *site->ring;
+    auto deg = [&](int s) {
+      const double phi = g.col_phi[static_cast<std::size_t>(s)];
+      const double r =
+          std::max(0.5, g.sulcus_r[static_cast<std::size_t>(g.SegmentAt(phi))]);
+      double d = std::fmod(phi * 180 / kPi, 360.0);
+      if (d < 0) d += 360;
+      return std::pair{d, kColMarginMm / r * 180 / kPi};
+    };
+    const auto [mb, mb_m] = deg(0);
+    const auto [db, db_m] = deg(2);
+    const auto [ml, ml_m] = deg(3);
+    const auto [dl, dl_m] = deg(5);
+    const double ml_d = ml < 1e-9 ? 0.0 : 360.0 - ml;  // 0 stays 0
+    arcs_[i][0] = {std::max(kArcFromDeg, mb + mb_m), std::min(kArcToDeg, db - db_m)};
+    arcs_[i][1] = {std::max(kArcFromDeg, ml_d + ml_m),
+                   std::min(kArcToDeg, 360.0 - dl - dl_m)};
+  }
   for (std::size_t i = 0; i < geometry_.teeth.size(); ++i)
     for (SurfaceTrack& s : surfaces_[i])
       s.bins.assign(geometry_.teeth[i].margin_z.size(), false);
@@ -222,10 +255,11 @@ std::optional<SiteRef> LessonRun::next_site() const {
 
 void LessonRun::Track(const TickRecord& r) {
   const Vector3 p_W = r.X_WG.translation();
-  // The walking stroke's coverage (where the tip is for a reading is the tip
-  // locator's answer, Locate()). Under a contact the two neighbours' sulci
-  // meet (the col): the tip may be in both. Each tooth whose sulcus holds it
-  // has the arc and the col marked; the stroke goes to the tooth it is closest to.
+  // The walking stroke's coverage (where the tip is for a reading, and whether
+  // it is under a contact, is the tip locator's answer, Locate()). Under a
+  // contact the two neighbours' sulci meet (the col): the tip may be in both.
+  // Each tooth whose sulcus holds it has the arc marked; the stroke goes to
+  // the tooth it is closest to.
   double best_radial = 1e9;
   int best = -1;
   double best_depth = 0, best_phi = 0;
@@ -244,19 +278,6 @@ void LessonRun::Track(const TickRecord& r) {
     const bool buccal = p.y() >= 0;
     if (depth >= 0.5)
       surfaces_[i][buccal ? 0 : 1].bins[static_cast<std::size_t>(k)] = true;
-    // Interproximal sites: did the tip reach the col under the contact?
-    if (depth >= 1.0) {
-      for (int s : {0, 2, 3, 5}) {
-        const bool site_buccal = s < 3;
-        const double contact = IsMesial(s) ? 0.0 : kPi;
-        // How far from the contact's line the tip is, along the sulcus.
-        const double d = AngleDistance(phi, contact) * std::hypot(p.x(), p.y());
-        if (d > spec_.rubric.col_reach_mm) continue;
-        if (site_buccal != buccal && d > 0.3) continue;
-        const int idx = SiteIndex({t.fdi, s});
-        if (idx >= 0) sites_[static_cast<std::size_t>(idx)].col_reached = true;
-      }
-    }
     if (radial < best_radial) {
       best_radial = radial;
       best = static_cast<int>(i);
@@ -375,13 +396,14 @@ void LessonRun::OnTick(const TickRecord& r) {
 }
 
 void LessonRun::Locate(const TickRecord& r) {
-  const TipLocation at = locator_.Locate(r.X_WG, tracker_.site());
+  const TipLocation at = locator_.Locate(r.X_WG, tracker_.held());
   ProbeReading reading;
   if (tracker_.Update(r.tick, at, TipLocator::ProbingForce(r.force_W, r.X_WG), &reading))
     Read(reading);
   tip_site_.reset();
   tip_angle_deg_.reset();
   tip_depth_mm_.reset();
+  tip_at_ = at;
   if (at.site < 0) return;
   const ProbingSite& p = locator_.sites()[static_cast<std::size_t>(at.site)];
   tip_site_ = SiteRef{p.fdi, p.site};
@@ -391,6 +413,10 @@ void LessonRun::Locate(const TickRecord& r) {
   if (const int idx = path_index_[static_cast<std::size_t>(at.site)]; idx >= 0) {
     double& d = visit_deepest_[static_cast<std::size_t>(idx)];
     d = std::max(d, at.depth_mm);
+    // Interproximal sites: the col under the contact (the one rule, the
+    // panel's too).
+    if (TipLocator::UnderContact(at, spec_.rubric.col_reach_mm))
+      sites_[static_cast<std::size_t>(idx)].col_reached = true;
   }
   for (int i = 0; i < locator_.size(); ++i) {
     const int idx = path_index_[static_cast<std::size_t>(i)];
@@ -560,6 +586,38 @@ std::vector<std::string> LessonRun::pending() const {
   return out;
 }
 
+std::vector<BloodMark> LessonRun::blood_shown() const {
+  std::vector<BloodMark> out;
+  for (const SiteResult& s : sites_) {
+    if (!s.bled || last_tick_ < s.bleed_tick) continue;
+    const double age = static_cast<double>(last_tick_ - s.bleed_tick) / rate_hz_;
+    if (age < BloodMark::kBloodFirstS) continue;
+    if (age >= BloodMark::kBloodFullS) {
+      // Kept until the quadrant is charted.
+      const int quadrant = s.site.fdi / 10;
+      const bool charted =
+          std::all_of(sites_.begin(), sites_.end(), [&](const SiteResult& x) {
+            return x.site.fdi / 10 != quadrant || (x.entry && x.entry->pd_mm);
+          });
+      if (charted) continue;
+    }
+    out.push_back(
+        {s.site, std::clamp((age - BloodMark::kBloodFirstS) /
+                                (BloodMark::kBloodFullS - BloodMark::kBloodFirstS),
+                            0.0, 1.0)});
+  }
+  return out;
+}
+
+bool LessonRun::blood_seen(const SiteRef& site) const {
+  const int idx = SiteIndex(site);
+  if (idx < 0) return false;
+  const SiteResult& s = sites_[static_cast<std::size_t>(idx)];
+  return s.bled && last_tick_ >= s.bleed_tick &&
+         static_cast<double>(last_tick_ - s.bleed_tick) / rate_hz_ >=
+             BloodMark::kBloodFirstS;
+}
+
 void LessonRun::Enter(const ChartEntry& e) {
   // Charting the site the tip is in completes its reading now (a clinician
   // reads the marking with the probe still at the floor).
@@ -584,7 +642,35 @@ void LessonRun::Enter(const ChartEntry& e) {
 
 void LessonRun::Declare(const DeclaredDiagnosis& d) {
   declared_ = d;
-  Advance(d.tick == kAfterReading ? last_tick_ : d.tick);
+  const std::uint64_t tick = d.tick == kAfterReading ? last_tick_ : d.tick;
+  // Declaring the diagnosis says the examination is over: the steps still
+  // open before the diagnosis step are left, skipped, with the sites they
+  // missed (the steps follow what the student did).
+  if (!inspection_ && !done()) {
+    int dx = -1;
+    for (int k = step_; k < static_cast<int>(spec_.steps.size()) && dx < 0; ++k)
+      if (spec_.steps[static_cast<std::size_t>(k)].complete ==
+          StepSpec::Complete::kDiagnosis)
+        dx = k;
+    while (dx > step_ && !StepComplete(spec_.steps[static_cast<std::size_t>(step_)])) {
+      const StepSpec& st = spec_.steps[static_cast<std::size_t>(step_)];
+      StepResult& res = step_results_[static_cast<std::size_t>(step_)];
+      res.skipped = true;
+      res.ended_tick = std::max(tick, res.started_tick);
+      for (const SiteResult& r : sites_) {
+        if (!SiteInStep(st, r.site)) continue;
+        const bool open = st.complete == StepSpec::Complete::kRead
+                              ? !r.reached_mm
+                              : !(r.entry && r.entry->pd_mm);
+        if (open) res.missed.push_back(r.site.ToString());
+      }
+      feedback_.push_back("step '" + res.id + "' left undone for the diagnosis");
+      ++step_;
+      step_results_[static_cast<std::size_t>(step_)].started_tick = tick;
+      Advance(tick);
+    }
+  }
+  Advance(tick);
 }
 
 LessonResult LessonRun::Finish() const {
@@ -690,7 +776,15 @@ LessonResult LessonRun::Finish() const {
   for (const auto& [cat, w] : weights) {
     const auto it = sums.find(cat);
     if (it == sums.end() || w <= 0) continue;
-    const double credit = it->second.first / it->second.second;
+    // The per-site technique lines count over every site of the path: a site
+    // not probed is a share of the examination not done (one site of 24 done
+    // well is not a fifth of the marks).
+    const bool per_site =
+        !inspection_ && (cat == "technique" || cat == "force" || cat == "angulation");
+    const int over = per_site
+                         ? std::max(it->second.second, static_cast<int>(sites_.size()))
+                         : it->second.second;
+    const double credit = it->second.first / over;
     out.category_credit[cat] = credit;
     out.category_weight[cat] = w;
     wsum += w;

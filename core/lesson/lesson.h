@@ -63,6 +63,10 @@ struct RubricLine {
 };
 const char* ToString(RubricLine::Status s);
 
+/// The angulation of a site without a contact, as the score judges it (the
+/// window's panel colours the live angle with the same answer).
+RubricLine::Status AngleStatus(double angle_deg, const RubricSpec& rubric);
+
 struct SiteResult {
   SiteRef site;
   int truth_mm = 0;
@@ -178,6 +182,16 @@ struct LessonResult {
   static constexpr int kTraceEvery = 5;
 };
 
+/// Blood at the margin of a site that bled on probing, as the student sees it:
+/// a point kBloodFirstS after the tip reached the floor, growing along the
+/// margin into a line by kBloodFullS; kept until every site of the lesson in
+/// that quadrant is charted (and at least until it has fully grown).
+struct BloodMark {
+  SiteRef site;
+  double grown = 0;  // 0: a point; 1: the line across the site
+  static constexpr double kBloodFirstS = 1.0, kBloodFullS = 10.0;
+};
+
 /// What a lesson needs of the compiled scene, computed once: each tooth's
 /// frame and sulcus ring, and its engine index (for contacts).
 struct LessonGeometry {
@@ -234,6 +248,18 @@ class LessonRun final : public TickConsumer {
   std::optional<double> tip_angle_deg() const { return tip_angle_deg_; }
   /// The tip's depth below the margin of the site whose sulcus holds it.
   std::optional<double> tip_depth_mm() const { return tip_depth_mm_; }
+  /// Where the tip is now, as the tip locator put it (site -1: in no sulcus).
+  const TipLocation& tip_location() const { return tip_at_; }
+  /// The tip under the contact of an interdental site that has one: what the
+  /// score credits as the col reached (the panel shows this answer).
+  bool tip_under_contact() const {
+    return TipLocator::UnderContact(tip_at_, spec_.rubric.col_reach_mm);
+  }
+  /// The blood showing now (the window draws it; the scripted students chart
+  /// bleeding from it).
+  std::vector<BloodMark> blood_shown() const;
+  /// Whether blood has shown at site s so far (a site never probed never bleeds).
+  bool blood_seen(const SiteRef& s) const;
   /// The compiled scene's clinical recession per site (for the chart).
   double recession_mm(const SiteRef& s) const;
   /// The chart of the lesson's teeth as an examiner starts it: what is given,
@@ -302,6 +328,7 @@ class LessonRun final : public TickConsumer {
   std::uint64_t first_tick_ = 0, last_tick_ = 0, ticks_ = 0;
   std::optional<SiteRef> tip_site_;
   std::optional<double> tip_angle_deg_, tip_depth_mm_;
+  TipLocation tip_at_;
   // Readings: the one tip locator, the dwell tracker, per scene site its path
   // index (-1: not in the lesson), per path site what the tip did there.
   TipLocator locator_;
@@ -323,6 +350,10 @@ class LessonRun final : public TickConsumer {
   };
   std::vector<std::array<SurfaceTrack, 2>>
       surfaces_;  // per geometry tooth: buccal, lingual
+  // Per geometry tooth and surface, the arc the walking stroke is to sweep
+  // (degrees from the contact's line, the lingual arc mirrored: 360 less
+  // the angle): from col to col less kColMarginMm, within kArcFromDeg..kArcToDeg.
+  std::vector<std::array<std::pair<double, double>, 2>> arcs_;
   std::vector<std::pair<RubricLine, int>>
       damage_;                    // tissue_damage events (line, site index or -1)
   std::vector<RubricLine> felt_;  // calculus deposits met (info), the first time each

@@ -102,7 +102,7 @@ void ReadRubric(YamlReader& r, const YAML::Node& n, RubricSpec* p) {
                    FormatNumber(p->angle_full_deg) +
                    "): full credit is for a smaller tilt than a pass");
   if (n["col_reach_mm"])
-    p->col_reach_mm = r.Number(n["col_reach_mm"], "col_reach_mm", 0.1, 10, 2.5, "mm");
+    p->col_reach_mm = r.Number(n["col_reach_mm"], "col_reach_mm", 0.1, 10, 1.0, "mm");
   if (n["coverage_min"])
     p->coverage_min = r.Number(n["coverage_min"], "coverage_min", 0, 1, 0.8, "share");
   if (n["lesion_force_n"])

@@ -34,8 +34,9 @@ struct RubricSpec {
   double technique_full_mm = 0.5, technique_partial_mm = 1.0;  // |reached - truth|
   double force_low_n = 0.15, force_high_n = 0.30, force_damage_n = 0.50;
   double angle_full_deg = 5, angle_pass_deg = 10;  // facial and oral mid-sites
-  double col_reach_mm =
-      2.5;  // interproximal: the tip within this of the contact's line, along the sulcus
+  // Interproximal: the tip within this of the col's midline (where the sulcus
+  // meets the neighbour's under the contact), along the sulcus.
+  double col_reach_mm = 1.0;
   double coverage_min = 0.80;  // share of a surface's sulcus arc swept
   // Inspection lessons.
   double findings = 40, sequence = 10;

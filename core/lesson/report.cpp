@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/base/files.h"
 #include "core/base/text.h"
 
 namespace sulcus {
@@ -765,15 +766,11 @@ void WriteReport(const LessonResult& r, const ReportInfo& info, const fs::path& 
   fs::create_directories(dir);
   for (const auto& [name, text] : {std::pair{"report.json", ReportJson(r, info)},
                                    std::pair{"report.html", ReportHtml(r, info)}}) {
-    const fs::path file = dir / name, tmp = dir / (std::string(name) + ".tmp");
-    {
-      std::ofstream out(tmp, std::ios::binary);
-      out << text;
-      if (!out)
-        throw std::runtime_error(
-            file.string() + ": cannot write the report (disk full or no permission?)");
-    }
-    fs::rename(tmp, file);
+    // Whole or not at all (flushed to the disk, then renamed): a full disk is
+    // an error naming the file, never a report cut short.
+    AtomicFile out(dir / name, true);
+    out.stream() << text;
+    out.Commit();
   }
 }
 

@@ -116,8 +116,13 @@ std::string DeclaredText(const LessonResult& r) {
   return r.declared ? r.declared->Summary() : "nothing";
 }
 
-std::string Csv(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+// A text cell: quoted when it must be, and a cell a spreadsheet would read as
+// a formula (beginning with = + - @, a tab or a carriage return) led by an
+// apostrophe, as OWASP's CSV-injection advice has it.
+std::string Csv(const std::string& text) {
+  std::string s = text;
+  if (!s.empty() && std::string("=+-@\t\r").find(s[0]) != std::string::npos) s = "'" + s;
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
   std::string o = "\"";
   for (char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
   return o + "\"";
@@ -129,16 +134,58 @@ bool IsResultsUrl(const std::string& text) {
   return text.rfind("postgresql://", 0) == 0 || text.rfind("postgres://", 0) == 0;
 }
 
+namespace {
+
+// scheme://user:password@host/...: where the password is in `url` (begin,
+// length), or npos. The user information ends at the last '@' before the
+// path, so a password holding a raw '@' is found whole.
+std::pair<std::size_t, std::size_t> PasswordSpan(const std::string& url) {
+  const std::size_t scheme = url.find("://");
+  if (scheme == std::string::npos) return {std::string::npos, 0};
+  const std::size_t from = scheme + 3;
+  std::size_t end = url.find_first_of("/?", from);
+  if (end == std::string::npos) end = url.size();
+  const std::size_t at = url.rfind('@', end == 0 ? 0 : end - 1);
+  if (at == std::string::npos || at < from) return {std::string::npos, 0};
+  const std::size_t colon = url.find(':', from);
+  if (colon == std::string::npos || colon > at) return {std::string::npos, 0};
+  return {colon + 1, at - colon - 1};
+}
+
+std::string PercentDecoded(const std::string& text) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '%' && i + 2 < text.size() &&
+        std::isxdigit(static_cast<unsigned char>(text[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(text[i + 2]))) {
+      out += static_cast<char>(std::stoi(text.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += text[i];
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string UrlPassword(const std::string& url) {
+  std::string out;
+  if (const auto [at, len] = PasswordSpan(url); at != std::string::npos)
+    out = PercentDecoded(url.substr(at, len));
+  for (std::size_t p = url.find("password="); p != std::string::npos;
+       p = url.find("password=", p + 1)) {
+    const std::size_t from = p + 9, to = url.find('&', from);
+    out = PercentDecoded(
+        url.substr(from, (to == std::string::npos ? url.size() : to) - from));
+  }
+  return out;
+}
+
 std::string RedactUrl(const std::string& url) {
   std::string out = url;
-  // scheme://user:password@host: the password between the first ':' after the
-  // scheme and the '@'.
-  if (const std::size_t scheme = out.find("://"); scheme != std::string::npos) {
-    const std::size_t at = out.find('@', scheme + 3);
-    const std::size_t colon = out.find(':', scheme + 3);
-    if (at != std::string::npos && colon != std::string::npos && colon < at)
-      out.replace(colon + 1, at - colon - 1, "***");
-  }
+  if (const auto [at, len] = PasswordSpan(out); at != std::string::npos)
+    out.replace(at, len, "***");
   // ...?password=secret&...
   for (std::size_t p = out.find("password="); p != std::string::npos;
        p = out.find("password=", p + 1)) {
@@ -146,6 +193,20 @@ std::string RedactUrl(const std::string& url) {
     out.replace(from, (to == std::string::npos ? out.size() : to) - from, "***");
   }
   return out;
+}
+
+std::string RedactPassword(std::string message, const std::string& url) {
+  const std::string raw_password = [&] {
+    const auto [at, len] = PasswordSpan(url);
+    return at == std::string::npos ? std::string() : url.substr(at, len);
+  }();
+  for (const std::string& secret : {UrlPassword(url), raw_password}) {
+    if (secret.empty()) continue;
+    for (std::size_t p = message.find(secret); p != std::string::npos;
+         p = message.find(secret, p + 3))
+      message.replace(p, secret.size(), "***");
+  }
+  return message;
 }
 
 std::string ResultsPlace::Describe() const {

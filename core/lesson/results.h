@@ -75,6 +75,12 @@ struct ResultsPlace {
 ResultsPlace ResultsPlaceFor(const std::filesystem::path& dir);
 /// A libpq URL with its password (user:password@, password=...) replaced by ***.
 std::string RedactUrl(const std::string& url);
+/// The password a results URL holds (user information or ?password=),
+/// percent-decoded; "" when it holds none.
+std::string UrlPassword(const std::string& url);
+/// `message` with the URL's password, as written and decoded, replaced by ***
+/// wherever it appears (a server's or a library's message can repeat it).
+std::string RedactPassword(std::string message, const std::string& url);
 /// True for a libpq URL (postgresql://, postgres://).
 bool IsResultsUrl(const std::string& text);
 

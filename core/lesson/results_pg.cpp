@@ -79,11 +79,15 @@ class Result {
 class PgResults final : public ResultsStore {
  public:
   PgResults(const std::string& url, int version) : url_(url), shown_(RedactUrl(url)) {
-    const char* keys[] = {"connect_timeout", "dbname", nullptr};
-    const char* values[] = {"5", url.c_str(), nullptr};
+    // A server that hangs or a table held locked ends in an error after these
+    // (the attempt waits in its folder), never a station that waits for ever.
+    const char* keys[] = {"connect_timeout", "options", "dbname", nullptr};
+    const char* values[] = {"5", "-c statement_timeout=15000 -c lock_timeout=10000",
+                            url.c_str(), nullptr};
     pg_ = PQconnectdbParams(keys, values, 1);
     if (!pg_ || PQstatus(pg_) != CONNECTION_OK) {
-      const std::string why = pg_ ? FirstLine(PQerrorMessage(pg_)) : "out of memory";
+      const std::string why =
+          pg_ ? RedactPassword(FirstLine(PQerrorMessage(pg_)), url) : "out of memory";
       PQfinish(pg_);
       pg_ = nullptr;
       throw ResultsError("PostgreSQL results store " + shown_ +
@@ -297,7 +301,7 @@ class PgResults final : public ResultsStore {
   }
 
   [[noreturn]] void Fail(const char* what) const {
-    const std::string why = FirstLine(PQerrorMessage(pg_));
+    const std::string why = RedactPassword(FirstLine(PQerrorMessage(pg_)), url_);
     if (PQstatus(pg_) != CONNECTION_OK)
       throw ResultsError("PostgreSQL results store " + shown_ +
                          ": the connection was lost (" + why +

@@ -97,9 +97,7 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
             s.reading_tick));
       } else {
         const double ang = s.angle_deg;
-        const S st2 = ang <= rb.angle_full_deg   ? S::kPass
-                      : ang <= rb.angle_pass_deg ? S::kPartial
-                                                 : S::kFail;
+        const S st2 = AngleStatus(ang, rb);
         L.push_back(Line("angulation", &site, 0, st2, Credit(st2),
                          Format("%s: the probe %.1f degrees off the long axis (full "
                                 "credit within %.0f, pass within "
@@ -193,7 +191,9 @@ void LessonRun::ScoreProbing(LessonResult& out) const {
       const int n = static_cast<int>(st.bins.size());
       int total = 0, swept = 0;
       for (int k = 0; k < n; ++k) {
-        if (!InArc(SegmentDeg(k, n), buccal)) continue;
+        const double deg = SegmentDeg(k, n), d = buccal ? deg : 360.0 - deg;
+        const auto [from, to] = arcs_[i][static_cast<std::size_t>(side)];
+        if (d < from || d > to) continue;
         ++total;
         swept += st.bins[static_cast<std::size_t>(k)];
         c.bins.push_back(st.bins[static_cast<std::size_t>(k)]);

@@ -17,6 +17,8 @@ constexpr double kDeg = 180.0 / kPi;
 // The walking stroke's arc per surface, in the tooth frame (0 = mesial, 90 = buccal):
 // from 15 degrees off one contact to 15 degrees off the other.
 constexpr double kArcFromDeg = 15, kArcToDeg = 165;
+// The walking stroke's arc stops this short of the col's midline on each side.
+constexpr double kColMarginMm = 0.5;
 constexpr double kStrokeHysteresisMm = 0.3;
 
 inline std::string Format(const char* fmt, auto... args) {
@@ -32,11 +34,6 @@ inline double AngleDistance(double a, double b) {
 
 // Segment k's angle in degrees, 0..360.
 inline double SegmentDeg(int k, int n) { return 360.0 * k / n; }
-
-inline bool InArc(double deg, bool buccal) {
-  const double d = buccal ? deg : 360.0 - deg;  // the lingual arc mirrors the buccal one
-  return d >= kArcFromDeg && d <= kArcToDeg;
-}
 
 inline RubricLine Line(const char* category, const SiteRef* site, int fdi,
                        RubricLine::Status status, double credit, std::string message,

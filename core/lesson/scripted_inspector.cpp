@@ -13,6 +13,7 @@
 #include "core/base/text.h"
 #include "core/collision/collision.h"
 #include "core/haptics/scripted_device.h"
+#include "core/lesson/scripted_keys.h"
 
 namespace sulcus {
 namespace {
@@ -416,6 +417,7 @@ std::unique_ptr<ScriptedHand> MakeScriptedHand(const std::string& name,
                                                const LessonSpec& spec,
                                                const CompiledScene& scene) {
   if (spec.inspection()) return std::make_unique<ScriptedInspector>(name, spec, scene);
+  if (name == "keys") return MakeScriptedKeys(spec, scene);
   return std::make_unique<ScriptedStudent>(name, spec, scene);
 }
 

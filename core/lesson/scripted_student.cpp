@@ -123,7 +123,6 @@ ScriptedStudent::ScriptedStudent(const std::string& name, const LessonSpec& spec
   const bool spot = name == "spot" || name == "occlusal";
   if (name == "tremor") hand_ = {.tremor_mm = 0.06, .tremor_deg = 0.3, .drift_mm = 0.2};
   if (human) hand_ = {.tremor_mm = 0.06, .tremor_deg = 0.3, .drift_mm = 0.15};
-  if (name == "keys") hand_ = {.step_mm = 0.1, .step_s = 0.01};
   const double slow = name == "slow" ? 3.0 : human ? 1.5 : 1.0;  // moves' durations
   const double stroke_speed = name == "slow" ? 2.0 : human ? 3.0 : 12.0;
   const bool overshoot = name == "overshoot";
@@ -458,6 +457,9 @@ void ScriptedStudent::OnEnd() {
     const auto it = std::find_if(seen_.begin(), seen_.end(),
                                  [&](const Seen& x) { return x.site == s; });
     if (it == seen_.end() || it->deepest <= 0) continue;
+    // Bleeding as it showed at the margin (not the scene's truth, nor the
+    // moment the effect reported it).
+    it->bled = lesson_->blood_seen(s);
     // Charted at rest already: only its bleeding, seen since, is added.
     if (std::find(charted_.begin(), charted_.end(), s) != charted_.end()) {
       if (it->bled) {
@@ -489,14 +491,18 @@ void ScriptedStudent::OnEnd() {
     if (ToothChart* t = chart.Find(s.fdi))
       t->sites[s.site] = {pd, lesson_->recession_mm(s), it->bled};
   }
+  lesson_->Declare(DiagnosisOfChart(chart, last_tick_));
+}
+
+DeclaredDiagnosis DiagnosisOfChart(const PerioChart& chart, std::uint64_t tick) {
   const Diagnosis mine = Classify2017(chart);
   DeclaredDiagnosis d;
-  d.tick = last_tick_;
+  d.tick = tick;
   d.periodontitis = mine.kind == Diagnosis::Kind::kPeriodontitis;
   d.stage = mine.stage;
   d.extent = mine.extent;
   d.grade = mine.grade;
-  lesson_->Declare(d);
+  return d;
 }
 
 }  // namespace sulcus

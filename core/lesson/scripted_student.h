@@ -31,8 +31,8 @@
 //               tremor of 0.06 mm and drift, strokes at 3 mm/s and moves 1.5
 //               times slower, a rest of 1 s keeping 0.22 N at each floor, and
 //               charting at rest.
-//   keys        the careful path played by the window's keys: the hand moves in
-//               steps of 0.1 mm (at most 100 a second on each axis).
+//   keys        the window's keys (N, R, the walking keys, T) on the window's
+//               own device: core/lesson/scripted_keys.h.
 
 #include <memory>
 #include <optional>
@@ -151,6 +151,10 @@ class ScriptedStudent final : public ScriptedHand {
   std::vector<Seen> seen_;
   std::uint64_t last_tick_ = 0;
 };
+
+/// What a scripted student declares: the diagnosis of its own chart by the
+/// 2017 rules, stamped `tick`.
+DeclaredDiagnosis DiagnosisOfChart(const PerioChart& chart, std::uint64_t tick);
 
 /// A device that plays a list of moves (ScriptedStudent::Move) by loop time,
 /// feeling the force written back (a stroke stops when it feels its force).

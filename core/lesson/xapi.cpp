@@ -12,6 +12,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "core/base/files.h"
 #include "core/base/text.h"
 #include "core/lesson/chart.h"
 #include "core/lesson/results.h"
@@ -261,17 +262,33 @@ std::string QueueStatements(const fs::path& dir, const LessonResult& r,
                             const std::string& registration, const std::string& started,
                             const XapiSettings& lrs) {
   const std::string json = XapiStatements(r, registration, started, lrs.homepage);
-  {
-    std::ofstream out(dir / kStatementsFile, std::ios::trunc);
-    out << json;
-    if (!out.flush()) return (dir / kStatementsFile).string() + ": cannot be written";
+  // Write-ahead: marked waiting (durably) before the statements are written
+  // and sent, unmarked once the LRS has them; each file whole or not at all.
+  // A stop at any moment leaves them sent, or waiting for `results sync`.
+  auto mark = [&](const std::string& why) {
+    try {
+      AtomicFile w(dir / kWaitingFile);
+      w.stream() << "The xAPI statements in " << kStatementsFile
+                 << " wait for the LRS: " << why
+                 << "\n`sulcus-cli results sync` sends them.\n";
+      w.Commit();
+    } catch (const std::exception&) {
+      // A full disk: the statements are made again from the report by
+      // `results sync`'s recovery of the attempt; nothing more to do here.
+    }
+  };
+  if (lrs.enabled()) mark("not sent yet (the station stopped while sending)");
+  try {
+    AtomicFile out(dir / kStatementsFile, true);
+    out.stream() << json;
+    out.Commit();
+  } catch (const std::exception& e) {
+    return e.what();
   }
   if (!lrs.enabled()) return "";
   std::string why;
   if (SendWaitingStatements(dir, lrs, &why)) return "";
-  std::ofstream(dir / kWaitingFile)
-      << "The xAPI statements in " << kStatementsFile << " wait for the LRS: " << why
-      << "\n`sulcus-cli results sync` sends them.\n";
+  mark(why);
   return why;
 }
 

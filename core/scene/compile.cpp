@@ -7,7 +7,9 @@
 #include <condition_variable>
 #include <exception>
 #include <map>
+#include <memory>
 #include <mutex>
+#include <numbers>
 #include <optional>
 #include <thread>
 
@@ -133,8 +135,23 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first,
         const ShareNeighbours nb(o);
         cuts = GingivaShareField(GenerateTooth(o.fdi), g, nb.next).cuts();
       }
+      auto ring = std::make_shared<SulcusRing>();
+      ring->X_RW = o.X_WO.inverse();
+      ring->mirrored = o.mirrored;
+      ring->margin_z = g.margin_z;
+      ring->floor_z = g.floor_z;
+      ring->sulcus_r = g.sulcus_r;
+      for (const GingivaShareField::CutPlane& c : cuts) {
+        if (ring->num_cuts == static_cast<int>(ring->cut_q_W.size())) break;
+        ring->cut_q_W[ring->num_cuts] = o.X_WO * ArchMirror(o.mirrored, c.q);
+        ring->cut_n_W[ring->num_cuts] =
+            o.X_WO.rotation() * ArchMirror(o.mirrored, c.normal);
+        ++ring->num_cuts;
+      }
+      ring->MakeZones();
       for (int s = 0; s < 6; ++s) {
         ProbingSite site;
+        site.ring = ring;
         site.tooth = tooth;
         site.fdi = o.fdi;
         site.site = s;
@@ -150,10 +167,62 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first,
         }
         site.margin_W = o.X_WO * ArchMirror(o.mirrored, g.margin[s]);
         site.floor_W = o.X_WO * ArchMirror(o.mirrored, g.floor[s]);
+        // An interdental site's line past the cut toward the neighbour (in a
+        // crowded or curved arch the tooth's 45-degree line angle can lie in
+        // the neighbour's gingiva, where the neighbour's sulcus is): moved
+        // round toward the mid site until the sulcus there is on the tooth's
+        // own side, 0.3 mm clear, so that N puts the tip in the site's own
+        // sulcus.
+        if (s != 1 && s != 4 && ring->num_cuts > 0) {
+          const Vector3 m0 = ring->ToRing(site.margin_W);
+          const double start = std::atan2(m0.y(), m0.x());
+          const double mid = s < 3 ? 0.5 * std::numbers::pi : -0.5 * std::numbers::pi;
+          const double dir =
+              std::remainder(mid - start, 2 * std::numbers::pi) > 0 ? 1.0 : -1.0;
+          auto clear = [&](double phi) {
+            const int k = ring->SegmentAt(phi);
+            const double half = 0.5 * (ring->margin_z[static_cast<std::size_t>(k)] -
+                                       ring->floor_z[static_cast<std::size_t>(k)]);
+            const Vector3 p = ring->PointAt(phi, half);
+            for (int c = 0; c < ring->num_cuts; ++c)
+              if ((p - ring->cut_q_W[static_cast<std::size_t>(c)])
+                      .dot(ring->cut_n_W[static_cast<std::size_t>(c)]) > -0.3)
+                return false;
+            return true;
+          };
+          double phi = start;
+          for (int step = 0; step < 60 && !clear(phi); ++step)
+            phi += dir * std::numbers::pi / 360;
+          if (phi != start && clear(phi)) {
+            const int k = ring->SegmentAt(phi);
+            site.margin_W = ring->PointAt(phi, 0);
+            site.floor_W =
+                ring->PointAt(phi, ring->margin_z[static_cast<std::size_t>(k)] -
+                                       ring->floor_z[static_cast<std::size_t>(k)]);
+            site.line_moved_deg = std::abs(phi - start) * 180 / std::numbers::pi;
+          }
+        }
         site.pocket_mm = o.pocket_mm[s];
         site.bleeding = o.bleeding[s];
         m.sites.push_back(site);
       }
+      // A line moved off the cut stays in its own zone: the bound toward the
+      // mid site goes half way from the moved line to the mid site's.
+      const std::size_t first = m.sites.size() - 6;
+      auto angle = [&](int s) {
+        const Vector3 p =
+            ring->ToRing(m.sites[first + static_cast<std::size_t>(s)].margin_W);
+        double a = std::atan2(p.y(), p.x());
+        return a < 0 ? a + 2 * std::numbers::pi : a;
+      };
+      constexpr double kClear = 3 * std::numbers::pi / 180;
+      if (angle(0) > ring->facial_from - kClear)
+        ring->facial_from = 0.5 * (angle(0) + angle(1));
+      if (angle(2) < ring->facial_to + kClear)
+        ring->facial_to = 0.5 * (angle(2) + angle(1));
+      if (angle(5) > ring->oral_from - kClear)
+        ring->oral_from = 0.5 * (angle(5) + angle(4));
+      if (angle(3) < ring->oral_to + kClear) ring->oral_to = 0.5 * (angle(3) + angle(4));
     }
     if (soft) {
       // Leaves near or below the pocket floor are firm (the attachment), the rest soft.

@@ -44,6 +44,7 @@
 #include "ui/mouse_device.h"
 #include "ui/odontogram_widget.h"
 #include "ui/progress_dialog.h"
+#include "ui/scene_view.h"
 #include "ui/start_dialog.h"
 
 namespace sulcus::ui {
@@ -531,60 +532,195 @@ TEST(LessonWindow, APersonProbesFourSitesByKeysAndEachIsScored) {
   }
 }
 
-// T at an interdental site leans the probe away from the contact about its
-// tip (the tip goes under the contact point into the col), and T again stands
-// it back along the tooth; at a mid-site T says what it needs.
-TEST(LessonWindow, TTiltsTheProbeIntoTheColAndBack) {
+// At the probe's floor with the press held: in `site`, the gauge within 0.03 N
+// of 0.24 N for `ms`.
+bool RestAtTheFloor(MainWindow& w, const SiteRef& site, int ms, int limit_ms = 60000) {
+  QElapsedTimer still;
+  bool holding = false;
+  return WaitFor(
+      [&] {
+        const bool in = w.lesson()->tip_site() == site && w.lesson()->tip_depth_mm() &&
+                        std::abs(w.gauge_force() - 0.24) < 0.03;
+        if (in && !holding) still.restart();
+        holding = in;
+        return in && still.elapsed() > ms;
+      },
+      limit_ms);
+}
+
+// An interdental site chosen on the chart (46 DB: next to 47, and it bleeds):
+// N places the probe in its sulcus, R twelve times press it to the floor, the
+// depth is charted with the probe in; T takes the tip along the sulcus under
+// the contact and leans the probe, and the panel says "Under the contact"
+// only where the score credits the col; blood appears at the margin and grows
+// along it while the probe is still in (the screenshots show it, in the view
+// and the loupe); T stands the probe up again.
+TEST(LessonWindow, NAndTReachTheColAndTheBloodShowsAtTheMargin) {
   MainWindow w;
   w.resize(1280, 800);
   w.show();
   ASSERT_TRUE(w.StartLesson(ByKeys("Col Tilt", "col_tilt")));
   QWidget* view = w.view_widget();
-  ASSERT_TRUE(w.lesson()->next_site());
-  const SiteRef site = *w.lesson()->next_site();
-  ASSERT_TRUE(IsInterdental(site.site))
-      << site.ToString() << " (the path starts at 47 DB)";
+  const SiteRef site{46, 2};
+  ASSERT_TRUE(w.chart()->SelectSite(site));
+  WaitFor([] { return false; }, 300);
+  EXPECT_NE(w.lesson_text().indexOf("46 DB"), -1)
+      << "the panel's next site follows the chart";
   view->setFocus();
   Key(view, Qt::Key_N, "n");
   for (int i = 0; i < 12; ++i) Key(view, Qt::Key_R, "r");
-  // At the floor with the press held (the gauge near it for half a second).
-  QElapsedTimer still;
-  bool holding = false;
-  ASSERT_TRUE(WaitFor(
+  ASSERT_TRUE(RestAtTheFloor(w, site, 500)) << "N goes to the chosen site, 46 DB";
+  EXPECT_LT(*w.lesson()->tip_angle_deg(), 5.0) << "N places the probe along the tooth";
+  const double depth = *w.lesson()->tip_depth_mm();
+  const int pd = static_cast<int>(std::lround(depth));
+  w.chart()->setFocus();
+  Key(w.chart(), Qt::Key_0 + pd, QString::number(pd));
+  // The probe's keys reach the probe from the chart too.
+  Key(w.chart(), Qt::Key_T, "t");
+  bool said_under = false;
+  const bool under = WaitFor(
       [&] {
-        const bool in = w.lesson()->tip_site() == site && w.lesson()->tip_angle_deg() &&
-                        std::abs(w.gauge_force() - 0.24) < 0.03;
-        if (in && !holding) still.restart();
-        holding = in;
-        return in && still.elapsed() > 500;
-      },
-      60000))
-      << "the tip goes to the floor of " << site.ToString();
-  const double before = *w.lesson()->tip_angle_deg();
-  EXPECT_LT(before, 5.0) << "N places the probe along the tooth";
-  Key(view, Qt::Key_T, "t");
-  const bool leaned = WaitFor(
-      [&] {
-        return w.lesson()->tip_angle_deg() && *w.lesson()->tip_angle_deg() > 15.0 &&
-               w.lesson()->tip_site() == site && w.lesson()->tip_depth_mm() &&
-               *w.lesson()->tip_depth_mm() > 1.0;
+        said_under = said_under || w.lesson_text().contains("Under the contact");
+        return w.lesson()->tip_under_contact() && w.lesson()->tip_site() == site &&
+               said_under;
       },
       20000);
-  EXPECT_TRUE(leaned) << "angle "
-                      << (w.lesson()->tip_angle_deg() ? *w.lesson()->tip_angle_deg()
-                                                      : -1);
-  EXPECT_TRUE(Save(&w, "col_tilt.png"));
+  EXPECT_TRUE(under) << w.lesson_text().toStdString();
   const double tilted = w.lesson()->tip_angle_deg().value_or(-1);
+  EXPECT_GT(tilted, 12.0);
+  EXPECT_TRUE(Save(&w, "col_tilt.png"));
+  // The blood: a drop within a second or two of the floor, a line by 10 s.
+  ASSERT_TRUE(WaitFor([&] { return w.view()->blood_beads() > 0; }, 15000))
+      << "46 DB bleeds on probing";
+  const int first = w.view()->blood_beads();
+  WaitFor([] { return false; }, 6000);
+  EXPECT_GT(w.view()->blood_beads(), first) << "it runs along the margin";
+  EXPECT_TRUE(w.loupe_shown());
+  EXPECT_TRUE(Save(&w, "blood_at_the_margin.png"));
+  view->setFocus();
   Key(view, Qt::Key_T, "t");
   EXPECT_TRUE(WaitFor(
       [&] { return w.lesson()->tip_angle_deg() && *w.lesson()->tip_angle_deg() < 5.0; },
       20000))
       << "T again stands it back";
-  std::printf("figure: %s from %.1f degrees tilted into the col: %.1f, back %.1f\n",
-              site.ToString().c_str(), before, tilted,
-              w.lesson()->tip_angle_deg() ? *w.lesson()->tip_angle_deg() : -1.0);
+  std::printf(
+      "figure: 46 DB read at %.1f mm, tilted into the col %.1f degrees, blood in "
+      "%d then %d beads\n",
+      depth, tilted, first, w.view()->blood_beads());
   Key(view, Qt::Key_X, "x");
   ASSERT_TRUE(w.FinishLesson(false));
+  const LessonResult& r = *w.last_result();
+  for (const SiteResult& s : r.sites) {
+    if (s.site != site) continue;
+    EXPECT_TRUE(s.col_reached) << "the panel said it was under the contact: credited";
+    EXPECT_TRUE(s.bled);
+    ASSERT_TRUE(s.reached_mm);
+    EXPECT_LE(std::abs(*s.reached_mm - s.truth_mm), 1.0);
+  }
+}
+
+// Assessment gives no depth: the panel says which sulcus the tip is in, not
+// how deep (the student reads the markings in the loupe).
+TEST(LessonWindow, AnAssessmentShowsNoDepth) {
+  MainWindow w;
+  w.resize(1280, 800);
+  w.show();
+  MainWindow::LessonStart start = ByKeys("Assessed", "assessed");
+  start.mode = LessonSpec::Mode::kAssessment;
+  ASSERT_TRUE(w.StartLesson(start));
+  const SiteRef site = *w.lesson()->next_site();
+  ASSERT_TRUE(w.PlaceProbeAt(site, 1.0));  // (N places nothing in an assessment)
+  QWidget* view = w.view_widget();
+  view->setFocus();
+  for (int i = 0; i < 12; ++i) Key(view, Qt::Key_R, "r");
+  ASSERT_TRUE(RestAtTheFloor(w, site, 300));
+  const QString text = w.lesson_text();
+  EXPECT_NE(text.indexOf("You are in the sulcus of"), -1) << text.toStdString();
+  EXPECT_EQ(text.indexOf("mm below the margin"), -1) << text.toStdString();
+  EXPECT_TRUE(w.loupe_shown()) << "the markings are read in the loupe";
+  EXPECT_TRUE(Save(&w, "assessment_no_depth.png"));
+  Key(view, Qt::Key_X, "x");
+  ASSERT_TRUE(w.FinishLesson(false));
+}
+
+// The whole mouth by keys, on its palatal and lingual side: twelve sites
+// chosen on the chart (the mesial ones where N once put the tip in the
+// neighbour's sulcus, and both sides of the midline), each: N, R twelve times,
+// the tip at the floor of that site's own sulcus, the camera on that side of
+// the tooth, the depth charted. Every one is read; prints the seconds each.
+TEST(LessonWindow, TwelvePalatalAndLingualSitesOfTheWholeMouthByKeys) {
+  MainWindow w;
+  w.resize(1280, 800);
+  w.show();
+  MainWindow::LessonStart start;
+  start.lesson = Lessons() / "periodontal_examination.yaml";
+  start.student = "Whole Mouth";
+  start.device = "mouse";
+  start.mode = LessonSpec::Mode::kPractice;
+  start.results_dir = Out("whole_mouth_keys");
+  ASSERT_TRUE(w.StartLesson(start));
+  ASSERT_TRUE(WaitFor([&] { return w.lesson() != nullptr; }, 600000));
+  QWidget* view = w.view_widget();
+  const std::vector<SiteRef> sites = {{24, 3}, {14, 3}, {15, 3}, {21, 3},
+                                      {11, 3}, {16, 4}, {26, 5}, {32, 3},
+                                      {31, 3}, {41, 3}, {36, 3}, {46, 4}};
+  std::vector<SiteRef> read;
+  for (const SiteRef& site : sites) {
+    if (!w.chart()->SelectSite(site)) continue;  // (a tooth the case left out)
+    QElapsedTimer t;
+    t.start();
+    WaitFor([] { return false; }, 200);  // the camera follows the choice
+    view->setFocus();
+    Key(view, Qt::Key_N, "n");
+    for (int i = 0; i < 12; ++i) Key(view, Qt::Key_R, "r");
+    const bool rested = RestAtTheFloor(w, site, 500, 30000);
+    if (!rested)
+      std::printf("figure: %s not reached by keys: the tip is in %s\n",
+                  site.ToString().c_str(),
+                  w.lesson()->tip_site() ? w.lesson()->tip_site()->ToString().c_str()
+                                         : "no site");
+    // The camera looks at the side being probed: from inside the arch.
+    const auto cam = w.view()->Camera();
+    const ProbingSite* p = nullptr;
+    for (const ProbingSite& q : w.scene()->effects.sites)
+      if (q.fdi == site.fdi && q.site == site.site) p = &q;
+    ASSERT_NE(p, nullptr);
+    Vector3 out = p->margin_W - p->origin_W;
+    out -= p->axis_W * out.dot(p->axis_W);
+    EXPECT_GT((cam.eye - p->margin_W).dot(out.normalized()), 0)
+        << site.ToString() << ": the camera is on the side being probed";
+    if (site == SiteRef{24, 3} || site == SiteRef{31, 3}) {
+      EXPECT_TRUE(Save(&w, "whole_mouth_" + site.ToString().substr(0, 2) + ".png"));
+    }
+    if (rested) {
+      const int pd = static_cast<int>(std::lround(*w.lesson()->tip_depth_mm()));
+      w.chart()->setFocus();
+      Key(w.chart(), Qt::Key_0 + pd, QString::number(pd));
+      read.push_back(site);
+    }
+    Key(view, Qt::Key_X, "x");
+    std::printf("figure: %s by keys in %.1f s\n", site.ToString().c_str(),
+                t.elapsed() / 1000.0);
+  }
+  ASSERT_TRUE(w.FinishLesson(false));
+  const LessonResult& r = *w.last_result();
+  // Known and open: in one run of two, N then R at 24 ML (the first site, from
+  // the start pose) left the tip out of the sulcus for 30 s; 26 DL read 2.2 mm
+  // off its truth. Ten of the twelve at least are read within 1 mm.
+  int within = 0;
+  for (const SiteRef& site : read)
+    for (const SiteResult& s : r.sites)
+      if (s.site == site) {
+        EXPECT_TRUE(s.reached_mm) << site.ToString() << ": " << s.no_reading;
+        if (!s.reached_mm) continue;
+        const double off = *s.reached_mm - s.truth_mm;
+        within += std::abs(off) <= 1.0;
+        if (std::abs(off) > 1.0)
+          std::printf("figure: %s read %.1f mm off\n", site.ToString().c_str(), off);
+      }
+  std::printf("figure: %d of %zu palatal and lingual sites read within 1 mm by keys\n",
+              within, sites.size());
+  EXPECT_GE(within, 10);
 }
 
 // The inspection lesson in the window: the thorough scripted inspector drives

@@ -129,6 +129,40 @@ TEST(Files, InsideAFolderIsDecidedWithLinksFollowedComponentByComponent) {
   fs::current_path(before);
 }
 
+// What a terminal shows of a name from the store: a newline cannot forge a
+// row, an escape cannot clear the screen, a right-to-left override cannot turn
+// the line round; letters of every script pass as they are.
+TEST(Text, TerminalSafeEscapesControlsAndDirectionOverrides) {
+  EXPECT_EQ(TerminalSafe("Zo\xC3\xAB \xE6\x9D\x8E"), "Zo\xC3\xAB \xE6\x9D\x8E");
+  EXPECT_EQ(TerminalSafe("eve\nalice ... 100.0"), "eve\\x0Aalice ... 100.0");
+  EXPECT_EQ(TerminalSafe("\x1b[2Jbob"), "\\x1B[2Jbob");
+  EXPECT_EQ(TerminalSafe("ali\xE2\x80\xAE"
+                         "ecila"),
+            "ali\\u{202E}ecila");
+  EXPECT_EQ(TerminalSafe("bad \xff byte"), "bad \\xFF byte");
+  EXPECT_EQ(TerminalSafe("\xC2\x85"), "\\x85") << "a C1 control";
+}
+
+// A student's name is refused where it is typed, with the reason.
+TEST(Text, ANameIsCheckedAtTheDoor) {
+  EXPECT_EQ(NameProblem("Ada Lovelace"), "");
+  EXPECT_EQ(NameProblem("Zo\xC3\xAB"), "");
+  EXPECT_NE(NameProblem(""), "");
+  EXPECT_NE(NameProblem("eve\nalice"), "");
+  EXPECT_NE(NameProblem("\x1b[2J"), "");
+  EXPECT_NE(NameProblem("ali\xE2\x80\xAE"
+                        "ce"),
+            "");
+  EXPECT_NE(NameProblem("bad \xff"), "");
+  EXPECT_NE(NameProblem("\xC0\xAF"), "") << "an overlong form";
+  EXPECT_EQ(NameProblem(std::string(kMaxNameChars, 'a')), "");
+  EXPECT_NE(NameProblem(std::string(kMaxNameChars + 1, 'a')).find("121 characters"),
+            std::string::npos);
+  std::string wide;
+  for (std::size_t i = 0; i < kMaxNameChars; ++i) wide += "\xC3\xA9";
+  EXPECT_EQ(NameProblem(wide), "") << "characters, not bytes";
+}
+
 TEST(Text, LongValuesAreCutAndNumbersReadable) {
   EXPECT_EQ(Shorten("short"), "short");
   const std::string mb(1 << 20, 'x');

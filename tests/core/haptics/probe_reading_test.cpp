@@ -180,7 +180,10 @@ TEST(ProbeReading, SlowWorkAndAShallowVisit) {
   EXPECT_TRUE(Feed(shallow).readings.empty());
 }
 
-TEST(ProbeReading, CompleteThenDeeperIsAnUpdateOfTheSameInsertion) {
+// Charting a site completes its reading: a deeper dwell later in the same
+// visit is not its reading (the student charted what the probe showed then);
+// leaving the site and entering it again is a re-probe, a reading of its own.
+TEST(ProbeReading, ChartingSealsTheVisitAndOnlyANewEntryReadsAgain) {
   const std::vector<ProbingSite> sites = TwoSites();
   const TipLocator locator(sites);
   ProbeReadingTracker tracker(kRate);
@@ -192,11 +195,20 @@ TEST(ProbeReading, CompleteThenDeeperIsAnUpdateOfTheSameInsertion) {
   for (int i = 0; i < 100; ++i) EXPECT_FALSE(tracker.Update(t++, at(3.0), 0.2, &r));
   ASSERT_TRUE(tracker.Complete(t, &r));
   EXPECT_FALSE(r.update);
+  EXPECT_NEAR(r.depth_mm, 3.0, 1e-9);
   EXPECT_FALSE(tracker.Complete(t, &r)) << "nothing new";
-  for (int i = 0; i < 100; ++i) EXPECT_FALSE(tracker.Update(t++, at(3.6), 0.2, &r));
+  // Deeper with more force, the same visit: nothing read, now or when it ends.
+  for (int i = 0; i < 100; ++i) EXPECT_FALSE(tracker.Update(t++, at(3.6), 0.31, &r));
+  EXPECT_FALSE(tracker.Complete(t, &r));
+  // Out of the sulcus (above the margin) for 0.2 s: the visit ends, unread.
+  for (int i = 0; i < 200; ++i)
+    EXPECT_FALSE(tracker.Update(t++, locator.Locate(Tip(Vector3(0, 0, 2))), 0, &r));
+  // In again: a new visit, read on its own.
+  for (int i = 0; i < 100; ++i) EXPECT_FALSE(tracker.Update(t++, at(3.4), 0.25, &r));
   ASSERT_TRUE(tracker.Complete(t, &r));
-  EXPECT_TRUE(r.update);
-  EXPECT_NEAR(r.depth_mm, 3.6, 1e-9);
+  EXPECT_FALSE(r.update) << "a new insertion";
+  EXPECT_NEAR(r.depth_mm, 3.4, 1e-9);
+  EXPECT_NEAR(r.held_force_n, 0.25, ProbeReadingTracker::kBinN);
 }
 
 TEST(TipLocator, TheNearerLineWinsAndFarFromEveryLineIsNowhere) {

@@ -15,6 +15,7 @@
 #include "core/lesson/attempt.h"
 #include "core/lesson/instructor.h"
 #include "core/lesson/results.h"
+#include "tests/common/kill_sweep.h"
 #include "tests/common/output.h"
 #include "tests/common/postgres_server.h"
 #include "tests/core/lesson/sample_result.h"
@@ -234,6 +235,17 @@ TEST(ResultsPg, AWrongPasswordOrHostIsSaidWithTheUrlButNotThePassword) {
   }
   EXPECT_EQ(RedactUrl("postgres://u:p@h/db?password=q&sslmode=require"),
             "postgres://u:***@h/db?password=***&sslmode=require");
+  // A raw '@' in the password: the user information ends at the last '@'.
+  EXPECT_EQ(RedactUrl("postgresql://u:pa@ss@h:5432/db"), "postgresql://u:***@h:5432/db");
+  EXPECT_EQ(UrlPassword("postgresql://u:pa@ss@h/db"), "pa@ss");
+  EXPECT_EQ(UrlPassword("postgresql://u:p%40%zz@h/db"), "p@%zz");
+  EXPECT_EQ(UrlPassword("postgresql://u@h/db"), "");
+  // A library's message that repeats the password, as written or decoded.
+  EXPECT_EQ(RedactPassword("invalid percent-encoded token: \"p%40%zz\"",
+                           "postgresql://u:p%40%zz@h/db"),
+            "invalid percent-encoded token: \"***\"");
+  EXPECT_EQ(RedactPassword("user u password p@%zz", "postgresql://u:p%40%zz@h/db"),
+            "user u password ***");
 }
 
 // A station keeps an attempt while the server is down (its folder, marked as
@@ -275,6 +287,32 @@ TEST(ResultsPg, AnAttemptMadeWhileTheServerWasDownIsSyncedOnce) {
   // Stored again (a second sync, another station's retry): still once.
   KeepAttempt(out.result, folder, folder.dir, place);
   EXPECT_EQ(store->Attempts("cleo").size(), 1u);
+}
+
+// The kill sweep against a real server: a station stopped at each step of
+// keeping an attempt (SIGKILL, SIGTERM, SIGINT in turn) and at timed instants
+// within it; after a sync every attempt is in the server's store exactly once.
+TEST(ResultsPg, AKeepingStoppedAtAnyInstantIsStoredExactlyOnceAfterASync) {
+  const fs::path base = test::FreshOutputPath("results_pg", "sweep-template");
+  const AttemptFolder made = NewAttemptFolder(base, "sam");
+  AttemptOptions o;
+  o.student = "sam";
+  o.device = "student:spot";
+  o.cache_dir = fs::path(SULCUS_TEST_OUTPUT) / "probing-cache";
+  o.record = made.recording();
+  o.keep_in = &made;
+  const AttemptOutcome out =
+      RunAttempt(fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml", o);
+  int waited = 0, n = 0;
+  for (const test::SweepStop& st : test::SweepStops({1000, 5000, 20000, 60000})) {
+    const std::string url = FreshDatabase("sweep" + std::to_string(n));
+    const ResultsPlace place(
+        test::FreshOutputPath("results_pg", "sweep-" + std::to_string(n++)), url);
+    waited += test::StopAndSync(made, out.result, place, st, o.cache_dir);
+    EXPECT_EQ(OpenPostgresResults(url)->Attempts("sam").size(), 1u)
+        << st.What() << ": exactly once";
+  }
+  EXPECT_GE(waited, 5);
 }
 
 // The instructor's passphrase set at one station opens the instructor's view at

@@ -64,6 +64,24 @@ TEST(Results, IncompleteAttemptsKeepHowTheyEnded) {
       << csv.str();
 }
 
+// A CSV cell a spreadsheet would run as a formula is led by an apostrophe.
+TEST(Results, TheCsvExportNeutralisesFormulas) {
+  const fs::path file = Fresh("formula");
+  ResultsDb db(file);
+  db.Store(Sample("=HYPERLINK(\"http://x\",\"a\")", 50), "2026-12-01T10:00:00Z", "/a.rec",
+           "/a.yaml", "/a");
+  db.Store(Sample("+1", 60), "2026-12-01T11:00:00Z", "/b.rec", "/b.yaml", "/b");
+  db.Store(Sample("@SUM", 70), "2026-12-01T12:00:00Z", "/c.rec", "/c.yaml", "/c");
+  std::ostringstream csv;
+  ExportAttemptsCsv(db.Attempts("", ""), csv);
+  const std::string text = csv.str();
+  EXPECT_NE(text.find(",\"'=HYPERLINK(\"\"http://x\"\",\"\"a\"\")\","), std::string::npos)
+      << text;
+  EXPECT_NE(text.find(",'+1,"), std::string::npos) << text;
+  EXPECT_NE(text.find(",'@SUM,"), std::string::npos) << text;
+  EXPECT_EQ(text.find(",=HYPERLINK"), std::string::npos);
+}
+
 TEST(Results, VersionOneDatabaseIsMigratedKeepingItsAttempts) {
   const fs::path file = Fresh("migrate1");
   {

@@ -13,7 +13,9 @@
 
 #include "core/anatomy/soft_tissue.h"
 #include "core/haptics/effects.h"
+#include "core/haptics/probe_keys.h"
 #include "core/haptics/scripted_device.h"
+#include "core/haptics/tip_locator.h"
 #include "core/scene/scene.h"
 #include "core/session/session.h"
 #include "core/spheretree/cache.h"
@@ -1126,6 +1128,147 @@ TEST(Probing, AProbeGoesIntoTheFurcationAsFarAsItsClassLeavesTheBoneOpen) {
     exact_in_before = exact_in;
     in_before = in;
   }
+}
+
+}  // namespace
+}  // namespace sulcus
+
+namespace sulcus {
+namespace {
+
+// The six zones on the shipped scenes' real sulci (the sextant and the whole
+// mouth): every point of a tooth's sulcus, from the margin to the floor all
+// the way round, is in a site (its own tooth's, or under a contact the
+// neighbour's, as the cut between the shares has it); each site's own line is
+// in that site from just below the margin to the floor (where N puts the tip);
+// a tip at a line angle, between a site's line and the mid-site's, is in the
+// interdental site, as clinicians chart it. Prints how much of each sulcus
+// the neighbours took.
+void CheckZones(const char* scene_file) {
+  const SceneSpec spec =
+      LoadSceneSpec(fs::path(SULCUS_SOURCE_DIR) / "scenes" / scene_file);
+  const auto scene = CompileScene(spec, Cache());
+  const std::vector<ProbingSite>& sites = scene->effects.sites;
+  ASSERT_FALSE(sites.empty());
+  const TipLocator locator(sites);
+  auto pose = [](const Vector3& p) { return RigidTransform(Quaternion::Identity(), p); };
+  int points = 0, nowhere = 0, neighbour = 0, lines = 0, past_cut = 0, moved = 0;
+  double most_moved = 0, nearest_col = 1e9, col_sum = 0;
+  int col_n = 0;
+  for (int i = 0; i < static_cast<int>(sites.size()); ++i) {
+    const ProbingSite& s = sites[static_cast<std::size_t>(i)];
+    ASSERT_TRUE(s.ring) << s.fdi << " " << s.site;
+    const SulcusRing& r = *s.ring;
+    const std::string where = std::to_string(s.fdi) + " site " + std::to_string(s.site);
+    // The site's own line, 0.3 mm below the margin to 0.1 mm above the floor.
+    const double pocket = (s.floor_W - s.margin_W).norm();
+    for (double d = 0.3; d <= pocket - 0.1; d += 0.2) {
+      const Vector3 p = s.margin_W + d * (s.floor_W - s.margin_W).normalized();
+      const TipLocation at = locator.Locate(pose(p));
+      EXPECT_EQ(at.site, i) << where << " at " << d << " mm on its own line";
+      if (at.site == i) {
+        EXPECT_NEAR(at.depth_mm, d, 0.05) << where;
+      }
+      ++lines;
+    }
+    // N's pose, pushed straight down the axis to the floor: the same site.
+    const RigidTransform over = PoseOverSite(s, 1.0);
+    for (double d = 1.3; d <= 1.0 + pocket - 0.1; d += 0.3) {
+      const Vector3 p = over.translation() - d * r.AxisW();
+      EXPECT_EQ(locator.Locate(pose(p)).site, i)
+          << where << ": N then " << d << " mm down";
+    }
+    if (s.site != 0) continue;                // the ring once a tooth
+    for (int deg = 1; deg < 360; deg += 2) {  // (the zones' bounds lie between)
+      const double phi = deg * std::numbers::pi / 180;
+      const int k = r.SegmentAt(phi);
+      const double pk = r.margin_z[static_cast<std::size_t>(k)] -
+                        r.floor_z[static_cast<std::size_t>(k)];
+      for (const double d : {0.3, 0.5 * pk, pk - 0.1}) {
+        const Vector3 q = r.PointAt(phi, d);
+        // Past a cut between shares the neighbour's gingiva begins: its own
+        // sulcus there, or tissue below its (shallower) floor.
+        bool beyond = false;
+        for (int c = 0; c < r.num_cuts; ++c)
+          beyond = beyond || (q - r.cut_q_W[static_cast<std::size_t>(c)])
+                                     .dot(r.cut_n_W[static_cast<std::size_t>(c)]) > 0;
+        if (beyond) {
+          ++past_cut;
+          continue;
+        }
+        const TipLocation at = locator.Locate(pose(q));
+        ++points;
+        if (at.site < 0) {
+          ++nowhere;
+          ADD_FAILURE() << s.fdi << " at " << deg << " degrees, " << d
+                        << " mm deep: in no site";
+          continue;
+        }
+        const ProbingSite& got = sites[static_cast<std::size_t>(at.site)];
+        if (got.fdi != s.fdi) {
+          ++neighbour;
+          // Only under a contact, never across a mid site.
+          EXPECT_TRUE(got.site != 1 && got.site != 4)
+              << s.fdi << " at " << deg << " degrees: in " << got.fdi << " " << got.site;
+        } else {
+          EXPECT_EQ(got.site, r.ZoneAt(phi)) << s.fdi << " at " << deg << " degrees";
+        }
+      }
+    }
+    // The line angles: between each interdental site's line and the bound of
+    // its zone toward the mid site (three fifths of the way), at half the
+    // pocket: still the interdental site; just past the bound: the mid site.
+    for (const int site : {0, 2, 3, 5}) {
+      const ProbingSite& d = sites[static_cast<std::size_t>(i + site)];
+      const Vector3 p = r.ToRing(d.margin_W);
+      const double phi = std::atan2(p.y(), p.x());
+      const double bound = site == 0   ? r.facial_from
+                           : site == 2 ? r.facial_to
+                           : site == 3 ? r.oral_to - 2 * std::numbers::pi
+                                       : r.oral_from;
+      const double toward = std::remainder(bound - phi, 2 * std::numbers::pi);
+      auto half = [&](double a) {  // half the pocket's depth there
+        const int k = r.SegmentAt(a);
+        return 0.5 * (r.margin_z[static_cast<std::size_t>(k)] -
+                      r.floor_z[static_cast<std::size_t>(k)]);
+      };
+      const double in = phi + 0.6 * toward;
+      EXPECT_EQ(locator.Locate(pose(r.PointAt(in, half(in)))).site, i + site)
+          << s.fdi << " site " << site << ": at its line angle";
+      const int mid = site < 3 ? 1 : 4;
+      const double past = phi + toward + (toward > 0 ? 0.02 : -0.02);
+      EXPECT_EQ(locator.Locate(pose(r.PointAt(past, half(past)))).site, i + mid)
+          << s.fdi << " site " << site << ": just past its zone's bound";
+      if (d.line_moved_deg > 0) {
+        ++moved;
+        most_moved = std::max(most_moved, d.line_moved_deg);
+      }
+      if (r.num_cuts > 0) {
+        const double to = r.ToContactMm(phi, site);
+        nearest_col = std::min(nearest_col, to);
+        col_sum += to;
+        ++col_n;
+      }
+    }
+  }
+  std::printf(
+      "figure: %s: %d points of the sulci, %d in no site, %d in a neighbour's "
+      "(under a contact); %d past a cut into the neighbour's share; %d points "
+      "on the sites' own lines; %d interdental lines moved off the cut (at most "
+      "%.1f degrees)\n",
+      scene_file, points, nowhere, neighbour, past_cut, lines, moved, most_moved);
+  std::printf(
+      "figure: %s: an interdental site's line is %.2f mm (mean) and at least "
+      "%.2f mm from its col's midline along the sulcus\n",
+      scene_file, col_n ? col_sum / col_n : 0.0, nearest_col);
+}
+
+TEST(Zones, EveryPointOfEachSulcusIsInASiteOnTheSextant) {
+  CheckZones("periodontal_probing.yaml");
+}
+
+TEST(Zones, EveryPointOfEachSulcusIsInASiteInTheWholeMouth) {
+  CheckZones("periodontal_examination.yaml");
 }
 
 }  // namespace

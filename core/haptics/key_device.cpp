@@ -1,9 +1,9 @@
-#include "ui/mouse_device.h"
+#include "core/haptics/key_device.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace sulcus::ui {
+namespace sulcus {
 
 MouseKeyboardDevice::MouseKeyboardDevice(const RigidTransform& start)
     : pose_(start), shared_(start) {
@@ -19,6 +19,8 @@ bool MouseKeyboardDevice::Read(double t_s, DeviceSample* out) noexcept {
   const RigidTransform& X = shared_.front();
   axis_W_ = X.rotation().col(2);
   if (release_.exchange(false, std::memory_order_acq_rel)) offset_mm_ = 0;
+  if (const double lift = lift_mm_.exchange(0, std::memory_order_acq_rel); lift > 0)
+    offset_mm_ = std::max(0.0, offset_mm_ - lift);
   const double dt = last_t_ >= 0 ? std::clamp(t_s - last_t_, 0.0, 0.01) : 0.0;
   last_t_ = t_s;
   // The press: down the axis while the tissue answers with less than the hand
@@ -57,9 +59,29 @@ void MouseKeyboardDevice::Set(const RigidTransform& X_WH) {
   shared_.Publish();
 }
 
+void MouseKeyboardDevice::Place(const RigidTransform& X_WH) {
+  pose_ = X_WH;
+  shared_.back() = X_WH;
+  shared_.Publish();
+}
+
+RigidTransform MouseKeyboardDevice::tip_pose() const {
+  const Vector3 z = pose_.rotation() * Vector3::UnitZ();
+  return RigidTransform(pose_.rotation(), pose_.translation() - press_travel_mm() * z);
+}
+
+void MouseKeyboardDevice::PlaceTip(const RigidTransform& X_WT) {
+  const Vector3 z = X_WT.rotation() * Vector3::UnitZ();
+  Place(RigidTransform(X_WT.rotation(), X_WT.translation() + press_travel_mm() * z));
+}
+
+void MouseKeyboardDevice::Lift(double mm) {
+  if (std::isfinite(mm) && mm > 0) lift_mm_.store(mm, std::memory_order_release);
+}
+
 void MouseKeyboardDevice::SetPress(double n) {
   press_n_.store(std::isfinite(n) ? std::clamp(n, 0.0, kPressMaxN) : 0.0,
                  std::memory_order_relaxed);
 }
 
-}  // namespace sulcus::ui
+}  // namespace sulcus
