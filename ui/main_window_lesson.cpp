@@ -58,7 +58,6 @@ void MainWindow::BuildLessonDock() {
       "13px;");
   banner_->hide();
   lesson_gauge_ = new ForceGauge;  // the instrument tab's figure, beside the chart
-  layout->addWidget(lesson_gauge_);
   layout->addWidget(banner_);
   layout->addWidget(step_label_);
   next_label_ = new QLabel;
@@ -117,7 +116,14 @@ void MainWindow::BuildLessonDock() {
   layout->addLayout(buttons);
   lesson_dock_ = new QDockWidget("Lesson", this);
   lesson_dock_->setObjectName("lesson");
-  lesson_dock_->setWidget(Scrolling(panel));
+  // The gauge above the scrolling panel: in view at every step, however far
+  // the panel scrolls to the chart's lower arch.
+  auto* dock_body = new QWidget;
+  auto* pinned = new QVBoxLayout(dock_body);
+  pinned->setContentsMargins(0, 0, 0, 0);
+  pinned->addWidget(lesson_gauge_);
+  pinned->addWidget(Scrolling(panel), 1);
+  lesson_dock_->setWidget(dock_body);
   // Beside the instrument panel as a tab (the lesson's own gauge is on it), so
   // the 3D view keeps the window's width.
   addDockWidget(Qt::RightDockWidgetArea, lesson_dock_);

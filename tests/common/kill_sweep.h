@@ -84,7 +84,8 @@ inline int StopAndSync(const AttemptFolder& made, const LessonResult& result,
   }
   const std::vector<fs::path> waiting = UnfinishedAttempts(place.dir);
   std::printf("figure: %s, %s: %s\n", place.Describe().substr(0, 10).c_str(),
-              stop.What().c_str(), waiting.empty() ? "stored" : "waiting, stored by the sync");
+              stop.What().c_str(),
+              waiting.empty() ? "stored" : "waiting, stored by the sync");
   for (const fs::path& dir : waiting)
     EXPECT_NO_THROW(RecoverAttempt(dir, place, cache_dir)) << stop.What();
   EXPECT_TRUE(UnfinishedAttempts(place.dir).empty()) << stop.What();
