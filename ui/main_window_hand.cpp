@@ -1,5 +1,6 @@
 // The window: the probe moved by hand without a device (keys and mouse as the
-// screen shows them), where it is held back, and the loupe at the site.
+// screen shows them), where it is held back, the loupe and the blood at the
+// site, and which site the probe goes to next.
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkCamera.h>
 
@@ -14,6 +15,7 @@
 #include <cmath>
 
 #include "core/haptics/probe_keys.h"
+#include "ui/chart_widget.h"
 #include "ui/force_gauge.h"
 #include "ui/main_window.h"
 #include "ui/main_window_parts.h"
@@ -96,6 +98,38 @@ bool MainWindow::PlaceProbeAt(const SiteRef& site, double above_margin_mm) {
           .arg(above_margin_mm, 0, 'f', 1),
       6000);
   return true;
+}
+
+void MainWindow::ShowBlood(const std::vector<BloodMark>& marks) {
+  // Each mark: beads along the margin centred on the site's angle, a drop at
+  // first that runs along the margin into a line 3.4 mm long.
+  std::vector<std::pair<Vector3, double>> beads;
+  for (const BloodMark& m : marks) {
+    const ProbingSite* p = SceneSite(m.site);
+    if (!p || !p->ring) continue;
+    const SulcusRing& r = *p->ring;
+    Vector3 at = r.ToRing(p->margin_W);
+    const double phi = std::atan2(at.y(), at.x());
+    const double radius = std::max(0.5, std::hypot(at.x(), at.y()));
+    const double half_mm = 0.1 + 1.6 * m.grown;
+    const int n = std::max(1, static_cast<int>(half_mm / 0.08));
+    for (int i = -n; i <= n; ++i) {
+      const double along = half_mm * i / n;
+      const double fall = 1.0 - std::abs(along) / (half_mm + 0.3);
+      // On the gingiva's rim just outside the sulcus, thickest at the site.
+      beads.push_back({r.PointAt(phi + along / radius, -0.12, 0.35), 0.12 + 0.16 * fall});
+    }
+  }
+  view_->ShowBlood(beads);
+}
+
+std::optional<SiteRef> MainWindow::ProbeTarget() const {
+  if (!lesson_ || !lesson_spec_ || lesson_spec_->inspection()) return std::nullopt;
+  if (const std::optional<SiteRef> c = chart_->cursor()) {
+    for (const SiteResult& s : lesson_->sites())
+      if (s.site == *c && !(s.entry && s.entry->pd_mm)) return c;
+  }
+  return lesson_->next_site();
 }
 
 void MainWindow::keyPressEvent(QKeyEvent* e) {

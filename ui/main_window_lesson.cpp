@@ -479,38 +479,6 @@ void MainWindow::UpdateLessonPanel() {
   }
 }
 
-void MainWindow::ShowBlood(const std::vector<BloodMark>& marks) {
-  // Each mark: beads along the margin centred on the site's angle, a drop at
-  // first that runs along the margin into a line 3.4 mm long.
-  std::vector<std::pair<Vector3, double>> beads;
-  for (const BloodMark& m : marks) {
-    const ProbingSite* p = SceneSite(m.site);
-    if (!p || !p->ring) continue;
-    const SulcusRing& r = *p->ring;
-    Vector3 at = r.ToRing(p->margin_W);
-    const double phi = std::atan2(at.y(), at.x());
-    const double radius = std::max(0.5, std::hypot(at.x(), at.y()));
-    const double half_mm = 0.1 + 1.6 * m.grown;
-    const int n = std::max(1, static_cast<int>(half_mm / 0.08));
-    for (int i = -n; i <= n; ++i) {
-      const double along = half_mm * i / n;
-      const double fall = 1.0 - std::abs(along) / (half_mm + 0.3);
-      // On the gingiva's rim just outside the sulcus, thickest at the site.
-      beads.push_back({r.PointAt(phi + along / radius, -0.12, 0.35), 0.12 + 0.16 * fall});
-    }
-  }
-  view_->ShowBlood(beads);
-}
-
-std::optional<SiteRef> MainWindow::ProbeTarget() const {
-  if (!lesson_ || !lesson_spec_ || lesson_spec_->inspection()) return std::nullopt;
-  if (const std::optional<SiteRef> c = chart_->cursor()) {
-    for (const SiteResult& s : lesson_->sites())
-      if (s.site == *c && !(s.entry && s.entry->pd_mm)) return c;
-  }
-  return lesson_->next_site();
-}
-
 bool MainWindow::DeclareDiagnosis(const DeclaredDiagnosis& d) {
   if (!lesson_) return false;
   DeclaredDiagnosis stamped = d;

@@ -400,15 +400,8 @@ void LessonRun::Locate(const TickRecord& r) {
   ProbeReading reading;
   if (tracker_.Update(r.tick, at, TipLocator::ProbingForce(r.force_W, r.X_WG), &reading))
     Read(reading);
-  tip_site_.reset();
-  tip_angle_deg_.reset();
-  tip_depth_mm_.reset();
   tip_at_ = at;
   if (at.site < 0) return;
-  const ProbingSite& p = locator_.sites()[static_cast<std::size_t>(at.site)];
-  tip_site_ = SiteRef{p.fdi, p.site};
-  tip_angle_deg_ = at.angle_deg;
-  tip_depth_mm_ = at.depth_mm;
   // What the report says of a site without a reading.
   if (const int idx = path_index_[static_cast<std::size_t>(at.site)]; idx >= 0) {
     double& d = visit_deepest_[static_cast<std::size_t>(idx)];
@@ -584,6 +577,12 @@ std::vector<std::string> LessonRun::pending() const {
     if (!unit.touched) out.push_back(unit.Name());
   }
   return out;
+}
+
+std::optional<SiteRef> LessonRun::tip_site() const {
+  if (tip_at_.site < 0) return std::nullopt;
+  const ProbingSite& p = locator_.sites()[static_cast<std::size_t>(tip_at_.site)];
+  return SiteRef{p.fdi, p.site};
 }
 
 std::vector<BloodMark> LessonRun::blood_shown() const {

@@ -243,11 +243,15 @@ class LessonRun final : public TickConsumer {
   /// The next site of the path that the current step asks for and is not yet read.
   std::optional<SiteRef> next_site() const;
   /// Where the tip is now: the site whose sulcus holds it, if any.
-  std::optional<SiteRef> tip_site() const { return tip_site_; }
+  std::optional<SiteRef> tip_site() const;
   /// The probe's angle to the long axis of the tooth whose sulcus holds the tip.
-  std::optional<double> tip_angle_deg() const { return tip_angle_deg_; }
+  std::optional<double> tip_angle_deg() const {
+    return tip_at_.site >= 0 ? std::optional(tip_at_.angle_deg) : std::nullopt;
+  }
   /// The tip's depth below the margin of the site whose sulcus holds it.
-  std::optional<double> tip_depth_mm() const { return tip_depth_mm_; }
+  std::optional<double> tip_depth_mm() const {
+    return tip_at_.site >= 0 ? std::optional(tip_at_.depth_mm) : std::nullopt;
+  }
   /// Where the tip is now, as the tip locator put it (site -1: in no sulcus).
   const TipLocation& tip_location() const { return tip_at_; }
   /// The tip under the contact of an interdental site that has one: what the
@@ -326,8 +330,6 @@ class LessonRun final : public TickConsumer {
   std::string ending_;
   std::vector<LessonResult::Interruption> interruptions_;
   std::uint64_t first_tick_ = 0, last_tick_ = 0, ticks_ = 0;
-  std::optional<SiteRef> tip_site_;
-  std::optional<double> tip_angle_deg_, tip_depth_mm_;
   TipLocation tip_at_;
   // Readings: the one tip locator, the dwell tracker, per scene site its path
   // index (-1: not in the lesson), per path site what the tip did there.
