@@ -33,6 +33,8 @@ sulcus_pkg(zstd libzstd libzstd-dev)
 sulcus_pkg(libpq libpq libpq-dev)
 sulcus_pkg(libcurl libcurl libcurl4-openssl-dev)
 sulcus_pkg(libusb libusb-1.0 libusb-1.0-0-dev)
+sulcus_pkg(icu_uc icu-uc libicu-dev)
+sulcus_pkg(icu_i18n icu-i18n libicu-dev)
 
 if(SULCUS_BUILD_TESTS)
   sulcus_find(GTest "libgtest-dev libgmock-dev" CONFIG)

@@ -11,7 +11,7 @@ packages=(
   # engine
   libeigen3-dev libopenmesh-dev libcgal-dev libgmp-dev libmpfr-dev libfcl-dev
   libyaml-cpp-dev libsqlite3-dev libusb-1.0-0-dev libcli11-dev libsodium-dev
-  libzstd-dev libpq-dev libcurl4-openssl-dev
+  libzstd-dev libpq-dev libcurl4-openssl-dev libicu-dev
   clang-14 libclang-rt-14-dev clang-format-14
   # window (VTK 9.1 is built against Qt 5 on Debian 12)
   qtbase5-dev libvtk9-dev libvtk9-qt-dev

@@ -16,6 +16,7 @@
 #include <QVBoxLayout>
 #include <algorithm>
 
+#include "core/base/names.h"
 #include "core/base/text.h"
 #include "core/lesson/results.h"
 
@@ -301,11 +302,9 @@ bool StartDialog::SelectLesson(const std::filesystem::path& file) {
 }
 
 std::string StartDialog::student() const {
-  // As Unicode composes it (NFC): one name, however the keyboard spelled it.
-  const std::string s = student_->currentText()
-                            .trimmed()
-                            .normalized(QString::NormalizationForm_C)
-                            .toStdString();
+  // Trimmed and as Unicode composes it (NFC): one name, however the keyboard
+  // spelled it (the same rule as the command line's).
+  const std::string s = NormalName(student_->currentText().toStdString());
   return s.empty() ? "student" : s;
 }
 

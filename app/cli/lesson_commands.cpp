@@ -18,6 +18,7 @@
 
 #include "app/cli/commands.h"
 #include "core/base/files.h"
+#include "core/base/names.h"
 #include "core/base/text.h"
 #include "core/lesson/attempt.h"
 #include "core/lesson/report.h"
@@ -132,10 +133,13 @@ void CheckReportFolder(const fs::path& dir) {
                     "replaced; give a new folder");
 }
 
-int RunLesson(const RunArgs& a) {
-  // The name checked at the door, before the lesson: never refused after it.
+int RunLesson(const RunArgs& typed) {
+  // The name checked at the door, before the lesson: never refused after it;
+  // trimmed and composed (NFC) as the window does, one spelling per student.
+  RunArgs a = typed;
+  a.student = NormalName(typed.student);
   if (const std::string why = NameProblem(a.student); !why.empty())
-    throw std::invalid_argument("--student '" + TerminalSafe(Shorten(a.student, 60)) +
+    throw std::invalid_argument("--student '" + TerminalSafe(Shorten(typed.student, 60)) +
                                 "': " + why);
   const ResultsPlace results = ResultsOf(a.results);
   if (!a.out_dir.empty()) CheckReportFolder(a.out_dir);

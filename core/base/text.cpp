@@ -83,22 +83,6 @@ std::string TerminalSafe(std::string_view text) {
   return out;
 }
 
-std::string NameProblem(std::string_view name) {
-  if (name.empty()) return "a name is needed";
-  std::size_t i = 0, chars = 0;
-  while (i < name.size()) {
-    const long cp = NextCodePoint(name, &i);
-    if (cp < 0) return "the name is not valid UTF-8 text";
-    if (Unsafe(cp))
-      return "the name holds a control character or a text-direction override";
-    ++chars;
-  }
-  if (chars > kMaxNameChars)
-    return "the name has " + std::to_string(chars) + " characters; at most " +
-           std::to_string(kMaxNameChars);
-  return "";
-}
-
 std::string ShortenQuoted(std::string_view message, std::size_t max) {
   std::string out;
   std::size_t i = 0;

@@ -31,13 +31,6 @@ std::string JsonQuote(std::string_view text);
 /// U+2069) shown as \xNN or \u{NNNN}; bytes that are not UTF-8 as \xNN.
 std::string TerminalSafe(std::string_view text);
 
-/// Why `name` cannot be a student's name ("" when it can): empty, more than
-/// kMaxNameChars characters, not UTF-8, or holding a control character or a
-/// bidirectional override. Checked where the name is typed (the window, the
-/// command line), never after the lesson.
-inline constexpr std::size_t kMaxNameChars = 120;
-std::string NameProblem(std::string_view name);
-
 /// The items in order, separated by ", " (a list in a message: "47, 46, 45").
 std::string Join(const std::vector<std::string>& items);
 std::string Join(const std::vector<int>& items);

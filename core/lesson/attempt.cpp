@@ -120,11 +120,13 @@ std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
     SyncFolder(folder.dir);
   };
   at("start");
+  bool marked = true;
   try {
     mark_waiting("it was being stored when the station stopped");
   } catch (const std::exception&) {
-    // A full disk: the marker and the recording say it was never kept (no
-    // report), which waits for recovery just the same.
+    // A full disk: without a report the attempt waits for recovery just the
+    // same (UnfinishedAttempts), as long as no report is left unmarked below.
+    marked = false;
   }
   at("marked");
   const std::string uuid = AttemptUuid(folder.dir);
@@ -142,19 +144,39 @@ std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
   } catch (const std::exception& e) {
     try {
       mark_waiting(e.what());
+      marked = true;
     } catch (const std::exception&) {
+    }
+    // Unmarked, a report would say "kept": without it the attempt waits.
+    if (!marked) {
+      std::error_code ec;
+      fs::remove(report_dir / "report.json", ec);
     }
     throw;
   }
   at("stored");
+  // The record for the school's LMS: sent, or waiting whole in the folder. If
+  // it can be neither (a full disk), the attempt stays marked: a sync stores it
+  // again (once, by its UUID) and makes and sends its statements then.
+  try {
+    QueueStatements(folder.dir, r, uuid, folder.started, XapiSettingsFromEnv());
+  } catch (const std::exception&) {
+    if (!marked) try {
+        mark_waiting("stored, but its xAPI statements could be neither sent nor kept");
+      } catch (const std::exception&) {
+      }
+    return info.attempt_id;
+  }
+  at("xapi");
   std::error_code ec;
   fs::remove(unstored, ec);
   SyncFolder(folder.dir);
   at("unmarked");
-  // The record for the school's LMS: sent, or left waiting in the folder.
-  QueueStatements(folder.dir, r, uuid, folder.started, XapiSettingsFromEnv());
-  at("xapi");
-  WriteReport(r, info, report_dir);  // again, now naming its attempt
+  try {
+    WriteReport(r, info, report_dir);  // again, now naming its attempt
+  } catch (const std::exception&) {
+    // A full disk: the report written before the commit stands.
+  }
   at("kept");
   return info.attempt_id;
 }
@@ -214,7 +236,9 @@ std::vector<fs::path> UnfinishedAttempts(const fs::path& results) {
   const fs::path attempts = results / "attempts";
   if (!fs::is_directory(attempts, ec)) return out;
   for (const fs::directory_entry& d : fs::directory_iterator(attempts, ec)) {
-    if (!d.is_directory(ec)) continue;
+    // Only folders inside the results: a link out of them is never followed
+    // (a sync writes into what it recovers).
+    if (d.is_symlink(ec) || !d.is_directory(ec)) continue;
     const fs::path dir = d.path();
     if (!fs::exists(dir / "attempt.yaml", ec) || fs::exists(dir / "recovery.txt", ec))
       continue;

@@ -272,23 +272,39 @@ std::string QueueStatements(const fs::path& dir, const LessonResult& r,
                  << " wait for the LRS: " << why
                  << "\n`sulcus-cli results sync` sends them.\n";
       w.Commit();
+      return true;
     } catch (const std::exception&) {
-      // A full disk: the statements are made again from the report by
-      // `results sync`'s recovery of the attempt; nothing more to do here.
+      return false;  // a full disk
     }
   };
-  if (lrs.enabled()) mark("not sent yet (the station stopped while sending)");
+  bool marked = lrs.enabled() && mark("not sent yet (the station stopped while sending)");
+  std::string unwritten;
   try {
     AtomicFile out(dir / kStatementsFile, true);
     out.stream() << json;
     out.Commit();
   } catch (const std::exception& e) {
-    return e.what();
+    unwritten = e.what();
   }
-  if (!lrs.enabled()) return "";
+  if (!lrs.enabled()) {
+    if (!unwritten.empty()) throw std::runtime_error(unwritten);
+    return "";
+  }
+  // Sent from memory when the file could not be written (a full disk).
   std::string why;
-  if (SendWaitingStatements(dir, lrs, &why)) return "";
-  mark(why);
+  try {
+    SendStatements(lrs, json);
+    std::error_code ec;
+    fs::remove(dir / kWaitingFile, ec);
+    return "";
+  } catch (const XapiError& e) {
+    why = e.what();
+  }
+  marked = mark(why) || marked;
+  if (!marked || !unwritten.empty())
+    throw std::runtime_error("the xAPI statements could neither be sent (" + why +
+                             ") nor kept waiting" +
+                             (unwritten.empty() ? "" : " (" + unwritten + ")"));
   return why;
 }
 
@@ -298,7 +314,8 @@ std::vector<fs::path> WaitingStatements(const fs::path& results) {
   const fs::path attempts = results / "attempts";
   if (!fs::is_directory(attempts, ec)) return out;
   for (const fs::directory_entry& d : fs::directory_iterator(attempts, ec))
-    if (d.is_directory(ec) && fs::exists(d.path() / kWaitingFile, ec) &&
+    if (!d.is_symlink(ec) && d.is_directory(ec) &&
+        fs::exists(d.path() / kWaitingFile, ec) &&
         fs::exists(d.path() / kStatementsFile, ec))
       out.push_back(d.path());
   std::sort(out.begin(), out.end());

@@ -54,8 +54,9 @@ std::string FetchStatements(const XapiSettings& lrs, const std::string& registra
 
 /// Writes the attempt's statements into its folder and, when an LRS is set,
 /// sends them; what could not be sent waits (xapi-waiting.txt says why).
-/// Returns "" when sent or no LRS is set, else why they wait. Never throws for
-/// the LRS: the attempt itself is already kept.
+/// Returns "" when sent or no LRS is set, else why they wait. Throws only when
+/// they are neither sent nor kept whole and waiting (a full disk): the attempt
+/// then stays waiting for the store too, so that a sync makes and sends them.
 std::string QueueStatements(const std::filesystem::path& attempt_dir,
                             const LessonResult& r, const std::string& registration,
                             const std::string& started, const XapiSettings& lrs);

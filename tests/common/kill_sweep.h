@@ -4,16 +4,21 @@
 // KeepAttempt's steps (SIGKILL, SIGTERM and SIGINT in turn) and at timed
 // instants within it, each time on a fresh copy of the attempt's folder; then
 // a sync (RecoverAttempt over the attempts left waiting) runs. The caller
-// checks that the store holds the attempt exactly once after each stop.
+// checks that the store holds the attempt exactly once after each stop. The
+// same for a disk that fills while the attempt is kept (FullDiskAndSync).
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/mount.h>
+#include <sys/resource.h>
+#include <sys/statvfs.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
 #include <thread>
@@ -36,8 +41,8 @@ struct SweepStop {
 /// Each of KeepAttempt's steps by a signal in turn, then SIGKILL at `delays_us`.
 inline std::vector<SweepStop> SweepStops(const std::vector<int>& delays_us) {
   std::vector<SweepStop> stops;
-  const char* steps[] = {"start",  "marked",   "answers", "report",
-                         "stored", "unmarked", "xapi",    "kept"};
+  const char* steps[] = {"start",  "marked", "answers",  "report",
+                         "stored", "xapi",   "unmarked", "kept"};
   const int signals[] = {SIGKILL, SIGTERM, SIGINT};
   for (int i = 0; i < 8; ++i) stops.push_back({steps[i], signals[i % 3], 0});
   for (const int us : delays_us) stops.push_back({"", SIGKILL, us});
@@ -90,6 +95,97 @@ inline int StopAndSync(const AttemptFolder& made, const LessonResult& result,
     EXPECT_NO_THROW(RecoverAttempt(dir, place, cache_dir)) << stop.What();
   EXPECT_TRUE(UnfinishedAttempts(place.dir).empty()) << stop.What();
   return static_cast<int>(waiting.size());
+}
+
+/// A disk of its own, small: a tmpfs mounted at `dir` while it lives (where the
+/// test may mount, as root), which a filler file fills but a given number of
+/// bytes. Where it may not mount, a file-size limit in the keeping child stands
+/// in for it (every write past it fails as on a full disk).
+class SmallDisk {
+ public:
+  SmallDisk(std::filesystem::path dir, int megabytes) : dir_(std::move(dir)) {
+    umount2(dir_.c_str(), MNT_DETACH);  // left by a run that was killed
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    const std::string size = "size=" + std::to_string(megabytes) + "m";
+    mounted_ = mount("tmpfs", dir_.c_str(), "tmpfs", 0, size.c_str()) == 0;
+  }
+  ~SmallDisk() {
+    if (mounted_) umount2(dir_.c_str(), MNT_DETACH);
+  }
+  SmallDisk(const SmallDisk&) = delete;
+  SmallDisk& operator=(const SmallDisk&) = delete;
+  bool mounted() const { return mounted_; }
+  const std::filesystem::path& dir() const { return dir_; }
+  std::uintmax_t Free() const {
+    struct statvfs v {};
+    return statvfs(dir_.c_str(), &v) == 0 ? std::uintmax_t{v.f_bavail} * v.f_frsize : 0;
+  }
+  /// Fills the disk but `bytes` (to its block size); Empty() takes the filler away.
+  void LeaveFree(std::uintmax_t bytes) {
+    if (!mounted_) return;
+    std::ofstream out(dir_ / "filler", std::ios::binary);
+    const std::string block(4096, 'x');
+    for (std::uintmax_t free = Free(); free > bytes; free = Free()) {
+      const std::uintmax_t n = std::min<std::uintmax_t>(block.size(), free - bytes);
+      if (!out.write(block.data(), static_cast<std::streamsize>(n)).flush()) break;
+    }
+  }
+  void Empty() { std::filesystem::remove(dir_ / "filler"); }
+
+ private:
+  std::filesystem::path dir_;
+  bool mounted_ = false;
+};
+
+/// One full-disk case: `made` copied into `place`'s folder on `disk`, the disk
+/// filled but `free` bytes, the attempt kept by a child (which returns, throws,
+/// or is ended by SIGXFSZ, all of which a full disk may cause); the disk emptied,
+/// the attempt checked stored or waiting (`stored` counts it in the store), then
+/// synced. Returns whether it was left waiting.
+inline bool FullDiskAndSync(const AttemptFolder& made, const LessonResult& result,
+                            SmallDisk& disk, const ResultsPlace& place,
+                            std::uintmax_t free, const std::filesystem::path& cache_dir,
+                            const std::function<int()>& stored) {
+  namespace fs = std::filesystem;
+  const AttemptFolder folder{place.dir / "attempts" / made.dir.filename(), made.started};
+  fs::create_directories(folder.dir.parent_path());
+  fs::copy(made.dir, folder.dir, fs::copy_options::recursive);
+  disk.LeaveFree(free);
+  const std::uintmax_t left = disk.Free();
+  const pid_t child = fork();
+  if (child < 0) {
+    ADD_FAILURE() << "fork failed";
+    return false;
+  }
+  if (child == 0) {
+    if (!disk.mounted()) {
+      const rlimit limit{static_cast<rlim_t>(free), static_cast<rlim_t>(free)};
+      setrlimit(RLIMIT_FSIZE, &limit);
+      signal(SIGXFSZ, SIG_IGN);  // a write past it fails with EFBIG instead
+    }
+    try {
+      KeepAttempt(result, folder, folder.dir, place);
+    } catch (...) {
+      _exit(4);
+    }
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  disk.Empty();
+  const bool waiting = !UnfinishedAttempts(place.dir).empty();
+  const int rows = stored();
+  std::printf("figure: full disk (%s), %ju bytes free: keeping %s, %s\n",
+              disk.mounted() ? "a tmpfs filled" : "a file-size limit", left,
+              WIFEXITED(status) && WEXITSTATUS(status) == 0 ? "returned" : "failed",
+              waiting ? "waiting, stored by the sync" : "stored");
+  EXPECT_TRUE(waiting || rows == 1) << free << " bytes free: neither stored nor waiting";
+  EXPECT_LE(rows, 1);
+  for (const fs::path& dir : UnfinishedAttempts(place.dir))
+    EXPECT_NO_THROW(RecoverAttempt(dir, place, cache_dir)) << free << " bytes free";
+  EXPECT_TRUE(UnfinishedAttempts(place.dir).empty()) << free << " bytes free";
+  return waiting;
 }
 
 }  // namespace sulcus::test

@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "core/base/names.h"
 #include "core/base/text.h"
 #include "tests/common/output.h"
 
@@ -161,6 +162,35 @@ TEST(Text, ANameIsCheckedAtTheDoor) {
   std::string wide;
   for (std::size_t i = 0; i < kMaxNameChars; ++i) wide += "\xC3\xA9";
   EXPECT_EQ(NameProblem(wide), "") << "characters, not bytes";
+}
+
+// One spelling per student: trimmed and composed, whatever the keyboard sent;
+// invisible characters and look-alikes refused with the reason.
+TEST(Text, ANameHasOneSpellingAndLookAlikesAreRefused) {
+  EXPECT_EQ(NormalName("  Zoe\xCC\x88 \xC2\xA0"), "Zo\xC3\xAB")
+      << "trimmed (a no-break space too) and composed";
+  EXPECT_EQ(NameProblem(NormalName("Zoe\xCC\x88")), "");
+  EXPECT_NE(NameProblem("Zoe\xCC\x88").find("composed"), std::string::npos)
+      << "a decomposed name is refused as it stands (callers normalise first)";
+  EXPECT_NE(NameProblem("alice ").find("white space"), std::string::npos);
+  EXPECT_NE(NameProblem("ali\xE2\x80\x8B"
+                        "ce")
+                .find("invisible"),
+            std::string::npos)
+      << "a zero-width space";
+  EXPECT_NE(NameProblem("\xD0\xB0lice").find("alphabets"), std::string::npos)
+      << "a Cyrillic a among Latin letters";
+  EXPECT_EQ(NameProblem("\xD0\x90\xD0\xBB\xD0\xB8\xD1\x81\xD0\xB0"), "")
+      << "a name in one alphabet (Cyrillic) is a name";
+  EXPECT_EQ(NameProblem("Jos\xC3\xA9 Mar\xC3\xAD"
+                        "a O'Neil-Garc\xC3\xAD"
+                        "a"),
+            "");
+  EXPECT_EQ(NameProblem("\xE5\xB1\xB1\xE7\x94\xB0 Taro"), "") << "Han with Latin";
+  EXPECT_EQ(NameLookAlikeKey("alice"), NameLookAlikeKey("\xD0\xB0lice"));
+  EXPECT_EQ(NameLookAlikeKey("Alice"), NameLookAlikeKey("alice")) << "case aside";
+  EXPECT_EQ(NameLookAlikeKey("aIice"), NameLookAlikeKey("alice"));
+  EXPECT_NE(NameLookAlikeKey("alice"), NameLookAlikeKey("alina"));
 }
 
 TEST(Text, LongValuesAreCutAndNumbersReadable) {

@@ -315,6 +315,37 @@ TEST(ResultsPg, AKeepingStoppedAtAnyInstantIsStoredExactlyOnceAfterASync) {
   EXPECT_GE(waited, 5);
 }
 
+// A disk that fills while a station keeps an attempt for a real server (the
+// station's results folder on a small disk filled but 0 bytes to 1 MB): each
+// time the attempt is in the server's store or waiting, and after a sync it is
+// in the store exactly once.
+TEST(ResultsPg, ADiskThatFillsWhileAnAttemptIsKeptLosesNothing) {
+  const fs::path base = test::FreshOutputPath("results_pg", "full-disk-template");
+  const AttemptFolder made = NewAttemptFolder(base, "fay");
+  AttemptOptions o;
+  o.student = "fay";
+  o.device = "student:spot";
+  o.cache_dir = fs::path(SULCUS_TEST_OUTPUT) / "probing-cache";
+  o.record = made.recording();
+  o.keep_in = &made;
+  const AttemptOutcome out =
+      RunAttempt(fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml", o);
+  test::SmallDisk disk(test::OutputPath("results_pg", "full-disk"), 4);
+  int waited = 0, n = 0;
+  for (const std::uintmax_t free : {0, 16384, 131072, 262144, 393216, 1048576}) {
+    const std::string url = FreshDatabase("disk" + std::to_string(n));
+    const ResultsPlace place(disk.dir() / ("case-" + std::to_string(n++)), url);
+    const auto rows = [&] {
+      return static_cast<int>(OpenPostgresResults(url)->Attempts("fay").size());
+    };
+    waited +=
+        test::FullDiskAndSync(made, out.result, disk, place, free, o.cache_dir, rows);
+    EXPECT_EQ(rows(), 1) << free << " bytes free: exactly once";
+    fs::remove_all(place.dir);
+  }
+  EXPECT_GE(waited, 3);
+}
+
 // The instructor's passphrase set at one station opens the instructor's view at
 // another: its hash is in the shared store, not in a station's folder.
 TEST(ResultsPg, TheInstructorsPassphraseIsTheSameOnEveryStation) {

@@ -12,6 +12,7 @@
 #include <memory>
 #include <set>
 
+#include "tests/common/kill_sweep.h"
 #include "tests/common/lrs_server.h"
 #include "tests/common/output.h"
 #include "tests/common/postgres_server.h"
@@ -143,6 +144,34 @@ TEST_F(Xapi, StatementsWaitWhileTheLrsCannotBeReachedAndAreSentLater) {
   std::string again;
   ASSERT_TRUE(SendWaitingStatements(dir, Lrs(Server()), &again)) << again;
   EXPECT_TRUE(WaitingStatements(results).empty());
+  EXPECT_EQ(YAML::Load(FetchStatements(Lrs(Server()), registration))["statements"].size(),
+            26u);
+}
+
+// A full disk (the attempt's folder on a filled tmpfs): the statements cannot be
+// written, so they are sent from memory; when the LRS cannot be reached either,
+// QueueStatements says so by throwing (KeepAttempt then leaves the attempt
+// waiting for a sync), never by returning as if they waited.
+TEST_F(Xapi, OnAFullDiskTheStatementsAreSentFromMemoryOrSaidLost) {
+  test::SmallDisk disk(test::OutputPath("xapi", "full-disk"), 1);
+  if (!disk.mounted()) GTEST_SKIP() << "no tmpfs can be mounted here (not root)";
+  const fs::path dir = disk.dir() / "attempts" / "20261201-100000-ada";
+  fs::create_directories(dir);
+  disk.LeaveFree(0);
+  XapiSettings nowhere = Lrs(Server());
+  nowhere.url = "http://127.0.0.1:" + std::to_string(test::FreePort()) + "/xAPI";
+  const std::string registration = "8b1f2c3d-4e5f-4a6b-8c7d-9e0f1a2b3c4d";
+  try {
+    QueueStatements(dir, Attempt(), registration, "2026-12-01T10:00:00Z", nowhere);
+    ADD_FAILURE() << "returned as if the statements waited";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("neither be sent"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "xapi.json")) << "no file cut short";
+  EXPECT_EQ(QueueStatements(dir, Attempt(), registration, "2026-12-01T10:00:00Z",
+                            Lrs(Server())),
+            "");
   EXPECT_EQ(YAML::Load(FetchStatements(Lrs(Server()), registration))["statements"].size(),
             26u);
 }
