@@ -23,13 +23,24 @@ double PhiOf(const SulcusRing& r, const Vector3& p_W) {
 
 }  // namespace
 
-RigidTransform PoseOverSite(const ProbingSite& s, double above_mm) {
+RigidTransform PoseOverSite(const ProbingSite& s, double above_mm, double tilt_deg) {
   if (!s.ring || s.ring->size() == 0) {
     const Vector3 down = (s.floor_W - s.margin_W).normalized();
     return Along(-down, s.margin_W - above_mm * down);
   }
   const SulcusRing& r = *s.ring;
-  return Along(r.AxisW(), r.PointAt(PhiOf(r, s.margin_W), -above_mm));
+  const double phi = PhiOf(r, s.margin_W);
+  const Vector3 tip = r.PointAt(phi, -above_mm);
+  // Leaned out from the tooth about the tip, as a clinician clears the
+  // crown's bulge with the shaft while the tip follows the root.
+  Vector3 out = r.PointAt(phi, -above_mm, 1.0) - tip;
+  out -= r.AxisW() * out.dot(r.AxisW());
+  const double lean = tilt_deg * kPi / 180;
+  const Vector3 up =
+      out.norm() > 1e-9
+          ? Vector3(std::cos(lean) * r.AxisW() + std::sin(lean) * out.normalized())
+          : r.AxisW();
+  return Along(up.normalized(), tip);
 }
 
 Vector3 SulcusTangent(const SulcusRing& r, const Vector3& tip_W) {

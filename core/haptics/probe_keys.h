@@ -12,8 +12,12 @@
 namespace sulcus {
 
 /// N: the tip `above_mm` above the margin over site s, in the middle of the
-/// sulcus at the site's own angle, the probe along the tooth's long axis.
-RigidTransform PoseOverSite(const ProbingSite& s, double above_mm);
+/// sulcus at the site's own angle, the probe along the tooth's long axis
+/// leaned `tilt_deg` out from the tooth about the tip (the shaft clear of the
+/// crown's bulge, as a clinician holds it).
+inline constexpr double kProbeLeanDeg = 4.0;
+RigidTransform PoseOverSite(const ProbingSite& s, double above_mm,
+                            double tilt_deg = kProbeLeanDeg);
 
 /// Comma and period: the tip moved `step_mm` along the sulcus' middle round
 /// the tooth (positive: the ring's increasing angle), at the same depth below

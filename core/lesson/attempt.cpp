@@ -130,6 +130,7 @@ std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
   }
   at("marked");
   const std::string uuid = AttemptUuid(folder.dir);
+  StatementKey(folder.dir);  // with the UUID: ids for the LMS, kept before any is sent
   SaveAnswers(AnswersOf(r), folder.answers());
   at("answers");
   ReportInfo info;
@@ -385,6 +386,7 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
   session.AddConsumer(&lesson);
   if (student && o.answers.empty()) {
     student->Attach(&lesson);
+    student->SetLoop(&session.loop());  // offline: the hand's thread alone sends
     session.AddConsumer(student.get());
   }
   std::unique_ptr<EntrySaver> saver;

@@ -241,12 +241,21 @@ void LessonRun::Advance(std::uint64_t tick) {
   }
 }
 
+bool LessonRun::ReadAtFloor(const SiteResult& s) {
+  return s.reached_mm && s.held_force_n >= kFloorForceN;
+}
+
 std::optional<SiteRef> LessonRun::next_site() const {
   if (done()) return std::nullopt;
   const StepSpec& st = spec_.steps[step_];
-  for (const SiteResult& r : sites_) {
+  // From the site the student read last (they may have moved on past one),
+  // round the path: the first the step still asks for.
+  const std::size_t n = sites_.size();
+  const std::size_t from = last_read_ < 0 ? 0 : static_cast<std::size_t>(last_read_);
+  for (std::size_t k = 0; k < n; ++k) {
+    const SiteResult& r = sites_[(from + k) % n];
     if (!SiteInStep(st, r.site)) continue;
-    if (st.complete == StepSpec::Complete::kRead && !r.reached_mm) return r.site;
+    if (st.complete == StepSpec::Complete::kRead && !ReadAtFloor(r)) return r.site;
     if (st.complete == StepSpec::Complete::kCharted && !(r.entry && r.entry->pd_mm))
       return r.site;
   }
@@ -440,6 +449,8 @@ SiteResult* LessonRun::ApplyReading(const ProbeReading& p,
 }
 
 void LessonRun::Read(const ProbeReading& p) {
+  if (const int idx = path_index_[static_cast<std::size_t>(p.site)]; idx >= 0)
+    last_read_ = idx;
   const SiteResult* s = ApplyReading(p, &sites_);
   if (!s) return;
   if (spec_.practice())

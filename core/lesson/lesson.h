@@ -240,8 +240,15 @@ class LessonRun final : public TickConsumer {
   bool done() const {
     return step_ >= static_cast<int>(spec_.steps.size()) || timed_out_;
   }
-  /// The next site of the path that the current step asks for and is not yet read.
+  /// The site to probe next: from the site read last, round the path, the first
+  /// that the current step asks for and that has no reading at the floor (or,
+  /// in a charting step, no depth charted). Moving on past a site (reading a
+  /// later one) moves Next on too; the skipped site comes round again.
   std::optional<SiteRef> next_site() const;
+  /// A reading at the floor: the probe held against the pocket's floor (at
+  /// least kFloorForceN along it), not a touch in the sulcus.
+  static constexpr double kFloorForceN = 0.1;
+  static bool ReadAtFloor(const SiteResult& s);
   /// Where the tip is now: the site whose sulcus holds it, if any.
   std::optional<SiteRef> tip_site() const;
   /// The probe's angle to the long axis of the tooth whose sulcus holds the tip.
@@ -336,6 +343,7 @@ class LessonRun final : public TickConsumer {
   TipLocator locator_;
   ProbeReadingTracker tracker_;
   std::vector<int> path_index_;
+  int last_read_ = -1;                 // path index of the site of the latest reading
   std::vector<double> visit_deepest_;  // per path site: deepest while located there
   std::vector<std::uint8_t>
       near_other_;                     // per path site: near its line, placed elsewhere

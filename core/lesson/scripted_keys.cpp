@@ -83,7 +83,7 @@ class ScriptedKeys final : public ScriptedHand {
           phase_ = Phase::kWalk;  // along the sulcus to it
           next_key_ = t;
         } else {
-          keys_->Set(PoseOverSite(*p, 1.0));  // N
+          N(*p);
           phase_ = Phase::kPress;
           next_key_ = t + kKeyS;
         }
@@ -157,7 +157,7 @@ class ScriptedKeys final : public ScriptedHand {
         const ProbingSite* p = Site(*target_);
         if (!tip || t - since_ > 4 * kGiveUpS) {
           // Out of the sulcus: N instead.
-          keys_->Set(PoseOverSite(*p, 1.0));
+          N(*p);
           phase_ = Phase::kPress;
           next_key_ = t + kKeyS;
           break;
@@ -169,13 +169,13 @@ class ScriptedKeys final : public ScriptedHand {
             std::atan2(there.y(), there.x()) - std::atan2(here.y(), here.x()),
             2 * std::numbers::pi);
         const double left_mm = std::abs(d) * std::hypot(there.x(), there.y());
-        if (left_mm < 0.3 && *tip == *target_) {
+        if (left_mm < 0.12 && *tip == *target_) {
           phase_ = Phase::kSettle;
           since_ = t;
           still_ = -1;
           break;
         }
-        const double step = std::min(kWalkStepMm, std::max(0.1, left_mm));
+        const double step = std::min(kWalkStepMm, std::max(0.05, left_mm));
         if (const auto to =
                 WalkAlongSulcus(*p, keys_->tip_pose(), d > 0 ? step : -step)) {
           keys_->PlaceTip(*to);  // comma or period
@@ -252,6 +252,13 @@ class ScriptedKeys final : public ScriptedHand {
       return s;
     }
     return std::nullopt;
+  }
+  // N: the hand over the site, and the tool reset to it (as the window's N
+  // sends Reset tool), so that the tip does not drag through the tissue from
+  // the site before.
+  void N(const ProbingSite& p) {
+    keys_->Set(PoseOverSite(p, 1.0));
+    if (loop_) loop_->Send({HapticCommand::Kind::kResetTool});
   }
   void Skip() {
     given_up_.push_back(*target_);

@@ -53,6 +53,14 @@ class ScriptedHand : public TickConsumer {
  public:
   virtual std::unique_ptr<Device> MakeDevice() const = 0;
   virtual void Attach(LessonRun* lesson) = 0;
+  /// The loop this hand may send commands to, as the window's keys do (the
+  /// keys student's N resets the tool to the hand, as the window's N does).
+  /// Only where the hand runs on the thread that alone sends the loop
+  /// commands (an offline session: RunAttempt); unset, nothing is sent.
+  void SetLoop(HapticLoop* loop) { loop_ = loop; }
+
+ protected:
+  HapticLoop* loop_ = nullptr;
 };
 
 /// The scripted student (probing lessons) or inspector (inspection lessons)

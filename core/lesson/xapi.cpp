@@ -2,6 +2,7 @@
 
 #include <curl/curl.h>
 #include <sodium.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cctype>
@@ -9,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <sstream>
 
@@ -32,14 +34,21 @@ std::string Num(double v) {
   return b;
 }
 
-// A statement's id: the attempt's UUID and the statement's place, hashed, in
-// UUID form, so that the same attempt always sends the same ids.
-std::string StatementId(const std::string& registration, int index) {
+constexpr const char* kKeyFile = "xapi-key";
+
+// A statement's id: the attempt's UUID and the statement's place, hashed with
+// the attempt's own random key (kept in its folder), in UUID form: the same
+// attempt always sends the same ids, and no one who only knows the UUID (the
+// store shows it) can post a statement under one of them first.
+std::string StatementId(const std::string& registration, int index,
+                        const std::string& id_key) {
   if (sodium_init() < 0) throw XapiError("libsodium could not be initialised");
-  const std::string key = registration + "/" + std::to_string(index);
+  const std::string text = registration + "/" + std::to_string(index);
   unsigned char h[16];
-  crypto_generichash(h, sizeof h, reinterpret_cast<const unsigned char*>(key.data()),
-                     key.size(), nullptr, 0);
+  crypto_generichash(
+      h, sizeof h, reinterpret_cast<const unsigned char*>(text.data()), text.size(),
+      id_key.empty() ? nullptr : reinterpret_cast<const unsigned char*>(id_key.data()),
+      std::min<std::size_t>(id_key.size(), crypto_generichash_KEYBYTES_MAX));
   h[6] = static_cast<unsigned char>((h[6] & 0x0f) | 0x80);  // version 8: custom
   h[8] = static_cast<unsigned char>((h[8] & 0x3f) | 0x80);
   char t[37];
@@ -60,8 +69,9 @@ std::string LessonActivityId(const LessonResult& r, const std::string& base) {
 class Statements {
  public:
   Statements(const LessonResult& r, std::string registration, std::string started,
-             const std::string& homepage)
+             const std::string& homepage, std::string id_key)
       : r_(r),
+        id_key_(std::move(id_key)),
         registration_(std::move(registration)),
         started_(std::move(started)),
         base_(homepage),
@@ -78,7 +88,7 @@ class Statements {
  private:
   void Begin(const std::string& verb, const std::string& display) {
     out_ += out_.empty() ? "\n" : ",\n";
-    out_ += "{\"id\": " + JsonQuote(StatementId(registration_, n_++)) +
+    out_ += "{\"id\": " + JsonQuote(StatementId(registration_, n_++, id_key_)) +
             ", \"actor\": {\"objectType\": \"Agent\", \"account\": {\"homePage\": " +
             JsonQuote(base_) + ", \"name\": " + JsonQuote(r_.student) +
             "}}, \"verb\": {\"id\": " + JsonQuote(verb) +
@@ -157,6 +167,7 @@ class Statements {
   }
 
   const LessonResult& r_;
+  std::string id_key_;
   std::string registration_, started_, base_, lesson_id_;
   std::string out_;
   int n_ = 0;
@@ -237,13 +248,70 @@ XapiSettings XapiSettingsFromEnv() {
 }
 
 std::string XapiStatements(const LessonResult& r, const std::string& registration,
-                           const std::string& started, const std::string& homepage) {
-  return Statements(r, registration, started, homepage).Build();
+                           const std::string& started, const std::string& homepage,
+                           const std::string& id_key) {
+  return Statements(r, registration, started, homepage, id_key).Build();
 }
+
+std::string StatementKey(const fs::path& dir) {
+  const fs::path file = dir / kKeyFile;
+  {
+    std::ifstream in(file);
+    std::string kept;
+    if (in >> kept && kept.size() == 64) return kept;
+  }
+  if (sodium_init() < 0) throw XapiError("libsodium could not be initialised");
+  unsigned char b[32];
+  randombytes_buf(b, sizeof b);
+  char hex[65];
+  sodium_bin2hex(hex, sizeof hex, b, sizeof b);
+  AtomicFile out(file);
+  out.stream() << hex << "\n";
+  out.Commit();
+  return hex;
+}
+
+namespace {
+
+// After a 409: the LRS holds statements with some of these ids. They were sent
+// before (a retry) only if the LRS holds each of them, under this attempt's
+// registration, for the same student, verb and object; anything else is a
+// statement posted under one of these ids by someone else.
+void CheckStoredAreOurs(const XapiSettings& lrs, const std::string& statements) {
+  YAML::Node ours;
+  try {
+    ours = YAML::Load(statements);
+  } catch (const YAML::Exception& e) {
+    throw XapiError(std::string("the statements are not JSON: ") + e.what());
+  }
+  if (!ours.IsSequence() || ours.size() == 0) return;
+  const std::string registration = ours[0]["context"]["registration"].as<std::string>("");
+  const YAML::Node held = YAML::Load(FetchStatements(lrs, registration))["statements"];
+  auto key = [](const YAML::Node& s) {
+    return s["actor"]["account"]["name"].as<std::string>("") + "\n" +
+           s["verb"]["id"].as<std::string>("") + "\n" +
+           s["object"]["id"].as<std::string>("");
+  };
+  std::map<std::string, std::string> stored;
+  if (held && held.IsSequence())
+    for (const YAML::Node& s : held) stored[s["id"].as<std::string>("")] = key(s);
+  for (const YAML::Node& s : ours) {
+    const std::string id = s["id"].as<std::string>("");
+    const auto it = stored.find(id);
+    if (it == stored.end() || it->second != key(s))
+      throw XapiError("LRS " + RedactUrl(lrs.url) + " holds another statement with id " +
+                      id +
+                      " (not this attempt's): a conflict, not sent; tell the "
+                      "school's LRS administrator");
+  }
+}
+
+}  // namespace
 
 void SendStatements(const XapiSettings& lrs, const std::string& statements) {
   const Reply reply = Http(lrs, Endpoint(lrs), &statements);
-  if (reply.status == 200 || reply.status == 204 || reply.status == 409) return;
+  if (reply.status == 200 || reply.status == 204) return;
+  if (reply.status == 409) return CheckStoredAreOurs(lrs, statements);
   throw XapiError("LRS " + RedactUrl(lrs.url) + " refused the statements: HTTP " +
                   std::to_string(reply.status) + " " + Shorten(reply.body, 200));
 }
@@ -261,7 +329,14 @@ std::string FetchStatements(const XapiSettings& lrs, const std::string& registra
 std::string QueueStatements(const fs::path& dir, const LessonResult& r,
                             const std::string& registration, const std::string& started,
                             const XapiSettings& lrs) {
-  const std::string json = XapiStatements(r, registration, started, lrs.homepage);
+  std::string id_key;
+  try {
+    id_key = StatementKey(dir);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("the xAPI statements' key cannot be kept: ") +
+                             e.what());
+  }
+  const std::string json = XapiStatements(r, registration, started, lrs.homepage, id_key);
   // Write-ahead: marked waiting (durably) before the statements are written
   // and sent, unmarked once the LRS has them; each file whole or not at all.
   // A stop at any moment leaves them sent, or waiting for `results sync`.

@@ -5,9 +5,11 @@
 // ids, extensions) is in docs/xapi.md. An attempt's statements are written into
 // its folder (xapi.json) when it is kept and sent from there: an LRS that cannot
 // be reached leaves them waiting (xapi-waiting.txt), and `sulcus-cli results
-// sync` sends them later. Each statement's id is derived from the attempt's UUID,
-// so a statement sent twice is refused by the LRS as a duplicate, never stored
-// twice.
+// sync` sends them later. Each statement's id is derived from the attempt's UUID
+// and a random key kept in its folder (xapi-key), so a statement sent twice is
+// refused by the LRS as a duplicate, never stored twice, and no one who knows
+// the UUID can post under one of its ids first; a 409 is checked against what
+// the LRS holds.
 
 #include <filesystem>
 #include <stdexcept>
@@ -40,13 +42,20 @@ XapiSettings XapiSettingsFromEnv();
 /// The attempt's statements as a JSON array: the attempt completed (its score,
 /// passed or failed, complete or not, its duration), one per site probed (the
 /// depth reached and charted, the force and the angle as result extensions), and
-/// the diagnosis declared. `registration` is the attempt's UUID.
+/// the diagnosis declared. `registration` is the attempt's UUID; `id_key` the
+/// attempt's StatementKey (empty only for a preview: ids anyone can derive).
 std::string XapiStatements(const LessonResult& r, const std::string& registration,
-                           const std::string& started, const std::string& homepage);
+                           const std::string& started, const std::string& homepage,
+                           const std::string& id_key = "");
 
-/// POSTs a JSON array of statements. A 409 (the LRS holds these ids already) is
-/// success: they were sent before. Throws XapiError naming the LRS (never the
-/// password) and what it answered.
+/// The attempt's random key for its statements' ids (64 hex digits), made once
+/// and kept in its folder (xapi-key).
+std::string StatementKey(const std::filesystem::path& attempt_dir);
+
+/// POSTs a JSON array of statements. A 409 (the LRS holds some of these ids) is
+/// success only when the LRS holds each of them for the same attempt, student,
+/// verb and object (they were sent before); else a conflict. Throws XapiError
+/// naming the LRS (never the password) and what it answered.
 void SendStatements(const XapiSettings& lrs, const std::string& statements);
 
 /// GETs the statements of a registration (the LRS's JSON, `more` pages included).

@@ -66,5 +66,42 @@ TEST(Examination, TheCarefulStudentExaminesTheWholeMouth) {
   for (const StepResult& s : r.steps) EXPECT_TRUE(s.completed) << s.id;
 }
 
+// The whole examination by keys: the "keys" student (N, R, the walking keys
+// and T on the window's own key device) reads and charts every site of the
+// whole mouth. Prints the lesson's time (a person at the keys takes longer:
+// the student presses a key every 0.05 to 0.6 s) and every site read more
+// than a millimetre off its truth, with why.
+TEST(Examination, TheKeysStudentExaminesTheWholeMouthByKeys) {
+  AttemptOptions o;
+  o.student = "keys";
+  o.device = "student:keys";
+  o.cache_dir = fs::path(SULCUS_TEST_OUTPUT) / "examination-cache";
+  const AttemptOutcome out = RunAttempt(
+      fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_examination.yaml", o);
+  const LessonResult& r = out.result;
+  int within = 0;
+  for (const SiteResult& s : r.sites) {
+    if (s.reached_mm && std::abs(*s.reached_mm - s.truth_mm) <= 1.0) {
+      ++within;
+      continue;
+    }
+    std::printf("figure: by keys, %s read %s (true %d mm)\n", s.site.ToString().c_str(),
+                s.reached_mm
+                    ? (std::to_string(*s.reached_mm).substr(0, 4) + " mm").c_str()
+                    : "nothing",
+                s.truth_mm);
+  }
+  std::printf(
+      "figure: the whole examination by keys: %d of %zu sites read within 1 mm, %d "
+      "charted, score %.1f, %.1f min of lesson\n",
+      within, r.sites.size(), r.sites_charted, r.total, r.duration_s / 60);
+  EXPECT_EQ(r.sites_charted, 156);
+  EXPECT_GE(within, 153) << "at most three sites off (a line moved off the cut)";
+  EXPECT_GE(r.total, 97.0);
+  EXPECT_LE(r.duration_s, 30 * 60.0);
+  ASSERT_TRUE(r.declared);
+  EXPECT_EQ(r.declared->Summary(), r.true_dx.Summary());
+}
+
 }  // namespace
 }  // namespace sulcus

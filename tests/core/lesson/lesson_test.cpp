@@ -415,6 +415,76 @@ TEST(Readings, ATipAtALineAngleIsReadAndADwellAfterChartingIsNot) {
   }
 }
 
+// Next moves on only after a reading at the floor, or when the student moves
+// on: a touch 1 mm into the first site leaves Next there; pressed to the floor,
+// Next goes to the second; a touch at the third (the second skipped) takes Next
+// to the third, and once the third is read on to the fourth (the second comes
+// round when the path does).
+TEST(LessonRun, NextMovesOnAfterAReadingAtTheFloorOrWhenTheStudentMovesOn) {
+  const LessonSpec spec = LoadLessonSpec(Lesson());
+  const auto scene = CompileScene(LoadSceneSpec(spec.scene), Cache());
+  LessonRun lesson(spec, *scene, "next");
+  ASSERT_GE(lesson.sites().size(), 3u);
+  const SiteRef first = lesson.sites()[0].site, second = lesson.sites()[1].site,
+                third = lesson.sites()[2].site;
+  // Down a site's own line to `depth` below the margin (past the floor: pressed).
+  struct Stroke {
+    SiteRef site;
+    double below_floor;  // < 0: above the floor by that much
+  };
+  double t = 0;
+  std::vector<Keyframe> keys;
+  std::vector<double> ends;
+  for (const Stroke& st : {Stroke{first, -2.0}, Stroke{first, 0.1}, Stroke{third, -2.0},
+                           Stroke{third, 0.1}}) {
+    const ProbingSite* p = nullptr;
+    for (const ProbingSite& x : scene->effects.sites)
+      if (x.fdi == st.site.fdi && x.site == st.site.site) p = &x;
+    ASSERT_TRUE(p && p->ring) << st.site.ToString();
+    const SulcusRing& ring = *p->ring;
+    const Vector3 m = ring.ToRing(p->margin_W);
+    const double phi = std::atan2(m.y(), m.x());
+    const auto k = static_cast<std::size_t>(ring.SegmentAt(phi));
+    const double depth = ring.margin_z[k] - ring.floor_z[k] + st.below_floor;
+    const Quaternion q = Quaternion::FromTwoVectors(Vector3::UnitZ(), ring.AxisW());
+    for (const auto& [dt, d] :
+         {std::pair{0.0, -4.0}, std::pair{0.5, -0.5}, std::pair{1.2, depth},
+          std::pair{2.2, depth}, std::pair{2.8, -4.0}})
+      keys.push_back({t + dt, ring.PointAt(phi, d), q});
+    t += 3.0;
+    ends.push_back(t);
+  }
+  keys.push_back({t + 0.5, keys.back().p_W, keys.back().q_W});  // held, for the last look
+  DeviceSpec d;
+  d.device = std::make_unique<ScriptedDevice>(Trajectory(std::move(keys)), "next");
+  SessionOptions so;
+  so.max_ticks = static_cast<std::uint64_t>((t + 0.5) * scene->spec.rate_hz);
+  Session session(*scene, std::move(d), so);
+  session.AddConsumer(&lesson);
+  struct Watch final : TickConsumer {
+    LessonRun* lesson;
+    std::vector<double> at;
+    std::vector<std::string> next;
+    void OnTick(const TickRecord& r) override {
+      if (next.size() < at.size() && r.time_s >= at[next.size()] - 0.05) {
+        const std::optional<SiteRef> n = lesson->next_site();
+        next.push_back(n ? n->ToString() : "none");
+      }
+    }
+  } watch;
+  watch.lesson = &lesson;
+  watch.at = ends;
+  session.AddConsumer(&watch);
+  session.RunOffline();
+  ASSERT_EQ(watch.next.size(), 4u);
+  EXPECT_EQ(watch.next[0], first.ToString()) << "a touch 2 mm short of the floor";
+  EXPECT_EQ(watch.next[1], second.ToString()) << "read at the floor";
+  EXPECT_EQ(watch.next[2], third.ToString()) << "the student moved on to the third";
+  EXPECT_EQ(watch.next[3], lesson.sites()[3].site.ToString())
+      << "on along the path from the third (the skipped second comes round at the end)";
+  EXPECT_FALSE(LessonRun::ReadAtFloor(lesson.sites()[1]));
+}
+
 TEST(Students, TheMisreadingOneFailsReadingAtExactlyItsThreeSites) {
   const LessonSpec spec = LoadLessonSpec(Lesson());
   std::set<std::string> expected;
@@ -694,7 +764,8 @@ TEST(LessonRun, PracticeShowsTheTruthAssessmentDoesNot) {
         lesson.feedback()[0].find("true depth is 7 mm") != std::string::npos;
     EXPECT_EQ(truth_shown, mode == LessonSpec::Mode::kPractice) << lesson.feedback()[0];
     ASSERT_TRUE(lesson.next_site());
-    EXPECT_EQ(lesson.next_site()->ToString(), "47 DB") << "the path's first unread site";
+    EXPECT_EQ(lesson.next_site()->ToString(), "46 B")
+        << "on along the path from the site the student read (47's come round)";
   }
 }
 

@@ -165,6 +165,17 @@ TEST_F(Xapi, OnAFullDiskTheStatementsAreSentFromMemoryOrSaidLost) {
     QueueStatements(dir, Attempt(), registration, "2026-12-01T10:00:00Z", nowhere);
     ADD_FAILURE() << "returned as if the statements waited";
   } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot be kept"), std::string::npos)
+        << e.what() << ": without its key kept, no id can be sent";
+  }
+  // With the key kept (KeepAttempt makes it with the UUID) and the LRS away.
+  disk.Empty();
+  StatementKey(dir);
+  disk.LeaveFree(0);
+  try {
+    QueueStatements(dir, Attempt(), registration, "2026-12-01T10:00:00Z", nowhere);
+    ADD_FAILURE() << "returned as if the statements waited";
+  } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("neither be sent"), std::string::npos)
         << e.what();
   }
@@ -174,6 +185,43 @@ TEST_F(Xapi, OnAFullDiskTheStatementsAreSentFromMemoryOrSaidLost) {
             "");
   EXPECT_EQ(YAML::Load(FetchStatements(Lrs(Server()), registration))["statements"].size(),
             26u);
+}
+
+// Ids that cannot be pre-empted: they hash the attempt's UUID with a random key
+// kept in its folder, so knowing the UUID (the store shows it) is not enough to
+// post under them; and a statement posted under one of them first (here by a
+// test that knows the key) is a conflict, never taken as sent: they wait.
+TEST_F(Xapi, AStatementPostedFirstUnderAnAttemptsIdIsAConflictNotSent) {
+  const fs::path results = test::FreshOutputPath("xapi", "preempted");
+  const fs::path dir = results / "attempts" / "20261201-100000-ada";
+  fs::create_directories(dir);
+  const std::string registration = "9b1f2c3d-4e5f-4a6b-8c7d-9e0f1a2b3c4d";
+  const std::string key = StatementKey(dir);
+  EXPECT_EQ(key.size(), 64u);
+  EXPECT_EQ(StatementKey(dir), key) << "kept: the same ids on every retry";
+  const auto first_id = [&](const std::string& k) {
+    return YAML::Load(
+               XapiStatements(Attempt(), registration, "", "https://x", k))[0]["id"]
+        .as<std::string>();
+  };
+  EXPECT_NE(first_id(key), first_id("")) << "not the id anyone can derive";
+  EXPECT_NE(first_id(key), first_id(std::string(64, '0')));
+  // Someone posts a statement of their own under the attempt's first id.
+  const XapiSettings lrs = Lrs(Server());
+  YAML::Node forged = YAML::Load(
+      XapiStatements(Attempt(), registration, "2026-12-01T10:00:00Z", lrs.homepage, key));
+  YAML::Node one(YAML::NodeType::Sequence);
+  forged[0]["actor"]["account"]["name"] = "mallory";
+  forged[0]["context"]["registration"] = "0b1f2c3d-4e5f-4a6b-8c7d-9e0f1a2b3c4d";
+  one.push_back(forged[0]);
+  YAML::Emitter json;
+  json << YAML::DoubleQuoted << YAML::Flow << one;
+  ASSERT_NO_THROW(SendStatements(lrs, json.c_str()));
+  const std::string why =
+      QueueStatements(dir, Attempt(), registration, "2026-12-01T10:00:00Z", lrs);
+  EXPECT_NE(why.find("conflict"), std::string::npos) << why;
+  EXPECT_EQ(WaitingStatements(results), std::vector<fs::path>{dir})
+      << "never taken as sent";
 }
 
 TEST_F(Xapi, AWrongPasswordIsRefusedWithTheLrsNamedAndThePasswordNot) {
