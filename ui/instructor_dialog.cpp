@@ -55,7 +55,7 @@ InstructorDialog::InstructorDialog(ResultsPlace results,
   summary_ = new QLabel;
   layout->addWidget(summary_);
   auto* tabs = new QTabWidget;
-  attempts_ = Table({"attempt", "student", "lesson", "started", "mode", "score",
+  attempts_ = Table({"attempt", "student", "lesson", "started", "mode", "device", "score",
                      "within 1 mm", "force in band", "declared", "truth"});
   cohort_ = Table({"site", "attempts", "mean |charted - true| (mm)", "within 1 mm",
                    "signed bias (mm)"});
@@ -283,18 +283,18 @@ void InstructorDialog::Refresh() {
     // nothing has no agreement: those cells say so ("-").
     const bool sites = a.sites_total > 0, read = a.sites_read > 0;
     const QStringList cells = {
-        QString::number(a.id),
-        Q(a.student),
-        Q(a.lesson_name),
-        Q(a.started),
-        Q(a.mode),
+        QString::number(a.id), Q(a.student), Q(a.lesson_name), Q(a.started), Q(a.mode),
+        // Scripted and replayed attempts are demonstrations, not a student's work.
+        a.device.empty() ? QString("-")
+        : a.device == "scripted" || a.device == "replay"
+            ? Q(a.device) + " (demonstration)"
+            : Q(a.device),
         QString::number(a.total, 'f', 1) + (a.complete ? "" : " (incomplete)"),
         sites && a.sites_charted > 0 ? QString("%1 %").arg(a.within_1mm_pct, 0, 'f', 0)
                                      : QString("-"),
         sites && read ? QString("%1 %").arg(a.force_in_band_pct, 0, 'f', 0)
                       : QString("-"),
-        sites ? Q(a.declared_dx) : QString("-"),
-        sites ? Q(a.true_dx) : QString("-")};
+        sites ? Q(a.declared_dx) : QString("-"), sites ? Q(a.true_dx) : QString("-")};
     for (int c = 0; c < cells.size(); ++c) {
       auto* item = new QTableWidgetItem(cells[c]);
       if (!a.complete) {

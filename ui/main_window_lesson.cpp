@@ -168,6 +168,14 @@ bool MainWindow::StartLesson(const LessonStart& start) {
     ShowErrors("Lesson", "The lesson's scene cannot be made.", Q(e.what()));
     return false;
   }
+  // A scripted or replayed attempt under a student's name: a lab's shared store
+  // takes it only when the instructor allows demonstrations (asked first).
+  if (const std::string why = DemonstrationRefusal(ResultsPlaceFor(start.results_dir),
+                                                   DeviceKindOf(start.device));
+      !why.empty()) {
+    ShowErrors("Lesson", "This attempt would not be stored.", Q(why));
+    return false;
+  }
   if (lesson_) LeaveLesson("the student started another lesson");
   // The attempt's folder: its recording, entries and report.
   const std::filesystem::path results =
@@ -714,7 +722,9 @@ void MainWindow::AskDiagnosis() {
 bool MainWindow::FinishLesson(bool show_report) {
   if (!lesson_ || !lesson_spec_) return false;
   StopSession();  // the recording is written out
-  const LessonResult r = lesson_->Finish();
+  LessonResult r = lesson_->Finish();
+  // The window's own keys and mouse, else what the device's name says.
+  r.device_kind = mouse_ ? "keys" : DeviceKindOf(device_name_);
   QString problems;
   try {
     KeepAttempt(r, attempt_, attempt_.dir, ResultsPlaceFor(lesson_start_.results_dir));

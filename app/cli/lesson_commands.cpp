@@ -21,6 +21,7 @@
 #include "core/base/names.h"
 #include "core/base/text.h"
 #include "core/lesson/attempt.h"
+#include "core/lesson/instructor.h"
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
@@ -142,6 +143,10 @@ int RunLesson(const RunArgs& typed) {
     throw std::invalid_argument("--student '" + TerminalSafe(Shorten(typed.student, 60)) +
                                 "': " + why);
   const ResultsPlace results = ResultsOf(a.results);
+  if (!a.no_store)
+    if (const std::string why = DemonstrationRefusal(results, DeviceKindOf(a.device));
+        !why.empty())
+      throw std::invalid_argument("--device " + a.device + ": " + why);
   if (!a.out_dir.empty()) CheckReportFolder(a.out_dir);
   const AttemptFolder folder = NewAttemptFolder(results.dir, a.student);
   AttemptOptions o;
@@ -450,8 +455,8 @@ void AddLessonCommands(CLI::App& app) {
   list->callback([q] {
     const auto db = OpenResults(ResultsOf((*q)[3]));
     const auto rows = db->Attempts((*q)[0], (*q)[1]);
-    std::printf("%6s  %-20s  %-16s  %-36s  %6s  %8s  %s\n", "id", "started", "student",
-                "lesson", "score", "within1", "diagnosis declared");
+    std::printf("%6s  %-20s  %-16s  %-36s  %-8s  %6s  %8s  %s\n", "id", "started",
+                "student", "lesson", "device", "score", "within1", "diagnosis declared");
     for (const AttemptRow& a : rows) {
       // An inspection has no sites and no diagnosis: its columns say so.
       const bool sites = a.sites_total > 0;
@@ -459,10 +464,11 @@ void AddLessonCommands(CLI::App& app) {
       std::snprintf(within, sizeof within, "%.0f%%", a.within_1mm_pct);
       // Names and texts from the store as safe to read: a name cannot forge a
       // row, move the cursor or turn the line round.
-      std::printf("%6lld  %-20s  %-16s  %-36s  %6.1f  %8s  %s\n",
+      std::printf("%6lld  %-20s  %-16s  %-36s  %-8s  %6.1f  %8s  %s\n",
                   static_cast<long long>(a.id), TerminalSafe(a.started).c_str(),
                   TerminalSafe(a.student).c_str(),
-                  TerminalSafe(a.lesson_name.substr(0, 36)).c_str(), a.total,
+                  TerminalSafe(a.lesson_name.substr(0, 36)).c_str(),
+                  a.device.empty() ? "-" : TerminalSafe(a.device).c_str(), a.total,
                   sites ? within : "-",
                   TerminalSafe((sites ? a.declared_dx : std::string("-")) +
                                (a.complete ? "" : "  [incomplete: " + a.ended + "]"))
@@ -490,6 +496,10 @@ void AddLessonCommands(CLI::App& app) {
         TerminalSafe(a->chart_dx).c_str(), TerminalSafe(a->declared_dx).c_str(),
         TerminalSafe(a->recording).c_str(), TerminalSafe(a->report_dir).c_str());
     if (!a->complete) std::printf("incomplete: %s\n", TerminalSafe(a->ended).c_str());
+    if (!a->device.empty())
+      std::printf(
+          "taken with: %s%s\n", TerminalSafe(a->device).c_str(),
+          a->device == "scripted" || a->device == "replay" ? " (a demonstration)" : "");
     for (const SiteRow& s : db->Sites(a->student, a->lesson_file)) {
       if (s.attempt != a->id) continue;
       std::printf("  %d %-2s truth %d  reached %s  entered %s  %.2f N\n", s.fdi,
@@ -498,6 +508,44 @@ void AddLessonCommands(CLI::App& app) {
                   s.entered_mm ? std::to_string(*s.entered_mm).c_str() : "-",
                   s.peak_force_n);
     }
+  });
+  // Demonstrations: scripted or replayed attempts under a student's name in a
+  // lab's shared store, allowed or forbidden by the instructor (passphrase).
+  auto demo = std::make_shared<std::array<std::string, 2>>();  // allow|forbid, results
+  CLI::App* demos = results->add_subcommand(
+      "demonstrations",
+      "Allow or forbid scripted and replayed attempts under a student's name in the "
+      "lab's shared store (the instructor's passphrase: $SULCUS_INSTRUCTOR_PASSPHRASE "
+      "or typed)");
+  demos->add_option("WHAT", (*demo)[0], "allow or forbid")
+      ->required()
+      ->check(CLI::IsMember({"allow", "forbid"}));
+  demos->add_option("--results", (*demo)[1],
+                    "Results folder, or a PostgreSQL URL (default: $SULCUS_RESULTS_URL, "
+                    "else the folder's results.db)");
+  demos->callback([demo] {
+    const ResultsPlace place = ResultsOf((*demo)[1]);
+    const InstructorLock lock(place);
+    if (!lock.is_set())
+      throw std::invalid_argument("no instructor's passphrase is set for " +
+                                  place.Describe() +
+                                  ": set it in the window's instructor view first");
+    std::string pass;
+    if (const char* env = std::getenv("SULCUS_INSTRUCTOR_PASSPHRASE")) {
+      pass = env;
+    } else {
+      std::fprintf(stderr, "The instructor's passphrase: ");
+      std::getline(std::cin, pass);
+    }
+    if (!lock.Check(pass))
+      throw std::invalid_argument(
+          "the instructor's passphrase is not right; nothing "
+          "was changed");
+    OpenResults(place)->SetSetting(kDemonstrationsSetting,
+                                   (*demo)[0] == "allow" ? "allowed" : "forbidden");
+    std::printf("demonstrations %s in %s\n",
+                (*demo)[0] == "allow" ? "allowed" : "forbidden",
+                place.Describe().c_str());
   });
   auto sync_dir = std::make_shared<std::string>();
   CLI::App* sync = results->add_subcommand(

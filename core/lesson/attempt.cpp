@@ -98,6 +98,24 @@ std::string AttemptUuid(const fs::path& dir) {
   return text;
 }
 
+std::string DemonstrationRefusal(const ResultsPlace& place,
+                                 const std::string& device_kind) {
+  if (place.url.empty() || (device_kind != "scripted" && device_kind != "replay"))
+    return "";
+  std::unique_ptr<ResultsStore> store;
+  try {
+    store = OpenResults(place);
+  } catch (const ResultsError&) {
+    return "";
+  }
+  if (store->Setting(kDemonstrationsSetting).value_or("") == "allowed") return "";
+  return "a " + device_kind +
+         " attempt is not a student's own work: the lab's shared store (" +
+         place.Describe() +
+         ") takes one under a student's name only when the instructor allows "
+         "demonstrations (`sulcus-cli results demonstrations allow`)";
+}
+
 std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
                          const std::filesystem::path& report_dir,
                          const ResultsPlace& results,
@@ -119,6 +137,9 @@ std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
     w.Commit();
     SyncFolder(folder.dir);
   };
+  // Refused before anything is written: never stored, never waiting.
+  if (const std::string why = DemonstrationRefusal(results, r.device_kind); !why.empty())
+    throw std::runtime_error(why);
   at("start");
   bool marked = true;
   try {
@@ -260,6 +281,7 @@ RecoveredAttempt RecoverAttempt(const fs::path& dir, const ResultsPlace& results
     AttemptOptions o;
     o.student = m.student;
     o.device = "replay:" + folder.recording().string();
+    o.kind_of_recording = true;
     if (fs::exists(folder.answers())) o.answers = folder.answers();
     o.seed = m.seed;
     o.cache_dir = cache_dir;
@@ -374,6 +396,9 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
         "give student:NAME, scripted:NAME or replay:FILE");
   std::unique_ptr<ScriptedHand> student = std::move(made.student);
   DeviceSpec device = std::move(made.device);
+  const std::string device_kind = o.kind_of_recording && device.replayed
+                                      ? DeviceKindOf(device.replayed->header.device_name)
+                                      : DeviceKindOf(o.device);
   out.notes = device.notes;
   SessionOptions so;
   so.record = o.record;
@@ -417,6 +442,7 @@ AttemptOutcome RunAttempt(const std::filesystem::path& lesson_file,
   }
   lesson.SetEnding(o.ending);
   out.result = lesson.Finish();
+  out.result.device_kind = device_kind;
   // What was entered, with every tick resolved, so the attempt can be rebuilt.
   out.answers = AnswersOf(out.result);
   for (const ChartEntry& e : lesson.entries()) {

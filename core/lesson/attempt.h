@@ -49,6 +49,9 @@ struct AttemptOptions {
   /// an attempt cut short by a stopped program can be rebuilt (RecoverAttempt).
   /// Not owned; null: nothing is written before the attempt ends.
   const AttemptFolder* keep_in = nullptr;
+  /// A replay that rebuilds an attempt (RecoverAttempt) keeps the kind of the
+  /// device the attempt was taken with (the recording's), not "replay".
+  bool kind_of_recording = false;
   /// More consumers of the tick stream, after the lesson and the student. Not owned.
   std::vector<TickConsumer*> consumers;
 };
@@ -82,6 +85,17 @@ Answers AnswersOf(const LessonResult& r);
 /// sync` stores it, once. Returns the attempt's id. Throws ResultsError
 /// (store) or std::runtime_error (files). `step`, when given, is called with
 /// the name of each step as it is reached (the kill sweep's test stops there).
+/// The shared setting by which the instructor allows demonstrations ("allowed").
+inline constexpr const char* kDemonstrationsSetting = "demonstrations";
+/// Why an attempt taken with a device of `device_kind` (DeviceKindOf) may not be
+/// stored under a student's name at `place` ("" when it may): a shared store
+/// (PostgreSQL, a lab's) takes a scripted or replayed attempt only when the
+/// instructor has allowed demonstrations; a station's own file always does. A
+/// store that cannot be reached says nothing here (it is asked again when the
+/// attempt is stored).
+std::string DemonstrationRefusal(const ResultsPlace& place,
+                                 const std::string& device_kind);
+
 std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
                          const std::filesystem::path& report_dir,
                          const ResultsPlace& results,

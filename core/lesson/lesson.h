@@ -139,6 +139,9 @@ struct InspectionResult {
 struct LessonResult {
   std::string kind = "probing";  // or inspection
   std::string lesson_name, lesson_file, scene_file, mode, student;
+  /// What the attempt was taken with (DeviceKindOf): haptic, keys, scripted or
+  /// replay; a scripted or replayed attempt is not a student's own work.
+  std::string device_kind;
   std::uint64_t case_seed = 0;
   bool generated_case = false;
   double rate_hz = 1000;

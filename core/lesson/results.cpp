@@ -329,11 +329,11 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
          "generated_case, case_seed, total, "
          "duration_s, sites_total, sites_read, sites_charted, within_1mm_pct, bias_mm, "
          "force_in_band_pct, true_dx, "
-         "chart_dx, declared_dx, recording, answers, report_dir, complete, ended, uuid) "
-         "VALUES ((SELECT id FROM students "
+         "chart_dx, declared_dx, recording, answers, report_dir, complete, ended, uuid, "
+         "device) VALUES ((SELECT id FROM students "
          "WHERE name = ?), (SELECT id FROM lessons WHERE file = ?), ?, ?, ?, ?, ?, ?, "
          "?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, "
-         "?, ?, ?, ?, ?)",
+         "?, ?, ?, ?, ?, ?)",
          file_);
   a.Bind(1, r.student)
       .Bind(2, r.lesson_file)
@@ -360,6 +360,7 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
     a.BindNull(24);
   else
     a.Bind(24, uuid);
+  a.Bind(25, r.device_kind);
   a.Step(file_);
   const std::int64_t id = sqlite3_last_insert_rowid(db_);
   Stmt site(db_,
@@ -490,6 +491,11 @@ bool ResultsDb::SetSettingOnce(const std::string& key, const std::string& value)
   Stmt s(db_, "INSERT OR IGNORE INTO settings(key, value) VALUES (?, ?)", file_);
   s.Bind(1, key).Bind(2, value).Step(file_);
   return sqlite3_changes(db_) == 1;
+}
+
+void ResultsDb::SetSetting(const std::string& key, const std::string& value) {
+  Stmt s(db_, "INSERT OR REPLACE INTO settings(key, value) VALUES (?, ?)", file_);
+  s.Bind(1, key).Bind(2, value).Step(file_);
 }
 
 void ExportAttemptsCsv(const std::vector<AttemptRow>& rows, std::ostream& o) {

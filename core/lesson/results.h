@@ -27,8 +27,8 @@ struct sqlite3;
 namespace sulcus {
 
 // 1: the tables; 2: complete and ended; 3: an attempt's UUID; 4: settings shared
-// by every station (the instructor's passphrase hash).
-inline constexpr int kResultsSchemaVersion = 4;
+// by every station (the instructor's passphrase hash); 5: the attempt's device.
+inline constexpr int kResultsSchemaVersion = 5;
 
 class ResultsError : public std::runtime_error {
  public:
@@ -46,8 +46,9 @@ struct AttemptRow {
   std::string true_dx, chart_dx, declared_dx;
   std::string recording, answers, report_dir;
   bool complete = true;
-  std::string ended;  // how an incomplete attempt ended
-  std::string uuid;   // empty for attempts stored before UUIDs
+  std::string ended;   // how an incomplete attempt ended
+  std::string uuid;    // empty for attempts stored before UUIDs
+  std::string device;  // haptic, keys, scripted or replay ('' before they were kept)
 };
 
 struct SiteRow {
@@ -111,6 +112,8 @@ class ResultsStore {
   virtual std::optional<std::string> Setting(const std::string& key) const = 0;
   /// Sets a setting that is not set yet; false (and nothing written) when it is.
   virtual bool SetSettingOnce(const std::string& key, const std::string& value) = 0;
+  /// Sets (or replaces) a shared setting: what the instructor decides.
+  virtual void SetSetting(const std::string& key, const std::string& value) = 0;
 };
 
 /// Opens the store of a place (PostgreSQL when it has a URL, else SQLite).
@@ -146,6 +149,7 @@ class ResultsDb final : public ResultsStore {
   std::string where() const override { return file_.string(); }
   std::optional<std::string> Setting(const std::string& key) const override;
   bool SetSettingOnce(const std::string& key, const std::string& value) override;
+  void SetSetting(const std::string& key, const std::string& value) override;
   /// "ok" when the database is sound.
   std::string IntegrityCheck() const;
   const std::filesystem::path& file() const { return file_; }

@@ -134,16 +134,18 @@ class PgResults final : public ResultsStore {
       a.Null();
     else
       a.Add(uuid);
+    a.Add(r.device_kind);
     // A second station storing the same UUID at the same moment waits on the
     // unique index and then inserts nothing: its id is then the first's.
     const Result inserted = Query(
         "INSERT INTO attempts(student_id, lesson_id, started, mode, scene_file, "
         "generated_case, case_seed, total, duration_s, sites_total, sites_read, "
         "sites_charted, within_1mm_pct, bias_mm, force_in_band_pct, true_dx, chart_dx, "
-        "declared_dx, recording, answers, report_dir, complete, ended, uuid) VALUES "
+        "declared_dx, recording, answers, report_dir, complete, ended, uuid, device) "
+        "VALUES "
         "((SELECT id FROM students WHERE name = $1), (SELECT id FROM lessons WHERE file "
         "= $2), $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, "
-        "$19, $20, $21, $22, $23, $24) ON CONFLICT (uuid) DO NOTHING RETURNING id",
+        "$19, $20, $21, $22, $23, $24, $25) ON CONFLICT (uuid) DO NOTHING RETURNING id",
         a);
     if (inserted.rows() == 0) {
       const Result known =
@@ -273,6 +275,13 @@ class PgResults final : public ResultsStore {
         "INSERT INTO settings(key, value) VALUES ($1, $2) ON CONFLICT (key) DO NOTHING",
         Params().Add(key).Add(value));
     return std::string(r.affected()) == "1";
+  }
+
+  void SetSetting(const std::string& key, const std::string& value) override {
+    Query(
+        "INSERT INTO settings(key, value) VALUES ($1, $2) ON CONFLICT (key) DO UPDATE "
+        "SET value = excluded.value",
+        Params().Add(key).Add(value));
   }
 
  private:

@@ -98,6 +98,10 @@ CREATE UNIQUE INDEX attempts_by_uuid ON attempts(uuid);
     R"sql(
 CREATE TABLE settings (key TEXT PRIMARY KEY, value TEXT NOT NULL);
 )sql",
+    // 5: what the attempt was taken with: haptic, keys, scripted or replay ('' before).
+    R"sql(
+ALTER TABLE attempts ADD COLUMN device TEXT NOT NULL DEFAULT '';
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kResultsSchemaVersion);
 
@@ -133,7 +137,8 @@ inline constexpr const char* kSelectAttempts =
     "a.generated_case, a.total, a.duration_s, a.within_1mm_pct, a.bias_mm, "
     "a.force_in_band_pct, a.sites_total, a.sites_read, a.sites_charted, a.true_dx, "
     "a.chart_dx, a.declared_dx, a.recording, a.answers, a.report_dir, a.complete, "
-    "a.ended, a.uuid FROM attempts a JOIN students s ON s.id = a.student_id JOIN lessons "
+    "a.ended, a.uuid, a.device FROM attempts a JOIN students s ON s.id = a.student_id "
+    "JOIN lessons "
     "l ON l.id = a.lesson_id ";
 inline constexpr const char* kByStudentAndLesson =
     "WHERE ($1 = '' OR s.name = $1) AND ($2 = '' OR l.file = $2) ";
@@ -175,6 +180,7 @@ AttemptRow ReadAttempt(const Columns& c) {
   a.complete = c.Int(23) != 0;
   a.ended = c.Text(24);
   a.uuid = c.Text(25);
+  a.device = c.Text(26);
   return a;
 }
 

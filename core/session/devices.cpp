@@ -24,6 +24,13 @@ DeviceName ParseDeviceName(const std::string& spelling) {
       Shorten(spelling) + "' (hardware devices: see `sulcus-cli devices`)");
 }
 
+std::string DeviceKindOf(const std::string& name) {
+  if (name == "mouse" || name == "mouse and keyboard") return "keys";
+  if (name.rfind("replay", 0) == 0) return "replay";  // "replay:FILE", "replay of ..."
+  if (name.rfind("student:", 0) == 0 || name.rfind("scripted", 0) == 0) return "scripted";
+  return "haptic";
+}
+
 DeviceSpec MakeDevice(const std::string& spelling, const CompiledScene& scene,
                       double seconds, std::uint64_t seed, int object) {
   const DeviceName name = ParseDeviceName(spelling);

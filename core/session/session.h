@@ -76,6 +76,12 @@ struct DeviceName {
 /// Throws std::invalid_argument naming the spellings for anything else.
 DeviceName ParseDeviceName(const std::string& spelling);
 
+/// What kind of device a name (a spelling, or a recording's device name) is:
+/// "keys" (the window's mouse and keyboard), "scripted" (a script or a scripted
+/// student), "replay" (a recording played back) or "haptic" (anything else: a
+/// haptic device). A scripted or replayed attempt is not a student's own work.
+std::string DeviceKindOf(const std::string& device_name);
+
 /// "scripted:NAME" (a named trajectory on `object`, -1: the first tooth; see
 /// MakeScript), "scripted:FILE.csv" or "replay:FILE". Throws std::invalid_argument
 /// for another spelling, RecordingError or std::runtime_error for a bad file.

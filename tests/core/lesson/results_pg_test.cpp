@@ -35,9 +35,13 @@ PostgresServer& Server() {
 }
 
 // A database of its own per test, so that tests run in one process do not see
-// each other's rows.
-std::string FreshDatabase(const std::string& name) {
-  return Server().FreshDatabase(name);
+// each other's rows. Its attempts are made by scripted students: the
+// instructor's allowing demonstrations is set, unless `demonstrations` is false.
+std::string FreshDatabase(const std::string& name, bool demonstrations = true) {
+  const std::string url = Server().FreshDatabase(name);
+  if (demonstrations)
+    OpenPostgresResults(url)->SetSetting(kDemonstrationsSetting, "allowed");
+  return url;
 }
 
 std::string Uuid(int station, int k) {
@@ -48,7 +52,7 @@ std::string Uuid(int station, int k) {
 }
 
 TEST(ResultsPg, MigratesFromEmptyAndFromAnOlderSchemaAndKeepsTheSameRowsAsSqlite) {
-  const std::string url = FreshDatabase("migrations");
+  const std::string url = FreshDatabase("migrations", false);
   {
     const auto v2 = OpenPostgresResults(url, 2);
     EXPECT_EQ(v2->schema_version(), 2);
@@ -344,6 +348,45 @@ TEST(ResultsPg, ADiskThatFillsWhileAnAttemptIsKeptLosesNothing) {
     fs::remove_all(place.dir);
   }
   EXPECT_GE(waited, 3);
+}
+
+// Scripted and replayed attempts are not a student's: a station of a shared
+// store refuses to keep one under a student's name until the instructor allows
+// demonstrations; then it is stored, marked with its device, as a person's
+// attempt is with theirs. A station's own SQLite file takes every kind.
+TEST(ResultsPg, AScriptedAttemptIsRefusedByASharedStoreUnlessDemonstrationsAreAllowed) {
+  const std::string url = FreshDatabase("demonstrations", false);
+  const fs::path dir = test::FreshOutputPath("results_pg", "demonstrations");
+  const ResultsPlace place(dir, url);
+  EXPECT_EQ(DemonstrationRefusal(place, "keys"), "");
+  EXPECT_EQ(DemonstrationRefusal(place, "haptic"), "");
+  EXPECT_NE(DemonstrationRefusal(place, "replay"), "");
+  EXPECT_EQ(DemonstrationRefusal(ResultsPlace(dir), "scripted"), "") << "a station's own";
+  const std::string why = DemonstrationRefusal(place, "scripted");
+  EXPECT_NE(why.find("allows demonstrations"), std::string::npos) << why;
+
+  LessonResult scripted = test::Sample("alice", 100.0);
+  scripted.device_kind = "scripted";
+  const AttemptFolder a = NewAttemptFolder(dir, "alice");
+  EXPECT_THROW(KeepAttempt(scripted, a, a.dir, place), std::runtime_error);
+  EXPECT_TRUE(OpenPostgresResults(url)->Attempts("alice").empty()) << "not stored";
+  EXPECT_FALSE(fs::exists(a.dir / kUnstoredFile)) << "and not marked as waiting";
+
+  LessonResult person = test::Sample("alice", 62.5);
+  person.device_kind = "keys";
+  const AttemptFolder b = NewAttemptFolder(dir, "alice");
+  KeepAttempt(person, b, b.dir, place);
+
+  OpenPostgresResults(url)->SetSetting(kDemonstrationsSetting, "allowed");
+  EXPECT_EQ(DemonstrationRefusal(place, "scripted"), "");
+  const AttemptFolder c = NewAttemptFolder(dir, "alice");
+  KeepAttempt(scripted, c, c.dir, place);
+  const auto rows = OpenPostgresResults(url)->Attempts("alice");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].device, "keys");
+  EXPECT_EQ(rows[1].device, "scripted") << "marked, for the instructor's view";
+  OpenPostgresResults(url)->SetSetting(kDemonstrationsSetting, "forbidden");
+  EXPECT_NE(DemonstrationRefusal(place, "scripted"), "");
 }
 
 // The instructor's passphrase set at one station opens the instructor's view at
