@@ -547,6 +547,50 @@ void AddLessonCommands(CLI::App& app) {
                 (*demo)[0] == "allow" ? "allowed" : "forbidden",
                 place.Describe().c_str());
   });
+  // The lab's store set up once by the school's database administrator.
+  auto owner = std::make_shared<std::string>();
+  CLI::App* setup = results->add_subcommand(
+      "setup",
+      "Set up a lab's PostgreSQL store once, as its owner: the tables, and the roles "
+      "sulcus_station (stores and reads attempts, nothing else) and sulcus_instructor "
+      "(reads everything, writes the instructor's settings)");
+  setup->add_option(
+      "--owner", *owner,
+      "The owner's URL without its password (default: "
+      "$SULCUS_OWNER_URL, which may hold it; else PGPASSWORD or ~/.pgpass)");
+  setup->callback([owner] {
+    std::string url = *owner;
+    if (!url.empty() && !UrlPassword(url).empty())
+      throw std::invalid_argument(
+          "--owner " + RedactUrl(url) +
+          ": a password on the command line is shown to every user of this machine; "
+          "give it in SULCUS_OWNER_URL, PGPASSWORD or a pgpass file instead");
+    if (url.empty())
+      if (const char* env = std::getenv("SULCUS_OWNER_URL")) url = env;
+    if (!IsResultsUrl(url))
+      throw std::invalid_argument(
+          "results setup needs the owner's PostgreSQL URL (--owner or "
+          "SULCUS_OWNER_URL), e.g. postgresql://sulcus@lab-server/sulcus");
+    const auto env = [](const char* name) {
+      const char* v = std::getenv(name);
+      return std::string(v ? v : "");
+    };
+    const StoreSetup done = SetUpPostgresStore(url, env("SULCUS_STATION_PASSWORD"),
+                                               env("SULCUS_INSTRUCTOR_PASSWORD"));
+    std::printf("%s:\n", RedactUrl(url).c_str());
+    for (const std::string& d : done.done) std::printf("  %s\n", d.c_str());
+    // The passwords the administrator hands on (made here when not given).
+    if (env("SULCUS_STATION_PASSWORD").empty())
+      std::printf(
+          "the stations' password (shown once; put it in each station's "
+          "SULCUS_RESULTS_URL or ~/.pgpass, user %s): %s\n",
+          kStationRole, done.station_password.c_str());
+    if (env("SULCUS_INSTRUCTOR_PASSWORD").empty())
+      std::printf(
+          "the instructor's password (shown once; the instructor's view "
+          "reads every attempt with it, user %s): %s\n",
+          kInstructorRole, done.instructor_password.c_str());
+  });
   auto sync_dir = std::make_shared<std::string>();
   CLI::App* sync = results->add_subcommand(
       "sync",

@@ -27,8 +27,13 @@ struct sqlite3;
 namespace sulcus {
 
 // 1: the tables; 2: complete and ended; 3: an attempt's UUID; 4: settings shared
-// by every station (the instructor's passphrase hash); 5: the attempt's device.
-inline constexpr int kResultsSchemaVersion = 5;
+// by every station (the instructor's passphrase hash); 5: the attempt's device;
+// 6: the settings a station may read (public_settings).
+inline constexpr int kResultsSchemaVersion = 6;
+
+/// The shared settings every station may read; the rest (the instructor's
+/// passphrase hash) only the instructor's role of a lab's store.
+inline bool PublicSetting(const std::string& key) { return key == "demonstrations"; }
 
 class ResultsError : public std::runtime_error {
  public:
@@ -115,6 +120,23 @@ class ResultsStore {
   /// Sets (or replaces) a shared setting: what the instructor decides.
   virtual void SetSetting(const std::string& key, const std::string& value) = 0;
 };
+
+/// The roles `results setup` makes in a lab's PostgreSQL store: stations store
+/// and read attempts (INSERT and SELECT, nothing else), the instructor reads
+/// everything and writes what the instructor's view writes.
+inline constexpr const char* kStationRole = "sulcus_station";
+inline constexpr const char* kInstructorRole = "sulcus_instructor";
+struct StoreSetup {
+  std::string station_password, instructor_password;  // made when not given
+  std::vector<std::string> done;                      // what was done, in words
+};
+/// Run once by the school's database administrator with the URL of the role that
+/// owns the database (and may create roles): migrates the schema and makes (or,
+/// given passwords, resets) the station and instructor roles and their rights.
+/// An empty password is made (24 random characters) and returned.
+StoreSetup SetUpPostgresStore(const std::string& owner_url,
+                              const std::string& station_password,
+                              const std::string& instructor_password);
 
 /// Opens the store of a place (PostgreSQL when it has a URL, else SQLite).
 /// Throws ResultsError naming the file or the URL (never its password).

@@ -111,10 +111,8 @@ class PgResults final : public ResultsStore {
     }
     Query("INSERT INTO students(name) VALUES ($1) ON CONFLICT (name) DO NOTHING",
           Params().Add(r.student));
-    Query(
-        "INSERT INTO lessons(file, name) VALUES ($1, $2) ON CONFLICT (file) DO UPDATE "
-        "SET name = excluded.name",
-        Params().Add(r.lesson_file).Add(r.lesson_name));
+    Query("INSERT INTO lessons(file, name) VALUES ($1, $2) ON CONFLICT (file) DO NOTHING",
+          Params().Add(r.lesson_file).Add(r.lesson_name));
     Params a;
     a.Add(r.student).Add(r.lesson_file).Add(started).Add(r.mode).Add(r.scene_file);
     a.Add(r.generated_case ? 1 : 0)
@@ -264,8 +262,11 @@ class PgResults final : public ResultsStore {
   std::string where() const override { return shown_; }
 
   std::optional<std::string> Setting(const std::string& key) const override {
+    // A station's role reads only the public ones (through the owner's view).
     const Result r =
-        Query("SELECT value FROM settings WHERE key = $1", Params().Add(key));
+        Query(PublicSetting(key) ? "SELECT value FROM public_settings WHERE key = $1"
+                                 : "SELECT value FROM settings WHERE key = $1",
+              Params().Add(key));
     if (r.rows() == 0) return std::nullopt;
     return r.Text(0, 0);
   }
@@ -351,7 +352,99 @@ class PgResults final : public ResultsStore {
     bool committed_ = false;
   };
 
+  // What `results setup` does as the owner (SetUpPostgresStore).
+ public:
+  StoreSetup SetUpRoles(std::string station_pw, std::string instructor_pw) {
+    StoreSetup out;
+    auto made = [&](std::string* pw) {
+      if (!pw->empty()) return;
+      const Result r = Query(
+          "SELECT "
+          "string_agg(substr('abcdefghijkmnpqrstuvwxyzABCDEFGHJKLMNPQRSTUVWXYZ23456789', "
+          "1 + floor(random() * 56)::int, 1), '') FROM generate_series(1, 24)",
+          Params());
+      *pw = r.Text(0, 0);
+    };
+    made(&station_pw);
+    made(&instructor_pw);
+    Transaction t(this);
+    for (const auto& [role, pw] :
+         {std::pair{std::string(kStationRole), station_pw},
+          std::pair{std::string(kInstructorRole), instructor_pw}}) {
+      const bool exists =
+          Query("SELECT 1 FROM pg_roles WHERE rolname = $1", Params().Add(role)).rows() >
+          0;
+      const Result sql = Query(
+          std::string("SELECT format('") + (exists ? "ALTER" : "CREATE") +
+              " ROLE %I WITH LOGIN NOSUPERUSER NOCREATEDB NOCREATEROLE NOREPLICATION "
+              "NOBYPASSRLS PASSWORD %L', $1::text, $2::text)",
+          Params().Add(role).Add(pw));
+      Exec(sql.Text(0, 0));
+      out.done.push_back(std::string(exists ? "reset" : "made") + " the role " + role);
+    }
+    const std::string both = std::string(kStationRole) + ", " + kInstructorRole;
+    const char* attempt_tables =
+        "students, lessons, attempts, attempt_sites, attempt_scores, attempt_lines";
+    for (const std::string& sql : std::vector<std::string>{
+             "REVOKE CREATE ON SCHEMA public FROM PUBLIC",
+             "REVOKE ALL ON ALL TABLES IN SCHEMA public FROM PUBLIC, " + both,
+             "REVOKE ALL ON ALL SEQUENCES IN SCHEMA public FROM PUBLIC, " + both,
+             "GRANT USAGE ON SCHEMA public TO " + both,
+             // A station adds attempts and reads what a station shows; it
+             // changes and removes nothing, and reads no secret.
+             std::string("GRANT SELECT, INSERT ON ") + attempt_tables + " TO " +
+                 kStationRole,
+             std::string("GRANT SELECT ON sulcus_schema, public_settings TO ") +
+                 kStationRole,
+             std::string("GRANT USAGE ON ALL SEQUENCES IN SCHEMA public TO ") +
+                 kStationRole,
+             // The instructor reads everything; writes the settings (the
+             // passphrase, demonstrations) and removes a student's results.
+             std::string("GRANT SELECT ON ALL TABLES IN SCHEMA public TO ") +
+                 kInstructorRole,
+             std::string("GRANT INSERT, UPDATE ON settings TO ") + kInstructorRole,
+             std::string("GRANT DELETE ON ") + attempt_tables + " TO " +
+                 kInstructorRole}) {
+      Exec(sql);
+    }
+    out.done.push_back(
+        "granted the station INSERT and SELECT on the attempts' tables "
+        "and the public settings, nothing else");
+    out.done.push_back(
+        "granted the instructor SELECT on every table, the settings and "
+        "removing a student's results");
+    t.Commit();
+    out.station_password = station_pw;
+    out.instructor_password = instructor_pw;
+    return out;
+  }
+
+ private:
   void Migrate(int target) {
+    // A store already at the version asked for opens without a lock or any DDL:
+    // a station's role, which may create nothing, opens it. A station never
+    // migrates: an older store waits for its owner's `results setup`.
+    if (Query("SELECT to_regclass('sulcus_schema') IS NOT NULL", Params()).Text(0, 0) ==
+        "t") {
+      const int v = schema_version();
+      if (v > kResultsSchemaVersion)
+        throw ResultsError("PostgreSQL results store " + shown_ +
+                           ": the store has schema version " + std::to_string(v) +
+                           "; this Sulcus knows up to " +
+                           std::to_string(kResultsSchemaVersion) +
+                           " (it was written by a newer Sulcus; it is left untouched)");
+      if (v >= target) return;
+      if (v < target && !CanMigrate())
+        throw ResultsError("PostgreSQL results store " + shown_ +
+                           ": the store has schema version " + std::to_string(v) +
+                           " and this Sulcus needs " + std::to_string(target) +
+                           "; a station does not change the store: its owner runs "
+                           "`sulcus-cli results setup` once");
+    } else if (!CanMigrate()) {
+      throw ResultsError("PostgreSQL results store " + shown_ +
+                         ": the store has no tables yet and this role may not make "
+                         "them: its owner runs `sulcus-cli results setup` once");
+    }
     Transaction t(this);
     Exec("SELECT pg_advisory_xact_lock(" + std::to_string(kMigrationLock) + ")");
     Exec("CREATE TABLE IF NOT EXISTS sulcus_schema (version INTEGER NOT NULL)");
@@ -370,6 +463,11 @@ class PgResults final : public ResultsStore {
     t.Commit();
   }
 
+  bool CanMigrate() const {
+    return Query("SELECT has_schema_privilege(current_schema(), 'CREATE')", Params())
+               .Text(0, 0) == "t";
+  }
+
   int schema_rows() const {
     const Result r = Query("SELECT COUNT(*) FROM sulcus_schema", Params());
     return static_cast<int>(r.Int(0, 0));
@@ -383,6 +481,16 @@ class PgResults final : public ResultsStore {
 
 std::unique_ptr<ResultsStore> OpenPostgresResults(const std::string& url, int version) {
   return std::make_unique<PgResults>(url, version);
+}
+
+StoreSetup SetUpPostgresStore(const std::string& owner_url,
+                              const std::string& station_password,
+                              const std::string& instructor_password) {
+  PgResults owner(owner_url, kResultsSchemaVersion);  // migrated by its owner
+  StoreSetup out = owner.SetUpRoles(station_password, instructor_password);
+  out.done.insert(out.done.begin(),
+                  "the schema at version " + std::to_string(kResultsSchemaVersion));
+  return out;
 }
 
 }  // namespace sulcus

@@ -102,6 +102,10 @@ CREATE TABLE settings (key TEXT PRIMARY KEY, value TEXT NOT NULL);
     R"sql(
 ALTER TABLE attempts ADD COLUMN device TEXT NOT NULL DEFAULT '';
 )sql",
+    // 6: the settings a station may read (never the instructor's passphrase hash).
+    R"sql(
+CREATE VIEW public_settings AS SELECT key, value FROM settings WHERE key IN ('demonstrations');
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kResultsSchemaVersion);
 

@@ -117,6 +117,18 @@ std::string PostgresServer::Sql(const std::string& database,
   return out;
 }
 
+int PostgresServer::Try(const std::string& url, const std::string& sql,
+                        std::string* out) const {
+  const std::string command = (bin_ / "psql").string() + " -At -v ON_ERROR_STOP=1 '" +
+                              url + "' -c \"" + sql + "\" 2>&1";
+  FILE* p = popen(command.c_str(), "r");
+  if (!p) throw std::runtime_error("failed: " + command);
+  out->clear();
+  char buf[256];
+  while (std::fgets(buf, sizeof buf, p)) *out += buf;
+  return pclose(p);
+}
+
 std::string PostgresServer::FreshDatabase(const std::string& name) {
   const std::string psql = "PGPASSWORD=" + std::string(kPassword) + " " +
                            (bin_ / "psql").string() + " -q -h 127.0.0.1 -p " +

@@ -31,6 +31,9 @@ class PostgresServer {
                   const std::string& database = "postgres") const;
   /// One SQL statement run by psql in `database`; its output, unaligned.
   std::string Sql(const std::string& database, const std::string& sql) const;
+  /// One SQL statement run by psql as the user of `url`: its exit status (0: done)
+  /// and, in *out, what psql said (errors included).
+  int Try(const std::string& url, const std::string& sql, std::string* out) const;
   /// A new, empty database (dropped first if it exists); returns its URL.
   std::string FreshDatabase(const std::string& name);
 

@@ -389,6 +389,70 @@ TEST(ResultsPg, AScriptedAttemptIsRefusedByASharedStoreUnlessDemonstrationsAreAl
   EXPECT_NE(DemonstrationRefusal(place, "scripted"), "");
 }
 
+// Roles made by Sulcus: after `results setup` (its owner's URL), a station's role
+// stores, syncs and shows attempts as before, and every other thing a student
+// holding the station's credentials tried is refused by the server: changing or
+// removing attempts, reading or replacing the instructor's passphrase, DDL, a
+// trigger, another role. A station never migrates an older store.
+TEST(ResultsPg, AStationsRoleStoresAndReadsAttemptsAndNothingElse) {
+  const std::string owner = FreshDatabase("roles", false);
+  const StoreSetup setup = SetUpPostgresStore(owner, "station-pw-17", "");
+  EXPECT_EQ(setup.station_password, "station-pw-17");
+  EXPECT_EQ(setup.instructor_password.size(), 24u) << "made when not given";
+  const std::string host = "@127.0.0.1:" + std::to_string(Server().port()) + "/roles";
+  const std::string station = std::string("postgresql://") + kStationRole +
+                              ":station-pw-17" + host,
+                    instructor = std::string("postgresql://") + kInstructorRole + ":" +
+                                 setup.instructor_password + host;
+  // The instructor's role sets the passphrase; the station stores and shows.
+  InstructorLock(ResultsPlace({}, instructor)).Set("the lab's passphrase");
+  const fs::path dir = test::FreshOutputPath("results_pg", "roles");
+  const ResultsPlace place(dir, station);
+  LessonResult mine = Sample("bea", 71.5);
+  mine.device_kind = "keys";
+  const AttemptFolder f = NewAttemptFolder(dir, "bea");
+  const std::int64_t id = KeepAttempt(mine, f, f.dir, place);
+  EXPECT_EQ(KeepAttempt(mine, f, f.dir, place), id) << "a retry: once";
+  const auto rows = OpenPostgresResults(station)->Attempts("bea");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_DOUBLE_EQ(rows[0].total, 71.5);
+  EXPECT_NE(DemonstrationRefusal(place, "scripted"), "") << "the public setting is read";
+  EXPECT_THROW(InstructorLock(place).is_set(), ResultsError) << "no secret for a station";
+  // What a student with the station's credentials tried, each refused.
+  for (const char* sql :
+       {"UPDATE attempts SET total = 98.5", "DELETE FROM attempts",
+        "DELETE FROM students", "TRUNCATE attempts CASCADE", "SELECT value FROM settings",
+        "UPDATE settings SET value = 'x' WHERE key = 'instructor_pwhash'",
+        "INSERT INTO settings VALUES ('demonstrations', 'allowed')",
+        "CREATE TABLE evil (x INTEGER)", "DROP TABLE attempt_lines",
+        "ALTER TABLE attempts ADD COLUMN evil INTEGER",
+        "CREATE TRIGGER evil BEFORE INSERT ON attempts FOR EACH ROW EXECUTE FUNCTION "
+        "suppress_redundant_updates_trigger()",
+        "ALTER ROLE sulcus_instructor PASSWORD 'mine'",
+        "ALTER ROLE sulcus_station SUPERUSER", "CREATE ROLE evil LOGIN",
+        "GRANT sulcus_instructor TO sulcus_station"}) {
+    std::string said;
+    EXPECT_NE(Server().Try(station, sql, &said), 0) << sql << ": " << said;
+    EXPECT_NE(said.find("ERROR"), std::string::npos) << sql << ": " << said;
+  }
+  std::string said;
+  ASSERT_EQ(Server().Try(owner, "SELECT total FROM attempts", &said), 0) << said;
+  EXPECT_EQ(said, "71.5\n") << "the row as it was stored";
+  // The instructor's role reads everything and writes the settings.
+  EXPECT_TRUE(InstructorLock(ResultsPlace({}, instructor)).Check("the lab's passphrase"));
+  OpenPostgresResults(instructor)->SetSetting(kDemonstrationsSetting, "allowed");
+  EXPECT_EQ(DemonstrationRefusal(place, "scripted"), "");
+  // A store older than this Sulcus: the station says so and changes nothing.
+  Server().Sql("roles", "UPDATE sulcus_schema SET version = 5");
+  try {
+    OpenPostgresResults(station);
+    ADD_FAILURE() << "a station migrated the store";
+  } catch (const ResultsError& e) {
+    EXPECT_NE(std::string(e.what()).find("results setup"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(Server().Sql("roles", "SELECT version FROM sulcus_schema"), "5");
+}
+
 // The instructor's passphrase set at one station opens the instructor's view at
 // another: its hash is in the shared store, not in a station's folder.
 TEST(ResultsPg, TheInstructorsPassphraseIsTheSameOnEveryStation) {

@@ -89,17 +89,19 @@ TEST(Results, VersionOneDatabaseIsMigratedKeepingItsAttempts) {
     db.Store(Sample("ada", 88), "2026-12-01T10:00:00Z", "/a.rec", "/a.yaml", "/a");
   }
   {  // Make it what a version-1 Sulcus wrote: no complete/ended columns, no
-     // UUIDs, no shared settings.
+     // UUIDs, no shared settings, no device.
     sqlite3* h = nullptr;
     ASSERT_EQ(sqlite3_open(file.c_str(), &h), SQLITE_OK);
     char* err = nullptr;
-    ASSERT_EQ(sqlite3_exec(h,
-                           "ALTER TABLE attempts DROP COLUMN complete; ALTER TABLE "
-                           "attempts DROP COLUMN ended; DROP INDEX attempts_by_uuid; "
-                           "ALTER TABLE attempts DROP COLUMN uuid; DROP TABLE settings; "
-                           "PRAGMA user_version=1",
-                           nullptr, nullptr, &err),
-              SQLITE_OK)
+    ASSERT_EQ(
+        sqlite3_exec(h,
+                     "DROP VIEW public_settings; ALTER TABLE attempts DROP COLUMN "
+                     "device; ALTER TABLE attempts DROP COLUMN complete; ALTER TABLE "
+                     "attempts DROP COLUMN ended; DROP INDEX attempts_by_uuid; "
+                     "ALTER TABLE attempts DROP COLUMN uuid; DROP TABLE settings; "
+                     "PRAGMA user_version=1",
+                     nullptr, nullptr, &err),
+        SQLITE_OK)
         << (err ? err : "");
     sqlite3_close(h);
   }
@@ -112,6 +114,7 @@ TEST(Results, VersionOneDatabaseIsMigratedKeepingItsAttempts) {
   EXPECT_DOUBLE_EQ(rows[0].total, 88);
   EXPECT_TRUE(rows[0].complete);  // what version 1 kept was complete
   EXPECT_EQ(rows[0].uuid, "") << "attempts from before UUIDs have none";
+  EXPECT_EQ(rows[0].device, "") << "nor a device";
 }
 
 TEST(Results, AttemptsRoundTripAndExport) {
