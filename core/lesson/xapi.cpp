@@ -243,6 +243,7 @@ XapiSettings XapiSettingsFromEnv() {
   s.user = env("SULCUS_LRS_USER");
   s.password = env("SULCUS_LRS_PASSWORD");
   if (const std::string h = env("SULCUS_XAPI_HOMEPAGE"); !h.empty()) s.homepage = h;
+  s.allow_http = env("SULCUS_LRS_ALLOW_HTTP") == "1";
   while (!s.homepage.empty() && s.homepage.back() == '/') s.homepage.pop_back();
   return s;
 }
@@ -308,7 +309,31 @@ void CheckStoredAreOurs(const XapiSettings& lrs, const std::string& statements) 
 
 }  // namespace
 
+void CheckLrsScheme(const XapiSettings& lrs) {
+  std::string scheme = lrs.url.substr(0, lrs.url.find(':'));
+  for (char& c : scheme)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (scheme == "https") return;
+  if (scheme == "http" && lrs.allow_http) {
+    static std::once_flag said;
+    std::call_once(said, [&] {
+      std::fprintf(stderr,
+                   "warning: the LRS %s is plain http: the students' results and the "
+                   "LRS password go unencrypted (SULCUS_LRS_ALLOW_HTTP=1)\n",
+                   RedactUrl(lrs.url).c_str());
+    });
+    return;
+  }
+  throw XapiError("LRS " + RedactUrl(lrs.url) +
+                  (scheme == "http"
+                       ? ": plain http would send the students' results and the LRS "
+                         "password unencrypted; give its https URL (or, for an LRS on "
+                         "this station or a closed network, set SULCUS_LRS_ALLOW_HTTP=1)"
+                       : ": not an http(s) URL"));
+}
+
 void SendStatements(const XapiSettings& lrs, const std::string& statements) {
+  CheckLrsScheme(lrs);
   const Reply reply = Http(lrs, Endpoint(lrs), &statements);
   if (reply.status == 200 || reply.status == 204) return;
   if (reply.status == 409) return CheckStoredAreOurs(lrs, statements);
@@ -317,6 +342,7 @@ void SendStatements(const XapiSettings& lrs, const std::string& statements) {
 }
 
 std::string FetchStatements(const XapiSettings& lrs, const std::string& registration) {
+  CheckLrsScheme(lrs);
   const Reply reply =
       Http(lrs, Endpoint(lrs) + "?limit=1000&registration=" + registration, nullptr);
   if (reply.status != 200)

@@ -32,11 +32,14 @@ struct XapiSettings {
   /// The home page of the students' accounts (the actor's account.homePage) and
   /// the base of Sulcus's activity and verb ids.
   std::string homepage = "https://sulcus.invalid";
+  /// Plain http (no TLS) is refused unless the station allows it
+  /// (SULCUS_LRS_ALLOW_HTTP=1: an LRS on the station itself or a closed network).
+  bool allow_http = false;
   bool enabled() const { return !url.empty(); }
 };
 
 /// From the environment: SULCUS_LRS_URL, SULCUS_LRS_USER, SULCUS_LRS_PASSWORD,
-/// SULCUS_XAPI_HOMEPAGE.
+/// SULCUS_XAPI_HOMEPAGE, SULCUS_LRS_ALLOW_HTTP.
 XapiSettings XapiSettingsFromEnv();
 
 /// The attempt's statements as a JSON array: the attempt completed (its score,
@@ -51,6 +54,10 @@ std::string XapiStatements(const LessonResult& r, const std::string& registratio
 /// The attempt's random key for its statements' ids (64 hex digits), made once
 /// and kept in its folder (xapi-key).
 std::string StatementKey(const std::filesystem::path& attempt_dir);
+
+/// Throws XapiError unless the LRS's URL is https (or http where allowed, said
+/// once as a warning on standard error).
+void CheckLrsScheme(const XapiSettings& lrs);
 
 /// POSTs a JSON array of statements. A 409 (the LRS holds some of these ids) is
 /// success only when the LRS holds each of them for the same attempt, student,

@@ -46,6 +46,7 @@ XapiSettings Lrs(const LrsServer& server) {
   s.user = LrsServer::kUser;
   s.password = LrsServer::kPassword;
   s.homepage = "https://dental-school.example.org";
+  s.allow_http = true;  // the test's LRS listens on 127.0.0.1 without TLS
   return s;
 }
 
@@ -222,6 +223,35 @@ TEST_F(Xapi, AStatementPostedFirstUnderAnAttemptsIdIsAConflictNotSent) {
   EXPECT_NE(why.find("conflict"), std::string::npos) << why;
   EXPECT_EQ(WaitingStatements(results), std::vector<fs::path>{dir})
       << "never taken as sent";
+}
+
+// The LRS over https only: a plain http URL is refused (before anything is
+// sent) unless the station allows it, and the statements wait, with the reason.
+TEST(XapiScheme, PlainHttpIsRefusedUnlessTheStationAllowsIt) {
+  XapiSettings lrs;
+  lrs.url = "http://lms.example.org/xAPI";
+  lrs.password = "lrs-secret";
+  try {
+    CheckLrsScheme(lrs);
+    ADD_FAILURE() << "plain http accepted";
+  } catch (const XapiError& e) {
+    EXPECT_NE(std::string(e.what()).find("give its https URL"), std::string::npos)
+        << e.what();
+    EXPECT_EQ(std::string(e.what()).find("lrs-secret"), std::string::npos);
+  }
+  EXPECT_THROW(SendStatements(lrs, "[]"), XapiError);
+  lrs.allow_http = true;
+  EXPECT_NO_THROW(CheckLrsScheme(lrs));
+  lrs.url = "https://lms.example.org/xAPI";
+  lrs.allow_http = false;
+  EXPECT_NO_THROW(CheckLrsScheme(lrs));
+  lrs.url = "ftp://lms.example.org/xAPI";
+  EXPECT_THROW(CheckLrsScheme(lrs), XapiError);
+  const fs::path dir = test::FreshOutputPath("xapi", "plain-http") / "attempts" / "a";
+  fs::create_directories(dir);
+  lrs.url = "http://lms.example.org/xAPI";
+  const std::string why = QueueStatements(dir, Attempt(), kRegistration, "", lrs);
+  EXPECT_NE(why.find("https"), std::string::npos) << "waiting, with the reason: " << why;
 }
 
 TEST_F(Xapi, AWrongPasswordIsRefusedWithTheLrsNamedAndThePasswordNot) {
