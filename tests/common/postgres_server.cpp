@@ -117,6 +117,56 @@ std::string PostgresServer::Sql(const std::string& database,
   return out;
 }
 
+namespace {
+
+void Shell(const std::string& command) {
+  if (std::system(command.c_str()) != 0) throw std::runtime_error("failed: " + command);
+}
+
+// A self-signed CA in `dir` (ca.crt, ca.key).
+void MakeCa(const fs::path& dir, const std::string& name) {
+  fs::create_directories(dir);
+  Shell("openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj '/CN=" + name +
+        "' -keyout " + (dir / "ca.key").string() + " -out " + (dir / "ca.crt").string() +
+        " >/dev/null 2>&1");
+}
+
+}  // namespace
+
+fs::path PostgresServer::EnableTls() {
+  const fs::path tls = dir_ / "tls";
+  MakeCa(tls, "Sulcus test school CA");
+  std::ofstream(tls / "ext.cnf")
+      << "subjectAltName=DNS:localhost,IP:127.0.0.1\nbasicConstraints=CA:FALSE\n";
+  Shell("openssl req -newkey rsa:2048 -nodes -subj '/CN=127.0.0.1' -keyout " +
+        (tls / "server.key").string() + " -out " + (tls / "server.csr").string() +
+        " >/dev/null 2>&1");
+  Shell("openssl x509 -req -in " + (tls / "server.csr").string() + " -CA " +
+        (tls / "ca.crt").string() + " -CAkey " + (tls / "ca.key").string() +
+        " -CAcreateserial -days 2 -extfile " + (tls / "ext.cnf").string() + " -out " +
+        (tls / "server.crt").string() + " >/dev/null 2>&1");
+  Shell("chmod 600 " + (tls / "server.key").string());
+  if (geteuid() == 0) Shell("chown -R postgres:postgres " + tls.string());
+  std::ofstream(dir_ / "data" / "postgresql.conf", std::ios::app)
+      << "ssl = on\nssl_cert_file = '" << (tls / "server.crt").string()
+      << "'\nssl_key_file = '" << (tls / "server.key").string() << "'\n";
+  // Every TCP connection over TLS: "host" lines become "hostssl".
+  const fs::path hba = dir_ / "data" / "pg_hba.conf";
+  std::string text = ReadText(hba), out;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);)
+    out += (line.rfind("host ", 0) == 0 ? "hostssl " + line.substr(5) : line) + "\n";
+  std::ofstream(hba) << out;
+  Stop();
+  Start();
+  return tls / "ca.crt";
+}
+
+fs::path PostgresServer::OtherCa() {
+  MakeCa(dir_ / "other-ca", "Another CA");
+  return dir_ / "other-ca" / "ca.crt";
+}
+
 int PostgresServer::Try(const std::string& url, const std::string& sql,
                         std::string* out) const {
   const std::string command = (bin_ / "psql").string() + " -At -v ON_ERROR_STOP=1 '" +

@@ -34,6 +34,12 @@ class PostgresServer {
   /// One SQL statement run by psql as the user of `url`: its exit status (0: done)
   /// and, in *out, what psql said (errors included).
   int Try(const std::string& url, const std::string& sql, std::string* out) const;
+  /// TLS as a school sets it up: a CA and a server certificate for 127.0.0.1
+  /// made here (openssl), `ssl = on`, and every TCP connection required to use
+  /// it (hostssl); restarts the server. Returns the CA's certificate file.
+  std::filesystem::path EnableTls();
+  /// A CA of its own that signed nothing this server shows (a wrong one).
+  std::filesystem::path OtherCa();
   /// A new, empty database (dropped first if it exists); returns its URL.
   std::string FreshDatabase(const std::string& name);
 

@@ -453,6 +453,38 @@ TEST(ResultsPg, AStationsRoleStoresAndReadsAttemptsAndNothingElse) {
   EXPECT_EQ(Server().Sql("roles", "SELECT version FROM sulcus_schema"), "5");
 }
 
+// The store over TLS as a school sets it up (a server certificate from the
+// school's CA, every connection required to use TLS): a station that verifies
+// the server (sslmode=verify-full with the CA) stores over TLS; one given
+// another CA is refused, the password not shown; one without TLS is refused.
+TEST(ResultsPg, OverTlsTheServerIsVerifiedAndAnotherCertificateRefused) {
+  test::PostgresServer server;
+  const fs::path ca = server.EnableTls(), other = server.OtherCa();
+  const std::string base = server.FreshDatabase("tls");
+  const std::string url = base + "?sslmode=verify-full&sslrootcert=" + ca.string();
+  const auto store = OpenPostgresResults(url);
+  LessonResult r = Sample("tess", 90.0);
+  r.device_kind = "keys";
+  store->Store(r, "2026-12-01T10:00:00Z", "", "", "", Uuid(7, 1));
+  EXPECT_EQ(store->Attempts("tess").size(), 1u);
+  std::string said;
+  ASSERT_EQ(
+      server.Try(url, "SELECT ssl FROM pg_stat_ssl WHERE pid = pg_backend_pid()", &said),
+      0)
+      << said;
+  EXPECT_EQ(said, "t\n") << "the connection is TLS";
+  try {
+    OpenPostgresResults(base + "?sslmode=verify-full&sslrootcert=" + other.string());
+    ADD_FAILURE() << "a server the station cannot verify was trusted";
+  } catch (const ResultsError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("certificate"), std::string::npos) << m;
+    EXPECT_EQ(m.find(test::PostgresServer::kPassword), std::string::npos) << m;
+  }
+  EXPECT_THROW(OpenPostgresResults(base + "?sslmode=disable"), ResultsError)
+      << "the server takes no connection without TLS";
+}
+
 // The instructor's passphrase set at one station opens the instructor's view at
 // another: its hash is in the shared store, not in a station's folder.
 TEST(ResultsPg, TheInstructorsPassphraseIsTheSameOnEveryStation) {
