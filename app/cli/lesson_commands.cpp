@@ -547,6 +547,30 @@ void AddLessonCommands(CLI::App& app) {
                 (*demo)[0] == "allow" ? "allowed" : "forbidden",
                 place.Describe().c_str());
   });
+  // No change unseen: the attempts' hash chain recomputed.
+  auto verify_dir = std::make_shared<std::string>();
+  CLI::App* verify = results->add_subcommand(
+      "verify",
+      "Recompute the attempts' hash chain and name every row that was changed, or "
+      "after a row that was changed or removed; print the chain's last hash");
+  verify->add_option("--results", *verify_dir,
+                     "Results folder, or a PostgreSQL URL (default: $SULCUS_RESULTS_URL, "
+                     "else the folder's results.db)");
+  verify->callback([verify_dir] {
+    const auto db = OpenResults(ResultsOf(*verify_dir));
+    const ChainCheck c = CheckChain(db->Chain());
+    for (const ChainBreak& b : c.breaks)
+      std::printf("attempt %lld: %s\n", static_cast<long long>(b.id), b.why.c_str());
+    std::printf("%d attempts, %d in the chain (%d stored before it) in %s: %s\n", c.rows,
+                c.chained, c.rows - c.chained, db->where().c_str(),
+                c.breaks.empty() ? "the chain holds" : "the chain does NOT hold");
+    if (!c.last_hash.empty())
+      std::printf(
+          "the chain's last hash: %s (keep it apart from the store: a later "
+          "verify whose chain no longer passes through it was rewritten)\n",
+          c.last_hash.c_str());
+    if (!c.breaks.empty()) Finish(1);
+  });
   // The lab's store set up once by the school's database administrator.
   auto owner = std::make_shared<std::string>();
   CLI::App* setup = results->add_subcommand(

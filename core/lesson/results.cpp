@@ -1,8 +1,12 @@
 #include "core/lesson/results.h"
 
+#include <sodium.h>
 #include <sqlite3.h>
 
+#include <cmath>
 #include <cstdlib>
+#include <map>
+#include <set>
 
 #include "core/base/text.h"
 #include "core/lesson/results_schema.h"
@@ -330,10 +334,10 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
          "duration_s, sites_total, sites_read, sites_charted, within_1mm_pct, bias_mm, "
          "force_in_band_pct, true_dx, "
          "chart_dx, declared_dx, recording, answers, report_dir, complete, ended, uuid, "
-         "device) VALUES ((SELECT id FROM students "
+         "device, row_hash, prev_hash) VALUES ((SELECT id FROM students "
          "WHERE name = ?), (SELECT id FROM lessons WHERE file = ?), ?, ?, ?, ?, ?, ?, "
          "?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, "
-         "?, ?, ?, ?, ?, ?)",
+         "?, ?, ?, ?, ?, ?, ?, ?)",
          file_);
   a.Bind(1, r.student)
       .Bind(2, r.lesson_file)
@@ -361,6 +365,26 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
   else
     a.Bind(24, uuid);
   a.Bind(25, r.device_kind);
+  {
+    // The chain: this row's hash over the one before (one writer: SQLite's lock).
+    Stmt last(db_,
+              "SELECT row_hash FROM attempts WHERE row_hash IS NOT NULL ORDER BY id DESC "
+              "LIMIT 1",
+              file_);
+    const std::string previous = last.Step(file_) && !last.IsNull(0) ? last.Text(0) : "";
+    ChainRow c;
+    c.uuid = uuid;
+    c.student = r.student;
+    c.lesson_file = r.lesson_file;
+    c.started = started;
+    c.mode = r.mode;
+    c.total = r.total;
+    c.complete = r.complete;
+    c.declared_dx = DeclaredText(r);
+    c.device = r.device_kind;
+    a.Bind(26, Sha256Hex(ChainText(previous, c)));
+    a.Bind(27, previous);
+  }
   a.Step(file_);
   const std::int64_t id = sqlite3_last_insert_rowid(db_);
   Stmt site(db_,
@@ -496,6 +520,55 @@ bool ResultsDb::SetSettingOnce(const std::string& key, const std::string& value)
 void ResultsDb::SetSetting(const std::string& key, const std::string& value) {
   Stmt s(db_, "INSERT OR REPLACE INTO settings(key, value) VALUES (?, ?)", file_);
   s.Bind(1, key).Bind(2, value).Step(file_);
+}
+
+std::string ChainText(const std::string& previous, const ChainRow& r) {
+  return previous + "\n" + r.uuid + "\n" + r.student + "\n" + r.lesson_file + "\n" +
+         r.started + "\n" + r.mode + "\n" + std::to_string(std::llrint(r.total * 1000)) +
+         "\n" + (r.complete ? "1" : "0") + "\n" + r.declared_dx + "\n" + r.device;
+}
+
+std::string Sha256Hex(const std::string& text) {
+  if (sodium_init() < 0) throw ResultsError("libsodium could not be initialised");
+  unsigned char h[crypto_hash_sha256_BYTES];
+  crypto_hash_sha256(h, reinterpret_cast<const unsigned char*>(text.data()), text.size());
+  char hex[2 * crypto_hash_sha256_BYTES + 1];
+  sodium_bin2hex(hex, sizeof hex, h, sizeof h);
+  return hex;
+}
+
+ChainCheck CheckChain(const std::vector<ChainRow>& rows) {
+  ChainCheck c;
+  std::map<std::string, int> follows;  // a hash -> how many rows follow it
+  std::set<std::string> hashes;
+  for (const ChainRow& r : rows) {
+    ++c.rows;
+    if (!r.row_hash) continue;
+    ++c.chained;
+    hashes.insert(*r.row_hash);
+    ++follows[r.prev_hash];
+  }
+  for (const ChainRow& r : rows) {
+    if (!r.row_hash) continue;
+    if (Sha256Hex(ChainText(r.prev_hash, r)) != *r.row_hash)
+      c.breaks.push_back({r.id, "its hash does not hold: the row was changed"});
+    else if (!r.prev_hash.empty() && !hashes.count(r.prev_hash))
+      c.breaks.push_back({r.id, "the attempt it follows is not there: removed"});
+    else if (follows[r.prev_hash] > 1)
+      c.breaks.push_back(
+          {r.id, "another attempt follows the same one: a row was put in"});
+  }
+  // The last hash: the chained row no row follows.
+  for (const ChainRow& r : rows)
+    if (r.row_hash && !follows.count(*r.row_hash)) c.last_hash = *r.row_hash;
+  return c;
+}
+
+std::vector<ChainRow> ResultsDb::Chain() const {
+  Stmt s(db_, results_schema::kSelectChain, file_);
+  std::vector<ChainRow> out;
+  while (s.Step(file_)) out.push_back(results_schema::ReadChain(s));
+  return out;
 }
 
 void ExportAttemptsCsv(const std::vector<AttemptRow>& rows, std::ostream& o) {

@@ -28,8 +28,8 @@ namespace sulcus {
 
 // 1: the tables; 2: complete and ended; 3: an attempt's UUID; 4: settings shared
 // by every station (the instructor's passphrase hash); 5: the attempt's device;
-// 6: the settings a station may read (public_settings).
-inline constexpr int kResultsSchemaVersion = 6;
+// 6: the settings a station may read (public_settings); 7: the attempts' hash chain.
+inline constexpr int kResultsSchemaVersion = 7;
 
 /// The shared settings every station may read; the rest (the instructor's
 /// passphrase hash) only the instructor's role of a lab's store.
@@ -55,6 +55,39 @@ struct AttemptRow {
   std::string uuid;    // empty for attempts stored before UUIDs
   std::string device;  // haptic, keys, scripted or replay ('' before they were kept)
 };
+
+/// What an attempt's hash covers, and its hash (ChainText).
+struct ChainRow {
+  std::int64_t id = 0;
+  std::optional<std::string> row_hash;  // none for attempts stored before the chain
+  std::string prev_hash;                // the hash it follows ("": the first)
+  std::string uuid, student, lesson_file, started, mode, declared_dx, device;
+  double total = 0;
+  bool complete = true;
+};
+/// The text an attempt's hash is the SHA-256 of: the hash before it (or "") and
+/// the row's UUID, student, lesson file, start, mode, score (in thousandths,
+/// rounded half to even), whether complete, the declared diagnosis and device,
+/// one a line. The shared store's trigger makes the same text.
+std::string ChainText(const std::string& previous, const ChainRow& r);
+/// SHA-256, as lower-case hex.
+std::string Sha256Hex(const std::string& text);
+/// Where the chain does not hold: the row, and why.
+struct ChainBreak {
+  std::int64_t id = 0;
+  std::string why;
+};
+struct ChainCheck {
+  std::vector<ChainBreak> breaks;
+  int rows = 0, chained = 0;
+  std::string
+      last_hash;  // keep it elsewhere: a later check shows the chain still ends there
+};
+/// Recomputes each row's hash from the hash it follows and names every row
+/// whose hash does not hold (changed), and every row whose predecessor is not
+/// there (removed) or shared with another (a row put in); the chain is followed
+/// from its start to its last hash.
+ChainCheck CheckChain(const std::vector<ChainRow>& rows);
 
 struct SiteRow {
   std::int64_t attempt = 0;
@@ -117,6 +150,8 @@ class ResultsStore {
   virtual std::optional<std::string> Setting(const std::string& key) const = 0;
   /// Sets a setting that is not set yet; false (and nothing written) when it is.
   virtual bool SetSettingOnce(const std::string& key, const std::string& value) = 0;
+  /// Every attempt's chained hash and what it covers, in order.
+  virtual std::vector<ChainRow> Chain() const = 0;
   /// Sets (or replaces) a shared setting: what the instructor decides.
   virtual void SetSetting(const std::string& key, const std::string& value) = 0;
 };
@@ -172,6 +207,7 @@ class ResultsDb final : public ResultsStore {
   std::optional<std::string> Setting(const std::string& key) const override;
   bool SetSettingOnce(const std::string& key, const std::string& value) override;
   void SetSetting(const std::string& key, const std::string& value) override;
+  std::vector<ChainRow> Chain() const override;
   /// "ok" when the database is sound.
   std::string IntegrityCheck() const;
   const std::filesystem::path& file() const { return file_; }

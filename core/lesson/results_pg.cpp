@@ -278,6 +278,14 @@ class PgResults final : public ResultsStore {
     return std::string(r.affected()) == "1";
   }
 
+  std::vector<ChainRow> Chain() const override {
+    const Result r = Query(results_schema::kSelectChain, Params());
+    std::vector<ChainRow> out;
+    for (int i = 0; i < r.rows(); ++i)
+      out.push_back(results_schema::ReadChain(RowColumns{r, i}));
+    return out;
+  }
+
   void SetSetting(const std::string& key, const std::string& value) override {
     Query(
         "INSERT INTO settings(key, value) VALUES ($1, $2) ON CONFLICT (key) DO UPDATE "

@@ -106,6 +106,14 @@ ALTER TABLE attempts ADD COLUMN device TEXT NOT NULL DEFAULT '';
     R"sql(
 CREATE VIEW public_settings AS SELECT key, value FROM settings WHERE key IN ('demonstrations');
 )sql",
+    // 7: each attempt's hash, chained to the one before it (ChainText), with
+    // the hash it follows; on PostgreSQL made by the store's own trigger, under
+    // a lock, from the chain's head (chain_head).
+    R"sql(
+ALTER TABLE attempts ADD COLUMN row_hash TEXT;
+ALTER TABLE attempts ADD COLUMN prev_hash TEXT;
+{PG_CHAIN}
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kResultsSchemaVersion);
 
@@ -122,6 +130,34 @@ inline std::string MigrationSql(int i, Dialect d) {
   put("{ID}", pg ? "BIGSERIAL PRIMARY KEY" : "INTEGER PRIMARY KEY");
   put("{BIG}", pg ? "BIGINT" : "INTEGER");
   put("{REAL}", pg ? "DOUBLE PRECISION" : "REAL");
+  put("{PG_CHAIN}", pg ? R"sql(
+CREATE TABLE chain_head (hash TEXT NOT NULL);
+INSERT INTO chain_head VALUES ('');
+CREATE FUNCTION sulcus_chain() RETURNS trigger LANGUAGE plpgsql SECURITY DEFINER
+SET search_path = public, pg_temp AS $chain$
+DECLARE prev TEXT;
+BEGIN
+  PERFORM pg_advisory_xact_lock(5375636861);
+  IF EXISTS (SELECT 1 FROM attempts WHERE uuid = NEW.uuid) THEN
+    RETURN NEW;  -- stored before: ON CONFLICT inserts nothing, the head stays
+  END IF;
+  SELECT hash INTO prev FROM chain_head;
+  NEW.prev_hash := prev;
+  NEW.row_hash := encode(sha256(convert_to(
+      prev || E'\n' || coalesce(NEW.uuid, '') || E'\n' ||
+      coalesce((SELECT name FROM students WHERE id = NEW.student_id), '') || E'\n' ||
+      coalesce((SELECT file FROM lessons WHERE id = NEW.lesson_id), '') || E'\n' ||
+      NEW.started || E'\n' || NEW.mode || E'\n' ||
+      round(NEW.total * 1000)::bigint::text || E'\n' || NEW.complete::text || E'\n' ||
+      NEW.declared_dx || E'\n' || NEW.device, 'UTF8')), 'hex');
+  UPDATE chain_head SET hash = NEW.row_hash;
+  RETURN NEW;
+END
+$chain$;
+CREATE TRIGGER attempts_chain BEFORE INSERT ON attempts FOR EACH ROW
+EXECUTE FUNCTION sulcus_chain();
+)sql"
+                       : "");
   put("{NOW}", pg ? "to_char(now() AT TIME ZONE 'UTC', 'YYYY-MM-DD\"T\"HH24:MI:SS\"Z\"')"
                   : "(strftime('%Y-%m-%dT%H:%M:%SZ', 'now'))");
   return sql;
@@ -134,6 +170,13 @@ inline std::string Query(std::string sql, Dialect d) {
       if (c == '$') c = '?';
   return sql;
 }
+
+/// The chain's rows in order: what each attempt's hash covers.
+inline constexpr const char* kSelectChain =
+    "SELECT a.id, a.row_hash, a.uuid, s.name, l.file, a.started, a.mode, a.total, "
+    "a.complete, a.declared_dx, a.device, a.prev_hash FROM attempts a JOIN students s ON "
+    "s.id = "
+    "a.student_id JOIN lessons l ON l.id = a.lesson_id ORDER BY a.id";
 
 /// Attempts with their student and lesson; a WHERE clause follows.
 inline constexpr const char* kSelectAttempts =
@@ -186,6 +229,25 @@ AttemptRow ReadAttempt(const Columns& c) {
   a.uuid = c.Text(25);
   a.device = c.Text(26);
   return a;
+}
+
+/// A row of kSelectChain.
+template <class Columns>
+ChainRow ReadChain(const Columns& c) {
+  ChainRow r;
+  r.id = c.Int(0);
+  if (!c.IsNull(1)) r.row_hash = c.Text(1);
+  r.uuid = c.IsNull(2) ? "" : c.Text(2);
+  r.student = c.Text(3);
+  r.lesson_file = c.Text(4);
+  r.started = c.Text(5);
+  r.mode = c.Text(6);
+  r.total = c.Real(7);
+  r.complete = c.Int(8) != 0;
+  r.declared_dx = c.Text(9);
+  r.device = c.Text(10);
+  r.prev_hash = c.IsNull(11) ? "" : c.Text(11);
+  return r;
 }
 
 /// A row of kSelectSites (IsNull by index too).

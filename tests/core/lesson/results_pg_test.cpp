@@ -485,6 +485,45 @@ TEST(ResultsPg, OverTlsTheServerIsVerifiedAndAnotherCertificateRefused) {
       << "the server takes no connection without TLS";
 }
 
+// No change unseen on the shared store: the chain is made by the store's own
+// trigger (the station sends no hash), holds for attempts stored by twenty
+// stations at once, and names the row the owner changed.
+TEST(ResultsPg, TheStoresHashChainNamesTheRowItsOwnerChanged) {
+  const std::string url = FreshDatabase("chain", false);
+  std::vector<pid_t> stations;
+  for (int s = 0; s < 6; ++s) {
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      try {
+        const auto store = OpenPostgresResults(url);
+        for (int k = 0; k < 3; ++k)
+          store->Store(Sample("s" + std::to_string(s), 50 + k + 0.1234), "2026-12-01", "",
+                       "", "", Uuid(s, k));
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "station: %s\n", e.what());
+        _exit(1);
+      }
+      _exit(0);
+    }
+    stations.push_back(child);
+  }
+  for (pid_t c : stations) {
+    int status = 0;
+    waitpid(c, &status, 0);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  }
+  ChainCheck c = CheckChain(OpenPostgresResults(url)->Chain());
+  EXPECT_EQ(c.rows, 18);
+  EXPECT_EQ(c.chained, 18);
+  EXPECT_TRUE(c.breaks.empty()) << c.breaks.front().id << ": " << c.breaks.front().why;
+  const std::string id = Server().Sql("chain", "SELECT min(id) + 7 FROM attempts");
+  Server().Sql("chain", "UPDATE attempts SET total = 99.9 WHERE id = " + id);
+  c = CheckChain(OpenPostgresResults(url)->Chain());
+  ASSERT_EQ(c.breaks.size(), 1u);
+  EXPECT_EQ(std::to_string(c.breaks[0].id), id);
+}
+
 // The instructor's passphrase set at one station opens the instructor's view at
 // another: its hash is in the shared store, not in a station's folder.
 TEST(ResultsPg, TheInstructorsPassphraseIsTheSameOnEveryStation) {

@@ -96,6 +96,8 @@ TEST(Results, VersionOneDatabaseIsMigratedKeepingItsAttempts) {
     ASSERT_EQ(
         sqlite3_exec(h,
                      "DROP VIEW public_settings; ALTER TABLE attempts DROP COLUMN "
+                     "row_hash; ALTER TABLE attempts DROP COLUMN prev_hash; ALTER "
+                     "TABLE attempts DROP COLUMN "
                      "device; ALTER TABLE attempts DROP COLUMN complete; ALTER TABLE "
                      "attempts DROP COLUMN ended; DROP INDEX attempts_by_uuid; "
                      "ALTER TABLE attempts DROP COLUMN uuid; DROP TABLE settings; "
@@ -115,6 +117,52 @@ TEST(Results, VersionOneDatabaseIsMigratedKeepingItsAttempts) {
   EXPECT_TRUE(rows[0].complete);  // what version 1 kept was complete
   EXPECT_EQ(rows[0].uuid, "") << "attempts from before UUIDs have none";
   EXPECT_EQ(rows[0].device, "") << "nor a device";
+}
+
+// No change unseen: every attempt's hash is chained to the one before; a row
+// changed afterwards, or removed, is named by the check (and the rows after a
+// removed one), while the untouched chain holds.
+TEST(Results, TheHashChainNamesARowChangedOrRemoved) {
+  const fs::path file = Fresh("chain");
+  ResultsDb db(file);
+  for (int k = 0; k < 4; ++k)
+    db.Store(Sample("ada", 60 + k), "2026-12-01T10:00:0" + std::to_string(k) + "Z",
+             "/a.rec", "/a.yaml", "/a",
+             "00000000-0000-4000-8000-00000000000" + std::to_string(k));
+  ChainCheck c = CheckChain(db.Chain());
+  EXPECT_EQ(c.rows, 4);
+  EXPECT_EQ(c.chained, 4);
+  EXPECT_TRUE(c.breaks.empty());
+  EXPECT_EQ(c.last_hash.size(), 64u);
+  const std::string end = c.last_hash;
+  {
+    sqlite3* h = nullptr;
+    ASSERT_EQ(sqlite3_open(file.c_str(), &h), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(h, "UPDATE attempts SET total = 98.5 WHERE id = 2", nullptr,
+                           nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(h);
+  }
+  c = CheckChain(db.Chain());
+  ASSERT_EQ(c.breaks.size(), 1u);
+  EXPECT_EQ(c.breaks[0].id, 2) << "the changed row, named";
+  EXPECT_EQ(c.last_hash, end);
+  {
+    sqlite3* h = nullptr;
+    ASSERT_EQ(sqlite3_open(file.c_str(), &h), SQLITE_OK);
+    ASSERT_EQ(
+        sqlite3_exec(h,
+                     "UPDATE attempts SET total = 61 WHERE id = 2; DELETE FROM "
+                     "attempt_lines WHERE attempt_id = 3; DELETE FROM attempt_scores "
+                     "WHERE attempt_id = 3; DELETE FROM attempt_sites WHERE "
+                     "attempt_id = 3; DELETE FROM attempts WHERE id = 3",
+                     nullptr, nullptr, nullptr),
+        SQLITE_OK);
+    sqlite3_close(h);
+  }
+  c = CheckChain(db.Chain());
+  ASSERT_EQ(c.breaks.size(), 1u);
+  EXPECT_EQ(c.breaks[0].id, 4) << "the row after the one removed";
 }
 
 TEST(Results, AttemptsRoundTripAndExport) {
