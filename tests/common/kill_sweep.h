@@ -17,6 +17,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -108,7 +109,10 @@ class SmallDisk {
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
     const std::string size = "size=" + std::to_string(megabytes) + "m";
-    mounted_ = mount("tmpfs", dir_.c_str(), "tmpfs", 0, size.c_str()) == 0;
+    // SULCUS_TEST_NO_MOUNT=1 tries the stand-in where the test could mount.
+    const char* no_mount = std::getenv("SULCUS_TEST_NO_MOUNT");
+    mounted_ = !(no_mount && std::string(no_mount) == "1") &&
+               mount("tmpfs", dir_.c_str(), "tmpfs", 0, size.c_str()) == 0;
   }
   ~SmallDisk() {
     if (mounted_) umount2(dir_.c_str(), MNT_DETACH);
@@ -152,7 +156,7 @@ inline bool FullDiskAndSync(const AttemptFolder& made, const LessonResult& resul
   fs::create_directories(folder.dir.parent_path());
   fs::copy(made.dir, folder.dir, fs::copy_options::recursive);
   disk.LeaveFree(free);
-  const std::uintmax_t left = disk.Free();
+  const std::uintmax_t left = disk.mounted() ? disk.Free() : free;  // or the limit
   const pid_t child = fork();
   if (child < 0) {
     ADD_FAILURE() << "fork failed";
@@ -177,7 +181,7 @@ inline bool FullDiskAndSync(const AttemptFolder& made, const LessonResult& resul
   const bool waiting = !UnfinishedAttempts(place.dir).empty();
   const int rows = stored();
   std::printf("figure: full disk (%s), %ju bytes free: keeping %s, %s\n",
-              disk.mounted() ? "a tmpfs filled" : "a file-size limit", left,
+              disk.mounted() ? "a tmpfs filled" : "a file-size limit per file", left,
               WIFEXITED(status) && WEXITSTATUS(status) == 0 ? "returned" : "failed",
               waiting ? "waiting, stored by the sync" : "stored");
   EXPECT_TRUE(waiting || rows == 1) << free << " bytes free: neither stored nor waiting";

@@ -347,7 +347,8 @@ TEST(ResultsPg, ADiskThatFillsWhileAnAttemptIsKeptLosesNothing) {
     EXPECT_EQ(rows(), 1) << free << " bytes free: exactly once";
     fs::remove_all(place.dir);
   }
-  EXPECT_GE(waited, 3);
+  // A file-size limit (where no tmpfs can be mounted) stops fewer writes.
+  EXPECT_GE(waited, disk.mounted() ? 3 : 2);
 }
 
 // Scripted and replayed attempts are not a student's: a station of a shared
