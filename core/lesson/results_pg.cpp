@@ -263,6 +263,14 @@ class PgResults final : public ResultsStore {
 
   std::optional<std::string> Setting(const std::string& key) const override {
     // A station's role reads only the public ones (through the owner's view).
+    if (!PublicSetting(key) &&
+        Query("SELECT has_table_privilege('settings', 'SELECT')", Params()).Text(0, 0) !=
+            "t")
+      throw ResultsError("PostgreSQL results store " + shown_ +
+                         ": this station's role may not read the instructor's settings "
+                         "(the passphrase); the instructor's view reads them with the "
+                         "instructor's role (" +
+                         kInstructorRole + " in SULCUS_RESULTS_URL)");
     const Result r =
         Query(PublicSetting(key) ? "SELECT value FROM public_settings WHERE key = $1"
                                  : "SELECT value FROM settings WHERE key = $1",
