@@ -17,8 +17,9 @@ packages=(
   qtbase5-dev libvtk9-dev libvtk9-qt-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
-  # a PostgreSQL server the results store's tests start in a temporary folder
-  postgresql-15
+  # a PostgreSQL server the results store's tests start in a temporary folder,
+  # and openssl for the certificates of its TLS test
+  postgresql-15 openssl
   # plots of the accuracy/cost figures; the virtual environment in which
   # scripts/bench.sh installs DAQP to compare the QP with
   gnuplot-nox python3-venv
