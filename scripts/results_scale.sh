@@ -29,7 +29,8 @@ trap 'pg stop -m immediate 2>/dev/null || true; rm -rf "$dir"' EXIT
 pg -o "$opts" start
 SULCUS_RESULTS_URL=$url "$cli" results list >/dev/null  # the tables
 # Scripted students' attempts: demonstrations, allowed as the instructor would.
-"$bin/psql" -q "$url" -c "INSERT INTO settings(key, value) VALUES ('demonstrations', 'allowed') ON CONFLICT (key) DO UPDATE SET value = 'allowed'"
+"$bin/psql" -q "$url" -c "INSERT INTO settings(key, value) VALUES ('demonstrations', \
+  'allowed') ON CONFLICT (key) DO UPDATE SET value = 'allowed'"
 pg stop
 echo "taking $n attempts (student:$student) with the server stopped..."
 for ((i = 0; i < n; ++i)); do

@@ -98,8 +98,6 @@ class MainWindow : public QMainWindow {
   std::optional<SiteRef> ProbeTarget() const;
   /// The press's step (R and F), N.
   static constexpr double kPressStepN = 0.02;
-  /// The walking keys: along the sulcus a press, and the lift of its stroke.
-  static constexpr double kWalkStepMm = 0.4, kWalkLiftMm = 1.0;
   void SetGingivaTranslucent(bool on);
   /// As the "hide lips and cheeks" box does.
   void SetLipsAndCheeksHidden(bool hidden);

@@ -134,6 +134,13 @@ void CheckReportFolder(const fs::path& dir) {
                     "replaced; give a new folder");
 }
 
+// The results place a subcommand works on: a folder or a PostgreSQL URL.
+void AddResultsOption(CLI::App* c, std::string* where) {
+  c->add_option("--results", *where,
+                "Results folder, or a PostgreSQL URL (default: $SULCUS_RESULTS_URL, "
+                "else the folder's results.db)");
+}
+
 int RunLesson(const RunArgs& typed) {
   // The name checked at the door, before the lesson: never refused after it;
   // trimmed and composed (NFC) as the window does, one spelling per student.
@@ -445,10 +452,7 @@ void AddLessonCommands(CLI::App& app) {
     c->add_option("--student", (*q)[0], "Only this student");
     c->add_option("--lesson", (*q)[1], "Only this lesson file");
   }
-  for (CLI::App* c : {list, show, exp})
-    c->add_option("--results", (*q)[3],
-                  "Results folder, or a PostgreSQL URL (default: $SULCUS_RESULTS_URL, "
-                  "else the folder's results.db)");
+  for (CLI::App* c : {list, show, exp}) AddResultsOption(c, &(*q)[3]);
   show->add_option("ATTEMPT", *id, "Attempt id")->required()->check(WholeNumber());
   exp->add_option("-o,--output", (*q)[2], "CSV file (default: standard output)");
   exp->add_flag("--sites", *sites, "One line per site instead of per attempt");
@@ -520,9 +524,7 @@ void AddLessonCommands(CLI::App& app) {
   demos->add_option("WHAT", (*demo)[0], "allow or forbid")
       ->required()
       ->check(CLI::IsMember({"allow", "forbid"}));
-  demos->add_option("--results", (*demo)[1],
-                    "Results folder, or a PostgreSQL URL (default: $SULCUS_RESULTS_URL, "
-                    "else the folder's results.db)");
+  AddResultsOption(demos, &(*demo)[1]);
   demos->callback([demo] {
     const ResultsPlace place = ResultsOf((*demo)[1]);
     const InstructorLock lock(place);
@@ -553,9 +555,7 @@ void AddLessonCommands(CLI::App& app) {
       "verify",
       "Recompute the attempts' hash chain and name every row that was changed, or "
       "after a row that was changed or removed; print the chain's last hash");
-  verify->add_option("--results", *verify_dir,
-                     "Results folder, or a PostgreSQL URL (default: $SULCUS_RESULTS_URL, "
-                     "else the folder's results.db)");
+  AddResultsOption(verify, verify_dir.get());
   verify->callback([verify_dir] {
     const auto db = OpenResults(ResultsOf(*verify_dir));
     const ChainCheck c = CheckChain(db->Chain());
@@ -620,9 +620,7 @@ void AddLessonCommands(CLI::App& app) {
       "sync",
       "Send what this station kept while the results store or the LRS could not be "
       "reached: the attempts (each stored once) and their xAPI statements");
-  sync->add_option("--results", *sync_dir,
-                   "Results folder, or a PostgreSQL URL (default: $SULCUS_RESULTS_URL, "
-                   "else the folder's results.db)");
+  AddResultsOption(sync, sync_dir.get());
   sync->callback([sync_dir] {
     const ResultsPlace place = ResultsOf(*sync_dir);
     int status = 0;

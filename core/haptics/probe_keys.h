@@ -19,6 +19,10 @@ inline constexpr double kProbeLeanDeg = 4.0;
 RigidTransform PoseOverSite(const ProbingSite& s, double above_mm,
                             double tilt_deg = kProbeLeanDeg);
 
+/// The walking keys' step along the sulcus and the lift that goes with it (the
+/// press brings the tip back down): the window's and the keys student's.
+inline constexpr double kWalkStepMm = 0.4, kWalkLiftMm = 1.0;
+
 /// Comma and period: the tip moved `step_mm` along the sulcus' middle round
 /// the tooth (positive: the ring's increasing angle), at the same depth below
 /// the margin but above the floor where it steps to, the probe turned with it

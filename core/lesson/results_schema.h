@@ -104,7 +104,8 @@ ALTER TABLE attempts ADD COLUMN device TEXT NOT NULL DEFAULT '';
 )sql",
     // 6: the settings a station may read (never the instructor's passphrase hash).
     R"sql(
-CREATE VIEW public_settings AS SELECT key, value FROM settings WHERE key IN ('demonstrations');
+CREATE VIEW public_settings AS
+  SELECT key, value FROM settings WHERE key IN ('demonstrations');
 )sql",
     // 7: each attempt's hash, chained to the one before it (ChainText), with
     // the hash it follows; on PostgreSQL made by the store's own trigger, under

@@ -38,7 +38,7 @@ class KeysDevice final : public Device {
 class ScriptedKeys final : public ScriptedHand {
  public:
   static constexpr double kPressN = 0.24, kPressStepN = 0.02, kKeyS = 0.05;
-  static constexpr double kWalkStepMm = 0.4, kWalkLiftMm = 1.0, kWalkEveryS = 0.6;
+  static constexpr double kWalkEveryS = 0.6;  // steps kWalkStepMm (probe_keys.h)
   static constexpr double kStillS = 0.5, kGiveUpS = 8.0;
 
   ScriptedKeys(const LessonSpec& spec, const CompiledScene& scene)

@@ -39,6 +39,30 @@ struct SweepStop {
   }
 };
 
+/// A short attempt to keep (the spot prober's, on the probing lesson), made into
+/// its own folder under `base` (emptied first) and never kept: each case of a
+/// sweep keeps a copy of its folder.
+struct MadeAttempt {
+  AttemptFolder folder;
+  AttemptOutcome out;
+};
+inline MadeAttempt MakeSpotAttempt(const std::filesystem::path& base,
+                                   const std::string& student,
+                                   const std::filesystem::path& cache_dir) {
+  std::filesystem::remove_all(base);
+  MadeAttempt m{NewAttemptFolder(base, student), {}};
+  AttemptOptions o;
+  o.student = student;
+  o.device = "student:spot";
+  o.cache_dir = cache_dir;
+  o.record = m.folder.recording();
+  o.keep_in = &m.folder;
+  m.out = RunAttempt(
+      std::filesystem::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml",
+      o);
+  return m;
+}
+
 /// Each of KeepAttempt's steps by a signal in turn, then SIGKILL at `delays_us`.
 inline std::vector<SweepStop> SweepStops(const std::vector<int>& delays_us) {
   std::vector<SweepStop> stops;

@@ -3,6 +3,7 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "tests/common/output.h"
 
@@ -132,6 +134,34 @@ void MakeCa(const fs::path& dir, const std::string& name) {
 }
 
 }  // namespace
+
+int RunStationsAtOnce(int n, const std::function<void(int station)>& work) {
+  std::vector<pid_t> children;
+  int failed = 0;
+  for (int s = 0; s < n; ++s) {
+    const pid_t child = fork();
+    if (child < 0) {
+      ++failed;
+      continue;
+    }
+    if (child == 0) {
+      try {
+        work(s);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "station %d: %s\n", s, e.what());
+        _exit(1);
+      }
+      _exit(0);
+    }
+    children.push_back(child);
+  }
+  for (const pid_t c : children) {
+    int status = 0;
+    waitpid(c, &status, 0);
+    failed += !(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  }
+  return failed;
+}
 
 fs::path PostgresServer::EnableTls() {
   const fs::path tls = dir_ / "tls";

@@ -6,6 +6,7 @@
 // server runs as the `postgres` system user, which initdb requires.
 
 #include <filesystem>
+#include <functional>
 #include <string>
 
 namespace sulcus::test {
@@ -49,6 +50,10 @@ class PostgresServer {
   int port_ = 0;
   bool running_ = false;
 };
+
+/// `n` stations at once: each a child process running `work(station)`; a
+/// station that throws says why on standard error. Returns how many failed.
+int RunStationsAtOnce(int n, const std::function<void(int station)>& work);
 
 /// A TCP port nothing listens on now (bound and released).
 int FreePort();

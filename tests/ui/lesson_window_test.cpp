@@ -863,30 +863,16 @@ TEST(Lab, TheInstructorsViewAtAnyStationShowsTheWholeLab) {
   OpenResults(ResultsPlace({}, url))->SetSetting(kDemonstrationsSetting, "allowed");
   const fs::path lab = Out("lab");
   fs::remove_all(lab);
-  std::vector<pid_t> stations;
-  for (int s = 0; s < 3; ++s) {
-    const pid_t child = fork();
-    ASSERT_GE(child, 0);
-    if (child == 0) {
-      try {
-        const std::string who = "student" + std::to_string(s);
-        const ResultsPlace place(lab / ("station" + std::to_string(s)), url);
-        const AttemptFolder f = NewAttemptFolder(place.dir, who);
-        OpenResults(place)->Store(test::Sample(who, 80 + s), f.started, "", "", "",
-                                  AttemptUuid(f.dir));
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "station: %s\n", e.what());
-        _exit(1);
-      }
-      _exit(0);
-    }
-    stations.push_back(child);
-  }
-  for (pid_t c : stations) {
-    int status = 0;
-    waitpid(c, &status, 0);
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
-  }
+  EXPECT_EQ(test::RunStationsAtOnce(
+                3,
+                [&](int s) {
+                  const std::string who = "student" + std::to_string(s);
+                  const ResultsPlace place(lab / ("station" + std::to_string(s)), url);
+                  const AttemptFolder f = NewAttemptFolder(place.dir, who);
+                  OpenResults(place)->Store(test::Sample(who, 80 + s), f.started, "", "",
+                                            "", AttemptUuid(f.dir));
+                }),
+            0);
   // The fourth station, with the server down: the attempt waits in its folder.
   server.Stop();
   const fs::path fourth = lab / "station3";

@@ -31,23 +31,9 @@ fs::path Lesson() {
 fs::path Out(const std::string& name) { return test::OutputPath("recovery", name); }
 fs::path Cache() { return fs::path(SULCUS_TEST_OUTPUT) / "probing-cache"; }
 
-/// The spot prober's attempt (a short one), made once into `base` and never kept:
-/// each case keeps a copy of its folder.
-struct Made {
-  AttemptFolder folder;
-  AttemptOutcome out;
-};
+using Made = test::MadeAttempt;
 Made MakeAttempt(const fs::path& base, const std::string& student) {
-  fs::remove_all(base);
-  Made m{NewAttemptFolder(base, student), {}};
-  AttemptOptions o;
-  o.student = student;
-  o.device = "student:spot";
-  o.cache_dir = Cache();
-  o.record = m.folder.recording();
-  o.keep_in = &m.folder;
-  m.out = RunAttempt(Lesson(), o);
-  return m;
+  return test::MakeSpotAttempt(base, student, Cache());
 }
 
 TEST(Recovery, AnAttemptCutShortByAStoppedProgramIsRebuiltAndKeptAsIncomplete) {
@@ -207,15 +193,9 @@ TEST(Recovery, AHeadlessAttemptKilledMidLessonIsRebuiltFromItsRecording) {
 // recovery: once.
 TEST(Recovery, AnAttemptTheDatabaseCouldNotTakeIsStoredLaterAndOnce) {
   const fs::path results = Out("unstored");
-  fs::remove_all(results);
-  const AttemptFolder folder = NewAttemptFolder(results, "uma");
-  AttemptOptions o;
-  o.student = "uma";
-  o.device = "student:spot";
-  o.cache_dir = Cache();
-  o.record = folder.recording();
-  o.keep_in = &folder;
-  const AttemptOutcome out = RunAttempt(Lesson(), o);
+  const Made made = MakeAttempt(results, "uma");
+  const AttemptFolder& folder = made.folder;
+  const AttemptOutcome& out = made.out;
   fs::create_directories(results / "results.db");
   EXPECT_ANY_THROW(KeepAttempt(out.result, folder, folder.dir, ResultsPlace(results)));
   EXPECT_TRUE(fs::exists(folder.dir / "report.json")) << "the report is kept";

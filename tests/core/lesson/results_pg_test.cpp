@@ -107,33 +107,21 @@ TEST(ResultsPg, TwentyStationsStoringAtOnceLoseNothingAndDuplicateNothing) {
   const double empty_bytes = size();
   constexpr int kStations = 20, kEach = 5;
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<pid_t> children;
-  for (int s = 0; s < kStations; ++s) {
-    const pid_t child = fork();
-    ASSERT_GE(child, 0);
-    if (child == 0) {
-      try {
-        // Each station opens the store itself: the empty schema is migrated
-        // once, under the store's lock, whoever comes first.
-        const auto store = OpenPostgresResults(url);
-        for (int k = 0; k < kEach; ++k)
-          store->Store(Sample("station" + std::to_string(s), k), "2026-12-01T10:00:00Z",
-                       "r", "a", "d", Uuid(s, k));
-        store->Store(Sample("station" + std::to_string(s), 0), "2026-12-01T10:00:00Z",
-                     "r", "a", "d", Uuid(s, 0));
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "station %d: %s\n", s, e.what());
-        _exit(1);
-      }
-      _exit(0);
-    }
-    children.push_back(child);
-  }
-  for (pid_t c : children) {
-    int status = 0;
-    waitpid(c, &status, 0);
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
-  }
+  EXPECT_EQ(
+      test::RunStationsAtOnce(kStations,
+                              [&](int s) {
+                                // Each station opens the store itself: the
+                                // empty schema is migrated once, under the
+                                // store's lock, whoever comes first.
+                                const auto store = OpenPostgresResults(url);
+                                const std::string who = "station" + std::to_string(s);
+                                for (int k = 0; k < kEach; ++k)
+                                  store->Store(Sample(who, k), "2026-12-01T10:00:00Z",
+                                               "r", "a", "d", Uuid(s, k));
+                                store->Store(Sample(who, 0), "2026-12-01T10:00:00Z", "r",
+                                             "a", "d", Uuid(s, 0));
+                              }),
+      0);
   const double s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto store = OpenPostgresResults(url);
@@ -297,22 +285,17 @@ TEST(ResultsPg, AnAttemptMadeWhileTheServerWasDownIsSyncedOnce) {
 // keeping an attempt (SIGKILL, SIGTERM, SIGINT in turn) and at timed instants
 // within it; after a sync every attempt is in the server's store exactly once.
 TEST(ResultsPg, AKeepingStoppedAtAnyInstantIsStoredExactlyOnceAfterASync) {
-  const fs::path base = test::FreshOutputPath("results_pg", "sweep-template");
-  const AttemptFolder made = NewAttemptFolder(base, "sam");
-  AttemptOptions o;
-  o.student = "sam";
-  o.device = "student:spot";
-  o.cache_dir = fs::path(SULCUS_TEST_OUTPUT) / "probing-cache";
-  o.record = made.recording();
-  o.keep_in = &made;
-  const AttemptOutcome out =
-      RunAttempt(fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml", o);
+  const fs::path cache = fs::path(SULCUS_TEST_OUTPUT) / "probing-cache";
+  const test::MadeAttempt m = test::MakeSpotAttempt(
+      test::OutputPath("results_pg", "sweep-template"), "sam", cache);
+  const AttemptFolder& made = m.folder;
+  const AttemptOutcome& out = m.out;
   int waited = 0, n = 0;
   for (const test::SweepStop& st : test::SweepStops({1000, 5000, 20000, 60000})) {
     const std::string url = FreshDatabase("sweep" + std::to_string(n));
     const ResultsPlace place(
         test::FreshOutputPath("results_pg", "sweep-" + std::to_string(n++)), url);
-    waited += test::StopAndSync(made, out.result, place, st, o.cache_dir);
+    waited += test::StopAndSync(made, out.result, place, st, cache);
     EXPECT_EQ(OpenPostgresResults(url)->Attempts("sam").size(), 1u)
         << st.What() << ": exactly once";
   }
@@ -324,16 +307,11 @@ TEST(ResultsPg, AKeepingStoppedAtAnyInstantIsStoredExactlyOnceAfterASync) {
 // time the attempt is in the server's store or waiting, and after a sync it is
 // in the store exactly once.
 TEST(ResultsPg, ADiskThatFillsWhileAnAttemptIsKeptLosesNothing) {
-  const fs::path base = test::FreshOutputPath("results_pg", "full-disk-template");
-  const AttemptFolder made = NewAttemptFolder(base, "fay");
-  AttemptOptions o;
-  o.student = "fay";
-  o.device = "student:spot";
-  o.cache_dir = fs::path(SULCUS_TEST_OUTPUT) / "probing-cache";
-  o.record = made.recording();
-  o.keep_in = &made;
-  const AttemptOutcome out =
-      RunAttempt(fs::path(SULCUS_SOURCE_DIR) / "lessons" / "periodontal_probing.yaml", o);
+  const fs::path cache = fs::path(SULCUS_TEST_OUTPUT) / "probing-cache";
+  const test::MadeAttempt m = test::MakeSpotAttempt(
+      test::OutputPath("results_pg", "full-disk-template"), "fay", cache);
+  const AttemptFolder& made = m.folder;
+  const AttemptOutcome& out = m.out;
   test::SmallDisk disk(test::OutputPath("results_pg", "full-disk"), 4);
   int waited = 0, n = 0;
   for (const std::uintmax_t free : {0, 16384, 131072, 262144, 393216, 1048576}) {
@@ -342,8 +320,7 @@ TEST(ResultsPg, ADiskThatFillsWhileAnAttemptIsKeptLosesNothing) {
     const auto rows = [&] {
       return static_cast<int>(OpenPostgresResults(url)->Attempts("fay").size());
     };
-    waited +=
-        test::FullDiskAndSync(made, out.result, disk, place, free, o.cache_dir, rows);
+    waited += test::FullDiskAndSync(made, out.result, disk, place, free, cache, rows);
     EXPECT_EQ(rows(), 1) << free << " bytes free: exactly once";
     fs::remove_all(place.dir);
   }
@@ -497,29 +474,15 @@ TEST(ResultsPg, OverTlsTheServerIsVerifiedAndAnotherCertificateRefused) {
 // stations at once, and names the row the owner changed.
 TEST(ResultsPg, TheStoresHashChainNamesTheRowItsOwnerChanged) {
   const std::string url = FreshDatabase("chain", false);
-  std::vector<pid_t> stations;
-  for (int s = 0; s < 6; ++s) {
-    const pid_t child = fork();
-    ASSERT_GE(child, 0);
-    if (child == 0) {
-      try {
-        const auto store = OpenPostgresResults(url);
-        for (int k = 0; k < 3; ++k)
-          store->Store(Sample("s" + std::to_string(s), 50 + k + 0.1234), "2026-12-01", "",
-                       "", "", Uuid(s, k));
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "station: %s\n", e.what());
-        _exit(1);
-      }
-      _exit(0);
-    }
-    stations.push_back(child);
-  }
-  for (pid_t c : stations) {
-    int status = 0;
-    waitpid(c, &status, 0);
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
-  }
+  EXPECT_EQ(test::RunStationsAtOnce(
+                6,
+                [&](int s) {
+                  const auto store = OpenPostgresResults(url);
+                  for (int k = 0; k < 3; ++k)
+                    store->Store(Sample("s" + std::to_string(s), 50 + k + 0.1234),
+                                 "2026-12-01", "", "", "", Uuid(s, k));
+                }),
+            0);
   ChainCheck c = CheckChain(OpenPostgresResults(url)->Chain());
   EXPECT_EQ(c.rows, 18);
   EXPECT_EQ(c.chained, 18);
