@@ -581,8 +581,10 @@ TEST(LessonWindow, NAndTReachTheColAndTheBloodShowsAtTheMargin) {
   const bool under = WaitFor(
       [&] {
         said_under = said_under || w.lesson_text().contains("Under the contact");
+        // Until the probe has turned: the tip can reach the col before the
+        // tool, following the hand at the haptic rate, has finished its tilt.
         return w.lesson()->tip_under_contact() && w.lesson()->tip_site() == site &&
-               said_under;
+               said_under && w.lesson()->tip_angle_deg().value_or(0) > 12.0;
       },
       20000);
   EXPECT_TRUE(under) << w.lesson_text().toStdString();
