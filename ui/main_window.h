@@ -117,6 +117,7 @@ class MainWindow : public QMainWindow {
     bool free_run = false;  // the thread as fast as it can (scripted students in tests)
     std::optional<std::uint64_t> seed;  // a generated case's
     std::filesystem::path results_dir;  // empty: DefaultResultsDir()
+    std::string sign_in;  // the student's sign-in (StartDialog), kept with the attempt
   };
   /// Loads the lesson (its errors shown, nothing changed when it has any), builds
   /// its scene (waiting) and starts it. False when it could not start.

@@ -32,6 +32,7 @@
 #include "core/lesson/attempt.h"
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
+#include "core/lesson/sign_in.h"
 #include "core/spheretree/cache.h"
 #include "ui/chart_widget.h"
 #include "ui/force_gauge.h"
@@ -183,6 +184,7 @@ bool MainWindow::StartLesson(const LessonStart& start) {
   AttemptFolder folder;
   try {
     folder = NewAttemptFolder(results, start.student);
+    if (!start.sign_in.empty()) KeepSignIn(folder.dir, start.sign_in);
   } catch (const std::exception& e) {
     ShowErrors("Lesson", "The attempt's folder cannot be made.", Q(e.what()));
     return false;
@@ -281,6 +283,7 @@ bool MainWindow::ShowStartPage() {
   LessonStart s;
   s.lesson = dialog.lesson();
   s.student = dialog.student();
+  s.sign_in = dialog.sign_in_token();
   s.mode = dialog.mode();
   s.seed = dialog.seed();
   s.device = "mouse";

@@ -19,6 +19,7 @@
 #include "core/base/names.h"
 #include "core/base/text.h"
 #include "core/lesson/results.h"
+#include "core/lesson/sign_in.h"
 
 namespace sulcus::ui {
 namespace {
@@ -48,6 +49,15 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
   name_problem_->setWordWrap(true);
   name_problem_->hide();
   form->addRow("", name_problem_);
+  passphrase_ = new QLineEdit;
+  passphrase_->setEchoMode(QLineEdit::Password);
+  passphrase_->setToolTip(
+      "Your passphrase. The first time, choose one of at least 8 characters: it is "
+      "yours from then on (your instructor can reset a forgotten one).");
+  passphrase_label_ = new QLabel("Passphrase");
+  form->addRow(passphrase_label_, passphrase_);
+  passphrase_->hide();
+  passphrase_label_->hide();
   layout->addLayout(form);
   list_ = new QListWidget;
   list_->setToolTip("The lessons shipped with Sulcus and your instructor's own.");
@@ -116,7 +126,7 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
   start_ = buttons->addButton("Start the lesson", QDialogButtonBox::AcceptRole);
   buttons->addButton("Workbench (no lesson)", QDialogButtonBox::RejectRole);
   layout->addWidget(buttons);
-  connect(buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::accepted, this, [this] { TryStart(); });
   connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
   connect(folder, &QPushButton::clicked, this, [this] {
     const QString dir =
@@ -144,8 +154,18 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
     // A station's own store offers the names of those who used it. A lab's
     // shared store holds the whole cohort: each student types their name and
     // sees their own attempts only.
-    if (results_db_.url.empty())
+    // A store that keeps the class's roster offers its names: the student
+    // picks theirs and signs in.
+    roster_ = store_->Roster();
+    if (!roster_.empty()) {
+      for (const std::string& s : roster_) student_->addItem(Q(s));
+      student_->setEditable(false);
+      student_->setToolTip("Your name on the class's roster: pick it, then sign in.");
+      passphrase_->show();
+      passphrase_label_->show();
+    } else if (results_db_.url.empty()) {
       for (const std::string& s : store_->Students()) student_->addItem(Q(s));
+    }
   } catch (const ResultsError&) {
     // No database yet (or an unreadable one: the window reports it when storing).
     store_.reset();
@@ -153,6 +173,32 @@ StartDialog::StartDialog(std::vector<std::filesystem::path> lesson_dirs,
   const QString last = settings.value("student/last").toString();
   if (!last.isEmpty()) SetStudent(last);
   Refresh();
+}
+
+void StartDialog::SetPassphrase(const QString& passphrase) {
+  passphrase_->setText(passphrase);
+}
+
+bool StartDialog::TryStart() {
+  if (!start_->isEnabled()) return false;
+  sign_in_token_.clear();
+  if (signs_in()) {
+    try {
+      sign_in_token_ =
+          SignIn(*store_, student(), passphrase_->text().toStdString()).token;
+    } catch (const ResultsError& e) {
+      QString why = Q(e.what());
+      if (!why.isEmpty()) why[0] = why[0].toUpper();
+      name_problem_->setText(why);
+      name_problem_->show();
+      passphrase_->clear();
+      passphrase_->setFocus();
+      return false;
+    }
+    passphrase_->clear();
+  }
+  accept();
+  return true;
 }
 
 std::vector<std::string> StartDialog::offered_students() const {
@@ -163,8 +209,10 @@ std::vector<std::string> StartDialog::offered_students() const {
 }
 
 void StartDialog::SetStudent(const QString& name) {
-  if (student_->findText(name) < 0) student_->addItem(name);
-  student_->setCurrentText(name);
+  const int at = student_->findText(name);
+  if (at < 0 && signs_in()) return;  // (only names on the roster)
+  if (at < 0) student_->addItem(name);
+  student_->setCurrentIndex(student_->findText(name));
 }
 
 void StartDialog::Refresh() {

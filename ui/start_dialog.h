@@ -7,6 +7,7 @@
 // of a seed the instructor gives.
 
 #include <QDialog>
+#include <QLineEdit>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -70,6 +71,16 @@ class StartDialog : public QDialog {
       std::function<QString()> status);
   /// What the page says of the scene's preparation (for tests).
   QString preparation_text() const;
+  /// Whether the store keeps a roster: the student picks a name from it and
+  /// signs in with a passphrase (set at first use) to start.
+  bool signs_in() const { return !roster_.empty(); }
+  void SetPassphrase(const QString& passphrase);
+  /// The sign-in's token once the student signed in (on Start), else "".
+  const std::string& sign_in_token() const { return sign_in_token_; }
+  /// Starts as the Start button does: signs the student in first when the store
+  /// keeps a roster (a wrong passphrase or a name not on it says why, in red,
+  /// and the page stays open). False when it stayed open.
+  bool TryStart();
 
  private:
   std::vector<std::filesystem::path> dirs_;
@@ -81,7 +92,11 @@ class StartDialog : public QDialog {
   QComboBox* student_ = nullptr;
   QListWidget* list_ = nullptr;
   QLabel* about_ = nullptr;
-  QLabel* name_problem_ = nullptr;  // why the typed name cannot be used
+  QLabel* name_problem_ = nullptr;   // why the typed name cannot be used
+  QLineEdit* passphrase_ = nullptr;  // shown when the store keeps a roster
+  QLabel* passphrase_label_ = nullptr;
+  std::vector<std::string> roster_;
+  std::string sign_in_token_;
   QRadioButton *own_mode_ = nullptr, *practice_ = nullptr, *assessment_ = nullptr;
   QPushButton* start_ = nullptr;
   QGroupBox* case_box_ = nullptr;

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "core/lesson/results.h"
+
 namespace sulcus::cli {
 
 /// `mesh info`, `mesh convert`, `mesh make`.
@@ -31,6 +33,23 @@ void AddRunCommands(CLI::App& app);
 
 /// `lesson validate|run|report|recover|case`, `results list|show|export|sync`.
 void AddLessonCommands(CLI::App& app);
+
+/// `results roster list|add|reset|sign-in` on the `results` command.
+void AddRosterCommands(CLI::App* results);
+
+/// The results place of a --results option (a folder or a PostgreSQL URL
+/// without its password; default: $SULCUS_RESULTS_URL, else the default
+/// folder's results.db).
+ResultsPlace ResultsOf(const std::string& option);
+/// Asks for the instructor's passphrase ($SULCUS_INSTRUCTOR_PASSPHRASE, or
+/// typed) and checks it for the store of `option`; throws
+/// std::invalid_argument saying what is wrong.
+void RequireInstructor(const std::string& results_option);
+
+/// The student's sign-in for `lesson run`: the passphrase from
+/// $SULCUS_STUDENT_PASSPHRASE or the first line of `passphrase_file`; "" when
+/// neither is given. Throws std::invalid_argument for a file that cannot be read.
+std::string StudentPassphrase(const std::string& passphrase_file);
 
 /// How a command that has printed all it has to say ends with a failing exit
 /// status (a mesh that is not a solid, a scene with errors, a lesson not

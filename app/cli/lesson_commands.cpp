@@ -25,6 +25,7 @@
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
+#include "core/lesson/sign_in.h"
 #include "core/lesson/xapi.h"
 #include "core/spheretree/cache.h"
 
@@ -78,26 +79,10 @@ void PrintResult(const LessonResult& r) {
 
 struct RunArgs {
   std::string lesson, device = "student:careful", student = "student", answers, out_dir,
-                      results;
+                      results, passphrase_file;
   std::int64_t seed = -1;
   bool quiet = false, no_store = false;
 };
-
-// --results: a folder, or a PostgreSQL URL (the attempts' folders then stay in
-// the default folder). Without it: the default folder and $SULCUS_RESULTS_URL.
-ResultsPlace ResultsOf(const std::string& option) {
-  if (IsResultsUrl(option)) {
-    // Every user of the machine sees a command line (ps): a password there is
-    // refused, with where to put it instead.
-    if (!UrlPassword(option).empty())
-      throw std::invalid_argument(
-          "--results " + RedactUrl(option) +
-          ": a password on the command line is shown to every user of this machine; "
-          "give it in SULCUS_RESULTS_URL or a pgpass file (~/.pgpass) instead");
-    return ResultsPlace(DefaultResultsDir(), option);
-  }
-  return ResultsPlaceFor(option.empty() ? DefaultResultsDir() : fs::path(option));
-}
 
 // Progress of a cold scene build (the first run builds the sphere-trees, which
 // takes a while): a line every 2 s once it has taken more than 1 s.
@@ -155,7 +140,24 @@ int RunLesson(const RunArgs& typed) {
         !why.empty())
       throw std::invalid_argument("--device " + a.device + ": " + why);
   if (!a.out_dir.empty()) CheckReportFolder(a.out_dir);
+  // The student signs in before the lesson (a store that asks for it refuses
+  // the attempt otherwise); a scripted or replayed attempt is nobody's.
+  std::string sign_in;
+  const std::string kind = DeviceKindOf(a.device);
+  if (!a.no_store && kind != "scripted" && kind != "replay") {
+    const std::string pass = StudentPassphrase(a.passphrase_file);
+    const auto store = OpenResults(results);
+    if (!pass.empty()) {
+      sign_in = SignIn(*store, a.student, pass).token;
+    } else if (store->Setting(kSignInSetting) == "required") {
+      throw std::invalid_argument(
+          "--student " + a.student + ": " + results.Describe() +
+          " takes a student's attempt only from that student, signed in: give the "
+          "passphrase in $SULCUS_STUDENT_PASSPHRASE or --passphrase-file");
+    }
+  }
   const AttemptFolder folder = NewAttemptFolder(results.dir, a.student);
+  if (!sign_in.empty()) KeepSignIn(folder.dir, sign_in);
   AttemptOptions o;
   o.student = a.student;
   o.device = a.device;
@@ -316,6 +318,53 @@ int WriteCase(const std::string& lesson_file, std::int64_t seed, const std::stri
 
 }  // namespace
 
+// --results: a folder, or a PostgreSQL URL (the attempts' folders then stay in
+// the default folder). Without it: the default folder and $SULCUS_RESULTS_URL.
+ResultsPlace ResultsOf(const std::string& option) {
+  if (IsResultsUrl(option)) {
+    // Every user of the machine sees a command line (ps): a password there is
+    // refused, with where to put it instead.
+    if (!UrlPassword(option).empty())
+      throw std::invalid_argument(
+          "--results " + RedactUrl(option) +
+          ": a password on the command line is shown to every user of this machine; "
+          "give it in SULCUS_RESULTS_URL or a pgpass file (~/.pgpass) instead");
+    return ResultsPlace(DefaultResultsDir(), option);
+  }
+  return ResultsPlaceFor(option.empty() ? DefaultResultsDir() : fs::path(option));
+}
+
+void RequireInstructor(const std::string& results_option) {
+  const ResultsPlace place = ResultsOf(results_option);
+  const InstructorLock lock(place);
+  if (!lock.is_set())
+    throw std::invalid_argument("no instructor's passphrase is set for " +
+                                place.Describe() +
+                                ": set it in the window's instructor view first");
+  std::string pass;
+  if (const char* env = std::getenv("SULCUS_INSTRUCTOR_PASSPHRASE")) {
+    pass = env;
+  } else {
+    std::fprintf(stderr, "The instructor's passphrase: ");
+    std::getline(std::cin, pass);
+  }
+  if (!lock.Check(pass))
+    throw std::invalid_argument(
+        "the instructor's passphrase is not right; nothing was changed");
+}
+
+std::string StudentPassphrase(const std::string& passphrase_file) {
+  if (const char* env = std::getenv("SULCUS_STUDENT_PASSPHRASE"); env && *env) return env;
+  if (passphrase_file.empty()) return "";
+  std::ifstream in(passphrase_file);
+  std::string line;
+  if (!in || !std::getline(in, line))
+    throw std::invalid_argument("--passphrase-file " + passphrase_file +
+                                ": cannot be read (the passphrase is its first line)");
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  return line;
+}
+
 void AddLessonCommands(CLI::App& app) {
   CLI::App* lesson = app.add_subcommand(
       "lesson", "Lessons: check a lesson file, run it headless, report an attempt");
@@ -359,6 +408,9 @@ void AddLessonCommands(CLI::App& app) {
                       "), scripted:NAME|FILE.csv, or replay:FILE")
       ->capture_default_str();
   run->add_option("--student", a->student, "Who takes the lesson")->capture_default_str();
+  run->add_option("--passphrase-file", a->passphrase_file,
+                  "The student's passphrase, the file's first line (or "
+                  "$SULCUS_STUDENT_PASSPHRASE): signs the student in; set at first use");
   run->add_option("--answers", a->answers,
                   "An answers file: what the student charted and declared")
       ->check(CLI::ExistingFile);
@@ -527,22 +579,7 @@ void AddLessonCommands(CLI::App& app) {
   AddResultsOption(demos, &(*demo)[1]);
   demos->callback([demo] {
     const ResultsPlace place = ResultsOf((*demo)[1]);
-    const InstructorLock lock(place);
-    if (!lock.is_set())
-      throw std::invalid_argument("no instructor's passphrase is set for " +
-                                  place.Describe() +
-                                  ": set it in the window's instructor view first");
-    std::string pass;
-    if (const char* env = std::getenv("SULCUS_INSTRUCTOR_PASSPHRASE")) {
-      pass = env;
-    } else {
-      std::fprintf(stderr, "The instructor's passphrase: ");
-      std::getline(std::cin, pass);
-    }
-    if (!lock.Check(pass))
-      throw std::invalid_argument(
-          "the instructor's passphrase is not right; nothing "
-          "was changed");
+    RequireInstructor((*demo)[1]);
     OpenResults(place)->SetSetting(kDemonstrationsSetting,
                                    (*demo)[0] == "allow" ? "allowed" : "forbidden");
     std::printf("demonstrations %s in %s\n",
@@ -615,6 +652,7 @@ void AddLessonCommands(CLI::App& app) {
           "reads every attempt with it, user %s): %s\n",
           kInstructorRole, done.instructor_password.c_str());
   });
+  AddRosterCommands(results);
   auto sync_dir = std::make_shared<std::string>();
   CLI::App* sync = results->add_subcommand(
       "sync",

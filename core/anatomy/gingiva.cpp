@@ -17,19 +17,33 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+// The eight knots around the tooth by angle: the mesial interproximal point
+// (0), MB, B, DB, the distal one (pi), DL, L, ML, with 2 pi closing the ring.
+struct Knots {
+  std::array<double, 9> angle;
+  int i = 0;       // the knot before th
+  double t = 0;    // how far th is from it toward the next, 0 to 1
+  double gap = 0;  // the angle between the two
+  Knots(const std::array<double, 6>& line, double th)
+      : angle{0, line[0], line[1], line[2], kPi, line[5], line[4], line[3], 2 * kPi} {
+    double a = std::fmod(th, 2 * kPi);
+    if (a < 0) a += 2 * kPi;
+    while (i < 7 && a >= angle[static_cast<std::size_t>(i + 1)]) ++i;
+    gap = angle[static_cast<std::size_t>(i + 1)] - angle[static_cast<std::size_t>(i)];
+    t = gap > 0 ? std::clamp((a - angle[static_cast<std::size_t>(i)]) / gap, 0.0, 1.0)
+                : 0.0;
+  }
+};
+
 // Periodic smooth interpolation of the six site values around the tooth, with
 // the mesial (0) and distal (pi) points the mean of their neighbours.
-double AroundTooth(const std::array<double, 6>& site, double th) {
-  // Knots by angle: M, MB, B, DB, D, DL, L, ML.
+double AroundTooth(const std::array<double, 6>& site, const std::array<double, 6>& line,
+                   double th) {
   const double knots[8] = {0.5 * (site[0] + site[3]), site[0], site[1], site[2],
                            0.5 * (site[2] + site[5]), site[5], site[4], site[3]};
-  double a = std::fmod(th, 2 * kPi);
-  if (a < 0) a += 2 * kPi;
-  const double x = a / (kPi / 4);
-  const int i = static_cast<int>(std::floor(x)) % 8;
-  const double t = x - std::floor(x);
-  const double s = 0.5 - 0.5 * std::cos(kPi * t);
-  return knots[i] + s * (knots[(i + 1) % 8] - knots[i]);
+  const Knots k(line, th);
+  const double s = 0.5 - 0.5 * std::cos(kPi * k.t);
+  return knots[k.i] + s * (knots[(k.i + 1) % 8] - knots[k.i]);
 }
 
 // The pocket's depth around the tooth, so that each site's value is the
@@ -37,31 +51,45 @@ double AroundTooth(const std::array<double, 6>& site, double th) {
 // oral halves of the outline, a mid site's zone reaching about 30 degrees
 // either side of its line, an interdental site's about 15 toward the mid site
 // and all the way to the interproximal point): between two neighbouring knots
-// (the six sites, and the mesial and distal points, each the shallower of its
-// two sites) the depth stays at the shallower knot's value and rises to the
-// deeper one within the deeper one's zone: with a flat top by the deeper
-// site's line (which the meshes resolve), over 20 degrees to a mid site, over
-// 9 to an interdental site from its mid site, and smoothly over the whole
-// 45 degrees between an interdental site and the interproximal point.
-double PocketAroundTooth(const std::array<double, 6>& site, double th) {
+// (the six sites at their lines, and the mesial and distal points, each the
+// shallower of its two sites) the depth stays at the shallower knot's value
+// and rises to the deeper one within the deeper one's zone: with a flat top by
+// the deeper site's line (which the meshes resolve), over 20 degrees to a mid
+// site, over 9 to an interdental site from its mid site, and smoothly over the
+// whole arc between an interdental site and the interproximal point.
+double PocketAroundTooth(const std::array<double, 6>& site,
+                         const std::array<double, 6>& line, double th) {
   const double knots[8] = {std::min(site[0], site[3]), site[0], site[1], site[2],
                            std::min(site[2], site[5]), site[5], site[4], site[3]};
-  double a = std::fmod(th, 2 * kPi);
-  if (a < 0) a += 2 * kPi;
-  const double x = a / (kPi / 4);
-  const int i = static_cast<int>(std::floor(x)) % 8;
-  const int j = (i + 1) % 8;
+  const Knots k(line, th);
+  const int i = k.i, j = (k.i + 1) % 8;
   const double lo = knots[i], hi = knots[j];
-  const double t = x - std::floor(x);
   // Knots 0 and 4 are the interproximal points, 2 and 6 the mid sites.
   if (i % 4 == 0 || j % 4 == 0) {
-    const double s = 0.5 - 0.5 * std::cos(kPi * t);
+    const double s = 0.5 - 0.5 * std::cos(kPi * k.t);
     return lo + s * (hi - lo);
   }
   const bool deep_is_mid = (hi >= lo ? j : i) % 4 == 2;
-  const double top = (deep_is_mid ? 8.0 : 5.0) * kPi / 180;
-  const double rise = (deep_is_mid ? 20.0 : 9.0) * kPi / 180;
-  const double from = t * (kPi / 4), to = kPi / 4 - from;
+  double top = (deep_is_mid ? 8.0 : 5.0) * kPi / 180;
+  double rise = (deep_is_mid ? 20.0 : 9.0) * kPi / 180;
+  // Where the interdental line was moved toward its mid site (by `moved`),
+  // the zones' bound between the two moves too (the tip locator's rule: 30
+  // degrees from the mid site, or halfway between the lines once the line
+  // comes within 3 degrees of that): the rise stays a degree inside the
+  // deeper site's zone.
+  const int inter = i % 4 == 2 ? j : i;
+  const double moved = std::abs(
+      k.angle[static_cast<std::size_t>(inter)] -
+      kSiteAngles[static_cast<std::size_t>(inter <= 3 ? inter - 1 : 8 - inter + 2)]);
+  if (moved > 1e-9) {
+    const double deg = kPi / 180, halfway = 0.5 * k.gap;
+    const double reach = deep_is_mid ? (moved > 12 * deg ? halfway : 30 * deg)
+                                     : (moved > 12 * deg ? halfway : 15 * deg - moved);
+    const double shrink = std::clamp((reach - deg) / (top + rise), 0.1, 1.0);
+    top *= shrink;
+    rise *= shrink;
+  }
+  const double from = k.t * k.gap, to = k.gap - from;
   const double left = hi >= lo ? to : from;  // from the deeper knot
   const double u = std::clamp(1.0 - (left - top) / rise, 0.0, 1.0);
   const double s = 0.5 - 0.5 * std::cos(kPi * u);
@@ -243,11 +271,7 @@ double GingivaThicknessMm(const FdiTooth& tooth) {
   return tooth.position <= 2 ? 1.0 : tooth.position == 3 ? 1.2 : 1.5;
 }
 
-const std::array<double, 6>& SiteAngles() {
-  static const std::array<double, 6> a = {kPi / 4,     kPi / 2,     3 * kPi / 4,
-                                          7 * kPi / 4, 3 * kPi / 2, 5 * kPi / 4};
-  return a;
-}
+const std::array<double, 6>& SiteAngles() { return kSiteAngles; }
 
 GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
   if (p.segments < 8 || p.segments % 8 != 0)
@@ -260,6 +284,14 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
   if (!(p.gap_mm >= 0.55))
     throw std::invalid_argument(
         "the sulcus must be at least 0.55 mm wide for a 0.5 mm probe tip");
+  {
+    const auto& a = p.site_angle;
+    if (!(0 < a[0] && a[0] < a[1] && a[1] < a[2] && a[2] < kPi && kPi < a[5] &&
+          a[5] < a[4] && a[4] < a[3] && a[3] < 2 * kPi))
+      throw std::invalid_argument(
+          "the gingiva's site lines must go round the tooth in order (MB, B, DB from the "
+          "mesial point to the distal one, DL, L, ML back), each within its half");
+  }
   if (!(p.thickness_mm >= 0))
     throw std::invalid_argument(
         "the gingiva's thickness must be positive (0: the tooth's own)");
@@ -277,7 +309,7 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
   std::vector<std::array<Vector3, 7 + wall_levels>> rings(
       n);  // (r, z) points as Vector3(r, z, 0)
   GingivaModel out;
-  out.site_angle = SiteAngles();
+  out.site_angle = p.site_angle;
   std::vector<double> r_in_at(n), z_m_at(n), z_f_at(n), r_floor_at(n), r_out_at(n);
   const OuterRadii radii(tooth.mesh);
   for (int k = 0; k < n; ++k) {
@@ -288,9 +320,9 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
             .z();
     const double c2 = std::cos(th) * std::cos(th);
     const double papilla = p.papilla_mm * c2 * c2;
-    const double z_m =
-        cej_z + p.margin_above_cej_mm - AroundTooth(p.recession_mm, th) + papilla;
-    const double z_f = z_m - PocketAroundTooth(p.pocket_mm, th);
+    const double z_m = cej_z + p.margin_above_cej_mm -
+                       AroundTooth(p.recession_mm, p.site_angle, th) + papilla;
+    const double z_f = z_m - PocketAroundTooth(p.pocket_mm, p.site_angle, th);
     double widest = 0;
     for (int j = 0; j <= 12; ++j)
       widest = std::max(widest, radii.At(th, z_f + (z_m - z_f) * j / 12.0));
@@ -354,6 +386,39 @@ GingivaModel GenerateGingiva(const ToothModel& tooth, const GingivaParams& p) {
     out.floor[s] = Vector3(r * std::cos(th), r * std::sin(th), z_f_at[k]);
   }
   return out;
+}
+
+std::array<double, 6> LineAnglesClearOfCuts(const ToothModel& tooth,
+                                            const GingivaParams& params,
+                                            const std::vector<ClipPlane>& cuts) {
+  GingivaParams p = params;
+  if (cuts.empty()) return p.site_angle;
+  // (each pass moves a line only further toward its mid site: a few passes
+  // settle it, the collar changing little as its pocket's knot moves)
+  for (int pass = 0; pass < 4; ++pass) {
+    const GingivaModel g = GenerateGingiva(tooth, p);
+    auto clear = [&](double phi) {
+      const auto k = static_cast<std::size_t>(g.SegmentAt(phi));
+      const double r = g.sulcus_r[k];
+      const Vector3 at(r * std::cos(phi), r * std::sin(phi),
+                       0.5 * (g.margin_z[k] + g.floor_z[k]));
+      for (const ClipPlane& c : cuts)
+        if ((at - c.q).dot(c.normal) > -kLineClearOfCutMm) return false;
+      return true;
+    };
+    bool moved = false;
+    for (const int s : {0, 2, 3, 5}) {
+      const double mid = s < 3 ? kPi / 2 : 3 * kPi / 2;
+      double& phi = p.site_angle[static_cast<std::size_t>(s)];
+      const double dir = mid > phi ? 1.0 : -1.0, from = kSiteAngles[s];
+      while (!clear(phi) && std::abs(phi + dir * kPi / 360 - from) <= kPi / 6 + 1e-9) {
+        phi += dir * kPi / 360;
+        moved = true;
+      }
+    }
+    if (!moved) break;
+  }
+  return p.site_angle;
 }
 
 namespace {

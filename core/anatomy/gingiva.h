@@ -13,12 +13,20 @@
 
 #include <array>
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 #include "core/anatomy/mesh_clip.h"
 #include "core/anatomy/tooth.h"
 
 namespace sulcus {
+
+/// The six sites' lines in the tooth frame as a lone tooth has them, radians
+/// from +x (mesial) toward +y (buccal), in charting order (MB, B, DB, ML, L,
+/// DL): the mid sites square to the arch, the others at 45 degrees from them.
+inline constexpr std::array<double, 6> kSiteAngles = {
+    std::numbers::pi / 4,     std::numbers::pi / 2,     3 * std::numbers::pi / 4,
+    7 * std::numbers::pi / 4, 3 * std::numbers::pi / 2, 5 * std::numbers::pi / 4};
 
 struct GingivaParams {
   std::array<double, 6> pocket_mm{2, 2, 2, 2, 2, 2};  // MB, B, DB, ML, L, DL
@@ -29,6 +37,12 @@ struct GingivaParams {
   double thickness_mm = 0;  // buccal and lingual, thinner between teeth; 0: the tooth's
                             // own (GingivaThicknessMm)
   double papilla_mm = 1.5;  // how far the margin rises between teeth
+  // Each site's line (kSiteAngles unless the arch crowds an interdental line
+  // past the cut toward the neighbour: LineAnglesClearOfCuts moves it round
+  // toward its mid site). The pocket's depth and the recession take their
+  // knots at these angles, so each site's depth is the deepest of its zone
+  // where its line is.
+  std::array<double, 6> site_angle = kSiteAngles;
   int segments = 72;  // around the tooth (a multiple of 8 puts a ring at every site)
   // A share of the arch's gingiva (not a collar) covers the alveolar process
   // down to the bone crest, `crest_drop_mm` below the CEJ's centre along the
@@ -71,7 +85,7 @@ struct GingivaModel {
 };
 
 /// Changes whenever the share's geometry does (its meshes are cached by it).
-inline constexpr int kGingivaShareVersion = 39;
+inline constexpr int kGingivaShareVersion = 41;
 
 /// A neighbouring tooth on the arch, for the gingiva between the two.
 struct GingivaNeighbour {
@@ -227,8 +241,32 @@ class OuterRadii {
   std::vector<std::int32_t> start_, faces_;  // band b: faces_[start_[b] .. start_[b+1])
 };
 
-/// Site angles in the tooth frame, in charting order (MB, B, DB, ML, L, DL).
+/// Site angles in the tooth frame, in charting order (MB, B, DB, ML, L, DL),
+/// as a lone tooth has them (kSiteAngles).
 const std::array<double, 6>& SiteAngles();
+
+/// The plane a share of the arch's gingiva is cut at toward a neighbour
+/// (`next`, its frame p_n = A p + b): halfway between the two teeth's contact
+/// points, its normal halfway between the two horizontal directions, pointing
+/// toward the neighbour. Both shares compute the same plane.
+ClipPlane CutToward(const ToothModel& tooth, const ToothModel& next, const Matrix3& A,
+                    const Vector3& b);
+
+/// How far the sulcus' middle at an interdental line must stay on the tooth's
+/// own side of each cut (mm).
+inline constexpr double kLineClearOfCutMm = 0.3;
+
+/// The six lines of `params` (starting from params.site_angle), each
+/// interdental line moved round toward its mid site, half a degree at a time
+/// and at most 30 degrees, until the sulcus' middle halfway down the pocket
+/// there is kLineClearOfCutMm on the tooth's own side of every cut (in a
+/// crowded or curved arch a 45-degree line angle can lie in the neighbour's
+/// gingiva, where the neighbour's sulcus is). Checked again on the collar the
+/// moved lines make, until it holds. The one rule for where a line lies: the
+/// scene links it into every share's parameters.
+std::array<double, 6> LineAnglesClearOfCuts(const ToothModel& tooth,
+                                            const GingivaParams& params,
+                                            const std::vector<ClipPlane>& cuts);
 
 /// The collar around `tooth`. Throws std::invalid_argument for a pocket deeper
 /// than the root or a bad parameter.

@@ -229,13 +229,9 @@ GingivaShareField::GingivaShareField(const ToothModel& tooth, const GingivaModel
     const double th_e = std::atan2(l.e.y(), l.e.x());
     // Toward this tooth, horizontal in the neighbour's frame (this origin is at b there).
     const double th_back = std::atan2(n.b.y(), n.b.x());
-    // The plane halfway between the two contact points, its normal halfway
-    // between the two horizontal directions: both shares compute the same one.
-    const Vector3 p_i = ContactPoint(tooth, th_e);
-    const Vector3 p_j = At * (ContactPoint(*n.tooth, th_back) - n.b);
-    l.q = 0.5 * (p_i + p_j);
-    const Vector3 e_j = At * Vector3(std::cos(th_back), std::sin(th_back), 0);
-    l.normal = (Vector3(l.e.x(), l.e.y(), 0) - e_j).normalized();
+    const ClipPlane cut = CutToward(tooth, *n.tooth, n.A, n.b);
+    l.q = cut.q;
+    l.normal = cut.normal;
     // The interdental band's buccal and lingual faces: vertical planes (the
     // two axes' mean vertical) through each tooth's outer extent square to the
     // line between them, each point taken in its own tooth's frame.
@@ -479,6 +475,19 @@ double GingivaShareField::Cut(const Vector3& p) const {
   double cut = -1e9;
   for (const Link& l : links_) cut = std::max(cut, (p - l.q).dot(l.normal));
   return cut;
+}
+
+ClipPlane CutToward(const ToothModel& tooth, const ToothModel& next, const Matrix3& A,
+                    const Vector3& b) {
+  const Matrix3 At = A.transpose();  // the neighbour's frame to this one
+  const Vector3 c = -(At * b);       // its axis' origin here
+  const double th_e = std::atan2(c.y(), c.x());
+  const double th_back = std::atan2(b.y(), b.x());  // toward this tooth, there
+  const Vector3 p_i = ContactPoint(tooth, th_e);
+  const Vector3 p_j = At * (ContactPoint(next, th_back) - b);
+  const Vector3 e_j = At * Vector3(std::cos(th_back), std::sin(th_back), 0);
+  return {0.5 * (p_i + p_j),
+          (Vector3(std::cos(th_e), std::sin(th_e), 0) - e_j).normalized()};
 }
 
 std::vector<GingivaShareField::CutPlane> GingivaShareField::cuts() const {

@@ -15,6 +15,7 @@
 #include "core/lesson/report.h"
 #include "core/lesson/results.h"
 #include "core/lesson/scripted_student.h"
+#include "core/lesson/sign_in.h"
 #include "core/lesson/xapi.h"
 
 namespace sulcus {
@@ -161,8 +162,9 @@ std::int64_t KeepAttempt(const LessonResult& r, const AttemptFolder& folder,
   at("report");
   try {
     const std::unique_ptr<ResultsStore> store = OpenResults(results);
-    info.attempt_id = store->Store(r, folder.started, info.recording,
-                                   folder.answers().string(), report_dir.string(), uuid);
+    info.attempt_id =
+        store->Store(r, folder.started, info.recording, folder.answers().string(),
+                     report_dir.string(), uuid, KeptSignIn(folder.dir));
   } catch (const std::exception& e) {
     try {
       mark_waiting(e.what());

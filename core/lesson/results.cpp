@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "core/base/names.h"
 #include "core/base/text.h"
 #include "core/lesson/results_schema.h"
 
@@ -311,15 +312,34 @@ std::string ResultsDb::IntegrityCheck() const {
 
 std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
                               const std::string& recording, const std::string& answers,
-                              const std::string& report_dir, const std::string& uuid) {
+                              const std::string& report_dir, const std::string& uuid,
+                              const std::string& sign_in) {
   Transaction t(*this);
   if (!uuid.empty()) {
     Stmt s(db_, "SELECT id FROM attempts WHERE uuid = ?", file_);
     if (s.Bind(1, uuid).Step(file_)) return s.Int(0);  // stored before: once
   }
+  // The same rule as the shared store's (sulcus_store_attempt).
+  const bool demonstration = r.device_kind == "scripted" || r.device_kind == "replay";
+  bool signed_in = false, known = false;
+  if (!demonstration && !sign_in.empty()) {
+    Stmt s(db_,
+           "SELECT i.at > strftime('%Y-%m-%dT%H:%M:%SZ', 'now', ?) FROM sign_ins i JOIN "
+           "students s ON s.id = i.student_id WHERE s.name = ? AND i.token_hash = ?",
+           file_);
+    known = s.Bind(1, "-" + std::to_string(results_schema::kSignInHours) + " hours")
+                .Bind(2, r.student)
+                .Bind(3, Sha256Hex(sign_in))
+                .Step(file_);
+    signed_in = known && s.Int(0) != 0;
+  }
+  if (!demonstration && !known && Setting(kSignInSetting) == "required")
+    throw ResultsError(file_.string() + ": " + r.student +
+                       " is not signed in: this store takes a student's attempt only "
+                       "from that student, signed in");
   {
-    Stmt s(db_, "INSERT OR IGNORE INTO students(name) VALUES (?)", file_);
-    s.Bind(1, r.student).Step(file_);
+    Stmt s(db_, "INSERT OR IGNORE INTO students(name, name_key) VALUES (?, ?)", file_);
+    s.Bind(1, r.student).Bind(2, NameLookAlikeKey(r.student)).Step(file_);
   }
   {
     Stmt s(db_,
@@ -334,10 +354,10 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
          "duration_s, sites_total, sites_read, sites_charted, within_1mm_pct, bias_mm, "
          "force_in_band_pct, true_dx, "
          "chart_dx, declared_dx, recording, answers, report_dir, complete, ended, uuid, "
-         "device, row_hash, prev_hash) VALUES ((SELECT id FROM students "
+         "device, row_hash, prev_hash, signed_in) VALUES ((SELECT id FROM students "
          "WHERE name = ?), (SELECT id FROM lessons WHERE file = ?), ?, ?, ?, ?, ?, ?, "
          "?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, "
-         "?, ?, ?, ?, ?, ?, ?, ?)",
+         "?, ?, ?, ?, ?, ?, ?, ?, ?)",
          file_);
   a.Bind(1, r.student)
       .Bind(2, r.lesson_file)
@@ -382,8 +402,10 @@ std::int64_t ResultsDb::Store(const LessonResult& r, const std::string& started,
     c.complete = r.complete;
     c.declared_dx = DeclaredText(r);
     c.device = r.device_kind;
+    c.signed_in = signed_in;
     a.Bind(26, Sha256Hex(ChainText(previous, c)));
     a.Bind(27, previous);
+    a.Bind(28, signed_in ? 1 : 0);
   }
   a.Step(file_);
   const std::int64_t id = sqlite3_last_insert_rowid(db_);
@@ -522,10 +544,101 @@ void ResultsDb::SetSetting(const std::string& key, const std::string& value) {
   s.Bind(1, key).Bind(2, value).Step(file_);
 }
 
+std::vector<std::string> ResultsDb::Roster() const {
+  Stmt s(db_, "SELECT name FROM students WHERE on_roster = 1 ORDER BY name", file_);
+  std::vector<std::string> out;
+  while (s.Step(file_)) out.push_back(s.Text(0));
+  return out;
+}
+
+bool ResultsDb::AddToRoster(const std::string& name, const std::string& look_alike_key) {
+  Transaction t(*this);
+  {
+    Stmt s(db_, "SELECT name FROM students WHERE name_key = ? AND name <> ?", file_);
+    if (s.Bind(1, look_alike_key).Bind(2, name).Step(file_))
+      throw ResultsError(file_.string() + ": \"" + name + "\" looks like \"" + s.Text(0) +
+                         "\", a student already there: one of the two names " +
+                         "must differ in more than the look of a letter");
+  }
+  Stmt s(db_,
+         "INSERT INTO students(name, name_key, on_roster) VALUES (?, ?, 1) ON "
+         "CONFLICT(name) DO UPDATE SET on_roster = 1, name_key = excluded.name_key "
+         "WHERE on_roster = 0",
+         file_);
+  s.Bind(1, name).Bind(2, look_alike_key).Step(file_);
+  const bool added = sqlite3_changes(db_) == 1;
+  t.Commit();
+  return added;
+}
+
+bool ResultsDb::ResetPassphrase(const std::string& name) {
+  Stmt s(db_,
+         "DELETE FROM student_keys WHERE student_id = (SELECT id FROM students WHERE "
+         "name = ? AND on_roster = 1)",
+         file_);
+  s.Bind(1, name).Step(file_);
+  return sqlite3_changes(db_) == 1;
+}
+
+std::string ResultsDb::PassphraseSalt(const std::string& name) const {
+  Stmt s(db_,
+         "SELECT k.salt FROM student_keys k JOIN students s ON s.id = k.student_id "
+         "WHERE s.name = ? AND s.on_roster = 1",
+         file_);
+  return s.Bind(1, name).Step(file_) ? s.Text(0) : "";
+}
+
+bool ResultsDb::SetPassphraseKey(const std::string& name, const std::string& salt,
+                                 const std::string& key) {
+  Stmt s(db_,
+         "INSERT OR IGNORE INTO student_keys(student_id, salt, key_hash) SELECT id, ?, ? "
+         "FROM students WHERE name = ? AND on_roster = 1",
+         file_);
+  s.Bind(1, salt).Bind(2, Sha256Hex(key)).Bind(3, name).Step(file_);
+  return sqlite3_changes(db_) == 1;
+}
+
+std::string ResultsDb::SignInWithKey(const std::string& name, const std::string& key) {
+  Transaction t(*this);
+  Stmt k(db_,
+         "SELECT s.id, k.key_hash FROM students s JOIN student_keys k ON k.student_id = "
+         "s.id WHERE s.name = ? AND s.on_roster = 1",
+         file_);
+  if (!k.Bind(1, name).Step(file_)) return "";
+  const std::int64_t id = k.Int(0);
+  const std::string want = k.Text(1);
+  {
+    Stmt f(db_,
+           "SELECT COUNT(*) FROM sign_in_failures WHERE student_id = ? AND at > "
+           "strftime('%Y-%m-%dT%H:%M:%SZ', 'now', '-15 minutes')",
+           file_);
+    f.Bind(1, id).Step(file_);
+    if (f.Int(0) >= results_schema::kWrongPassphrases)
+      throw ResultsError(
+          file_.string() + ": too many wrong passphrases for " + name +
+          ": wait a quarter of an hour, or ask the instructor to reset it");
+  }
+  if (Sha256Hex(key) != want) {
+    Stmt f(db_, "INSERT INTO sign_in_failures(student_id) VALUES (?)", file_);
+    f.Bind(1, id).Step(file_);
+    t.Commit();
+    return "";
+  }
+  unsigned char raw[32];
+  randombytes_buf(raw, sizeof raw);
+  char hex[2 * sizeof raw + 1];
+  sodium_bin2hex(hex, sizeof hex, raw, sizeof raw);
+  Stmt in(db_, "INSERT INTO sign_ins(token_hash, student_id) VALUES (?, ?)", file_);
+  in.Bind(1, Sha256Hex(hex)).Bind(2, id).Step(file_);
+  t.Commit();
+  return hex;
+}
+
 std::string ChainText(const std::string& previous, const ChainRow& r) {
   return previous + "\n" + r.uuid + "\n" + r.student + "\n" + r.lesson_file + "\n" +
          r.started + "\n" + r.mode + "\n" + std::to_string(std::llrint(r.total * 1000)) +
-         "\n" + (r.complete ? "1" : "0") + "\n" + r.declared_dx + "\n" + r.device;
+         "\n" + (r.complete ? "1" : "0") + "\n" + r.declared_dx + "\n" + r.device +
+         (r.signed_in ? "\nsigned in" : "");
 }
 
 std::string Sha256Hex(const std::string& text) {

@@ -28,12 +28,20 @@ namespace sulcus {
 
 // 1: the tables; 2: complete and ended; 3: an attempt's UUID; 4: settings shared
 // by every station (the instructor's passphrase hash); 5: the attempt's device;
-// 6: the settings a station may read (public_settings); 7: the attempts' hash chain.
-inline constexpr int kResultsSchemaVersion = 7;
+// 6: the settings a station may read (public_settings); 7: the attempts' hash chain;
+// 8: the roster and its students' sign-in.
+inline constexpr int kResultsSchemaVersion = 8;
+
+/// The shared setting by which a store asks every student's attempt to come
+/// from that student, signed in ("required"); otherwise (unset, "off") a
+/// station may store attempts of students who did not sign in, marked so.
+inline constexpr const char* kSignInSetting = "sign_in";
 
 /// The shared settings every station may read; the rest (the instructor's
 /// passphrase hash) only the instructor's role of a lab's store.
-inline bool PublicSetting(const std::string& key) { return key == "demonstrations"; }
+inline bool PublicSetting(const std::string& key) {
+  return key == "demonstrations" || key == kSignInSetting;
+}
 
 class ResultsError : public std::runtime_error {
  public:
@@ -51,9 +59,10 @@ struct AttemptRow {
   std::string true_dx, chart_dx, declared_dx;
   std::string recording, answers, report_dir;
   bool complete = true;
-  std::string ended;   // how an incomplete attempt ended
-  std::string uuid;    // empty for attempts stored before UUIDs
-  std::string device;  // haptic, keys, scripted or replay ('' before they were kept)
+  std::string ended;       // how an incomplete attempt ended
+  std::string uuid;        // empty for attempts stored before UUIDs
+  std::string device;      // haptic, keys, scripted or replay ('' before they were kept)
+  bool signed_in = false;  // stored by its student, signed in (the store decided)
 };
 
 /// What an attempt's hash covers, and its hash (ChainText).
@@ -64,11 +73,13 @@ struct ChainRow {
   std::string uuid, student, lesson_file, started, mode, declared_dx, device;
   double total = 0;
   bool complete = true;
+  bool signed_in = false;
 };
 /// The text an attempt's hash is the SHA-256 of: the hash before it (or "") and
 /// the row's UUID, student, lesson file, start, mode, score (in thousandths,
 /// rounded half to even), whether complete, the declared diagnosis and device,
-/// one a line. The shared store's trigger makes the same text.
+/// one a line, and "signed in" when its student signed in. The shared store's
+/// trigger makes the same text.
 std::string ChainText(const std::string& previous, const ChainRow& r);
 /// SHA-256, as lower-case hex.
 std::string Sha256Hex(const std::string& text);
@@ -128,10 +139,13 @@ class ResultsStore {
   virtual ~ResultsStore() = default;
   /// Stores one attempt in one transaction; returns its id. An attempt whose
   /// `uuid` is already stored is not stored again: its id is returned.
+  /// `sign_in`: the token of the student's sign-in (SignIn), "" for none: the
+  /// store marks the attempt as its student's only when the token is theirs,
+  /// and refuses one without when it asks for sign-in (kSignInSetting).
   virtual std::int64_t Store(const LessonResult& r, const std::string& started,
                              const std::string& recording, const std::string& answers,
-                             const std::string& report_dir,
-                             const std::string& uuid = "") = 0;
+                             const std::string& report_dir, const std::string& uuid = "",
+                             const std::string& sign_in = "") = 0;
   /// Sets where an attempt's report lives (after it was written with the id in it).
   virtual void SetReportDir(std::int64_t id, const std::string& dir) = 0;
   virtual std::vector<AttemptRow> Attempts(const std::string& student = "",
@@ -154,6 +168,29 @@ class ResultsStore {
   virtual std::vector<ChainRow> Chain() const = 0;
   /// Sets (or replaces) a shared setting: what the instructor decides.
   virtual void SetSetting(const std::string& key, const std::string& value) = 0;
+
+  // The class's roster and its students' sign-in (sign_in.h does the
+  // passphrase's side).
+  /// The names on the roster, sorted.
+  virtual std::vector<std::string> Roster() const = 0;
+  /// Puts a name on the roster (the instructor's): false when it was there.
+  /// The name must be normal (NormalName) and no look-alike of another
+  /// student's (`look_alike_key`, NameLookAlikeKey): ResultsError otherwise.
+  virtual bool AddToRoster(const std::string& name,
+                           const std::string& look_alike_key) = 0;
+  /// Forgets a student's passphrase (the instructor's): set again at the next
+  /// sign-in. False for a name not on the roster.
+  virtual bool ResetPassphrase(const std::string& name) = 0;
+  /// The salt of a student's passphrase, "" when it is not set yet (or the
+  /// name is not on the roster).
+  virtual std::string PassphraseSalt(const std::string& name) const = 0;
+  /// Sets a student's passphrase at first use (the key SignIn derives): false
+  /// when it is set already or the name is not on the roster.
+  virtual bool SetPassphraseKey(const std::string& name, const std::string& salt,
+                                const std::string& key) = 0;
+  /// A sign-in's token for the right key, "" for a wrong one. Throws
+  /// ResultsError after too many wrong ones within a quarter of an hour.
+  virtual std::string SignInWithKey(const std::string& name, const std::string& key) = 0;
 };
 
 /// The roles `results setup` makes in a lab's PostgreSQL store: stations store
@@ -192,8 +229,8 @@ class ResultsDb final : public ResultsStore {
 
   std::int64_t Store(const LessonResult& r, const std::string& started,
                      const std::string& recording, const std::string& answers,
-                     const std::string& report_dir,
-                     const std::string& uuid = "") override;
+                     const std::string& report_dir, const std::string& uuid = "",
+                     const std::string& sign_in = "") override;
   void SetReportDir(std::int64_t id, const std::string& dir) override;
   std::vector<AttemptRow> Attempts(const std::string& student = "",
                                    const std::string& lesson_file = "") const override;
@@ -208,6 +245,13 @@ class ResultsDb final : public ResultsStore {
   bool SetSettingOnce(const std::string& key, const std::string& value) override;
   void SetSetting(const std::string& key, const std::string& value) override;
   std::vector<ChainRow> Chain() const override;
+  std::vector<std::string> Roster() const override;
+  bool AddToRoster(const std::string& name, const std::string& look_alike_key) override;
+  bool ResetPassphrase(const std::string& name) override;
+  std::string PassphraseSalt(const std::string& name) const override;
+  bool SetPassphraseKey(const std::string& name, const std::string& salt,
+                        const std::string& key) override;
+  std::string SignInWithKey(const std::string& name, const std::string& key) override;
   /// "ok" when the database is sound.
   std::string IntegrityCheck() const;
   const std::filesystem::path& file() const { return file_; }

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/base/names.h"
+#include "core/base/text.h"
 #include "core/lesson/results.h"
 #include "core/lesson/results_schema.h"
 
@@ -100,106 +102,141 @@ class PgResults final : public ResultsStore {
   }
   ~PgResults() override { PQfinish(pg_); }
 
+  // Every attempt goes through the store's own function (sulcus_store_attempt,
+  // results_schema.h), which decides whether it is its signed-in student's:
+  // a station's role may insert nothing itself.
   std::int64_t Store(const LessonResult& r, const std::string& started,
                      const std::string& recording, const std::string& answers,
-                     const std::string& report_dir, const std::string& uuid) override {
-    Transaction t(this);
-    if (!uuid.empty()) {
-      const Result known =
-          Query("SELECT id FROM attempts WHERE uuid = $1", Params().Add(uuid));
-      if (known.rows() > 0) return known.Int(0, 0);  // stored before: once
+                     const std::string& report_dir, const std::string& uuid,
+                     const std::string& sign_in) override {
+    const auto num = [](double v) {
+      char b[40];
+      std::snprintf(b, sizeof b, "%.17g", v);
+      return JsonQuote(b);
+    };
+    const auto whole = [](std::int64_t v) { return JsonQuote(std::to_string(v)); };
+    std::string doc =
+        "{\"uuid\": " + JsonQuote(uuid) + ", \"student\": " + JsonQuote(r.student) +
+        ", \"name_key\": " + JsonQuote(NameLookAlikeKey(r.student)) +
+        ", \"device\": " + JsonQuote(r.device_kind) +
+        ", \"lesson_file\": " + JsonQuote(r.lesson_file) +
+        ", \"lesson_name\": " + JsonQuote(r.lesson_name) +
+        ", \"started\": " + JsonQuote(started) + ", \"mode\": " + JsonQuote(r.mode) +
+        ", \"scene_file\": " + JsonQuote(r.scene_file) +
+        ", \"generated_case\": " + whole(r.generated_case ? 1 : 0) +
+        ", \"case_seed\": " + whole(static_cast<std::int64_t>(r.case_seed)) +
+        ", \"total\": " + num(r.total) + ", \"duration_s\": " + num(r.duration_s) +
+        ", \"sites_total\": " + whole(r.sites_total) +
+        ", \"sites_read\": " + whole(r.sites_read) +
+        ", \"sites_charted\": " + whole(r.sites_charted) +
+        ", \"within_1mm_pct\": " + num(r.within_1mm_pct) +
+        ", \"bias_mm\": " + num(r.bias_mm) +
+        ", \"force_in_band_pct\": " + num(r.force_in_band_pct) +
+        ", \"true_dx\": " + JsonQuote(r.true_dx.Summary()) +
+        ", \"chart_dx\": " + JsonQuote(r.chart_dx.Summary()) + ", \"declared_dx\": " +
+        JsonQuote(r.declared ? r.declared->Summary() : "nothing") +
+        ", \"recording\": " + JsonQuote(recording) +
+        ", \"answers\": " + JsonQuote(answers) +
+        ", \"report_dir\": " + JsonQuote(report_dir) +
+        ", \"complete\": " + whole(r.complete ? 1 : 0) +
+        ", \"ended\": " + JsonQuote(r.ended) + ", \"sites\": [";
+    for (std::size_t i = 0; i < r.sites.size(); ++i) {
+      const SiteResult& x = r.sites[i];
+      doc +=
+          std::string(i ? ", " : "") + "{\"fdi\": " + whole(x.site.fdi) +
+          ", \"site\": " + whole(x.site.site) + ", \"truth_mm\": " + whole(x.truth_mm) +
+          ", \"reached_mm\": " + (x.reached_mm ? num(*x.reached_mm) : "null") +
+          ", \"entered_mm\": " +
+          (x.entry && x.entry->pd_mm ? whole(*x.entry->pd_mm) : "null") +
+          ", \"peak_force_n\": " + num(x.peak_force_n) +
+          ", \"angle_deg\": " + num(x.angle_deg) +
+          ", \"col_reached\": " + whole(x.col_reached ? 1 : 0) +
+          ", \"bled\": " + whole(x.bled ? 1 : 0) +
+          ", \"bleeding_charted\": " + whole(x.entry && x.entry->bleeding ? 1 : 0) +
+          ", \"reading_tick\": " + whole(static_cast<std::int64_t>(x.reading_tick)) + "}";
     }
-    Query("INSERT INTO students(name) VALUES ($1) ON CONFLICT (name) DO NOTHING",
-          Params().Add(r.student));
-    Query("INSERT INTO lessons(file, name) VALUES ($1, $2) ON CONFLICT (file) DO NOTHING",
-          Params().Add(r.lesson_file).Add(r.lesson_name));
-    Params a;
-    a.Add(r.student).Add(r.lesson_file).Add(started).Add(r.mode).Add(r.scene_file);
-    a.Add(r.generated_case ? 1 : 0)
-        .Add(static_cast<std::int64_t>(r.case_seed))
-        .Add(r.total);
-    a.Add(r.duration_s).Add(r.sites_total).Add(r.sites_read).Add(r.sites_charted);
-    a.Add(r.within_1mm_pct)
-        .Add(r.bias_mm)
-        .Add(r.force_in_band_pct)
-        .Add(r.true_dx.Summary());
-    a.Add(r.chart_dx.Summary())
-        .Add(r.declared ? r.declared->Summary() : std::string("nothing"))
-        .Add(recording)
-        .Add(answers);
-    a.Add(report_dir).Add(r.complete ? 1 : 0).Add(r.ended);
-    if (uuid.empty())
-      a.Null();
-    else
-      a.Add(uuid);
-    a.Add(r.device_kind);
-    // A second station storing the same UUID at the same moment waits on the
-    // unique index and then inserts nothing: its id is then the first's.
-    const Result inserted = Query(
-        "INSERT INTO attempts(student_id, lesson_id, started, mode, scene_file, "
-        "generated_case, case_seed, total, duration_s, sites_total, sites_read, "
-        "sites_charted, within_1mm_pct, bias_mm, force_in_band_pct, true_dx, chart_dx, "
-        "declared_dx, recording, answers, report_dir, complete, ended, uuid, device) "
-        "VALUES "
-        "((SELECT id FROM students WHERE name = $1), (SELECT id FROM lessons WHERE file "
-        "= $2), $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, "
-        "$19, $20, $21, $22, $23, $24, $25) ON CONFLICT (uuid) DO NOTHING RETURNING id",
-        a);
-    if (inserted.rows() == 0) {
-      const Result known =
-          Query("SELECT id FROM attempts WHERE uuid = $1", Params().Add(uuid));
-      const std::int64_t id = known.rows() > 0 ? known.Int(0, 0) : 0;
-      t.Commit();
-      return id;
+    doc += "], \"scores\": [";
+    bool first = true;
+    for (const auto& [cat, credit] : r.category_credit) {
+      doc += std::string(first ? "" : ", ") + "{\"category\": " + JsonQuote(cat) +
+             ", \"credit\": " + num(credit) +
+             ", \"weight\": " + num(r.category_weight.at(cat)) + "}";
+      first = false;
     }
-    const std::int64_t id = inserted.Int(0, 0);
-    for (const SiteResult& s : r.sites) {
-      Params p;
-      p.Add(id).Add(s.site.fdi).Add(s.site.site).Add(s.truth_mm);
-      if (s.reached_mm)
-        p.Add(*s.reached_mm);
-      else
-        p.Null();
-      if (s.entry && s.entry->pd_mm)
-        p.Add(*s.entry->pd_mm);
-      else
-        p.Null();
-      p.Add(s.peak_force_n)
-          .Add(s.angle_deg)
-          .Add(s.col_reached ? 1 : 0)
-          .Add(s.bled ? 1 : 0);
-      p.Add(s.entry && s.entry->bleeding ? 1 : 0)
-          .Add(static_cast<std::int64_t>(s.reading_tick));
-      Query(
-          "INSERT INTO attempt_sites(attempt_id, fdi, site, truth_mm, reached_mm, "
-          "entered_mm, peak_force_n, angle_deg, col_reached, bled, bleeding_charted, "
-          "reading_tick) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12)",
-          p);
-    }
-    for (const auto& [cat, credit] : r.category_credit)
-      Query(
-          "INSERT INTO attempt_scores(attempt_id, category, credit, weight) VALUES "
-          "($1, $2, $3, $4)",
-          Params().Add(id).Add(cat).Add(credit).Add(r.category_weight.at(cat)));
+    doc += "], \"lines\": [";
     int seq = 0;
     for (const RubricLine& l : r.lines) {
-      Params p;
-      p.Add(id).Add(seq++).Add(l.category).Add(l.fdi);
-      if (l.site)
-        p.Add(l.site->site);
-      else
-        p.Null();
-      p.Add(std::string(ToString(l.status)))
-          .Add(l.credit)
-          .Add(static_cast<std::int64_t>(l.tick));
-      p.Add(l.message);
-      Query(
-          "INSERT INTO attempt_lines(attempt_id, seq, category, fdi, site, status, "
-          "credit, tick, message) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9)",
-          p);
+      doc += std::string(seq ? ", " : "") + "{\"seq\": " + whole(seq) +
+             ", \"category\": " + JsonQuote(l.category) + ", \"fdi\": " + whole(l.fdi) +
+             ", \"site\": " + (l.site ? whole(l.site->site) : std::string("null")) +
+             ", \"status\": " + JsonQuote(ToString(l.status)) +
+             ", \"credit\": " + num(l.credit) +
+             ", \"tick\": " + whole(static_cast<std::int64_t>(l.tick)) +
+             ", \"message\": " + JsonQuote(l.message) + "}";
+      ++seq;
     }
+    doc += "]}";
+    Params p;
+    p.Add(doc);
+    if (sign_in.empty())
+      p.Null();
+    else
+      p.Add(sign_in);
+    const Result id = Query("SELECT sulcus_store_attempt($1::jsonb, $2)", p);
+    return id.Int(0, 0);
+  }
+
+  std::vector<std::string> Roster() const override {
+    const Result r =
+        Query("SELECT name FROM students WHERE on_roster = 1 ORDER BY name", Params());
+    std::vector<std::string> out;
+    for (int i = 0; i < r.rows(); ++i) out.push_back(r.Text(i, 0));
+    return out;
+  }
+
+  bool AddToRoster(const std::string& name, const std::string& look_alike_key) override {
+    Transaction t(this);
+    const Result like =
+        Query("SELECT name FROM students WHERE name_key = $1 AND name <> $2",
+              Params().Add(look_alike_key).Add(name));
+    if (like.rows() > 0)
+      throw ResultsError("PostgreSQL results store " + shown_ + ": \"" + name +
+                         "\" looks like \"" + like.Text(0, 0) +
+                         "\", a student already there: one of the two names must differ "
+                         "in more than the look of a letter");
+    const Result r = Query(
+        "INSERT INTO students(name, name_key, on_roster) VALUES ($1, $2, 1) ON CONFLICT "
+        "(name) DO UPDATE SET on_roster = 1, name_key = excluded.name_key WHERE "
+        "students.on_roster = 0",
+        Params().Add(name).Add(look_alike_key));
+    const bool added = std::string(r.affected()) == "1";
     t.Commit();
-    return id;
+    return added;
+  }
+
+  bool ResetPassphrase(const std::string& name) override {
+    const Result r = Query(
+        "DELETE FROM student_keys WHERE student_id = (SELECT id FROM students WHERE name "
+        "= $1 AND on_roster = 1)",
+        Params().Add(name));
+    return std::string(r.affected()) == "1";
+  }
+
+  std::string PassphraseSalt(const std::string& name) const override {
+    const Result r = Query("SELECT sulcus_salt($1)", Params().Add(name));
+    return r.IsNull(0, 0) ? "" : r.Text(0, 0);
+  }
+
+  bool SetPassphraseKey(const std::string& name, const std::string& salt,
+                        const std::string& key) override {
+    const Result r = Query("SELECT sulcus_set_passphrase($1, $2, $3)",
+                           Params().Add(name).Add(salt).Add(key));
+    return r.Text(0, 0) == "t";
+  }
+
+  std::string SignInWithKey(const std::string& name, const std::string& key) override {
+    const Result r = Query("SELECT sulcus_sign_in($1, $2)", Params().Add(name).Add(key));
+    return r.IsNull(0, 0) ? "" : r.Text(0, 0);
   }
 
   void SetReportDir(std::int64_t id, const std::string& dir) override {
@@ -328,6 +365,10 @@ class PgResults final : public ResultsStore {
 
   [[noreturn]] void Fail(const char* what) const {
     const std::string why = RedactPassword(FirstLine(PQerrorMessage(pg_)), url_);
+    // The store's own refusals (its functions' RAISE) say what they mean.
+    if (const std::size_t at = why.find("sulcus: "); at != std::string::npos)
+      throw ResultsError("PostgreSQL results store " + shown_ + ": " +
+                         why.substr(at + 8));
     if (PQstatus(pg_) != CONNECTION_OK)
       throw ResultsError("PostgreSQL results store " + shown_ +
                          ": the connection was lost (" + why +
@@ -399,36 +440,48 @@ class PgResults final : public ResultsStore {
       out.done.push_back(std::string(exists ? "reset" : "made") + " the role " + role);
     }
     const std::string both = std::string(kStationRole) + ", " + kInstructorRole;
+    const std::string station = kStationRole, instructor = kInstructorRole;
     const char* attempt_tables =
         "students, lessons, attempts, attempt_sites, attempt_scores, attempt_lines";
+    const char* functions =
+        "sulcus_salt(text), sulcus_set_passphrase(text, text, text), "
+        "sulcus_sign_in(text, text), sulcus_store_attempt(jsonb, text)";
     for (const std::string& sql : std::vector<std::string>{
              "REVOKE CREATE ON SCHEMA public FROM PUBLIC",
              "REVOKE ALL ON ALL TABLES IN SCHEMA public FROM PUBLIC, " + both,
              "REVOKE ALL ON ALL SEQUENCES IN SCHEMA public FROM PUBLIC, " + both,
+             "REVOKE ALL ON ALL FUNCTIONS IN SCHEMA public FROM PUBLIC, " + both,
              "GRANT USAGE ON SCHEMA public TO " + both,
-             // A station adds attempts and reads what a station shows; it
-             // changes and removes nothing, and reads no secret.
-             std::string("GRANT SELECT, INSERT ON ") + attempt_tables + " TO " +
-                 kStationRole,
-             std::string("GRANT SELECT ON sulcus_schema, public_settings TO ") +
-                 kStationRole,
-             std::string("GRANT USAGE ON ALL SEQUENCES IN SCHEMA public TO ") +
-                 kStationRole,
-             // The instructor reads everything; writes the settings (the
-             // passphrase, demonstrations) and removes a student's results.
-             std::string("GRANT SELECT ON ALL TABLES IN SCHEMA public TO ") +
-                 kInstructorRole,
-             std::string("GRANT INSERT, UPDATE ON settings TO ") + kInstructorRole,
-             std::string("GRANT DELETE ON ") + attempt_tables + " TO " +
-                 kInstructorRole}) {
+             // A station stores attempts and signs students in only through
+             // the owner's functions; it reads the attempts a station shows
+             // and the public settings, no secret, and changes nothing.
+             std::string("GRANT EXECUTE ON FUNCTION ") + functions + " TO " + both,
+             "GRANT SELECT ON lessons, attempts, attempt_sites, attempt_scores, "
+             "attempt_lines, sulcus_schema, public_settings TO " +
+                 station,
+             "GRANT SELECT (id, name, on_roster, created) ON students TO " + station,
+             // The instructor reads everything but the passphrases and
+             // sign-ins; keeps the roster (adds names, resets a passphrase),
+             // the settings, and removes a student's results.
+             "GRANT SELECT ON " + std::string(attempt_tables) +
+                 ", sulcus_schema, public_settings, settings, chain_head TO " +
+                 instructor,
+             "GRANT SELECT (student_id, set_at) ON student_keys TO " + instructor,
+             "GRANT INSERT, UPDATE ON settings TO " + instructor,
+             "GRANT INSERT, UPDATE (name, name_key, on_roster) ON students TO " +
+                 instructor,
+             "GRANT USAGE ON SEQUENCE students_id_seq TO " + instructor,
+             "GRANT DELETE ON student_keys TO " + instructor,
+             std::string("GRANT DELETE ON ") + attempt_tables + " TO " + instructor}) {
       Exec(sql);
     }
     out.done.push_back(
-        "granted the station INSERT and SELECT on the attempts' tables "
-        "and the public settings, nothing else");
+        "granted the station only the store's functions (store an attempt, sign a "
+        "student in) and SELECT on the attempts and the public settings: no INSERT, "
+        "UPDATE, DELETE or DDL, no passphrase");
     out.done.push_back(
-        "granted the instructor SELECT on every table, the settings and "
-        "removing a student's results");
+        "granted the instructor SELECT on every table but the passphrases, the roster, "
+        "the settings and removing a student's results");
     t.Commit();
     out.station_password = station_pw;
     out.instructor_password = instructor_pw;

@@ -115,27 +115,51 @@ ALTER TABLE attempts ADD COLUMN row_hash TEXT;
 ALTER TABLE attempts ADD COLUMN prev_hash TEXT;
 {PG_CHAIN}
 )sql",
+    // 8: the class's roster and its students' sign-in: each name's look-alike
+    // key (NameLookAlikeKey), whether the instructor put it on the roster; a
+    // student's passphrase as the store keeps it (a salt and the SHA-256 of
+    // the Argon2id key a station derives from it: no station reads either),
+    // sign-ins (the SHA-256 of each token) and wrong passphrases; whether an
+    // attempt was stored by its signed-in student (the store decides). On
+    // PostgreSQL the functions through which a station signs a student in and
+    // stores an attempt ({PG_SIGN_IN}).
+    R"sql(
+ALTER TABLE students ADD COLUMN name_key TEXT NOT NULL DEFAULT '';
+ALTER TABLE students ADD COLUMN on_roster INTEGER NOT NULL DEFAULT 0;
+CREATE TABLE student_keys (
+  student_id {BIG} PRIMARY KEY REFERENCES students(id) ON DELETE CASCADE,
+  salt TEXT NOT NULL,
+  key_hash TEXT NOT NULL,
+  set_at TEXT NOT NULL DEFAULT {NOW}
+);
+CREATE TABLE sign_ins (
+  token_hash TEXT PRIMARY KEY,
+  student_id {BIG} NOT NULL REFERENCES students(id) ON DELETE CASCADE,
+  at TEXT NOT NULL DEFAULT {NOW}
+);
+CREATE TABLE sign_in_failures (
+  student_id {BIG} NOT NULL REFERENCES students(id) ON DELETE CASCADE,
+  at TEXT NOT NULL DEFAULT {NOW}
+);
+ALTER TABLE attempts ADD COLUMN signed_in INTEGER NOT NULL DEFAULT 0;
+DROP VIEW public_settings;
+CREATE VIEW public_settings AS
+  SELECT key, value FROM settings WHERE key IN ('demonstrations', 'sign_in');
+{PG_SIGN_IN}
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kResultsSchemaVersion);
 
 enum class Dialect { kSqlite, kPostgres };
 
-/// Migration i in a dialect's spelling.
-inline std::string MigrationSql(int i, Dialect d) {
-  const bool pg = d == Dialect::kPostgres;
-  std::string sql = kMigrations[i];
-  const auto put = [&](const std::string& key, const std::string& value) {
-    for (std::size_t at = sql.find(key); at != std::string::npos; at = sql.find(key, at))
-      sql.replace(at, key.size(), value);
-  };
-  put("{ID}", pg ? "BIGSERIAL PRIMARY KEY" : "INTEGER PRIMARY KEY");
-  put("{BIG}", pg ? "BIGINT" : "INTEGER");
-  put("{REAL}", pg ? "DOUBLE PRECISION" : "REAL");
-  put("{PG_CHAIN}", pg ? R"sql(
-CREATE TABLE chain_head (hash TEXT NOT NULL);
-INSERT INTO chain_head VALUES ('');
-CREATE FUNCTION sulcus_chain() RETURNS trigger LANGUAGE plpgsql SECURITY DEFINER
-SET search_path = public, pg_temp AS $chain$
+/// The store's own trigger function that chains each new attempt (ChainText),
+/// under a lock, from the chain's head; from schema 8 on it covers whether the
+/// attempt was stored by its signed-in student (a line only when it was, so
+/// that the hashes of earlier attempts hold as they were).
+inline std::string PgChainFunction(bool signed_in) {
+  return std::string(R"sql(
+CREATE OR REPLACE FUNCTION sulcus_chain() RETURNS trigger LANGUAGE plpgsql
+SECURITY DEFINER SET search_path = public, pg_temp AS $chain$
 DECLARE prev TEXT;
 BEGIN
   PERFORM pg_advisory_xact_lock(5375636861);
@@ -150,15 +174,181 @@ BEGIN
       coalesce((SELECT file FROM lessons WHERE id = NEW.lesson_id), '') || E'\n' ||
       NEW.started || E'\n' || NEW.mode || E'\n' ||
       round(NEW.total * 1000)::bigint::text || E'\n' || NEW.complete::text || E'\n' ||
-      NEW.declared_dx || E'\n' || NEW.device, 'UTF8')), 'hex');
+      NEW.declared_dx || E'\n' || NEW.device)sql") +
+         (signed_in ? R"sql( ||
+      CASE WHEN NEW.signed_in = 1 THEN E'\nsigned in' ELSE '' END)sql"
+                    : "") +
+         R"sql(, 'UTF8')), 'hex');
   UPDATE chain_head SET hash = NEW.row_hash;
   RETURN NEW;
 END
 $chain$;
+)sql";
+}
+
+/// How long a sign-in's token stores attempts (an attempt kept waiting longer
+/// is stored as not signed in), and how many wrong passphrases a name may be
+/// given within a quarter of an hour.
+inline constexpr int kSignInHours = 24;
+inline constexpr int kWrongPassphrases = 10;
+
+/// The functions a station calls (SECURITY DEFINER, their search_path
+/// pinned): a student's salt; setting a passphrase at first use; signing in
+/// (a token, or NULL for a wrong key); storing an attempt. The attempt's row
+/// says it was stored by its signed-in student only when the token is one of
+/// that student's sign-ins, made within kSignInHours (an attempt that waited
+/// longer on its station is stored, not as signed in); when the store asks
+/// for sign-in (the `sign_in` setting "required") an attempt without a
+/// sign-in of its student is refused, as a scripted or replayed one is unless
+/// demonstrations are allowed (never a signed-in student's either).
+inline constexpr const char* kPgSignIn = R"sql(
+CREATE FUNCTION sulcus_salt(p_name TEXT) RETURNS TEXT LANGUAGE sql STABLE
+SECURITY DEFINER SET search_path = public, pg_temp AS $f$
+  SELECT k.salt FROM student_keys k JOIN students s ON s.id = k.student_id
+  WHERE s.name = p_name AND s.on_roster = 1
+$f$;
+
+CREATE FUNCTION sulcus_set_passphrase(p_name TEXT, p_salt TEXT, p_key TEXT)
+RETURNS BOOLEAN LANGUAGE plpgsql SECURITY DEFINER
+SET search_path = public, pg_temp AS $f$
+DECLARE sid BIGINT;
+BEGIN
+  SELECT id INTO sid FROM students WHERE name = p_name AND on_roster = 1;
+  IF sid IS NULL OR length(p_salt) < 32 OR length(p_key) < 64 THEN RETURN false; END IF;
+  INSERT INTO student_keys(student_id, salt, key_hash)
+    VALUES (sid, p_salt, encode(sha256(convert_to(p_key, 'UTF8')), 'hex'))
+    ON CONFLICT (student_id) DO NOTHING;
+  RETURN FOUND;
+END
+$f$;
+
+CREATE FUNCTION sulcus_sign_in(p_name TEXT, p_key TEXT) RETURNS TEXT LANGUAGE plpgsql
+SECURITY DEFINER SET search_path = public, pg_temp AS $f$
+DECLARE sid BIGINT; want TEXT; token TEXT;
+  since TEXT := to_char((now() - interval '15 minutes') AT TIME ZONE 'UTC',
+                        'YYYY-MM-DD"T"HH24:MI:SS"Z"');
+BEGIN
+  SELECT s.id, k.key_hash INTO sid, want FROM students s
+    JOIN student_keys k ON k.student_id = s.id WHERE s.name = p_name AND s.on_roster = 1;
+  IF sid IS NULL THEN RETURN NULL; END IF;
+  IF (SELECT count(*) FROM sign_in_failures WHERE student_id = sid AND at > since)
+      >= {WRONG} THEN
+    RAISE EXCEPTION 'sulcus: too many wrong passphrases for %: wait a quarter of an hour, or ask the instructor to reset it', p_name;
+  END IF;
+  IF want <> encode(sha256(convert_to(p_key, 'UTF8')), 'hex') THEN
+    INSERT INTO sign_in_failures(student_id) VALUES (sid);
+    RETURN NULL;
+  END IF;
+  token := replace(gen_random_uuid()::text || gen_random_uuid()::text, '-', '');
+  INSERT INTO sign_ins(token_hash, student_id)
+    VALUES (encode(sha256(convert_to(token, 'UTF8')), 'hex'), sid);
+  RETURN token;
+END
+$f$;
+
+CREATE FUNCTION sulcus_store_attempt(doc JSONB, p_token TEXT) RETURNS BIGINT
+LANGUAGE plpgsql SECURITY DEFINER SET search_path = public, pg_temp AS $f$
+DECLARE aid BIGINT; sid BIGINT; lid BIGINT; signed INTEGER := 0; signed_at TEXT;
+  who TEXT := doc->>'student'; dev TEXT := coalesce(doc->>'device', '');
+  since TEXT := to_char((now() - interval '{HOURS} hours') AT TIME ZONE 'UTC',
+                        'YYYY-MM-DD"T"HH24:MI:SS"Z"');
+BEGIN
+  IF coalesce(who, '') = '' THEN
+    RAISE EXCEPTION 'sulcus: an attempt needs its student';
+  END IF;
+  SELECT id INTO aid FROM attempts WHERE uuid = doc->>'uuid';
+  IF FOUND THEN RETURN aid; END IF;  -- stored before: once
+  SELECT id INTO sid FROM students WHERE name = who;
+  IF dev IN ('scripted', 'replay') THEN
+    IF coalesce((SELECT value FROM settings WHERE key = 'demonstrations'), '')
+        <> 'allowed' THEN
+      RAISE EXCEPTION 'sulcus: a % attempt is not %''s own: this store takes it only when the instructor allows demonstrations', dev, who;
+    END IF;
+  ELSE
+    SELECT max(at) INTO signed_at FROM sign_ins WHERE student_id = sid AND
+      token_hash = encode(sha256(convert_to(coalesce(p_token, ''), 'UTF8')), 'hex');
+    IF signed_at > since THEN
+      signed := 1;
+    ELSIF signed_at IS NULL AND
+        coalesce((SELECT value FROM settings WHERE key = 'sign_in'), '') = 'required' THEN
+      RAISE EXCEPTION 'sulcus: % is not signed in: this store takes a student''s attempt only from that student, signed in', who;
+    END IF;  -- (a sign-in older than {HOURS} hours: stored, not as signed in)
+  END IF;
+  IF sid IS NULL THEN
+    IF coalesce(doc->>'name_key', '') <> '' AND EXISTS (
+        SELECT 1 FROM students WHERE name_key = doc->>'name_key') THEN
+      RAISE EXCEPTION 'sulcus: the name % looks like another student''s', who;
+    END IF;
+    INSERT INTO students(name, name_key) VALUES (who, coalesce(doc->>'name_key', ''))
+      RETURNING id INTO sid;
+  END IF;
+  INSERT INTO lessons(file, name) VALUES (doc->>'lesson_file', doc->>'lesson_name')
+    ON CONFLICT (file) DO NOTHING;
+  SELECT id INTO lid FROM lessons WHERE file = doc->>'lesson_file';
+  INSERT INTO attempts(student_id, lesson_id, started, mode, scene_file,
+      generated_case, case_seed, total, duration_s, sites_total, sites_read,
+      sites_charted, within_1mm_pct, bias_mm, force_in_band_pct, true_dx, chart_dx,
+      declared_dx, recording, answers, report_dir, complete, ended, uuid, device,
+      signed_in)
+    VALUES (sid, lid, doc->>'started', doc->>'mode', doc->>'scene_file',
+      (doc->>'generated_case')::int, (doc->>'case_seed')::bigint,
+      (doc->>'total')::float8, (doc->>'duration_s')::float8,
+      (doc->>'sites_total')::int, (doc->>'sites_read')::int,
+      (doc->>'sites_charted')::int, (doc->>'within_1mm_pct')::float8,
+      (doc->>'bias_mm')::float8, (doc->>'force_in_band_pct')::float8,
+      doc->>'true_dx', doc->>'chart_dx', doc->>'declared_dx', doc->>'recording',
+      doc->>'answers', doc->>'report_dir', (doc->>'complete')::int, doc->>'ended',
+      nullif(doc->>'uuid', ''), dev, signed)
+    ON CONFLICT (uuid) DO NOTHING RETURNING id INTO aid;
+  IF aid IS NULL THEN  -- another station stored it at the same moment
+    SELECT id INTO aid FROM attempts WHERE uuid = doc->>'uuid';
+    RETURN aid;
+  END IF;
+  INSERT INTO attempt_sites(attempt_id, fdi, site, truth_mm, reached_mm, entered_mm,
+      peak_force_n, angle_deg, col_reached, bled, bleeding_charted, reading_tick)
+    SELECT aid, x.fdi, x.site, x.truth_mm, x.reached_mm, x.entered_mm, x.peak_force_n,
+      x.angle_deg, x.col_reached, x.bled, x.bleeding_charted, x.reading_tick
+    FROM jsonb_to_recordset(coalesce(doc->'sites', '[]')) AS x(fdi INT, site INT,
+      truth_mm INT, reached_mm FLOAT8, entered_mm INT, peak_force_n FLOAT8,
+      angle_deg FLOAT8, col_reached INT, bled INT, bleeding_charted INT,
+      reading_tick BIGINT);
+  INSERT INTO attempt_scores(attempt_id, category, credit, weight)
+    SELECT aid, x.category, x.credit, x.weight
+    FROM jsonb_to_recordset(coalesce(doc->'scores', '[]'))
+      AS x(category TEXT, credit FLOAT8, weight FLOAT8);
+  INSERT INTO attempt_lines(attempt_id, seq, category, fdi, site, status, credit,
+      tick, message)
+    SELECT aid, x.seq, x.category, x.fdi, x.site, x.status, x.credit, x.tick, x.message
+    FROM jsonb_to_recordset(coalesce(doc->'lines', '[]')) AS x(seq INT, category TEXT,
+      fdi INT, site INT, status TEXT, credit FLOAT8, tick BIGINT, message TEXT);
+  RETURN aid;
+END
+$f$;
+)sql";
+
+/// Migration i in a dialect's spelling.
+inline std::string MigrationSql(int i, Dialect d) {
+  const bool pg = d == Dialect::kPostgres;
+  std::string sql = kMigrations[i];
+  const auto put = [&](const std::string& key, const std::string& value) {
+    for (std::size_t at = sql.find(key); at != std::string::npos; at = sql.find(key, at))
+      sql.replace(at, key.size(), value);
+  };
+  put("{ID}", pg ? "BIGSERIAL PRIMARY KEY" : "INTEGER PRIMARY KEY");
+  put("{BIG}", pg ? "BIGINT" : "INTEGER");
+  put("{REAL}", pg ? "DOUBLE PRECISION" : "REAL");
+  put("{PG_CHAIN}", pg ? std::string(R"sql(
+CREATE TABLE chain_head (hash TEXT NOT NULL);
+INSERT INTO chain_head VALUES ('');
+)sql") + PgChainFunction(false) +
+                             R"sql(
 CREATE TRIGGER attempts_chain BEFORE INSERT ON attempts FOR EACH ROW
 EXECUTE FUNCTION sulcus_chain();
 )sql"
                        : "");
+  put("{PG_SIGN_IN}", pg ? PgChainFunction(true) + kPgSignIn : "");
+  put("{HOURS}", std::to_string(kSignInHours));
+  put("{WRONG}", std::to_string(kWrongPassphrases));
   put("{NOW}", pg ? "to_char(now() AT TIME ZONE 'UTC', 'YYYY-MM-DD\"T\"HH24:MI:SS\"Z\"')"
                   : "(strftime('%Y-%m-%dT%H:%M:%SZ', 'now'))");
   return sql;
@@ -175,7 +365,8 @@ inline std::string Query(std::string sql, Dialect d) {
 /// The chain's rows in order: what each attempt's hash covers.
 inline constexpr const char* kSelectChain =
     "SELECT a.id, a.row_hash, a.uuid, s.name, l.file, a.started, a.mode, a.total, "
-    "a.complete, a.declared_dx, a.device, a.prev_hash FROM attempts a JOIN students s ON "
+    "a.complete, a.declared_dx, a.device, a.prev_hash, a.signed_in FROM attempts a JOIN "
+    "students s ON "
     "s.id = "
     "a.student_id JOIN lessons l ON l.id = a.lesson_id ORDER BY a.id";
 
@@ -185,7 +376,8 @@ inline constexpr const char* kSelectAttempts =
     "a.generated_case, a.total, a.duration_s, a.within_1mm_pct, a.bias_mm, "
     "a.force_in_band_pct, a.sites_total, a.sites_read, a.sites_charted, a.true_dx, "
     "a.chart_dx, a.declared_dx, a.recording, a.answers, a.report_dir, a.complete, "
-    "a.ended, a.uuid, a.device FROM attempts a JOIN students s ON s.id = a.student_id "
+    "a.ended, a.uuid, a.device, a.signed_in FROM attempts a JOIN students s ON s.id = "
+    "a.student_id "
     "JOIN lessons "
     "l ON l.id = a.lesson_id ";
 inline constexpr const char* kByStudentAndLesson =
@@ -229,6 +421,7 @@ AttemptRow ReadAttempt(const Columns& c) {
   a.ended = c.Text(24);
   a.uuid = c.Text(25);
   a.device = c.Text(26);
+  a.signed_in = c.Int(27) != 0;
   return a;
 }
 
@@ -248,6 +441,7 @@ ChainRow ReadChain(const Columns& c) {
   r.declared_dx = c.Text(9);
   r.device = c.Text(10);
   r.prev_hash = c.IsNull(11) ? "" : c.Text(11);
+  r.signed_in = c.Int(12) != 0;
   return r;
 }
 

@@ -167,41 +167,11 @@ void BuildEffectsModel(CompiledScene* scene, int soft_first,
         }
         site.margin_W = o.X_WO * ArchMirror(o.mirrored, g.margin[s]);
         site.floor_W = o.X_WO * ArchMirror(o.mirrored, g.floor[s]);
-        // An interdental site's line past the cut toward the neighbour (in a
-        // crowded or curved arch the tooth's 45-degree line angle can lie in
-        // the neighbour's gingiva, where the neighbour's sulcus is): moved
-        // round toward the mid site until the sulcus there is on the tooth's
-        // own side, 0.3 mm clear, so that N puts the tip in the site's own
-        // sulcus.
-        if (s != 1 && s != 4 && ring->num_cuts > 0) {
-          const Vector3 m0 = ring->ToRing(site.margin_W);
-          const double start = std::atan2(m0.y(), m0.x());
-          const double mid = s < 3 ? 0.5 * std::numbers::pi : -0.5 * std::numbers::pi;
-          const double dir =
-              std::remainder(mid - start, 2 * std::numbers::pi) > 0 ? 1.0 : -1.0;
-          auto clear = [&](double phi) {
-            const int k = ring->SegmentAt(phi);
-            const double half = 0.5 * (ring->margin_z[static_cast<std::size_t>(k)] -
-                                       ring->floor_z[static_cast<std::size_t>(k)]);
-            const Vector3 p = ring->PointAt(phi, half);
-            for (int c = 0; c < ring->num_cuts; ++c)
-              if ((p - ring->cut_q_W[static_cast<std::size_t>(c)])
-                      .dot(ring->cut_n_W[static_cast<std::size_t>(c)]) > -0.3)
-                return false;
-            return true;
-          };
-          double phi = start;
-          for (int step = 0; step < 60 && !clear(phi); ++step)
-            phi += dir * std::numbers::pi / 360;
-          if (phi != start && clear(phi)) {
-            const int k = ring->SegmentAt(phi);
-            site.margin_W = ring->PointAt(phi, 0);
-            site.floor_W =
-                ring->PointAt(phi, ring->margin_z[static_cast<std::size_t>(k)] -
-                                       ring->floor_z[static_cast<std::size_t>(k)]);
-            site.line_moved_deg = std::abs(phi - start) * 180 / std::numbers::pi;
-          }
-        }
+        // (an interdental line the arch crowds past the cut toward the
+        // neighbour is moved round toward its mid site: the share's
+        // site_angle, from LinkGingivaNeighbours)
+        site.line_moved_deg =
+            std::abs(g.site_angle[s] - kSiteAngles[s]) * 180 / std::numbers::pi;
         site.pocket_mm = o.pocket_mm[s];
         site.bleeding = o.bleeding[s];
         m.sites.push_back(site);

@@ -14,6 +14,16 @@ namespace sulcus {
 /// its pockets, recession and, for a share, the bone crest it reaches.
 GingivaParams GingivaOf(const ObjectSpec& o);
 
+/// The map from a share's tooth's (unmirrored) frame to its neighbour `s`'s:
+/// p_s = A p + b.
+void NeighbourFrame(const ObjectSpec& o, const GingivaNeighbourSpec& s, Matrix3* A,
+                    Vector3* b);
+
+/// A share's sites' lines (GingivaParams::site_angle): the interdental lines
+/// moved clear of its cuts toward its neighbours (LineAnglesClearOfCuts); a
+/// collar alone keeps kSiteAngles.
+std::array<double, 6> ShareLineAngles(const ObjectSpec& o);
+
 /// A share of the arch's gingiva's neighbours: their teeth and collars, and
 /// the map from this tooth's (unmirrored) frame to each of theirs (`next`, as
 /// the share's generator takes them).

@@ -34,10 +34,12 @@ namespace {
 GingivaParams GingivaParamsOf(int fdi, bool mirrored, const RigidTransform& X_WO,
                               const std::array<double, 6>& pocket_mm,
                               const std::array<double, 6>& recession_mm,
-                              double crest_drop_mm) {
+                              double crest_drop_mm,
+                              const std::array<double, 6>& site_angle) {
   GingivaParams p;
   p.pocket_mm = pocket_mm;
   p.recession_mm = recession_mm;
+  p.site_angle = site_angle;
   if (crest_drop_mm > 0) {
     const Vector3 v(0, 0, FdiTooth::Parse(fdi).upper() ? -1.0 : 1.0);
     p.crest_drop_mm = crest_drop_mm;
@@ -52,7 +54,7 @@ GingivaParams GingivaParamsOf(int fdi, bool mirrored, const RigidTransform& X_WO
 
 GingivaParams GingivaOf(const ObjectSpec& o) {
   return GingivaParamsOf(o.fdi, o.mirrored, o.X_WO, o.pocket_mm, o.recession_mm,
-                         o.share_crest_drop_mm);
+                         o.share_crest_drop_mm, o.site_angle);
 }
 
 namespace {
@@ -61,8 +63,10 @@ namespace {
 // and the map from the share's tooth's (unmirrored) frame to the neighbour's.
 GingivaParams NeighbourParams(const ObjectSpec& o, const GingivaNeighbourSpec& s) {
   return GingivaParamsOf(s.fdi, s.mirrored, s.X_WO, s.pocket_mm, s.recession_mm,
-                         o.share_crest_drop_mm > 0 ? s.crest_drop_mm : 0);
+                         o.share_crest_drop_mm > 0 ? s.crest_drop_mm : 0, s.site_angle);
 }
+
+}  // namespace
 
 void NeighbourFrame(const ObjectSpec& o, const GingivaNeighbourSpec& s, Matrix3* A,
                     Vector3* b) {
@@ -73,7 +77,21 @@ void NeighbourFrame(const ObjectSpec& o, const GingivaNeighbourSpec& s, Matrix3*
   *b = mirror * Rt * (o.X_WO.translation() - s.X_WO.translation());
 }
 
-}  // namespace
+std::array<double, 6> ShareLineAngles(const ObjectSpec& o) {
+  if (o.kind != ObjectSpec::Kind::kGingiva || o.gingiva_neighbours.empty())
+    return kSiteAngles;
+  const ToothModel& tooth = GenerateTooth(o.fdi);
+  std::vector<ClipPlane> cuts;
+  for (const GingivaNeighbourSpec& s : o.gingiva_neighbours) {
+    Matrix3 A;
+    Vector3 b;
+    NeighbourFrame(o, s, &A, &b);
+    cuts.push_back(CutToward(tooth, GenerateTooth(s.fdi), A, b));
+  }
+  GingivaParams p = GingivaOf(o);
+  p.site_angle = kSiteAngles;
+  return LineAnglesClearOfCuts(tooth, p, cuts);
+}
 
 ShareNeighbours::ShareNeighbours(const ObjectSpec& o) {
   const std::size_t n = o.gingiva_neighbours.size();
@@ -123,6 +141,8 @@ std::string GeneratorKey(const ObjectSpec& o) {
       const GingivaParams g = GingivaOf(o);
       k << "gingiva " << kGingivaShareVersion << "|unmirrored|" << ToothShapeKey(o.fdi);
       for (int i = 0; i < 6; ++i) k << '|' << g.pocket_mm[i] << '|' << g.recession_mm[i];
+      if (g.site_angle != kSiteAngles)
+        for (const double a : g.site_angle) k << "|line " << Placed(a);
       if (g.crest_drop_mm > 0)
         k << "|crest " << g.crest_drop_mm << '|' << Placed(g.crest_up.x()) << '|'
           << Placed(g.crest_up.y()) << '|' << Placed(g.crest_up.z());
@@ -140,6 +160,8 @@ std::string GeneratorKey(const ObjectSpec& o) {
         for (int r = 0; r < 3; ++r) e << '|' << Placed(b[r]);
         for (int i = 0; i < 6; ++i)
           e << '|' << p.pocket_mm[i] << '|' << p.recession_mm[i];
+        if (p.site_angle != kSiteAngles)
+          for (const double a : p.site_angle) e << "|line " << Placed(a);
         e << '|' << p.crest_drop_mm << '|' << Placed(p.crest_up.x()) << '|'
           << Placed(p.crest_up.y()) << '|' << Placed(p.crest_up.z());
         next.push_back(e.str());

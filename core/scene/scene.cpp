@@ -21,6 +21,7 @@
 #include "core/base/text.h"
 #include "core/base/yaml_reader.h"
 #include "core/scene/mesh_paths.h"
+#include "core/scene/object_gingiva.h"
 #include "core/scene/scene_settings.h"
 
 namespace sulcus {
@@ -499,6 +500,14 @@ void LinkGingivaNeighbours(SceneSpec* spec) {
     }
     if (!g.gingiva_neighbours.empty()) g.share_crest_drop_mm = crest(g.fdi);
   }
+  // Each share's lines, then copied into the links to it (its neighbours'
+  // collars are built with the same lines as its own).
+  std::map<int, std::array<double, 6>> lines;
+  for (ObjectSpec& g : spec->objects)
+    if (g.kind == ObjectSpec::Kind::kGingiva)
+      lines[g.fdi] = g.site_angle = ShareLineAngles(g);
+  for (ObjectSpec& g : spec->objects)
+    for (GingivaNeighbourSpec& n : g.gingiva_neighbours) n.site_angle = lines.at(n.fdi);
 }
 
 const char* ToString(Tissue t) {

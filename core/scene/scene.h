@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/anatomy/gingiva.h"
 #include "core/base/load_error.h"
 #include "core/geometry/mesh.h"
 #include "core/geometry/transform.h"
@@ -77,6 +78,7 @@ struct GingivaNeighbourSpec {
   RigidTransform X_WO;
   std::array<double, 6> pocket_mm{}, recession_mm{};
   double crest_drop_mm = 0;  // its bone crest below its CEJ (as its share's)
+  std::array<double, 6> site_angle = kSiteAngles;  // its sites' lines (as its share's)
 };
 
 struct ObjectSpec {
@@ -131,6 +133,9 @@ struct ObjectSpec {
   // kGingiva shares (gingiva_neighbours not empty): the bone crest below the
   // tooth's CEJ, as the jaw has it; the share reaches 1 mm past it.
   double share_crest_drop_mm = 0;
+  // kGingiva: its sites' lines in the tooth frame (GingivaParams::site_angle);
+  // a share's interdental lines moved clear of its cuts (LinkGingivaNeighbours).
+  std::array<double, 6> site_angle = kSiteAngles;
   int calculus_site = -1;
   bool with_gingiva = false;
   // kAnatomy: a soft-tissue lesion (soft_tissue.h), empty kind for none.
@@ -225,7 +230,11 @@ inline constexpr int kFurcationJawTightenPasses = 1;
 /// midline) whose gingiva the scene has and that stand within 2 mm of touching
 /// (a hand-placed row of teeth apart keeps a collar each), and each share's
 /// bone crest (`share_crest_drop_mm`, the jaw's, from FollowAttachmentLoss's
-/// rule). LoadSceneSpec and CompileScene call it, after FollowAttachmentLoss.
+/// rule), and each share's sites' lines (`site_angle`, from
+/// LineAnglesClearOfCuts: an interdental line that the arch crowds past the
+/// cut toward the neighbour is moved round toward its mid site), copied into
+/// its neighbours' links. LoadSceneSpec and CompileScene call it, after
+/// FollowAttachmentLoss.
 void LinkGingivaNeighbours(SceneSpec* spec);
 
 /// An object's mesh in its own frame (before X_WO): a generated tooth, gingiva

@@ -15,6 +15,7 @@
 #include "core/lesson/attempt.h"
 #include "core/lesson/instructor.h"
 #include "core/lesson/results.h"
+#include "core/lesson/sign_in.h"
 #include "tests/common/kill_sweep.h"
 #include "tests/common/output.h"
 #include "tests/common/postgres_server.h"
@@ -384,16 +385,51 @@ TEST(ResultsPg, AStationsRoleStoresAndReadsAttemptsAndNothingElse) {
                                  setup.instructor_password + host;
   // The instructor's role sets the passphrase; the station stores and shows.
   InstructorLock(ResultsPlace({}, instructor)).Set("the lab's passphrase");
+  // The instructor keeps the roster; a look-alike of a name on it is refused.
+  {
+    const auto teacher = OpenPostgresResults(instructor);
+    std::vector<std::string> refused;
+    EXPECT_EQ(AddNamesToRoster(*teacher, {"bea", " cal", "Bea"}, &refused), 2);
+    ASSERT_EQ(refused.size(), 1u);
+    EXPECT_NE(refused[0].find("looks like"), std::string::npos) << refused[0];
+    EXPECT_EQ(teacher->Roster(), (std::vector<std::string>{"bea", "cal"}));
+    teacher->SetSetting(kSignInSetting, "required");  // (a new store: off)
+  }
   const fs::path dir = test::FreshOutputPath("results_pg", "roles");
   const ResultsPlace place(dir, station);
   LessonResult mine = Sample("bea", 71.5);
   mine.device_kind = "keys";
   const AttemptFolder f = NewAttemptFolder(dir, "bea");
+  // Not signed in: refused by the store, and kept waiting in its folder.
+  try {
+    KeepAttempt(mine, f, f.dir, place);
+    ADD_FAILURE() << "an attempt stored for a student who did not sign in";
+  } catch (const ResultsError& e) {
+    EXPECT_NE(std::string(e.what()).find("bea is not signed in"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(fs::exists(f.dir / kUnstoredFile)) << "the attempt waits";
+  const auto at_station = OpenPostgresResults(station);
+  const SignInResult bea = SignIn(*at_station, "bea", "bea's own passphrase");
+  EXPECT_TRUE(bea.first_use);
+  EXPECT_THROW(SignIn(*at_station, "bea", "bea's own passphrasE"), ResultsError);
+  EXPECT_THROW(SignIn(*at_station, "dan", "dan's passphrase"), ResultsError)
+      << "not on the roster";
+  EXPECT_FALSE(SignIn(*at_station, "bea", "bea's own passphrase").first_use);
+  KeepSignIn(f.dir, bea.token);
   const std::int64_t id = KeepAttempt(mine, f, f.dir, place);
   EXPECT_EQ(KeepAttempt(mine, f, f.dir, place), id) << "a retry: once";
-  const auto rows = OpenPostgresResults(station)->Attempts("bea");
+  EXPECT_FALSE(fs::exists(f.dir / kUnstoredFile));
+  const auto rows = at_station->Attempts("bea");
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_DOUBLE_EQ(rows[0].total, 71.5);
+  EXPECT_TRUE(rows[0].signed_in);
+  // Bea's sign-in does not store an attempt for cal.
+  LessonResult forged = Sample("cal", 99.0);
+  forged.device_kind = "keys";
+  EXPECT_THROW(at_station->Store(forged, "2026-12-01T10:00:00Z", "", "", "", Uuid(9, 1),
+                                 bea.token),
+               ResultsError);
   EXPECT_NE(DemonstrationRefusal(place, "scripted"), "") << "the public setting is read";
   try {
     InstructorLock(place).is_set();
@@ -404,17 +440,45 @@ TEST(ResultsPg, AStationsRoleStoresAndReadsAttemptsAndNothingElse) {
   }
   // What a student with the station's credentials tried, each refused.
   for (const char* sql :
-       {"UPDATE attempts SET total = 98.5", "DELETE FROM attempts",
-        "DELETE FROM students", "TRUNCATE attempts CASCADE", "SELECT value FROM settings",
+       {"UPDATE attempts SET total = 98.5",
+        "DELETE FROM attempts",
+        "DELETE FROM students",
+        "TRUNCATE attempts CASCADE",
+        "SELECT value FROM settings",
         "UPDATE settings SET value = 'x' WHERE key = 'instructor_pwhash'",
         "INSERT INTO settings VALUES ('demonstrations', 'allowed')",
-        "CREATE TABLE evil (x INTEGER)", "DROP TABLE attempt_lines",
+        "CREATE TABLE evil (x INTEGER)",
+        "DROP TABLE attempt_lines",
         "ALTER TABLE attempts ADD COLUMN evil INTEGER",
         "CREATE TRIGGER evil BEFORE INSERT ON attempts FOR EACH ROW EXECUTE FUNCTION "
         "suppress_redundant_updates_trigger()",
         "ALTER ROLE sulcus_instructor PASSWORD 'mine'",
-        "ALTER ROLE sulcus_station SUPERUSER", "CREATE ROLE evil LOGIN",
-        "GRANT sulcus_instructor TO sulcus_station"}) {
+        "ALTER ROLE sulcus_station SUPERUSER",
+        "CREATE ROLE evil LOGIN",
+        "GRANT sulcus_instructor TO sulcus_station",
+        "INSERT INTO students(name) VALUES ('mallory')",
+        "UPDATE students SET on_roster = 1",
+        "SELECT name_key FROM students",
+        "INSERT INTO attempts(student_id, lesson_id, started, mode, scene_file, "
+        "generated_case, case_seed, total, duration_s, sites_total, sites_read, "
+        "sites_charted, within_1mm_pct, bias_mm, force_in_band_pct, true_dx, chart_dx, "
+        "declared_dx, recording, answers, report_dir) SELECT student_id, lesson_id, "
+        "started, mode, scene_file, generated_case, case_seed, 100, duration_s, "
+        "sites_total, sites_read, sites_charted, within_1mm_pct, bias_mm, "
+        "force_in_band_pct, true_dx, chart_dx, declared_dx, recording, answers, "
+        "report_dir FROM attempts",
+        "INSERT INTO attempt_lines SELECT * FROM attempt_lines",
+        "SELECT key_hash FROM student_keys",
+        "SELECT salt FROM student_keys",
+        "DELETE FROM student_keys",
+        "SELECT * FROM sign_ins",
+        "INSERT INTO sign_ins(token_hash, student_id) SELECT 'x', id FROM students",
+        "DELETE FROM sign_in_failures",
+        "UPDATE chain_head SET hash = ''",
+        "SELECT sulcus_store_attempt('{\"student\": \"cal\", \"device\": "
+        "\"keys\"}'::jsonb, NULL)",
+        "CREATE OR REPLACE FUNCTION sulcus_salt(p_name TEXT) RETURNS TEXT LANGUAGE sql "
+        "AS $$ SELECT 'x' $$"}) {
     std::string said;
     EXPECT_NE(Server().Try(station, sql, &said), 0) << sql << ": " << said;
     EXPECT_NE(said.find("ERROR"), std::string::npos) << sql << ": " << said;
@@ -422,6 +486,9 @@ TEST(ResultsPg, AStationsRoleStoresAndReadsAttemptsAndNothingElse) {
   std::string said;
   ASSERT_EQ(Server().Try(owner, "SELECT total FROM attempts", &said), 0) << said;
   EXPECT_EQ(said, "71.5\n") << "the row as it was stored";
+  // The instructor resets a forgotten passphrase: set again at the next sign-in.
+  EXPECT_TRUE(OpenPostgresResults(instructor)->ResetPassphrase("bea"));
+  EXPECT_TRUE(SignIn(*at_station, "bea", "a new passphrase").first_use);
   // The instructor's role reads everything and writes the settings.
   EXPECT_TRUE(InstructorLock(ResultsPlace({}, instructor)).Check("the lab's passphrase"));
   OpenPostgresResults(instructor)->SetSetting(kDemonstrationsSetting, "allowed");

@@ -95,6 +95,10 @@ TEST(Results, VersionOneDatabaseIsMigratedKeepingItsAttempts) {
     char* err = nullptr;
     ASSERT_EQ(
         sqlite3_exec(h,
+                     "DROP TABLE sign_in_failures; DROP TABLE sign_ins; DROP TABLE "
+                     "student_keys; ALTER TABLE attempts DROP COLUMN signed_in; ALTER "
+                     "TABLE students DROP COLUMN name_key; ALTER TABLE students DROP "
+                     "COLUMN on_roster; "
                      "DROP VIEW public_settings; ALTER TABLE attempts DROP COLUMN "
                      "row_hash; ALTER TABLE attempts DROP COLUMN prev_hash; ALTER "
                      "TABLE attempts DROP COLUMN "
