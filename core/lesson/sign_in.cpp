@@ -24,11 +24,13 @@ std::string DeriveKey(const std::string& passphrase, const std::string& salt_hex
   unsigned char salt[crypto_pwhash_SALTBYTES];
   if (sodium_hex2bin(salt, sizeof salt, salt_hex.data(), salt_hex.size(), nullptr,
                      nullptr, nullptr) != 0)
-    throw ResultsError("the store holds a damaged passphrase salt; the instructor resets "
-                       "the student's passphrase");
+    throw ResultsError(
+        "the store holds a damaged passphrase salt; the instructor resets "
+        "the student's passphrase");
   unsigned char key[32];
   if (crypto_pwhash(key, sizeof key, passphrase.data(), passphrase.size(), salt,
-                    crypto_pwhash_OPSLIMIT_INTERACTIVE, crypto_pwhash_MEMLIMIT_INTERACTIVE,
+                    crypto_pwhash_OPSLIMIT_INTERACTIVE,
+                    crypto_pwhash_MEMLIMIT_INTERACTIVE,
                     crypto_pwhash_ALG_ARGON2ID13) != 0)
     throw ResultsError("not enough memory to check the passphrase (64 MiB)");
   return Hex(key, sizeof key);
@@ -125,8 +127,8 @@ void KeepSignIn(const std::filesystem::path& attempt_dir, const std::string& tok
   {
     std::ofstream out(file, std::ios::trunc);
     if (!out) throw std::runtime_error(file.string() + ": cannot be written");
-    std::filesystem::permissions(file, std::filesystem::perms::owner_read |
-                                           std::filesystem::perms::owner_write);
+    std::filesystem::permissions(
+        file, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
     out << token << '\n';
     if (!out.flush()) throw std::runtime_error(file.string() + ": cannot be written");
   }

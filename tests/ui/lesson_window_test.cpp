@@ -854,16 +854,27 @@ TEST(LessonWindow, ProgressOverAttempts) {
   EXPECT_TRUE(Save(d, "progress.png"));
 }
 
-// A lab on one shared PostgreSQL store: three stations store at once, a fourth
-// takes an attempt while the server is down and sends it with `sulcus-cli results
-// sync` once it is back, and the instructor's view at a fifth station shows all
-// four students.
+// A lab on one shared PostgreSQL store set up with its roles (`results setup`):
+// three stations store at once with the station's role, a fourth takes an
+// attempt while the server is down and sends it with `sulcus-cli results sync`
+// once it is back, and the instructor's view at a fifth station, with the
+// instructor's role, shows all four students. (Students signing in at a
+// station: ui.sign_in.)
 TEST(Lab, TheInstructorsViewAtAnyStationShowsTheWholeLab) {
   test::PostgresServer server;
-  const std::string url = server.FreshDatabase("lab");
+  // Set up as a school's administrator does: the stations use the station's
+  // role, the instructor's view the instructor's.
+  const std::string owner = server.FreshDatabase("lab");
+  SetUpPostgresStore(owner, "station-pw", "instructor-pw");
+  const std::string host = "@127.0.0.1:" + std::to_string(server.port()) + "/lab";
+  const std::string url = std::string("postgresql://") + kStationRole + ":station-pw" +
+                          host,
+                    instructor_url = std::string("postgresql://") + kInstructorRole +
+                                     ":instructor-pw" + host;
   // The stations' attempts are scripted students': demonstrations, as the
   // instructor allows them for a trial of the lab.
-  OpenResults(ResultsPlace({}, url))->SetSetting(kDemonstrationsSetting, "allowed");
+  OpenResults(ResultsPlace({}, instructor_url))
+      ->SetSetting(kDemonstrationsSetting, "allowed");
   const fs::path lab = Out("lab");
   fs::remove_all(lab);
   EXPECT_EQ(test::RunStationsAtOnce(
@@ -900,8 +911,8 @@ TEST(Lab, TheInstructorsViewAtAnyStationShowsTheWholeLab) {
     for (const std::string& name : start.offered_students())
       EXPECT_EQ(name.rfind("student", 0), std::string::npos) << name;
   }
-  // The instructor at the fifth station.
-  setenv("SULCUS_RESULTS_URL", url.c_str(), 1);
+  // The instructor at the fifth station, with the instructor's role.
+  setenv("SULCUS_RESULTS_URL", instructor_url.c_str(), 1);
   {
     MainWindow w;
     w.show();
@@ -910,7 +921,8 @@ TEST(Lab, TheInstructorsViewAtAnyStationShowsTheWholeLab) {
     auto* view = dynamic_cast<InstructorDialog*>(d);
     EXPECT_EQ(view->students(), 4);
     EXPECT_EQ(view->attempts_table()->rowCount(), 4);
-    EXPECT_NE(w.results_footer().indexOf("Results: PostgreSQL postgresql://sulcus:***@"),
+    EXPECT_NE(w.results_footer().indexOf(
+                  "Results: PostgreSQL postgresql://sulcus_instructor:***@"),
               -1)
         << w.results_footer().toStdString();
     QApplication::processEvents();
