@@ -146,10 +146,17 @@ int RunLesson(const RunArgs& typed) {
   const std::string kind = DeviceKindOf(a.device);
   if (!a.no_store && kind != "scripted" && kind != "replay") {
     const std::string pass = StudentPassphrase(a.passphrase_file);
-    const auto store = OpenResults(results);
-    if (!pass.empty()) {
+    std::unique_ptr<ResultsStore> store;
+    try {
+      store = OpenResults(results);
+    } catch (const ResultsError& e) {
+      // The lesson is taken all the same and its attempt waits in its folder
+      // (a sync stores it): never lost because the server is down.
+      std::fprintf(stderr, "cannot sign in now (%s); the attempt will wait\n", e.what());
+    }
+    if (store && !pass.empty()) {
       sign_in = SignIn(*store, a.student, pass).token;
-    } else if (store->Setting(kSignInSetting) == "required") {
+    } else if (store && store->Setting(kSignInSetting) == "required") {
       throw std::invalid_argument(
           "--student " + a.student + ": " + results.Describe() +
           " takes a student's attempt only from that student, signed in: give the "
