@@ -189,7 +189,11 @@ QDialog* MainWindow::ShowProgress(const std::string& student,
                                   const std::filesystem::path& results_dir) {
   const std::filesystem::path dir =
       results_dir.empty() ? DefaultResultsDir() : results_dir;
-  auto* d = new ProgressDialog(ResultsPlaceFor(dir), student, this);
+  ResultsPlace place = ResultsPlaceFor(dir);
+  // The student signed in for the lesson sees their own attempts at a store
+  // that shows a station nothing else.
+  if (student == lesson_start_.student) place.sign_in = lesson_start_.sign_in;
+  auto* d = new ProgressDialog(place, student, this);
   d->setAttribute(Qt::WA_DeleteOnClose);
   d->show();
   return d;

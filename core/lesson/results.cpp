@@ -225,8 +225,13 @@ ResultsPlace ResultsPlaceFor(const fs::path& dir) {
 }
 
 std::unique_ptr<ResultsStore> OpenResults(const ResultsPlace& place) {
-  if (!place.url.empty()) return OpenPostgresResults(place.url);
-  return std::make_unique<ResultsDb>(place.sqlite_file());
+  std::unique_ptr<ResultsStore> store;
+  if (!place.url.empty())
+    store = OpenPostgresResults(place.url);
+  else
+    store = std::make_unique<ResultsDb>(place.sqlite_file());
+  store->ReadAs(place.sign_in);
+  return store;
 }
 
 fs::path DefaultResultsDir() {

@@ -117,6 +117,9 @@ struct ResultsPlace {
       : dir(std::move(d)), url(std::move(u)) {}
   std::filesystem::path dir;
   std::string url;
+  /// The sign-in of the student a station shows (SignIn's token): a lab's
+  /// store that asks for sign-in shows a station only that student's attempts.
+  std::string sign_in;
   std::filesystem::path sqlite_file() const { return dir / "results.db"; }
   /// For messages and the window's footer: the file, or the URL without its password.
   std::string Describe() const;
@@ -191,6 +194,11 @@ class ResultsStore {
   /// A sign-in's token for the right key, "" for a wrong one. Throws
   /// ResultsError after too many wrong ones within a quarter of an hour.
   virtual std::string SignInWithKey(const std::string& name, const std::string& key) = 0;
+  /// Reads as the student of this sign-in: a station's role of a lab's store
+  /// reads attempts only through the store's functions, which show a student's
+  /// own attempts (all of a name's when the store does not ask for sign-in).
+  /// A station's own file and the instructor's role read everything.
+  virtual void ReadAs(const std::string& sign_in) { (void)sign_in; }
 };
 
 /// The roles `results setup` makes in a lab's PostgreSQL store: stations store

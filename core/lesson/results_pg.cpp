@@ -243,8 +243,28 @@ class PgResults final : public ResultsStore {
     Query("UPDATE attempts SET report_dir = $1 WHERE id = $2", Params().Add(dir).Add(id));
   }
 
+  void ReadAs(const std::string& sign_in) override { sign_in_ = sign_in; }
+
+  // A station's role reads attempts only through the store's functions
+  // (sulcus_attempts_of, sulcus_attempt, sulcus_sites_of), a student's own.
+  bool ReadsAll() const {
+    if (!reads_all_)
+      reads_all_ = Query("SELECT has_table_privilege('attempts', 'SELECT')", Params())
+                       .Text(0, 0) == "t";
+    return *reads_all_;
+  }
   std::vector<AttemptRow> Attempts(const std::string& student,
                                    const std::string& lesson_file) const override {
+    if (!ReadsAll()) {
+      std::vector<AttemptRow> out;
+      if (student.empty()) return out;  // (a station shows one student's)
+      Params p;
+      p.Add(student).Add(lesson_file).Add(sign_in_);
+      const Result r = Query("SELECT * FROM sulcus_attempts_of($1, $2, $3)", p);
+      for (int i = 0; i < r.rows(); ++i)
+        out.push_back(results_schema::ReadAttempt(RowColumns{r, i}));
+      return out;
+    }
     const Result r = Query(std::string(results_schema::kSelectAttempts) +
                                results_schema::kByStudentAndLesson + "ORDER BY a.id",
                            Params().Add(student).Add(lesson_file));
@@ -256,16 +276,23 @@ class PgResults final : public ResultsStore {
 
   std::optional<AttemptRow> Attempt(std::int64_t id) const override {
     const Result r =
-        Query(std::string(results_schema::kSelectAttempts) + "WHERE a.id = $1",
-              Params().Add(id));
+        ReadsAll()
+            ? Query(std::string(results_schema::kSelectAttempts) + "WHERE a.id = $1",
+                    Params().Add(id))
+            : Query("SELECT * FROM sulcus_attempt($1, $2)",
+                    Params().Add(id).Add(sign_in_));
     if (r.rows() == 0) return std::nullopt;
     return results_schema::ReadAttempt(RowColumns{r, 0});
   }
 
   std::vector<SiteRow> Sites(const std::string& student,
                              const std::string& lesson_file) const override {
+    if (!ReadsAll() && student.empty()) return {};
     const Result r =
-        Query(results_schema::kSelectSites, Params().Add(student).Add(lesson_file));
+        ReadsAll()
+            ? Query(results_schema::kSelectSites, Params().Add(student).Add(lesson_file))
+            : Query("SELECT * FROM sulcus_sites_of($1, $2, $3)",
+                    Params().Add(student).Add(lesson_file).Add(sign_in_));
     std::vector<SiteRow> out;
     for (int i = 0; i < r.rows(); ++i)
       out.push_back(results_schema::ReadSite(RowColumns{r, i}));
@@ -445,7 +472,9 @@ class PgResults final : public ResultsStore {
         "students, lessons, attempts, attempt_sites, attempt_scores, attempt_lines";
     const char* functions =
         "sulcus_salt(text), sulcus_set_passphrase(text, text, text), "
-        "sulcus_sign_in(text, text), sulcus_store_attempt(jsonb, text)";
+        "sulcus_sign_in(text, text), sulcus_store_attempt(jsonb, text), "
+        "sulcus_attempts_of(text, text, text), sulcus_attempt(bigint, text), "
+        "sulcus_sites_of(text, text, text)";
     for (const std::string& sql : std::vector<std::string>{
              "REVOKE CREATE ON SCHEMA public FROM PUBLIC",
              "REVOKE ALL ON ALL TABLES IN SCHEMA public FROM PUBLIC, " + both,
@@ -456,9 +485,7 @@ class PgResults final : public ResultsStore {
              // the owner's functions; it reads the attempts a station shows
              // and the public settings, no secret, and changes nothing.
              std::string("GRANT EXECUTE ON FUNCTION ") + functions + " TO " + both,
-             "GRANT SELECT ON lessons, attempts, attempt_sites, attempt_scores, "
-             "attempt_lines, sulcus_schema, public_settings TO " +
-                 station,
+             "GRANT SELECT ON lessons, sulcus_schema, public_settings TO " + station,
              "GRANT SELECT (id, name, on_roster, created) ON students TO " + station,
              // The instructor reads everything but the passphrases and
              // sign-ins; keeps the roster (adds names, resets a passphrase),
@@ -477,8 +504,9 @@ class PgResults final : public ResultsStore {
     }
     out.done.push_back(
         "granted the station only the store's functions (store an attempt, sign a "
-        "student in) and SELECT on the attempts and the public settings: no INSERT, "
-        "UPDATE, DELETE or DDL, no passphrase");
+        "student in, read a student's own attempts) and SELECT on the lessons, the "
+        "students' names and the public settings: no INSERT, UPDATE, DELETE or DDL, "
+        "no passphrase, no other student's attempt");
     out.done.push_back(
         "granted the instructor SELECT on every table but the passphrases, the roster, "
         "the settings and removing a student's results");
@@ -543,6 +571,8 @@ class PgResults final : public ResultsStore {
   }
 
   std::string url_, shown_;
+  std::string sign_in_;                    // ReadAs
+  mutable std::optional<bool> reads_all_;  // (asked once)
   PGconn* pg_ = nullptr;
 };
 

@@ -194,7 +194,9 @@ inline constexpr int kWrongPassphrases = 10;
 
 /// The functions a station calls (SECURITY DEFINER, their search_path
 /// pinned): a student's salt; setting a passphrase at first use; signing in
-/// (a token, or NULL for a wrong key); storing an attempt. The attempt's row
+/// (a token, or NULL for a wrong key); a student's attempts and sites (only
+/// with a sign-in of that student when the store asks for sign-in: a station
+/// reads no other attempt); storing an attempt. The attempt's row
 /// says it was stored by its signed-in student only when the token is one of
 /// that student's sign-ins, made within kSignInHours (an attempt that waited
 /// longer on its station is stored, not as signed in); when the store asks
@@ -244,6 +246,51 @@ BEGIN
     VALUES (encode(sha256(convert_to(token, 'UTF8')), 'hex'), sid);
   RETURN token;
 END
+$f$;
+
+CREATE VIEW attempt_rows AS
+  SELECT a.id, s.name AS student, l.name AS lesson_name, l.file AS lesson_file,
+    a.scene_file, a.mode, a.started, a.case_seed, a.generated_case, a.total,
+    a.duration_s, a.within_1mm_pct, a.bias_mm, a.force_in_band_pct, a.sites_total,
+    a.sites_read, a.sites_charted, a.true_dx, a.chart_dx, a.declared_dx, a.recording,
+    a.answers, a.report_dir, a.complete, a.ended, a.uuid, a.device, a.signed_in
+  FROM attempts a JOIN students s ON s.id = a.student_id
+    JOIN lessons l ON l.id = a.lesson_id;
+CREATE VIEW site_rows AS
+  SELECT t.attempt_id, s.name AS student, a.started, t.fdi, t.site, t.truth_mm,
+    t.reached_mm, t.entered_mm, t.peak_force_n, l.file AS lesson_file
+  FROM attempt_sites t JOIN attempts a ON a.id = t.attempt_id
+    JOIN students s ON s.id = a.student_id JOIN lessons l ON l.id = a.lesson_id;
+
+CREATE FUNCTION sulcus_may_read(p_name TEXT, p_token TEXT) RETURNS BOOLEAN
+LANGUAGE sql STABLE SECURITY DEFINER SET search_path = public, pg_temp AS $f$
+  SELECT coalesce((SELECT value FROM settings WHERE key = 'sign_in'), '') <> 'required'
+    OR EXISTS (SELECT 1 FROM sign_ins i JOIN students s ON s.id = i.student_id
+      WHERE s.name = p_name AND i.token_hash =
+          encode(sha256(convert_to(coalesce(p_token, ''), 'UTF8')), 'hex')
+        AND i.at > to_char((now() - interval '{HOURS} hours') AT TIME ZONE 'UTC',
+                           'YYYY-MM-DD"T"HH24:MI:SS"Z"'))
+$f$;
+
+CREATE FUNCTION sulcus_attempts_of(p_name TEXT, p_lesson TEXT, p_token TEXT)
+RETURNS SETOF attempt_rows LANGUAGE sql STABLE SECURITY DEFINER
+SET search_path = public, pg_temp AS $f$
+  SELECT * FROM attempt_rows WHERE student = p_name AND
+    (p_lesson = '' OR lesson_file = p_lesson) AND sulcus_may_read(p_name, p_token)
+  ORDER BY id
+$f$;
+
+CREATE FUNCTION sulcus_attempt(p_id BIGINT, p_token TEXT) RETURNS SETOF attempt_rows
+LANGUAGE sql STABLE SECURITY DEFINER SET search_path = public, pg_temp AS $f$
+  SELECT * FROM attempt_rows WHERE id = p_id AND sulcus_may_read(student, p_token)
+$f$;
+
+CREATE FUNCTION sulcus_sites_of(p_name TEXT, p_lesson TEXT, p_token TEXT)
+RETURNS SETOF site_rows LANGUAGE sql STABLE SECURITY DEFINER
+SET search_path = public, pg_temp AS $f$
+  SELECT * FROM site_rows WHERE student = p_name AND
+    (p_lesson = '' OR lesson_file = p_lesson) AND sulcus_may_read(p_name, p_token)
+  ORDER BY attempt_id, fdi, site
 $f$;
 
 CREATE FUNCTION sulcus_store_attempt(doc JSONB, p_token TEXT) RETURNS BIGINT

@@ -420,10 +420,18 @@ TEST(ResultsPg, AStationsRoleStoresAndReadsAttemptsAndNothingElse) {
   const std::int64_t id = KeepAttempt(mine, f, f.dir, place);
   EXPECT_EQ(KeepAttempt(mine, f, f.dir, place), id) << "a retry: once";
   EXPECT_FALSE(fs::exists(f.dir / kUnstoredFile));
-  const auto rows = at_station->Attempts("bea");
+  EXPECT_TRUE(at_station->Attempts("bea").empty())
+      << "a station reads a student's attempts only with that student's sign-in";
+  ResultsPlace as_bea = place;
+  as_bea.sign_in = bea.token;
+  const auto rows = OpenResults(as_bea)->Attempts("bea");
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_DOUBLE_EQ(rows[0].total, 71.5);
   EXPECT_TRUE(rows[0].signed_in);
+  EXPECT_EQ(OpenResults(as_bea)->Sites("bea").size(), 24u);
+  EXPECT_TRUE(OpenResults(as_bea)->Attempt(rows[0].id).has_value());
+  EXPECT_TRUE(OpenResults(as_bea)->Attempts("cal").empty()) << "nor another's with it";
+  EXPECT_TRUE(OpenResults(as_bea)->Attempts().empty()) << "nor everyone's";
   // Bea's sign-in does not store an attempt for cal.
   LessonResult forged = Sample("cal", 99.0);
   forged.device_kind = "keys";
@@ -477,6 +485,10 @@ TEST(ResultsPg, AStationsRoleStoresAndReadsAttemptsAndNothingElse) {
         "UPDATE chain_head SET hash = ''",
         "SELECT sulcus_store_attempt('{\"student\": \"cal\", \"device\": "
         "\"keys\"}'::jsonb, NULL)",
+        "SELECT total FROM attempts",
+        "SELECT * FROM attempt_sites",
+        "SELECT * FROM attempt_rows",
+        "SELECT sulcus_may_read('bea', NULL)",
         "CREATE OR REPLACE FUNCTION sulcus_salt(p_name TEXT) RETURNS TEXT LANGUAGE sql "
         "AS $$ SELECT 'x' $$"}) {
     std::string said;
