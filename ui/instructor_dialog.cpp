@@ -285,10 +285,13 @@ void InstructorDialog::Refresh() {
     const QStringList cells = {
         QString::number(a.id), Q(a.student), Q(a.lesson_name), Q(a.started), Q(a.mode),
         // Scripted and replayed attempts are demonstrations, not a student's work.
+        // A lab's store says whether the student signed in for it.
         a.device.empty() ? QString("-")
         : a.device == "scripted" || a.device == "replay"
             ? Q(a.device) + " (demonstration)"
-            : Q(a.device),
+        : a.signed_in           ? Q(a.device) + ", signed in"
+        : !db_file_.url.empty() ? Q(a.device) + ", not signed in"
+                                : Q(a.device),
         QString::number(a.total, 'f', 1) + (a.complete ? "" : " (incomplete)"),
         sites && a.sites_charted > 0 ? QString("%1 %").arg(a.within_1mm_pct, 0, 'f', 0)
                                      : QString("-"),
@@ -365,9 +368,11 @@ void InstructorDialog::Refresh() {
     for (int c = 0; c < cells.size(); ++c)
       cohort_->setItem(r, c, new QTableWidgetItem(cells[c]));
   }
-  summary_->setText(QString("%1 students, %2 attempts. %3%4")
+  summary_->setText(QString("%1 %2, %3 %4. %5%6")
                         .arg(students_)
+                        .arg(students_ == 1 ? "student" : "students")
                         .arg(attempts.size())
+                        .arg(attempts.size() == 1 ? "attempt" : "attempts")
                         .arg(rows.empty() ? QString()
                                           : QString("The site charted worst: %1. ")
                                                 .arg(cohort_->item(0, 0)->text()))

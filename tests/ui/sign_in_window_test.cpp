@@ -13,6 +13,7 @@
 #include <QComboBox>
 #include <QElapsedTimer>
 #include <QSurfaceFormat>
+#include <QTableWidget>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -23,6 +24,7 @@
 #include "core/lesson/sign_in.h"
 #include "tests/common/output.h"
 #include "tests/common/postgres_server.h"
+#include "ui/instructor_dialog.h"
 #include "ui/main_window.h"
 #include "ui/start_dialog.h"
 
@@ -115,6 +117,17 @@ TEST(SignIn, AStudentOnTheRosterSignsInAtAStationAndTheAttemptIsTheirs) {
   EXPECT_TRUE(rows[0].signed_in);
   EXPECT_EQ(rows[0].device, "keys");
   EXPECT_EQ(UnfinishedAttempts(dir).size(), 1u) << "Ada's attempt waits, not lost";
+  // The instructor's view (the instructor's role) says she signed in.
+  setenv("SULCUS_RESULTS_URL", instructor.c_str(), 1);
+  QDialog* view = w.OpenInstructor("the lab's passphrase", dir);
+  ASSERT_NE(view, nullptr);
+  const QTableWidget* table = dynamic_cast<InstructorDialog*>(view)->attempts_table();
+  ASSERT_EQ(table->rowCount(), 1);
+  EXPECT_EQ(table->item(0, 5)->text(), "keys, signed in");
+  QApplication::processEvents();
+  EXPECT_TRUE(
+      view->grab().save(QString::fromStdString(Out("sign_in_instructor.png").string())));
+  view->close();
   unsetenv("SULCUS_RESULTS_URL");
 }
 
