@@ -66,38 +66,45 @@ void StageFromHistory(const PerioChart& chart, Diagnosis* d) {
   d->stage = Stage::kIV;
 }
 
-// The molar-incisor pattern: every tooth in the band that set the stage is a
-// first molar or an incisor, at least one of each (a chart of premolars and
-// molars cannot show the pattern).
+// The molar-incisor pattern. The consensus gives it no operational rule; this
+// is the one of the presentation it replaced (localized aggressive
+// periodontitis, 1999): the teeth in the band that set the stage are at least
+// two, at least one of them a first molar, and at most two of them are neither
+// first molars nor incisors (16 and 46 alone are the pattern; incisors are not
+// required). The path says the rule and the teeth.
 void MolarIncisorPattern(const PerioChart& chart, int band_lo, int band_hi,
                          Diagnosis* d) {
-  bool molars = false, incisors = false, only = true, molar_in_band = false,
-       incisor_in_band = false;
-  std::vector<int> band;
+  std::vector<int> band, molars, others;
   for (const ToothChart& t : chart.teeth) {
     if (!t.present) continue;
-    molars |= FirstMolar(t.fdi);
-    incisors |= Incisor(t.fdi);
     int worst = -100;
     for (int s = 0; s < kSitesPerTooth; ++s)
       if (IsInterdental(s) && t.sites[s].measured())
         worst = std::max(worst, *t.sites[s].cal_mm());
     if (worst < band_lo || worst > band_hi) continue;
     band.push_back(t.fdi);
-    only &= FirstMolar(t.fdi) || Incisor(t.fdi);
-    molar_in_band |= FirstMolar(t.fdi);
-    incisor_in_band |= Incisor(t.fdi);
+    if (FirstMolar(t.fdi)) molars.push_back(t.fdi);
+    if (!FirstMolar(t.fdi) && !Incisor(t.fdi)) others.push_back(t.fdi);
   }
-  if (!molars || !incisors || band.empty()) return;
-  if (only && molar_in_band && incisor_in_band) {
-    d->extent = Extent::kMolarIncisor;
-    d->path.push_back("the teeth in the band (" + List(band) +
-                      ") are first molars and incisors, both: molar-incisor pattern");
-  } else {
-    d->path.push_back("the teeth in the band (" + List(band) +
-                      ") are not first molars and incisors, both and only: no "
-                      "molar-incisor pattern");
-  }
+  if (band.empty()) return;
+  const bool pattern = band.size() >= 2 && !molars.empty() && others.size() <= 2;
+  std::string why = "the teeth in the band (" + List(band) + "): ";
+  if (band.size() < 2)
+    why += "fewer than 2";
+  else if (molars.empty())
+    why += "no first molar among them";
+  else if (others.size() > 2)
+    why += std::to_string(others.size()) + " of them (" + List(others) +
+           ") neither first molars nor incisors, more than 2";
+  else
+    why += "2 or more, first molar " + List(molars) + ", " +
+           std::to_string(others.size()) +
+           " neither first molars nor incisors (2 at most)";
+  why += pattern ? ": molar-incisor pattern" : ": no molar-incisor pattern";
+  d->path.push_back(why +
+                    " (the rule: at least 2 teeth, at least one a first molar, at "
+                    "most 2 neither first molars nor incisors)");
+  if (pattern) d->extent = Extent::kMolarIncisor;
 }
 
 // Grade B unless the bone lost for the patient's age says A or C; smoking and

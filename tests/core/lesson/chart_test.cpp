@@ -61,8 +61,8 @@ TEST(Chart, AdjacentTeethAcrossTheMidlineToo) {
 
 TEST(Staging2017, Cal4WithPd6AtTwoNonAdjacentTeethIsStageIII) {
   PerioChart c = Healthy(TwentyFour());
-  Set(&c, 16, 0, 6, 4);
-  Set(&c, 26, 2, 6, 4);
+  Set(&c, 15, 0, 6, 4);  // (premolars: no molar-incisor pattern)
+  Set(&c, 25, 2, 6, 4);
   const Diagnosis d = Classify2017(c);
   EXPECT_EQ(d.kind, Diagnosis::Kind::kPeriodontitis);
   EXPECT_EQ(d.worst_interdental_cal_mm, 4);
@@ -82,9 +82,9 @@ TEST(Staging2017, TheSameWithPd6AtTwoAdjacentTeethOnlyIsStageII) {
 
 TEST(Staging2017, Cal5AtThreeOf24TeethIsStageIIILocalized) {
   PerioChart c = Healthy(TwentyFour());
-  Set(&c, 16, 0, 5, 5);
-  Set(&c, 26, 3, 5, 5);
-  Set(&c, 36, 5, 5, 5);
+  Set(&c, 15, 0, 5, 5);  // (premolars: no molar-incisor pattern)
+  Set(&c, 25, 3, 5, 5);
+  Set(&c, 35, 5, 5, 5);
   const Diagnosis d = Classify2017(c);
   EXPECT_EQ(d.stage, Stage::kIII);
   EXPECT_EQ(d.extent, Extent::kLocalized);
@@ -167,22 +167,40 @@ TEST(Staging2017, APocketWithoutBleedingAndNoCaseIsNotHealth) {
 // that set the stage.
 TEST(Staging2017, AFurcationClassIIMakesStageIIIFromStageI) {
   PerioChart c = Healthy(TwentyFour());
-  Set(&c, 16, 0, 3, 2);  // interdental CAL 2 at 16 and 26: stage I
-  Set(&c, 26, 0, 3, 2);
+  // Interdental CAL 2 at 14 and 24 (upper first premolars, which have a
+  // furcation; no first molar: no molar-incisor pattern): stage I.
+  Set(&c, 14, 0, 3, 2);
+  Set(&c, 24, 0, 3, 2);
   ASSERT_EQ(Classify2017(c).stage, Stage::kI);
-  c.Find(16)->furcation = 2;
+  c.Find(14)->furcation = 2;
   const Diagnosis d = Classify2017(c);
   EXPECT_EQ(d.stage, Stage::kIII) << d.Summary();
   EXPECT_EQ(d.extent, Extent::kLocalized) << "2 of 24 teeth in the 1-2 mm band";
-  c.Find(16)->furcation = 1;
+  c.Find(14)->furcation = 1;
   EXPECT_EQ(Classify2017(c).stage, Stage::kI) << "class I does not raise it";
 }
 
-// Stage III by CAL at 16 and 26 (5 mm), stage IV by what the history adds.
+// Stage IV's complexity applies to any stage III case, however it became III:
+// here a furcation of class II made a stage I chart stage III.
+TEST(Staging2017, StageIVComplexityOnAStageIIIMadeByAFurcation) {
+  PerioChart c = Healthy(TwentyFour());
+  Set(&c, 14, 0, 3, 2);
+  Set(&c, 24, 0, 3, 2);
+  c.Find(14)->furcation = 2;
+  c.patient.given = true;
+  c.patient.age_years = 45;
+  ASSERT_EQ(Classify2017(c).stage, Stage::kIII);
+  c.Find(24)->mobility = 2;
+  const Diagnosis d = Classify2017(c);
+  EXPECT_EQ(d.stage, Stage::kIV) << d.Summary();
+}
+
+// Stage III by CAL at 15 and 25 (5 mm; premolars: no molar-incisor
+// pattern), stage IV by what the history adds.
 PerioChart StageIII() {
   PerioChart c = Healthy(TwentyFour());
-  Set(&c, 16, 0, 6, 5);
-  Set(&c, 26, 2, 6, 5);
+  Set(&c, 15, 0, 6, 5);
+  Set(&c, 25, 2, 6, 5);
   c.patient.given = true;
   c.patient.age_years = 45;
   return c;
@@ -208,15 +226,15 @@ TEST(Staging2017, StageIVByToothLossOrComplexityOnStageIII) {
   c.patient.teeth_lost_to_periodontitis = 5;
   EXPECT_EQ(Classify2017(c).stage, Stage::kIV) << "5 teeth lost";
   c.patient.teeth_lost_to_periodontitis = 0;
-  c.Find(26)->mobility = 2;
+  c.Find(25)->mobility = 2;
   d = Classify2017(c);
   EXPECT_EQ(d.stage, Stage::kIV) << "secondary occlusal trauma";
   bool named = false;
   for (const std::string& step : d.path)
     named |= step.find("mobility of degree 2 or more") != std::string::npos &&
-             step.find("26") != std::string::npos;
+             step.find("25") != std::string::npos;
   EXPECT_TRUE(named) << "the path names the complexity and the tooth";
-  c.Find(26)->mobility = 1;
+  c.Find(25)->mobility = 1;
   EXPECT_EQ(Classify2017(c).stage, Stage::kIII) << "mobility 1 is not complexity";
   c.patient.opposing_pairs = 9;
   EXPECT_EQ(Classify2017(c).stage, Stage::kIV) << "fewer than 10 opposing pairs";
@@ -272,7 +290,10 @@ TEST(Grading2017, BoneLossOverAgeThenSmokingAndDiabetesRaiseIt) {
   EXPECT_EQ(Classify2017(c).grade, Grade::kC) << "a modifier never lowers the grade";
 }
 
-TEST(Staging2017, FirstMolarsAndIncisorsOnlyAreTheMolarIncisorPattern) {
+// The molar-incisor pattern by the rule of the presentation it replaced: at
+// least two teeth in the band, at least one a first molar, at most two that
+// are neither first molars nor incisors.
+TEST(Staging2017, TheMolarIncisorPatternIsTwoTeethOneAFirstMolarAtMostTwoOthers) {
   PerioChart c = Healthy(TwentyFour());
   Set(&c, 16, 0, 6, 5);
   Set(&c, 31, 2, 6, 5);
@@ -280,18 +301,36 @@ TEST(Staging2017, FirstMolarsAndIncisorsOnlyAreTheMolarIncisorPattern) {
   Diagnosis d = Classify2017(c);
   EXPECT_EQ(d.extent, Extent::kMolarIncisor) << d.Summary();
   EXPECT_EQ(d.Summary(), "periodontitis stage III, molar-incisor");
-  Set(&c, 14, 0, 6, 5);  // a premolar too
-  EXPECT_EQ(Classify2017(c).extent, Extent::kLocalized);
+  bool said = false;
+  for (const std::string& step : d.path)
+    said |= step.find("at least one a first molar") != std::string::npos;
+  EXPECT_TRUE(said) << "the path says the rule";
+  Set(&c, 14, 0, 6, 5);  // a premolar: one other
+  Set(&c, 15, 0, 6, 5);  // two others
+  EXPECT_EQ(Classify2017(c).extent, Extent::kMolarIncisor) << "two others at most";
+  Set(&c, 24, 0, 6, 5);  // three
+  EXPECT_EQ(Classify2017(c).extent, Extent::kLocalized)
+      << "three others: not the pattern";
   c = Healthy(TwentyFour());
   Set(&c, 16, 0, 6, 5);
-  Set(&c, 26, 0, 6, 5);
-  EXPECT_EQ(Classify2017(c).extent, Extent::kLocalized)
-      << "first molars alone are not the pattern: Sulcus asks for both kinds";
-  // A sextant without incisors cannot show it.
+  Set(&c, 46, 0, 6, 5);
+  EXPECT_EQ(Classify2017(c).extent, Extent::kMolarIncisor)
+      << "16 and 46 alone are the pattern: incisors are not required";
+  c = Healthy(TwentyFour());
+  Set(&c, 12, 0, 6, 5);
+  Set(&c, 31, 0, 6, 5);
+  EXPECT_EQ(Classify2017(c).extent, Extent::kLocalized) << "no first molar";
+  c = Healthy(TwentyFour());
+  Set(&c, 16, 0, 6, 5);
+  Set(&c, 44, 0, 3, 2);  // (a second tooth with loss: a case)
+  EXPECT_EQ(Classify2017(c).extent, Extent::kLocalized) << "one tooth in the band";
+  // A sextant: 46 and 47 are two teeth, one a first molar.
   PerioChart s = Healthy({47, 46, 45, 44});
   Set(&s, 46, 0, 6, 5);
   Set(&s, 44, 0, 3, 2);
-  EXPECT_NE(Classify2017(s).extent, Extent::kMolarIncisor);
+  EXPECT_NE(Classify2017(s).extent, Extent::kMolarIncisor) << "46 alone";
+  Set(&s, 47, 0, 6, 5);
+  EXPECT_EQ(Classify2017(s).extent, Extent::kMolarIncisor);
   EXPECT_EQ(ExtentFromString("molar-incisor"), Extent::kMolarIncisor);
   EXPECT_EQ(GradeFromString("C"), Grade::kC);
   EXPECT_FALSE(GradeFromString("D"));
