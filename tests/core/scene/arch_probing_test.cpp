@@ -11,6 +11,8 @@
 #include <numbers>
 #include <optional>
 
+#include "core/anatomy/arch.h"
+#include "core/anatomy/gingiva.h"
 #include "core/anatomy/soft_tissue.h"
 #include "core/haptics/effects.h"
 #include "core/haptics/probe_keys.h"
@@ -22,8 +24,6 @@
 #include "tests/common/alloc_guard.h"
 #include "tests/common/output.h"
 #include "tests/core/scene/probing_common.h"
-#include "core/anatomy/arch.h"
-#include "core/anatomy/gingiva.h"
 
 namespace sulcus {
 namespace {

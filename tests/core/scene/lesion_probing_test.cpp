@@ -5,11 +5,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <numbers>
 #include <optional>
 
+#include "core/anatomy/findings.h"
 #include "core/anatomy/soft_tissue.h"
+#include "core/anatomy/tooth.h"
 #include "core/haptics/effects.h"
 #include "core/haptics/probe_keys.h"
 #include "core/haptics/scripted_device.h"
@@ -18,12 +21,8 @@
 #include "core/session/session.h"
 #include "core/spheretree/cache.h"
 #include "tests/common/alloc_guard.h"
-#include "tests/core/scene/probing_common.h"
-#include <fstream>
-
-#include "core/anatomy/findings.h"
-#include "core/anatomy/tooth.h"
 #include "tests/common/output.h"
+#include "tests/core/scene/probing_common.h"
 
 namespace sulcus {
 namespace {

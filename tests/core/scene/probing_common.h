@@ -72,8 +72,8 @@ struct ExactScene {
 
 // Bisection between a value where `free_at` is false and one where it is true,
 // to within `tolerance`: the free end.
-inline double FreeEnd(const std::function<bool(double)>& free_at, double touching, double free,
-               double tolerance) {
+inline double FreeEnd(const std::function<bool(double)>& free_at, double touching,
+                      double free, double tolerance) {
   while (std::abs(free - touching) > tolerance) {
     const double mid = 0.5 * (touching + free);
     (free_at(mid) ? free : touching) = mid;
