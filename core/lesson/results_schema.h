@@ -235,7 +235,8 @@ BEGIN
   IF sid IS NULL THEN RETURN NULL; END IF;
   IF (SELECT count(*) FROM sign_in_failures WHERE student_id = sid AND at > since)
       >= {WRONG} THEN
-    RAISE EXCEPTION 'sulcus: too many wrong passphrases for %: wait a quarter of an hour, or ask the instructor to reset it', p_name;
+    RAISE EXCEPTION 'sulcus: too many wrong passphrases for %: wait a quarter of '
+                    'an hour, or ask the instructor to reset it', p_name;
   END IF;
   IF want <> encode(sha256(convert_to(p_key, 'UTF8')), 'hex') THEN
     INSERT INTO sign_in_failures(student_id) VALUES (sid);
@@ -309,7 +310,8 @@ BEGIN
   IF dev IN ('scripted', 'replay') THEN
     IF coalesce((SELECT value FROM settings WHERE key = 'demonstrations'), '')
         <> 'allowed' THEN
-      RAISE EXCEPTION 'sulcus: a % attempt is not %''s own: this store takes it only when the instructor allows demonstrations', dev, who;
+      RAISE EXCEPTION 'sulcus: a % attempt is not %''s own: this store takes it '
+                      'only when the instructor allows demonstrations', dev, who;
     END IF;
   ELSE
     SELECT max(at) INTO signed_at FROM sign_ins WHERE student_id = sid AND
@@ -318,7 +320,8 @@ BEGIN
       signed := 1;
     ELSIF signed_at IS NULL AND
         coalesce((SELECT value FROM settings WHERE key = 'sign_in'), '') = 'required' THEN
-      RAISE EXCEPTION 'sulcus: % is not signed in: this store takes a student''s attempt only from that student, signed in', who;
+      RAISE EXCEPTION 'sulcus: % is not signed in: this store takes a student''s '
+                      'attempt only from that student, signed in', who;
     END IF;  -- (a sign-in older than {HOURS} hours: stored, not as signed in)
   END IF;
   IF sid IS NULL THEN

@@ -38,6 +38,7 @@
 #include "tests/common/output.h"
 #include "tests/common/postgres_server.h"
 #include "tests/core/lesson/sample_result.h"
+#include "tests/ui/window_test.h"
 #include "ui/chart_widget.h"
 #include "ui/instructor_dialog.h"
 #include "ui/main_window.h"
@@ -52,23 +53,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Out(const std::string& name) { return test::OutputPath("ui", name); }
-fs::path Lessons() { return fs::path(SULCUS_SOURCE_DIR) / "lessons"; }
-
-// Runs the event loop until `done` holds (or a generous limit passes, which
-// fails). Between rounds it sleeps a few milliseconds, as an idle event loop
-// does: spinning would take a core from the workers a window test times.
-template <class F>
-bool WaitFor(F done, int limit_ms = 240000) {
-  QElapsedTimer t;
-  t.start();
-  while (!done()) {
-    if (t.elapsed() > limit_ms) return false;
-    QApplication::processEvents(QEventLoop::AllEvents, 10);
-    std::this_thread::sleep_for(std::chrono::milliseconds(4));
-  }
-  return true;
-}
+using window_test::Lessons;
+using window_test::Out;
+using window_test::WaitFor;
 
 void Key(QWidget* w, int key, const QString& text,
          Qt::KeyboardModifiers mods = Qt::NoModifier) {

@@ -11,19 +11,16 @@
 
 #include <QApplication>
 #include <QComboBox>
-#include <QElapsedTimer>
 #include <QSurfaceFormat>
 #include <QTableWidget>
-#include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <thread>
 
 #include "core/lesson/attempt.h"
 #include "core/lesson/results.h"
 #include "core/lesson/sign_in.h"
-#include "tests/common/output.h"
 #include "tests/common/postgres_server.h"
+#include "tests/ui/window_test.h"
 #include "ui/instructor_dialog.h"
 #include "ui/main_window.h"
 #include "ui/start_dialog.h"
@@ -33,20 +30,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Out(const std::string& name) { return test::OutputPath("ui", name); }
-fs::path Lessons() { return fs::path(SULCUS_SOURCE_DIR) / "lessons"; }
-
-template <class F>
-bool WaitFor(F done, int limit_ms = 240000) {
-  QElapsedTimer t;
-  t.start();
-  while (!done()) {
-    if (t.elapsed() > limit_ms) return false;
-    QApplication::processEvents(QEventLoop::AllEvents, 10);
-    std::this_thread::sleep_for(std::chrono::milliseconds(4));
-  }
-  return true;
-}
+using window_test::Lessons;
+using window_test::Out;
+using window_test::WaitFor;
 
 TEST(SignIn, AStudentOnTheRosterSignsInAtAStationAndTheAttemptIsTheirs) {
   test::PostgresServer server;
