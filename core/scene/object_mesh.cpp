@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <thread>
@@ -80,17 +82,44 @@ void NeighbourFrame(const ObjectSpec& o, const GingivaNeighbourSpec& s, Matrix3*
 std::array<double, 6> ShareLineAngles(const ObjectSpec& o) {
   if (o.kind != ObjectSpec::Kind::kGingiva || o.gingiva_neighbours.empty())
     return kSiteAngles;
-  const ToothModel& tooth = GenerateTooth(o.fdi);
-  std::vector<ClipPlane> cuts;
+  // What the lines depend on, in the tooth's unmirrored frame: its shape, its
+  // sites' depths and recession, its neighbours' shapes and frames. A scene is
+  // linked when it is loaded and again when it is compiled (and a mirrored
+  // twin has the same lines): each share's lines are found once a process.
+  std::vector<Matrix3> frames;
+  std::vector<Vector3> offsets;
+  std::ostringstream key;
+  key << o.fdi;
+  for (int i = 0; i < 6; ++i) key << '|' << o.pocket_mm[i] << '|' << o.recession_mm[i];
   for (const GingivaNeighbourSpec& s : o.gingiva_neighbours) {
     Matrix3 A;
     Vector3 b;
     NeighbourFrame(o, s, &A, &b);
-    cuts.push_back(CutToward(tooth, GenerateTooth(s.fdi), A, b));
+    frames.push_back(A);
+    offsets.push_back(b);
+    key << "|next " << s.fdi;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) key << ' ' << std::llround(A(r, c) * 1e9);
+      key << ' ' << std::llround(b[r] * 1e9);
+    }
   }
+  static std::mutex mutex;
+  static std::map<std::string, std::array<double, 6>> found;
+  {
+    const std::lock_guard lock(mutex);
+    if (const auto it = found.find(key.str()); it != found.end()) return it->second;
+  }
+  const ToothModel tooth = GenerateTooth(o.fdi);
+  std::vector<ClipPlane> cuts;
+  for (std::size_t i = 0; i < o.gingiva_neighbours.size(); ++i)
+    cuts.push_back(CutToward(tooth, GenerateTooth(o.gingiva_neighbours[i].fdi), frames[i],
+                             offsets[i]));
   GingivaParams p = GingivaOf(o);
   p.site_angle = kSiteAngles;
-  return LineAnglesClearOfCuts(tooth, p, cuts);
+  const std::array<double, 6> lines = LineAnglesClearOfCuts(tooth, p, cuts);
+  const std::lock_guard lock(mutex);
+  found.emplace(key.str(), lines);
+  return lines;
 }
 
 ShareNeighbours::ShareNeighbours(const ObjectSpec& o) {
